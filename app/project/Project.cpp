@@ -1,0 +1,260 @@
+#include "project/Project.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "plugins/SceneFormats.h"
+#include "visibility/AtomicFile.h"
+#include "visibility/Error.h"
+
+namespace sightline {
+
+using nlohmann::json;
+
+namespace {
+
+/// Reading helpers: each throws sightline::Error("<what>: <key> <problem>").
+struct Reader {
+    const std::string& what;
+
+    [[noreturn]] void fail(const std::string& key, const std::string& problem) const
+    {
+        throw Error(what + ": '" + key + "' " + problem);
+    }
+
+    double number(const json& value, const std::string& key) const
+    {
+        if (!value.is_number())
+            fail(key, "must be a number");
+        const double x = value.get<double>();
+        if (!std::isfinite(x))
+            fail(key, "must be finite");
+        return x;
+    }
+
+    glm::dvec3 vec3(const json& object, const std::string& key, const std::string& path) const
+    {
+        if (!object.contains(key))
+            fail(path + key, "is missing");
+        const json& value = object.at(key);
+        if (!value.is_array() || value.size() != 3)
+            fail(path + key, "must be an array of 3 numbers");
+        return {number(value[0], path + key + "[0]"), number(value[1], path + key + "[1]"),
+                number(value[2], path + key + "[2]")};
+    }
+
+    Patch patch(const json& document, const std::string& key, json& extra) const
+    {
+        if (!document.contains(key))
+            fail(key, "is missing");
+        const json& object = document.at(key);
+        if (!object.is_object())
+            fail(key, "must be an object with corner, u, v (and samples)");
+        Patch p;
+        p.corner = vec3(object, "corner", key + ".");
+        p.u = vec3(object, "u", key + ".");
+        p.v = vec3(object, "v", key + ".");
+        if (object.contains("samples")) {
+            const json& s = object.at("samples");
+            if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer())
+                fail(key + ".samples", "must be two integers [na, nb]");
+            const auto na = s[0].get<long long>(), nb = s[1].get<long long>();
+            const long long limit = key == "source" ? kMaxSourceSamples : kMaxReceiverSide;
+            if (na < 1 || nb < 1 || na > limit || nb > limit)
+                fail(key + ".samples", "must be in [1, " + std::to_string(limit) + "], got [" +
+                                           std::to_string(na) + ", " + std::to_string(nb) + "]");
+            p.na = int(na);
+            p.nb = int(nb);
+        }
+        extra = object;
+        for (const char* known : {"corner", "u", "v", "samples"})
+            extra.erase(known);
+        return p;
+    }
+
+    OccluderSpec occluder(const json& object, std::size_t index) const
+    {
+        const std::string key = "occluders[" + std::to_string(index) + "]";
+        if (!object.is_object())
+            fail(key, "must be an object with mesh and transform");
+        OccluderSpec spec;
+        if (object.contains("name")) {
+            if (!object.at("name").is_string())
+                fail(key + ".name", "must be a string");
+            spec.name = object.at("name").get<std::string>();
+        }
+        if (!object.contains("mesh") || !object.at("mesh").is_string() || object.at("mesh").get<std::string>().empty())
+            fail(key + ".mesh", "must be \"box\", \"plane\" or a mesh file path");
+        spec.mesh = object.at("mesh").get<std::string>();
+        if (object.contains("transform")) {
+            const json& t = object.at("transform");
+            if (!t.is_array() || t.size() != 16)
+                fail(key + ".transform", "must be 16 numbers (column-major 4x4)");
+            for (int i = 0; i < 16; ++i)
+                spec.transform[i / 4][i % 4] = float(number(t[std::size_t(i)], key + ".transform"));
+        }
+        spec.extra = object;
+        for (const char* known : {"name", "mesh", "transform"})
+            spec.extra.erase(known);
+        return spec;
+    }
+};
+
+json vec3Json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+
+json patchJson(const Patch& p, const json& extra)
+{
+    json object = extra;
+    object["corner"] = vec3Json(p.corner);
+    object["u"] = vec3Json(p.u);
+    object["v"] = vec3Json(p.v);
+    object["samples"] = json::array({p.na, p.nb});
+    return object;
+}
+
+Mesh makeMesh(std::string name, std::vector<glm::vec3> positions, std::vector<std::uint32_t> indices, bool watertight)
+{
+    Mesh mesh;
+    mesh.name = std::move(name);
+    mesh.positions = std::move(positions);
+    mesh.indices = std::move(indices);
+    mesh.watertight = watertight;
+    return mesh;
+}
+
+} // namespace
+
+std::filesystem::path Project::resolve(const std::string& path) const
+{
+    const std::filesystem::path p(path);
+    return p.is_absolute() ? p : (folder / p).lexically_normal();
+}
+
+Project parseProject(const json& document, const std::filesystem::path& folder, const std::string& what)
+{
+    const Reader read{what};
+    if (!document.is_object())
+        throw Error(what + ": a project must be a JSON object");
+    Project project;
+    project.folder = folder;
+    if (!document.contains("version"))
+        read.fail("version", "is missing (this file is not a Sightline project)");
+    if (!document.at("version").is_number_integer())
+        read.fail("version", "must be an integer");
+    const auto version = document.at("version").get<long long>();
+    if (version > kProjectVersion)
+        read.fail("version", "is " + std::to_string(version) + "; this Sightline reads up to " +
+                                 std::to_string(kProjectVersion) + " (update Sightline)");
+    if (version < 1)
+        read.fail("version", "must be at least 1");
+
+    if (document.contains("scene") && !document.at("scene").is_null()) {
+        if (!document.at("scene").is_string())
+            read.fail("scene", "must be a file path");
+        project.scene = document.at("scene").get<std::string>();
+    }
+    project.source = read.patch(document, "source", project.sourceExtra);
+    project.receiver = read.patch(document, "receiver", project.receiverExtra);
+    if (document.contains("occluders")) {
+        const json& list = document.at("occluders");
+        if (!list.is_array())
+            read.fail("occluders", "must be an array");
+        for (std::size_t i = 0; i < list.size(); ++i)
+            project.occluders.push_back(read.occluder(list[i], i));
+    }
+    project.extra = document;
+    for (const char* known : {"version", "scene", "source", "receiver", "occluders"})
+        project.extra.erase(known);
+    return project;
+}
+
+Project loadProject(const std::filesystem::path& file)
+{
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw Error(file.string() + ": no such project file");
+    json document;
+    try {
+        document = json::parse(in);
+    } catch (const json::parse_error& e) {
+        // nlohmann's message is one line: "[json.exception.parse_error.101] parse error at line 3, ..."
+        std::string message = e.what();
+        const auto pos = message.find("] ");
+        throw Error(file.string() + ": invalid JSON: " + (pos == std::string::npos ? message : message.substr(pos + 2)));
+    }
+    const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
+    return parseProject(document, folder, file.string());
+}
+
+json toJson(const Project& project)
+{
+    json document = project.extra;
+    document["version"] = kProjectVersion;
+    if (!project.scene.empty())
+        document["scene"] = project.scene;
+    document["source"] = patchJson(project.source, project.sourceExtra);
+    document["receiver"] = patchJson(project.receiver, project.receiverExtra);
+    json occluders = json::array();
+    for (const OccluderSpec& spec : project.occluders) {
+        json object = spec.extra;
+        object["name"] = spec.name;
+        object["mesh"] = spec.mesh;
+        json t = json::array();
+        for (int i = 0; i < 16; ++i)
+            t.push_back(spec.transform[i / 4][i % 4]);
+        object["transform"] = std::move(t);
+        occluders.push_back(std::move(object));
+    }
+    document["occluders"] = std::move(occluders);
+    return document;
+}
+
+void saveProject(const Project& project, const std::filesystem::path& file)
+{
+    writeFileAtomically(file, toJson(project).dump(2) + "\n");
+}
+
+bool isBuiltinMesh(const std::string& name) { return name == "box" || name == "plane"; }
+
+Mesh builtinMesh(const std::string& name)
+{
+    if (name == "box") {
+        std::vector<glm::vec3> p;
+        for (int i = 0; i < 8; ++i)
+            p.emplace_back((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
+        // Outward, counter-clockwise seen from outside (right-handed).
+        return makeMesh("box", std::move(p),
+                        {0, 2, 3, 0, 3, 1,  4, 5, 7, 4, 7, 6,  0, 1, 5, 0, 5, 4,
+                         2, 6, 7, 2, 7, 3,  0, 4, 6, 0, 6, 2,  1, 3, 7, 1, 7, 5},
+                        true);
+    }
+    if (name == "plane")
+        return makeMesh("plane", {{-0.5f, 0, -0.5f}, {0.5f, 0, -0.5f}, {0.5f, 0, 0.5f}, {-0.5f, 0, 0.5f}},
+                        {0, 2, 1, 0, 3, 2}, false);
+    throw Error("unknown built-in mesh '" + name + "' (built-ins: box, plane)");
+}
+
+Scene buildScene(const Project& project, std::vector<std::string>* warnings)
+{
+    Scene scene;
+    if (!project.scene.empty())
+        scene = loadScene(project.resolve(project.scene), warnings);
+    for (const OccluderSpec& spec : project.occluders) {
+        Scene part;
+        if (isBuiltinMesh(spec.mesh))
+            part.addMeshInstance(builtinMesh(spec.mesh));
+        else
+            part = loadScene(project.resolve(spec.mesh), warnings);
+        for (Instance& instance : part.instances) {
+            instance.transform = spec.transform * instance.transform;
+            if (!spec.name.empty())
+                instance.name = spec.name;
+        }
+        scene.append(part);
+    }
+    validate(scene, project.scene.empty() ? "project" : project.scene);
+    return scene;
+}
+
+} // namespace sightline

@@ -1,0 +1,66 @@
+#pragma once
+// The project document (DESIGN.md §3, a contract): the scene file, the two patches and the
+// occluders the designer placed. Shared by the CLI and the editor.
+//
+// Unknown keys survive a load/save round trip at every level (the document, each patch, each
+// occluder), so files written by newer tools or edited by hand keep what we do not understand.
+// Errors name the file and the offending key: "level.json: source.samples must be two integers".
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <nlohmann/json.hpp>
+
+#include "visibility/Patch.h"
+#include "visibility/Scene.h"
+
+namespace sightline {
+
+inline constexpr int kProjectVersion = 1;
+
+/// An object the designer placed: a built-in mesh ("box": unit cube [-0.5, 0.5]^3; "plane": unit
+/// square [-0.5, 0.5]^2 in XZ with normal +Y) or a mesh file, placed by a column-major transform.
+struct OccluderSpec {
+    std::string name;
+    std::string mesh;
+    glm::mat4 transform{1.0f};
+    nlohmann::json extra = nlohmann::json::object();   ///< unknown keys, kept
+};
+
+struct Project {
+    /// Folder that relative paths are resolved against (the project file's folder).
+    std::filesystem::path folder;
+    /// Scene file as written in the project (relative or absolute); empty for none.
+    std::string scene;
+    Patch source;
+    Patch receiver;
+    std::vector<OccluderSpec> occluders;
+    /// Unknown keys of the document and of each patch, kept for saving.
+    nlohmann::json extra = nlohmann::json::object();
+    nlohmann::json sourceExtra = nlohmann::json::object();
+    nlohmann::json receiverExtra = nlohmann::json::object();
+
+    /// Absolute path of a path written in the project (scene or occluder mesh).
+    std::filesystem::path resolve(const std::string& path) const;
+};
+
+/// Parses a project document. `what` names it in errors (the file name). Patch geometry is read
+/// as given; the pair is validated where it is sampled (validatePatchPair), so that an editor can
+/// still open and fix a file whose patches are invalid.
+Project parseProject(const nlohmann::json& document, const std::filesystem::path& folder, const std::string& what);
+Project loadProject(const std::filesystem::path& file);
+
+nlohmann::json toJson(const Project& project);
+/// Atomic: a temporary file beside `file`, then a rename.
+void saveProject(const Project& project, const std::filesystem::path& file);
+
+/// The built-in occluder meshes by name ("box", "plane"); throws sightline::Error for others.
+Mesh builtinMesh(const std::string& name);
+bool isBuiltinMesh(const std::string& name);
+
+/// The scene file plus every occluder, as one Scene ready for sampling. Throws sightline::Error.
+Scene buildScene(const Project& project, std::vector<std::string>* warnings = nullptr);
+
+} // namespace sightline

@@ -1,0 +1,248 @@
+// sightline-cli: headless batch front end (DESIGN.md §4, a contract).
+//
+//   sightline-cli shaft PROJECT.json [--method raycast|cpu|gl] [--mask OUT.npy] [--json]
+//   sightline-cli info SCENE_OR_PROJECT [--json]
+//   sightline-cli demo OUTDIR
+//
+// Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
+// returns non-zero.
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "demo/DemoLevel.h"
+#include "plugins/SceneFormats.h"
+#include "project/Project.h"
+#include "visibility/Error.h"
+#include "visibility/NpyWriter.h"
+#include "visibility/RayCastSampler.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using namespace sightline;
+
+namespace {
+
+double millisecondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+void printWarnings(const std::vector<std::string>& warnings)
+{
+    for (const std::string& w : warnings)
+        std::cerr << "sightline-cli: warning: " << w << "\n";
+}
+
+struct ShaftArgs {
+    std::string project;
+    std::string method = "raycast";
+    std::string mask;
+    bool json = false;
+    int threads = 0;
+    bool singleRays = false;
+};
+
+int runShaft(const ShaftArgs& args)
+{
+    if (args.method != "raycast")
+        throw Error("method '" + args.method +
+                    "' is not available yet (the bitmask samplers are not built); use --method raycast");
+    const Project project = loadProject(args.project);
+    validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
+
+    std::vector<std::string> warnings;
+    const auto loadStart = std::chrono::steady_clock::now();
+    const Scene scene = buildScene(project, &warnings);
+    const double loadMs = millisecondsSince(loadStart);
+    printWarnings(warnings);
+
+    const RayCastScene rayCaster(scene);
+    RayCastOptions options;
+    options.packets = !args.singleRays;
+    options.threads = args.threads;
+    const auto start = std::chrono::steady_clock::now();
+    const HiddenSampleMap map = rayCaster.sample(project.source, project.receiver, options);
+    const double ms = millisecondsSince(start);
+
+    if (!args.mask.empty())
+        writeMaskNpy(map, args.mask);
+
+    const std::uint64_t rays = map.rayCount();
+    const std::uint64_t blocked = map.blockedCount();
+    const double visible = rays ? double(rays - blocked) / double(rays) : 0.0;
+    const int threads = args.threads > 0 ? args.threads : int(std::thread::hardware_concurrency());
+    if (args.json) {
+        json out = {
+            {"method", args.method},
+            {"strategy", options.packets ? "embree-packets-16" : "embree-single-rays"},
+            {"rays", rays},
+            {"blocked", blocked},
+            {"unblocked", rays - blocked},
+            {"visible_fraction", visible},
+            {"ms", ms},
+            {"setup_ms", rayCaster.buildMilliseconds()},
+            {"load_ms", loadMs},
+            {"triangles", scene.triangleCount()},
+            {"source_samples", json::array({project.source.na, project.source.nb})},
+            {"receiver_samples", json::array({project.receiver.na, project.receiver.nb})},
+            {"threads", threads},
+        };
+        if (!args.mask.empty())
+            out["mask"] = args.mask;
+        std::cout << out.dump() << "\n";
+    } else {
+        std::printf("method     %s (%s, %d threads)\n", args.method.c_str(),
+                    options.packets ? "Embree packets of 16" : "Embree single rays", threads);
+        std::printf("scene      %zu triangles (BVH build %.1f ms)\n", scene.triangleCount(), rayCaster.buildMilliseconds());
+        std::printf("patches    %dx%d source x %dx%d receiver samples\n", project.source.na, project.source.nb,
+                    project.receiver.na, project.receiver.nb);
+        std::printf("rays       %llu: %llu blocked, %llu unblocked (%.2f%% visible)\n", (unsigned long long)rays,
+                    (unsigned long long)blocked, (unsigned long long)(rays - blocked), 100.0 * visible);
+        std::printf("time       %.2f ms\n", ms);
+        if (!args.mask.empty())
+            std::printf("mask       %s\n", args.mask.c_str());
+    }
+    return 0;
+}
+
+int runInfo(const std::string& path, bool asJson)
+{
+    std::vector<std::string> warnings;
+    Scene scene;
+    const bool isProject = fs::path(path).extension() == ".json";
+    if (isProject)
+        scene = buildScene(loadProject(path), &warnings);
+    else
+        scene = loadScene(path, &warnings);
+    printWarnings(warnings);
+    const Bounds box = scene.bounds();
+    std::size_t vertices = 0;
+    for (const Mesh& mesh : scene.meshes)
+        vertices += mesh.positions.size();
+
+    if (asJson) {
+        json instances = json::array();
+        for (const Instance& instance : scene.instances)
+            instances.push_back({{"name", instance.name},
+                                 {"mesh", scene.meshes[instance.mesh].name},
+                                 {"triangles", scene.meshes[instance.mesh].triangleCount()}});
+        json out = {{"file", path},
+                    {"meshes", scene.meshes.size()},
+                    {"instances", scene.instances.size()},
+                    {"vertices", vertices},
+                    {"triangles", scene.triangleCount()},
+                    {"unique_triangles", scene.uniqueTriangleCount()},
+                    {"instance_list", instances}};
+        if (!box.empty())
+            out["bounds"] = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
+        std::cout << out.dump() << "\n";
+        return 0;
+    }
+    std::printf("file       %s\n", path.c_str());
+    std::printf("meshes     %zu (%zu vertices, %zu triangles stored)\n", scene.meshes.size(), vertices,
+                scene.uniqueTriangleCount());
+    std::printf("instances  %zu (%zu triangles in the world)\n", scene.instances.size(), scene.triangleCount());
+    if (box.empty())
+        std::printf("bounds     empty\n");
+    else
+        std::printf("bounds     [%.3f, %.3f, %.3f] .. [%.3f, %.3f, %.3f] m\n", box.min.x, box.min.y, box.min.z,
+                    box.max.x, box.max.y, box.max.z);
+    const std::size_t shown = std::min<std::size_t>(scene.instances.size(), 20);
+    for (std::size_t i = 0; i < shown; ++i) {
+        const Instance& instance = scene.instances[i];
+        std::printf("  %-24s mesh %-20s %zu triangles\n", instance.name.c_str(),
+                    scene.meshes[instance.mesh].name.c_str(), scene.meshes[instance.mesh].triangleCount());
+    }
+    if (shown < scene.instances.size())
+        std::printf("  ... and %zu more instances (use --json for all)\n", scene.instances.size() - shown);
+    return 0;
+}
+
+int runDemo(const std::string& folder)
+{
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    if (ec)
+        throw Error(folder + ": cannot create folder (" + ec.message() + ")");
+    const Scene level = demo::makeDemoLevel();
+    const fs::path levelFile = fs::path(folder) / "demo_level.glb";
+    saveScene(level, levelFile);
+
+    const demo::DemoView view = demo::demoView();
+    Project project;
+    project.folder = fs::absolute(folder);
+    project.scene = "demo_level.glb";
+    project.source = view.source;
+    project.receiver = view.receiver;
+    project.extra["description"] = "Sightline demo: two patches looking through a doorway past plants and furniture";
+    const fs::path projectFile = fs::path(folder) / "demo.json";
+    saveProject(project, projectFile);
+    std::printf("wrote %s (%zu triangles) and %s\n", levelFile.c_str(), level.triangleCount(), projectFile.c_str());
+    return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"Sightline: which rays between two patches are blocked, for level designers.\n"
+                 "See README.md; file formats and conventions: DESIGN.md."};
+    app.name("sightline-cli");
+    app.set_version_flag("--version", "sightline-cli 0.1.0");
+    app.require_subcommand(1);
+
+    ShaftArgs shaft;
+    CLI::App* shaftCmd = app.add_subcommand("shaft", "Compute the hidden-samples map between the project's patches");
+    shaftCmd->add_option("project", shaft.project, "Project file (JSON, DESIGN.md §3)")->required();
+    shaftCmd->add_option("--method", shaft.method, "Sampler: raycast (Embree reference); gl, cpu: not yet built")
+        ->check(CLI::IsMember({"raycast", "cpu", "gl"}))
+        ->capture_default_str();
+    shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)");
+    shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
+    shaftCmd->add_option("--threads", shaft.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
+
+    std::string infoPath;
+    bool infoJson = false;
+    CLI::App* infoCmd = app.add_subcommand("info", "Print counts, bounds and instances of a scene or project");
+    infoCmd->add_option("file", infoPath, "Scene file (glTF, GLB, OBJ, PLY, OFF, STL) or project (.json)")->required();
+    infoCmd->add_flag("--json", infoJson, "Print one JSON object instead of text");
+
+    std::string demoFolder;
+    CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level (demo_level.glb) and project (demo.json)");
+    demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "sightline-cli: error: " << e.what() << " (see --help)\n";
+        return 2;
+    }
+
+    try {
+        if (*shaftCmd)
+            return runShaft(shaft);
+        if (*infoCmd)
+            return runInfo(infoPath, infoJson);
+        if (*demoCmd)
+            return runDemo(demoFolder);
+    } catch (const std::exception& e) {
+        std::cerr << "sightline-cli: error: " << e.what() << "\n";
+        return 1;
+    }
+    return 1;
+}

@@ -1,0 +1,14 @@
+#pragma once
+// Factories for the built-in formats; SceneFormatRegistry::builtin() is their only caller.
+
+#include <memory>
+
+#include "plugins/SceneFormats.h"
+
+namespace sightline {
+
+std::unique_ptr<SceneImporter> makeGltfImporter();
+std::unique_ptr<SceneExporter> makeGltfExporter();
+std::unique_ptr<SceneImporter> makeOpenMeshImporter();
+
+} // namespace sightline

@@ -1,0 +1,575 @@
+// glTF 2.0 importer (.gltf/.glb) on top of tinygltf.
+//
+// tinygltf parses the container and JSON; everything that touches bytes is done here with our own
+// bounds checks (accessor -> bufferView -> buffer, strides, sparse substitution), because a scene
+// file is untrusted input and tinygltf does not check accessor ranges. Policy decisions:
+//  - no required extension is honoured: any `extensionsRequired` entry refuses the file;
+//  - textures are never decoded (a no-op image loader), and a missing image is only a warning;
+//  - external files are read only from inside the glTF file's folder (FsCallbacks guard).
+// Each glTF mesh becomes one sightline::Mesh (its triangle primitives merged); each node that
+// references it becomes an Instance, so instancing survives the import.
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <optional>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+#include <tiny_gltf.h>
+
+#include "BuiltinFormats.h"
+#include "visibility/Error.h"
+
+namespace sightline {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// tinygltf errors are newline-separated stacks; a user gets the first non-blank line.
+std::string firstLine(const std::string& text)
+{
+    std::size_t begin = 0;
+    while (begin < text.size()) {
+        std::size_t end = text.find_first_of("\r\n", begin);
+        if (end == std::string::npos)
+            end = text.size();
+        std::string line = text.substr(begin, end - begin);
+        if (line.find_first_not_of(" \t") != std::string::npos)
+            return line;
+        begin = end + 1;
+    }
+    return "unknown error";
+}
+
+std::vector<unsigned char> readBytes(const fs::path& file)
+{
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw Error(file.string() + ": cannot open file");
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad())
+        throw Error(file.string() + ": read failed");
+    return bytes;
+}
+
+std::uint32_t readU32(const std::vector<unsigned char>& bytes, std::size_t at)
+{
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4); // GLB is little-endian, as is every platform we build for
+    return v;
+}
+
+bool isGlb(const std::vector<unsigned char>& bytes)
+{
+    return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+}
+
+/// The JSON text of a .gltf, or of a well-formed GLB's JSON chunk. tinygltf does not check the GLB
+/// version, so a glTF 1.0 binary (version 1) is refused here.
+std::optional<std::string> jsonText(const std::vector<unsigned char>& bytes, const std::string& what)
+{
+    if (!isGlb(bytes))
+        return std::string(bytes.begin(), bytes.end());
+    if (bytes.size() < 20)
+        throw Error(what + ": truncated GLB header");
+    const std::uint32_t version = readU32(bytes, 4);
+    if (version != 2)
+        throw Error(what + ": GLB container version " + std::to_string(version) +
+                    " is not supported (only glTF 2.0)");
+    const std::uint64_t jsonLength = readU32(bytes, 12);
+    if (readU32(bytes, 16) != 0x4E4F534Au || 20 + jsonLength > bytes.size())
+        return std::nullopt; // malformed container: tinygltf reports it
+    return std::string(bytes.begin() + 20, bytes.begin() + static_cast<std::ptrdiff_t>(20 + jsonLength));
+}
+
+bool isInside(const fs::path& candidate, const fs::path& folder)
+{
+    std::error_code ec;
+    const fs::path resolved = fs::weakly_canonical(candidate, ec);
+    if (ec)
+        return false;
+    return std::mismatch(folder.begin(), folder.end(), resolved.begin(), resolved.end()).first == folder.end();
+}
+
+/// Refuses what Sightline will not honour before any bytes are loaded: required extensions, and
+/// buffer URIs that are absolute or resolve outside the file's folder.
+void preflight(const std::string& json, const fs::path& folder, const std::string& what)
+{
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(json);
+    } catch (const nlohmann::json::exception& e) {
+        std::string reason = e.what(); // "[json.exception.parse_error.101] parse error at line 1, ..."
+        if (const auto bracket = reason.find("] "); reason.front() == '[' && bracket != std::string::npos)
+            reason.erase(0, bracket + 2);
+        throw Error(what + ": malformed JSON: " + firstLine(reason));
+    }
+    if (!doc.is_object())
+        throw Error(what + ": JSON root is not an object");
+    if (auto it = doc.find("extensionsRequired"); it != doc.end() && it->is_array() && !it->empty())
+        throw Error(what + ": requires glTF extension " + (it->front().is_string() ? it->front().get<std::string>() : "?") +
+                    ", which Sightline does not support");
+    const auto buffers = doc.find("buffers");
+    if (buffers == doc.end() || !buffers->is_array())
+        return;
+    for (const auto& buffer : *buffers) {
+        if (!buffer.is_object() || !buffer.contains("uri") || !buffer["uri"].is_string())
+            continue;
+        const std::string uri = buffer["uri"].get<std::string>();
+        if (uri.rfind("data:", 0) == 0)
+            continue;
+        const fs::path path(uri);
+        if (path.is_absolute() || path.has_root_name() || path.has_root_directory())
+            throw Error(what + ": buffer URI '" + uri + "' is an absolute path; only files beside the glTF are read");
+        if (!isInside(folder / path, folder))
+            throw Error(what + ": buffer URI '" + uri + "' resolves outside the glTF file's folder; refused");
+    }
+}
+
+/// File access for tinygltf's external buffers and images: only inside `folder`. This also covers
+/// what the preflight cannot see (percent-encoded URIs). tinygltf looks for a file first under the
+/// base folder we give it (absolute), then under "." - the process's working folder, never wanted.
+struct FsGuard {
+    fs::path folder;
+    std::string refused; ///< first path that was refused, for the error message
+
+    static bool exists(const std::string& path, void* self)
+    {
+        auto* guard = static_cast<FsGuard*>(self);
+        const std::string prefix = guard->folder.string() + "/";
+        if (path.compare(0, prefix.size(), prefix) != 0)
+            return false; // the working-folder fallback
+        if (!isInside(path, guard->folder)) {
+            if (guard->refused.empty())
+                guard->refused = path.substr(prefix.size());
+            return false;
+        }
+        std::error_code ec;
+        return fs::is_regular_file(path, ec);
+    }
+    static std::string expand(const std::string& path, void*) { return path; } // no ~ or $VAR expansion
+    static bool read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* self)
+    {
+        if (!exists(path, self)) {
+            *err = "not readable here";
+            return false;
+        }
+        std::ifstream in(path, std::ios::binary);
+        out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        return !in.bad();
+    }
+    static bool write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*)
+    {
+        *err = "writing is disabled";
+        return false;
+    }
+};
+
+/// Textures are irrelevant to visibility: accept every image without decoding it.
+bool discardImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                  void*)
+{
+    image->image.clear();
+    return true;
+}
+
+tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warnings)
+{
+    const std::string what = file.string();
+    const std::vector<unsigned char> bytes = readBytes(file);
+    const fs::path folder = fs::weakly_canonical(fs::absolute(file)).parent_path();
+    if (const auto json = jsonText(bytes, what))
+        preflight(*json, folder, what);
+
+    FsGuard guard{folder, {}};
+    tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&FsGuard::exists, &FsGuard::expand, &FsGuard::read, &FsGuard::write, &guard});
+    loader.SetImageLoader(&discardImage, nullptr);
+
+    tinygltf::Model model;
+    std::string err;
+    std::string warn;
+    bool ok = false;
+    if (bytes.size() > std::numeric_limits<unsigned int>::max())
+        throw Error(what + ": file too large for glTF");
+    const auto size = static_cast<unsigned int>(bytes.size());
+    if (isGlb(bytes))
+        ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, folder.string());
+    else
+        ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
+                                        folder.string());
+    if (!warn.empty())
+        warnings.push_back(what + ": " + firstLine(warn));
+    if (!ok) {
+        if (!guard.refused.empty())
+            throw Error(what + ": refused to read '" + guard.refused + "': it resolves outside the glTF file's folder");
+        throw Error(what + ": " + firstLine(err));
+    }
+    return model;
+}
+
+// ---- accessor reading, every byte bounds-checked ---------------------------------------------------
+
+const tinygltf::BufferView& bufferView(const tinygltf::Model& model, int index, const std::string& what)
+{
+    if (index < 0 || static_cast<std::size_t>(index) >= model.bufferViews.size())
+        throw Error(what + " names missing bufferView " + std::to_string(index));
+    return model.bufferViews[static_cast<std::size_t>(index)];
+}
+
+/// Pointer to `length` bytes at `offset` inside bufferView `index`, or an Error.
+const unsigned char* viewBytes(const tinygltf::Model& model, int index, std::uint64_t offset, std::uint64_t length,
+                               const std::string& what)
+{
+    const tinygltf::BufferView& view = bufferView(model, index, what);
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model.buffers.size())
+        throw Error(what + ": bufferView " + std::to_string(index) + " names missing buffer " +
+                    std::to_string(view.buffer));
+    const tinygltf::Buffer& buffer = model.buffers[static_cast<std::size_t>(view.buffer)];
+    // Comparisons by subtraction so that hostile offsets cannot wrap around.
+    if (view.byteOffset > buffer.data.size() || view.byteLength > buffer.data.size() - view.byteOffset)
+        throw Error(what + ": bufferView " + std::to_string(index) + " overruns buffer " + std::to_string(view.buffer) +
+                    " (" + std::to_string(buffer.data.size()) + " bytes)");
+    if (offset > view.byteLength || length > view.byteLength - offset)
+        throw Error(what + " overruns bufferView " + std::to_string(index) + " (" + std::to_string(view.byteLength) +
+                    " bytes)");
+    return buffer.data.data() + view.byteOffset + offset;
+}
+
+std::uint32_t readIndex(const unsigned char* p, int componentType)
+{
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return *p;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        std::uint16_t v;
+        std::memcpy(&v, p, 2);
+        return v;
+    }
+    default: {
+        std::uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+    }
+    }
+}
+
+int indexSize(int componentType)
+{
+    switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return 4;
+    default: return 0;
+    }
+}
+
+/// Element bytes of an accessor, tightly packed, strides resolved and sparse values substituted.
+std::vector<unsigned char> accessorBytes(const tinygltf::Model& model, int index, std::size_t& elementSize,
+                                         const std::string& what)
+{
+    if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size())
+        throw Error(what + " names missing accessor " + std::to_string(index));
+    const tinygltf::Accessor& acc = model.accessors[static_cast<std::size_t>(index)];
+    const std::string where = what + " accessor " + std::to_string(index);
+    const int componentSize = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(acc.componentType));
+    const int components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type));
+    if (componentSize <= 0 || components <= 0)
+        throw Error(where + " has an invalid component type or type");
+    elementSize = static_cast<std::size_t>(componentSize) * static_cast<std::size_t>(components);
+
+    // Without a bufferView the base is zeros; cap it so a hostile count cannot exhaust memory.
+    constexpr std::uint64_t maxElements = 1u << 28;
+    if (acc.bufferView < 0 && acc.count > maxElements)
+        throw Error(where + " has an implausible count " + std::to_string(acc.count));
+
+    std::vector<unsigned char> out;
+    if (acc.bufferView >= 0 && acc.count > 0) {
+        const tinygltf::BufferView& view = bufferView(model, acc.bufferView, where);
+        if (acc.count > view.byteLength) // also keeps the span below from overflowing
+            throw Error(where + ": " + std::to_string(acc.count) + " elements overrun bufferView " +
+                        std::to_string(acc.bufferView) + " (" + std::to_string(view.byteLength) + " bytes)");
+        const std::size_t byteStride = view.byteStride;
+        const std::size_t stride = byteStride ? byteStride : elementSize;
+        if (stride < elementSize)
+            throw Error(where + ": byteStride " + std::to_string(stride) + " is smaller than an element (" +
+                        std::to_string(elementSize) + " bytes)");
+        const std::uint64_t span = std::uint64_t(stride) * (acc.count - 1) + elementSize;
+        const unsigned char* base = viewBytes(model, acc.bufferView, acc.byteOffset, span, where);
+        out.resize(acc.count * elementSize);
+        for (std::size_t i = 0; i < acc.count; ++i)
+            std::memcpy(out.data() + i * elementSize, base + i * stride, elementSize);
+    } else {
+        out.assign(acc.count * elementSize, 0);
+    }
+
+    if (acc.sparse.isSparse) {
+        const auto& sp = acc.sparse;
+        const int idxSize = indexSize(sp.indices.componentType);
+        if (sp.count < 0 || sp.indices.byteOffset < 0 || sp.values.byteOffset < 0 || idxSize == 0)
+            throw Error(where + ": invalid sparse description");
+        const auto n = static_cast<std::uint64_t>(sp.count);
+        const unsigned char* indices = viewBytes(model, sp.indices.bufferView,
+                                                 static_cast<std::uint64_t>(sp.indices.byteOffset),
+                                                 n * static_cast<std::uint64_t>(idxSize), where + " sparse indices");
+        const unsigned char* values = viewBytes(model, sp.values.bufferView,
+                                                static_cast<std::uint64_t>(sp.values.byteOffset), n * elementSize,
+                                                where + " sparse values");
+        for (std::uint64_t i = 0; i < n; ++i) {
+            const std::uint32_t target = readIndex(indices + i * static_cast<std::uint64_t>(idxSize),
+                                                   sp.indices.componentType);
+            if (target >= acc.count)
+                throw Error(where + ": sparse index " + std::to_string(target) + " >= count " +
+                            std::to_string(acc.count));
+            std::memcpy(out.data() + std::size_t(target) * elementSize, values + i * elementSize, elementSize);
+        }
+    }
+    return out;
+}
+
+std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const std::string& what)
+{
+    const tinygltf::Accessor& acc = model.accessors.at(static_cast<std::size_t>(index)); // checked by caller
+    if (acc.type != TINYGLTF_TYPE_VEC3 || acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+        throw Error(what + " accessor " + std::to_string(index) + " must be VEC3 float");
+    std::size_t elementSize = 0;
+    const std::vector<unsigned char> bytes = accessorBytes(model, index, elementSize, what);
+    std::vector<glm::vec3> out(acc.count);
+    std::memcpy(out.data(), bytes.data(), bytes.size());
+    return out;
+}
+
+/// Vertex indices of a primitive: its index accessor, or 0..vertexCount-1 when it has none.
+std::vector<std::uint32_t> readIndices(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                                       std::size_t vertexCount, const std::string& what)
+{
+    std::vector<std::uint32_t> out;
+    if (prim.indices < 0) {
+        out.resize(vertexCount);
+        for (std::size_t i = 0; i < vertexCount; ++i)
+            out[i] = static_cast<std::uint32_t>(i);
+        return out;
+    }
+    std::size_t elementSize = 0;
+    const std::vector<unsigned char> bytes = accessorBytes(model, prim.indices, elementSize, what + " indices");
+    const tinygltf::Accessor& acc = model.accessors[static_cast<std::size_t>(prim.indices)];
+    if (acc.type != TINYGLTF_TYPE_SCALAR || indexSize(acc.componentType) == 0)
+        throw Error(what + " indices must be unsigned byte, short or int scalars");
+    out.resize(acc.count);
+    for (std::size_t i = 0; i < acc.count; ++i) {
+        out[i] = readIndex(bytes.data() + i * elementSize, acc.componentType);
+        if (out[i] >= vertexCount)
+            throw Error(what + ": index " + std::to_string(out[i]) + " is out of range (" +
+                        std::to_string(vertexCount) + " vertices)");
+    }
+    return out;
+}
+
+/// Triangle list from TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN (vertex order as in the glTF spec §3.7.2.1).
+std::vector<std::uint32_t> triangulate(const std::vector<std::uint32_t>& v, int mode)
+{
+    std::vector<std::uint32_t> tris;
+    const std::size_t n = v.size();
+    if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (std::size_t i = 0; i + 2 < n; ++i) {
+            const bool odd = i % 2 == 1;
+            tris.insert(tris.end(), {v[i], v[i + (odd ? 2 : 1)], v[i + (odd ? 1 : 2)]});
+        }
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+        for (std::size_t i = 0; i + 2 < n; ++i)
+            tris.insert(tris.end(), {v[i + 1], v[i + 2], v[0]});
+    } else {
+        tris.assign(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(n - n % 3));
+    }
+    return tris;
+}
+
+bool isTriangleMode(int mode)
+{
+    // tinygltf uses -1 for an absent mode; the glTF default is TRIANGLES.
+    return mode == -1 || mode == TINYGLTF_MODE_TRIANGLES || mode == TINYGLTF_MODE_TRIANGLE_STRIP ||
+           mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std::string& file,
+                 std::vector<std::string>& warnings)
+{
+    const tinygltf::Mesh& src = model.meshes[meshIndex];
+    Mesh mesh;
+    mesh.name = src.name.empty() ? "mesh " + std::to_string(meshIndex) : src.name;
+    bool allNormals = true;
+    for (std::size_t p = 0; p < src.primitives.size(); ++p) {
+        const tinygltf::Primitive& prim = src.primitives[p];
+        const std::string what = file + ": mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
+        if (!isTriangleMode(prim.mode)) {
+            warnings.push_back(what + ": mode " + std::to_string(prim.mode) + " (points/lines) ignored");
+            continue;
+        }
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end()) {
+            warnings.push_back(what + ": no POSITION attribute, ignored");
+            continue;
+        }
+        if (pos->second < 0 || static_cast<std::size_t>(pos->second) >= model.accessors.size())
+            throw Error(what + " POSITION names missing accessor " + std::to_string(pos->second));
+        const std::vector<glm::vec3> positions = readVec3(model, pos->second, what + " POSITION");
+        const std::vector<std::uint32_t> tris =
+            triangulate(readIndices(model, prim, positions.size(), what), prim.mode);
+
+        std::vector<glm::vec3> normals;
+        const auto nrm = prim.attributes.find("NORMAL");
+        if (nrm != prim.attributes.end() && nrm->second >= 0 &&
+            static_cast<std::size_t>(nrm->second) < model.accessors.size()) {
+            try {
+                normals = readVec3(model, nrm->second, what + " NORMAL");
+            } catch (const Error& e) {
+                warnings.push_back(std::string(e.what()) + "; normals ignored"); // display-only data
+            }
+        }
+        allNormals = allNormals && normals.size() == positions.size();
+
+        const auto offset = static_cast<std::uint32_t>(mesh.positions.size());
+        mesh.positions.insert(mesh.positions.end(), positions.begin(), positions.end());
+        if (allNormals)
+            mesh.normals.insert(mesh.normals.end(), normals.begin(), normals.end());
+        for (std::uint32_t i : tris)
+            mesh.indices.push_back(offset + i);
+    }
+    if (!allNormals)
+        mesh.normals.clear();
+    return mesh;
+}
+
+glm::mat4 localTransform(const tinygltf::Node& node, const std::string& what)
+{
+    if (!node.matrix.empty()) {
+        if (node.matrix.size() != 16)
+            throw Error(what + ": matrix must have 16 numbers");
+        glm::dmat4 m;
+        std::memcpy(glm::value_ptr(m), node.matrix.data(), sizeof(m)); // both column-major
+        return glm::mat4(m);
+    }
+    glm::dvec3 t(0.0), s(1.0);
+    glm::dquat r(1.0, 0.0, 0.0, 0.0);
+    if (!node.translation.empty()) {
+        if (node.translation.size() != 3)
+            throw Error(what + ": translation must have 3 numbers");
+        t = glm::make_vec3(node.translation.data());
+    }
+    if (!node.rotation.empty()) {
+        if (node.rotation.size() != 4)
+            throw Error(what + ": rotation must have 4 numbers");
+        const auto& q = node.rotation; // glTF stores x, y, z, w
+        r = glm::dquat(q[3], q[0], q[1], q[2]);
+    }
+    if (!node.scale.empty()) {
+        if (node.scale.size() != 3)
+            throw Error(what + ": scale must have 3 numbers");
+        s = glm::make_vec3(node.scale.data());
+    }
+    const glm::dmat4 trs = glm::translate(glm::dmat4(1.0), t) * glm::mat4_cast(r) * glm::scale(glm::dmat4(1.0), s);
+    return glm::mat4(trs);
+}
+
+/// Walks the node hierarchy, accumulating transforms and emitting one Instance per mesh reference.
+class SceneBuilder {
+public:
+    SceneBuilder(const tinygltf::Model& model, std::string file, std::vector<std::string>& warnings)
+        : model_(model), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1),
+          onPath_(model.nodes.size(), false)
+    {
+    }
+
+    void visit(int nodeIndex, const glm::dmat4& parent)
+    {
+        const std::string what = file_ + ": node " + std::to_string(nodeIndex);
+        if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= model_.nodes.size())
+            throw Error(file_ + ": reference to missing node " + std::to_string(nodeIndex));
+        const auto n = static_cast<std::size_t>(nodeIndex);
+        if (onPath_[n])
+            throw Error(what + " is its own ancestor (cyclic hierarchy)");
+        const tinygltf::Node& node = model_.nodes[n];
+        const glm::dmat4 world = parent * glm::dmat4(localTransform(node, what));
+        if (node.mesh >= 0) {
+            if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
+                throw Error(what + " names missing mesh " + std::to_string(node.mesh));
+            const std::string name = node.name.empty() ? "node " + std::to_string(nodeIndex) : node.name;
+            scene_.instances.push_back(Instance{name, meshSlot(static_cast<std::size_t>(node.mesh)), glm::mat4(world)});
+        }
+        onPath_[n] = true;
+        for (int child : node.children)
+            visit(child, world);
+        onPath_[n] = false;
+    }
+
+    Scene take() { return std::move(scene_); }
+
+private:
+    /// Converts each referenced glTF mesh once; later references reuse it (instancing).
+    std::uint32_t meshSlot(std::size_t gltfMesh)
+    {
+        if (meshSlot_[gltfMesh] < 0)
+            meshSlot_[gltfMesh] = scene_.addMesh(convertMesh(model_, gltfMesh, file_, warnings_));
+        return static_cast<std::uint32_t>(meshSlot_[gltfMesh]);
+    }
+
+    const tinygltf::Model& model_;
+    std::string file_;
+    std::vector<std::string>& warnings_;
+    std::vector<std::int64_t> meshSlot_;
+    std::vector<bool> onPath_;
+    Scene scene_;
+};
+
+/// Root nodes of the default scene, else scene 0, else every node that is nobody's child.
+std::vector<int> rootNodes(const tinygltf::Model& model)
+{
+    if (!model.scenes.empty()) {
+        const bool hasDefault = model.defaultScene >= 0 && static_cast<std::size_t>(model.defaultScene) < model.scenes.size();
+        return model.scenes[hasDefault ? static_cast<std::size_t>(model.defaultScene) : 0].nodes;
+    }
+    std::vector<bool> isChild(model.nodes.size(), false);
+    for (const tinygltf::Node& node : model.nodes)
+        for (int child : node.children)
+            if (child >= 0 && static_cast<std::size_t>(child) < isChild.size())
+                isChild[static_cast<std::size_t>(child)] = true;
+    std::vector<int> roots;
+    for (std::size_t i = 0; i < model.nodes.size(); ++i)
+        if (!isChild[i])
+            roots.push_back(static_cast<int>(i));
+    return roots;
+}
+
+class GltfImporter final : public SceneImporter {
+public:
+    std::string name() const override { return "glTF 2.0"; }
+    std::vector<std::string> extensions() const override { return {".gltf", ".glb"}; }
+
+    Scene load(const fs::path& file, std::vector<std::string>& warnings) const override
+    {
+        try {
+            const tinygltf::Model model = parseModel(file, warnings);
+            SceneBuilder builder(model, file.string(), warnings);
+            for (int root : rootNodes(model))
+                builder.visit(root, glm::dmat4(1.0));
+            Scene scene = builder.take();
+            validate(scene, file.string());
+            return scene;
+        } catch (const Error&) {
+            throw;
+        } catch (const std::exception& e) { // e.g. bad_alloc on a hostile file: still one clean line
+            throw Error(file.string() + ": " + firstLine(e.what()));
+        }
+    }
+};
+
+} // namespace
+
+std::unique_ptr<SceneImporter> makeGltfImporter() { return std::make_unique<GltfImporter>(); }
+
+} // namespace sightline

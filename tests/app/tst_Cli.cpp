@@ -1,0 +1,178 @@
+// sightline-cli as a user runs it: exit codes, one-line errors, JSON and mask outputs.
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "project/Project.h"
+#include "visibility/NpyWriter.h"
+#include "visibility/RayCastSampler.h"
+
+using namespace sightline;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliRun {
+    int code = -1;
+    std::string out, err;
+};
+
+/// ctest runs tests in parallel processes: each gets its own folder.
+fs::path uniqueFolder()
+{
+    const auto* test = ::testing::UnitTest::GetInstance()->current_test_info();
+    return fs::temp_directory_path() / ("sightline_cli_" + std::string(test->name()) + "_" + std::to_string(getpid()));
+}
+
+CliRun runCli(const std::string& arguments)
+{
+    const fs::path errFile = uniqueFolder() / "stderr.txt";
+    const std::string command = std::string(SIGHTLINE_CLI) + " " + arguments + " 2>" + errFile.string();
+    CliRun run;
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe)
+        return run;
+    std::array<char, 4096> buffer{};
+    while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe))
+        run.out.append(buffer.data(), n);
+    const int status = pclose(pipe);
+    run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    std::stringstream err;
+    err << std::ifstream(errFile).rdbuf();
+    run.err = err.str();
+    return run;
+}
+
+bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
+
+class Cli : public ::testing::Test {
+protected:
+    fs::path folder;
+
+    void SetUp() override
+    {
+        folder = uniqueFolder();
+        fs::remove_all(folder);
+        fs::create_directories(folder);
+        // A 2 x 2 m wall (OBJ) with a 1 m hole in the middle between the patches, plus a box
+        // occluder placed in the hole's lower half by the project.
+        std::ofstream(folder / "wall.obj") << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
+                                              "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
+                                              "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+        json project = {
+            {"version", 1},
+            {"scene", "wall.obj"},
+            {"source", {{"corner", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"samples", {16, 8}}}},
+            {"receiver", {{"corner", {-0.5, -0.2, 4}}, {"u", {2, 0, 0.3}}, {"v", {0, 1.4, 0}}, {"samples", {24, 20}}}},
+            {"occluders", {{{"name", "crate"}, {"mesh", "box"},
+                            {"transform", {0.4, 0, 0, 0, 0, 0.3, 0, 0, 0, 0, 0.4, 0, 0.5, 0.15, 2.2, 1}}}}},
+        };
+        std::ofstream(folder / "p.json") << project.dump(2);
+    }
+    void TearDown() override { fs::remove_all(folder); }
+};
+
+} // namespace
+
+TEST_F(Cli, HelpAndVersion)
+{
+    const CliRun help = runCli("--help");
+    EXPECT_EQ(help.code, 0);
+    EXPECT_NE(help.out.find("shaft"), std::string::npos);
+    EXPECT_NE(help.out.find("info"), std::string::npos);
+    const CliRun shaftHelp = runCli("shaft --help");
+    EXPECT_EQ(shaftHelp.code, 0);
+    EXPECT_NE(shaftHelp.out.find("--mask"), std::string::npos);
+    EXPECT_EQ(runCli("--version").code, 0);
+}
+
+TEST_F(Cli, ShaftJsonAndMaskMatchTheReference)
+{
+    const fs::path mask = folder / "m.npy";
+    const CliRun run = runCli("shaft " + (folder / "p.json").string() + " --method raycast --json --mask " + mask.string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json out = json::parse(run.out);
+    for (const char* key : {"method", "rays", "blocked", "unblocked", "visible_fraction", "ms"})
+        EXPECT_TRUE(out.contains(key)) << key;
+    EXPECT_EQ(out["method"], "raycast");
+    EXPECT_EQ(out["rays"], 128u * 480u);
+    EXPECT_EQ(out["blocked"].get<std::uint64_t>() + out["unblocked"].get<std::uint64_t>(), 128u * 480u);
+
+    const Project project = loadProject(folder / "p.json");
+    const HiddenSampleMap expected = RayCastScene(buildScene(project)).sample(project.source, project.receiver);
+    EXPECT_EQ(out["blocked"], expected.blockedCount());
+    EXPECT_NEAR(out["visible_fraction"].get<double>(), 1.0 - double(expected.blockedCount()) / 61440.0, 1e-12);
+    // The wall with its hole and the crate make a real mix of blocked and free rays.
+    EXPECT_GT(expected.blockedCount(), 61440u / 10);
+    EXPECT_LT(expected.blockedCount(), 61440u * 19 / 20);
+    EXPECT_EQ(readMaskNpy(mask, 128), expected);
+}
+
+TEST_F(Cli, TextOutputByDefault)
+{
+    const CliRun run = runCli("shaft " + (folder / "p.json").string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_NE(run.out.find("visible"), std::string::npos);
+}
+
+TEST_F(Cli, FailuresAreOneLineAndNonZero)
+{
+    const std::string project = (folder / "p.json").string();
+    for (const std::string& arguments : std::vector<std::string>{
+             "shaft " + project + " --method gl", "shaft " + project + " --method cpu",
+          "shaft " + project + " --method warp", "shaft " + (folder / "missing.json").string(),
+          "info " + (folder / "missing.obj").string(), std::string("shaft"), std::string("frobnicate"),
+          "shaft " + project + " --mask " + (folder / "no" / "dir" / "m.npy").string()}) {
+        const CliRun run = runCli(arguments);
+        EXPECT_NE(run.code, 0) << arguments;
+        EXPECT_TRUE(oneLine(run.err)) << arguments << " -> [" << run.err << "]";
+        EXPECT_TRUE(run.out.empty()) << arguments;
+    }
+    EXPECT_NE(runCli("shaft " + project + " --method gl").err.find("not available"), std::string::npos);
+
+    // An invalid patch pair is refused, never computed.
+    json bad = json::parse(std::ifstream(folder / "p.json"));
+    bad["receiver"]["corner"] = {-0.5, -0.2, -1};
+    bad["receiver"]["v"] = {0, 0, 3};
+    std::ofstream(folder / "bad.json") << bad.dump();
+    const CliRun run = runCli("shaft " + (folder / "bad.json").string() + " --json");
+    EXPECT_NE(run.code, 0);
+    EXPECT_TRUE(oneLine(run.err)) << run.err;
+    EXPECT_NE(run.err.find("patch pair"), std::string::npos) << run.err;
+}
+
+TEST_F(Cli, InfoCountsInstances)
+{
+    const CliRun run = runCli("info " + (folder / "p.json").string() + " --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_EQ(out["triangles"], 8u + 12u);
+    EXPECT_EQ(out["instances"], 2u);
+    EXPECT_FLOAT_EQ(out["bounds"]["max"][1].get<float>(), 1.5f);
+}
+
+TEST_F(Cli, DemoWritesARunnableProject)
+{
+    const CliRun demo = runCli("demo " + (folder / "demo").string());
+    ASSERT_EQ(demo.code, 0) << demo.err;
+    ASSERT_TRUE(fs::exists(folder / "demo" / "demo.json"));
+    ASSERT_TRUE(fs::exists(folder / "demo" / "demo_level.glb"));
+    const CliRun shaft = runCli("shaft " + (folder / "demo" / "demo.json").string() + " --json");
+    ASSERT_EQ(shaft.code, 0) << shaft.err;
+    const json out = json::parse(shaft.out);
+    EXPECT_EQ(out["rays"], 1024u * 1024u);
+    EXPECT_GE(out["triangles"].get<std::size_t>(), 70000u);
+    // The demo view is neither open nor shut.
+    EXPECT_GT(out["visible_fraction"].get<double>(), 0.1);
+    EXPECT_LT(out["visible_fraction"].get<double>(), 0.9);
+}

@@ -1,0 +1,172 @@
+#include <filesystem>
+#include <fstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "project/Project.h"
+#include "visibility/Error.h"
+
+using namespace sightline;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+json minimalDocument()
+{
+    return json::parse(R"({
+      "version": 1,
+      "scene": "level.obj",
+      "source":   {"corner": [0, 1, 0], "u": [1, 0, 0], "v": [0, 1, 0], "samples": [8, 4]},
+      "receiver": {"corner": [0, 1, 8], "u": [1, 0, 0], "v": [0, 1, 0]},
+      "occluders": [{"name": "crate", "mesh": "box", "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 2,0,4,1]}]
+    })");
+}
+
+std::string errorOf(const json& document)
+{
+    try {
+        parseProject(document, "/tmp", "p.json");
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+struct TempFolder {
+    fs::path path;
+    explicit TempFolder(const std::string& name) : path(fs::temp_directory_path() / name)
+    {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~TempFolder() { fs::remove_all(path); }
+};
+
+} // namespace
+
+TEST(Project, ParsesTheContractExample)
+{
+    const Project p = parseProject(minimalDocument(), "/levels", "p.json");
+    EXPECT_EQ(p.scene, "level.obj");
+    EXPECT_EQ(p.resolve(p.scene), fs::path("/levels/level.obj"));
+    EXPECT_EQ(p.resolve("/abs/x.glb"), fs::path("/abs/x.glb"));
+    EXPECT_EQ(p.source.na, 8);
+    EXPECT_EQ(p.source.nb, 4);
+    EXPECT_EQ(p.receiver.na, 32);   // default
+    EXPECT_EQ(p.receiver.corner.z, 8.0);
+    ASSERT_EQ(p.occluders.size(), 1u);
+    EXPECT_EQ(p.occluders[0].mesh, "box");
+    EXPECT_FLOAT_EQ(p.occluders[0].transform[3][2], 4.0f);   // column-major translation
+}
+
+TEST(Project, RoundTripKeepsUnknownKeysEverywhere)
+{
+    json document = minimalDocument();
+    document["editor"] = {{"camera", {1, 2, 3}}};
+    document["source"]["colour"] = "red";
+    document["occluders"][0]["locked"] = true;
+    TempFolder folder("sightline_project_rt");
+    const Project p = parseProject(document, folder.path, "p.json");
+    saveProject(p, folder.path / "p.json");
+    const Project q = loadProject(folder.path / "p.json");
+    const json saved = toJson(q);
+    EXPECT_EQ(saved["editor"]["camera"], json({1, 2, 3}));
+    EXPECT_EQ(saved["source"]["colour"], "red");
+    EXPECT_EQ(saved["occluders"][0]["locked"], true);
+    EXPECT_EQ(saved["receiver"]["samples"], json({32, 32}));
+    EXPECT_EQ(q.source.corner, p.source.corner);
+    EXPECT_EQ(q.occluders[0].transform, p.occluders[0].transform);
+    EXPECT_EQ(toJson(p), saved);
+}
+
+TEST(Project, ErrorsNameTheBadKey)
+{
+    json d = minimalDocument();
+    d.erase("source");
+    EXPECT_NE(errorOf(d).find("'source' is missing"), std::string::npos) << errorOf(d);
+
+    d = minimalDocument();
+    d["source"]["samples"] = {0, 5};
+    EXPECT_NE(errorOf(d).find("source.samples"), std::string::npos) << errorOf(d);
+
+    d = minimalDocument();
+    d["receiver"]["samples"] = {2000, 5};
+    EXPECT_NE(errorOf(d).find("receiver.samples"), std::string::npos) << errorOf(d);
+
+    d = minimalDocument();
+    d["receiver"]["u"] = {1, "x", 0};
+    EXPECT_NE(errorOf(d).find("receiver.u[1]"), std::string::npos) << errorOf(d);
+
+    d = minimalDocument();
+    d["occluders"][0]["transform"] = json::array({1, 0, 0});
+    EXPECT_NE(errorOf(d).find("occluders[0].transform"), std::string::npos) << errorOf(d);
+
+    d = minimalDocument();
+    d["version"] = 2;
+    EXPECT_NE(errorOf(d).find("version"), std::string::npos) << errorOf(d);
+
+    d = minimalDocument();
+    d.erase("version");
+    EXPECT_NE(errorOf(d).find("version"), std::string::npos) << errorOf(d);
+
+    EXPECT_NE(errorOf(json::array()).find("JSON object"), std::string::npos);
+
+    TempFolder folder("sightline_project_err");
+    std::ofstream(folder.path / "bad.json") << "{\"version\": 1,";
+    try {
+        loadProject(folder.path / "bad.json");
+        FAIL() << "malformed JSON accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("invalid JSON"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+    EXPECT_THROW(loadProject(folder.path / "missing.json"), Error);
+}
+
+TEST(Project, BuildSceneAddsOccluders)
+{
+    TempFolder folder("sightline_project_scene");
+    std::ofstream(folder.path / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    json d = minimalDocument();
+    d["scene"] = "tri.obj";
+    d["occluders"].push_back({{"name", "floor"}, {"mesh", "plane"},
+                              {"transform", {10, 0, 0, 0, 0, 1, 0, 0, 0, 0, 10, 0, 0, -1, 0, 1}}});
+    d["occluders"].push_back({{"name", "again"}, {"mesh", "tri.obj"}});
+    const Project p = parseProject(d, folder.path, "p.json");
+    const Scene scene = buildScene(p);
+    EXPECT_EQ(scene.triangleCount(), 1u + 12u + 2u + 1u);
+    ASSERT_EQ(scene.instances.size(), 4u);
+    EXPECT_EQ(scene.instances[1].name, "crate");
+    const Bounds box = scene.bounds();
+    EXPECT_FLOAT_EQ(box.min.x, -5.0f);   // 10 m plane centred on the origin
+    EXPECT_FLOAT_EQ(box.min.y, -1.0f);
+    EXPECT_FLOAT_EQ(box.max.z, 5.0f);
+    EXPECT_FLOAT_EQ(box.max.x, 5.0f);
+
+    d["occluders"].push_back({{"mesh", "sphere"}});
+    EXPECT_THROW(buildScene(parseProject(d, folder.path, "p.json")), Error);
+    d["occluders"].erase(d["occluders"].size() - 1);
+    d["scene"] = "missing.glb";
+    EXPECT_THROW(buildScene(parseProject(d, folder.path, "p.json")), Error);
+}
+
+TEST(Project, BuiltinMeshesAreClosedAndOriented)
+{
+    const Mesh box = builtinMesh("box");
+    ASSERT_EQ(box.triangleCount(), 12u);
+    EXPECT_TRUE(box.watertight);
+    // Every face normal points away from the centre.
+    for (std::size_t t = 0; t < 12; ++t) {
+        const glm::vec3 a = box.positions[box.indices[3 * t]], b = box.positions[box.indices[3 * t + 1]],
+                        c = box.positions[box.indices[3 * t + 2]];
+        EXPECT_GT(glm::dot(glm::cross(b - a, c - a), (a + b + c) / 3.0f), 0.0f) << "triangle " << t;
+    }
+    const Mesh plane = builtinMesh("plane");
+    for (std::size_t t = 0; t < 2; ++t) {
+        const glm::vec3 a = plane.positions[plane.indices[3 * t]], b = plane.positions[plane.indices[3 * t + 1]],
+                        c = plane.positions[plane.indices[3 * t + 2]];
+        EXPECT_GT(glm::cross(b - a, c - a).y, 0.0f);
+    }
+}

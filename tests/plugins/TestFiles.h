@@ -1,0 +1,79 @@
+#pragma once
+// Helpers shared by the plugin tests: the shared data folder, a scratch folder, file writers and a
+// check that an import fails with a one-line sightline::Error naming the file.
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "visibility/Error.h"
+
+namespace sightline::test {
+
+inline std::filesystem::path sharedData() { return SIGHTLINE_SHARED_DATA; }
+
+/// Skips the calling test when the shared data folder is absent.
+#define SIGHTLINE_REQUIRE_SHARED_DATA()                                                            \
+    do {                                                                                           \
+        if (!std::filesystem::is_directory(::sightline::test::sharedData()))                      \
+            GTEST_SKIP() << "shared data not found at " << ::sightline::test::sharedData();       \
+    } while (0)
+
+/// A fresh folder under the system temp folder, removed with everything in it.
+class TempDir {
+public:
+    TempDir()
+    {
+        std::random_device rd;
+        path_ = std::filesystem::temp_directory_path() / ("sightline-test-" + std::to_string(rd()) + std::to_string(rd()));
+        std::filesystem::create_directories(path_);
+    }
+    ~TempDir()
+    {
+        std::error_code ec;
+        std::filesystem::remove_all(path_, ec);
+    }
+    TempDir(const TempDir&) = delete;
+    TempDir& operator=(const TempDir&) = delete;
+
+    const std::filesystem::path& path() const { return path_; }
+    std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    std::filesystem::path path_;
+};
+
+inline std::filesystem::path writeFile(const std::filesystem::path& path, const std::string& bytes)
+{
+    std::filesystem::create_directories(path.parent_path());
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return path;
+}
+
+/// Runs `load`, expecting a sightline::Error whose message is one non-empty line naming `file`.
+/// Returns the message for further checks.
+inline std::string expectOneLineError(const std::filesystem::path& file, const std::function<void()>& load)
+{
+    try {
+        load();
+    } catch (const sightline::Error& e) {
+        const std::string message = e.what();
+        EXPECT_FALSE(message.empty());
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        EXPECT_EQ(message.find('\r'), std::string::npos) << message;
+        EXPECT_NE(message.find(file.filename().string()), std::string::npos) << message;
+        return message;
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << file << ": threw a non-sightline exception: " << e.what();
+        return {};
+    }
+    ADD_FAILURE() << file << ": loaded, but an error was expected";
+    return {};
+}
+
+} // namespace sightline::test

@@ -1,0 +1,427 @@
+// glTF importer on small files the tests write: index types and primitive modes, strides, sparse
+// accessors, data URIs, GLB containers, scene selection and instancing, and every refusal (buffer
+// URIs escaping the folder, required extensions, overruns, bad indices, NaN, malformed input).
+
+#include <cstring>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "TestFiles.h"
+#include "plugins/SceneFormats.h"
+
+using namespace sightline;
+using nlohmann::json;
+using sightline::test::expectOneLineError;
+using sightline::test::TempDir;
+using sightline::test::writeFile;
+
+namespace {
+
+constexpr int kU8 = 5121, kU16 = 5123, kU32 = 5125, kF32 = 5126;
+
+std::string base64(const std::string& in)
+{
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t i = 0; i < in.size(); i += 3) {
+        std::uint32_t n = std::uint32_t(static_cast<unsigned char>(in[i])) << 16;
+        if (i + 1 < in.size())
+            n |= std::uint32_t(static_cast<unsigned char>(in[i + 1])) << 8;
+        if (i + 2 < in.size())
+            n |= static_cast<unsigned char>(in[i + 2]);
+        out += table[(n >> 18) & 63];
+        out += table[(n >> 12) & 63];
+        out += i + 1 < in.size() ? table[(n >> 6) & 63] : '=';
+        out += i + 2 < in.size() ? table[n & 63] : '=';
+    }
+    return out;
+}
+
+template <class T>
+std::string bytesOf(const std::vector<T>& v)
+{
+    return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+/// A minimal glTF document with one binary buffer, built up view by view.
+struct GltfDoc {
+    json doc = {{"asset", {{"version", "2.0"}}}, {"bufferViews", json::array()}, {"accessors", json::array()}};
+    std::string bin;
+
+    int view(const std::string& bytes, int stride = 0)
+    {
+        while (bin.size() % 4)
+            bin += '\0';
+        json v = {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", bytes.size()}};
+        if (stride)
+            v["byteStride"] = stride;
+        bin += bytes;
+        doc["bufferViews"].push_back(v);
+        return static_cast<int>(doc["bufferViews"].size() - 1);
+    }
+    int accessor(json a)
+    {
+        doc["accessors"].push_back(std::move(a));
+        return static_cast<int>(doc["accessors"].size() - 1);
+    }
+    int positions(const std::vector<float>& xyz)
+    {
+        return accessor({{"bufferView", view(bytesOf(xyz))}, {"componentType", kF32}, {"count", xyz.size() / 3},
+                         {"type", "VEC3"}});
+    }
+    template <class T>
+    int indices(const std::vector<T>& values, int componentType)
+    {
+        return accessor({{"bufferView", view(bytesOf(values))}, {"componentType", componentType},
+                         {"count", values.size()}, {"type", "SCALAR"}});
+    }
+    /// One mesh per call; returns its index.
+    int mesh(json primitives)
+    {
+        doc["meshes"].push_back({{"primitives", std::move(primitives)}});
+        return static_cast<int>(doc["meshes"].size() - 1);
+    }
+    /// A single scene whose roots are `nodes`.
+    void scene(json nodes, json roots)
+    {
+        doc["nodes"] = std::move(nodes);
+        doc["scenes"] = json::array({{{"nodes", std::move(roots)}}});
+        doc["scene"] = 0;
+    }
+
+    /// .gltf with the buffer as a data URI.
+    std::filesystem::path writeEmbedded(const std::filesystem::path& file)
+    {
+        doc["buffers"] = json::array({{{"byteLength", bin.size()},
+                                       {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+        return writeFile(file, doc.dump());
+    }
+    /// .gltf with the buffer in a separate file named by `uri` (relative to the .gltf's folder).
+    std::filesystem::path writeExternal(const std::filesystem::path& file, const std::string& uri)
+    {
+        doc["buffers"] = json::array({{{"byteLength", bin.size()}, {"uri", uri}}});
+        if (!std::filesystem::path(uri).is_absolute())
+            writeFile(file.parent_path() / uri, bin);
+        return writeFile(file, doc.dump());
+    }
+    /// .glb with the buffer in the BIN chunk.
+    std::filesystem::path writeGlb(const std::filesystem::path& file, std::uint32_t version = 2)
+    {
+        doc["buffers"] = json::array({{{"byteLength", bin.size()}}});
+        std::string text = doc.dump();
+        while (text.size() % 4)
+            text += ' ';
+        std::string body = bin;
+        while (body.size() % 4)
+            body += '\0';
+        auto u32 = [](std::uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+        const auto total = static_cast<std::uint32_t>(12 + 8 + text.size() + 8 + body.size());
+        return writeFile(file, "glTF" + u32(version) + u32(total) + u32(static_cast<std::uint32_t>(text.size())) +
+                                   "JSON" + text + u32(static_cast<std::uint32_t>(body.size())) +
+                                   std::string("BIN\0", 4) + body);
+    }
+};
+
+/// The unit right triangle as one indexed mesh under one node.
+GltfDoc triangleDoc()
+{
+    GltfDoc g;
+    const int pos = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const int idx = g.indices(std::vector<std::uint16_t>{0, 1, 2}, kU16);
+    g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}));
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    return g;
+}
+
+std::vector<glm::vec3> world(const Scene& scene) { return worldTriangles(scene).vertices; }
+
+TEST(GltfImporter, EmbeddedExternalAndGlbAgree)
+{
+    TempDir dir;
+    const std::vector<glm::vec3> expected = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    GltfDoc a = triangleDoc(), b = triangleDoc(), c = triangleDoc();
+    EXPECT_EQ(world(loadScene(a.writeEmbedded(dir / "embedded.gltf"))), expected);
+    EXPECT_EQ(world(loadScene(b.writeExternal(dir / "external.gltf", "external.bin"))), expected);
+    EXPECT_EQ(world(loadScene(c.writeGlb(dir / "binary.glb"))), expected);
+}
+
+TEST(GltfImporter, DefaultNamesAndNoNormals)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    const Scene scene = loadScene(g.writeEmbedded(dir / "names.gltf"));
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].name, "mesh 0");
+    EXPECT_EQ(scene.instances.at(0).name, "node 0");
+    EXPECT_TRUE(scene.meshes[0].normals.empty());
+}
+
+TEST(GltfImporter, U8StripAndU32Fan)
+{
+    TempDir dir;
+    GltfDoc g;
+    // A unit quad as a strip (u8 indices) and, shifted by x+2, as a non-indexed fan.
+    const int quad = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    const int strip = g.indices(std::vector<std::uint8_t>{0, 1, 2, 3}, kU8);
+    const int fanPos = g.positions({2, 0, 0, 3, 0, 0, 3, 1, 0, 2, 1, 0});
+    const int fanIdx = g.indices(std::vector<std::uint32_t>{0, 1, 2, 3}, kU32);
+    g.mesh(json::array({{{"attributes", {{"POSITION", quad}}}, {"indices", strip}, {"mode", 5}},
+                        {{"attributes", {{"POSITION", fanPos}}}, {"indices", fanIdx}, {"mode", 6}},
+                        {{"attributes", {{"POSITION", quad}}}, {"mode", 1}}})); // lines: ignored
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    std::vector<std::string> warnings;
+    const Scene scene = loadScene(g.writeEmbedded(dir / "modes.gltf"), &warnings);
+    EXPECT_EQ(scene.triangleCount(), 4u);
+    EXPECT_EQ(warnings.size(), 1u); // the LINES primitive
+    // Strip: (0,1,2), (1,3,2) (odd triangles swap to keep the winding); fan: (1,2,0), (2,3,0).
+    const std::vector<glm::vec3> expected = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                             {3, 0, 0}, {3, 1, 0}, {2, 0, 0}, {3, 1, 0}, {2, 1, 0}, {2, 0, 0}};
+    EXPECT_EQ(world(scene), expected);
+}
+
+TEST(GltfImporter, InterleavedStrideAndNormals)
+{
+    TempDir dir;
+    GltfDoc g;
+    // position xyz, normal xyz, one float of padding: stride 28.
+    const std::vector<float> data = {0, 0, 0, 0, 0, 1, 9, 1, 0, 0, 0, 0, 1, 9, 0, 1, 0, 0, 0, 1, 9};
+    const int v = g.view(bytesOf(data), 28);
+    const int pos = g.accessor({{"bufferView", v}, {"componentType", kF32}, {"count", 3}, {"type", "VEC3"}});
+    const int nrm = g.accessor({{"bufferView", v}, {"byteOffset", 12}, {"componentType", kF32}, {"count", 3}, {"type", "VEC3"}});
+    g.mesh(json::array({{{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}}}}}));
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    const Scene scene = loadScene(g.writeEmbedded(dir / "interleaved.gltf"));
+    EXPECT_EQ(world(scene), (std::vector<glm::vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}));
+    EXPECT_EQ(scene.meshes.at(0).normals, (std::vector<glm::vec3>(3, {0, 0, 1})));
+}
+
+TEST(GltfImporter, SparseAccessorWithoutBufferView)
+{
+    TempDir dir;
+    GltfDoc g;
+    // Zeros + sparse: vertices 1 and 2 set, vertex 0 stays at the origin.
+    const int idxView = g.view(bytesOf(std::vector<std::uint8_t>{1, 2}));
+    const int valView = g.view(bytesOf(std::vector<float>{4, 0, 0, 0, 5, 0}));
+    const int pos = g.accessor({{"componentType", kF32}, {"count", 3}, {"type", "VEC3"},
+                                {"sparse", {{"count", 2}, {"indices", {{"bufferView", idxView}, {"componentType", kU8}}},
+                                            {"values", {{"bufferView", valView}}}}}});
+    g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}}}));
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    EXPECT_EQ(world(loadScene(g.writeEmbedded(dir / "sparse.gltf"))),
+              (std::vector<glm::vec3>{{0, 0, 0}, {4, 0, 0}, {0, 5, 0}}));
+}
+
+TEST(GltfImporter, InstancingAndTrs)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    // Parent translated by (10,0,0) with two children sharing mesh 0: one rotated 90° about Z, one scaled.
+    const double s = std::sqrt(0.5);
+    g.scene(json::array({{{"translation", {10, 0, 0}}, {"children", {1, 2}}},
+                         {{"name", "turned"}, {"mesh", 0}, {"rotation", {0, 0, s, s}}},
+                         {{"name", "big"}, {"mesh", 0}, {"scale", {2, 2, 2}}}}),
+            {0});
+    const Scene scene = loadScene(g.writeEmbedded(dir / "instances.gltf"));
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    ASSERT_EQ(scene.instances.size(), 2u);
+    EXPECT_EQ(scene.uniqueTriangleCount(), 1u);
+    EXPECT_EQ(scene.triangleCount(), 2u);
+    EXPECT_EQ(scene.instances[0].name, "turned");
+    const std::vector<glm::vec3> expected = {{10, 0, 0}, {10, 1, 0}, {9, 0, 0}, {10, 0, 0}, {12, 0, 0}, {10, 2, 0}};
+    const std::vector<glm::vec3> got = world(scene);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(got[i][k], expected[i][k], 1e-6f) << i;
+}
+
+TEST(GltfImporter, DefaultSceneIsChosen)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["nodes"] = json::array({{{"mesh", 0}}, {{"mesh", 0}, {"translation", {0, 0, 5}}}});
+    g.doc["scenes"] = json::array({{{"nodes", {0}}}, {{"nodes", {1}}}});
+    g.doc["scene"] = 1;
+    const Scene scene = loadScene(g.writeEmbedded(dir / "second.gltf"));
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_FLOAT_EQ(scene.bounds().min.z, 5.0f);
+}
+
+TEST(GltfImporter, WithoutScenesAllRootNodesLoad)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc.erase("scenes");
+    g.doc.erase("scene");
+    // Node 1 is a child of node 0; node 2 is a second root.
+    g.doc["nodes"] = json::array({{{"mesh", 0}, {"children", {1}}}, {{"mesh", 0}}, {{"mesh", 0}}});
+    EXPECT_EQ(loadScene(g.writeEmbedded(dir / "noscene.gltf")).instances.size(), 3u);
+}
+
+TEST(GltfImporter, MissingImageOnlyWarns)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["images"] = json::array({{{"uri", "missing.png"}}});
+    std::vector<std::string> warnings;
+    EXPECT_EQ(loadScene(g.writeEmbedded(dir / "image.gltf"), &warnings).triangleCount(), 1u);
+    EXPECT_FALSE(warnings.empty());
+}
+
+// ---- refusals ----------------------------------------------------------------------------------
+
+TEST(GltfImporter, BufferUriEscapingTheFolderIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    // The escaping buffer exists and is valid, so loading it would succeed: the refusal is the policy.
+    writeFile(dir / "outside.bin", g.bin);
+    g.doc["buffers"] = json::array({{{"byteLength", g.bin.size()}, {"uri", "../outside.bin"}}});
+    const auto file = writeFile(dir / "inner" / "escape.gltf", g.doc.dump());
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("../outside.bin"), std::string::npos);
+}
+
+TEST(GltfImporter, PercentEncodedEscapeIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    writeFile(dir / "outside.bin", g.bin);
+    g.doc["buffers"] = json::array({{{"byteLength", g.bin.size()}, {"uri", "%2E%2E/outside.bin"}}});
+    const auto file = writeFile(dir / "inner" / "encoded.gltf", g.doc.dump());
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("outside"), std::string::npos);
+}
+
+TEST(GltfImporter, AbsoluteBufferUriIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    const auto bin = writeFile(dir / "abs.bin", g.bin); // same folder, still refused: absolute
+    g.doc["buffers"] = json::array({{{"byteLength", g.bin.size()}, {"uri", bin.string()}}});
+    const auto file = writeFile(dir / "absolute.gltf", g.doc.dump());
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find(bin.string()), std::string::npos);
+}
+
+TEST(GltfImporter, RequiredExtensionIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+    g.doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+    const auto file = g.writeEmbedded(dir / "required.gltf");
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("KHR_mesh_quantization"), std::string::npos);
+}
+
+TEST(GltfImporter, MalformedJsonIsRefused)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "broken.gltf", "{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [\n");
+    expectOneLineError(file, [&] { loadScene(file); });
+    const auto text = writeFile(dir / "text.glb", "this is not a glb file at all");
+    expectOneLineError(text, [&] { loadScene(text); });
+}
+
+TEST(GltfImporter, GlbVersion1IsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    const auto file = g.writeGlb(dir / "old.glb", 1);
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("version 1"), std::string::npos);
+}
+
+TEST(GltfImporter, IndexOutOfRangeIsRefused)
+{
+    TempDir dir;
+    GltfDoc g;
+    const int pos = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0});
+    const int idx = g.indices(std::vector<std::uint16_t>{0, 1, 3}, kU16);
+    g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}));
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    const auto file = g.writeEmbedded(dir / "badindex.gltf");
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("out of range"), std::string::npos);
+}
+
+TEST(GltfImporter, AccessorOverrunningItsBufferIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["accessors"][0]["count"] = 1000; // 3 vertices stored
+    const auto file = g.writeEmbedded(dir / "overrun.gltf");
+    expectOneLineError(file, [&] { loadScene(file); });
+
+    GltfDoc h = triangleDoc();
+    h.doc["bufferViews"][0]["byteLength"] = 4096; // the view itself overruns the buffer
+    const auto view = h.writeEmbedded(dir / "viewoverrun.gltf");
+    expectOneLineError(view, [&] { loadScene(view); });
+
+    GltfDoc k = triangleDoc();
+    k.doc["accessors"][0]["byteOffset"] = std::numeric_limits<std::uint64_t>::max() - 4; // wrap-around attempt
+    const auto offset = k.writeEmbedded(dir / "offset.gltf");
+    expectOneLineError(offset, [&] { loadScene(offset); });
+}
+
+TEST(GltfImporter, StrideSmallerThanElementIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["bufferViews"][0]["byteStride"] = 4; // elements would overlap
+    const auto file = g.writeEmbedded(dir / "stride.gltf");
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("byteStride"), std::string::npos);
+}
+
+TEST(GltfImporter, SparseIndexOutOfRangeIsRefused)
+{
+    TempDir dir;
+    GltfDoc g;
+    const int idxView = g.view(bytesOf(std::vector<std::uint8_t>{7}));
+    const int valView = g.view(bytesOf(std::vector<float>{4, 0, 0}));
+    const int pos = g.accessor({{"componentType", kF32}, {"count", 3}, {"type", "VEC3"},
+                                {"sparse", {{"count", 1}, {"indices", {{"bufferView", idxView}, {"componentType", kU8}}},
+                                            {"values", {{"bufferView", valView}}}}}});
+    g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}}}));
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    const auto file = g.writeEmbedded(dir / "sparse_bad.gltf");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(GltfImporter, NonFloatPositionsAndNaNAreRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["accessors"][0]["type"] = "VEC2";
+    const auto vec2 = g.writeEmbedded(dir / "vec2.gltf");
+    expectOneLineError(vec2, [&] { loadScene(vec2); });
+
+    GltfDoc n;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const int pos = n.positions({0, 0, 0, nan, 0, 0, 0, 1, 0});
+    n.mesh(json::array({{{"attributes", {{"POSITION", pos}}}}}));
+    n.scene(json::array({{{"mesh", 0}}}), {0});
+    const auto file = n.writeEmbedded(dir / "nan.gltf");
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("not finite"), std::string::npos);
+}
+
+TEST(GltfImporter, CyclicNodesAreRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.scene(json::array({{{"mesh", 0}, {"children", {1}}}, {{"children", {0}}}}), {0});
+    const auto file = g.writeEmbedded(dir / "cycle.gltf");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(GltfImporter, TruncatedGlbIsRefused)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    const auto whole = g.writeGlb(dir / "whole.glb");
+    std::ifstream in(whole, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    for (std::size_t cut : {std::size_t(10), std::size_t(30), bytes.size() - 8}) {
+        const auto file = writeFile(dir / ("cut" + std::to_string(cut) + ".glb"), bytes.substr(0, cut));
+        expectOneLineError(file, [&] { loadScene(file); });
+    }
+}
+
+} // namespace

@@ -1,0 +1,252 @@
+// OBJ/PLY/OFF/STL import: exact triangle counts (non-manifold and polygon faces included), the
+// instance layout, and one-line errors for malformed files. Every file is written by the test.
+
+#include <cstring>
+#include <limits>
+
+#include <gtest/gtest.h>
+
+#include "TestFiles.h"
+#include "plugins/SceneFormats.h"
+
+using namespace sightline;
+using sightline::test::expectOneLineError;
+using sightline::test::TempDir;
+using sightline::test::writeFile;
+
+namespace {
+
+std::string binary(const void* data, std::size_t bytes) { return std::string(static_cast<const char*>(data), bytes); }
+std::string f32(float v) { return binary(&v, 4); }
+std::string i32(std::int32_t v) { return binary(&v, 4); }
+std::string u32(std::uint32_t v) { return binary(&v, 4); }
+std::string u8(std::uint8_t v) { return binary(&v, 1); }
+
+// Binary little-endian PLY: 4 vertices, one quad and one triangle = 3 triangles.
+std::string binaryPly()
+{
+    std::string s = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                    "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    for (const auto& p : v)
+        s += f32(p[0]) + f32(p[1]) + f32(p[2]);
+    s += u8(4) + i32(0) + i32(1) + i32(2) + i32(3);
+    s += u8(3) + i32(0) + i32(2) + i32(3);
+    return s;
+}
+
+TEST(OpenMeshImporter, ObjKeepsNonManifoldAndPolygonFaces)
+{
+    TempDir dir;
+    // Three triangles share edge 0-1 (a "complex edge" a halfedge mesh would drop), plus a pentagon.
+    const auto file = writeFile(dir / "fins.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\n"
+                                                  "f 1 2 3\nf 1 2 4\nf 2 1 5\n"
+                                                  "v 2 0 0\nv 3 0 0\nv 3.5 1 0\nv 2.5 2 0\nv 1.5 1 0\n"
+                                                  "f 6 7 8 9 10\n");
+    const Scene scene = loadScene(file);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    ASSERT_EQ(scene.instances.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].positions.size(), 10u);
+    EXPECT_EQ(scene.triangleCount(), 3u + 3u); // pentagon fan = 3 triangles
+    EXPECT_EQ(scene.meshes[0].name, "fins");
+    EXPECT_EQ(scene.instances[0].transform, glm::mat4(1.0f));
+    // The third triangle is (2, 1, 5) in 1-based indices, order preserved.
+    const std::vector<std::uint32_t> third(scene.meshes[0].indices.begin() + 6, scene.meshes[0].indices.begin() + 9);
+    EXPECT_EQ(third, (std::vector<std::uint32_t>{1, 0, 4}));
+}
+
+TEST(OpenMeshImporter, ObjWithNaNVertexIsRefused)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(OpenMeshImporter, ObjUnreadableVertexNeverShiftsIndices)
+{
+    TempDir dir;
+    // OpenMesh skips the bad line; without a check face 1 2 3 would silently use the wrong vertices.
+    const auto file = writeFile(dir / "shift.obj", "v 0 0 0\nv x 0 0\nv 0 1 0\nv 1 1 1\nf 1 2 3\n");
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("vertex lines"), std::string::npos);
+}
+
+TEST(OpenMeshImporter, BinaryPlyWithNaNVertexIsRefused)
+{
+    TempDir dir;
+    std::string ply = binaryPly();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    ply.replace(ply.find("end_header\n") + 11 + 12, 4, f32(nan)); // x of vertex 1
+    const auto file = writeFile(dir / "nan.ply", ply);
+    EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("not finite"), std::string::npos);
+}
+
+TEST(OpenMeshImporter, TruncatedAsciiPlyIsRefused)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "short.ply", "ply\nformat ascii 1.0\nelement vertex 900000000\nproperty float x\n"
+                                                   "property float y\nproperty float z\nend_header\n0 0 0\n");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(OpenMeshImporter, ObjFaceIndexOutOfRangeIsRefused)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(OpenMeshImporter, OffFaceIndexOutOfRangeIsRefused)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(OpenMeshImporter, OffWithCommentsColoursAndInlineCounts)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "quad.off", "COFF 4 1 0 # counts on the header line\n"
+                                                  "# a comment line\n"
+                                                  "0 0 0 255 0 0 255\n1 0 0 255 0 0 255\n"
+                                                  "1 1 0 255 0 0 255 # trailing comment\n0 1 0 255 0 0 255\n"
+                                                  "4 0 1 2 3 0.5 0.5 0.5 1.0\n");
+    const Scene scene = loadScene(file);
+    EXPECT_EQ(scene.triangleCount(), 2u);
+    ASSERT_EQ(scene.meshes.size(), 1u);
+    EXPECT_EQ(scene.meshes[0].positions[2], glm::vec3(1, 1, 0));
+}
+
+TEST(OpenMeshImporter, TruncatedOrGarbledOffIsRefused)
+{
+    TempDir dir;
+    const std::string cases[] = {
+        "OFF\n2000000000 1 0\n0 0 0\n",                         // counts the file does not hold
+        "OFF\n0 1 0\n-1.63 0 1.15\n",                           // negative face size (hung OpenMesh)
+        "OFF\n3 1 0\n0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n",        // NaN coordinate
+        "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n",        // fractional index
+        "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n4 0 1 2\n",          // face shorter than announced
+    };
+    int n = 0;
+    for (const std::string& text : cases) {
+        const auto file = writeFile(dir / ("bad" + std::to_string(n++) + ".off"), text);
+        SCOPED_TRACE(file.filename().string());
+        expectOneLineError(file, [&] { loadScene(file); });
+    }
+}
+
+TEST(OpenMeshImporter, AsciiPlyCounts)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "quad.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                                                  "property float y\nproperty float z\nelement face 2\n"
+                                                  "property list uchar int vertex_indices\nend_header\n"
+                                                  "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n4 0 1 2 3\n3 0 1 4\n");
+    const Scene scene = loadScene(file);
+    EXPECT_EQ(scene.meshes.at(0).positions.size(), 5u);
+    EXPECT_EQ(scene.triangleCount(), 3u);
+    EXPECT_EQ(scene.meshes[0].positions[4], glm::vec3(0, 0, 1));
+}
+
+TEST(OpenMeshImporter, BinaryPlyCounts)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "quad_bin.ply", binaryPly());
+    const Scene scene = loadScene(file);
+    EXPECT_EQ(scene.meshes.at(0).positions.size(), 4u);
+    EXPECT_EQ(scene.triangleCount(), 3u);
+    EXPECT_EQ(scene.meshes[0].positions[2], glm::vec3(1, 1, 0));
+}
+
+TEST(OpenMeshImporter, TruncatedBinaryPlyIsRefused)
+{
+    TempDir dir;
+    const std::string full = binaryPly();
+    const auto file = writeFile(dir / "cut.ply", full.substr(0, full.size() - 20)); // part of the faces is gone
+    expectOneLineError(file, [&] { loadScene(file); });
+    const auto early = writeFile(dir / "cut_early.ply", full.substr(0, full.find("end_header") + 11 + 20));
+    expectOneLineError(early, [&] { loadScene(early); });
+}
+
+TEST(OpenMeshImporter, GarbagePlyIsRefused)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "garbage.ply", "this is not a mesh\n\x01\x02\x03");
+    expectOneLineError(file, [&] { loadScene(file); });
+}
+
+TEST(OpenMeshImporter, MalformedPlyHeadersAreRefused)
+{
+    // Each of these crashed or hung OpenMesh's PLY reader before the header check.
+    TempDir dir;
+    const std::string ply = binaryPly();
+    const std::string header = ply.substr(0, ply.find("end_header"));
+    const std::string cases[] = {
+        header.substr(0, header.find("property float y") + 3),        // header cut off mid-line
+        std::string(ply).replace(ply.find("property list"), 13, "property "), // list without types
+        std::string(ply).replace(ply.find("element vertex"), 7, "elem\x87nt"), // unknown keyword
+        std::string(ply).replace(ply.find("float y"), 5, "flPat"),     // unknown type
+    };
+    int n = 0;
+    for (const std::string& bytes : cases) {
+        const auto file = writeFile(dir / ("bad" + std::to_string(n++) + ".ply"), bytes);
+        SCOPED_TRACE(file.filename().string());
+        expectOneLineError(file, [&] { loadScene(file); });
+    }
+}
+
+TEST(OpenMeshImporter, AsciiStlCounts)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "two.stl", "solid two\n"
+                                                 " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
+                                                 "   vertex 1 0 0\n   vertex 1 1 0\n  endloop\n endfacet\n"
+                                                 " facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n"
+                                                 "   vertex 1 1 0\n   vertex 0 1 0\n  endloop\n endfacet\n"
+                                                 "endsolid two\n");
+    const Scene scene = loadScene(file);
+    EXPECT_EQ(scene.triangleCount(), 2u);
+    const Bounds b = scene.bounds();
+    EXPECT_EQ(b.min, glm::vec3(0, 0, 0));
+    EXPECT_EQ(b.max, glm::vec3(1, 1, 0));
+}
+
+TEST(OpenMeshImporter, BinaryStlCounts)
+{
+    TempDir dir;
+    std::string s(80, ' ');
+    s += u32(2);
+    const float tris[2][3][3] = {{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}}, {{0, 0, 0}, {1, 1, 0}, {0, 1, 2}}};
+    for (const auto& t : tris) {
+        s += f32(0) + f32(0) + f32(1);
+        for (const auto& v : t)
+            s += f32(v[0]) + f32(v[1]) + f32(v[2]);
+        s += std::string(2, '\0');
+    }
+    const auto file = writeFile(dir / "two_bin.stl", s);
+    const Scene scene = loadScene(file);
+    EXPECT_EQ(scene.triangleCount(), 2u);
+    EXPECT_EQ(scene.bounds().max, glm::vec3(1, 1, 2));
+}
+
+TEST(OpenMeshImporter, UppercaseExtensionIsAccepted)
+{
+    TempDir dir;
+    const auto file = writeFile(dir / "TRI.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    EXPECT_EQ(loadScene(file).triangleCount(), 1u);
+}
+
+TEST(SceneFormatRegistry, MissingFileAndUnknownExtension)
+{
+    TempDir dir;
+    const auto missing = dir / "nothing.obj";
+    EXPECT_NE(expectOneLineError(missing, [&] { loadScene(missing); }).find("no such file"), std::string::npos);
+    const auto unknown = writeFile(dir / "scene.xyz", "1 2 3\n");
+    const std::string message = expectOneLineError(unknown, [&] { loadScene(unknown); });
+    for (const char* ext : {"*.gltf", "*.glb", "*.obj", "*.ply", "*.off", "*.stl"})
+        EXPECT_NE(message.find(ext), std::string::npos) << ext;
+    EXPECT_EQ(SceneFormatRegistry::builtin().importerFor("a.GLB"), SceneFormatRegistry::builtin().importerFor("b.gltf"));
+    EXPECT_NE(SceneFormatRegistry::builtin().exporterFor("a.glb"), nullptr);
+    EXPECT_EQ(SceneFormatRegistry::builtin().exporterFor("a.obj"), nullptr);
+}
+
+} // namespace

@@ -1,0 +1,85 @@
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+
+#include "visibility/Error.h"
+#include "visibility/HiddenSampleMap.h"
+#include "visibility/NpyWriter.h"
+
+using namespace sightline;
+
+TEST(HiddenSampleMap, SetAndCountBits)
+{
+    HiddenSampleMap map(100, 3, 2);
+    EXPECT_EQ(map.wordsPerRow(), 2);
+    EXPECT_EQ(map.rayCount(), 600u);
+    map.setBlocked(0, 0);
+    map.setBlocked(0, 99);
+    map.setBlocked(5, 64);
+    map.setBlocked(5, 64);
+    EXPECT_TRUE(map.blocked(0, 99));
+    EXPECT_FALSE(map.blocked(0, 98));
+    EXPECT_EQ(map.blockedCount(0), 2);
+    EXPECT_EQ(map.blockedCount(5), 1);
+    EXPECT_EQ(map.blockedCount(), 3u);
+
+    HiddenSampleMap other(100, 3, 2);
+    other.setBlocked(0, 0);
+    other.setBlocked(1, 1);
+    EXPECT_EQ(map.differenceCount(other), 3u);   // (0,99), (5,64), (1,1)
+    EXPECT_THROW(map.differenceCount(HiddenSampleMap(99, 3, 2)), std::invalid_argument);
+}
+
+TEST(NpyWriter, LayoutFollowsTheMaskContract)
+{
+    // 12 source samples -> 2 bytes per receiver; receiver grid 3 (na) x 2 (nb).
+    HiddenSampleMap map(12, 3, 2);
+    map.setBlocked(1, 9);    // receiver (a=1, b=0): byte 1, bit 1
+    map.setBlocked(5, 0);    // receiver (a=2, b=1): byte 0, bit 0
+    map.setBlocked(5, 11);   // byte 1, bit 3
+    const std::string bytes = encodeMaskNpy(map);
+
+    ASSERT_GE(bytes.size(), 10u);
+    EXPECT_EQ(bytes.substr(0, 6), std::string("\x93NUMPY", 6));
+    EXPECT_EQ(bytes[6], 1);
+    EXPECT_EQ(bytes[7], 0);
+    const std::size_t headerLength = std::size_t(std::uint8_t(bytes[8])) | std::size_t(std::uint8_t(bytes[9])) << 8;
+    EXPECT_EQ((10 + headerLength) % 64, 0u);
+    const std::string header = bytes.substr(10, headerLength);
+    EXPECT_NE(header.find("'descr': '|u1'"), std::string::npos);
+    EXPECT_NE(header.find("'shape': (2, 3, 2)"), std::string::npos) << header;
+    EXPECT_EQ(header.back(), '\n');
+
+    const std::string data = bytes.substr(10 + headerLength);
+    ASSERT_EQ(data.size(), 2u * 3u * 2u);
+    // [b][a][byte]: receiver j = b * na + a at offset j * 2.
+    for (std::size_t k = 0; k < data.size(); ++k) {
+        std::uint8_t expected = 0;
+        if (k == 1 * 2 + 1)
+            expected = 1u << 1;
+        if (k == 5 * 2 + 0)
+            expected = 1u << 0;
+        if (k == 5 * 2 + 1)
+            expected = 1u << 3;
+        EXPECT_EQ(std::uint8_t(data[k]), expected) << "byte " << k;
+    }
+}
+
+TEST(NpyWriter, RoundTripAndBadFiles)
+{
+    const auto folder = std::filesystem::temp_directory_path() / "sightline_npy_test";
+    std::filesystem::create_directories(folder);
+    HiddenSampleMap map(1024, 7, 5);
+    for (int j = 0; j < map.receiverCount(); ++j)
+        for (int i = j; i < 1024; i += 37)
+            map.setBlocked(j, i);
+    writeMaskNpy(map, folder / "m.npy");
+    EXPECT_EQ(readMaskNpy(folder / "m.npy", 1024), map);
+    EXPECT_THROW(readMaskNpy(folder / "m.npy", 512), Error);
+    std::ofstream(folder / "bad.npy") << "not numpy";
+    EXPECT_THROW(readMaskNpy(folder / "bad.npy", 1024), Error);
+    EXPECT_THROW(writeMaskNpy(map, folder / "missing-folder" / "m.npy"), Error);
+    std::filesystem::remove_all(folder);
+}

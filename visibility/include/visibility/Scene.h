@@ -1,0 +1,87 @@
+#pragma once
+// The scene model: just what visibility needs.
+//
+// A Scene holds meshes once and places them through instances (mesh index + world transform), so a
+// plant placed 200 times is stored once. Units are metres, right-handed, Y up (DESIGN.md §2).
+// Samplers do not walk this structure: they take the flat world-space view from worldTriangles().
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+namespace sightline {
+
+/// Axis-aligned box. An empty box has min > max (the default), and grows with extend().
+struct Bounds {
+    glm::vec3 min{std::numeric_limits<float>::infinity()};
+    glm::vec3 max{-std::numeric_limits<float>::infinity()};
+
+    bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
+    void extend(const glm::vec3& p);
+    void extend(const Bounds& b);
+};
+
+/// Indexed triangle mesh in its own object space. `indices.size()` is a multiple of 3.
+/// `normals` is either empty or one per position (for display only; visibility ignores it).
+struct Mesh {
+    std::string name;
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+    std::vector<std::uint32_t> indices;
+    /// The mesh is closed and consistently oriented (outward faces). Only an optimisation may rely
+    /// on it (watertight front-face culling, Eisemann & Décoret §7), never the answer.
+    bool watertight = false;
+
+    std::size_t triangleCount() const { return indices.size() / 3; }
+};
+
+/// One placement of a mesh in the world.
+struct Instance {
+    std::string name;
+    std::uint32_t mesh = 0;             ///< index into Scene::meshes
+    glm::mat4 transform{1.0f};          ///< object -> world, column-major (GLM)
+};
+
+struct Scene {
+    std::vector<Mesh> meshes;
+    std::vector<Instance> instances;
+
+    /// Adds a mesh and returns its index.
+    std::uint32_t addMesh(Mesh mesh);
+    /// Adds a mesh with one instance of it under the mesh's name; returns the instance index.
+    std::size_t addMeshInstance(Mesh mesh, const glm::mat4& transform = glm::mat4(1.0f));
+    /// Appends all meshes and instances of `other` (mesh indices are remapped).
+    void append(const Scene& other);
+
+    /// Triangles in the world, counting every instance.
+    std::size_t triangleCount() const;
+    /// Triangles stored once per mesh.
+    std::size_t uniqueTriangleCount() const;
+    /// World-space bounds of all instances (empty box for an empty scene).
+    Bounds bounds() const;
+};
+
+/// Flat world-space triangle soup: triangle t is (vertices[3t], vertices[3t+1], vertices[3t+2]).
+/// `instanceOf[t]` names the instance it came from (for watertight flags and picking).
+struct WorldTriangles {
+    std::vector<glm::vec3> vertices;
+    std::vector<std::uint32_t> instanceOf;
+
+    std::size_t size() const { return instanceOf.size(); }
+};
+
+WorldTriangles worldTriangles(const Scene& scene);
+
+/// Throws sightline::Error naming the first problem: an index out of range, an index count that is
+/// not a multiple of 3, a non-finite position, a normal count that differs from the position count,
+/// an instance naming a missing mesh, or a non-finite transform. `what` prefixes the message
+/// (usually the file name).
+void validate(const Mesh& mesh, const std::string& what);
+void validate(const Scene& scene, const std::string& what);
+
+} // namespace sightline

@@ -1,0 +1,127 @@
+#include "visibility/Scene.h"
+
+#include <cmath>
+
+#include <glm/common.hpp>
+
+#include "visibility/Error.h"
+
+namespace sightline {
+
+void Bounds::extend(const glm::vec3& p)
+{
+    min = glm::min(min, p);
+    max = glm::max(max, p);
+}
+
+void Bounds::extend(const Bounds& b)
+{
+    if (b.empty())
+        return;
+    extend(b.min);
+    extend(b.max);
+}
+
+std::uint32_t Scene::addMesh(Mesh mesh)
+{
+    meshes.push_back(std::move(mesh));
+    return static_cast<std::uint32_t>(meshes.size() - 1);
+}
+
+std::size_t Scene::addMeshInstance(Mesh mesh, const glm::mat4& transform)
+{
+    std::string name = mesh.name;
+    const std::uint32_t index = addMesh(std::move(mesh));
+    instances.push_back(Instance{std::move(name), index, transform});
+    return instances.size() - 1;
+}
+
+void Scene::append(const Scene& other)
+{
+    const auto offset = static_cast<std::uint32_t>(meshes.size());
+    meshes.insert(meshes.end(), other.meshes.begin(), other.meshes.end());
+    for (Instance instance : other.instances) {
+        instance.mesh += offset;
+        instances.push_back(std::move(instance));
+    }
+}
+
+std::size_t Scene::triangleCount() const
+{
+    std::size_t count = 0;
+    for (const Instance& instance : instances)
+        count += meshes.at(instance.mesh).triangleCount();
+    return count;
+}
+
+std::size_t Scene::uniqueTriangleCount() const
+{
+    std::size_t count = 0;
+    for (const Mesh& mesh : meshes)
+        count += mesh.triangleCount();
+    return count;
+}
+
+Bounds Scene::bounds() const
+{
+    Bounds box;
+    for (const Instance& instance : instances)
+        for (const glm::vec3& p : meshes.at(instance.mesh).positions)
+            box.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
+    return box;
+}
+
+WorldTriangles worldTriangles(const Scene& scene)
+{
+    WorldTriangles out;
+    const std::size_t count = scene.triangleCount();
+    out.vertices.reserve(3 * count);
+    out.instanceOf.reserve(count);
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        const Mesh& mesh = scene.meshes.at(instance.mesh);
+        for (std::uint32_t index : mesh.indices)
+            out.vertices.emplace_back(instance.transform * glm::vec4(mesh.positions[index], 1.0f));
+        out.instanceOf.insert(out.instanceOf.end(), mesh.triangleCount(), static_cast<std::uint32_t>(i));
+    }
+    return out;
+}
+
+namespace {
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+} // namespace
+
+void validate(const Mesh& mesh, const std::string& what)
+{
+    const std::string where = what + ": mesh '" + mesh.name + "'";
+    if (mesh.indices.size() % 3 != 0)
+        throw Error(where + " has " + std::to_string(mesh.indices.size()) +
+                    " indices, not a multiple of 3");
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+        throw Error(where + " has " + std::to_string(mesh.normals.size()) + " normals for " +
+                    std::to_string(mesh.positions.size()) + " positions");
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+        if (!finite(mesh.positions[i]))
+            throw Error(where + ": vertex " + std::to_string(i) + " is not finite (NaN or infinity)");
+    for (std::size_t i = 0; i < mesh.indices.size(); ++i)
+        if (mesh.indices[i] >= mesh.positions.size())
+            throw Error(where + ": index " + std::to_string(i) + " = " + std::to_string(mesh.indices[i]) +
+                        " is out of range (" + std::to_string(mesh.positions.size()) + " vertices)");
+}
+
+void validate(const Scene& scene, const std::string& what)
+{
+    for (const Mesh& mesh : scene.meshes)
+        validate(mesh, what);
+    for (const Instance& instance : scene.instances) {
+        if (instance.mesh >= scene.meshes.size())
+            throw Error(what + ": instance '" + instance.name + "' names mesh " +
+                        std::to_string(instance.mesh) + " of " + std::to_string(scene.meshes.size()));
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(instance.transform[c][r]))
+                    throw Error(what + ": instance '" + instance.name + "' has a non-finite transform");
+    }
+}
+
+} // namespace sightline
