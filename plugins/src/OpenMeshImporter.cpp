@@ -1,19 +1,25 @@
-// OBJ, PLY (ascii and binary), OFF and STL import through OpenMesh's reader modules.
+// OBJ, PLY (ascii and binary), OFF and STL import, mostly through OpenMesh's reader modules.
 //
 // OpenMesh's readers feed a BaseImporter. Its stock ImporterT builds a halfedge mesh, which
 // silently drops faces that would make an edge non-manifold ("complex edge") - wrong for level
 // geometry, where every triangle blocks rays. So a small importer here just collects vertices and
 // fan-triangulated faces, checks face indices itself, and never drops a face.
-// OpenMesh's OFF reader also misreads common ASCII OFF ('#' comments, counts on the header line),
-// so ASCII OFF is normalised to the plain form before OpenMesh parses it.
+// OpenMesh's readers are also fragile on real and malformed files, so each format is guarded:
+//  - OFF: '#' comments and counts on the header line are misread, so ASCII OFF is normalised
+//    (and its numbers checked) before OpenMesh parses it;
+//  - PLY: malformed headers crash or hang the reader, so the header is validated strictly first;
+//  - OBJ and PLY: unreadable or missing elements are skipped silently, so counts are compared;
+//  - STL is parsed here directly: OpenMesh's STL reader drops degenerate facets and accepts
+//    truncated or unreadable files as empty, and STL is a trivial format.
 
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
-#include <map>
+#include <cstring>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 
@@ -314,6 +320,90 @@ void checkCounts(const CollectingImporter& got, const std::filesystem::path& fil
     }
 }
 
+glm::vec3 stlVertex(const std::vector<std::string>& t, std::size_t at, const std::string& what)
+{
+    glm::vec3 v;
+    for (int k = 0; k < 3; ++k) {
+        if (at + static_cast<std::size_t>(k) >= t.size() || !isNumber(t[at + static_cast<std::size_t>(k)], false))
+            throw Error(what + ": STL vertex " + std::to_string(at) + " is truncated or not numeric");
+        v[k] = std::stof(t[at + static_cast<std::size_t>(k)]);
+    }
+    return v;
+}
+
+/// ASCII STL: "solid name (facet normal n n n outer loop (vertex x y z){3,} endloop endfacet)*
+/// endsolid", possibly several solids. Loops with more than 3 vertices are fan-triangulated.
+Mesh readAsciiStl(const std::string& text, const std::string& what)
+{
+    const std::vector<std::string> t = tokens(text);
+    Mesh mesh;
+    std::size_t i = 0;
+    auto expect = [&](const char* word) {
+        if (i >= t.size() || t[i] != word)
+            throw Error(what + ": malformed or truncated STL: expected '" + word + "' at token " + std::to_string(i));
+        ++i;
+    };
+    while (i < t.size()) {
+        expect("solid");
+        while (i < t.size() && t[i] != "facet" && t[i] != "endsolid")
+            ++i; // the solid's name
+        while (i < t.size() && t[i] == "facet") {
+            ++i;
+            expect("normal");
+            i += 3;
+            expect("outer");
+            expect("loop");
+            const auto first = static_cast<std::uint32_t>(mesh.positions.size());
+            while (i < t.size() && t[i] == "vertex") {
+                mesh.positions.push_back(stlVertex(t, i + 1, what));
+                i += 4;
+            }
+            const auto count = static_cast<std::uint32_t>(mesh.positions.size()) - first;
+            if (count < 3)
+                throw Error(what + ": STL facet with " + std::to_string(count) + " vertices");
+            for (std::uint32_t k = 1; k + 1 < count; ++k)
+                mesh.indices.insert(mesh.indices.end(), {first, first + k, first + k + 1});
+            expect("endloop");
+            expect("endfacet");
+        }
+        expect("endsolid");
+        while (i < t.size() && t[i] != "solid")
+            ++i; // the name after endsolid
+    }
+    return mesh;
+}
+
+/// Binary STL: 80-byte header, u32 count, then per facet 12 floats (normal, 3 vertices) + u16.
+Mesh readBinaryStl(const std::string& bytes)
+{
+    std::uint32_t count = 0;
+    std::memcpy(&count, bytes.data() + 80, 4);
+    Mesh mesh;
+    mesh.positions.resize(std::size_t(count) * 3);
+    for (std::size_t f = 0; f < count; ++f)
+        std::memcpy(&mesh.positions[3 * f], bytes.data() + 84 + 50 * f + 12, 36);
+    mesh.indices.resize(mesh.positions.size());
+    for (std::size_t k = 0; k < mesh.indices.size(); ++k)
+        mesh.indices[k] = static_cast<std::uint32_t>(k);
+    return mesh;
+}
+
+/// A file is binary STL exactly when its size matches its facet count; "solid" starts an ASCII one.
+Mesh readStl(const std::filesystem::path& file, const std::string& what)
+{
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (bytes.size() >= 84) {
+        std::uint32_t count = 0;
+        std::memcpy(&count, bytes.data() + 80, 4);
+        if (bytes.size() == 84 + 50 * std::uint64_t(count))
+            return readBinaryStl(bytes);
+    }
+    if (bytes.compare(0, 5, "solid") == 0)
+        return readAsciiStl(bytes, what);
+    throw Error(what + ": not an STL file, or a truncated binary one (size does not match the facet count)");
+}
+
 std::string lowerExtension(const std::filesystem::path& file)
 {
     std::string e = file.extension().string();
@@ -323,14 +413,16 @@ std::string lowerExtension(const std::filesystem::path& file)
 
 class OpenMeshImporter final : public SceneImporter {
 public:
-    std::string name() const override { return "OBJ/PLY/OFF/STL (OpenMesh)"; }
+    std::string name() const override { return "OBJ/PLY/OFF (OpenMesh), STL"; }
     std::vector<std::string> extensions() const override { return {".obj", ".ply", ".off", ".stl"}; }
 
     Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings) const override
     {
-        silenceOpenMesh();
         const std::string what = file.string();
         const std::string ext = lowerExtension(file);
+        if (ext == ".stl")
+            return oneInstance(readStl(file, what), file);
+        silenceOpenMesh();
         CollectingImporter importer;
         IO::Options options;
         bool ok = false;
@@ -357,10 +449,17 @@ public:
         if (importer.mesh.positions.empty())
             warnings.push_back(what + ": no vertices");
 
-        importer.mesh.name = file.stem().string();
+        return oneInstance(std::move(importer.mesh), file);
+    }
+
+private:
+    /// The file's one mesh, named after the file, at the origin.
+    static Scene oneInstance(Mesh mesh, const std::filesystem::path& file)
+    {
+        mesh.name = file.stem().string();
         Scene scene;
-        scene.addMeshInstance(std::move(importer.mesh));
-        validate(scene, what);
+        scene.addMeshInstance(std::move(mesh));
+        validate(scene, file.string());
         return scene;
     }
 };

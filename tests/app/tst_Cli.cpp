@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -12,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "BruteForceCaster.h"
+#include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
@@ -175,4 +178,81 @@ TEST_F(Cli, DemoWritesARunnableProject)
     // The demo view is neither open nor shut.
     EXPECT_GT(out["visible_fraction"].get<double>(), 0.1);
     EXPECT_LT(out["visible_fraction"].get<double>(), 0.9);
+}
+
+TEST_F(Cli, MaskAgreesWithAnIndependentCasterOnMixedProjects)
+{
+    // A glTF scene (written by our exporter) of random triangles, an OBJ occluder, the built-in
+    // box and a rotated built-in plane; tilted, non-parallel patches with odd grids. The mask the
+    // CLI writes must equal a double-precision brute-force caster outside grazing rays.
+    std::mt19937 rng(2024);
+    std::uniform_real_distribution<float> x(-0.5f, 2.0f), z(0.8f, 3.2f), d(-0.25f, 0.25f);
+    Mesh soup;
+    soup.name = "soup";
+    for (std::uint32_t t = 0; t < 120; ++t) {
+        const glm::vec3 a(x(rng), x(rng), z(rng));
+        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(d(rng), d(rng), d(rng)),
+                                                     a + glm::vec3(d(rng), d(rng), d(rng))});
+        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    Scene level;
+    const std::uint32_t mesh = level.addMesh(soup);
+    level.instances.push_back({"soup a", mesh, glm::mat4(1.0f)});
+    glm::mat4 shifted(1.0f);
+    shifted[3] = glm::vec4(0.4f, -0.3f, 0.2f, 1.0f);
+    level.instances.push_back({"soup b", mesh, shifted});
+    saveScene(level, folder / "level.glb");
+
+    json project = {
+        {"version", 1},
+        {"scene", "level.glb"},
+        {"source", {{"corner", {0.1, 0.0, 0.0}}, {"u", {1.2, 0.1, -0.2}}, {"v", {0.0, 1.1, 0.15}}, {"samples", {13, 7}}}},
+        {"receiver", {{"corner", {-0.4, -0.2, 4.0}}, {"u", {2.2, 0.0, 0.6}}, {"v", {0.2, 1.8, -0.3}}, {"samples", {23, 19}}}},
+        {"occluders", {{{"name", "wall"}, {"mesh", "wall.obj"}},
+                       {{"name", "crate"}, {"mesh", "box"},
+                        {"transform", {0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0, 0.6, 0.5, 2.6, 1}}},
+                       {{"name", "board"}, {"mesh", "plane"},   // rotated 90 degrees about X: stands in XY
+                        {"transform", {0.8, 0, 0, 0, 0, 0, 1, 0, 0, -0.6, 0, 0, 1.2, 1.0, 3.0, 1}}}}},
+    };
+    std::ofstream(folder / "mixed.json") << project.dump();
+    const fs::path mask = folder / "mixed.npy";
+    const CliRun run = runCli("shaft " + (folder / "mixed.json").string() + " --json --mask " + mask.string());
+    ASSERT_EQ(run.code, 0) << run.err;
+
+    const Project loaded = loadProject(folder / "mixed.json");
+    const Scene scene = buildScene(loaded);
+    EXPECT_EQ(scene.triangleCount(), 240u + 8u + 12u + 2u);
+    const test::BruteForceMap reference = test::bruteForceSample(worldTriangles(scene), loaded.source, loaded.receiver);
+    const HiddenSampleMap written = readMaskNpy(mask, 13 * 7);
+    EXPECT_EQ(test::mismatchesOutsideGrazing(written, reference), 0u);
+    EXPECT_LT(reference.grazing.blockedCount(), written.rayCount() / 1000);
+    EXPECT_GT(written.blockedCount(), written.rayCount() / 10);
+    EXPECT_LT(written.blockedCount(), written.rayCount() * 9 / 10);
+}
+
+TEST_F(Cli, DemoMaskAgreesWithAnIndependentCasterOnSampledRays)
+{
+    // 1M rays x 83k triangles is too many for brute force; 3000 random rays are not.
+    ASSERT_EQ(runCli("demo " + (folder / "demo").string()).code, 0);
+    const fs::path mask = folder / "demo.npy";
+    const CliRun run = runCli("shaft " + (folder / "demo" / "demo.json").string() + " --mask " + mask.string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    const Project project = loadProject(folder / "demo" / "demo.json");
+    const WorldTriangles triangles = worldTriangles(buildScene(project));
+    const HiddenSampleMap written = readMaskNpy(mask, project.source.sampleCount());
+    std::mt19937 rng(99);
+    int checked = 0, blocked = 0, mismatches = 0;
+    for (int k = 0; k < 3000; ++k) {
+        const int j = int(rng() % unsigned(project.receiver.sampleCount()));
+        const int i = int(rng() % unsigned(project.source.sampleCount()));
+        const test::SegmentResult r = test::bruteForceSegment(triangles, project.receiver.sample(j), project.source.sample(i));
+        if (r.margin < 1e-5)
+            continue;
+        ++checked;
+        blocked += r.blocked;
+        mismatches += r.blocked != written.blocked(j, i);
+    }
+    EXPECT_GT(checked, 2900);
+    EXPECT_EQ(mismatches, 0) << "of " << checked << " rays";
+    EXPECT_GT(blocked, checked / 10);
 }

@@ -228,6 +228,39 @@ TEST(OpenMeshImporter, BinaryStlCounts)
     EXPECT_EQ(scene.bounds().max, glm::vec3(1, 1, 2));
 }
 
+std::string asciiFacet(const char* a, const char* b, const char* c)
+{
+    return std::string(" facet normal 0 0 1\n  outer loop\n   vertex ") + a + "\n   vertex " + b + "\n   vertex " + c +
+           "\n  endloop\n endfacet\n";
+}
+
+TEST(OpenMeshImporter, StlKeepsDegenerateFacets)
+{
+    TempDir dir;
+    // A zero-area facet still counts: the file's triangle count is kept exactly.
+    const auto file = writeFile(dir / "degenerate.stl", "solid d\n" + asciiFacet("0 0 0", "0 0 0", "1 1 1") +
+                                                            asciiFacet("0 0 0", "1 0 0", "0 1 0") + "endsolid d\n");
+    EXPECT_EQ(loadScene(file).triangleCount(), 2u);
+}
+
+TEST(OpenMeshImporter, MalformedStlIsRefused)
+{
+    TempDir dir;
+    const std::string good = asciiFacet("0 0 0", "1 0 0", "0 1 0");
+    const std::string cases[] = {
+        "solid t\n" + good.substr(0, good.size() - 30),                               // truncated
+        "solid t\n" + asciiFacet("0 0 0", "nan 0 0", "0 1 0") + "endsolid t\n",        // NaN
+        "solid t\n" + asciiFacet("0 0 0", "1 0", "0 1 0") + "endsolid t\n",            // short vertex
+        std::string(80, ' ') + std::string("\x02\0\0\0", 4) + std::string(60, '\0'), // binary, count 2, 1 facet
+    };
+    int n = 0;
+    for (const std::string& bytes : cases) {
+        const auto file = writeFile(dir / ("bad" + std::to_string(n++) + ".stl"), bytes);
+        SCOPED_TRACE(file.filename().string());
+        expectOneLineError(file, [&] { loadScene(file); });
+    }
+}
+
 TEST(OpenMeshImporter, UppercaseExtensionIsAccepted)
 {
     TempDir dir;
