@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <sstream>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -203,8 +204,10 @@ tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warni
     else
         ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
                                         folder.string());
-    if (!warn.empty())
-        warnings.push_back(what + ": " + firstLine(warn));
+    std::istringstream warnLines(warn); // one entry per tinygltf warning line
+    for (std::string line; std::getline(warnLines, line);)
+        if (line.find_first_not_of(" \t\r") != std::string::npos)
+            warnings.push_back(what + ": " + firstLine(line));
     if (!ok) {
         if (!guard.refused.empty())
             throw Error(what + ": refused to read '" + guard.refused + "': it resolves outside the glTF file's folder");

@@ -20,7 +20,6 @@
 #include <cstring>
 #include <fstream>
 #include <map>
-#include <optional>
 #include <sstream>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -41,10 +40,10 @@ using IO::BaseImporter;
 class CollectingImporter final : public BaseImporter {
 public:
     Mesh mesh;
-    std::string error;          ///< first problem found (the readers cannot throw through OpenMesh)
+    std::string error;               ///< first problem found (readers cannot throw through OpenMesh)
     long long declaredVertices = -1; ///< counts from the file header, where the reader reports them
     long long declaredFaces = -1;
-    long long faces = 0;        ///< polygons received, before triangulation
+    long long faces = 0;             ///< polygons received, before triangulation
 
     // Only records the header's counts: a hostile header must not make us allocate.
     void reserve(unsigned int vertices, unsigned int, unsigned int polygons) override
@@ -163,9 +162,9 @@ bool isNumber(const std::string& token, bool integer)
 /// ASCII OFF rewritten in the strict form OpenMesh's reader handles: no comments, "OFF" alone on
 /// its line, then the counts, vertex lines "x y z" and face lines "n i1 .. in" (per-vertex and
 /// per-face colours, normals and texture coordinates are dropped: visibility needs none of them).
-/// Binary OFF is returned as nullopt and goes to OpenMesh as it is. The counts are checked against
-/// the file, because OpenMesh trusts them and would loop over elements a truncated file lacks.
-std::optional<std::string> normalisedOff(const std::filesystem::path& file, const std::string& what)
+/// The counts are checked against the file, because OpenMesh trusts them and would loop over
+/// elements a truncated file lacks.
+std::string normalisedOff(const std::filesystem::path& file, const std::string& what)
 {
     std::ifstream in(file, std::ios::binary);
     std::vector<std::vector<std::string>> lines;
@@ -178,7 +177,7 @@ std::optional<std::string> normalisedOff(const std::filesystem::path& file, cons
     const std::string keyword = counts.front();
     counts.erase(counts.begin());
     if (std::find(counts.begin(), counts.end(), "BINARY") != counts.end())
-        return std::nullopt;
+        throw Error(what + ": binary OFF is not supported; save it as ASCII OFF, PLY or OBJ");
     // [ST][C][N]OFF: the prefixes only announce extra per-vertex data, which we drop.
     const std::size_t prefix = keyword.size() >= 3 ? keyword.size() - 3 : 0;
     if (keyword.size() < 3 || keyword.compare(prefix, 3, "OFF") != 0 ||
@@ -199,7 +198,7 @@ std::optional<std::string> normalisedOff(const std::filesystem::path& file, cons
     if (vertices < 0 || faces < 0)
         throw Error(what + ": OFF header has no valid vertex and face counts");
     const auto rest = static_cast<long long>(lines.size() - next);
-    if (vertices + faces > rest)
+    if (vertices > rest || faces > rest - vertices)
         throw Error(what + ": truncated: OFF header promises " + std::to_string(vertices) + " vertices and " +
                     std::to_string(faces) + " faces but only " + std::to_string(rest) + " lines follow");
 
@@ -320,13 +319,14 @@ void checkCounts(const CollectingImporter& got, const std::filesystem::path& fil
     }
 }
 
-glm::vec3 stlVertex(const std::vector<std::string>& t, std::size_t at, const std::string& what)
+/// The three coordinates at t[at..at+2]; `index` names the vertex in errors.
+glm::vec3 stlVertex(const std::vector<std::string>& t, std::size_t at, std::size_t index, const std::string& what)
 {
     glm::vec3 v;
-    for (int k = 0; k < 3; ++k) {
-        if (at + static_cast<std::size_t>(k) >= t.size() || !isNumber(t[at + static_cast<std::size_t>(k)], false))
-            throw Error(what + ": STL vertex " + std::to_string(at) + " is truncated or not numeric");
-        v[k] = std::stof(t[at + static_cast<std::size_t>(k)]);
+    for (std::size_t k = 0; k < 3; ++k) {
+        if (at + k >= t.size() || !isNumber(t[at + k], false))
+            throw Error(what + ": STL vertex " + std::to_string(index) + " is truncated or not numeric");
+        v[static_cast<int>(k)] = std::stof(t[at + k]);
     }
     return v;
 }
@@ -355,7 +355,7 @@ Mesh readAsciiStl(const std::string& text, const std::string& what)
             expect("loop");
             const auto first = static_cast<std::uint32_t>(mesh.positions.size());
             while (i < t.size() && t[i] == "vertex") {
-                mesh.positions.push_back(stlVertex(t, i + 1, what));
+                mesh.positions.push_back(stlVertex(t, i + 1, mesh.positions.size(), what));
                 i += 4;
             }
             const auto count = static_cast<std::uint32_t>(mesh.positions.size()) - first;
@@ -376,6 +376,7 @@ Mesh readAsciiStl(const std::string& text, const std::string& what)
 /// Binary STL: 80-byte header, u32 count, then per facet 12 floats (normal, 3 vertices) + u16.
 Mesh readBinaryStl(const std::string& bytes)
 {
+    static_assert(sizeof(glm::vec3) == 12, "vertices are copied as 3 packed floats");
     std::uint32_t count = 0;
     std::memcpy(&count, bytes.data() + 80, 4);
     Mesh mesh;
@@ -429,9 +430,8 @@ public:
         try {
             if (ext == ".ply")
                 checkPly(file, what);
-            const std::optional<std::string> off = ext == ".off" ? normalisedOff(file, what) : std::nullopt;
-            if (off) {
-                std::istringstream stream(*off);
+            if (ext == ".off") {
+                std::istringstream stream(normalisedOff(file, what));
                 ok = IO::IOManager().read(stream, "off", importer, options);
             } else {
                 ok = IO::IOManager().read(what, importer, options);
