@@ -20,6 +20,7 @@
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
+#include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
@@ -52,9 +53,8 @@ struct ShaftArgs {
 
 int runShaft(const ShaftArgs& args)
 {
-    if (args.method != "raycast")
-        throw Error("method '" + args.method +
-                    "' is not available yet (the bitmask samplers are not built); use --method raycast");
+    if (args.method == "gl")
+        throw Error("method 'gl' is not available yet (the GL bitmask sampler is not built); use --method cpu or raycast");
     const Project project = loadProject(args.project);
     validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
 
@@ -64,13 +64,28 @@ int runShaft(const ShaftArgs& args)
     const double loadMs = millisecondsSince(loadStart);
     printWarnings(warnings);
 
-    const RayCastScene rayCaster(scene);
-    RayCastOptions options;
-    options.packets = !args.singleRays;
-    options.threads = args.threads;
-    const auto start = std::chrono::steady_clock::now();
-    const HiddenSampleMap map = rayCaster.sample(project.source, project.receiver, options);
-    const double ms = millisecondsSince(start);
+    HiddenSampleMap map;
+    double ms = 0.0, setupMs = 0.0;
+    std::string strategy;
+    if (args.method == "raycast") {
+        const RayCastScene rayCaster(scene);
+        RayCastOptions options;
+        options.packets = !args.singleRays;
+        options.threads = args.threads;
+        const auto start = std::chrono::steady_clock::now();
+        map = rayCaster.sample(project.source, project.receiver, options);
+        ms = millisecondsSince(start);
+        setupMs = rayCaster.buildMilliseconds();
+        strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
+    } else {
+        const CpuBitmaskSampler sampler(scene);
+        BitmaskStats stats;
+        const auto start = std::chrono::steady_clock::now();
+        map = sampler.sample(project.source, project.receiver, {.threads = args.threads}, &stats);
+        ms = millisecondsSince(start);
+        setupMs = stats.setupMs;
+        strategy = "bitmask-exact-rows";
+    }
 
     if (!args.mask.empty())
         writeMaskNpy(map, args.mask);
@@ -82,13 +97,13 @@ int runShaft(const ShaftArgs& args)
     if (args.json) {
         json out = {
             {"method", args.method},
-            {"strategy", options.packets ? "embree-packets-16" : "embree-single-rays"},
+            {"strategy", strategy},
             {"rays", rays},
             {"blocked", blocked},
             {"unblocked", rays - blocked},
             {"visible_fraction", visible},
             {"ms", ms},
-            {"setup_ms", rayCaster.buildMilliseconds()},
+            {"setup_ms", setupMs},
             {"load_ms", loadMs},
             {"triangles", scene.triangleCount()},
             {"source_samples", json::array({project.source.na, project.source.nb})},
@@ -99,9 +114,8 @@ int runShaft(const ShaftArgs& args)
             out["mask"] = args.mask;
         std::cout << out.dump() << "\n";
     } else {
-        std::printf("method     %s (%s, %d threads)\n", args.method.c_str(),
-                    options.packets ? "Embree packets of 16" : "Embree single rays", threads);
-        std::printf("scene      %zu triangles (BVH build %.1f ms)\n", scene.triangleCount(), rayCaster.buildMilliseconds());
+        std::printf("method     %s (%s, %d threads)\n", args.method.c_str(), strategy.c_str(), threads);
+        std::printf("scene      %zu triangles (setup %.1f ms)\n", scene.triangleCount(), setupMs);
         std::printf("patches    %dx%d source x %dx%d receiver samples\n", project.source.na, project.source.nb,
                     project.receiver.na, project.receiver.nb);
         std::printf("rays       %llu: %llu blocked, %llu unblocked (%.2f%% visible)\n", (unsigned long long)rays,
@@ -202,7 +216,7 @@ int main(int argc, char** argv)
     ShaftArgs shaft;
     CLI::App* shaftCmd = app.add_subcommand("shaft", "Compute the hidden-samples map between the project's patches");
     shaftCmd->add_option("project", shaft.project, "Project file (JSON, DESIGN.md §3)")->required();
-    shaftCmd->add_option("--method", shaft.method, "Sampler: raycast (Embree reference); gl, cpu: not yet built")
+    shaftCmd->add_option("--method", shaft.method, "Sampler: raycast (Embree reference), cpu (exact bitmask); gl: not yet built")
         ->check(CLI::IsMember({"raycast", "cpu", "gl"}))
         ->capture_default_str();
     shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)");

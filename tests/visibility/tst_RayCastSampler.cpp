@@ -132,62 +132,6 @@ TEST(RayCastSampler, PacketsSingleRaysAndThreadCountsAgree)
     EXPECT_LT(packets.blockedCount(), packets.rayCount());
 }
 
-namespace {
-
-/// A random valid non-parallel patch pair and a soup of triangles of mixed sizes in and around
-/// the shaft, some crossing the patch planes.
-struct RandomCase {
-    Scene scene;
-    Patch source, receiver;
-};
-
-RandomCase randomCase(unsigned seed)
-{
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    auto range = [&](double lo, double hi) { return lo + (hi - lo) * unit(rng); };
-    RandomCase c;
-    // Source near the origin facing +Z, tilted; receiver 3-5 m away, tilted the other way.
-    c.source.corner = {range(-0.2, 0.2), range(-0.2, 0.2), 0.0};
-    c.source.u = {range(0.6, 1.5), 0.0, range(-0.3, 0.3)};
-    c.source.v = {range(-0.2, 0.2), range(0.6, 1.5), range(-0.3, 0.3)};
-    c.source.na = 1 + int(rng() % 12);
-    c.source.nb = 1 + int(rng() % 12);
-    const double depth = range(3.0, 5.0);
-    c.receiver.corner = {range(-1.0, 1.0), range(-1.0, 1.0), depth};
-    c.receiver.u = {range(0.8, 2.5), range(-0.4, 0.4), range(-0.5, 0.5)};
-    c.receiver.v = {0.0, range(0.8, 2.5), range(-0.5, 0.5)};
-    c.receiver.na = 1 + int(rng() % 10);
-    c.receiver.nb = 1 + int(rng() % 10);
-
-    Mesh soup;
-    auto addTriangle = [&](glm::dvec3 a, glm::dvec3 b, glm::dvec3 cc) {
-        const auto base = std::uint32_t(soup.positions.size());
-        soup.positions.insert(soup.positions.end(), {glm::vec3(a), glm::vec3(b), glm::vec3(cc)});
-        soup.indices.insert(soup.indices.end(), {base, base + 1, base + 2});
-    };
-    auto point = [&](double zLo, double zHi) { return glm::dvec3(range(-1.0, 2.5), range(-1.0, 2.5), range(zLo, zHi)); };
-    auto jitter = [&](double size) { return glm::dvec3(range(-size, size), range(-size, size), range(-size, size)); };
-    for (int t = 0; t < 60; ++t) {   // tiny
-        const glm::dvec3 p = point(0.3, depth - 0.3);
-        addTriangle(p, p + jitter(0.05), p + jitter(0.05));
-    }
-    for (int t = 0; t < 25; ++t) {   // medium
-        const glm::dvec3 p = point(0.3, depth - 0.3);
-        addTriangle(p, p + jitter(0.6), p + jitter(0.6));
-    }
-    for (int t = 0; t < 3; ++t) {    // huge, possibly crossing both patch planes
-        const glm::dvec3 p = point(-1.0, depth + 1.0);
-        addTriangle(p, p + jitter(6.0), p + jitter(6.0));
-    }
-    // One crossing the source plane, one crossing the receiver plane.
-    addTriangle({0.3, 0.3, -0.5}, {0.9, 0.4, 0.7}, {0.5, 1.0, 0.4});
-    addTriangle({0.0, 0.5, depth + 0.5}, {1.5, 0.6, depth - 0.8}, {0.6, 1.8, depth - 0.2});
-    c.scene.addMeshInstance(std::move(soup));
-    return c;
-}
-
-} // namespace
 
 TEST(RayCastSampler, AgreesWithBruteForceOnRandomScenes)
 {

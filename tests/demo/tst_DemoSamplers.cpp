@@ -1,0 +1,20 @@
+// The samplers on the demo level: the CPU bitmask sampler against the Embree reference.
+#include <gtest/gtest.h>
+
+#include "demo/DemoLevel.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/RayCastSampler.h"
+
+using namespace sightline;
+
+TEST(DemoSamplers, CpuBitmaskAgreesWithTheReference)
+{
+    const Scene level = demo::makeDemoLevel();
+    const demo::DemoView view = demo::demoView();
+    const HiddenSampleMap expected = RayCastScene(level).sample(view.source, view.receiver);
+    BitmaskStats stats;
+    const HiddenSampleMap map = CpuBitmaskSampler(level).sample(view.source, view.receiver, {}, &stats);
+    const std::uint64_t differ = map.differenceCount(expected);
+    EXPECT_LE(differ * 10000, map.rayCount()) << differ << " rays differ";   // >= 99.99% agreement
+    EXPECT_GE(stats.trianglesInShaft, 10000u);
+}

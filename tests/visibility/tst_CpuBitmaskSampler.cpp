@@ -1,0 +1,106 @@
+// The exact CPU bitmask sampler against closed forms, the brute-force caster and the Embree reference.
+#include <gtest/gtest.h>
+
+#include "BruteForceCaster.h"
+#include "TestScenes.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Error.h"
+#include "visibility/RayCastSampler.h"
+
+using namespace sightline;
+using namespace sightline::test;
+
+TEST(CpuBitmaskSampler, EmptySceneAndFullWall)
+{
+    EXPECT_EQ(CpuBitmaskSampler(Scene{}).sample(xyPatch(0, 32, 32), xyPatch(2, 32, 32)).blockedCount(), 0u);
+    const Scene wall = sceneOf({quad({-10, -10, 1}, {20, 0, 0}, {0, 20, 0})});
+    const HiddenSampleMap map = CpuBitmaskSampler(wall).sample(xyPatch(0, 32, 32), xyPatch(2, 32, 32));
+    EXPECT_EQ(map.blockedCount(), map.rayCount());
+}
+
+TEST(CpuBitmaskSampler, HalfPlaneMatchesTheFormula)
+{
+    const double edge = 0.437;
+    const Scene scene = sceneOf({quad({-50, -50, 1}, {50 + float(edge), 0, 0}, {0, 100, 0})});
+    const Patch source = xyPatch(0, 13, 7), receiver = xyPatch(3, 52, 9);
+    const HiddenSampleMap map = CpuBitmaskSampler(scene).sample(source, receiver);
+    std::uint64_t mismatches = 0, expected = 0;
+    for (int j = 0; j < receiver.sampleCount(); ++j)
+        for (int i = 0; i < source.sampleCount(); ++i) {
+            const double x = source.sample(i).x + (receiver.sample(j).x - source.sample(i).x) / 3.0;
+            expected += x < edge;
+            mismatches += (x < edge) != map.blocked(j, i);
+        }
+    EXPECT_GT(expected, 0u);
+    EXPECT_EQ(mismatches, 0u);
+}
+
+TEST(CpuBitmaskSampler, SurfacesAtTheSegmentEndsDoNotBlock)
+{
+    const Scene scene = sceneOf({quad({-5, -5, 0}, {10, 0, 0}, {0, 10, 0}), quad({-5, -5, 2}, {10, 0, 0}, {0, 10, 0})});
+    EXPECT_EQ(CpuBitmaskSampler(scene).sample(xyPatch(0, 8, 8), xyPatch(2, 8, 8)).blockedCount(), 0u);
+}
+
+TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
+{
+    // Non-parallel patches, grids from 1x1 to 12x12, tiny, medium and huge triangles, triangles
+    // crossing both patch planes.
+    int checked = 0;
+    std::uint64_t rays = 0, blocked = 0;
+    for (unsigned seed = 1; seed <= 40; ++seed) {
+        const RandomCase c = randomCase(seed);
+        try {
+            validatePatchPair(c.source, c.receiver);
+        } catch (const Error&) {
+            continue;
+        }
+        ++checked;
+        const HiddenSampleMap map = CpuBitmaskSampler(c.scene).sample(c.source, c.receiver);
+        const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver);
+        EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u)
+            << "seed " << seed << ": " << map.blockedCount() << " vs " << reference.blocked.blockedCount();
+        rays += map.rayCount();
+        blocked += map.blockedCount();
+    }
+    EXPECT_GE(checked, 30);
+    EXPECT_GT(blocked, rays / 10);
+}
+
+TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)
+{
+    // A soup in the shaft; source grids of 1, 32, 128 (16x8), 1024 (32x32, 64x16) samples and
+    // receivers up to 512x512; threads 1 and all give the same bits.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-0.3f, 1.3f), z(0.3f, 1.7f), s(-0.15f, 0.15f);
+    Mesh soup;
+    for (std::uint32_t t = 0; t < 400; ++t) {
+        const glm::vec3 a(u(rng), u(rng), z(rng));
+        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(s(rng), s(rng), s(rng)),
+                                                     a + glm::vec3(s(rng), s(rng), s(rng))});
+        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    const Scene scene = sceneOf({soup});
+    const RayCastScene reference(scene);
+    const CpuBitmaskSampler sampler(scene);
+    struct Grid { int na, nb, rna, rnb; };
+    for (const Grid g : {Grid{1, 1, 64, 64}, Grid{32, 1, 32, 32}, Grid{16, 8, 40, 24}, Grid{32, 32, 32, 32},
+                         Grid{64, 16, 16, 16}, Grid{4, 4, 512, 512}}) {
+        const Patch source = xyPatch(0, g.na, g.nb), receiver = xyPatch(2, g.rna, g.rnb);
+        const HiddenSampleMap expected = reference.sample(source, receiver);
+        const HiddenSampleMap map = sampler.sample(source, receiver);
+        const std::uint64_t differ = map.differenceCount(expected);
+        // Exact up to grazing rays: at most 1 in 10^4 (the bar), and in practice ~0.
+        EXPECT_LE(differ * 10000, map.rayCount()) << g.na << "x" << g.nb << " / " << g.rna << "x" << g.rnb;
+        EXPECT_GT(expected.blockedCount(), 0u);
+        EXPECT_EQ(map, sampler.sample(source, receiver, {.threads = 1}));
+    }
+}
+
+TEST(CpuBitmaskSampler, RefusesInvalidInput)
+{
+    const CpuBitmaskSampler sampler(Scene{});
+    EXPECT_THROW(sampler.sample(xyPatch(0, 0, 8), xyPatch(2, 8, 8)), Error);
+    EXPECT_THROW(sampler.sample(xyPatch(0, 50, 40), xyPatch(2, 8, 8)), Error);
+    EXPECT_THROW(sampler.sample(xyPatch(0, 8, 8), xyPatch(2, 0, 0)), Error);
+    EXPECT_THROW(sampler.sample(xyPatch(0, 8, 8), xyPatch(0, 8, 8)), Error);
+}

@@ -1,0 +1,55 @@
+#pragma once
+// The bitmask visibility sampler on the CPU (Eisemann & Décoret 2007, §2-5), in its exact form.
+//
+// The paper's loop order: for each triangle, for each receiver sample in its influence region (§3),
+// backproject the triangle onto the source (§4) and OR the set of source samples inside the
+// backprojection into that receiver sample's bitmask (§5, §5.1). Instead of the paper's
+// nearest-texel Hough table, which disagrees with exact ray casts on 2-40% of rays once
+// backprojections are about a sample wide, the set is computed exactly: per source-sample row,
+// the convex backprojection gives an interval of columns, which becomes a run of set bits.
+// Triangles are clipped to the slab between the patch planes first, so triangles crossing a patch
+// plane are handled, and the backprojection is the projective map, so patches need not be
+// parallel.
+//
+// Result: the same hidden-samples map as the Embree reference (RayCastSampler.h) apart from rays
+// that graze an edge or an end point within rounding.
+//
+// Parallelism: triangles are binned to tiles of receiver samples; tiles run on all cores (TBB),
+// each owning its receiver rows, so no two threads write one bitmask.
+
+#include <cstdint>
+#include <memory>
+
+#include "visibility/HiddenSampleMap.h"
+#include "visibility/Patch.h"
+#include "visibility/Scene.h"
+
+namespace sightline {
+
+struct BitmaskOptions {
+    int threads = 0;   ///< 0 = all cores
+};
+
+struct BitmaskStats {
+    double setupMs = 0.0;            ///< clipping, influence regions, binning
+    double sampleMs = 0.0;           ///< backprojection and bit setting
+    std::size_t trianglesInShaft = 0;  ///< triangles with a non-empty influence region
+    std::uint64_t pairs = 0;         ///< (triangle, receiver sample) pairs backprojected
+};
+
+class CpuBitmaskSampler {
+public:
+    explicit CpuBitmaskSampler(const Scene& scene);
+    explicit CpuBitmaskSampler(WorldTriangles triangles);
+
+    std::size_t triangleCount() const { return triangles_.size(); }
+
+    /// Validates the pair (validatePatchPair throws sightline::Error), then samples.
+    HiddenSampleMap sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options = {},
+                           BitmaskStats* stats = nullptr) const;
+
+private:
+    WorldTriangles triangles_;
+};
+
+} // namespace sightline

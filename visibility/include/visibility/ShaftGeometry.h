@@ -1,0 +1,66 @@
+#pragma once
+// Geometry shared by the bitmask samplers: patch-relative coordinates, the shaft slab, and the
+// clipping of triangles against it (Eisemann & Décoret §3-4, made exact).
+//
+// Each patch gets affine coordinates (s, t, d): s, t in [0, 1] across the patch (X = c + s u + t v
+// + ...), d the signed distance from its plane, positive towards the other patch. Because the maps
+// are affine, the backprojection of a point X from a receiver point R onto the source plane is,
+// in source coordinates,
+//     s(Y) = s(R) + (s(X) - s(R)) * d(R) / (d(R) - d(X))       (same for t),
+// one division per vertex, valid for 0 <= d(X) < d(R).
+//
+// Every segment between a source and a receiver sample lies, apart from its ends, strictly inside
+// the slab {d_source > 0} ∩ {d_receiver > 0}, so a triangle can be clipped to that slab once
+// (triangles crossing a patch plane are clipped, never dropped) without changing any answer.
+
+#include <array>
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "visibility/Patch.h"
+
+namespace sightline {
+
+/// Affine coordinates relative to a patch; `towards` orients d.
+struct PatchFrame {
+    glm::dvec3 origin{0.0};
+    glm::dvec3 sAxis{0.0}, tAxis{0.0}, dAxis{0.0};   ///< dual basis: s = dot(X - origin, sAxis) ...
+
+    PatchFrame() = default;
+    PatchFrame(const Patch& patch, const glm::dvec3& towards);
+
+    glm::dvec3 coordinates(const glm::dvec3& x) const
+    {
+        const glm::dvec3 r = x - origin;
+        return {r.x * sAxis.x + r.y * sAxis.y + r.z * sAxis.z, r.x * tAxis.x + r.y * tAxis.y + r.z * tAxis.z,
+                r.x * dAxis.x + r.y * dAxis.y + r.z * dAxis.z};
+    }
+};
+
+/// A convex polygon of at most 8 vertices (a triangle clipped by up to 5 planes).
+struct ClippedPolygon {
+    static constexpr int kMaxVertices = 8;
+    std::array<glm::dvec3, kMaxVertices> vertices{};
+    int count = 0;
+};
+
+/// Keeps the part of `polygon` where dot(X, normal) > offset (Sutherland-Hodgman, one plane).
+/// Works in any affine coordinates.
+void clipPolygon(ClippedPolygon& polygon, const glm::dvec3& normal, double offset);
+
+/// The shaft between a valid patch pair: both frames, with the relative end-point tolerance of the
+/// reference sampler (kSegmentEpsilon) turned into slab margins.
+struct ShaftFrames {
+    PatchFrame source;     ///< d > 0 towards the receiver
+    PatchFrame receiver;   ///< d > 0 towards the source
+    double sourceMargin = 0.0;     ///< clip at d_source > sourceMargin
+    double receiverMargin = 0.0;   ///< clip at d_receiver > receiverMargin
+
+    ShaftFrames(const Patch& sourcePatch, const Patch& receiverPatch);
+
+    /// The triangle clipped to the slab, in world coordinates. Empty (count 0) if nothing remains.
+    ClippedPolygon clipToSlab(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const;
+};
+
+} // namespace sightline

@@ -1,0 +1,292 @@
+#include "visibility/CpuBitmaskSampler.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "visibility/ShaftGeometry.h"
+
+namespace sightline {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+/// Receiver samples are processed in square tiles; a tile is the unit of parallel work.
+constexpr int kTile = 8;
+
+/// A triangle clipped to the slab, ready for backprojection: vertices in source coordinates
+/// (s, t, d) and the range of receiver samples its influence region covers.
+struct Occluder {
+    std::array<glm::dvec3, ClippedPolygon::kMaxVertices> vertices;
+    int count = 0;
+    int a0 = 0, a1 = -1, b0 = 0, b1 = -1;   ///< receiver sample range, inclusive
+    bool clipPerSample = false;             ///< may reach beyond some receiver sample's distance
+};
+
+/// Sets bits first..last (inclusive) of a row of 64-bit words.
+void setBitRange(std::uint64_t* words, int first, int last)
+{
+    int w0 = first >> 6, w1 = last >> 6;
+    const std::uint64_t lowMask = ~std::uint64_t(0) << (first & 63);
+    const std::uint64_t highMask = ~std::uint64_t(0) >> (63 - (last & 63));
+    if (w0 == w1) {
+        words[w0] |= lowMask & highMask;
+        return;
+    }
+    words[w0] |= lowMask;
+    for (int w = w0 + 1; w < w1; ++w)
+        words[w] = ~std::uint64_t(0);
+    words[w1] |= highMask;
+}
+
+/// Index range of samples at (k + 0.5) / n strictly inside (lo, hi), clamped to [0, n).
+/// Samples exactly on the boundary are grazing; they count as inside (either answer is allowed).
+inline void sampleRange(double lo, double hi, int n, int& first, int& last)
+{
+    // floor/ceil by truncation: std::floor is a library call on baseline x86-64 and this runs
+    // several times per (triangle, receiver sample) pair. Clamping first keeps the int in range.
+    const double x0 = std::clamp(lo * n - 0.5, -2.0, double(n) + 1.0);
+    const double x1 = std::clamp(hi * n - 0.5, -2.0, double(n) + 1.0);
+    const int c = int(x0);
+    const int f = int(x1);
+    first = std::max(0, c + (double(c) < x0));   // ceil
+    last = std::min(n - 1, f - (double(f) > x1));  // floor
+}
+
+struct Setup {
+    ShaftFrames frames;
+    int S, na, nb;                         // source grid
+    int rna, rnb;                          // receiver grid
+    std::vector<glm::dvec3> receiverInSource;   // (s, t, d) of each receiver sample in the source frame
+    std::array<glm::dvec3, 4> sourceCornersInReceiver;
+    double minReceiverDistance = 0.0;      // min over receiver of d_source
+    double maxSourceDistanceToReceiver = 0.0;
+
+    Setup(const Patch& source, const Patch& receiver)
+        : frames(source, receiver), S(source.sampleCount()), na(source.na), nb(source.nb), rna(receiver.na),
+          rnb(receiver.nb)
+    {
+        receiverInSource.resize(std::size_t(receiver.sampleCount()));
+        for (int j = 0; j < receiver.sampleCount(); ++j)
+            receiverInSource[std::size_t(j)] = frames.source.coordinates(receiver.sample(j));
+        minReceiverDistance = 1e300;
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+            sourceCornersInReceiver[std::size_t(k)] = frames.receiver.coordinates(sc);
+            const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+            minReceiverDistance = std::min(minReceiverDistance, frames.source.coordinates(rc).z);
+        }
+    }
+
+    /// Clips, then bounds the influence region (§3): the projections of the clipped polygon from
+    /// the four source corners onto the receiver plane, as a box of receiver samples. Where a
+    /// vertex is not strictly closer to the receiver than a corner, the projection is undefined
+    /// and the whole receiver is taken (conservative).
+    bool prepare(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, Occluder& out) const
+    {
+        const ClippedPolygon polygon = frames.clipToSlab(a, b, c);
+        if (polygon.count < 3)
+            return false;
+        out.count = polygon.count;
+        double sMin = 1e300, sMax = -1e300, tMin = 1e300, tMax = -1e300, maxD = -1e300;
+        bool whole = false;
+        for (int i = 0; i < polygon.count; ++i) {
+            const glm::dvec3& x = polygon.vertices[std::size_t(i)];
+            const glm::dvec3 inSource = frames.source.coordinates(x);
+            out.vertices[std::size_t(i)] = inSource;
+            maxD = std::max(maxD, inSource.z);
+            const glm::dvec3 inReceiver = frames.receiver.coordinates(x);
+            for (const glm::dvec3& corner : sourceCornersInReceiver) {
+                const double denominator = corner.z - inReceiver.z;
+                if (denominator <= 1e-12 * corner.z) {
+                    whole = true;
+                    continue;
+                }
+                const double k = corner.z / denominator;
+                const double s = corner.x + (inReceiver.x - corner.x) * k;
+                const double t = corner.y + (inReceiver.y - corner.y) * k;
+                sMin = std::min(sMin, s), sMax = std::max(sMax, s);
+                tMin = std::min(tMin, t), tMax = std::max(tMax, t);
+            }
+        }
+        if (whole) {
+            out.a0 = 0, out.a1 = rna - 1, out.b0 = 0, out.b1 = rnb - 1;
+        } else {
+            // Widen by a hair so that rounding never drops a sample on the region's boundary.
+            const double pad = 1e-9;
+            sampleRange(sMin - pad, sMax + pad, rna, out.a0, out.a1);
+            sampleRange(tMin - pad, tMax + pad, rnb, out.b0, out.b1);
+        }
+        out.clipPerSample = maxD >= minReceiverDistance * (1.0 - 1e-9);
+        return out.a0 <= out.a1 && out.b0 <= out.b1;
+    }
+
+    /// ORs into `row` the source samples hidden by `occluder` from receiver sample j (§4-5).
+    void backproject(const Occluder& occluder, int j, std::uint64_t* row) const
+    {
+        const glm::dvec3& r = receiverInSource[std::size_t(j)];
+        if (!occluder.clipPerSample) {
+            backprojectPolygon(occluder.vertices.data(), occluder.count, r, row);
+            return;
+        }
+        // Vertices at or beyond the receiver sample's own distance cannot lie on its segments.
+        ClippedPolygon local;
+        local.count = occluder.count;
+        std::copy_n(occluder.vertices.begin(), occluder.count, local.vertices.begin());
+        clipPolygon(local, glm::dvec3(0, 0, -1), -r.z * (1.0 - double(1e-6f)));
+        if (local.count >= 3)
+            backprojectPolygon(local.vertices.data(), local.count, r, row);
+    }
+
+    /// The backprojection from receiver point r (source coordinates) of a convex polygon whose
+    /// vertices all lie in 0 < d < r.d, and the source samples inside it, row by row.
+    void backprojectPolygon(const glm::dvec3* vertices, int count, const glm::dvec3& r, std::uint64_t* mask) const
+    {
+        // Backprojection onto the source plane, in source (s, t).
+        std::array<double, ClippedPolygon::kMaxVertices> ps, pt;
+        double tMin = 1e300, tMax = -1e300;
+        for (int i = 0; i < count; ++i) {
+            const glm::dvec3& x = vertices[i];
+            const double k = r.z / (r.z - x.z);
+            ps[std::size_t(i)] = r.x + (x.x - r.x) * k;
+            pt[std::size_t(i)] = r.y + (x.y - r.y) * k;
+            tMin = std::min(tMin, pt[std::size_t(i)]);
+            tMax = std::max(tMax, pt[std::size_t(i)]);
+        }
+        int b0, b1;
+        sampleRange(tMin, tMax, nb, b0, b1);
+        if (b0 > b1)
+            return;
+        // Each row's line t = tb meets the convex polygon in one interval [lo, hi]. Walk every
+        // edge over just the rows it spans (O(rows + edges), not O(rows x edges)).
+        double lo[kMaxSourceSamples], hi[kMaxSourceSamples];
+        std::fill(lo + b0, lo + b1 + 1, 1e300);
+        std::fill(hi + b0, hi + b1 + 1, -1e300);
+        const double rowStep = 1.0 / nb;
+        for (int i = 0, k = count - 1; i < count; k = i++) {
+            const double t0 = pt[std::size_t(k)], t1 = pt[std::size_t(i)];
+            const double s0 = ps[std::size_t(k)], s1 = ps[std::size_t(i)];
+            int r0, r1;
+            sampleRange(std::min(t0, t1), std::max(t0, t1), nb, r0, r1);
+            r0 = std::max(r0, b0);
+            r1 = std::min(r1, b1);
+            if (r0 > r1)
+                continue;
+            if (t0 == t1) {   // along a row: both ends count
+                lo[r0] = std::min({lo[r0], s0, s1});
+                hi[r0] = std::max({hi[r0], s0, s1});
+                continue;
+            }
+            const double slope = (s1 - s0) / (t1 - t0);
+            double x = s0 + ((r0 + 0.5) * rowStep - t0) * slope;
+            const double dx = slope * rowStep;
+            for (int row = r0; row <= r1; ++row, x += dx) {
+                lo[row] = std::min(lo[row], x);
+                hi[row] = std::max(hi[row], x);
+            }
+        }
+        for (int b = b0; b <= b1; ++b) {
+            int a0, a1;
+            sampleRange(lo[b], hi[b], na, a0, a1);
+            if (a0 <= a1)
+                setBitRange(mask, b * na + a0, b * na + a1);
+        }
+    }
+};
+
+bool rowFull(const std::uint64_t* row, int words, int S)
+{
+    for (int w = 0; w + 1 < words; ++w)
+        if (row[w] != ~std::uint64_t(0))
+            return false;
+    const int rest = S - 64 * (words - 1);
+    const std::uint64_t last = rest == 64 ? ~std::uint64_t(0) : (std::uint64_t(1) << rest) - 1;
+    return row[words - 1] == last;
+}
+
+} // namespace
+
+CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTriangles(scene)) {}
+CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std::move(triangles)) {}
+
+HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
+                                          BitmaskStats* stats) const
+{
+    validatePatchPair(source, receiver);
+    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+    BitmaskStats local;
+    const auto setupStart = Clock::now();
+
+    auto body = [&] {
+        const Setup setup(source, receiver);
+        const std::size_t triangleCount = triangles_.size();
+
+        // Clip and bound every triangle (parallel), keep those that touch the receiver grid.
+        std::vector<Occluder> occluders(triangleCount);
+        std::vector<char> kept(triangleCount, 0);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangleCount, 1024), [&](const auto& range) {
+            for (std::size_t t = range.begin(); t != range.end(); ++t)
+                kept[t] = setup.prepare(triangles_.vertices[3 * t], triangles_.vertices[3 * t + 1],
+                                        triangles_.vertices[3 * t + 2], occluders[t]);
+        });
+
+        // Bin to tiles of receiver samples.
+        const int tilesA = (receiver.na + kTile - 1) / kTile, tilesB = (receiver.nb + kTile - 1) / kTile;
+        std::vector<std::vector<std::uint32_t>> bins(std::size_t(tilesA) * std::size_t(tilesB));
+        for (std::size_t t = 0; t < triangleCount; ++t) {
+            if (!kept[t])
+                continue;
+            ++local.trianglesInShaft;
+            const Occluder& o = occluders[t];
+            for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
+                for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
+                    bins[std::size_t(tb) * std::size_t(tilesA) + std::size_t(ta)].push_back(std::uint32_t(t));
+        }
+        local.setupMs = msSince(setupStart);
+
+        const auto sampleStart = Clock::now();
+        std::atomic<std::uint64_t> pairs{0};
+        const int words = map.wordsPerRow();
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bins.size(), 1), [&](const auto& range) {
+            std::uint64_t tilePairs = 0;
+            for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
+                const int ta = int(tile % std::size_t(tilesA)), tb = int(tile / std::size_t(tilesA));
+                const int aEnd = std::min(receiver.na, (ta + 1) * kTile), bEnd = std::min(receiver.nb, (tb + 1) * kTile);
+                for (std::uint32_t t : bins[tile]) {
+                    const Occluder& o = occluders[t];
+                    for (int b = std::max(o.b0, tb * kTile); b <= std::min(o.b1, bEnd - 1); ++b)
+                        for (int a = std::max(o.a0, ta * kTile); a <= std::min(o.a1, aEnd - 1); ++a) {
+                            const int j = b * receiver.na + a;
+                            std::uint64_t* row = map.row(j).data();
+                            if (rowFull(row, words, setup.S))
+                                continue;
+                            setup.backproject(o, j, row);
+                            ++tilePairs;
+                        }
+                }
+            }
+            pairs += tilePairs;
+        });
+        local.pairs = pairs;
+        local.sampleMs = msSince(sampleStart);
+    };
+    if (options.threads > 0) {
+        tbb::task_arena arena(options.threads);
+        arena.execute(body);
+    } else {
+        body();
+    }
+    if (stats)
+        *stats = local;
+    return map;
+}
+
+} // namespace sightline
