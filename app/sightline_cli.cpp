@@ -7,12 +7,14 @@
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
 // returns non-zero.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -49,7 +51,25 @@ struct ShaftArgs {
     bool json = false;
     int threads = 0;
     bool singleRays = false;
+    int repeat = 1;
 };
+
+/// Runs `sample` once, or 1 + `repeat` times with the first as warm-up (thread pools, page
+/// faults), and returns the median time in milliseconds.
+template <typename Sample>
+double timeSampling(int repeat, Sample&& sample)
+{
+    std::vector<double> times;
+    for (int k = 0; k < (repeat > 1 ? repeat + 1 : 1); ++k) {
+        const auto start = std::chrono::steady_clock::now();
+        sample();
+        times.push_back(millisecondsSince(start));
+    }
+    if (times.size() > 1)
+        times.erase(times.begin());
+    std::sort(times.begin(), times.end());
+    return times[times.size() / 2];
+}
 
 int runShaft(const ShaftArgs& args)
 {
@@ -67,24 +87,25 @@ int runShaft(const ShaftArgs& args)
     HiddenSampleMap map;
     double ms = 0.0, setupMs = 0.0;
     std::string strategy;
+    json split = json::object();   // method-specific time split and counts
     if (args.method == "raycast") {
         const RayCastScene rayCaster(scene);
         RayCastOptions options;
         options.packets = !args.singleRays;
         options.threads = args.threads;
-        const auto start = std::chrono::steady_clock::now();
-        map = rayCaster.sample(project.source, project.receiver, options);
-        ms = millisecondsSince(start);
+        ms = timeSampling(args.repeat, [&] { map = rayCaster.sample(project.source, project.receiver, options); });
         setupMs = rayCaster.buildMilliseconds();
         strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
     } else {
         const CpuBitmaskSampler sampler(scene);
         BitmaskStats stats;
-        const auto start = std::chrono::steady_clock::now();
-        map = sampler.sample(project.source, project.receiver, {.threads = args.threads}, &stats);
-        ms = millisecondsSince(start);
+        ms = timeSampling(args.repeat,
+                          [&] { map = sampler.sample(project.source, project.receiver, {.threads = args.threads}, &stats); });
         setupMs = stats.setupMs;
-        strategy = "bitmask-exact-rows";
+        strategy = std::string(stats.strategy) == "hybrid" ? "hybrid: bitmask-exact-rows + embree-packets-16"
+                                                           : "bitmask-exact-rows";
+        split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
+                 {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"rays_cast", stats.raysCast}};
     }
 
     if (!args.mask.empty())
@@ -109,9 +130,11 @@ int runShaft(const ShaftArgs& args)
             {"source_samples", json::array({project.source.na, project.source.nb})},
             {"receiver_samples", json::array({project.receiver.na, project.receiver.nb})},
             {"threads", threads},
+            {"repeat", args.repeat},
         };
         if (!args.mask.empty())
             out["mask"] = args.mask;
+        out.update(split);
         std::cout << out.dump() << "\n";
     } else {
         std::printf("method     %s (%s, %d threads)\n", args.method.c_str(), strategy.c_str(), threads);
@@ -223,6 +246,8 @@ int main(int argc, char** argv)
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
     shaftCmd->add_option("--threads", shaft.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
+    shaftCmd->add_option("--repeat", shaft.repeat, "Time N runs after one warm-up run and report the median ms")
+        ->check(CLI::Range(1, 1000));
 
     std::string infoPath;
     bool infoJson = false;

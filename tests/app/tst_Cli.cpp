@@ -130,7 +130,8 @@ TEST_F(Cli, CpuMethodAgreesWithRaycast)
     ASSERT_EQ(ray.code, 0) << ray.err;
     const json out = json::parse(cpu.out);
     EXPECT_EQ(out["method"], "cpu");
-    EXPECT_EQ(out["strategy"], "bitmask-exact-rows");
+    EXPECT_NE(out["strategy"].get<std::string>().find("bitmask-exact-rows"), std::string::npos);
+    EXPECT_TRUE(out.contains("bitmask_ms"));
     const HiddenSampleMap a = readMaskNpy(cpuMask, 128), b = readMaskNpy(rayMask, 128);
     EXPECT_LE(a.differenceCount(b) * 10000, a.rayCount());
 }

@@ -17,4 +17,8 @@ TEST(DemoSamplers, CpuBitmaskAgreesWithTheReference)
     const std::uint64_t differ = map.differenceCount(expected);
     EXPECT_LE(differ * 10000, map.rayCount()) << differ << " rays differ";   // >= 99.99% agreement
     EXPECT_GE(stats.trianglesInShaft, 10000u);
+    for (const CpuStrategy strategy : {CpuStrategy::Bitmask, CpuStrategy::Hybrid}) {
+        const HiddenSampleMap other = CpuBitmaskSampler(level).sample(view.source, view.receiver, {.strategy = strategy});
+        EXPECT_LE(other.differenceCount(expected) * 10000, other.rayCount());
+    }
 }

@@ -46,7 +46,7 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
     // Non-parallel patches, grids from 1x1 to 12x12, tiny, medium and huge triangles, triangles
     // crossing both patch planes.
     int checked = 0;
-    std::uint64_t rays = 0, blocked = 0;
+    std::uint64_t rays = 0, blocked = 0, smallTriangles = 0;
     for (unsigned seed = 1; seed <= 40; ++seed) {
         const RandomCase c = randomCase(seed);
         try {
@@ -55,15 +55,24 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
             continue;
         }
         ++checked;
-        const HiddenSampleMap map = CpuBitmaskSampler(c.scene).sample(c.source, c.receiver);
         const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver);
+        const CpuBitmaskSampler sampler(c.scene);
+        const HiddenSampleMap map = sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask});
         EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u)
             << "seed " << seed << ": " << map.blockedCount() << " vs " << reference.blocked.blockedCount();
+        // Hybrid with a threshold that sends the tiny and some medium triangles to ray casting.
+        BitmaskStats stats;
+        const HiddenSampleMap hybrid =
+            sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Hybrid, .smallCells = 4.0}, &stats);
+        EXPECT_EQ(mismatchesOutsideGrazing(hybrid, reference), 0u) << "hybrid, seed " << seed;
+        EXPECT_STREQ(stats.strategy, "hybrid");
+        smallTriangles += stats.smallTriangles;
         rays += map.rayCount();
         blocked += map.blockedCount();
     }
     EXPECT_GE(checked, 30);
     EXPECT_GT(blocked, rays / 10);
+    EXPECT_GT(smallTriangles, 100u);   // the hybrid's ray pass was exercised
 }
 
 TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)
@@ -93,6 +102,8 @@ TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)
         EXPECT_LE(differ * 10000, map.rayCount()) << g.na << "x" << g.nb << " / " << g.rna << "x" << g.rnb;
         EXPECT_GT(expected.blockedCount(), 0u);
         EXPECT_EQ(map, sampler.sample(source, receiver, {.threads = 1}));
+        const HiddenSampleMap hybrid = sampler.sample(source, receiver, {.strategy = CpuStrategy::Hybrid, .smallCells = 6.0});
+        EXPECT_LE(hybrid.differenceCount(expected) * 10000, map.rayCount()) << "hybrid " << g.na << "x" << g.nb;
     }
 }
 

@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
 namespace sightline {
@@ -29,7 +30,12 @@ struct Occluder {
     int count = 0;
     int a0 = 0, a1 = -1, b0 = 0, b1 = -1;   ///< receiver sample range, inclusive
     bool clipPerSample = false;             ///< may reach beyond some receiver sample's distance
+    double cells = 0.0;                     ///< backprojected area from the receiver centre, in source cells
 };
+
+/// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
+/// a ray pass cost more than they save).
+constexpr std::size_t kHybridMinSmallTriangles = 500;
 
 /// Sets bits first..last (inclusive) of a row of 64-bit words.
 void setBitRange(std::uint64_t* words, int first, int last)
@@ -68,6 +74,7 @@ struct Setup {
     std::vector<glm::dvec3> receiverInSource;   // (s, t, d) of each receiver sample in the source frame
     std::array<glm::dvec3, 4> sourceCornersInReceiver;
     double minReceiverDistance = 0.0;      // min over receiver of d_source
+    glm::dvec3 receiverCentre{0.0};        // in the source frame
     double maxSourceDistanceToReceiver = 0.0;
 
     Setup(const Patch& source, const Patch& receiver)
@@ -84,6 +91,7 @@ struct Setup {
             const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
             minReceiverDistance = std::min(minReceiverDistance, frames.source.coordinates(rc).z);
         }
+        receiverCentre = frames.source.coordinates(receiver.centre());
     }
 
     /// Clips, then bounds the influence region (§3): the projections of the clipped polygon from
@@ -126,7 +134,24 @@ struct Setup {
             sampleRange(tMin - pad, tMax + pad, rnb, out.b0, out.b1);
         }
         out.clipPerSample = maxD >= minReceiverDistance * (1.0 - 1e-9);
+        out.cells = whole || out.clipPerSample ? 1e300 : backprojectedCells(out);
         return out.a0 <= out.a1 && out.b0 <= out.b1;
+    }
+
+    /// Area of the backprojection from the receiver's centre, in source-sample cells (shoelace).
+    double backprojectedCells(const Occluder& o) const
+    {
+        const glm::dvec3& r = receiverCentre;
+        double area = 0.0, ps = 0.0, pt = 0.0;
+        for (int i = 0; i <= o.count; ++i) {
+            const glm::dvec3& x = o.vertices[std::size_t(i % o.count)];
+            const double k = r.z / (r.z - x.z);
+            const double s = r.x + (x.x - r.x) * k, t = r.y + (x.y - r.y) * k;
+            if (i > 0)
+                area += ps * t - s * pt;
+            ps = s, pt = t;
+        }
+        return 0.5 * std::abs(area) * na * nb;
     }
 
     /// ORs into `row` the source samples hidden by `occluder` from receiver sample j (§4-5).
@@ -238,6 +263,22 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                                         triangles_.vertices[3 * t + 2], occluders[t]);
         });
 
+        // Hybrid: small triangles go to the ray pass instead of the bins.
+        std::vector<std::uint32_t> small;
+        if (options.strategy != CpuStrategy::Bitmask)
+            for (std::size_t t = 0; t < triangleCount; ++t)
+                if (kept[t] && occluders[t].cells < options.smallCells)
+                    small.push_back(std::uint32_t(t));
+        const bool hybrid = options.strategy == CpuStrategy::Hybrid ||
+                            (options.strategy == CpuStrategy::Auto && small.size() >= kHybridMinSmallTriangles);
+        if (hybrid)
+            for (std::uint32_t t : small)
+                kept[t] = 2;   // in the shaft, but not binned
+        else
+            small.clear();
+        local.strategy = hybrid ? "hybrid" : "bitmask";
+        local.smallTriangles = small.size();
+
         // Bin to tiles of receiver samples.
         const int tilesA = (receiver.na + kTile - 1) / kTile, tilesB = (receiver.nb + kTile - 1) / kTile;
         std::vector<std::vector<std::uint32_t>> bins(std::size_t(tilesA) * std::size_t(tilesB));
@@ -245,6 +286,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             if (!kept[t])
                 continue;
             ++local.trianglesInShaft;
+            if (kept[t] == 2)
+                continue;
             const Occluder& o = occluders[t];
             for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
                 for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
@@ -277,6 +320,20 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         });
         local.pairs = pairs;
         local.sampleMs = msSince(sampleStart);
+
+        if (!small.empty()) {
+            const auto rayStart = Clock::now();
+            WorldTriangles subset;
+            subset.vertices.reserve(3 * small.size());
+            for (std::uint32_t t : small) {
+                subset.vertices.insert(subset.vertices.end(), triangles_.vertices.begin() + 3 * std::ptrdiff_t(t),
+                                       triangles_.vertices.begin() + 3 * std::ptrdiff_t(t) + 3);
+                subset.instanceOf.push_back(triangles_.instanceOf[t]);
+            }
+            const RayCastScene rays(subset, /*fastBuild=*/true);
+            local.raysCast = rays.sampleUnblocked(source, receiver, map);
+            local.rayMs = msSince(rayStart);
+        }
     };
     if (options.threads > 0) {
         tbb::task_arena arena(options.threads);

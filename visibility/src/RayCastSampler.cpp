@@ -1,5 +1,6 @@
 #include "visibility/RayCastSampler.h"
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -39,7 +40,7 @@ void onEmbreeError(void* user, RTCError, const char* message)
 
 RayCastScene::RayCastScene(const Scene& scene) : RayCastScene(worldTriangles(scene)) {}
 
-RayCastScene::RayCastScene(const WorldTriangles& triangles)
+RayCastScene::RayCastScene(const WorldTriangles& triangles, bool fastBuild)
     : embree_(std::make_unique<Embree>()), triangleCount_(triangles.size())
 {
     const auto start = std::chrono::steady_clock::now();
@@ -50,7 +51,7 @@ RayCastScene::RayCastScene(const WorldTriangles& triangles)
 
     embree_->scene = rtcNewScene(embree_->device);
     rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(embree_->scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(embree_->scene, fastBuild ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
     if (triangleCount_ > 0) {
         RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
         // Embree may read 16 bytes past a float3, so the vertex buffer is padded by one element.
@@ -99,8 +100,18 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
 {
     validatePatchPair(source, receiver);
     HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+    sampleUnblocked(source, receiver, map, options);
+    return map;
+}
+
+std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
+                                            const RayCastOptions& options) const
+{
+    if (map.sourceCount() != source.sampleCount() || map.receiverNa() != receiver.na || map.receiverNb() != receiver.nb)
+        throw Error("RayCastScene::sampleUnblocked: map dimensions do not match the patches");
     if (triangleCount_ == 0)
-        return map;
+        return 0;
+    std::atomic<std::uint64_t> cast{0};
 
     // Positions in double (DESIGN.md §2), rounded to float only as ray input.
     const int S = source.sampleCount();
@@ -115,6 +126,8 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
         const glm::dvec3 r = receiver.sample(j);
         const glm::vec3 org(r);
         auto bits = map.row(j);
+        std::uint64_t rowCast = 0;
+        auto alreadyBlocked = [&](int i) { return (bits[std::size_t(i >> 6)] >> (i & 63)) & 1u; };
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
@@ -122,9 +135,11 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
             alignas(64) RTCRay16 rays;
             alignas(64) int valid[16];
             for (int first = 0; first < S; first += 16) {
+                int lanes = 0;
                 for (int k = 0; k < 16; ++k) {
                     const int i = first + k;
-                    valid[k] = i < S ? -1 : 0;
+                    valid[k] = i < S && !alreadyBlocked(i) ? -1 : 0;
+                    lanes += valid[k] != 0;
                     const glm::vec3 dir = i < S ? glm::vec3(sourceExact[std::size_t(i)] - r) : glm::vec3(1.0f);
                     rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
                     rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
@@ -135,15 +150,21 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
                     rays.id[k] = unsigned(k);
                     rays.flags[k] = 0;
                 }
+                if (lanes == 0)
+                    continue;
+                rowCast += std::uint64_t(lanes);
                 rtcOccluded16(valid, scene, &context, &rays);
                 for (int k = 0; k < 16 && first + k < S; ++k)
-                    if (rays.tfar[k] < 0.0f) {
+                    if (valid[k] && rays.tfar[k] < 0.0f) {
                         const int i = first + k;
                         bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
                     }
             }
         } else {
             for (int i = 0; i < S; ++i) {
+                if (alreadyBlocked(i))
+                    continue;
+                ++rowCast;
                 const glm::vec3 dir(sourceExact[std::size_t(i)] - r);
                 RTCRay ray{};
                 ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
@@ -156,6 +177,7 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
                     bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
             }
         }
+        cast += rowCast;
     };
 
     const int receivers = receiver.sampleCount();
@@ -173,7 +195,7 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
     }
     if (!embree_->error.empty())
         throw Error("Embree: " + embree_->error);
-    return map;
+    return cast;
 }
 
 } // namespace sightline

@@ -33,7 +33,9 @@ class RayCastScene {
 public:
     /// Builds the BVH over every world triangle of `scene`. Throws sightline::Error if Embree fails.
     explicit RayCastScene(const Scene& scene);
-    explicit RayCastScene(const WorldTriangles& triangles);
+    /// `fastBuild` trades traversal speed for build time (a per-call BVH of a few thousand
+    /// triangles, as the hybrid bitmask strategy builds).
+    explicit RayCastScene(const WorldTriangles& triangles, bool fastBuild = false);
     ~RayCastScene();
     RayCastScene(const RayCastScene&) = delete;
     RayCastScene& operator=(const RayCastScene&) = delete;
@@ -44,6 +46,11 @@ public:
     /// The hidden-samples map for the pair; validates it first (validatePatchPair throws
     /// sightline::Error for an invalid pair — never a wrong answer).
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, const RayCastOptions& options = {}) const;
+
+    /// Casts only the rays not yet marked blocked in `map` (dimensions must match the pair, which
+    /// must be valid) and marks those this scene blocks. Returns the number of rays cast.
+    std::uint64_t sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
+                                  const RayCastOptions& options = {}) const;
 
     /// One segment, single ray, same semantics: true if blocked. For tests and picking.
     bool segmentBlocked(const glm::dvec3& from, const glm::dvec3& to) const;
