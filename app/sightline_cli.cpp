@@ -52,6 +52,7 @@ struct ShaftArgs {
     int threads = 0;
     bool singleRays = false;
     int repeat = 1;
+    std::string strategy = "auto";
 };
 
 /// Runs `sample` once, or 1 + `repeat` times with the first as warm-up (thread pools, page
@@ -99,8 +100,12 @@ int runShaft(const ShaftArgs& args)
     } else {
         const CpuBitmaskSampler sampler(scene);
         BitmaskStats stats;
-        ms = timeSampling(args.repeat,
-                          [&] { map = sampler.sample(project.source, project.receiver, {.threads = args.threads}, &stats); });
+        BitmaskOptions options;
+        options.threads = args.threads;
+        options.strategy = args.strategy == "bitmask" ? CpuStrategy::Bitmask
+                           : args.strategy == "hybrid" ? CpuStrategy::Hybrid
+                                                       : CpuStrategy::Auto;
+        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, options, &stats); });
         setupMs = stats.setupMs;
         strategy = std::string(stats.strategy) == "hybrid" ? "hybrid: bitmask-exact-rows + embree-packets-16"
                                                            : "bitmask-exact-rows";
@@ -246,6 +251,10 @@ int main(int argc, char** argv)
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
     shaftCmd->add_option("--threads", shaft.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
+    shaftCmd->add_option("--strategy", shaft.strategy,
+                         "cpu: auto, bitmask (every triangle backprojected) or hybrid (small triangles ray cast)")
+        ->check(CLI::IsMember({"auto", "bitmask", "hybrid"}))
+        ->capture_default_str();
     shaftCmd->add_option("--repeat", shaft.repeat, "Time N runs after one warm-up run and report the median ms")
         ->check(CLI::Range(1, 1000));
 

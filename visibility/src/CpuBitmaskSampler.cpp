@@ -21,7 +21,7 @@ using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
 /// Receiver samples are processed in square tiles; a tile is the unit of parallel work.
-constexpr int kTile = 8;
+constexpr int kTile = 4;
 
 /// A triangle clipped to the slab, ready for backprojection: vertices in source coordinates
 /// (s, t, d) and the range of receiver samples its influence region covers.
