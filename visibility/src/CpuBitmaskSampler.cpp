@@ -75,7 +75,6 @@ struct Setup {
     std::array<glm::dvec3, 4> sourceCornersInReceiver;
     double minReceiverDistance = 0.0;      // min over receiver of d_source
     glm::dvec3 receiverCentre{0.0};        // in the source frame
-    double maxSourceDistanceToReceiver = 0.0;
 
     Setup(const Patch& source, const Patch& receiver)
         : frames(source, receiver), S(source.sampleCount()), na(source.na), nb(source.nb), rna(receiver.na),

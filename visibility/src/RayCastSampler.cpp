@@ -31,6 +31,18 @@ struct RayCastScene::Embree {
 
 namespace {
 
+/// A single ray for the segment org -> org + dir with the reference's end-point semantics.
+RTCRay segmentRay(const glm::vec3& org, const glm::vec3& dir)
+{
+    RTCRay ray{};
+    ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
+    ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
+    ray.tnear = kSegmentEpsilon;
+    ray.tfar = 1.0f - kSegmentEpsilon;
+    ray.mask = 0xffffffffu;
+    return ray;
+}
+
 void onEmbreeError(void* user, RTCError, const char* message)
 {
     static_cast<std::string*>(user)->assign(message ? message : "unknown Embree error");
@@ -79,22 +91,6 @@ RayCastScene::RayCastScene(const WorldTriangles& triangles, bool fastBuild)
 }
 
 RayCastScene::~RayCastScene() = default;
-
-bool RayCastScene::segmentBlocked(const glm::dvec3& from, const glm::dvec3& to) const
-{
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    const glm::vec3 org(from);
-    const glm::vec3 dir(to - from);
-    RTCRay ray{};
-    ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
-    ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-    ray.tnear = kSegmentEpsilon;
-    ray.tfar = 1.0f - kSegmentEpsilon;
-    ray.mask = 0xffffffffu;
-    rtcOccluded1(embree_->scene, &context, &ray);
-    return ray.tfar < 0.0f;
-}
 
 HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver, const RayCastOptions& options) const
 {
@@ -165,13 +161,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                 if (alreadyBlocked(i))
                     continue;
                 ++rowCast;
-                const glm::vec3 dir(sourceExact[std::size_t(i)] - r);
-                RTCRay ray{};
-                ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
-                ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-                ray.tnear = kSegmentEpsilon;
-                ray.tfar = 1.0f - kSegmentEpsilon;
-                ray.mask = 0xffffffffu;
+                RTCRay ray = segmentRay(org, glm::vec3(sourceExact[std::size_t(i)] - r));
                 rtcOccluded1(scene, &context, &ray);
                 if (ray.tfar < 0.0f)
                     bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);

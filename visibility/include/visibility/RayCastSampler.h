@@ -52,9 +52,6 @@ public:
     std::uint64_t sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
                                   const RayCastOptions& options = {}) const;
 
-    /// One segment, single ray, same semantics: true if blocked. For tests and picking.
-    bool segmentBlocked(const glm::dvec3& from, const glm::dvec3& to) const;
-
 private:
     struct Embree;
     std::unique_ptr<Embree> embree_;
