@@ -24,6 +24,8 @@
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
+#include "visibility/GlBitmaskSampler.h"
+#include "visibility/gl/HeadlessContext.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
 
@@ -53,6 +55,7 @@ struct ShaftArgs {
     bool singleRays = false;
     int repeat = 1;
     std::string strategy = "auto";
+    std::string glBackend = "osmesa";
 };
 
 /// Runs `sample` once, or 1 + `repeat` times with the first as warm-up (thread pools, page
@@ -74,8 +77,6 @@ double timeSampling(int repeat, Sample&& sample)
 
 int runShaft(const ShaftArgs& args)
 {
-    if (args.method == "gl")
-        throw Error("method 'gl' is not available yet (the GL bitmask sampler is not built); use --method cpu or raycast");
     const Project project = loadProject(args.project);
     validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
 
@@ -97,6 +98,14 @@ int runShaft(const ShaftArgs& args)
         ms = timeSampling(args.repeat, [&] { map = rayCaster.sample(project.source, project.receiver, options); });
         setupMs = rayCaster.buildMilliseconds();
         strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
+    } else if (args.method == "gl") {
+        const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
+        GlBitmaskSampler sampler(context->functions(), worldTriangles(scene));
+        GlBitmaskStats stats;
+        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, &stats); });
+        setupMs = stats.setupMs;
+        strategy = "gl-bitmask-exact-rows (" + args.glBackend + ": " + context->renderer() + ")";
+        split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}};
     } else {
         const CpuBitmaskSampler sampler(scene);
         BitmaskStats stats;
@@ -244,7 +253,7 @@ int main(int argc, char** argv)
     ShaftArgs shaft;
     CLI::App* shaftCmd = app.add_subcommand("shaft", "Compute the hidden-samples map between the project's patches");
     shaftCmd->add_option("project", shaft.project, "Project file (JSON, DESIGN.md §3)")->required();
-    shaftCmd->add_option("--method", shaft.method, "Sampler: raycast (Embree reference), cpu (exact bitmask); gl: not yet built")
+    shaftCmd->add_option("--method", shaft.method, "Sampler: raycast (Embree reference), cpu (exact bitmask, CPU), gl (exact bitmask, OpenGL 4.5)")
         ->check(CLI::IsMember({"raycast", "cpu", "gl"}))
         ->capture_default_str();
     shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)");
@@ -254,6 +263,9 @@ int main(int argc, char** argv)
     shaftCmd->add_option("--strategy", shaft.strategy,
                          "cpu: auto, bitmask (every triangle backprojected) or hybrid (small triangles ray cast)")
         ->check(CLI::IsMember({"auto", "bitmask", "hybrid"}))
+        ->capture_default_str();
+    shaftCmd->add_option("--gl-backend", shaft.glBackend, "gl: headless context, osmesa (software) or egl (GPU)")
+        ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
     shaftCmd->add_option("--repeat", shaft.repeat, "Time N runs after one warm-up run and report the median ms")
         ->check(CLI::Range(1, 1000));

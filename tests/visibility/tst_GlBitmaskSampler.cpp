@@ -1,0 +1,121 @@
+// The GL bitmask sampler on a headless context (OSMesa; EGL too where it works), against the
+// closed forms, the brute-force caster, the Embree reference and the CPU sampler. Skipped, not
+// failed, where no OpenGL 4.5 core context can be made.
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "BruteForceCaster.h"
+#include "TestScenes.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Error.h"
+#include "visibility/GlBitmaskSampler.h"
+#include "visibility/RayCastSampler.h"
+#include "visibility/gl/HeadlessContext.h"
+
+using namespace sightline;
+using namespace sightline::test;
+
+namespace {
+
+class GlBitmask : public ::testing::Test {
+protected:
+    static void SetUpTestSuite()
+    {
+        try {
+            context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+        } catch (const Error& e) {
+            reason = e.what();
+        }
+    }
+    static void TearDownTestSuite() { context.reset(); }
+    void SetUp() override
+    {
+        if (!context)
+            GTEST_SKIP() << "no OpenGL 4.5 core context: " << reason;
+        context->makeCurrent();
+    }
+    static GlBitmaskSampler sampler(const Scene& scene) { return GlBitmaskSampler(context->functions(), worldTriangles(scene)); }
+
+    static inline std::unique_ptr<gl::HeadlessContext> context;
+    static inline std::string reason;
+};
+
+} // namespace
+
+TEST_F(GlBitmask, EmptySceneWallAndHalfPlane)
+{
+    EXPECT_EQ(sampler(Scene{}).sample(xyPatch(0, 32, 32), xyPatch(2, 32, 32)).blockedCount(), 0u);
+    const Scene wall = sceneOf({quad({-10, -10, 1}, {20, 0, 0}, {0, 20, 0})});
+    const HiddenSampleMap all = sampler(wall).sample(xyPatch(0, 32, 32), xyPatch(2, 32, 32));
+    EXPECT_EQ(all.blockedCount(), all.rayCount());
+
+    const double edge = 0.437;
+    const Scene half = sceneOf({quad({-50, -50, 1}, {50 + float(edge), 0, 0}, {0, 100, 0})});
+    const Patch source = xyPatch(0, 13, 7), receiver = xyPatch(3, 52, 9);
+    const HiddenSampleMap map = sampler(half).sample(source, receiver);
+    std::uint64_t mismatches = 0;
+    for (int j = 0; j < receiver.sampleCount(); ++j)
+        for (int i = 0; i < source.sampleCount(); ++i) {
+            const double x = source.sample(i).x + (receiver.sample(j).x - source.sample(i).x) / 3.0;
+            mismatches += (x < edge) != map.blocked(j, i);
+        }
+    EXPECT_EQ(mismatches, 0u);
+}
+
+TEST_F(GlBitmask, AgreesWithBruteForceOnRandomScenes)
+{
+    int checked = 0;
+    for (unsigned seed = 1; seed <= 24; ++seed) {
+        const RandomCase c = randomCase(seed);
+        try {
+            validatePatchPair(c.source, c.receiver);
+        } catch (const Error&) {
+            continue;
+        }
+        ++checked;
+        const HiddenSampleMap map = sampler(c.scene).sample(c.source, c.receiver);
+        const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver);
+        EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u) << "seed " << seed;
+    }
+    EXPECT_GE(checked, 16);
+}
+
+TEST_F(GlBitmask, MatchesCpuAndReferenceAcrossSampleCounts)
+{
+    // Every target count from 1 (<= 128 source samples) to 8 (1024), receivers up to 128x96.
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.3f, 1.3f), z(0.3f, 1.7f), s(-0.15f, 0.15f);
+    Mesh soup;
+    for (std::uint32_t t = 0; t < 300; ++t) {
+        const glm::vec3 a(u(rng), u(rng), z(rng));
+        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(s(rng), s(rng), s(rng)),
+                                                     a + glm::vec3(s(rng), s(rng), s(rng))});
+        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    const Scene scene = sceneOf({soup});
+    const RayCastScene reference(scene);
+    const CpuBitmaskSampler cpu(scene);
+    GlBitmaskSampler gpu = sampler(scene);
+    struct Grid { int na, nb, rna, rnb; };
+    for (const Grid g : {Grid{1, 1, 16, 16}, Grid{16, 8, 40, 24}, Grid{13, 11, 17, 9}, Grid{32, 16, 24, 24},
+                         Grid{32, 32, 32, 32}, Grid{64, 16, 16, 16}, Grid{8, 8, 128, 96}}) {
+        const Patch source = xyPatch(0, g.na, g.nb), receiver = xyPatch(2, g.rna, g.rnb);
+        const HiddenSampleMap expected = reference.sample(source, receiver);
+        const HiddenSampleMap map = gpu.sample(source, receiver);
+        const HiddenSampleMap onCpu = cpu.sample(source, receiver, {.strategy = CpuStrategy::Bitmask});
+        const std::string grid = std::to_string(g.na) + "x" + std::to_string(g.nb) + " / " +
+                                 std::to_string(g.rna) + "x" + std::to_string(g.rnb);
+        EXPECT_LE(map.differenceCount(expected) * 10000, map.rayCount()) << grid;
+        // GL (float) and CPU (double) compute the same mathematics: differences are grazing rays.
+        EXPECT_LE(map.differenceCount(onCpu) * 10000, map.rayCount()) << grid;
+        EXPECT_GT(expected.blockedCount(), 0u) << grid;
+    }
+}
+
+TEST_F(GlBitmask, RefusesInvalidInput)
+{
+    GlBitmaskSampler gpu = sampler(Scene{});
+    EXPECT_THROW(gpu.sample(xyPatch(0, 50, 40), xyPatch(2, 8, 8)), Error);
+    EXPECT_THROW(gpu.sample(xyPatch(0, 8, 8), xyPatch(0, 8, 8)), Error);
+}

@@ -1,0 +1,80 @@
+#pragma once
+// The OpenGL 4.5 core entry points Sightline uses, resolved from whatever context is current.
+//
+// One GL code path serves the editor's Qt context, OSMesa and EGL (DESIGN.md §1): the caller hands
+// in its context's getProcAddress (QOpenGLContext::getProcAddress, OSMesaGetProcAddress,
+// eglGetProcAddress) and the samplers call through this table. A small table rather than a loader
+// library because none in Debian takes a caller's resolver: libepoxy and glbinding 2 look symbols
+// up in libGL themselves, which is wrong under OSMesa.
+
+#include <string>
+
+#include <GL/glcorearb.h>
+
+namespace sightline::gl {
+
+#define SIGHTLINE_GL_FUNCTIONS(X)                                                                  \
+    X(PFNGLGETSTRINGPROC, GetString)                                                               \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                           \
+    X(PFNGLGETERRORPROC, GetError)                                                                 \
+    X(PFNGLCREATESHADERPROC, CreateShader)                                                         \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                                         \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                                                       \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                                           \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                                                 \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                                                         \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                                                       \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                                                         \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                                           \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                                         \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                                               \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                       \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                                                             \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                             \
+    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                                 \
+    X(PFNGLPROGRAMUNIFORM2IPROC, ProgramUniform2i)                                                 \
+    X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                                 \
+    X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                               \
+    X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                               \
+    X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                             \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                             \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                                   \
+    X(PFNGLVERTEXARRAYVERTEXBUFFERPROC, VertexArrayVertexBuffer)                                   \
+    X(PFNGLVERTEXARRAYATTRIBFORMATPROC, VertexArrayAttribFormat)                                   \
+    X(PFNGLVERTEXARRAYATTRIBBINDINGPROC, VertexArrayAttribBinding)                                 \
+    X(PFNGLENABLEVERTEXARRAYATTRIBPROC, EnableVertexArrayAttrib)                                   \
+    X(PFNGLCREATEBUFFERSPROC, CreateBuffers)                                                       \
+    X(PFNGLNAMEDBUFFERDATAPROC, NamedBufferData)                                                   \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                       \
+    X(PFNGLCREATETEXTURESPROC, CreateTextures)                                                     \
+    X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                                 \
+    X(PFNGLGETTEXTUREIMAGEPROC, GetTextureImage)                                                   \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                     \
+    X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                             \
+    X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, NamedFramebufferTexture)                                   \
+    X(PFNGLNAMEDFRAMEBUFFERDRAWBUFFERSPROC, NamedFramebufferDrawBuffers)                           \
+    X(PFNGLCHECKNAMEDFRAMEBUFFERSTATUSPROC, CheckNamedFramebufferStatus)                           \
+    X(PFNGLCLEARNAMEDFRAMEBUFFERUIVPROC, ClearNamedFramebufferuiv)                                 \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                             \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                                   \
+    X(PFNGLVIEWPORTPROC, Viewport)                                                                 \
+    X(PFNGLENABLEPROC, Enable)                                                                     \
+    X(PFNGLDISABLEPROC, Disable)                                                                   \
+    X(PFNGLLOGICOPPROC, LogicOp)                                                                   \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                             \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
+    X(PFNGLFINISHPROC, Finish)
+
+using GetProcAddress = void* (*)(const char* name);
+
+struct Functions {
+#define SIGHTLINE_GL_DECLARE(type, name) type name = nullptr;
+    SIGHTLINE_GL_FUNCTIONS(SIGHTLINE_GL_DECLARE)
+#undef SIGHTLINE_GL_DECLARE
+
+    /// Resolves every entry with `resolve` ("gl" + name). Throws sightline::Error naming the first
+    /// missing function, or if the current context is older than OpenGL 4.5.
+    void load(GetProcAddress resolve);
+};
+
+} // namespace sightline::gl

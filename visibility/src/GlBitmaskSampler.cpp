@@ -1,0 +1,414 @@
+#include "visibility/GlBitmaskSampler.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "visibility/Error.h"
+#include "visibility/ShaftGeometry.h"
+
+namespace sightline {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+constexpr int kMaxTargets = kMaxSourceSamples / 128;
+
+const char* kVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 aPosition;
+out vec3 vWorld;
+void main() { vWorld = aPosition; }
+)";
+
+// Shared by the geometry and fragment shaders: Sutherland-Hodgman against one plane, keeping
+// dot(plane.xyz, X) + plane.w > 0.
+const char* kClipFunction = R"(
+int clipPolygon(inout vec3 p[8], int n, vec4 plane)
+{
+    vec3 q[8];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        vec3 a = p[i], b = p[(i + 1) % n];
+        float da = dot(plane.xyz, a) + plane.w, db = dot(plane.xyz, b) + plane.w;
+        if (da > 0.0) q[m++] = a;
+        if ((da > 0.0) != (db > 0.0)) q[m++] = a + (b - a) * (da / (da - db));
+    }
+    p = q;
+    return m;
+}
+)";
+
+const char* kGeometryShader = R"(
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 4) out;
+in vec3 vWorld[];
+uniform vec4 uSrcS, uSrcT, uSrcD;     // world -> source coordinates (s, t, d)
+uniform vec4 uRcvS, uRcvT, uRcvD;     // world -> receiver coordinates
+uniform float uMarginS, uMarginR, uMinReceiverD;
+uniform vec3 uCorner[4];              // source corners in receiver coordinates
+uniform ivec2 uReceiverGrid;
+flat out vec3 gPoly[7];               // clipped triangle in source coordinates
+flat out int gCount;
+flat out int gClipPerSample;
+
+void main()
+{
+    vec3 p[8];
+    p[0] = vWorld[0]; p[1] = vWorld[1]; p[2] = vWorld[2];
+    int n = clipPolygon(p, 3, uSrcD - vec4(0, 0, 0, uMarginS));
+    if (n < 3) return;
+    n = clipPolygon(p, n, uRcvD - vec4(0, 0, 0, uMarginR));
+    if (n < 3) return;
+
+    // Influence region (section 3): projections from the source corners, as a box.
+    vec2 lo = vec2(1e30), hi = vec2(-1e30);
+    bool whole = false;
+    float maxD = -1e30;
+    vec3 poly[7];
+    for (int i = 0; i < n; ++i) {
+        vec4 x = vec4(p[i], 1.0);
+        poly[i] = vec3(dot(uSrcS, x), dot(uSrcT, x), dot(uSrcD, x));
+        maxD = max(maxD, poly[i].z);
+        vec3 r = vec3(dot(uRcvS, x), dot(uRcvT, x), dot(uRcvD, x));
+        for (int c = 0; c < 4; ++c) {
+            float denominator = uCorner[c].z - r.z;
+            if (denominator <= 1e-6 * uCorner[c].z) { whole = true; continue; }
+            vec2 y = uCorner[c].xy + (r.xy - uCorner[c].xy) * (uCorner[c].z / denominator);
+            lo = min(lo, y);
+            hi = max(hi, y);
+        }
+    }
+    vec2 pad = 0.5 / vec2(uReceiverGrid);   // half a sample: boundary samples stay covered
+    if (whole) { lo = vec2(0.0); hi = vec2(1.0); }
+    lo = clamp(lo - pad, 0.0, 1.0);
+    hi = clamp(hi + pad, 0.0, 1.0);
+    if (any(greaterThanEqual(lo, hi))) return;
+
+    int clipPerSample = maxD >= uMinReceiverD * (1.0 - 1e-6) ? 1 : 0;
+    vec2 corners[4] = vec2[4](vec2(lo.x, lo.y), vec2(hi.x, lo.y), vec2(lo.x, hi.y), vec2(hi.x, hi.y));
+    for (int k = 0; k < 4; ++k) {
+        for (int i = 0; i < 7; ++i) gPoly[i] = i < n ? poly[i] : vec3(0.0);
+        gCount = n;
+        gClipPerSample = clipPerSample;
+        gl_Position = vec4(corners[k] * 2.0 - 1.0, 0.0, 1.0);
+        EmitVertex();
+    }
+    EndPrimitive();
+}
+)";
+
+const char* kFragmentShader = R"(
+flat in vec3 gPoly[7];
+flat in int gCount;
+flat in int gClipPerSample;
+uniform vec3 uR0, uRU, uRV;           // receiver (s', t') -> source coordinates
+uniform ivec2 uSourceGrid, uReceiverGrid;
+
+uint mask[4 * TARGETS];
+
+void setRange(int first, int last)
+{
+    for (int w = first >> 5; w <= (last >> 5); ++w) {
+        int a = max(first, w * 32) - w * 32, b = min(last, w * 32 + 31) - w * 32;
+        uint bits = (b == 31 ? 0xffffffffu : ((1u << (b + 1)) - 1u)) & ~((1u << a) - 1u);
+        mask[w] |= bits;
+    }
+}
+
+// Samples k at (k + 0.5) / n inside [lo, hi], as an index range (empty when first > last).
+ivec2 sampleRange(float lo, float hi, int n)
+{
+    float x0 = clamp(lo * float(n) - 0.5, -2.0, float(n) + 1.0);
+    float x1 = clamp(hi * float(n) - 0.5, -2.0, float(n) + 1.0);
+    return ivec2(max(0, int(ceil(x0))), min(n - 1, int(floor(x1))));
+}
+
+void main()
+{
+    vec2 sr = gl_FragCoord.xy / vec2(uReceiverGrid);
+    vec3 r = uR0 + sr.x * uRU + sr.y * uRV;
+    vec3 p[8];
+    int n = gCount;
+    for (int i = 0; i < 7; ++i) p[i] = gPoly[i];
+    if (gClipPerSample != 0) {   // points at or beyond this sample's distance lie on none of its rays
+        n = clipPolygon(p, n, vec4(0.0, 0.0, -1.0, r.z * (1.0 - 1e-6)));
+        if (n < 3) discard;
+    }
+    // Backprojection onto the source (section 4).
+    float ps[8], pt[8];
+    float tMin = 1e30, tMax = -1e30;
+    for (int i = 0; i < n; ++i) {
+        float k = r.z / (r.z - p[i].z);
+        ps[i] = r.x + (p[i].x - r.x) * k;
+        pt[i] = r.y + (p[i].y - r.y) * k;
+        tMin = min(tMin, pt[i]);
+        tMax = max(tMax, pt[i]);
+    }
+    ivec2 rows = sampleRange(tMin, tMax, uSourceGrid.y);
+    if (rows.x > rows.y) discard;
+    for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
+    // Exact set (section 5, without the Hough table): per source row, the interval of columns.
+    // The points that backproject onto row line t = tb form a plane through r, linear in X:
+    //     (x.t - r.t) r.d - (tb - r.t) (r.d - x.d) = 0,
+    // so each edge is cut by that plane in 3D and only the cut point is projected. Interpolating
+    // between projected vertices instead loses all precision in float when a vertex lies just
+    // short of r's distance (it projects ~10^6 times farther out).
+    for (int b = rows.x; b <= rows.y; ++b) {
+        float tb = (float(b) + 0.5) / float(uSourceGrid.y);
+        float lo = 1e30, hi = -1e30;
+        for (int i = 0, k = n - 1; i < n; k = i++) {
+            float fk = (p[k].y - r.y) * r.z - (tb - r.y) * (r.z - p[k].z);
+            float fi = (p[i].y - r.y) * r.z - (tb - r.y) * (r.z - p[i].z);
+            if (fk * fi > 0.0) continue;
+            if (fk == fi) { lo = min(lo, min(ps[k], ps[i])); hi = max(hi, max(ps[k], ps[i])); continue; }
+            vec3 x = p[k] + (p[i] - p[k]) * (fk / (fk - fi));
+            float s = r.x + (x.x - r.x) * (r.z / (r.z - x.z));
+            lo = min(lo, s);
+            hi = max(hi, s);
+        }
+        ivec2 columns = sampleRange(lo, hi, uSourceGrid.x);
+        if (columns.x <= columns.y)
+            setRange(b * uSourceGrid.x + columns.x, b * uSourceGrid.x + columns.y);
+    }
+    OUTPUTS
+}
+)";
+
+std::string fragmentSource(int targets)
+{
+    std::string declarations, outputs;
+    for (int k = 0; k < targets; ++k) {
+        const std::string n = std::to_string(k), w = std::to_string(4 * k);
+        declarations.append("layout(location = ").append(n).append(") out uvec4 o").append(n).append(";\n");
+        // o<k> = uvec4(mask[4k + 0 .. 4k + 3])
+        outputs.append("o").append(n).append(" = uvec4(mask[").append(w).append("], mask[").append(w)
+            .append(" + 1], mask[").append(w).append(" + 2], mask[").append(w).append(" + 3]);\n    ");
+    }
+    std::string body = kFragmentShader;
+    body.replace(body.find("OUTPUTS"), 7, outputs);
+    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n" + declarations + kClipFunction + body;
+}
+
+std::string oneLine(std::string log)
+{
+    std::replace(log.begin(), log.end(), '\n', ' ');
+    while (!log.empty() && log.back() == ' ')
+        log.pop_back();
+    return log.substr(0, 400);
+}
+
+GLuint compile(const gl::Functions& gl, GLenum type, const std::string& source, const char* what)
+{
+    const GLuint shader = gl.CreateShader(type);
+    const char* text = source.c_str();
+    gl.ShaderSource(shader, 1, &text, nullptr);
+    gl.CompileShader(shader);
+    GLint ok = 0;
+    gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[4096] = {};
+        gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
+        gl.DeleteShader(shader);
+        throw Error(std::string("GL bitmask sampler: ") + what + " shader does not compile: " + oneLine(log));
+    }
+    return shader;
+}
+
+glm::vec4 affineRow(const glm::dvec3& axis, const glm::dvec3& origin)
+{
+    return glm::vec4(glm::vec3(axis), float(-glm::dot(axis, origin)));
+}
+
+} // namespace
+
+struct GlBitmaskSampler::Impl {
+    const gl::Functions& gl;
+    GLuint programs[kMaxTargets + 1] = {};   // by target count, compiled on first use
+    GLuint vertexArray = 0, buffer = 0;
+    GLsizei vertexCount = 0;
+    GLuint framebuffer = 0;
+    GLuint textures[kMaxTargets] = {};
+    int targetCount = 0, width = 0, height = 0;
+
+    explicit Impl(const gl::Functions& functions) : gl(functions) {}
+
+    ~Impl()
+    {
+        for (GLuint program : programs)
+            if (program)
+                gl.DeleteProgram(program);
+        releaseTargets();
+        gl.DeleteBuffers(1, &buffer);
+        gl.DeleteVertexArrays(1, &vertexArray);
+    }
+
+    GLuint program(int targets)
+    {
+        if (programs[targets])
+            return programs[targets];
+        const GLuint vs = compile(gl, GL_VERTEX_SHADER, kVertexShader, "vertex");
+        const GLuint gs = compile(gl, GL_GEOMETRY_SHADER, std::string("#version 450 core\n") + kClipFunction + kGeometryShader,
+                                  "geometry");
+        const GLuint fs = compile(gl, GL_FRAGMENT_SHADER, fragmentSource(targets), "fragment");
+        const GLuint p = gl.CreateProgram();
+        gl.AttachShader(p, vs);
+        gl.AttachShader(p, gs);
+        gl.AttachShader(p, fs);
+        gl.LinkProgram(p);
+        gl.DeleteShader(vs);
+        gl.DeleteShader(gs);
+        gl.DeleteShader(fs);
+        GLint ok = 0;
+        gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
+        if (!ok) {
+            char log[4096] = {};
+            gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
+            gl.DeleteProgram(p);
+            throw Error("GL bitmask sampler: program does not link: " + oneLine(log));
+        }
+        return programs[targets] = p;
+    }
+
+    void releaseTargets()
+    {
+        if (framebuffer)
+            gl.DeleteFramebuffers(1, &framebuffer);
+        if (targetCount)
+            gl.DeleteTextures(targetCount, textures);
+        framebuffer = 0;
+        targetCount = 0;
+    }
+
+    void ensureTargets(int targets, int w, int h)
+    {
+        if (targets == targetCount && w == width && h == height)
+            return;
+        releaseTargets();
+        gl.CreateFramebuffers(1, &framebuffer);
+        gl.CreateTextures(GL_TEXTURE_2D, targets, textures);
+        GLenum buffers[kMaxTargets];
+        for (int k = 0; k < targets; ++k) {
+            gl.TextureStorage2D(textures[k], 1, GL_RGBA32UI, w, h);
+            gl.NamedFramebufferTexture(framebuffer, GLenum(GL_COLOR_ATTACHMENT0 + k), textures[k], 0);
+            buffers[k] = GLenum(GL_COLOR_ATTACHMENT0 + k);
+        }
+        gl.NamedFramebufferDrawBuffers(framebuffer, targets, buffers);
+        if (gl.CheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+            throw Error("GL bitmask sampler: incomplete framebuffer for " + std::to_string(targets) +
+                        " RGBA32UI targets of " + std::to_string(w) + "x" + std::to_string(h));
+        targetCount = targets;
+        width = w;
+        height = h;
+    }
+};
+
+GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles)
+    : impl_(std::make_unique<Impl>(gl))
+{
+    GLint drawBuffers = 0;
+    gl.GetIntegerv(GL_MAX_DRAW_BUFFERS, &drawBuffers);
+    if (drawBuffers < kMaxTargets)
+        throw Error("GL bitmask sampler: needs 8 draw buffers, the context has " + std::to_string(drawBuffers));
+    gl.CreateVertexArrays(1, &impl_->vertexArray);
+    gl.CreateBuffers(1, &impl_->buffer);
+    gl.NamedBufferData(impl_->buffer, GLsizeiptr(triangles.vertices.size() * sizeof(glm::vec3)),
+                       triangles.vertices.data(), GL_STATIC_DRAW);
+    gl.VertexArrayVertexBuffer(impl_->vertexArray, 0, impl_->buffer, 0, sizeof(glm::vec3));
+    gl.VertexArrayAttribFormat(impl_->vertexArray, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl.VertexArrayAttribBinding(impl_->vertexArray, 0, 0);
+    gl.EnableVertexArrayAttrib(impl_->vertexArray, 0);
+    impl_->vertexCount = GLsizei(triangles.vertices.size());
+    impl_->program(1);   // compile now: shader errors surface at construction
+}
+
+GlBitmaskSampler::~GlBitmaskSampler() = default;
+
+HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats)
+{
+    validatePatchPair(source, receiver);
+    const gl::Functions& gl = impl_->gl;
+    const auto setupStart = Clock::now();
+    const int targets = (source.sampleCount() + 127) / 128;
+    const GLuint program = impl_->program(targets);
+    impl_->ensureTargets(targets, receiver.na, receiver.nb);
+
+    const ShaftFrames frames(source, receiver);
+    auto set4 = [&](const char* name, const glm::vec4& v) { gl.ProgramUniform4fv(program, gl.GetUniformLocation(program, name), 1, &v.x); };
+    auto set3 = [&](const char* name, const glm::vec3& v) { gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, name), 1, &v.x); };
+    auto set1 = [&](const char* name, double v) { gl.ProgramUniform1f(program, gl.GetUniformLocation(program, name), float(v)); };
+    auto set2i = [&](const char* name, int a, int b) { gl.ProgramUniform2i(program, gl.GetUniformLocation(program, name), a, b); };
+    set4("uSrcS", affineRow(frames.source.sAxis, frames.source.origin));
+    set4("uSrcT", affineRow(frames.source.tAxis, frames.source.origin));
+    set4("uSrcD", affineRow(frames.source.dAxis, frames.source.origin));
+    set4("uRcvS", affineRow(frames.receiver.sAxis, frames.receiver.origin));
+    set4("uRcvT", affineRow(frames.receiver.tAxis, frames.receiver.origin));
+    set4("uRcvD", affineRow(frames.receiver.dAxis, frames.receiver.origin));
+    set1("uMarginS", frames.sourceMargin);
+    set1("uMarginR", frames.receiverMargin);
+    double minReceiverD = 1e300;
+    std::array<glm::vec3, 4> corners;
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+        corners[std::size_t(k)] = glm::vec3(frames.receiver.coordinates(sc));
+        const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+        minReceiverD = std::min(minReceiverD, frames.source.coordinates(rc).z);
+    }
+    set1("uMinReceiverD", minReceiverD);
+    gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "uCorner"), 4, &corners[0].x);
+    // Receiver (s', t') -> source coordinates: affine, so origin plus two edge images.
+    const glm::dvec3 r0 = frames.source.coordinates(receiver.corner);
+    set3("uR0", glm::vec3(r0));
+    set3("uRU", glm::vec3(frames.source.coordinates(receiver.corner + receiver.u) - r0));
+    set3("uRV", glm::vec3(frames.source.coordinates(receiver.corner + receiver.v) - r0));
+    set2i("uSourceGrid", source.na, source.nb);
+    set2i("uReceiverGrid", receiver.na, receiver.nb);
+
+    const GLuint zero[4] = {0, 0, 0, 0};
+    for (int k = 0; k < targets; ++k)
+        gl.ClearNamedFramebufferuiv(impl_->framebuffer, GL_COLOR, k, zero);
+    const double setupMs = msSince(setupStart);
+
+    const auto drawStart = Clock::now();
+    gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->framebuffer);
+    gl.Viewport(0, 0, receiver.na, receiver.nb);
+    gl.Enable(GL_COLOR_LOGIC_OP);
+    gl.LogicOp(GL_OR);   // section 5.1: the union over triangles, done by the blending stage
+    gl.UseProgram(program);
+    gl.BindVertexArray(impl_->vertexArray);
+    if (impl_->vertexCount)
+        gl.DrawArrays(GL_TRIANGLES, 0, impl_->vertexCount);
+    gl.Finish();
+    gl.Disable(GL_COLOR_LOGIC_OP);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    const double drawMs = msSince(drawStart);
+
+    const auto readStart = Clock::now();
+    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+    std::vector<std::uint32_t> pixels(std::size_t(receiver.na) * std::size_t(receiver.nb) * 4);
+    gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
+    const int rowBytes = (source.sampleCount() + 7) / 8;
+    for (int k = 0; k < targets; ++k) {
+        gl.GetTextureImage(impl_->textures[k], 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                           GLsizei(pixels.size() * sizeof(std::uint32_t)), pixels.data());
+        // Target k holds source bits [128k, 128k + 128) of every receiver sample, little-endian
+        // 32-bit words: the same byte layout as the map's rows.
+        const int bytes = std::min(16, rowBytes - 16 * k);
+        for (int j = 0; j < map.receiverCount(); ++j)
+            std::memcpy(reinterpret_cast<unsigned char*>(map.row(j).data()) + 16 * k, &pixels[std::size_t(j) * 4],
+                        std::size_t(bytes));
+    }
+    if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
+        throw Error("GL bitmask sampler: OpenGL error " + std::to_string(error));
+    if (stats)
+        *stats = {setupMs, drawMs, msSince(readStart)};
+    return map;
+}
+
+} // namespace sightline
