@@ -119,7 +119,8 @@ int runShaft(const ShaftArgs& args)
         strategy = std::string(stats.strategy) == "hybrid" ? "hybrid: bitmask-exact-rows + embree-packets-16"
                                                            : "bitmask-exact-rows";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
-                 {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"rays_cast", stats.raysCast}};
+                 {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"rays_cast", stats.raysCast},
+                 {"culled_front_faces", stats.culledFrontFaces}};
     }
 
     if (!args.mask.empty())

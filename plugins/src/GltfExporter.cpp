@@ -68,6 +68,9 @@ tinygltf::Mesh exportMesh(tinygltf::Model& model, const Mesh& mesh)
 {
     tinygltf::Mesh out;
     out.name = mesh.name;
+    // Sightline's own flag travels in the mesh's extras (glTF's place for application data).
+    if (mesh.watertight)
+        out.extras = tinygltf::Value(tinygltf::Value::Object{{"watertight", tinygltf::Value(true)}});
     if (mesh.indices.empty() || mesh.positions.empty())
         return out;
     tinygltf::Primitive prim;

@@ -405,6 +405,9 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
     const tinygltf::Mesh& src = model.meshes[meshIndex];
     Mesh mesh;
     mesh.name = src.name.empty() ? "mesh " + std::to_string(meshIndex) : src.name;
+    // Written by our exporter (or by hand): the mesh is closed and outward oriented.
+    mesh.watertight = src.extras.IsObject() && src.extras.Has("watertight") &&
+                      src.extras.Get("watertight").IsBool() && src.extras.Get("watertight").Get<bool>();
     bool allNormals = true;
     for (std::size_t p = 0; p < src.primitives.size(); ++p) {
         const tinygltf::Primitive& prim = src.primitives[p];

@@ -22,3 +22,17 @@ TEST(DemoSamplers, CpuBitmaskAgreesWithTheReference)
         EXPECT_LE(other.differenceCount(expected) * 10000, other.rayCount());
     }
 }
+
+TEST(DemoSamplers, WatertightCullingKeepsTheDemoAnswer)
+{
+    const Scene level = demo::makeDemoLevel();
+    const demo::DemoView view = demo::demoView();
+    const CpuBitmaskSampler sampler(level);
+    BitmaskStats culled, plain;
+    const HiddenSampleMap a = sampler.sample(view.source, view.receiver, {.strategy = CpuStrategy::Bitmask}, &culled);
+    const HiddenSampleMap b = sampler.sample(view.source, view.receiver,
+                                             {.strategy = CpuStrategy::Bitmask, .watertightCulling = false}, &plain);
+    EXPECT_EQ(a, b);
+    EXPECT_GT(culled.culledFrontFaces, 1000u);
+    EXPECT_LT(culled.pairs, plain.pairs);
+}

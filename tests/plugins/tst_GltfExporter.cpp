@@ -24,6 +24,7 @@ Scene sampleScene()
     tetra.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     tetra.normals = {{0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     tetra.indices = {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3};
+    tetra.watertight = true;   // travels in the mesh's glTF extras
     Mesh quad;
     quad.name = "quad";
     quad.positions = {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}};
@@ -50,6 +51,7 @@ void expectSameScene(const Scene& a, const Scene& b)
         EXPECT_EQ(a.meshes[i].positions, b.meshes[i].positions);
         EXPECT_EQ(a.meshes[i].normals, b.meshes[i].normals);
         EXPECT_EQ(a.meshes[i].indices, b.meshes[i].indices);
+        EXPECT_EQ(a.meshes[i].watertight, b.meshes[i].watertight) << a.meshes[i].name;
     }
     for (std::size_t i = 0; i < a.instances.size(); ++i) {
         EXPECT_EQ(a.instances[i].name, b.instances[i].name);

@@ -21,6 +21,19 @@ inline Mesh quad(const glm::vec3& c, const glm::vec3& u, const glm::vec3& v, con
     return m;
 }
 
+/// A closed, outward-oriented unit cube [-0.5, 0.5]^3 flagged watertight.
+inline Mesh closedBox()
+{
+    Mesh m;
+    m.name = "box";
+    for (int i = 0; i < 8; ++i)
+        m.positions.emplace_back((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
+    m.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                 2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+    m.watertight = true;
+    return m;
+}
+
 inline Scene sceneOf(std::vector<Mesh> meshes)
 {
     Scene s;

@@ -115,3 +115,63 @@ TEST(CpuBitmaskSampler, RefusesInvalidInput)
     EXPECT_THROW(sampler.sample(xyPatch(0, 8, 8), xyPatch(2, 0, 0)), Error);
     EXPECT_THROW(sampler.sample(xyPatch(0, 8, 8), xyPatch(0, 8, 8)), Error);
 }
+
+namespace {
+
+/// Closed boxes scattered in the shaft (some placed by mirroring transforms), plus a flat quad.
+Scene boxesInTheShaft(unsigned seed)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> xy(-0.2f, 1.2f), z(0.4f, 1.6f), size(0.05f, 0.4f), sign(-1.0f, 1.0f);
+    Scene scene;
+    const std::uint32_t box = scene.addMesh(closedBox());
+    for (int i = 0; i < 40; ++i) {
+        glm::mat4 m(1.0f);
+        m[0][0] = size(rng) * (sign(rng) < 0 ? -1.0f : 1.0f);   // some mirrored
+        m[1][1] = size(rng);
+        m[2][2] = size(rng);
+        m[1][0] = 0.3f * sign(rng);                               // and sheared
+        m[3] = glm::vec4(xy(rng), xy(rng), z(rng), 1.0f);
+        scene.instances.push_back({"box", box, m});
+    }
+    scene.addMeshInstance(quad({0.1f, 0.2f, 1.1f}, {0.3f, 0, 0}, {0, 0.2f, 0.05f}));
+    return scene;
+}
+
+} // namespace
+
+TEST(CpuBitmaskSampler, WatertightCullingNeverChangesTheAnswer)
+{
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+        const Scene scene = boxesInTheShaft(seed);
+        const Patch source = xyPatch(0, 16, 16), receiver = xyPatch(2, 24, 24);
+        const CpuBitmaskSampler sampler(scene);
+        BitmaskStats culledStats, plainStats;
+        const HiddenSampleMap culled = sampler.sample(source, receiver, {.strategy = CpuStrategy::Bitmask}, &culledStats);
+        const HiddenSampleMap plain = sampler.sample(
+            source, receiver, {.strategy = CpuStrategy::Bitmask, .watertightCulling = false}, &plainStats);
+        EXPECT_EQ(culled, plain) << "seed " << seed;
+        // Each box lies wholly in front of the source, so at least its face towards the source
+        // (2 triangles) faces all four source corners; side faces usually do not.
+        EXPECT_GE(culledStats.culledFrontFaces, 40u * 2u) << "seed " << seed;
+        EXPECT_EQ(plainStats.culledFrontFaces, 0u);
+        EXPECT_LT(culledStats.pairs, plainStats.pairs);
+        const HiddenSampleMap reference = RayCastScene(scene).sample(source, receiver);
+        EXPECT_LE(culled.differenceCount(reference) * 10000, culled.rayCount()) << "seed " << seed;
+    }
+}
+
+TEST(CpuBitmaskSampler, NoCullingForAReceiverInsideAClosedMesh)
+{
+    // The receiver sits inside a closed box: its rays leave through back faces only, so the front
+    // faces (seen from the source) are the ones that block. Culling them would unblock every ray.
+    Scene scene;
+    const std::uint32_t box = scene.addMesh(closedBox());
+    glm::mat4 m(1.0f);
+    m[0][0] = m[1][1] = 3.0f;
+    m[2][2] = 1.0f;
+    m[3] = glm::vec4(0.5f, 0.5f, 2.0f, 1.0f);   // z in [1.5, 2.5], receiver at z = 2 inside
+    scene.instances.push_back({"room", box, m});
+    const HiddenSampleMap map = CpuBitmaskSampler(scene).sample(xyPatch(0, 8, 8), xyPatch(2, 8, 8));
+    EXPECT_EQ(map.blockedCount(), map.rayCount());
+}

@@ -98,3 +98,21 @@ TEST(AtomicFile, ReplacesWholeOrNotAtAll)
     EXPECT_EQ(entries, 2);   // project.json and dir
     fs::remove_all(folder);
 }
+
+TEST(Scene, MirroredInstancesKeepOutwardWinding)
+{
+    Scene scene;
+    Mesh tri;
+    tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};   // counter-clockwise seen from +Z: normal +Z
+    tri.indices = {0, 1, 2};
+    const std::uint32_t m = scene.addMesh(tri);
+    scene.instances.push_back({"plain", m, glm::mat4(1.0f)});
+    scene.instances.push_back({"mirrored", m, glm::scale(glm::mat4(1.0f), glm::vec3(1, 1, -1))});
+    const WorldTriangles world = worldTriangles(scene);
+    auto normal = [&](std::size_t t) {
+        return glm::cross(world.vertices[3 * t + 1] - world.vertices[3 * t], world.vertices[3 * t + 2] - world.vertices[3 * t]);
+    };
+    EXPECT_GT(normal(0).z, 0.0f);
+    // Mirroring z maps the +Z face normal to -Z: the outward side moved, and the winding follows.
+    EXPECT_LT(normal(1).z, 0.0f);
+}

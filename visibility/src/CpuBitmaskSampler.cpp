@@ -10,6 +10,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
+
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -238,7 +241,16 @@ bool rowFull(const std::uint64_t* row, int words, int S)
 
 } // namespace
 
-CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTriangles(scene)) {}
+CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTriangles(scene))
+{
+    for (const Instance& instance : scene.instances) {
+        InstanceInfo info;
+        info.watertight = scene.meshes[instance.mesh].watertight;
+        for (const glm::vec3& p : scene.meshes[instance.mesh].positions)
+            info.bounds.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
+        instances_.push_back(info);
+    }
+}
 CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std::move(triangles)) {}
 
 HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
@@ -253,14 +265,51 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         const Setup setup(source, receiver);
         const std::size_t triangleCount = triangles_.size();
 
+        // Watertight culling (§7) is safe for an instance only when no receiver sample can lie
+        // inside it: the receiver patch must not touch the instance's bounds.
+        std::vector<char> cullable(instances_.size(), 0);
+        std::array<glm::dvec3, 4> sourceCorners;
+        if (options.watertightCulling) {
+            Bounds receiverBox;
+            for (int k = 0; k < 4; ++k) {
+                const glm::dvec3 corner = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+                receiverBox.extend(glm::vec3(corner));
+                sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+            }
+            const float pad = 1e-4f * (1.0f + glm::length(receiverBox.max - receiverBox.min));
+            for (std::size_t i = 0; i < instances_.size(); ++i) {
+                const Bounds& b = instances_[i].bounds;
+                const bool apart = glm::any(glm::lessThan(b.max + pad, receiverBox.min)) ||
+                                   glm::any(glm::greaterThan(b.min - pad, receiverBox.max));
+                cullable[i] = instances_[i].watertight && apart;
+            }
+        }
+        auto frontFacingFromSource = [&](std::size_t t) {
+            const glm::dvec3 a(triangles_.vertices[3 * t]), b(triangles_.vertices[3 * t + 1]), c(triangles_.vertices[3 * t + 2]);
+            const glm::dvec3 n = glm::cross(b - a, c - a);
+            for (const glm::dvec3& corner : sourceCorners)
+                if (glm::dot(n, corner - a) <= 0.0)
+                    return false;
+            return true;
+        };
+
         // Clip and bound every triangle (parallel), keep those that touch the receiver grid.
         std::vector<Occluder> occluders(triangleCount);
         std::vector<char> kept(triangleCount, 0);
+        std::atomic<std::size_t> culled{0};
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangleCount, 1024), [&](const auto& range) {
-            for (std::size_t t = range.begin(); t != range.end(); ++t)
+            std::size_t rangeCulled = 0;
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                if (!cullable.empty() && cullable[triangles_.instanceOf[t]] && frontFacingFromSource(t)) {
+                    ++rangeCulled;
+                    continue;
+                }
                 kept[t] = setup.prepare(triangles_.vertices[3 * t], triangles_.vertices[3 * t + 1],
                                         triangles_.vertices[3 * t + 2], occluders[t]);
+            }
+            culled += rangeCulled;
         });
+        local.culledFrontFaces = culled;
 
         // Hybrid: small triangles go to the ray pass instead of the bins.
         std::vector<std::uint32_t> small;

@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include <glm/common.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 
 #include "visibility/Error.h"
 
@@ -80,8 +82,12 @@ WorldTriangles worldTriangles(const Scene& scene)
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {
         const Instance& instance = scene.instances[i];
         const Mesh& mesh = scene.meshes.at(instance.mesh);
-        for (std::uint32_t index : mesh.indices)
-            out.vertices.emplace_back(instance.transform * glm::vec4(mesh.positions[index], 1.0f));
+        // A mirroring transform turns counter-clockwise into clockwise: swap two vertices so that
+        // front faces stay front faces (watertight culling relies on outward orientation).
+        const bool mirrored = glm::determinant(glm::mat3(instance.transform)) < 0.0f;
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+            for (std::size_t k : {std::size_t(0), std::size_t(mirrored ? 2 : 1), std::size_t(mirrored ? 1 : 2)})
+                out.vertices.emplace_back(instance.transform * glm::vec4(mesh.positions[mesh.indices[3 * t + k]], 1.0f));
         out.instanceOf.insert(out.instanceOf.end(), mesh.triangleCount(), static_cast<std::uint32_t>(i));
     }
     return out;

@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
@@ -40,6 +41,12 @@ struct BitmaskOptions {
     CpuStrategy strategy = CpuStrategy::Auto;
     /// Hybrid: a triangle is small when its backprojection from the receiver's centre covers
     /// fewer than this many source-sample cells.
+    /// Watertight front-face culling (§7) for meshes flagged Mesh::watertight: a triangle that
+    /// faces all four source corners is skipped, because a segment that enters a closed mesh
+    /// through it also leaves through a back face before reaching a receiver sample outside the
+    /// mesh. Applied only to instances whose bounds the receiver patch does not touch, so the
+    /// answer never changes.
+    bool watertightCulling = true;
     double smallCells = 2.0;   // measured on the demo: 2 -> 56 ms, 8 -> 62 ms, 64 -> 71 ms
 };
 
@@ -52,11 +59,14 @@ struct BitmaskStats {
     std::size_t smallTriangles = 0;   ///< hybrid: of those, handled by ray casting
     std::uint64_t pairs = 0;          ///< (triangle, receiver sample) pairs backprojected
     std::uint64_t raysCast = 0;       ///< hybrid: rays cast against the small triangles
+    std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
 };
 
 class CpuBitmaskSampler {
 public:
+    /// Keeps the world triangles and, per instance, its watertight flag and bounds.
     explicit CpuBitmaskSampler(const Scene& scene);
+    /// A bare triangle soup: nothing is known to be watertight.
     explicit CpuBitmaskSampler(WorldTriangles triangles);
 
     std::size_t triangleCount() const { return triangles_.size(); }
@@ -66,7 +76,12 @@ public:
                            BitmaskStats* stats = nullptr) const;
 
 private:
+    struct InstanceInfo {
+        bool watertight = false;
+        Bounds bounds;
+    };
     WorldTriangles triangles_;
+    std::vector<InstanceInfo> instances_;
 };
 
 } // namespace sightline

@@ -67,7 +67,8 @@ struct Scene {
 };
 
 /// Flat world-space triangle soup: triangle t is (vertices[3t], vertices[3t+1], vertices[3t+2]).
-/// `instanceOf[t]` names the instance it came from (for watertight flags and picking).
+/// `instanceOf[t]` names the instance it came from (for watertight flags and picking). Winding is
+/// the mesh's, corrected for mirroring transforms, so outward faces stay outward.
 struct WorldTriangles {
     std::vector<glm::vec3> vertices;
     std::vector<std::uint32_t> instanceOf;
