@@ -120,7 +120,7 @@ int runShaft(const ShaftArgs& args)
                                                            : "bitmask-exact-rows";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"rays_cast", stats.raysCast},
-                 {"culled_front_faces", stats.culledFrontFaces}};
+                 {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway}};
     }
 
     if (!args.mask.empty())

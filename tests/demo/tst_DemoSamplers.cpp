@@ -36,3 +36,17 @@ TEST(DemoSamplers, WatertightCullingKeepsTheDemoAnswer)
     EXPECT_GT(culled.culledFrontFaces, 1000u);
     EXPECT_LT(culled.pairs, plain.pairs);
 }
+
+TEST(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
+{
+    const Scene level = demo::makeDemoLevel();
+    const demo::DemoView view = demo::demoView();
+    const CpuBitmaskSampler sampler(level);
+    BitmaskStats narrowed, plain;
+    const HiddenSampleMap a = sampler.sample(view.source, view.receiver, {.strategy = CpuStrategy::Bitmask}, &narrowed);
+    const HiddenSampleMap b = sampler.sample(view.source, view.receiver,
+                                             {.strategy = CpuStrategy::Bitmask, .narrowShaft = false}, &plain);
+    EXPECT_EQ(a, b);
+    EXPECT_GT(narrowed.narrowedAway, 0u);
+    EXPECT_LT(narrowed.pairs, plain.pairs);
+}

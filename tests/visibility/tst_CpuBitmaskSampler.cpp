@@ -66,6 +66,8 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
             sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Hybrid, .smallCells = 4.0}, &stats);
         EXPECT_EQ(mismatchesOutsideGrazing(hybrid, reference), 0u) << "hybrid, seed " << seed;
         EXPECT_STREQ(stats.strategy, "hybrid");
+        EXPECT_EQ(map, sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask, .narrowShaft = false}))
+            << "narrowing changed the answer, seed " << seed;
         smallTriangles += stats.smallTriangles;
         rays += map.rayCount();
         blocked += map.blockedCount();

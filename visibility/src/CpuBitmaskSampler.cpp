@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <vector>
@@ -34,6 +35,19 @@ struct Occluder {
     int a0 = 0, a1 = -1, b0 = 0, b1 = -1;   ///< receiver sample range, inclusive
     bool clipPerSample = false;             ///< may reach beyond some receiver sample's distance
     double cells = 0.0;                     ///< backprojected area from the receiver centre, in source cells
+};
+
+/// Per tile, occluders are processed largest first; once they are smaller than this many source
+/// cells, the tile's shaft is narrowed to the source samples still unblocked, and recomputed every
+/// kNarrowRefresh occluders.
+constexpr double kNarrowCells = 8.0;
+constexpr int kNarrowRefresh = 256;
+
+/// Source samples (as a box of sample-centre coordinates) that some receiver sample of a tile
+/// still sees. Empty when min > max.
+struct SourceBox {
+    double sMin = 1.0, sMax = 0.0, tMin = 1.0, tMax = 0.0;
+    bool empty() const { return sMin > sMax; }
 };
 
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
@@ -154,6 +168,57 @@ struct Setup {
             ps = s, pt = t;
         }
         return 0.5 * std::abs(area) * na * nb;
+    }
+
+    /// The box of source samples that at least one receiver sample in [a0, a1] x [b0, b1] still
+    /// sees, from the map as it stands.
+    SourceBox unblockedBox(const HiddenSampleMap& map, int a0, int a1, int b0, int b1) const
+    {
+        std::uint64_t open[kMaxSourceSamples / 64] = {};
+        const int words = map.wordsPerRow();
+        for (int b = b0; b <= b1; ++b)
+            for (int a = a0; a <= a1; ++a) {
+                const auto row = map.row(b * rna + a);
+                for (int w = 0; w < words; ++w)
+                    open[w] |= ~row[std::size_t(w)];
+            }
+        if (S % 64)
+            open[words - 1] &= (std::uint64_t(1) << (S % 64)) - 1;
+        int aMin = na, aMax = -1, bMin = nb, bMax = -1;
+        for (int w = 0; w < words; ++w)
+            for (std::uint64_t bits = open[w]; bits; bits &= bits - 1) {
+                const int i = 64 * w + std::countr_zero(bits);
+                const int a = i % na, b = i / na;
+                aMin = std::min(aMin, a), aMax = std::max(aMax, a);
+                bMin = std::min(bMin, b), bMax = std::max(bMax, b);
+            }
+        SourceBox box;
+        if (aMax >= 0)
+            box = {(aMin + 0.5) / na, (aMax + 0.5) / na, (bMin + 0.5) / nb, (bMax + 0.5) / nb};
+        return box;
+    }
+
+    /// Whether the backprojection of `o` from any receiver sample in the tile spanned by the
+    /// corner samples can contain a sample of `box`. The backprojection of a point is an affine
+    /// (parallel patches) or projective function of the receiver point, so its extremes over
+    /// the tile lie at the tile's corners.
+    bool mayHit(const Occluder& o, const std::array<int, 4>& cornerSamples, const SourceBox& box) const
+    {
+        if (o.clipPerSample)
+            return true;
+        double sMin = 1e300, sMax = -1e300, tMin = 1e300, tMax = -1e300;
+        for (int j : cornerSamples) {
+            const glm::dvec3& r = receiverInSource[std::size_t(j)];
+            for (int i = 0; i < o.count; ++i) {
+                const glm::dvec3& x = o.vertices[std::size_t(i)];
+                const double k = r.z / (r.z - x.z);
+                const double s = r.x + (x.x - r.x) * k, t = r.y + (x.y - r.y) * k;
+                sMin = std::min(sMin, s), sMax = std::max(sMax, s);
+                tMin = std::min(tMin, t), tMax = std::max(tMax, t);
+            }
+        }
+        const double pad = 1e-9;
+        return sMin <= box.sMax + pad && sMax >= box.sMin - pad && tMin <= box.tMax + pad && tMax >= box.tMin - pad;
     }
 
     /// ORs into `row` the source samples hidden by `occluder` from receiver sample j (§4-5).
@@ -341,18 +406,43 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
                     bins[std::size_t(tb) * std::size_t(tilesA) + std::size_t(ta)].push_back(std::uint32_t(t));
         }
+        // Largest occluders first: they block the most, and what they block narrows the shaft
+        // for the small ones that follow.
+        tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
+            std::stable_sort(bins[b].begin(), bins[b].end(),
+                             [&](std::uint32_t x, std::uint32_t y) { return occluders[x].cells > occluders[y].cells; });
+        });
         local.setupMs = msSince(setupStart);
 
         const auto sampleStart = Clock::now();
+        std::atomic<std::uint64_t> narrowedAway{0};
         std::atomic<std::uint64_t> pairs{0};
         const int words = map.wordsPerRow();
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bins.size(), 1), [&](const auto& range) {
-            std::uint64_t tilePairs = 0;
+            std::uint64_t tilePairs = 0, tileSkipped = 0;
             for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
                 const int ta = int(tile % std::size_t(tilesA)), tb = int(tile / std::size_t(tilesA));
                 const int aEnd = std::min(receiver.na, (ta + 1) * kTile), bEnd = std::min(receiver.nb, (tb + 1) * kTile);
+                const int a0 = ta * kTile, b0 = tb * kTile;
+                const std::array<int, 4> corners = {b0 * receiver.na + a0, b0 * receiver.na + aEnd - 1,
+                                                    (bEnd - 1) * receiver.na + a0, (bEnd - 1) * receiver.na + aEnd - 1};
+                SourceBox open;
+                int sinceNarrowed = -1;   // -1: not narrowed yet
                 for (std::uint32_t t : bins[tile]) {
                     const Occluder& o = occluders[t];
+                    if (options.narrowShaft && o.cells < kNarrowCells) {
+                        if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
+                            open = setup.unblockedBox(map, a0, aEnd - 1, b0, bEnd - 1);
+                            sinceNarrowed = 0;
+                            if (open.empty())
+                                break;   // the whole tile is blocked
+                        }
+                        ++sinceNarrowed;
+                        if (!setup.mayHit(o, corners, open)) {
+                            ++tileSkipped;
+                            continue;
+                        }
+                    }
                     for (int b = std::max(o.b0, tb * kTile); b <= std::min(o.b1, bEnd - 1); ++b)
                         for (int a = std::max(o.a0, ta * kTile); a <= std::min(o.a1, aEnd - 1); ++a) {
                             const int j = b * receiver.na + a;
@@ -365,8 +455,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 }
             }
             pairs += tilePairs;
+            narrowedAway += tileSkipped;
         });
         local.pairs = pairs;
+        local.narrowedAway = narrowedAway;
         local.sampleMs = msSince(sampleStart);
 
         if (!small.empty()) {
