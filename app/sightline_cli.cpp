@@ -56,6 +56,8 @@ struct ShaftArgs {
     int repeat = 1;
     std::string strategy = "auto";
     std::string glBackend = "osmesa";
+    std::string mode = "exact";
+    std::vector<int> table = {256, 128};
 };
 
 /// Runs `sample` once, or 1 + `repeat` times with the first as warm-up (thread pools, page
@@ -111,13 +113,18 @@ int runShaft(const ShaftArgs& args)
         BitmaskStats stats;
         BitmaskOptions options;
         options.threads = args.threads;
+        options.mode = args.mode == "table" ? MaskMode::Table : MaskMode::Exact;
+        options.tableWidth = args.table[0];
+        options.tableHeight = args.table[1];
         options.strategy = args.strategy == "bitmask" ? CpuStrategy::Bitmask
                            : args.strategy == "hybrid" ? CpuStrategy::Hybrid
                                                        : CpuStrategy::Auto;
         ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, options, &stats); });
         setupMs = stats.setupMs;
-        strategy = std::string(stats.strategy) == "hybrid" ? "hybrid: bitmask-exact-rows + embree-packets-16"
-                                                           : "bitmask-exact-rows";
+        const std::string masks = options.mode == MaskMode::Table
+                                      ? "bitmask-hough-table-" + std::to_string(args.table[0]) + "x" + std::to_string(args.table[1])
+                                      : std::string("bitmask-exact-rows");
+        strategy = std::string(stats.strategy) == "hybrid" ? "hybrid: " + masks + " + embree-packets-16" : masks;
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"rays_cast", stats.raysCast},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway}};
@@ -264,6 +271,13 @@ int main(int argc, char** argv)
     shaftCmd->add_option("--strategy", shaft.strategy,
                          "cpu: auto, bitmask (every triangle backprojected) or hybrid (small triangles ray cast)")
         ->check(CLI::IsMember({"auto", "bitmask", "hybrid"}))
+        ->capture_default_str();
+    shaftCmd->add_option("--mode", shaft.mode, "cpu: exact (per-row masks) or table (the paper's Hough table)")
+        ->check(CLI::IsMember({"exact", "table"}))
+        ->capture_default_str();
+    shaftCmd->add_option("--table", shaft.table, "table mode: Hough table resolution, angles and distances")
+        ->expected(2)
+        ->check(CLI::Range(4, 8192))
         ->capture_default_str();
     shaftCmd->add_option("--gl-backend", shaft.glBackend, "gl: headless context, osmesa (software) or egl (GPU)")
         ->check(CLI::IsMember({"osmesa", "egl"}))

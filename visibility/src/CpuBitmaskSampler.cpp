@@ -88,6 +88,7 @@ struct Setup {
     ShaftFrames frames;
     int S, na, nb;                         // source grid
     int rna, rnb;                          // receiver grid
+    const HoughMaskTable* table = nullptr;      // Table mode; exact when null
     std::vector<glm::dvec3> receiverInSource;   // (s, t, d) of each receiver sample in the source frame
     std::array<glm::dvec3, 4> sourceCornersInReceiver;
     double minReceiverDistance = 0.0;      // min over receiver of d_source
@@ -168,6 +169,32 @@ struct Setup {
             ps = s, pt = t;
         }
         return 0.5 * std::abs(area) * na * nb;
+    }
+
+    /// Table mode (§5): the AND of the Hough-table masks of the backprojection's edges, taken
+    /// counter-clockwise so that the inside is on the left of every edge.
+    void tableMask(const double* ps, const double* pt, int count, std::uint64_t* mask) const
+    {
+        double area = 0.0;
+        for (int i = 0, k = count - 1; i < count; k = i++)
+            area += ps[k] * pt[i] - ps[i] * pt[k];
+        if (area == 0.0)
+            return;   // degenerate: covers no area
+        std::uint64_t inside[kMaxSourceSamples / 64];
+        const int words = table->wordsPerMask();
+        std::fill_n(inside, words, ~std::uint64_t(0));
+        for (int e = 0; e < count; ++e) {
+            int from = e, to = (e + 1) % count;
+            if (area < 0.0)
+                std::swap(from, to);
+            if (ps[from] == ps[to] && pt[from] == pt[to])
+                continue;
+            const std::uint64_t* edge = table->lookup(ps[from], pt[from], ps[to], pt[to]);
+            for (int w = 0; w < words; ++w)
+                inside[w] &= edge[w];
+        }
+        for (int w = 0; w < words; ++w)
+            mask[w] |= inside[w];
     }
 
     /// The box of source samples that at least one receiver sample in [a0, a1] x [b0, b1] still
@@ -253,6 +280,10 @@ struct Setup {
             tMin = std::min(tMin, pt[std::size_t(i)]);
             tMax = std::max(tMax, pt[std::size_t(i)]);
         }
+        if (table) {
+            tableMask(ps.data(), pt.data(), count, mask);
+            return;
+        }
         int b0, b1;
         sampleRange(tMin, tMax, nb, b0, b1);
         if (b0 > b1)
@@ -326,8 +357,25 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
     BitmaskStats local;
     const auto setupStart = Clock::now();
 
+    std::shared_ptr<const HoughMaskTable> table;
+    if (options.mode == MaskMode::Table) {
+        const auto tableStart = Clock::now();
+        std::lock_guard lock(tableMutex_);
+        if (!table_ || table_->width() != options.tableWidth || table_->height() != options.tableHeight ||
+            table_->grid() != std::pair(source.na, source.nb)) {
+            table_ = std::make_shared<const HoughMaskTable>(source.na, source.nb, options.tableWidth, options.tableHeight);
+            local.tableMs = msSince(tableStart);
+        }
+        table = table_;
+    }
+    // Table mode is the paper's method as published: every triangle by bitmask, no narrowing.
+    const bool exact = options.mode == MaskMode::Exact;
+    const bool narrow = options.narrowShaft && exact;
+    const CpuStrategy strategy = exact ? options.strategy : CpuStrategy::Bitmask;
+
     auto body = [&] {
-        const Setup setup(source, receiver);
+        Setup setup(source, receiver);
+        setup.table = table.get();
         const std::size_t triangleCount = triangles_.size();
 
         // Watertight culling (§7) is safe for an instance only when no receiver sample can lie
@@ -378,12 +426,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
 
         // Hybrid: small triangles go to the ray pass instead of the bins.
         std::vector<std::uint32_t> small;
-        if (options.strategy != CpuStrategy::Bitmask)
+        if (strategy != CpuStrategy::Bitmask)
             for (std::size_t t = 0; t < triangleCount; ++t)
                 if (kept[t] && occluders[t].cells < options.smallCells)
                     small.push_back(std::uint32_t(t));
-        const bool hybrid = options.strategy == CpuStrategy::Hybrid ||
-                            (options.strategy == CpuStrategy::Auto && small.size() >= kHybridMinSmallTriangles);
+        const bool hybrid = strategy == CpuStrategy::Hybrid ||
+                            (strategy == CpuStrategy::Auto && small.size() >= kHybridMinSmallTriangles);
         if (hybrid)
             for (std::uint32_t t : small)
                 kept[t] = 2;   // in the shaft, but not binned
@@ -430,7 +478,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 int sinceNarrowed = -1;   // -1: not narrowed yet
                 for (std::uint32_t t : bins[tile]) {
                     const Occluder& o = occluders[t];
-                    if (options.narrowShaft && o.cells < kNarrowCells) {
+                    if (narrow && o.cells < kNarrowCells) {
                         if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
                             open = setup.unblockedBox(map, a0, aEnd - 1, b0, bEnd - 1);
                             sinceNarrowed = 0;

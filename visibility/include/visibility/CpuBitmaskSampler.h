@@ -19,9 +19,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "visibility/HiddenSampleMap.h"
+#include "visibility/HoughMaskTable.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
 
@@ -29,15 +31,24 @@ namespace sightline {
 
 /// How the exact CPU method splits the work.
 enum class CpuStrategy {
-    Auto,      ///< Hybrid when the shaft holds enough small triangles, else Bitmask
+    Auto,      ///< Hybrid when the shaft holds enough small triangles (exact mode), else Bitmask
     Bitmask,   ///< every triangle by backprojection
     Hybrid,    ///< large triangles by backprojection, then only the still-unblocked rays are cast
                ///< (Embree packets) against the small ones: ray casting is strong exactly where
                ///< the bitmask is weak (many tiny occluders, each touching many receiver samples)
 };
 
+/// How the set of source samples inside a backprojection is found (§5).
+enum class MaskMode {
+    Exact,   ///< per source row, the exact interval of columns (default)
+    Table,   ///< the paper's Hough bitmask table, nearest texel, AND of the edges' masks
+};
+
 struct BitmaskOptions {
     int threads = 0;                        ///< 0 = all cores
+    MaskMode mode = MaskMode::Exact;
+    int tableWidth = 256;                   ///< Table: angles
+    int tableHeight = 128;                  ///< Table: distances
     CpuStrategy strategy = CpuStrategy::Auto;
     /// Hybrid: a triangle is small when its backprojection from the receiver's centre covers
     /// fewer than this many source-sample cells.
@@ -49,7 +60,8 @@ struct BitmaskOptions {
     bool watertightCulling = true;
     double smallCells = 2.0;
     /// Per receiver tile, skip small triangles whose backprojection misses every source sample
-    /// the tile still sees (what the large occluders already block narrows the shaft).
+    /// the tile still sees (what the large occluders already block narrows the shaft). Exact
+    /// mode only.
     bool narrowShaft = true;   // measured on the demo: 2 -> 56 ms, 8 -> 62 ms, 64 -> 71 ms
 };
 
@@ -64,6 +76,7 @@ struct BitmaskStats {
     std::uint64_t raysCast = 0;       ///< hybrid: rays cast against the small triangles
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
+    double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
 };
 
 class CpuBitmaskSampler {
@@ -86,6 +99,9 @@ private:
     };
     WorldTriangles triangles_;
     std::vector<InstanceInfo> instances_;
+    /// The last Hough table built (the editor samples the same grid many times).
+    mutable std::mutex tableMutex_;
+    mutable std::shared_ptr<const HoughMaskTable> table_;
 };
 
 } // namespace sightline
