@@ -19,9 +19,12 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "bench/Bench.h"
+#include "bench/BenchChart.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
+#include "visibility/AtomicFile.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/GlBitmaskSampler.h"
@@ -172,6 +175,35 @@ int runShaft(const ShaftArgs& args)
     return 0;
 }
 
+struct BenchArgs {
+    bench::Settings settings;
+    std::string methods = "raycast,cpu,cpu-bitmask,cpu-table-256x128";
+    std::string csv, chart;
+};
+
+int runBench(BenchArgs& args)
+{
+    args.settings.methods = bench::parseMethods(args.methods);
+    std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s\n", "project", "method", "sources", "receiver", "ms",
+                "wrong-block", "wrong-free", "error");
+    const auto rows = bench::run(args.settings, [](const bench::Row& r) {
+        const std::string name = fs::path(r.project).filename().string();
+        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %12llu %12llu %10.6f\n", name.c_str(), r.method.c_str(),
+                    r.sourceSamples, r.receiverSide, r.receiverSide, r.ms, (unsigned long long)r.wronglyBlocked,
+                    (unsigned long long)r.wronglyFree, r.errorFraction());
+        std::fflush(stdout);
+    });
+    if (!args.csv.empty()) {
+        writeFileAtomically(args.csv, bench::toCsv(rows));
+        std::printf("wrote %s\n", args.csv.c_str());
+    }
+    if (!args.chart.empty()) {
+        bench::writeChart(rows, args.chart);
+        std::printf("wrote %s\n", args.chart.c_str());
+    }
+    return 0;
+}
+
 int runInfo(const std::string& path, bool asJson)
 {
     std::vector<std::string> warnings;
@@ -291,6 +323,27 @@ int main(int argc, char** argv)
     infoCmd->add_option("file", infoPath, "Scene file (glTF, GLB, OBJ, PLY, OFF, STL) or project (.json)")->required();
     infoCmd->add_flag("--json", infoJson, "Print one JSON object instead of text");
 
+    BenchArgs benchArgs;
+    CLI::App* benchCmd = app.add_subcommand("bench", "Time every method against the raycast reference; CSV and chart");
+    benchCmd->add_option("projects", benchArgs.settings.projects, "Project files")->required();
+    benchCmd->add_option("--methods", benchArgs.methods,
+                         "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-table-WxH, gl")
+        ->capture_default_str();
+    benchCmd->add_option("--sources", benchArgs.settings.sourceCounts, "Source sample counts (1..1024)")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    benchCmd->add_option("--receivers", benchArgs.settings.receiverSides, "Receiver grid sides (NxN)")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    benchCmd->add_option("--repeat", benchArgs.settings.repeat, "Timed runs after one warm-up (median reported)")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    benchCmd->add_option("--threads", benchArgs.settings.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    benchCmd->add_option("--csv", benchArgs.csv, "Write all rows as CSV");
+    benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error");
+
     std::string demoFolder;
     CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level (demo_level.glb) and project (demo.json)");
     demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
@@ -315,6 +368,8 @@ int main(int argc, char** argv)
             return runInfo(infoPath, infoJson);
         if (*demoCmd)
             return runDemo(demoFolder);
+        if (*benchCmd)
+            return runBench(benchArgs);
     } catch (const std::exception& e) {
         std::cerr << "sightline-cli: error: " << e.what() << "\n";
         return 1;

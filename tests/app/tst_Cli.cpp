@@ -151,6 +151,25 @@ TEST_F(Cli, GlMethodAgreesWithRaycast)
     EXPECT_LE(a.differenceCount(b) * 10000, a.rayCount());
 }
 
+TEST_F(Cli, BenchWritesCsvAndChart)
+{
+    const CliRun run = runCli("bench " + (folder / "p.json").string() +
+                              " --sources 32 --receivers 8,12 --repeat 1 --methods raycast,cpu,cpu-table-32x16 --csv " +
+                              (folder / "b.csv").string() + " --chart " + (folder / "b.png").string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    std::ifstream csv(folder / "b.csv");
+    int lines = 0;
+    for (std::string line; std::getline(csv, line);)
+        ++lines;
+    EXPECT_EQ(lines, 1 + 3 * 2);
+    EXPECT_GT(fs::file_size(folder / "b.png"), 1000u);
+    EXPECT_NE(run.out.find("cpu-table-32x16"), std::string::npos);
+
+    const CliRun bad = runCli("bench " + (folder / "p.json").string() + " --methods warp");
+    EXPECT_NE(bad.code, 0);
+    EXPECT_TRUE(oneLine(bad.err)) << bad.err;
+}
+
 TEST_F(Cli, TextOutputByDefault)
 {
     const CliRun run = runCli("shaft " + (folder / "p.json").string());

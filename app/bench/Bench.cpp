@@ -1,0 +1,165 @@
+#include "bench/Bench.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <span>
+#include <sstream>
+#include <utility>
+
+#include "project/Project.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Error.h"
+#include "visibility/GlBitmaskSampler.h"
+#include "visibility/RayCastSampler.h"
+#include "visibility/gl/HeadlessContext.h"
+
+namespace sightline::bench {
+
+namespace {
+
+double msOf(const std::function<void()>& f)
+{
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+double medianMs(int repeat, const std::function<void()>& f)
+{
+    f();   // warm-up: thread pools, page faults, shader compilation
+    std::vector<double> times;
+    for (int k = 0; k < std::max(1, repeat); ++k)
+        times.push_back(msOf(f));
+    std::sort(times.begin(), times.end());
+    return times[(times.size() - 1) / 2];   // lower median: an even count never reports the slower middle run
+}
+
+bool parseTable(const std::string& name, int& w, int& h)
+{
+    const std::string prefix = "cpu-table-";
+    if (name.rfind(prefix, 0) != 0)
+        return false;
+    const std::string size = name.substr(prefix.size());
+    const auto x = size.find('x');
+    if (x == std::string::npos)
+        return false;
+    try {
+        w = std::stoi(size.substr(0, x));
+        h = std::stoi(size.substr(x + 1));
+    } catch (const std::exception&) {
+        return false;
+    }
+    return w >= 4 && h >= 2 && w <= 8192 && h <= 8192;
+}
+
+} // namespace
+
+std::vector<std::string> parseMethods(const std::string& commaSeparated)
+{
+    std::vector<std::string> out;
+    std::stringstream in(commaSeparated);
+    for (std::string name; std::getline(in, name, ',');) {
+        int w, h;
+        if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "gl" &&
+            !parseTable(name, w, h))
+            throw Error("unknown bench method '" + name +
+                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-table-WxH, gl)");
+        out.push_back(name);
+    }
+    if (out.empty())
+        throw Error("no bench methods given");
+    return out;
+}
+
+std::pair<int, int> sourceGrid(int count)
+{
+    int nb = int(std::sqrt(double(count)));
+    while (nb > 1 && count % nb != 0)
+        --nb;
+    return {count / nb, nb};
+}
+
+std::vector<Row> run(const Settings& settings, const std::function<void(const Row&)>& progress)
+{
+    std::vector<Row> rows;
+    std::unique_ptr<gl::HeadlessContext> context;   // made on first use of "gl"
+    for (const std::string& file : settings.projects) {
+        const Project project = loadProject(file);
+        const Scene scene = buildScene(project);
+        const RayCastScene reference(scene);
+        const CpuBitmaskSampler cpu(scene);
+        std::unique_ptr<GlBitmaskSampler> gpu;
+        for (int count : settings.sourceCounts) {
+            if (count < 1 || count > kMaxSourceSamples)
+                throw Error("bench: source sample count " + std::to_string(count) + " is outside [1, 1024]");
+            for (int side : settings.receiverSides) {
+                Patch source = project.source, receiver = project.receiver;
+                std::tie(source.na, source.nb) = sourceGrid(count);
+                receiver.na = receiver.nb = side;
+                validatePatchPair(source, receiver);
+                const HiddenSampleMap truth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
+                for (const std::string& method : settings.methods) {
+                    HiddenSampleMap map;
+                    std::function<void()> evaluate;
+                    int w = 0, h = 0;
+                    if (method == "raycast") {
+                        evaluate = [&] { map = reference.sample(source, receiver, {.packets = true, .threads = settings.threads}); };
+                    } else if (method == "gl") {
+                        if (!context)
+                            context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                        if (!gpu)
+                            gpu = std::make_unique<GlBitmaskSampler>(context->functions(), worldTriangles(scene));
+                        evaluate = [&] { map = gpu->sample(source, receiver); };
+                    } else {
+                        BitmaskOptions options;
+                        options.threads = settings.threads;
+                        if (method == "cpu-bitmask")
+                            options.strategy = CpuStrategy::Bitmask;
+                        else if (method == "cpu-hybrid")
+                            options.strategy = CpuStrategy::Hybrid;
+                        else if (parseTable(method, w, h)) {
+                            options.mode = MaskMode::Table;
+                            options.tableWidth = w;
+                            options.tableHeight = h;
+                        }
+                        evaluate = [&, options] { map = cpu.sample(source, receiver, options); };
+                    }
+                    Row row;
+                    row.project = file;
+                    row.method = method;
+                    row.sourceSamples = count;
+                    row.receiverSide = side;
+                    row.ms = medianMs(settings.repeat, evaluate);
+                    row.rays = map.rayCount();
+                    row.blocked = map.blockedCount();
+                    for (int j = 0; j < map.receiverCount(); ++j) {
+                        const std::span<const std::uint64_t> mine = std::as_const(map).row(j), theirs = truth.row(j);
+                        for (std::size_t k = 0; k < mine.size(); ++k) {
+                            row.wronglyBlocked += std::uint64_t(std::popcount(mine[k] & ~theirs[k]));
+                            row.wronglyFree += std::uint64_t(std::popcount(~mine[k] & theirs[k]));
+                        }
+                    }
+                    rows.push_back(row);
+                    if (progress)
+                        progress(row);
+                }
+            }
+        }
+    }
+    return rows;
+}
+
+std::string toCsv(const std::vector<Row>& rows)
+{
+    std::ostringstream out;
+    out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction\n";
+    for (const Row& r : rows)
+        out << '"' << r.project << "\"," << r.method << ',' << r.sourceSamples << ',' << r.receiverSide << 'x'
+            << r.receiverSide << ',' << r.rays << ',' << r.ms << ',' << r.blocked << ',' << r.wronglyBlocked << ','
+            << r.wronglyFree << ',' << r.errorFraction() << '\n';
+    return out.str();
+}
+
+} // namespace sightline::bench

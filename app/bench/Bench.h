@@ -1,0 +1,45 @@
+#pragma once
+// Benchmarks every sampler against the raycast reference, side by side (DESIGN.md §5): for each
+// project, source sample count, receiver grid and method configuration, the median time of
+// `repeat` runs after a warm-up and the rays it gets wrong in each direction.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sightline::bench {
+
+/// Method configurations: "raycast", "cpu" (auto strategy), "cpu-bitmask", "cpu-hybrid",
+/// "cpu-table-WxH" (the paper's Hough table at W x H), "gl" (OSMesa context).
+std::vector<std::string> parseMethods(const std::string& commaSeparated);   ///< throws sightline::Error
+
+struct Settings {
+    std::vector<std::string> projects;
+    std::vector<std::string> methods = {"raycast", "cpu", "cpu-bitmask", "cpu-table-256x128"};
+    std::vector<int> sourceCounts = {32, 128, 1024};
+    std::vector<int> receiverSides = {32, 128};
+    int repeat = 5;
+    int threads = 0;
+};
+
+struct Row {
+    std::string project, method;
+    int sourceSamples = 0, receiverSide = 0;
+    double ms = 0.0;   ///< median of `repeat` runs after one warm-up
+    std::uint64_t rays = 0, blocked = 0;
+    std::uint64_t wronglyBlocked = 0;   ///< method blocked, reference free
+    std::uint64_t wronglyFree = 0;      ///< reference blocked, method free
+    double errorFraction() const { return rays ? double(wronglyBlocked + wronglyFree) / double(rays) : 0.0; }
+};
+
+/// The most square na x nb grid with na * nb == count and na >= nb (32 -> 8x4, 1024 -> 32x32).
+std::pair<int, int> sourceGrid(int count);
+
+/// Runs everything; `progress` (may be empty) is told of each finished row.
+std::vector<Row> run(const Settings& settings, const std::function<void(const Row&)>& progress = {});
+
+std::string toCsv(const std::vector<Row>& rows);
+
+} // namespace sightline::bench

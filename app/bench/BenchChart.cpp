@@ -1,0 +1,125 @@
+#include "bench/BenchChart.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <QApplication>
+#include <QGraphicsLayout>
+#include <QGraphicsScene>
+#include <QtCharts/QChart>
+#include <QtCharts/QLogValueAxis>
+#include <QtCharts/QScatterSeries>
+#include <QImage>
+#include <QPainter>
+
+#include "visibility/Error.h"
+
+namespace sightline::bench {
+
+namespace {
+
+/// Qt Charts needs a QApplication; the CLI has none, so one is made here, offscreen when there
+/// is no display.
+std::unique_ptr<QApplication> ensureApplication()
+{
+    if (QApplication::instance())
+        return nullptr;
+    if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("QT_QPA_PLATFORM"))
+        qputenv("QT_QPA_PLATFORM", "offscreen");
+    if (!std::getenv("XDG_RUNTIME_DIR")) {
+        // Qt warns without one; a private folder, as the spec asks (owner only).
+        const std::string folder = "/tmp/sightline-runtime-" + std::to_string(::getuid());
+        ::mkdir(folder.c_str(), 0700);
+        qputenv("XDG_RUNTIME_DIR", QByteArray::fromStdString(folder));
+    }
+    static int argc = 1;
+    static char name[] = "sightline-cli";
+    static char* argv[] = {name, nullptr};
+    return std::make_unique<QApplication>(argc, argv);
+}
+
+} // namespace
+
+void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png)
+{
+    const auto app = ensureApplication();
+    constexpr double kFloor = 1e-7;   // where zero error is drawn on the log axis
+
+    auto* chart = new QChart;
+    chart->setTitle("Time per evaluation against error versus the raycast reference "
+                    "(errors of 0 drawn at 1e-7)");
+    auto* x = new QLogValueAxis;
+    x->setTitleText("ms per evaluation (median)");
+    x->setLabelFormat("%g");
+    auto* y = new QLogValueAxis;
+    y->setTitleText("fraction of rays wrong");
+    y->setLabelFormat("%g");
+    chart->addAxis(x, Qt::AlignBottom);
+    chart->addAxis(y, Qt::AlignLeft);
+
+    // Per method, one colour and two series: circles for rays the method blocks but the
+    // reference does not, squares for the reverse.
+    static const QColor palette[] = {QColor(31, 119, 180), QColor(255, 127, 14), QColor(44, 160, 44),
+                                     QColor(214, 39, 40),  QColor(148, 103, 189), QColor(140, 86, 75),
+                                     QColor(227, 119, 194), QColor(127, 127, 127), QColor(188, 189, 34)};
+    std::map<std::string, std::pair<QScatterSeries*, QScatterSeries*>> series;
+    auto makeSeries = [&](const std::string& name, const QColor& colour, QScatterSeries::MarkerShape shape) {
+        auto* s = new QScatterSeries;
+        s->setName(QString::fromStdString(name));
+        s->setMarkerShape(shape);
+        s->setMarkerSize(shape == QScatterSeries::MarkerShapeCircle ? 10.0 : 8.0);
+        s->setColor(colour);
+        s->setBorderColor(colour.darker());
+        chart->addSeries(s);
+        s->attachAxis(x);
+        s->attachAxis(y);
+        return s;
+    };
+    double xMin = 1e300, xMax = 0.0, yMax = kFloor;
+    for (const Row& r : rows) {
+        auto& pair = series[r.method];
+        if (!pair.first) {
+            const QColor colour = palette[(series.size() - 1) % std::size(palette)];
+            pair.first = makeSeries(r.method + ": blocked, reference free", colour, QScatterSeries::MarkerShapeCircle);
+            pair.second = makeSeries(r.method + ": free, reference blocked", colour, QScatterSeries::MarkerShapeRectangle);
+        }
+        const double rays = double(std::max<std::uint64_t>(r.rays, 1));
+        const double ms = std::max(r.ms, 1e-3);
+        const double blocked = std::max(double(r.wronglyBlocked) / rays, kFloor);
+        const double freed = std::max(double(r.wronglyFree) / rays, kFloor);
+        pair.first->append(ms, blocked);
+        pair.second->append(ms, freed);
+        xMin = std::min(xMin, ms), xMax = std::max(xMax, ms), yMax = std::max({yMax, blocked, freed});
+    }
+    if (rows.empty())
+        xMin = 1.0, xMax = 10.0;
+    x->setRange(xMin / 2.0, xMax * 2.0);
+    y->setRange(kFloor / 2.0, std::max(1e-3, yMax * 2.0));
+
+    // Render the chart item directly: no widget is ever shown, so give it its geometry and let
+    // its layout settle before painting.
+    QGraphicsScene scene;
+    scene.addItem(chart);   // owns the chart
+    const QSizeF size(1100, 700);
+    chart->setGeometry(QRectF(QPointF(0, 0), size));
+    chart->legend()->setAlignment(Qt::AlignRight);
+    QCoreApplication::processEvents();
+    chart->layout()->activate();
+    QImage image(size.toSize(), QImage::Format_ARGB32);
+    image.fill(Qt::white);
+    QPainter painter(&image);
+    painter.setRenderHint(QPainter::Antialiasing);
+    scene.render(&painter, QRectF(QPointF(0, 0), size), QRectF(QPointF(0, 0), size));
+    painter.end();
+    if (!image.save(QString::fromStdString(png.string()), "PNG"))
+        throw Error(png.string() + ": cannot write the chart");
+}
+
+} // namespace sightline::bench

@@ -1,0 +1,93 @@
+// sightline-cli bench: every method against the reference, CSV and chart.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <unistd.h>
+
+#include <QImage>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "bench/Bench.h"
+#include "bench/BenchChart.h"
+#include "visibility/Error.h"
+
+using namespace sightline;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A wall with a hole and a crate between two tilted patches.
+fs::path writeProject(const fs::path& folder)
+{
+    fs::create_directories(folder);
+    std::ofstream(folder / "wall.obj") << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
+                                          "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
+                                          "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+    const nlohmann::json project = {
+        {"version", 1},
+        {"scene", "wall.obj"},
+        {"source", {{"corner", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}}},
+        {"receiver", {{"corner", {-0.5, -0.2, 4}}, {"u", {2, 0, 0.3}}, {"v", {0, 1.4, 0}}}},
+        {"occluders", {{{"mesh", "box"}, {"transform", {0.4, 0, 0, 0, 0, 0.3, 0, 0, 0, 0, 0.4, 0, 0.5, 0.15, 2.2, 1}}}}},
+    };
+    std::ofstream(folder / "p.json") << project.dump();
+    return folder / "p.json";
+}
+
+} // namespace
+
+TEST(Bench, EveryMethodAgainstTheReference)
+{
+    const fs::path folder = fs::temp_directory_path() / ("sightline_bench_" + std::to_string(getpid()));
+    bench::Settings settings;
+    settings.projects = {writeProject(folder).string()};
+    settings.methods = bench::parseMethods("raycast,cpu,cpu-bitmask,cpu-hybrid,cpu-table-16x8");
+    settings.sourceCounts = {32, 128};
+    settings.receiverSides = {16, 24};
+    settings.repeat = 1;
+    int progressCalls = 0;
+    const auto rows = bench::run(settings, [&](const bench::Row&) { ++progressCalls; });
+    ASSERT_EQ(rows.size(), 5u * 2u * 2u);
+    EXPECT_EQ(progressCalls, 20);
+    for (const bench::Row& r : rows) {
+        EXPECT_EQ(r.rays, std::uint64_t(r.sourceSamples) * std::uint64_t(r.receiverSide * r.receiverSide));
+        EXPECT_GT(r.ms, 0.0);
+        if (r.method == "raycast")
+            EXPECT_EQ(r.wronglyBlocked + r.wronglyFree, 0u);
+        else if (r.method == "cpu-table-16x8")
+            EXPECT_GT(r.errorFraction(), 0.001) << r.sourceSamples;   // a coarse table is visibly wrong
+        else
+            EXPECT_LE(r.errorFraction(), 1e-4) << r.method;           // exact modes
+    }
+    const std::string csv = bench::toCsv(rows);
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
+    EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction\n", 0), 0u);
+
+    const fs::path png = folder / "chart.png";
+    bench::writeChart(rows, png);
+    QImage image(QString::fromStdString(png.string()));
+    ASSERT_FALSE(image.isNull());
+    EXPECT_EQ(image.width(), 1100);
+    EXPECT_EQ(image.height(), 700);
+    int coloured = 0;   // markers and text: pixels that are not white or grey
+    for (int yy = 0; yy < image.height(); yy += 2)
+        for (int xx = 0; xx < image.width(); xx += 2) {
+            const QColor c = image.pixelColor(xx, yy);
+            coloured += std::max({c.red(), c.green(), c.blue()}) - std::min({c.red(), c.green(), c.blue()}) > 60;
+        }
+    EXPECT_GT(coloured, 200);
+    fs::remove_all(folder);
+}
+
+TEST(Bench, SettingsAreChecked)
+{
+    EXPECT_THROW(bench::parseMethods("raycast,warp"), Error);
+    EXPECT_THROW(bench::parseMethods("cpu-table-3x1"), Error);
+    EXPECT_THROW(bench::parseMethods(""), Error);
+    EXPECT_EQ(bench::sourceGrid(32), std::make_pair(8, 4));
+    EXPECT_EQ(bench::sourceGrid(128), std::make_pair(16, 8));
+    EXPECT_EQ(bench::sourceGrid(1024), std::make_pair(32, 32));
+    EXPECT_EQ(bench::sourceGrid(7), std::make_pair(7, 1));
+}
