@@ -124,7 +124,7 @@ TEST_F(Cli, ShaftJsonAndMaskMatchTheReference)
 TEST_F(Cli, CpuMethodAgreesWithRaycast)
 {
     const fs::path cpuMask = folder / "cpu.npy", rayMask = folder / "ray.npy";
-    const CliRun cpu = runCli("shaft " + (folder / "p.json").string() + " --method cpu --json --mask " + cpuMask.string());
+    const CliRun cpu = runCli("shaft " + (folder / "p.json").string() + " --method cpu --strategy bitmask --json --mask " + cpuMask.string());
     const CliRun ray = runCli("shaft " + (folder / "p.json").string() + " --method raycast --mask " + rayMask.string());
     ASSERT_EQ(cpu.code, 0) << cpu.err;
     ASSERT_EQ(ray.code, 0) << ray.err;

@@ -98,12 +98,12 @@ TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)
                          Grid{64, 16, 16, 16}, Grid{4, 4, 512, 512}}) {
         const Patch source = xyPatch(0, g.na, g.nb), receiver = xyPatch(2, g.rna, g.rnb);
         const HiddenSampleMap expected = reference.sample(source, receiver);
-        const HiddenSampleMap map = sampler.sample(source, receiver);
+        const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::Bitmask});
         const std::uint64_t differ = map.differenceCount(expected);
         // Exact up to grazing rays: at most 1 in 10^4 (the bar), and in practice ~0.
         EXPECT_LE(differ * 10000, map.rayCount()) << g.na << "x" << g.nb << " / " << g.rna << "x" << g.rnb;
         EXPECT_GT(expected.blockedCount(), 0u);
-        EXPECT_EQ(map, sampler.sample(source, receiver, {.threads = 1}));
+        EXPECT_EQ(map, sampler.sample(source, receiver, {.threads = 1, .strategy = CpuStrategy::Bitmask}));
         const HiddenSampleMap hybrid = sampler.sample(source, receiver, {.strategy = CpuStrategy::Hybrid, .smallCells = 6.0});
         EXPECT_LE(hybrid.differenceCount(expected) * 10000, map.rayCount()) << "hybrid " << g.na << "x" << g.nb;
     }
@@ -176,4 +176,33 @@ TEST(CpuBitmaskSampler, NoCullingForAReceiverInsideAClosedMesh)
     scene.instances.push_back({"room", box, m});
     const HiddenSampleMap map = CpuBitmaskSampler(scene).sample(xyPatch(0, 8, 8), xyPatch(2, 8, 8));
     EXPECT_EQ(map.blockedCount(), map.rayCount());
+}
+
+TEST(CpuBitmaskSampler, AutoRayCastsWhenSourceSamplesAreFew)
+{
+    // A wall of many small triangles fills the shaft: every triangle touches most receiver
+    // samples, so with 4 source samples the pairs far outnumber the rays.
+    Mesh grid;
+    const int n = 40;
+    for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x)
+            grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n, 1.0f + 0.01f * float((x * 7 + y * 3) % 5));
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; x += 2) {   // every other column: a comb, partly open
+            const std::uint32_t i = std::uint32_t(y * (n + 1) + x);
+            grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
+        }
+    const Scene scene = sceneOf({grid});
+    const CpuBitmaskSampler sampler(scene);
+    const RayCastScene reference(scene);
+    BitmaskStats few, many;
+    const Patch receiver = xyPatch(2, 32, 32);
+    const HiddenSampleMap a = sampler.sample(xyPatch(0, 2, 2), receiver, {}, &few);
+    EXPECT_STREQ(few.strategy, "raycast");
+    EXPECT_EQ(a, reference.sample(xyPatch(0, 2, 2), receiver));
+    const HiddenSampleMap b = sampler.sample(xyPatch(0, 32, 32), receiver, {}, &many);
+    EXPECT_STRNE(many.strategy, "raycast");
+    EXPECT_LE(b.differenceCount(reference.sample(xyPatch(0, 32, 32), receiver)) * 10000, b.rayCount());
+    EXPECT_GT(a.blockedCount(), 0u);
+    EXPECT_LT(a.blockedCount(), a.rayCount());
 }

@@ -25,17 +25,22 @@
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/HoughMaskTable.h"
 #include "visibility/Patch.h"
+#include "visibility/RayCastSampler.h"
 #include "visibility/Scene.h"
 
 namespace sightline {
 
 /// How the exact CPU method splits the work.
 enum class CpuStrategy {
-    Auto,      ///< Hybrid when the shaft holds enough small triangles (exact mode), else Bitmask
+    Auto,      ///< by estimated cost: RayCast when the (triangle, receiver sample) pairs outnumber
+               ///< twice the rays (few source samples), else Hybrid when the shaft holds enough
+               ///< small triangles, else Bitmask (exact mode; table mode is always Bitmask)
     Bitmask,   ///< every triangle by backprojection
     Hybrid,    ///< large triangles by backprojection, then only the still-unblocked rays are cast
                ///< (Embree packets) against the small ones: ray casting is strong exactly where
                ///< the bitmask is weak (many tiny occluders, each touching many receiver samples)
+    RayCast,   ///< every ray by Embree packets (the bitmask's cost barely drops with fewer source
+               ///< samples, ray casting's does)
 };
 
 /// How the set of source samples inside a backprojection is found (§5).
@@ -66,7 +71,7 @@ struct BitmaskOptions {
 };
 
 struct BitmaskStats {
-    const char* strategy = "";        ///< "bitmask" or "hybrid"
+    const char* strategy = "";        ///< "bitmask", "hybrid" or "raycast"
     double setupMs = 0.0;             ///< clipping, influence regions, binning
     double sampleMs = 0.0;            ///< backprojection and bit setting
     double rayMs = 0.0;               ///< hybrid: BVH build of the small triangles + ray casts
@@ -102,6 +107,9 @@ private:
     /// The last Hough table built (the editor samples the same grid many times).
     mutable std::mutex tableMutex_;
     mutable std::shared_ptr<const HoughMaskTable> table_;
+    /// The whole scene's BVH, built the first time the RayCast strategy is chosen.
+    mutable std::mutex rayCasterMutex_;
+    mutable std::shared_ptr<const RayCastScene> rayCaster_;
 };
 
 } // namespace sightline
