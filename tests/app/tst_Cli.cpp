@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "BruteForceCaster.h"
+#include "TestScenes.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "visibility/NpyWriter.h"
@@ -233,16 +234,7 @@ TEST_F(Cli, MaskAgreesWithAnIndependentCasterOnMixedProjects)
     // A glTF scene (written by our exporter) of random triangles, an OBJ occluder, the built-in
     // box and a rotated built-in plane; tilted, non-parallel patches with odd grids. The mask the
     // CLI writes must equal a double-precision brute-force caster outside grazing rays.
-    std::mt19937 rng(2024);
-    std::uniform_real_distribution<float> x(-0.5f, 2.0f), z(0.8f, 3.2f), d(-0.25f, 0.25f);
-    Mesh soup;
-    soup.name = "soup";
-    for (std::uint32_t t = 0; t < 120; ++t) {
-        const glm::vec3 a(x(rng), x(rng), z(rng));
-        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(d(rng), d(rng), d(rng)),
-                                                     a + glm::vec3(d(rng), d(rng), d(rng))});
-        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
-    }
+    const Mesh soup = test::randomSoup(2024, 120, -0.5f, 2.0f, 0.8f, 3.2f, 0.25f);
     Scene level;
     const std::uint32_t mesh = level.addMesh(soup);
     level.instances.push_back({"soup a", mesh, glm::mat4(1.0f)});

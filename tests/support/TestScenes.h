@@ -21,6 +21,23 @@ inline Mesh quad(const glm::vec3& c, const glm::vec3& u, const glm::vec3& v, con
     return m;
 }
 
+/// `count` random triangles: a first vertex uniform in [xyLo, xyHi]^2 x [zLo, zHi], the other two
+/// within +-spread of it on each axis.
+inline Mesh randomSoup(unsigned seed, std::uint32_t count, float xyLo, float xyHi, float zLo, float zHi, float spread)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> xy(xyLo, xyHi), z(zLo, zHi), d(-spread, spread);
+    Mesh soup;
+    soup.name = "soup";
+    for (std::uint32_t t = 0; t < count; ++t) {
+        const glm::vec3 a(xy(rng), xy(rng), z(rng));
+        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(d(rng), d(rng), d(rng)),
+                                                     a + glm::vec3(d(rng), d(rng), d(rng))});
+        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    return soup;
+}
+
 /// A closed, outward-oriented unit cube [-0.5, 0.5]^3 flagged watertight.
 inline Mesh closedBox()
 {

@@ -81,15 +81,7 @@ TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)
 {
     // A soup in the shaft; source grids of 1, 32, 128 (16x8), 1024 (32x32, 64x16) samples and
     // receivers up to 512x512; threads 1 and all give the same bits.
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(-0.3f, 1.3f), z(0.3f, 1.7f), s(-0.15f, 0.15f);
-    Mesh soup;
-    for (std::uint32_t t = 0; t < 400; ++t) {
-        const glm::vec3 a(u(rng), u(rng), z(rng));
-        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(s(rng), s(rng), s(rng)),
-                                                     a + glm::vec3(s(rng), s(rng), s(rng))});
-        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
-    }
+    const Mesh soup = randomSoup(11, 400, -0.3f, 1.3f, 0.3f, 1.7f, 0.15f);
     const Scene scene = sceneOf({soup});
     const RayCastScene reference(scene);
     const CpuBitmaskSampler sampler(scene);

@@ -84,15 +84,7 @@ TEST_F(GlBitmask, AgreesWithBruteForceOnRandomScenes)
 TEST_F(GlBitmask, MatchesCpuAndReferenceAcrossSampleCounts)
 {
     // Every target count from 1 (<= 128 source samples) to 8 (1024), receivers up to 128x96.
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<float> u(-0.3f, 1.3f), z(0.3f, 1.7f), s(-0.15f, 0.15f);
-    Mesh soup;
-    for (std::uint32_t t = 0; t < 300; ++t) {
-        const glm::vec3 a(u(rng), u(rng), z(rng));
-        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(s(rng), s(rng), s(rng)),
-                                                     a + glm::vec3(s(rng), s(rng), s(rng))});
-        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
-    }
+    const Mesh soup = randomSoup(5, 300, -0.3f, 1.3f, 0.3f, 1.7f, 0.15f);
     const Scene scene = sceneOf({soup});
     const RayCastScene reference(scene);
     const CpuBitmaskSampler cpu(scene);

@@ -43,15 +43,7 @@ TEST(HoughMaskTable, LinesThroughTheSquareSplitTheSamples)
 
 TEST(HoughMaskTable, TableModeErrorFallsWithResolution)
 {
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(-0.3f, 1.3f), z(0.3f, 1.7f), s(-0.1f, 0.1f);
-    Mesh soup;
-    for (std::uint32_t t = 0; t < 300; ++t) {
-        const glm::vec3 a(u(rng), u(rng), z(rng));
-        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(s(rng), s(rng), s(rng)),
-                                                     a + glm::vec3(s(rng), s(rng), s(rng))});
-        soup.indices.insert(soup.indices.end(), {3 * t, 3 * t + 1, 3 * t + 2});
-    }
+    const Mesh soup = randomSoup(3, 300, -0.3f, 1.3f, 0.3f, 1.7f, 0.1f);
     const Scene scene = sceneOf({soup});
     const Patch source = xyPatch(0, 32, 32), receiver = xyPatch(2, 32, 32);
     const HiddenSampleMap reference = RayCastScene(scene).sample(source, receiver);

@@ -114,15 +114,7 @@ TEST(RayCastSampler, SurfacesAtTheSegmentEndsDoNotBlock)
 
 TEST(RayCastSampler, PacketsSingleRaysAndThreadCountsAgree)
 {
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> u(-0.5f, 1.5f), z(0.2f, 1.8f), s(-0.3f, 0.3f);
-    Mesh soup;
-    for (int t = 0; t < 300; ++t) {
-        const glm::vec3 a(u(rng), u(rng), z(rng));
-        soup.positions.insert(soup.positions.end(), {a, a + glm::vec3(s(rng), s(rng), s(rng)),
-                                                     a + glm::vec3(s(rng), s(rng), s(rng))});
-        soup.indices.insert(soup.indices.end(), {3u * t, 3u * t + 1, 3u * t + 2});
-    }
+    const Mesh soup = randomSoup(7, 300, -0.5f, 1.5f, 0.2f, 1.8f, 0.3f);
     const RayCastScene caster(sceneOf({soup}));
     const Patch source = xyPatch(0, 32, 32), receiver = xyPatch(2, 16, 16);
     const HiddenSampleMap packets = caster.sample(source, receiver, {.packets = true, .threads = 0});
