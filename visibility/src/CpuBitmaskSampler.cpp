@@ -339,6 +339,171 @@ bool rowFull(const std::uint64_t* row, int words, int S)
     return row[words - 1] == last;
 }
 
+/// One sampling call, step by step. Holds references only; the map and stats are the caller's.
+struct Pass {
+    const Setup& setup;
+    const WorldTriangles& triangles;
+    const Patch& source;
+    const Patch& receiver;
+    const BitmaskOptions& options;
+    HiddenSampleMap& map;
+    BitmaskStats& stats;
+
+    std::vector<Occluder> occluders;   // by triangle index
+    std::vector<char> kept;            // 0: out of the shaft or culled, 1: binned, 2: ray cast (hybrid)
+
+    const glm::vec3* triangle(std::size_t t) const { return &triangles.vertices[3 * t]; }
+
+    /// Auto's cost model: pairs estimated from every 16th triangle against the rays.
+    bool rayCastingIsCheaper() const
+    {
+        constexpr std::size_t kStride = 16;
+        std::uint64_t pairEstimate = 0;
+        Occluder o;
+        for (std::size_t t = 0; t < triangles.size(); t += kStride)
+            if (setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], o))
+                pairEstimate += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
+        return double(pairEstimate) > kPairsPerRay * double(map.rayCount());
+    }
+
+    /// Clips and bounds every triangle (parallel) that culling (§7) does not remove.
+    void prepareAll(const std::vector<char>& cullableInstance)
+    {
+        std::array<glm::dvec3, 4> corners;
+        for (int k = 0; k < 4; ++k)
+            corners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+        auto frontFacingFromSource = [&](std::size_t t) {
+            const glm::dvec3 a(triangle(t)[0]), b(triangle(t)[1]), c(triangle(t)[2]);
+            const glm::dvec3 n = glm::cross(b - a, c - a);
+            for (const glm::dvec3& corner : corners)
+                if (glm::dot(n, corner - a) <= 0.0)
+                    return false;
+            return true;
+        };
+        occluders.resize(triangles.size());
+        kept.assign(triangles.size(), 0);
+        std::atomic<std::size_t> culled{0};
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024), [&](const auto& range) {
+            std::size_t rangeCulled = 0;
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                if (!cullableInstance.empty() && cullableInstance[triangles.instanceOf[t]] && frontFacingFromSource(t)) {
+                    ++rangeCulled;
+                    continue;
+                }
+                kept[t] = setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], occluders[t]);
+            }
+            culled += rangeCulled;
+        });
+        stats.culledFrontFaces = culled;
+    }
+
+    /// Hybrid: the small triangles leave the bitmask pass for the ray pass (kept = 2).
+    std::vector<std::uint32_t> takeSmall(CpuStrategy strategy)
+    {
+        std::vector<std::uint32_t> small;
+        if (strategy != CpuStrategy::Bitmask)
+            for (std::size_t t = 0; t < triangles.size(); ++t)
+                if (kept[t] && occluders[t].cells < options.smallCells)
+                    small.push_back(std::uint32_t(t));
+        const bool hybrid = strategy == CpuStrategy::Hybrid ||
+                            (strategy == CpuStrategy::Auto && small.size() >= kHybridMinSmallTriangles);
+        if (!hybrid)
+            small.clear();
+        for (std::uint32_t t : small)
+            kept[t] = 2;
+        stats.strategy = hybrid ? "hybrid" : "bitmask";
+        stats.smallTriangles = small.size();
+        return small;
+    }
+
+    int tilesA() const { return (receiver.na + kTile - 1) / kTile; }
+
+    /// Triangles per tile of receiver samples, largest first: they block the most, and what
+    /// they block narrows the shaft for the small ones that follow.
+    std::vector<std::vector<std::uint32_t>> bin()
+    {
+        const int tilesB = (receiver.nb + kTile - 1) / kTile;
+        std::vector<std::vector<std::uint32_t>> bins(std::size_t(tilesA()) * std::size_t(tilesB));
+        for (std::size_t t = 0; t < triangles.size(); ++t) {
+            if (!kept[t])
+                continue;
+            ++stats.trianglesInShaft;
+            if (kept[t] == 2)
+                continue;
+            const Occluder& o = occluders[t];
+            for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
+                for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
+                    bins[std::size_t(tb) * std::size_t(tilesA()) + std::size_t(ta)].push_back(std::uint32_t(t));
+        }
+        tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
+            std::stable_sort(bins[b].begin(), bins[b].end(),
+                             [&](std::uint32_t x, std::uint32_t y) { return occluders[x].cells > occluders[y].cells; });
+        });
+        return bins;
+    }
+
+    /// The bitmask pass (§2-5): tiles in parallel, each owning its receiver samples' rows.
+    void bitmaskPass(const std::vector<std::vector<std::uint32_t>>& bins, bool narrow)
+    {
+        std::atomic<std::uint64_t> narrowedAway{0}, pairs{0};
+        const int words = map.wordsPerRow();
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bins.size(), 1), [&](const auto& range) {
+            std::uint64_t tilePairs = 0, tileSkipped = 0;
+            for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
+                const int ta = int(tile % std::size_t(tilesA())), tb = int(tile / std::size_t(tilesA()));
+                const int a0 = ta * kTile, b0 = tb * kTile;
+                const int aEnd = std::min(receiver.na, a0 + kTile), bEnd = std::min(receiver.nb, b0 + kTile);
+                const std::array<int, 4> corners = {b0 * receiver.na + a0, b0 * receiver.na + aEnd - 1,
+                                                    (bEnd - 1) * receiver.na + a0, (bEnd - 1) * receiver.na + aEnd - 1};
+                SourceBox open;
+                int sinceNarrowed = -1;   // -1: not narrowed yet
+                for (std::uint32_t t : bins[tile]) {
+                    const Occluder& o = occluders[t];
+                    if (narrow && o.cells < kNarrowCells) {
+                        if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
+                            open = setup.unblockedBox(map, a0, aEnd - 1, b0, bEnd - 1);
+                            sinceNarrowed = 0;
+                            if (open.empty())
+                                break;   // the whole tile is blocked
+                        }
+                        ++sinceNarrowed;
+                        if (!setup.mayHit(o, corners, open)) {
+                            ++tileSkipped;
+                            continue;
+                        }
+                    }
+                    for (int b = std::max(o.b0, b0); b <= std::min(o.b1, bEnd - 1); ++b)
+                        for (int a = std::max(o.a0, a0); a <= std::min(o.a1, aEnd - 1); ++a) {
+                            const int j = b * receiver.na + a;
+                            std::uint64_t* row = map.row(j).data();
+                            if (rowFull(row, words, setup.S))
+                                continue;
+                            setup.backproject(o, j, row);
+                            ++tilePairs;
+                        }
+                }
+            }
+            pairs += tilePairs;
+            narrowedAway += tileSkipped;
+        });
+        stats.pairs = pairs;
+        stats.narrowedAway = narrowedAway;
+    }
+
+    /// Hybrid: the still-unblocked rays against a BVH of the small triangles only.
+    void rayPass(const std::vector<std::uint32_t>& small)
+    {
+        WorldTriangles subset;
+        subset.vertices.reserve(3 * small.size());
+        for (std::uint32_t t : small) {
+            subset.vertices.insert(subset.vertices.end(), triangle(t), triangle(t) + 3);
+            subset.instanceOf.push_back(triangles.instanceOf[t]);
+        }
+        const RayCastScene rays(subset, /*fastBuild=*/true);
+        stats.raysCast = rays.sampleUnblocked(source, receiver, map);
+    }
+};
+
 } // namespace
 
 CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTriangles(scene))
@@ -352,6 +517,32 @@ CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTrian
     }
 }
 CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std::move(triangles)) {}
+
+std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver) const
+{
+    // Watertight culling (§7) is safe for an instance only when no receiver sample can lie inside
+    // it: the receiver patch must not touch the instance's bounds.
+    Bounds receiverBox;
+    for (int k = 0; k < 4; ++k)
+        receiverBox.extend(glm::vec3(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v));
+    const float pad = 1e-4f * (1.0f + glm::length(receiverBox.max - receiverBox.min));
+    std::vector<char> cullable(instances_.size(), 0);
+    for (std::size_t i = 0; i < instances_.size(); ++i) {
+        const Bounds& b = instances_[i].bounds;
+        const bool apart = glm::any(glm::lessThan(b.max + pad, receiverBox.min)) ||
+                           glm::any(glm::greaterThan(b.min - pad, receiverBox.max));
+        cullable[i] = instances_[i].watertight && apart;
+    }
+    return cullable;
+}
+
+std::shared_ptr<const RayCastScene> CpuBitmaskSampler::wholeSceneCaster() const
+{
+    std::lock_guard lock(rayCasterMutex_);
+    if (!rayCaster_)
+        rayCaster_ = std::make_shared<const RayCastScene>(triangles_);
+    return rayCaster_;
+}
 
 HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
                                           BitmaskStats* stats) const
@@ -380,179 +571,30 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
     auto body = [&] {
         Setup setup(source, receiver);
         setup.table = table.get();
-        const std::size_t triangleCount = triangles_.size();
-
-        // Watertight culling (§7) is safe for an instance only when no receiver sample can lie
-        // inside it: the receiver patch must not touch the instance's bounds.
-        std::vector<char> cullable(instances_.size(), 0);
-        std::array<glm::dvec3, 4> sourceCorners;
-        if (options.watertightCulling) {
-            Bounds receiverBox;
-            for (int k = 0; k < 4; ++k) {
-                const glm::dvec3 corner = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
-                receiverBox.extend(glm::vec3(corner));
-                sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
-            }
-            const float pad = 1e-4f * (1.0f + glm::length(receiverBox.max - receiverBox.min));
-            for (std::size_t i = 0; i < instances_.size(); ++i) {
-                const Bounds& b = instances_[i].bounds;
-                const bool apart = glm::any(glm::lessThan(b.max + pad, receiverBox.min)) ||
-                                   glm::any(glm::greaterThan(b.min - pad, receiverBox.max));
-                cullable[i] = instances_[i].watertight && apart;
-            }
-        }
-        auto frontFacingFromSource = [&](std::size_t t) {
-            const glm::dvec3 a(triangles_.vertices[3 * t]), b(triangles_.vertices[3 * t + 1]), c(triangles_.vertices[3 * t + 2]);
-            const glm::dvec3 n = glm::cross(b - a, c - a);
-            for (const glm::dvec3& corner : sourceCorners)
-                if (glm::dot(n, corner - a) <= 0.0)
-                    return false;
-            return true;
-        };
+        Pass pass{setup, triangles_, source, receiver, options, map, local, {}, {}};
 
         // Few source samples: ray casting everything is cheaper than the bitmask, whose cost
-        // follows (triangle, receiver sample) pairs, not rays. Auto decides from every 16th
-        // triangle before paying for the full set-up.
-        bool rayCastAll = strategy == CpuStrategy::RayCast;
-        if (strategy == CpuStrategy::Auto) {
-            constexpr std::size_t kStride = 16;
-            std::uint64_t pairEstimate = 0;
-            Occluder o;
-            for (std::size_t t = 0; t < triangleCount; t += kStride)
-                if (setup.prepare(triangles_.vertices[3 * t], triangles_.vertices[3 * t + 1], triangles_.vertices[3 * t + 2], o))
-                    pairEstimate += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
-            rayCastAll = double(pairEstimate) > kPairsPerRay * double(map.rayCount());
-        }
-        if (rayCastAll) {
-            std::shared_ptr<const RayCastScene> caster;
-            {
-                std::lock_guard lock(rayCasterMutex_);
-                if (!rayCaster_)
-                    rayCaster_ = std::make_shared<const RayCastScene>(triangles_);
-                caster = rayCaster_;
-            }
+        // follows (triangle, receiver sample) pairs, not rays.
+        if (strategy == CpuStrategy::RayCast || (strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper())) {
             local.strategy = "raycast";
+            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
             local.raysCast = caster->sampleUnblocked(source, receiver, map);
             local.rayMs = msSince(rayStart);
             return;
         }
-
-        // Clip and bound every triangle (parallel), keep those that touch the receiver grid.
-        std::vector<Occluder> occluders(triangleCount);
-        std::vector<char> kept(triangleCount, 0);
-        std::atomic<std::size_t> culled{0};
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangleCount, 1024), [&](const auto& range) {
-            std::size_t rangeCulled = 0;
-            for (std::size_t t = range.begin(); t != range.end(); ++t) {
-                if (!cullable.empty() && cullable[triangles_.instanceOf[t]] && frontFacingFromSource(t)) {
-                    ++rangeCulled;
-                    continue;
-                }
-                kept[t] = setup.prepare(triangles_.vertices[3 * t], triangles_.vertices[3 * t + 1],
-                                        triangles_.vertices[3 * t + 2], occluders[t]);
-            }
-            culled += rangeCulled;
-        });
-        local.culledFrontFaces = culled;
-
-        // Hybrid: small triangles go to the ray pass instead of the bins.
-        std::vector<std::uint32_t> small;
-        if (strategy != CpuStrategy::Bitmask)
-            for (std::size_t t = 0; t < triangleCount; ++t)
-                if (kept[t] && occluders[t].cells < options.smallCells)
-                    small.push_back(std::uint32_t(t));
-        const bool hybrid = strategy == CpuStrategy::Hybrid ||
-                            (strategy == CpuStrategy::Auto && small.size() >= kHybridMinSmallTriangles);
-        if (hybrid)
-            for (std::uint32_t t : small)
-                kept[t] = 2;   // in the shaft, but not binned
-        else
-            small.clear();
-        local.strategy = hybrid ? "hybrid" : "bitmask";
-        local.smallTriangles = small.size();
-
-        // Bin to tiles of receiver samples.
-        const int tilesA = (receiver.na + kTile - 1) / kTile, tilesB = (receiver.nb + kTile - 1) / kTile;
-        std::vector<std::vector<std::uint32_t>> bins(std::size_t(tilesA) * std::size_t(tilesB));
-        for (std::size_t t = 0; t < triangleCount; ++t) {
-            if (!kept[t])
-                continue;
-            ++local.trianglesInShaft;
-            if (kept[t] == 2)
-                continue;
-            const Occluder& o = occluders[t];
-            for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
-                for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
-                    bins[std::size_t(tb) * std::size_t(tilesA) + std::size_t(ta)].push_back(std::uint32_t(t));
-        }
-        // Largest occluders first: they block the most, and what they block narrows the shaft
-        // for the small ones that follow.
-        tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
-            std::stable_sort(bins[b].begin(), bins[b].end(),
-                             [&](std::uint32_t x, std::uint32_t y) { return occluders[x].cells > occluders[y].cells; });
-        });
+        pass.prepareAll(options.watertightCulling ? cullableInstances(receiver) : std::vector<char>{});
+        const std::vector<std::uint32_t> small = pass.takeSmall(strategy);
+        const auto bins = pass.bin();
         local.setupMs = msSince(setupStart);
 
         const auto sampleStart = Clock::now();
-        std::atomic<std::uint64_t> narrowedAway{0};
-        std::atomic<std::uint64_t> pairs{0};
-        const int words = map.wordsPerRow();
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bins.size(), 1), [&](const auto& range) {
-            std::uint64_t tilePairs = 0, tileSkipped = 0;
-            for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
-                const int ta = int(tile % std::size_t(tilesA)), tb = int(tile / std::size_t(tilesA));
-                const int aEnd = std::min(receiver.na, (ta + 1) * kTile), bEnd = std::min(receiver.nb, (tb + 1) * kTile);
-                const int a0 = ta * kTile, b0 = tb * kTile;
-                const std::array<int, 4> corners = {b0 * receiver.na + a0, b0 * receiver.na + aEnd - 1,
-                                                    (bEnd - 1) * receiver.na + a0, (bEnd - 1) * receiver.na + aEnd - 1};
-                SourceBox open;
-                int sinceNarrowed = -1;   // -1: not narrowed yet
-                for (std::uint32_t t : bins[tile]) {
-                    const Occluder& o = occluders[t];
-                    if (narrow && o.cells < kNarrowCells) {
-                        if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
-                            open = setup.unblockedBox(map, a0, aEnd - 1, b0, bEnd - 1);
-                            sinceNarrowed = 0;
-                            if (open.empty())
-                                break;   // the whole tile is blocked
-                        }
-                        ++sinceNarrowed;
-                        if (!setup.mayHit(o, corners, open)) {
-                            ++tileSkipped;
-                            continue;
-                        }
-                    }
-                    for (int b = std::max(o.b0, tb * kTile); b <= std::min(o.b1, bEnd - 1); ++b)
-                        for (int a = std::max(o.a0, ta * kTile); a <= std::min(o.a1, aEnd - 1); ++a) {
-                            const int j = b * receiver.na + a;
-                            std::uint64_t* row = map.row(j).data();
-                            if (rowFull(row, words, setup.S))
-                                continue;
-                            setup.backproject(o, j, row);
-                            ++tilePairs;
-                        }
-                }
-            }
-            pairs += tilePairs;
-            narrowedAway += tileSkipped;
-        });
-        local.pairs = pairs;
-        local.narrowedAway = narrowedAway;
+        pass.bitmaskPass(bins, narrow);
         local.sampleMs = msSince(sampleStart);
-
         if (!small.empty()) {
             const auto rayStart = Clock::now();
-            WorldTriangles subset;
-            subset.vertices.reserve(3 * small.size());
-            for (std::uint32_t t : small) {
-                subset.vertices.insert(subset.vertices.end(), triangles_.vertices.begin() + 3 * std::ptrdiff_t(t),
-                                       triangles_.vertices.begin() + 3 * std::ptrdiff_t(t) + 3);
-                subset.instanceOf.push_back(triangles_.instanceOf[t]);
-            }
-            const RayCastScene rays(subset, /*fastBuild=*/true);
-            local.raysCast = rays.sampleUnblocked(source, receiver, map);
+            pass.rayPass(small);
             local.rayMs = msSince(rayStart);
         }
     };

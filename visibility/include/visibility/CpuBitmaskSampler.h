@@ -98,6 +98,11 @@ public:
                            BitmaskStats* stats = nullptr) const;
 
 private:
+    /// Per instance: may watertight culling skip its front faces with this receiver?
+    std::vector<char> cullableInstances(const Patch& receiver) const;
+    /// The whole scene's BVH, built on first use.
+    std::shared_ptr<const RayCastScene> wholeSceneCaster() const;
+
     struct InstanceInfo {
         bool watertight = false;
         Bounds bounds;
