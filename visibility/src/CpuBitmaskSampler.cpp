@@ -35,6 +35,9 @@ struct Occluder {
     int a0 = 0, a1 = -1, b0 = 0, b1 = -1;   ///< receiver sample range, inclusive
     bool clipPerSample = false;             ///< may reach beyond some receiver sample's distance
     double cells = 0.0;                     ///< backprojected area from the receiver centre, in source cells
+    /// Parallel patches: every receiver sample has the same distance d_R, so each vertex's
+    /// projection factor d_R / (d_R - d_X) is one number per occluder, not one per pair.
+    std::array<double, ClippedPolygon::kMaxVertices> factor;
 };
 
 /// Per tile, occluders are processed largest first; once they are smaller than this many source
@@ -96,6 +99,8 @@ struct Setup {
     std::vector<glm::dvec3> receiverInSource;   // (s, t, d) of each receiver sample in the source frame
     std::array<glm::dvec3, 4> sourceCornersInReceiver;
     double minReceiverDistance = 0.0;      // min over receiver of d_source
+    bool parallel = false;                 // the receiver's distance from the source plane is constant
+    double receiverDistance = 0.0;         // that distance, when parallel
     glm::dvec3 receiverCentre{0.0};        // in the source frame
 
     Setup(const Patch& source, const Patch& receiver)
@@ -113,6 +118,13 @@ struct Setup {
             minReceiverDistance = std::min(minReceiverDistance, frames.source.coordinates(rc).z);
         }
         receiverCentre = frames.source.coordinates(receiver.centre());
+        double maxReceiverDistance = 0.0;
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+            maxReceiverDistance = std::max(maxReceiverDistance, frames.source.coordinates(rc).z);
+        }
+        parallel = maxReceiverDistance - minReceiverDistance <= 1e-12 * maxReceiverDistance;
+        receiverDistance = receiverCentre.z;
     }
 
     /// Clips, then bounds the influence region (§3): the projections of the clipped polygon from
@@ -156,6 +168,9 @@ struct Setup {
         }
         out.clipPerSample = maxD >= minReceiverDistance * (1.0 - 1e-9);
         out.cells = whole || out.clipPerSample ? 1e300 : backprojectedCells(out);
+        if (parallel)
+            for (int i = 0; i < out.count; ++i)
+                out.factor[std::size_t(i)] = receiverDistance / (receiverDistance - out.vertices[std::size_t(i)].z);
         return out.a0 <= out.a1 && out.b0 <= out.b1;
     }
 
@@ -173,6 +188,39 @@ struct Setup {
             ps = s, pt = t;
         }
         return 0.5 * std::abs(area) * na * nb;
+    }
+
+    /// The common case, a backprojected triangle with some height: a scanline walk. Sorted by t,
+    /// rows below the middle vertex lie between the long edge (0-2) and edge 0-1, the others
+    /// between the long edge and edge 1-2; no per-row arrays, no per-edge row ranges.
+    void triangleRows(const double* ps, const double* pt, int b0, int b1, std::uint64_t* mask) const
+    {
+        int i0 = 0, i1 = 1, i2 = 2;
+        if (pt[i0] > pt[i1])
+            std::swap(i0, i1);
+        if (pt[i1] > pt[i2])
+            std::swap(i1, i2);
+        if (pt[i0] > pt[i1])
+            std::swap(i0, i1);
+        const double s0 = ps[i0], t0 = pt[i0], s1 = ps[i1], t1 = pt[i1], s2 = ps[i2], t2 = pt[i2];
+        const double slopeLong = (s2 - s0) / (t2 - t0);
+        for (int b = b0; b <= b1; ++b) {
+            const double tb = (b + 0.5) / nb;
+            const double xLong = s0 + (tb - t0) * slopeLong;
+            double xShortLo, xShortHi;
+            if (tb < t1 && t1 > t0) {
+                xShortLo = xShortHi = s0 + (tb - t0) * ((s1 - s0) / (t1 - t0));
+            } else if (t2 > t1) {
+                xShortLo = xShortHi = s1 + (tb - t1) * ((s2 - s1) / (t2 - t1));
+            } else {   // top edge along the row: both of its ends count
+                xShortLo = std::min(s1, s2);
+                xShortHi = std::max(s1, s2);
+            }
+            int a0, a1;
+            sampleRange(std::min(xLong, xShortLo), std::max(xLong, xShortHi), na, a0, a1);
+            if (a0 <= a1)
+                setBitRange(mask, b * na + a0, b * na + a1);
+        }
     }
 
     /// Table mode (§5): the AND of the Hough-table masks of the backprojection's edges, taken
@@ -257,7 +305,7 @@ struct Setup {
     {
         const glm::dvec3& r = receiverInSource[std::size_t(j)];
         if (!occluder.clipPerSample) {
-            backprojectPolygon(occluder.vertices.data(), occluder.count, r, row);
+            backprojectPolygon(occluder.vertices.data(), occluder.count, r, row, parallel ? occluder.factor.data() : nullptr);
             return;
         }
         // Vertices at or beyond the receiver sample's own distance cannot lie on its segments.
@@ -266,19 +314,21 @@ struct Setup {
         std::copy_n(occluder.vertices.begin(), occluder.count, local.vertices.begin());
         clipPolygon(local, glm::dvec3(0, 0, -1), -r.z * (1.0 - double(1e-6f)));
         if (local.count >= 3)
-            backprojectPolygon(local.vertices.data(), local.count, r, row);
+            backprojectPolygon(local.vertices.data(), local.count, r, row, nullptr);
     }
 
     /// The backprojection from receiver point r (source coordinates) of a convex polygon whose
     /// vertices all lie in 0 < d < r.d, and the source samples inside it, row by row.
-    void backprojectPolygon(const glm::dvec3* vertices, int count, const glm::dvec3& r, std::uint64_t* mask) const
+    /// `factors` (may be null): each vertex's r.d / (r.d - d), precomputed for parallel patches.
+    void backprojectPolygon(const glm::dvec3* vertices, int count, const glm::dvec3& r, std::uint64_t* mask,
+                            const double* factors) const
     {
         // Backprojection onto the source plane, in source (s, t).
         std::array<double, ClippedPolygon::kMaxVertices> ps, pt;
         double tMin = 1e300, tMax = -1e300;
         for (int i = 0; i < count; ++i) {
             const glm::dvec3& x = vertices[i];
-            const double k = r.z / (r.z - x.z);
+            const double k = factors ? factors[i] : r.z / (r.z - x.z);
             ps[std::size_t(i)] = r.x + (x.x - r.x) * k;
             pt[std::size_t(i)] = r.y + (x.y - r.y) * k;
             tMin = std::min(tMin, pt[std::size_t(i)]);
@@ -292,6 +342,10 @@ struct Setup {
         sampleRange(tMin, tMax, nb, b0, b1);
         if (b0 > b1)
             return;
+        if (count == 3 && tMax > tMin) {
+            triangleRows(ps.data(), pt.data(), b0, b1, mask);
+            return;
+        }
         // Each row's line t = tb meets the convex polygon in one interval [lo, hi]. Walk every
         // edge over just the rows it spans (O(rows + edges), not O(rows x edges)).
         double lo[kMaxSourceSamples], hi[kMaxSourceSamples];
