@@ -49,11 +49,8 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
     std::uint64_t rays = 0, blocked = 0, smallTriangles = 0;
     for (unsigned seed = 1; seed <= 40; ++seed) {
         const RandomCase c = randomCase(seed);
-        try {
-            validatePatchPair(c.source, c.receiver);
-        } catch (const Error&) {
-            continue;
-        }
+        if (!c.valid())
+            continue;   // the generator made an invalid pair; refusal is tested separately
         ++checked;
         const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver);
         const CpuBitmaskSampler sampler(c.scene);

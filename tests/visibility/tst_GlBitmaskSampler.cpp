@@ -68,11 +68,8 @@ TEST_F(GlBitmask, AgreesWithBruteForceOnRandomScenes)
     int checked = 0;
     for (unsigned seed = 1; seed <= 24; ++seed) {
         const RandomCase c = randomCase(seed);
-        try {
-            validatePatchPair(c.source, c.receiver);
-        } catch (const Error&) {
-            continue;
-        }
+        if (!c.valid())
+            continue;   // the generator made an invalid pair; refusal is tested separately
         ++checked;
         const HiddenSampleMap map = sampler(c.scene).sample(c.source, c.receiver);
         const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver);

@@ -31,7 +31,6 @@ namespace sightline::gl {
     X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                                                       \
     X(PFNGLUSEPROGRAMPROC, UseProgram)                                                             \
     X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                             \
-    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                                 \
     X(PFNGLPROGRAMUNIFORM2IPROC, ProgramUniform2i)                                                 \
     X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                                 \
     X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                               \
