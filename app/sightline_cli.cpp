@@ -56,6 +56,7 @@ struct ShaftArgs {
     bool json = false;
     int threads = 0;
     bool singleRays = false;
+    bool scalar = false;
     int repeat = 1;
     std::string strategy = "auto";
     std::string glBackend = "osmesa";
@@ -119,6 +120,7 @@ int runShaft(const ShaftArgs& args)
         options.mode = args.mode == "table" ? MaskMode::Table : MaskMode::Exact;
         options.tableWidth = args.table[0];
         options.tableHeight = args.table[1];
+        options.simd = !args.scalar;
         options.strategy = args.strategy == "bitmask"   ? CpuStrategy::Bitmask
                            : args.strategy == "hybrid"  ? CpuStrategy::Hybrid
                            : args.strategy == "raycast" ? CpuStrategy::RayCast
@@ -133,7 +135,8 @@ int runShaft(const ShaftArgs& args)
                    : used == "raycast" ? std::string("raycast: embree-packets-16 (cheaper than the bitmask here)")
                                        : masks;
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
-                 {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"rays_cast", stats.raysCast},
+                 {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
+                 {"rays_cast", stats.raysCast},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway}};
     }
 
@@ -261,26 +264,35 @@ int runInfo(const std::string& path, bool asJson)
     return 0;
 }
 
+/// Writes `scene` as SCENE.glb and a project PROJECT.json looking through it.
+void writeDemoProject(const fs::path& folder, const std::string& sceneName, const std::string& projectName,
+                      const Scene& scene, const Patch& source, const Patch& receiver, const std::string& description)
+{
+    const fs::path sceneFile = folder / (sceneName + ".glb");
+    saveScene(scene, sceneFile);
+    Project project;
+    project.folder = fs::absolute(folder);
+    project.scene = sceneFile.filename().string();
+    project.source = source;
+    project.receiver = receiver;
+    project.extra["description"] = description;
+    const fs::path projectFile = folder / (projectName + ".json");
+    saveProject(project, projectFile);
+    std::printf("wrote %s (%zu triangles) and %s\n", sceneFile.c_str(), scene.triangleCount(), projectFile.c_str());
+}
+
 int runDemo(const std::string& folder)
 {
     std::error_code ec;
     fs::create_directories(folder, ec);
     if (ec)
         throw Error(folder + ": cannot create folder (" + ec.message() + ")");
-    const Scene level = demo::makeDemoLevel();
-    const fs::path levelFile = fs::path(folder) / "demo_level.glb";
-    saveScene(level, levelFile);
-
     const demo::DemoView view = demo::demoView();
-    Project project;
-    project.folder = fs::absolute(folder);
-    project.scene = "demo_level.glb";
-    project.source = view.source;
-    project.receiver = view.receiver;
-    project.extra["description"] = "Sightline demo: two patches looking through a doorway past plants and furniture";
-    const fs::path projectFile = fs::path(folder) / "demo.json";
-    saveProject(project, projectFile);
-    std::printf("wrote %s (%zu triangles) and %s\n", levelFile.c_str(), level.triangleCount(), projectFile.c_str());
+    writeDemoProject(folder, "demo_level", "demo", demo::makeDemoLevel(), view.source, view.receiver,
+                     "Sightline demo: two patches looking through a doorway past plants and furniture");
+    for (const demo::BenchScene& bench : {demo::makeFewOccludersScene(), demo::makeDenseMeshScene()})
+        writeDemoProject(folder, bench.name, bench.name, bench.scene, bench.source, bench.receiver,
+                         "Sightline benchmark scene '" + bench.name + "' (data/demo/DemoLevel.h)");
     return 0;
 }
 
@@ -304,6 +316,7 @@ int main(int argc, char** argv)
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
     shaftCmd->add_option("--threads", shaft.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
+    shaftCmd->add_flag("--scalar", shaft.scalar, "cpu: double precision everywhere, no SIMD kernel");
     shaftCmd->add_option("--strategy", shaft.strategy,
                          "cpu: auto, bitmask (every triangle backprojected), hybrid (small triangles ray cast) "
                          "or raycast (all rays)")
@@ -332,7 +345,7 @@ int main(int argc, char** argv)
     CLI::App* benchCmd = app.add_subcommand("bench", "Time every method against the raycast reference; CSV and chart");
     benchCmd->add_option("projects", benchArgs.settings.projects, "Project files")->required();
     benchCmd->add_option("--methods", benchArgs.methods,
-                         "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-table-WxH, gl")
+                         "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar (cpu without SIMD), cpu-table-WxH, gl")
         ->capture_default_str();
     benchCmd->add_option("--sources", benchArgs.settings.sourceCounts, "Source sample counts (1..1024)")
         ->delimiter(',')
@@ -350,7 +363,7 @@ int main(int argc, char** argv)
     benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error");
 
     std::string demoFolder;
-    CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level (demo_level.glb) and project (demo.json)");
+    CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json) and the benchmark scenes (few-occluders, dense-mesh)");
     demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
 
     try {

@@ -62,10 +62,10 @@ std::vector<std::string> parseMethods(const std::string& commaSeparated)
     std::stringstream in(commaSeparated);
     for (std::string name; std::getline(in, name, ',');) {
         int w, h;
-        if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "gl" &&
+        if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" &&
             !parseTable(name, w, h))
             throw Error("unknown bench method '" + name +
-                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-table-WxH, gl)");
+                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl)");
         out.push_back(name);
     }
     if (out.empty())
@@ -119,6 +119,8 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                             options.strategy = CpuStrategy::Bitmask;
                         else if (method == "cpu-hybrid")
                             options.strategy = CpuStrategy::Hybrid;
+                        else if (method == "cpu-scalar")
+                            options.simd = false;
                         else if (parseTable(method, w, h)) {
                             options.mode = MaskMode::Table;
                             options.tableWidth = w;

@@ -875,6 +875,68 @@ Scene makeDemoLevel()
     return std::move(level.scene);
 }
 
+namespace {
+
+/// The benchmark scenes' patches: the demo view's shapes, 10 m apart along +x.
+DemoView benchView()
+{
+    DemoView view = demoView();
+    view.source.corner = {0.0, 0.3, 5.5};
+    view.receiver.corner = {10.0, 0.2, 4.0};
+    return view;
+}
+
+} // namespace
+
+BenchScene makeFewOccludersScene()
+{
+    BenchScene out;
+    out.name = "few-occluders";
+    const DemoView view = benchView();
+    out.source = view.source;
+    out.receiver = view.receiver;
+    // A wall with a 0.9 m doorway at x = 3, four square pillars, a wall with a window at x = 8.
+    out.scene.addMeshInstance(wall("wall_door", {3.0f, 0.0f}, {3.0f, 10.0f}, {{4.55f, 5.45f, 0.0f, 2.1f}}));
+    out.scene.addMeshInstance(wall("wall_window", {8.0f, 0.0f}, {8.0f, 10.0f}, {{4.2f, 5.8f, 0.9f, 1.9f}}));
+    for (int k = 0; k < 4; ++k) {
+        Builder b("pillar_square");
+        const float x = 4.0f + 0.9f * float(k), z = k % 2 ? 4.6f : 5.3f;
+        box(b, {x - 0.15f, 0.0f, z - 0.15f}, {x + 0.15f, kCeiling, z + 0.15f});
+        out.scene.addMeshInstance(std::move(b.mesh));
+    }
+    return out;
+}
+
+BenchScene makeDenseMeshScene()
+{
+    BenchScene out;
+    out.name = "dense-mesh";
+    const DemoView view = benchView();
+    out.source = view.source;
+    out.receiver = view.receiver;
+    // A lumpy sphere (a scanned statue stand-in) of 2 x 130 x 266 = 69,160 triangles of about
+    // 2 cm, in the middle of the shaft: r = 0.75 (1 + 0.12 sin(5 theta) sin(7 phi)).
+    constexpr int kStacks = 131, kSlices = 266;
+    const glm::dvec3 centre(5.0, 1.2, 5.0);
+    auto point = [&](int i, int j) {
+        const glm::dvec2 polar = cosSin(0.5 * i / kStacks), around = cosSin(double(j) / kSlices);
+        const double lump = 1.0 + 0.12 * cosSin(2.5 * i / kStacks - 0.25).y * cosSin(7.0 * j / kSlices).y;
+        const double r = 0.75 * lump;
+        return vec3(centre + r * glm::dvec3(polar.y * around.x, polar.x, polar.y * around.y));
+    };
+    Builder b("statue", /*watertight=*/false);   // an imported mesh carries no watertight flag
+    for (int i = 0; i < kStacks; ++i)
+        for (int j = 0; j < kSlices; ++j) {
+            const vec3 p00 = point(i, j), p01 = point(i, j + 1), p10 = point(i + 1, j), p11 = point(i + 1, j + 1);
+            if (i > 0)
+                b.triangle(p00, p01, p11);
+            if (i + 1 < kStacks)
+                b.triangle(p00, p11, p10);
+        }
+    out.scene.addMeshInstance(std::move(b.mesh));
+    return out;
+}
+
 DemoView demoView()
 {
     DemoView view;

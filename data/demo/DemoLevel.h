@@ -43,6 +43,8 @@
 // flagged watertight are closed and outward oriented (CCW seen from outside); composite ones (a
 // chair) are unions of such closed parts that never share an edge.
 
+#include <string>
+
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
 
@@ -73,5 +75,20 @@ struct DemoView {
     Patch receiver;
 };
 DemoView demoView();
+
+/// Scenes for `sightline-cli bench` that bracket the demo: the same patch shapes 10 m apart
+/// (source at x = 0, receiver at x = 10), with
+///  - few-occluders: a wall with a 0.9 m doorway, four square pillars and a wall with a window
+///    (about 150 triangles, all of them large): the bitmask's best case;
+///  - dense-mesh: one lumpy sphere of 69k triangles about 2 cm across filling the middle of the
+///    shaft: ray casting's best case.
+struct BenchScene {
+    std::string name;
+    Scene scene;
+    Patch source;
+    Patch receiver;
+};
+BenchScene makeFewOccludersScene();
+BenchScene makeDenseMeshScene();
 
 } // namespace sightline::demo

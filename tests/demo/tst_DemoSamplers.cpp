@@ -50,3 +50,27 @@ TEST(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
     EXPECT_GT(narrowed.narrowedAway, 0u);
     EXPECT_LT(narrowed.pairs, plain.pairs);
 }
+
+TEST(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
+{
+    // Few large occluders: the bitmask's case. A dense mesh of tiny triangles filling the shaft:
+    // ray casting's case, which Auto must recognise (the bitmask would cost 2x there).
+    const demo::BenchScene few = demo::makeFewOccludersScene();
+    const demo::BenchScene dense = demo::makeDenseMeshScene();
+    EXPECT_LT(few.scene.triangleCount(), 200u);
+    EXPECT_GT(dense.scene.triangleCount(), 60000u);
+    for (const demo::BenchScene* bench : {&few, &dense}) {
+        EXPECT_NO_THROW(validatePatchPair(bench->source, bench->receiver)) << bench->name;
+        const HiddenSampleMap expected = RayCastScene(bench->scene).sample(bench->source, bench->receiver);
+        EXPECT_GT(expected.blockedCount(), expected.rayCount() / 10) << bench->name;
+        EXPECT_LT(expected.blockedCount(), expected.rayCount()) << bench->name;
+        const CpuBitmaskSampler sampler(bench->scene);
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(bench->source, bench->receiver, {}, &stats);
+        EXPECT_LE(map.differenceCount(expected) * 10000, map.rayCount()) << bench->name;
+        EXPECT_STREQ(stats.strategy, bench == &few ? "bitmask" : "raycast") << bench->name;
+        const HiddenSampleMap bitmask =
+            sampler.sample(bench->source, bench->receiver, {.strategy = CpuStrategy::Bitmask});
+        EXPECT_LE(bitmask.differenceCount(expected) * 10000, bitmask.rayCount()) << bench->name;
+    }
+}

@@ -46,7 +46,7 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
     // Non-parallel patches, grids from 1x1 to 12x12, tiny, medium and huge triangles, triangles
     // crossing both patch planes.
     int checked = 0;
-    std::uint64_t rays = 0, blocked = 0, smallTriangles = 0;
+    std::uint64_t rays = 0, blocked = 0, smallTriangles = 0, floatPairs = 0, pairs = 0;
     for (unsigned seed = 1; seed <= 40; ++seed) {
         const RandomCase c = randomCase(seed);
         if (!c.valid())
@@ -54,9 +54,15 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
         ++checked;
         const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver);
         const CpuBitmaskSampler sampler(c.scene);
-        const HiddenSampleMap map = sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask});
+        BitmaskStats bitmaskStats;
+        const HiddenSampleMap map = sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask}, &bitmaskStats);
         EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u)
             << "seed " << seed << ": " << map.blockedCount() << " vs " << reference.blocked.blockedCount();
+        floatPairs += bitmaskStats.floatPairs;
+        pairs += bitmaskStats.pairs;
+        // Double precision everywhere (the path for CPUs without AVX2).
+        const HiddenSampleMap scalar = sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask, .simd = false});
+        EXPECT_EQ(mismatchesOutsideGrazing(scalar, reference), 0u) << "scalar, seed " << seed;
         // Hybrid with a threshold that sends the tiny and some medium triangles to ray casting.
         BitmaskStats stats;
         const HiddenSampleMap hybrid =
@@ -72,6 +78,11 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
     EXPECT_GE(checked, 30);
     EXPECT_GT(blocked, rays / 10);
     EXPECT_GT(smallTriangles, 100u);   // the hybrid's ray pass was exercised
+    if (CpuBitmaskSampler::simdAvailable()) {
+        // Both kernels were exercised: well-conditioned occluders by SIMD, the rest in double.
+        EXPECT_GT(floatPairs, pairs / 4);
+        EXPECT_LT(floatPairs, pairs);
+    }
 }
 
 TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)

@@ -9,11 +9,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
+#include "BitmaskRows.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -38,6 +40,10 @@ struct Occluder {
     /// Parallel patches: every receiver sample has the same distance d_R, so each vertex's
     /// projection factor d_R / (d_R - d_X) is one number per occluder, not one per pair.
     std::array<double, ClippedPolygon::kMaxVertices> factor;
+    /// Well conditioned for the single-precision kernel (BitmaskRows.h); `single` holds the
+    /// vertices in float.
+    bool useFloat = false;
+    detail::FloatPolygon single;
 };
 
 /// Per tile, occluders are processed largest first; once they are smaller than this many source
@@ -53,9 +59,14 @@ struct SourceBox {
     bool empty() const { return sMin > sMax; }
 };
 
-/// Auto picks RayCast when estimated pairs exceed this many times the rays: on the demo, a pair
-/// costs about half a ray (36 ns against 72 ns wall time on 2 cores, 1024 source samples).
+/// Auto picks RayCast when estimated pairs exceed this many times the rays. Scalar kernel: on the
+/// demo a pair costs about half a ray (36 ns against 72 ns wall time on 2 cores, 1024 source
+/// samples). SIMD kernel, estimates against measured times (2 cores): demo at 128 sources, 12.7
+/// pairs per ray, Embree 14.0 ms, bitmask 20.6; at 256, 6.3 pairs per ray, 27.2 against 21.5;
+/// dense mesh, 9.9 pairs per ray, 62 against 137 ms. The crossover lies near 8; 6 leans towards
+/// ray casting, which is never slower than itself.
 constexpr double kPairsPerRay = 2.0;
+constexpr double kPairsPerRayFloat = 6.0;
 
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
 /// a ray pass cost more than they save).
@@ -102,6 +113,8 @@ struct Setup {
     bool parallel = false;                 // the receiver's distance from the source plane is constant
     double receiverDistance = 0.0;         // that distance, when parallel
     glm::dvec3 receiverCentre{0.0};        // in the source frame
+    bool floatKernel = false;              // the SIMD kernel may take well-conditioned occluders
+    std::vector<float> receiverS, receiverT, receiverD;   // receiverInSource in float
 
     Setup(const Patch& source, const Patch& receiver)
         : frames(source, receiver), S(source.sampleCount()), na(source.na), nb(source.nb), rna(receiver.na),
@@ -125,6 +138,11 @@ struct Setup {
         }
         parallel = maxReceiverDistance - minReceiverDistance <= 1e-12 * maxReceiverDistance;
         receiverDistance = receiverCentre.z;
+        for (const glm::dvec3& r : receiverInSource) {
+            receiverS.push_back(float(r.x));
+            receiverT.push_back(float(r.y));
+            receiverD.push_back(float(r.z));
+        }
     }
 
     /// Clips, then bounds the influence region (§3): the projections of the clipped polygon from
@@ -167,6 +185,16 @@ struct Setup {
             sampleRange(tMin - pad, tMax + pad, rnb, out.b0, out.b1);
         }
         out.clipPerSample = maxD >= minReceiverDistance * (1.0 - 1e-9);
+        // d_R / (d_R - d_X) <= kMaxFloatFactor for every receiver sample and vertex.
+        out.useFloat = floatKernel && maxD <= minReceiverDistance * (1.0 - 1.0 / detail::kMaxFloatFactor);
+        if (out.useFloat) {
+            out.single.count = out.count;
+            for (int i = 0; i < out.count; ++i) {
+                out.single.s[i] = float(out.vertices[std::size_t(i)].x);
+                out.single.t[i] = float(out.vertices[std::size_t(i)].y);
+                out.single.d[i] = float(out.vertices[std::size_t(i)].z);
+            }
+        }
         out.cells = whole || out.clipPerSample ? 1e300 : backprojectedCells(out);
         if (parallel)
             for (int i = 0; i < out.count; ++i)
@@ -393,6 +421,22 @@ bool rowFull(const std::uint64_t* row, int words, int S)
     return row[words - 1] == last;
 }
 
+} // namespace
+
+/// Buffers kept between calls: the editor samples ~20 times a second, and fresh multi-megabyte
+/// allocations cost page faults every time (measured: 40 ms of a 75 ms call on the demo).
+struct CpuBitmaskSampler::Workspace {
+    std::vector<std::vector<Occluder>> found;             // per chunk of triangles
+    std::vector<std::vector<std::uint32_t>> foundTriangle;
+    std::vector<const Occluder*> occluders;
+    std::vector<std::uint32_t> triangleOf;
+    std::vector<char> small;
+    std::vector<std::uint32_t> order;
+    std::vector<std::vector<std::uint32_t>> bins;
+};
+
+namespace {
+
 /// One sampling call, step by step. Holds references only; the map and stats are the caller's.
 struct Pass {
     const Setup& setup;
@@ -403,106 +447,192 @@ struct Pass {
     HiddenSampleMap& map;
     BitmaskStats& stats;
 
-    std::vector<Occluder> occluders;   // by triangle index
-    std::vector<char> kept;            // 0: out of the shaft or culled, 1: binned, 2: ray cast (hybrid)
+    CpuBitmaskSampler::Workspace& work;
+    // Views into the workspace:
+    std::vector<const Occluder*>& occluders = work.occluders;   // the triangles in the shaft, in triangle order
+    std::vector<std::uint32_t>& triangleOf = work.triangleOf;   // each occluder's triangle index
+    std::vector<char>& small = work.small;                      // per occluder: left to the hybrid's ray pass
 
     const glm::vec3* triangle(std::size_t t) const { return &triangles.vertices[3 * t]; }
 
-    /// Auto's cost model: pairs estimated from every 16th triangle against the rays.
+    /// Per instance: may watertight culling (§7) skip its front faces? Empty: no culling.
+    std::vector<char> cullableInstance{};
+    std::array<glm::dvec3, 4> sourceCorners{};
+
+    void init(std::vector<char> cullable)
+    {
+        cullableInstance = std::move(cullable);
+        for (int k = 0; k < 4; ++k)
+            sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+    }
+
+    /// Watertight culling (§7): a front face, seen from all four source corners, of a cullable
+    /// instance.
+    bool culled(std::size_t t) const
+    {
+        if (cullableInstance.empty() || !cullableInstance[triangles.instanceOf[t]])
+            return false;
+        const glm::dvec3 a(triangle(t)[0]), b(triangle(t)[1]), c(triangle(t)[2]);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        for (const glm::dvec3& corner : sourceCorners)
+            if (glm::dot(n, corner - a) <= 0.0)
+                return false;
+        return true;
+    }
+
+    /// Auto's cost model: (triangle, receiver sample) pairs, estimated from every 32nd triangle
+    /// that culling keeps, against the rays, each kind weighted by its measured cost.
     bool rayCastingIsCheaper() const
     {
-        constexpr std::size_t kStride = 16;
-        std::uint64_t pairEstimate = 0;
-        Occluder o;
-        for (std::size_t t = 0; t < triangles.size(); t += kStride)
-            if (setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], o))
-                pairEstimate += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
-        return double(pairEstimate) > kPairsPerRay * double(map.rayCount());
+        constexpr std::size_t kStride = 32;
+        const std::uint64_t pairEstimate = tbb::parallel_reduce(
+            tbb::blocked_range<std::size_t>(0, (triangles.size() + kStride - 1) / kStride, 64), std::uint64_t(0),
+            [&](const auto& range, std::uint64_t sum) {
+                Occluder o;
+                for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                    const std::size_t t = k * kStride;
+                    if (!culled(t) && setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], o))
+                        sum += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
+                }
+                return sum;
+            },
+            std::plus<>());
+        const double pairsPerRay = setup.floatKernel ? kPairsPerRayFloat : kPairsPerRay;
+        return double(pairEstimate) > pairsPerRay * double(map.rayCount());
     }
 
-    /// Clips and bounds every triangle (parallel) that culling (§7) does not remove.
-    void prepareAll(const std::vector<char>& cullableInstance)
+    /// Clips and bounds every triangle (parallel) that culling (§7) does not remove, and keeps
+    /// those in the shaft, in triangle order whatever the thread count.
+    void prepareAll()
     {
-        std::array<glm::dvec3, 4> corners;
-        for (int k = 0; k < 4; ++k)
-            corners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
-        auto frontFacingFromSource = [&](std::size_t t) {
-            const glm::dvec3 a(triangle(t)[0]), b(triangle(t)[1]), c(triangle(t)[2]);
-            const glm::dvec3 n = glm::cross(b - a, c - a);
-            for (const glm::dvec3& corner : corners)
-                if (glm::dot(n, corner - a) <= 0.0)
-                    return false;
-            return true;
-        };
-        occluders.resize(triangles.size());
-        kept.assign(triangles.size(), 0);
-        std::atomic<std::size_t> culled{0};
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, triangles.size(), 1024), [&](const auto& range) {
-            std::size_t rangeCulled = 0;
-            for (std::size_t t = range.begin(); t != range.end(); ++t) {
-                if (!cullableInstance.empty() && cullableInstance[triangles.instanceOf[t]] && frontFacingFromSource(t)) {
-                    ++rangeCulled;
+        constexpr std::size_t kChunk = 2048;
+        const std::size_t chunks = (triangles.size() + kChunk - 1) / kChunk;
+        auto& found = work.found;
+        auto& foundTriangle = work.foundTriangle;
+        if (found.size() < chunks) {
+            found.resize(chunks);
+            foundTriangle.resize(chunks);
+        }
+        std::atomic<std::size_t> culledCount{0};
+        tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t chunk) {
+            std::size_t chunkCulled = 0;
+            found[chunk].clear();
+            foundTriangle[chunk].clear();
+            for (std::size_t t = chunk * kChunk; t < std::min(triangles.size(), (chunk + 1) * kChunk); ++t) {
+                if (culled(t)) {
+                    ++chunkCulled;
                     continue;
                 }
-                kept[t] = setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], occluders[t]);
+                // Prepared in place: an Occluder is ~450 bytes, copies of it showed in profiles.
+                Occluder& o = found[chunk].emplace_back();
+                if (setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], o))
+                    foundTriangle[chunk].push_back(std::uint32_t(t));
+                else
+                    found[chunk].pop_back();
             }
-            culled += rangeCulled;
+            culledCount += chunkCulled;
         });
-        stats.culledFrontFaces = culled;
+        occluders.clear();
+        triangleOf.clear();
+        for (std::size_t chunk = 0; chunk < chunks; ++chunk) {
+            for (const Occluder& o : found[chunk])
+                occluders.push_back(&o);
+            triangleOf.insert(triangleOf.end(), foundTriangle[chunk].begin(), foundTriangle[chunk].end());
+        }
+        small.assign(occluders.size(), 0);
+        stats.culledFrontFaces = culledCount;
+        stats.trianglesInShaft = occluders.size();
     }
 
-    /// Hybrid: the small triangles leave the bitmask pass for the ray pass (kept = 2).
+    /// Hybrid: the small triangles leave the bitmask pass for the ray pass. Returns their
+    /// triangle indices.
     std::vector<std::uint32_t> takeSmall(CpuStrategy strategy)
     {
-        std::vector<std::uint32_t> small;
+        std::vector<std::uint32_t> smallTriangles;
         if (strategy != CpuStrategy::Bitmask)
-            for (std::size_t t = 0; t < triangles.size(); ++t)
-                if (kept[t] && occluders[t].cells < options.smallCells)
-                    small.push_back(std::uint32_t(t));
+            for (std::size_t i = 0; i < occluders.size(); ++i)
+                if (occluders[i]->cells < options.smallCells)
+                    smallTriangles.push_back(std::uint32_t(i));
+        // With the SIMD kernel, the plain bitmask beats the hybrid's ray pass (demo, 1024 sources:
+        // 26 against 45 ms), so Auto sends small triangles to ray casting only without it.
         const bool hybrid = strategy == CpuStrategy::Hybrid ||
-                            (strategy == CpuStrategy::Auto && small.size() >= kHybridMinSmallTriangles);
+                            (strategy == CpuStrategy::Auto && !setup.floatKernel &&
+                             smallTriangles.size() >= kHybridMinSmallTriangles);
         if (!hybrid)
-            small.clear();
-        for (std::uint32_t t : small)
-            kept[t] = 2;
+            smallTriangles.clear();
+        for (std::uint32_t& i : smallTriangles) {
+            small[i] = 1;
+            i = triangleOf[i];
+        }
         stats.strategy = hybrid ? "hybrid" : "bitmask";
-        stats.smallTriangles = small.size();
-        return small;
+        stats.smallTriangles = smallTriangles.size();
+        return smallTriangles;
     }
 
     int tilesA() const { return (receiver.na + kTile - 1) / kTile; }
 
-    /// Triangles per tile of receiver samples, largest first: they block the most, and what
-    /// they block narrows the shaft for the small ones that follow.
-    std::vector<std::vector<std::uint32_t>> bin()
+    /// Occluders per tile of receiver samples, largest first: they block the most, and what
+    /// they block narrows the shaft for the small ones that follow. One global sort, then
+    /// binning in that order, keeps every bin sorted.
+    const std::vector<std::vector<std::uint32_t>>& bin()
     {
+        std::vector<std::uint32_t>& order = work.order;
+        order.clear();
+        for (std::size_t i = 0; i < occluders.size(); ++i)
+            if (!small[i])
+                order.push_back(std::uint32_t(i));
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::uint32_t x, std::uint32_t y) { return occluders[x]->cells > occluders[y]->cells; });
         const int tilesB = (receiver.nb + kTile - 1) / kTile;
-        std::vector<std::vector<std::uint32_t>> bins(std::size_t(tilesA()) * std::size_t(tilesB));
-        for (std::size_t t = 0; t < triangles.size(); ++t) {
-            if (!kept[t])
-                continue;
-            ++stats.trianglesInShaft;
-            if (kept[t] == 2)
-                continue;
-            const Occluder& o = occluders[t];
+        std::vector<std::vector<std::uint32_t>>& bins = work.bins;
+        bins.resize(std::size_t(tilesA()) * std::size_t(tilesB));
+        for (auto& tileBin : bins)
+            tileBin.clear();
+        for (std::uint32_t i : order) {
+            const Occluder& o = *occluders[i];
             for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
                 for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
-                    bins[std::size_t(tb) * std::size_t(tilesA()) + std::size_t(ta)].push_back(std::uint32_t(t));
+                    bins[std::size_t(tb) * std::size_t(tilesA()) + std::size_t(ta)].push_back(i);
         }
-        tbb::parallel_for(std::size_t(0), bins.size(), [&](std::size_t b) {
-            std::stable_sort(bins[b].begin(), bins[b].end(),
-                             [&](std::uint32_t x, std::uint32_t y) { return occluders[x].cells > occluders[y].cells; });
-        });
         return bins;
+    }
+
+    /// The receiver samples of one tile as two groups of eight lanes for the SIMD kernel: rows
+    /// b0, b0 + 1 in the first, b0 + 2, b0 + 3 in the second, four columns each.
+    struct TileLanes {
+        detail::LaneGroup group[2];
+        std::array<std::uint64_t*, 16> rows{};   // null outside the grid
+        std::array<int, 16> sample{};            // receiver sample index, -1 outside the grid
+    };
+
+    TileLanes tileLanes(int a0, int b0) const
+    {
+        static_assert(kTile == 4 && detail::kLanes == 8, "two lane groups of 2 x 4 samples per tile");
+        TileLanes lanes;
+        for (int lane = 0; lane < 16; ++lane) {
+            const int a = a0 + lane % 4, b = b0 + lane / 4;
+            const bool inside = a < receiver.na && b < receiver.nb;
+            // Lanes outside the grid compute with the tile's first sample and never write.
+            const int j = inside ? b * receiver.na + a : b0 * receiver.na + a0;
+            detail::LaneGroup& g = lanes.group[lane / 8];
+            g.s[lane % 8] = setup.receiverS[std::size_t(j)];
+            g.t[lane % 8] = setup.receiverT[std::size_t(j)];
+            g.d[lane % 8] = setup.receiverD[std::size_t(j)];
+            lanes.sample[std::size_t(lane)] = inside ? j : -1;
+            lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
+        }
+        return lanes;
     }
 
     /// The bitmask pass (§2-5): tiles in parallel, each owning its receiver samples' rows.
     void bitmaskPass(const std::vector<std::vector<std::uint32_t>>& bins, bool narrow)
     {
-        std::atomic<std::uint64_t> narrowedAway{0}, pairs{0};
+        std::atomic<std::uint64_t> narrowedAway{0}, pairs{0}, floatPairs{0};
         const int words = map.wordsPerRow();
+        // Lanes whose rows are full are switched off; rechecked every this many float occluders.
+        constexpr int kFullRefresh = 32;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bins.size(), 1), [&](const auto& range) {
-            std::uint64_t tilePairs = 0, tileSkipped = 0;
+            std::uint64_t tilePairs = 0, tileFloatPairs = 0, tileSkipped = 0;
             for (std::size_t tile = range.begin(); tile != range.end(); ++tile) {
                 const int ta = int(tile % std::size_t(tilesA())), tb = int(tile / std::size_t(tilesA()));
                 const int a0 = ta * kTile, b0 = tb * kTile;
@@ -511,8 +641,13 @@ struct Pass {
                                                     (bEnd - 1) * receiver.na + a0, (bEnd - 1) * receiver.na + aEnd - 1};
                 SourceBox open;
                 int sinceNarrowed = -1;   // -1: not narrowed yet
+                TileLanes lanes;
+                if (setup.floatKernel)
+                    lanes = tileLanes(a0, b0);
+                unsigned full = 0;           // per lane: row already full
+                int sinceFullChecked = kFullRefresh;
                 for (std::uint32_t t : bins[tile]) {
-                    const Occluder& o = occluders[t];
+                    const Occluder& o = *occluders[t];
                     if (narrow && o.cells < kNarrowCells) {
                         if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
                             open = setup.unblockedBox(map, a0, aEnd - 1, b0, bEnd - 1);
@@ -526,6 +661,31 @@ struct Pass {
                             continue;
                         }
                     }
+                    if (o.useFloat) {
+                        if (++sinceFullChecked >= kFullRefresh) {
+                            full = 0;
+                            for (int lane = 0; lane < 16; ++lane)
+                                if (lanes.rows[std::size_t(lane)] && rowFull(lanes.rows[std::size_t(lane)], words, setup.S))
+                                    full |= 1u << lane;
+                            sinceFullChecked = 0;
+                        }
+                        for (int g = 0; g < 2; ++g) {
+                            const int rowLo = b0 + 2 * g;
+                            if (rowLo > o.b1 || rowLo + 1 < o.b0)
+                                continue;
+                            detail::LaneGroup& group = lanes.group[g];
+                            for (int l = 0; l < detail::kLanes; ++l) {
+                                const int lane = 8 * g + l;
+                                const int a = a0 + l % 4, b = rowLo + l / 4;
+                                const bool on = a >= o.a0 && a <= o.a1 && b >= o.b0 && b <= o.b1 && !(full >> lane & 1);
+                                group.rows[l] = on ? lanes.rows[std::size_t(lane)] : nullptr;
+                            }
+                            const int n = detail::backprojectRowsAvx2(o.single, group, setup.na, setup.nb);
+                            tilePairs += std::uint64_t(n);
+                            tileFloatPairs += std::uint64_t(n);
+                        }
+                        continue;
+                    }
                     for (int b = std::max(o.b0, b0); b <= std::min(o.b1, bEnd - 1); ++b)
                         for (int a = std::max(o.a0, a0); a <= std::min(o.a1, aEnd - 1); ++a) {
                             const int j = b * receiver.na + a;
@@ -538,18 +698,20 @@ struct Pass {
                 }
             }
             pairs += tilePairs;
+            floatPairs += tileFloatPairs;
             narrowedAway += tileSkipped;
         });
         stats.pairs = pairs;
+        stats.floatPairs = floatPairs;
         stats.narrowedAway = narrowedAway;
     }
 
     /// Hybrid: the still-unblocked rays against a BVH of the small triangles only.
-    void rayPass(const std::vector<std::uint32_t>& small)
+    void rayPass(const std::vector<std::uint32_t>& smallTriangles)
     {
         WorldTriangles subset;
-        subset.vertices.reserve(3 * small.size());
-        for (std::uint32_t t : small) {
+        subset.vertices.reserve(3 * smallTriangles.size());
+        for (std::uint32_t t : smallTriangles) {
             subset.vertices.insert(subset.vertices.end(), triangle(t), triangle(t) + 3);
             subset.instanceOf.push_back(triangles.instanceOf[t]);
         }
@@ -590,6 +752,28 @@ std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver) co
     return cullable;
 }
 
+CpuBitmaskSampler::~CpuBitmaskSampler() = default;
+
+bool CpuBitmaskSampler::simdAvailable() { return detail::floatRowsAvailable(); }
+
+std::unique_ptr<CpuBitmaskSampler::Workspace> CpuBitmaskSampler::takeWorkspace() const
+{
+    std::lock_guard lock(workspaceMutex_);
+    if (idleWorkspaces_.empty())
+        return std::make_unique<Workspace>();
+    std::unique_ptr<Workspace> work = std::move(idleWorkspaces_.back());
+    idleWorkspaces_.pop_back();
+    return work;
+}
+
+void CpuBitmaskSampler::returnWorkspace(std::unique_ptr<Workspace> work) const
+{
+    constexpr std::size_t kMaxIdle = 4;   // callers sampling concurrently
+    std::lock_guard lock(workspaceMutex_);
+    if (idleWorkspaces_.size() < kMaxIdle)
+        idleWorkspaces_.push_back(std::move(work));
+}
+
 std::shared_ptr<const RayCastScene> CpuBitmaskSampler::wholeSceneCaster() const
 {
     std::lock_guard lock(rayCasterMutex_);
@@ -622,11 +806,14 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
     const bool narrow = options.narrowShaft && exact;
     const CpuStrategy strategy = exact ? options.strategy : CpuStrategy::Bitmask;
 
+    std::unique_ptr<Workspace> work = takeWorkspace();
     auto body = [&] {
         Setup setup(source, receiver);
         setup.table = table.get();
-        Pass pass{setup, triangles_, source, receiver, options, map, local, {}, {}};
+        setup.floatKernel = exact && options.simd && source.na <= 32 && detail::floatRowsAvailable();
+        Pass pass{setup, triangles_, source, receiver, options, map, local, *work};
 
+        pass.init(options.watertightCulling ? cullableInstances(receiver) : std::vector<char>{});
         // Few source samples: ray casting everything is cheaper than the bitmask, whose cost
         // follows (triangle, receiver sample) pairs, not rays.
         if (strategy == CpuStrategy::RayCast || (strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper())) {
@@ -638,9 +825,9 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             local.rayMs = msSince(rayStart);
             return;
         }
-        pass.prepareAll(options.watertightCulling ? cullableInstances(receiver) : std::vector<char>{});
+        pass.prepareAll();
         const std::vector<std::uint32_t> small = pass.takeSmall(strategy);
-        const auto bins = pass.bin();
+        const auto& bins = pass.bin();
         local.setupMs = msSince(setupStart);
 
         const auto sampleStart = Clock::now();
@@ -658,6 +845,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
     } else {
         body();
     }
+    returnWorkspace(std::move(work));
     if (stats)
         *stats = local;
     return map;

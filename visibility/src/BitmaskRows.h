@@ -1,0 +1,50 @@
+#pragma once
+// Internal to the CPU bitmask sampler: the exact per-row backprojection kernel (§4-5) for eight
+// receiver samples at once, in single precision with AVX2.
+//
+// Each lane is one receiver sample. Per lane, the polygon's vertices are backprojected onto the
+// source plane (one division each), its edges give, per source-sample row, the interval of
+// columns inside, and the interval becomes a run of bits ((2 << last) - (1 << first) in 32-bit
+// lanes, so source grids up to 32 columns wide). The caller keeps the cases this kernel is not
+// accurate or general enough for on the double-precision scalar path:
+// - vertices close to a receiver sample's distance (the projection factor d_R / (d_R - d_X)
+//   amplifies float rounding; the sampler sends only occluders with factors <= kMaxFloatFactor);
+// - vertices at or beyond a receiver sample's distance (they need clipping per sample);
+// - source grids wider than 32 columns.
+
+#include <cstdint>
+
+namespace sightline::detail {
+
+/// Largest projection factor the float kernel accepts: the backprojection's rounding error is
+/// about this times the float epsilon of the source coordinates (16 * 6e-8 = 1e-6 of the patch).
+constexpr double kMaxFloatFactor = 16.0;
+
+constexpr int kLanes = 8;
+constexpr int kMaxPolygon = 8;
+
+/// A convex polygon in source coordinates (s, t, d), every vertex strictly closer to the source
+/// plane than any receiver sample of the lanes.
+struct FloatPolygon {
+    int count = 0;
+    alignas(32) float s[kMaxPolygon];
+    float t[kMaxPolygon];
+    float d[kMaxPolygon];
+};
+
+/// Up to eight receiver samples in source coordinates and their rows in the hidden-samples map.
+struct LaneGroup {
+    alignas(32) float s[kLanes];
+    alignas(32) float t[kLanes];
+    alignas(32) float d[kLanes];
+    std::uint64_t* rows[kLanes] = {};   ///< null: lane inactive
+};
+
+/// Whether this CPU runs the AVX2 kernel.
+bool floatRowsAvailable();
+
+/// ORs into each active lane's row the source samples of the na x nb grid (na <= 32) inside the
+/// polygon's backprojection from that lane's receiver sample. Returns the number of active lanes.
+int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, int na, int nb);
+
+} // namespace sightline::detail
