@@ -154,8 +154,9 @@ TEST(CpuBitmaskSampler, WatertightCullingNeverChangesTheAnswer)
             source, receiver, {.strategy = CpuStrategy::Bitmask, .watertightCulling = false}, &plainStats);
         EXPECT_EQ(culled, plain) << "seed " << seed;
         // Each box lies wholly in front of the source, so at least its face towards the source
-        // (2 triangles) faces all four source corners; side faces usually do not.
-        EXPECT_GE(culledStats.culledFrontFaces, 40u * 2u) << "seed " << seed;
+        // (2 triangles) faces all four source corners; boxes wholly outside the shaft's hull are
+        // dropped before culling (about a quarter here).
+        EXPECT_GE(culledStats.culledFrontFaces, 40u) << "seed " << seed;
         EXPECT_EQ(plainStats.culledFrontFaces, 0u);
         EXPECT_LT(culledStats.pairs, plainStats.pairs);
         const HiddenSampleMap reference = RayCastScene(scene).sample(source, receiver);

@@ -459,11 +459,26 @@ struct Pass {
     std::vector<char> cullableInstance{};
     std::array<glm::dvec3, 4> sourceCorners{};
 
-    void init(std::vector<char> cullable)
+    /// Per instance: bounds wholly outside the shaft's hull. Empty: unknown.
+    std::vector<char> instanceOutside{};
+    const ShaftHull* hull = nullptr;
+
+    void init(std::vector<char> cullable, std::vector<char> outside, const ShaftHull& shaftHull)
     {
         cullableInstance = std::move(cullable);
+        instanceOutside = std::move(outside);
+        hull = &shaftHull;
         for (int k = 0; k < 4; ++k)
             sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+    }
+
+    /// Hierarchical shaft culling: the instance's bounds, then the triangle, against the hull
+    /// (before any clipping).
+    bool outsideShaft(std::size_t t) const
+    {
+        if (!instanceOutside.empty() && instanceOutside[triangles.instanceOf[t]])
+            return true;
+        return hull->excludes(triangle(t)[0], triangle(t)[1], triangle(t)[2]);
     }
 
     /// Watertight culling (§7): a front face, seen from all four source corners, of a cullable
@@ -491,7 +506,7 @@ struct Pass {
                 Occluder o;
                 for (std::size_t k = range.begin(); k != range.end(); ++k) {
                     const std::size_t t = k * kStride;
-                    if (!culled(t) && setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], o))
+                    if (!outsideShaft(t) && !culled(t) && setup.prepare(triangle(t)[0], triangle(t)[1], triangle(t)[2], o))
                         sum += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
                 }
                 return sum;
@@ -519,6 +534,8 @@ struct Pass {
             found[chunk].clear();
             foundTriangle[chunk].clear();
             for (std::size_t t = chunk * kChunk; t < std::min(triangles.size(), (chunk + 1) * kChunk); ++t) {
+                if (outsideShaft(t))
+                    continue;
                 if (culled(t)) {
                     ++chunkCulled;
                     continue;
@@ -813,7 +830,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         setup.floatKernel = exact && options.simd && source.na <= 32 && detail::floatRowsAvailable();
         Pass pass{setup, triangles_, source, receiver, options, map, local, *work};
 
-        pass.init(options.watertightCulling ? cullableInstances(receiver) : std::vector<char>{});
+        const ShaftHull hull(source, receiver);
+        std::vector<char> instanceOutside(instances_.size());
+        for (std::size_t i = 0; i < instances_.size(); ++i)
+            instanceOutside[i] = hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
+        pass.init(options.watertightCulling ? cullableInstances(receiver) : std::vector<char>{}, std::move(instanceOutside),
+                  hull);
         // Few source samples: ray casting everything is cheaper than the bitmask, whose cost
         // follows (triangle, receiver sample) pairs, not rays.
         if (strategy == CpuStrategy::RayCast || (strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper())) {

@@ -1,7 +1,9 @@
 #include "visibility/ShaftGeometry.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
+#include <cmath>
 
 #include <glm/geometric.hpp>
 
@@ -66,6 +68,73 @@ ClippedPolygon ShaftFrames::clipToSlab(const glm::vec3& a, const glm::vec3& b, c
     if (polygon.count)
         clipPolygon(polygon, receiver.dAxis, glm::dot(receiver.origin, receiver.dAxis) + receiverMargin);
     return polygon;
+}
+
+ShaftHull::ShaftHull(const Patch& source, const Patch& receiver)
+{
+    std::array<glm::dvec3, 8> corners;
+    for (int k = 0; k < 4; ++k) {
+        corners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+        corners[std::size_t(k + 4)] = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+    }
+    double scale = 0.0;
+    for (const glm::dvec3& c : corners)
+        scale = std::max(scale, glm::length(c - corners[0]));
+    const double flat = 1e-9 * scale;
+    tolerance_ = 1e-5 * scale;   // a far larger margin than any rounding in the samplers
+    // Every plane through three corners with all eight on one side is a face plane of the hull
+    // (56 triples: cheap, and no hull algorithm to get wrong).
+    for (int i = 0; i < 8; ++i)
+        for (int j = i + 1; j < 8; ++j)
+            for (int k = j + 1; k < 8; ++k) {
+                glm::dvec3 n = glm::cross(corners[std::size_t(j)] - corners[std::size_t(i)],
+                                          corners[std::size_t(k)] - corners[std::size_t(i)]);
+                const double length = glm::length(n);
+                if (length <= 1e-12 * scale * scale)
+                    continue;   // collinear corners
+                n /= length;
+                double lo = 1e300, hi = -1e300;
+                for (const glm::dvec3& c : corners) {
+                    const double d = glm::dot(n, c - corners[std::size_t(i)]);
+                    lo = std::min(lo, d), hi = std::max(hi, d);
+                }
+                if (hi > flat && lo < -flat)
+                    continue;   // corners on both sides: not a face
+                if (hi > flat)
+                    n = -n;
+                const double offset = glm::dot(n, corners[std::size_t(i)]);
+                const bool known = std::any_of(planes_.begin(), planes_.end(), [&](const Plane& p) {
+                    return glm::dot(p.normal, n) > 1.0 - 1e-12 && std::abs(p.offset - offset) <= flat;
+                });
+                if (!known)
+                    planes_.push_back({n, offset});
+            }
+}
+
+bool ShaftHull::excludes(const glm::dvec3* points, int count) const
+{
+    for (const Plane& p : planes_) {
+        bool allOutside = true;
+        for (int i = 0; i < count && allOutside; ++i)
+            allOutside = glm::dot(p.normal, points[i]) > p.offset + tolerance_;
+        if (allOutside)
+            return true;
+    }
+    return false;
+}
+
+bool ShaftHull::excludes(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const
+{
+    const glm::dvec3 points[3] = {glm::dvec3(a), glm::dvec3(b), glm::dvec3(c)};
+    return excludes(points, 3);
+}
+
+bool ShaftHull::excludesBox(const glm::vec3& lo, const glm::vec3& hi) const
+{
+    glm::dvec3 points[8];
+    for (int k = 0; k < 8; ++k)
+        points[k] = glm::dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+    return excludes(points, 8);
 }
 
 } // namespace sightline

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -61,6 +62,31 @@ struct ShaftFrames {
 
     /// The triangle clipped to the slab, in world coordinates. Empty (count 0) if nothing remains.
     ClippedPolygon clipToSlab(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const;
+};
+
+/// The shaft's convex hull (of the two patches' eight corners) as planes, for culling whole
+/// instances by their bounds and triangles by their vertices before any clipping: every segment
+/// between the patches lies inside it. On the demo, 83k triangles of which 12k meet the shaft.
+class ShaftHull {
+public:
+    ShaftHull(const Patch& source, const Patch& receiver);
+
+    /// True when all points lie outside one hull plane by more than a tolerance far above
+    /// rounding, so nothing they span can meet a segment of the shaft.
+    bool excludes(const glm::dvec3* points, int count) const;
+    bool excludes(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const;
+    /// The box [lo, hi].
+    bool excludesBox(const glm::vec3& lo, const glm::vec3& hi) const;
+
+    std::size_t planeCount() const { return planes_.size(); }
+
+private:
+    struct Plane {
+        glm::dvec3 normal;   ///< unit, outward
+        double offset;       ///< inside: dot(normal, x) <= offset
+    };
+    std::vector<Plane> planes_;
+    double tolerance_ = 0.0;
 };
 
 } // namespace sightline

@@ -1,0 +1,45 @@
+// The shaft's hull: every point of every patch-to-patch segment is inside; far points are not.
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "TestScenes.h"
+#include "visibility/ShaftGeometry.h"
+
+using namespace sightline;
+using namespace sightline::test;
+
+TEST(ShaftHull, BoxBetweenFacingSquaresHasSixFaces)
+{
+    const ShaftHull hull(xyPatch(0, 4, 4), xyPatch(2, 4, 4));
+    EXPECT_EQ(hull.planeCount(), 6u);
+    EXPECT_FALSE(hull.excludesBox({0.2f, 0.2f, 0.5f}, {0.4f, 0.4f, 0.6f}));
+    EXPECT_TRUE(hull.excludesBox({1.5f, 0.0f, 0.5f}, {2.0f, 1.0f, 1.5f}));     // beside the shaft
+    EXPECT_TRUE(hull.excludes({0.5f, 0.5f, -1.0f}, {0.6f, 0.5f, -1.0f}, {0.5f, 0.6f, -0.5f}));   // behind the source
+    EXPECT_FALSE(hull.excludes({-5.0f, 0.5f, 1.0f}, {5.0f, 0.5f, 1.0f}, {0.0f, 0.6f, 1.0f}));    // across it
+}
+
+TEST(ShaftHull, NeverExcludesAPointOnASegment)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    int checked = 0;
+    for (unsigned seed = 1; seed <= 40; ++seed) {
+        const RandomCase c = randomCase(seed);
+        if (!c.valid())
+            continue;
+        ++checked;
+        const ShaftHull hull(c.source, c.receiver);
+        EXPECT_GE(hull.planeCount(), 5u);
+        for (int k = 0; k < 500; ++k) {
+            const glm::dvec3 s = c.source.corner + unit(rng) * c.source.u + unit(rng) * c.source.v;
+            const glm::dvec3 r = c.receiver.corner + unit(rng) * c.receiver.u + unit(rng) * c.receiver.v;
+            const glm::dvec3 p = s + unit(rng) * (r - s);
+            ASSERT_FALSE(hull.excludes(&p, 1)) << "seed " << seed;
+            // Well beyond the source, away from the receiver, is outside.
+            const glm::dvec3 behind = s + 2.0 * (s - r);
+            ASSERT_TRUE(hull.excludes(&behind, 1)) << "seed " << seed;
+        }
+    }
+    EXPECT_GE(checked, 30);
+}
