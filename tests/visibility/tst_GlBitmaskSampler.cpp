@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "BruteForceCaster.h"
+#include "GlContextTest.h"
 #include "TestScenes.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
@@ -18,27 +19,9 @@ using namespace sightline::test;
 
 namespace {
 
-class GlBitmask : public ::testing::Test {
+class GlBitmask : public GlContextTest {
 protected:
-    static void SetUpTestSuite()
-    {
-        try {
-            context = gl::HeadlessContext::create(gl::Backend::OSMesa);
-        } catch (const Error& e) {
-            reason = e.what();
-        }
-    }
-    static void TearDownTestSuite() { context.reset(); }
-    void SetUp() override
-    {
-        if (!context)
-            GTEST_SKIP() << "no OpenGL 4.5 core context: " << reason;
-        context->makeCurrent();
-    }
     static GlBitmaskSampler sampler(const Scene& scene) { return GlBitmaskSampler(context->functions(), worldTriangles(scene)); }
-
-    static inline std::unique_ptr<gl::HeadlessContext> context;
-    static inline std::string reason;
 };
 
 } // namespace

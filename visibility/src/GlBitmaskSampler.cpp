@@ -11,6 +11,7 @@
 
 #include "visibility/Error.h"
 #include "visibility/ShaftGeometry.h"
+#include "gl/GlShaders.h"
 
 namespace sightline {
 
@@ -196,31 +197,6 @@ std::string fragmentSource(int targets)
     return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n" + declarations + kClipFunction + body;
 }
 
-std::string oneLine(std::string log)
-{
-    std::replace(log.begin(), log.end(), '\n', ' ');
-    while (!log.empty() && log.back() == ' ')
-        log.pop_back();
-    return log.substr(0, 400);
-}
-
-GLuint compile(const gl::Functions& gl, GLenum type, const std::string& source, const char* what)
-{
-    const GLuint shader = gl.CreateShader(type);
-    const char* text = source.c_str();
-    gl.ShaderSource(shader, 1, &text, nullptr);
-    gl.CompileShader(shader);
-    GLint ok = 0;
-    gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096] = {};
-        gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
-        gl.DeleteShader(shader);
-        throw Error(std::string("GL bitmask sampler: ") + what + " shader does not compile: " + oneLine(log));
-    }
-    return shader;
-}
-
 glm::vec4 affineRow(const glm::dvec3& axis, const glm::dvec3& origin)
 {
     return glm::vec4(glm::vec3(axis), float(-glm::dot(axis, origin)));
@@ -253,26 +229,11 @@ struct GlBitmaskSampler::Impl {
     {
         if (programs[targets])
             return programs[targets];
-        const GLuint vs = compile(gl, GL_VERTEX_SHADER, kVertexShader, "vertex");
-        const GLuint gs = compile(gl, GL_GEOMETRY_SHADER, std::string("#version 450 core\n") + kClipFunction + kGeometryShader,
-                                  "geometry");
-        const GLuint fs = compile(gl, GL_FRAGMENT_SHADER, fragmentSource(targets), "fragment");
-        const GLuint p = gl.CreateProgram();
-        gl.AttachShader(p, vs);
-        gl.AttachShader(p, gs);
-        gl.AttachShader(p, fs);
-        gl.LinkProgram(p);
-        gl.DeleteShader(vs);
-        gl.DeleteShader(gs);
-        gl.DeleteShader(fs);
-        GLint ok = 0;
-        gl.GetProgramiv(p, GL_LINK_STATUS, &ok);
-        if (!ok) {
-            char log[4096] = {};
-            gl.GetProgramInfoLog(p, sizeof log, nullptr, log);
-            gl.DeleteProgram(p);
-            throw Error("GL bitmask sampler: program does not link: " + oneLine(log));
-        }
+        const GLuint p = gl::buildProgram(gl,
+                                          {{GL_VERTEX_SHADER, kVertexShader},
+                                           {GL_GEOMETRY_SHADER, std::string("#version 450 core\n") + kClipFunction + kGeometryShader},
+                                           {GL_FRAGMENT_SHADER, fragmentSource(targets)}},
+                                          "GL bitmask sampler");
         return programs[targets] = p;
     }
 

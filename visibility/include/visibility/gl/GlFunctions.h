@@ -62,7 +62,17 @@ namespace sightline::gl {
     X(PFNGLLOGICOPPROC, LogicOp)                                                                   \
     X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                             \
     X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
-    X(PFNGLFINISHPROC, Finish)
+    X(PFNGLFINISHPROC, Finish)                                                                     \
+    X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                                   \
+    X(PFNGLSTENCILFUNCPROC, StencilFunc)                                                           \
+    X(PFNGLSTENCILOPPROC, StencilOp)                                                               \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                                               \
+    X(PFNGLCLEARNAMEDFRAMEBUFFERFVPROC, ClearNamedFramebufferfv)                                   \
+    X(PFNGLCLEARNAMEDFRAMEBUFFERFIPROC, ClearNamedFramebufferfi)                                   \
+    X(PFNGLCREATERENDERBUFFERSPROC, CreateRenderbuffers)                                           \
+    X(PFNGLNAMEDRENDERBUFFERSTORAGEPROC, NamedRenderbufferStorage)                                 \
+    X(PFNGLNAMEDFRAMEBUFFERRENDERBUFFERPROC, NamedFramebufferRenderbuffer)                         \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)
 
 using GetProcAddress = void* (*)(const char* name);
 

@@ -1,0 +1,70 @@
+#include "GlShaders.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "visibility/Error.h"
+
+namespace sightline::gl {
+
+namespace {
+
+std::string oneLine(std::string log)
+{
+    std::replace(log.begin(), log.end(), '\n', ' ');
+    while (!log.empty() && log.back() == ' ')
+        log.pop_back();
+    return log.substr(0, 400);
+}
+
+const char* stageName(GLenum stage)
+{
+    switch (stage) {
+    case GL_VERTEX_SHADER: return "vertex";
+    case GL_GEOMETRY_SHADER: return "geometry";
+    case GL_FRAGMENT_SHADER: return "fragment";
+    default: return "compute";
+    }
+}
+
+} // namespace
+
+GLuint buildProgram(const Functions& gl, std::initializer_list<std::pair<GLenum, std::string>> stages, const std::string& what)
+{
+    std::vector<GLuint> shaders;
+    auto deleteShaders = [&] {
+        for (GLuint s : shaders)
+            gl.DeleteShader(s);
+    };
+    for (const auto& [stage, source] : stages) {
+        const GLuint shader = gl.CreateShader(stage);
+        shaders.push_back(shader);
+        const char* text = source.c_str();
+        gl.ShaderSource(shader, 1, &text, nullptr);
+        gl.CompileShader(shader);
+        GLint ok = 0;
+        gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+        if (!ok) {
+            char log[4096] = {};
+            gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
+            deleteShaders();
+            throw Error(what + ": " + stageName(stage) + " shader does not compile: " + oneLine(log));
+        }
+    }
+    const GLuint program = gl.CreateProgram();
+    for (GLuint s : shaders)
+        gl.AttachShader(program, s);
+    gl.LinkProgram(program);
+    deleteShaders();
+    GLint ok = 0;
+    gl.GetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[4096] = {};
+        gl.GetProgramInfoLog(program, sizeof log, nullptr, log);
+        gl.DeleteProgram(program);
+        throw Error(what + ": program does not link: " + oneLine(log));
+    }
+    return program;
+}
+
+} // namespace sightline::gl
