@@ -12,6 +12,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numeric>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -28,6 +30,7 @@
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/GlBitmaskSampler.h"
+#include "visibility/HeckbertHerfSampler.h"
 #include "visibility/gl/HeadlessContext.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
@@ -93,10 +96,25 @@ int runShaft(const ShaftArgs& args)
     printWarnings(warnings);
 
     HiddenSampleMap map;
+    std::optional<std::uint64_t> countedBlocked;   // hh: counts only, no map
     double ms = 0.0, setupMs = 0.0;
     std::string strategy;
     json split = json::object();   // method-specific time split and counts
-    if (args.method == "raycast") {
+    if (args.method == "hh") {
+        if (!args.mask.empty())
+            throw Error("--mask: method hh (Heckbert-Herf) counts blocked rays per receiver sample but not which; "
+                        "use gl, cpu or raycast for a mask");
+        const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
+        HeckbertHerfSampler sampler(context->functions(), worldTriangles(scene));
+        HeckbertHerfStats stats;
+        std::vector<std::uint32_t> counts;
+        ms = timeSampling(args.repeat, [&] { counts = sampler.blockedCounts(project.source, project.receiver, &stats); });
+        countedBlocked = std::accumulate(counts.begin(), counts.end(), std::uint64_t(0));
+        setupMs = stats.setupMs;
+        strategy = "heckbert-herf: one render per source sample (" + args.glBackend + ": " + context->renderer() + ")";
+        split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}, {"triangles_drawn", stats.trianglesDrawn},
+                 {"renders", project.source.sampleCount()}};
+    } else if (args.method == "raycast") {
         const RayCastScene rayCaster(scene);
         RayCastOptions options;
         options.packets = !args.singleRays;
@@ -143,8 +161,8 @@ int runShaft(const ShaftArgs& args)
     if (!args.mask.empty())
         writeMaskNpy(map, args.mask);
 
-    const std::uint64_t rays = map.rayCount();
-    const std::uint64_t blocked = map.blockedCount();
+    const std::uint64_t rays = std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount());
+    const std::uint64_t blocked = countedBlocked ? *countedBlocked : map.blockedCount();
     const double visible = rays ? double(rays - blocked) / double(rays) : 0.0;
     const int threads = args.threads > 0 ? args.threads : int(std::thread::hardware_concurrency());
     if (args.json) {
@@ -309,8 +327,10 @@ int main(int argc, char** argv)
     ShaftArgs shaft;
     CLI::App* shaftCmd = app.add_subcommand("shaft", "Compute the hidden-samples map between the project's patches");
     shaftCmd->add_option("project", shaft.project, "Project file (JSON, DESIGN.md §3)")->required();
-    shaftCmd->add_option("--method", shaft.method, "Sampler: raycast (Embree reference), cpu (exact bitmask, CPU), gl (exact bitmask, OpenGL 4.5)")
-        ->check(CLI::IsMember({"raycast", "cpu", "gl"}))
+    shaftCmd->add_option("--method", shaft.method,
+                         "Sampler: raycast (Embree reference), cpu (exact bitmask, CPU), gl (exact bitmask, OpenGL 4.5), "
+                         "hh (Heckbert-Herf baseline, counts only: no --mask)")
+        ->check(CLI::IsMember({"raycast", "cpu", "gl", "hh"}))
         ->capture_default_str();
     shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)");
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
@@ -329,7 +349,7 @@ int main(int argc, char** argv)
         ->expected(2)
         ->check(CLI::Range(4, 8192))
         ->capture_default_str();
-    shaftCmd->add_option("--gl-backend", shaft.glBackend, "gl: headless context, osmesa (software) or egl (GPU)")
+    shaftCmd->add_option("--gl-backend", shaft.glBackend, "gl, hh: headless context, osmesa (software) or egl (GPU)")
         ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
     shaftCmd->add_option("--repeat", shaft.repeat, "Time N runs after one warm-up run and report the median ms")
@@ -345,7 +365,8 @@ int main(int argc, char** argv)
     CLI::App* benchCmd = app.add_subcommand("bench", "Time every method against the raycast reference; CSV and chart");
     benchCmd->add_option("projects", benchArgs.settings.projects, "Project files")->required();
     benchCmd->add_option("--methods", benchArgs.methods,
-                         "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar (cpu without SIMD), cpu-table-WxH, gl")
+                         "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar (cpu without SIMD), cpu-table-WxH, gl, "
+                         "hh (Heckbert-Herf, counts only)")
         ->capture_default_str();
     benchCmd->add_option("--sources", benchArgs.settings.sourceCounts, "Source sample counts (1..1024)")
         ->delimiter(',')

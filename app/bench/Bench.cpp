@@ -1,6 +1,7 @@
 #include "bench/Bench.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <memory>
@@ -12,6 +13,7 @@
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/GlBitmaskSampler.h"
+#include "visibility/HeckbertHerfSampler.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/gl/HeadlessContext.h"
 
@@ -62,10 +64,10 @@ std::vector<std::string> parseMethods(const std::string& commaSeparated)
     std::stringstream in(commaSeparated);
     for (std::string name; std::getline(in, name, ',');) {
         int w, h;
-        if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" &&
+        if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" && name != "hh" &&
             !parseTable(name, w, h))
             throw Error("unknown bench method '" + name +
-                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl)");
+                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl, hh)");
         out.push_back(name);
     }
     if (out.empty())
@@ -91,6 +93,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
         const RayCastScene reference(scene);
         const CpuBitmaskSampler cpu(scene);
         std::unique_ptr<GlBitmaskSampler> gpu;
+        std::unique_ptr<HeckbertHerfSampler> heckbertHerf;
         for (int count : settings.sourceCounts) {
             if (count < 1 || count > kMaxSourceSamples)
                 throw Error("bench: source sample count " + std::to_string(count) + " is outside [1, 1024]");
@@ -102,6 +105,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 const HiddenSampleMap truth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
                 for (const std::string& method : settings.methods) {
                     HiddenSampleMap map;
+                    std::vector<std::uint32_t> counts;   // hh: blocked source samples per receiver sample
                     std::function<void()> evaluate;
                     int w = 0, h = 0;
                     if (method == "raycast") {
@@ -112,6 +116,12 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                         if (!gpu)
                             gpu = std::make_unique<GlBitmaskSampler>(context->functions(), worldTriangles(scene));
                         evaluate = [&] { map = gpu->sample(source, receiver); };
+                    } else if (method == "hh") {
+                        if (!context)
+                            context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                        if (!heckbertHerf)
+                            heckbertHerf = std::make_unique<HeckbertHerfSampler>(context->functions(), worldTriangles(scene));
+                        evaluate = [&] { counts = heckbertHerf->blockedCounts(source, receiver); };
                     } else {
                         BitmaskOptions options;
                         options.threads = settings.threads;
@@ -134,13 +144,27 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     row.sourceSamples = count;
                     row.receiverSide = side;
                     row.ms = medianMs(settings.repeat, evaluate);
-                    row.rays = map.rayCount();
-                    row.blocked = map.blockedCount();
-                    for (int j = 0; j < map.receiverCount(); ++j) {
-                        const std::span<const std::uint64_t> mine = std::as_const(map).row(j), theirs = truth.row(j);
-                        for (std::size_t k = 0; k < mine.size(); ++k) {
-                            row.wronglyBlocked += std::uint64_t(std::popcount(mine[k] & ~theirs[k]));
-                            row.wronglyFree += std::uint64_t(std::popcount(~mine[k] & theirs[k]));
+                    row.rays = truth.rayCount();
+                    if (method == "hh") {
+                        // Counts only: per receiver sample, the excess or shortfall of blocked
+                        // rays (a lower bound on the rays in error).
+                        for (int j = 0; j < truth.receiverCount(); ++j) {
+                            std::int64_t expected = 0;
+                            for (std::uint64_t word : truth.row(j))
+                                expected += std::popcount(word);
+                            const std::int64_t got = counts[std::size_t(j)];
+                            row.blocked += std::uint64_t(got);
+                            row.wronglyBlocked += std::uint64_t(std::max<std::int64_t>(0, got - expected));
+                            row.wronglyFree += std::uint64_t(std::max<std::int64_t>(0, expected - got));
+                        }
+                    } else {
+                        row.blocked = map.blockedCount();
+                        for (int j = 0; j < map.receiverCount(); ++j) {
+                            const std::span<const std::uint64_t> mine = std::as_const(map).row(j), theirs = truth.row(j);
+                            for (std::size_t k = 0; k < mine.size(); ++k) {
+                                row.wronglyBlocked += std::uint64_t(std::popcount(mine[k] & ~theirs[k]));
+                                row.wronglyFree += std::uint64_t(std::popcount(~mine[k] & theirs[k]));
+                            }
                         }
                     }
                     rows.push_back(row);

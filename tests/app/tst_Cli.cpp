@@ -152,6 +152,30 @@ TEST_F(Cli, GlMethodAgreesWithRaycast)
     EXPECT_LE(a.differenceCount(b) * 10000, a.rayCount());
 }
 
+TEST_F(Cli, HeckbertHerfCountsAgreeWithRaycastAndRefuseMasks)
+{
+    const std::string project = (folder / "p.json").string();
+    const CliRun hh = runCli("shaft " + project + " --method hh --json");
+    if (hh.code != 0 && hh.err.find("OSMesa") != std::string::npos)
+        GTEST_SKIP() << "no OpenGL context: " << hh.err;
+    ASSERT_EQ(hh.code, 0) << hh.err;
+    const CliRun ray = runCli("shaft " + project + " --json");
+    ASSERT_EQ(ray.code, 0) << ray.err;
+    const json a = json::parse(hh.out), b = json::parse(ray.out);
+    EXPECT_EQ(a["method"], "hh");
+    EXPECT_EQ(a["rays"], b["rays"]);
+    EXPECT_EQ(a["renders"], 128);   // one per source sample
+    const double blocked = a["blocked"].get<double>(), expected = b["blocked"].get<double>();
+    EXPECT_GT(expected, 0.0);
+    EXPECT_LE(std::abs(blocked - expected), 1e-3 * b["rays"].get<double>());
+
+    const CliRun mask = runCli("shaft " + project + " --method hh --mask " + (folder / "hh.npy").string());
+    EXPECT_NE(mask.code, 0);
+    EXPECT_TRUE(oneLine(mask.err)) << mask.err;
+    EXPECT_NE(mask.err.find("counts"), std::string::npos) << mask.err;
+    EXPECT_FALSE(fs::exists(folder / "hh.npy"));
+}
+
 TEST_F(Cli, BenchWritesCsvAndChart)
 {
     const CliRun run = runCli("bench " + (folder / "p.json").string() +
@@ -219,6 +243,11 @@ TEST_F(Cli, DemoWritesARunnableProject)
     ASSERT_EQ(demo.code, 0) << demo.err;
     ASSERT_TRUE(fs::exists(folder / "demo" / "demo.json"));
     ASSERT_TRUE(fs::exists(folder / "demo" / "demo_level.glb"));
+    for (const char* bench : {"few-occluders", "dense-mesh"}) {
+        ASSERT_TRUE(fs::exists(folder / "demo" / (std::string(bench) + ".json"))) << bench;
+        const CliRun run = runCli("shaft " + (folder / "demo" / (std::string(bench) + ".json")).string() + " --json");
+        ASSERT_EQ(run.code, 0) << run.err;
+    }
     const CliRun shaft = runCli("shaft " + (folder / "demo" / "demo.json").string() + " --json");
     ASSERT_EQ(shaft.code, 0) << shaft.err;
     const json out = json::parse(shaft.out);
