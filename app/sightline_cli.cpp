@@ -60,6 +60,7 @@ struct ShaftArgs {
     int threads = 0;
     bool singleRays = false;
     bool scalar = false;
+    std::uint32_t jitter = 0;
     int repeat = 1;
     std::string strategy = "auto";
     std::string glBackend = "osmesa";
@@ -100,7 +101,11 @@ int runShaft(const ShaftArgs& args)
     double ms = 0.0, setupMs = 0.0;
     std::string strategy;
     json split = json::object();   // method-specific time split and counts
+    const SourceJitter jitter{.seed = args.jitter};
     if (args.method == "hh") {
+        if (jitter.enabled())
+            throw Error("--jitter: method hh (Heckbert-Herf) renders one source sample set for all receiver samples; "
+                        "use gl, cpu or raycast");
         if (!args.mask.empty())
             throw Error("--mask: method hh (Heckbert-Herf) counts blocked rays per receiver sample but not which; "
                         "use gl, cpu or raycast for a mask");
@@ -119,6 +124,7 @@ int runShaft(const ShaftArgs& args)
         RayCastOptions options;
         options.packets = !args.singleRays;
         options.threads = args.threads;
+        options.jitter = jitter;
         ms = timeSampling(args.repeat, [&] { map = rayCaster.sample(project.source, project.receiver, options); });
         setupMs = rayCaster.buildMilliseconds();
         strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
@@ -126,7 +132,7 @@ int runShaft(const ShaftArgs& args)
         const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
         GlBitmaskSampler sampler(context->functions(), worldTriangles(scene));
         GlBitmaskStats stats;
-        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, &stats); });
+        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, jitter, &stats); });
         setupMs = stats.setupMs;
         strategy = "gl-bitmask-exact-rows (" + args.glBackend + ": " + context->renderer() + ")";
         split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}};
@@ -139,6 +145,7 @@ int runShaft(const ShaftArgs& args)
         options.tableWidth = args.table[0];
         options.tableHeight = args.table[1];
         options.simd = !args.scalar;
+        options.jitter = jitter;
         options.strategy = args.strategy == "bitmask"   ? CpuStrategy::Bitmask
                            : args.strategy == "hybrid"  ? CpuStrategy::Hybrid
                            : args.strategy == "raycast" ? CpuStrategy::RayCast
@@ -181,6 +188,7 @@ int runShaft(const ShaftArgs& args)
             {"receiver_samples", json::array({project.receiver.na, project.receiver.nb})},
             {"threads", threads},
             {"repeat", args.repeat},
+            {"jitter_seed", args.jitter},
         };
         if (!args.mask.empty())
             out["mask"] = args.mask;
@@ -336,6 +344,10 @@ int main(int argc, char** argv)
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
     shaftCmd->add_option("--threads", shaft.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
+    shaftCmd->add_option("--jitter", shaft.jitter,
+                         "Decorrelated sampling (paper §6.2): shift each receiver sample's source grid by a hashed "
+                         "offset under half a cell; SEED > 0, same offsets in every method (not hh)")
+        ->check(CLI::Range(0u, 0xffffffffu));
     shaftCmd->add_flag("--scalar", shaft.scalar, "cpu: double precision everywhere, no SIMD kernel");
     shaftCmd->add_option("--strategy", shaft.strategy,
                          "cpu: auto, bitmask (every triangle backprojected), hybrid (small triangles ray cast) "

@@ -152,6 +152,23 @@ TEST_F(Cli, GlMethodAgreesWithRaycast)
     EXPECT_LE(a.differenceCount(b) * 10000, a.rayCount());
 }
 
+TEST_F(Cli, JitterGivesTheSameMaskInCpuAndRaycast)
+{
+    const std::string project = (folder / "p.json").string();
+    const fs::path cpuMask = folder / "jc.npy", rayMask = folder / "jr.npy", plainMask = folder / "jp.npy";
+    const CliRun cpu = runCli("shaft " + project + " --method cpu --jitter 77 --json --mask " + cpuMask.string());
+    ASSERT_EQ(cpu.code, 0) << cpu.err;
+    EXPECT_EQ(json::parse(cpu.out)["jitter_seed"], 77);
+    ASSERT_EQ(runCli("shaft " + project + " --method raycast --jitter 77 --mask " + rayMask.string()).code, 0);
+    ASSERT_EQ(runCli("shaft " + project + " --method raycast --mask " + plainMask.string()).code, 0);
+    const HiddenSampleMap a = readMaskNpy(cpuMask, 128), b = readMaskNpy(rayMask, 128), plain = readMaskNpy(plainMask, 128);
+    EXPECT_LE(a.differenceCount(b) * 10000, a.rayCount());
+    EXPECT_GT(b.differenceCount(plain), 0u);
+    const CliRun hh = runCli("shaft " + project + " --method hh --jitter 3");
+    EXPECT_NE(hh.code, 0);
+    EXPECT_TRUE(oneLine(hh.err)) << hh.err;
+}
+
 TEST_F(Cli, HeckbertHerfCountsAgreeWithRaycastAndRefuseMasks)
 {
     const std::string project = (folder / "p.json").string();

@@ -15,6 +15,7 @@
 #include "visibility/Patch.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/Scene.h"
+#include "visibility/SourceJitter.h"
 
 namespace sightline::test {
 
@@ -75,13 +76,14 @@ struct BruteForceMap {
 };
 
 inline BruteForceMap bruteForceSample(const WorldTriangles& tris, const Patch& source, const Patch& receiver,
-                                      double grazingTolerance = 1e-5)
+                                      double grazingTolerance = 1e-5, const SourceJitter& jitter = {})
 {
     BruteForceMap out{HiddenSampleMap(source.sampleCount(), receiver.na, receiver.nb),
                       HiddenSampleMap(source.sampleCount(), receiver.na, receiver.nb)};
     for (int j = 0; j < receiver.sampleCount(); ++j)
         for (int i = 0; i < source.sampleCount(); ++i) {
-            const SegmentResult r = bruteForceSegment(tris, receiver.sample(j), source.sample(i));
+            const SegmentResult r =
+                bruteForceSegment(tris, receiver.sample(j), source.sample(i) + jitter.shift(source, j));
             if (r.blocked)
                 out.blocked.setBlocked(j, i);
             if (r.margin < grazingTolerance)

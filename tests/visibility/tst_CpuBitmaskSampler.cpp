@@ -207,3 +207,78 @@ TEST(CpuBitmaskSampler, AutoRayCastsWhenSourceSamplesAreFew)
     EXPECT_GT(a.blockedCount(), 0u);
     EXPECT_LT(a.blockedCount(), a.rayCount());
 }
+
+TEST(SourceJitter, OffsetsAreDecorrelatedAndWithinHalfACell)
+{
+    const SourceJitter off, on{.seed = 7}, other{.seed = 8};
+    EXPECT_EQ(off.offset(5), glm::dvec2(0.0));
+    glm::dvec2 mean(0.0);
+    int differ = 0;
+    for (int j = 0; j < 4096; ++j) {
+        const glm::dvec2 o = on.offset(j);
+        EXPECT_GE(o.x, -0.5);
+        EXPECT_LT(o.x, 0.5);
+        EXPECT_GE(o.y, -0.5);
+        EXPECT_LT(o.y, 0.5);
+        EXPECT_EQ(o, on.offset(j));   // reproducible
+        mean += o;
+        differ += o != other.offset(j);
+        if (j > 0) {
+            EXPECT_NE(o, on.offset(j - 1));
+        }
+    }
+    EXPECT_LT(std::abs(mean.x / 4096), 0.02);
+    EXPECT_LT(std::abs(mean.y / 4096), 0.02);
+    EXPECT_EQ(differ, 4096);
+}
+
+TEST(CpuBitmaskSampler, JitteredSamplesMatchTheReferenceAtTheShiftedPositions)
+{
+    // Decorrelated sampling (§6.2): each receiver sample sees its own shifted source grid. The
+    // reference and brute force cast to the shifted positions; every CPU strategy and both
+    // kernels must give that answer, and it must differ from the unjittered one.
+    const SourceJitter jitter{.seed = 12345};
+    int checked = 0;
+    std::uint64_t changed = 0;
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+        const RandomCase c = randomCase(seed);
+        if (!c.valid())
+            continue;
+        ++checked;
+        const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver, 1e-5, jitter);
+        const HiddenSampleMap embree = RayCastScene(c.scene).sample(c.source, c.receiver, {.jitter = jitter});
+        EXPECT_EQ(mismatchesOutsideGrazing(embree, reference), 0u) << "reference, seed " << seed;
+        const CpuBitmaskSampler sampler(c.scene);
+        for (const bool simd : {true, false})
+            for (const CpuStrategy strategy : {CpuStrategy::Bitmask, CpuStrategy::Hybrid, CpuStrategy::RayCast}) {
+                const HiddenSampleMap map =
+                    sampler.sample(c.source, c.receiver, {.strategy = strategy, .smallCells = 4.0, .simd = simd, .jitter = jitter});
+                EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u)
+                    << "seed " << seed << ", strategy " << int(strategy) << (simd ? ", simd" : ", scalar");
+            }
+        changed += sampler.sample(c.source, c.receiver, {.jitter = jitter})
+                       .differenceCount(sampler.sample(c.source, c.receiver));
+    }
+    EXPECT_GE(checked, 15);
+    EXPECT_GT(changed, 0u);
+}
+
+TEST(RayCastSampler, JitteredHalfPlaneMatchesTheFormula)
+{
+    const double edge = 0.437;
+    const Scene scene = sceneOf({quad({-50, -50, 1}, {50 + float(edge), 0, 0}, {0, 100, 0})});
+    const Patch source = xyPatch(0, 13, 7), receiver = xyPatch(3, 52, 9);
+    const SourceJitter jitter{.seed = 99};
+    const HiddenSampleMap map = RayCastScene(scene).sample(source, receiver, {.jitter = jitter});
+    const HiddenSampleMap cpu = CpuBitmaskSampler(scene).sample(source, receiver, {.jitter = jitter});
+    std::uint64_t mismatches = 0, cpuMismatches = 0;
+    for (int j = 0; j < receiver.sampleCount(); ++j)
+        for (int i = 0; i < source.sampleCount(); ++i) {
+            const glm::dvec3 s = source.sample(i) + jitter.shift(source, j);
+            const bool blocked = s.x + (receiver.sample(j).x - s.x) / 3.0 < edge;
+            mismatches += blocked != map.blocked(j, i);
+            cpuMismatches += blocked != cpu.blocked(j, i);
+        }
+    EXPECT_EQ(mismatches, 0u);
+    EXPECT_EQ(cpuMismatches, 0u);
+}

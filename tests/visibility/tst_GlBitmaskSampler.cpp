@@ -61,6 +61,27 @@ TEST_F(GlBitmask, AgreesWithBruteForceOnRandomScenes)
     EXPECT_GE(checked, 16);
 }
 
+TEST_F(GlBitmask, JitteredSamplesMatchBruteForceAndTheCpuSampler)
+{
+    // The shader's hash must give SourceJitter's offsets: brute force casts to the shifted
+    // positions (and the CPU sampler is held to the same brute force in tst_CpuBitmaskSampler).
+    const SourceJitter jitter{.seed = 4242};
+    int checked = 0;
+    std::uint64_t changed = 0;
+    for (unsigned seed = 1; seed <= 16; ++seed) {
+        const RandomCase c = randomCase(seed);
+        if (!c.valid())
+            continue;
+        ++checked;
+        const HiddenSampleMap map = sampler(c.scene).sample(c.source, c.receiver, jitter);
+        const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver, 1e-5, jitter);
+        EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u) << "seed " << seed;
+        changed += map.differenceCount(sampler(c.scene).sample(c.source, c.receiver));
+    }
+    EXPECT_GE(checked, 10);
+    EXPECT_GT(changed, 0u);   // the jitter took effect
+}
+
 TEST_F(GlBitmask, MatchesCpuAndReferenceAcrossSampleCounts)
 {
     // Every target count from 1 (<= 128 source samples) to 8 (1024), receivers up to 128x96.

@@ -37,6 +37,8 @@ struct LaneGroup {
     alignas(32) float s[kLanes];
     alignas(32) float t[kLanes];
     alignas(32) float d[kLanes];
+    alignas(32) float shiftS[kLanes] = {};   ///< decorrelated sampling: subtracted from the
+    alignas(32) float shiftT[kLanes] = {};   ///< backprojection (SourceJitter.h)
     std::uint64_t* rows[kLanes] = {};   ///< null: lane inactive
 };
 

@@ -52,12 +52,13 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
 
     // Backprojection of every vertex from every lane's receiver sample (ShaftGeometry.h).
     const __m256 rs = _mm256_load_ps(lanes.s), rt = _mm256_load_ps(lanes.t), rd = _mm256_load_ps(lanes.d);
+    const __m256 shiftS = _mm256_load_ps(lanes.shiftS), shiftT = _mm256_load_ps(lanes.shiftT);
     __m256 ps[kMaxPolygon], pt[kMaxPolygon];
     __m256 tMin = inf, tMax = negInf;
     for (int i = 0; i < polygon.count; ++i) {
         const __m256 k = _mm256_div_ps(rd, _mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])));
-        ps[i] = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs);
-        pt[i] = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt);
+        ps[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs), shiftS);
+        pt[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt), shiftT);
         tMin = _mm256_min_ps(tMin, pt[i]);
         tMax = _mm256_max_ps(tMax, pt[i]);
     }

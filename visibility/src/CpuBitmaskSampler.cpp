@@ -114,12 +114,21 @@ struct Setup {
     double receiverDistance = 0.0;         // that distance, when parallel
     glm::dvec3 receiverCentre{0.0};        // in the source frame
     bool floatKernel = false;              // the SIMD kernel may take well-conditioned occluders
+    bool jittered = false;
+    std::vector<glm::dvec2> jitterShift;   // per receiver sample: its source grid's offset in (s, t)
     std::vector<float> receiverS, receiverT, receiverD;   // receiverInSource in float
 
-    Setup(const Patch& source, const Patch& receiver)
+    Setup(const Patch& source, const Patch& receiver, const SourceJitter& jitter)
         : frames(source, receiver), S(source.sampleCount()), na(source.na), nb(source.nb), rna(receiver.na),
-          rnb(receiver.nb)
+          rnb(receiver.nb), jittered(jitter.enabled())
     {
+        // Sample i seen from j lies at (s_i + dx, t_i + dy); testing the backprojection shifted
+        // by (-dx, -dy) against the regular grid is the same test.
+        jitterShift.resize(std::size_t(receiver.sampleCount()));
+        for (int j = 0; j < receiver.sampleCount(); ++j) {
+            const glm::dvec2 o = jitter.offset(j);
+            jitterShift[std::size_t(j)] = {o.x / na, o.y / nb};
+        }
         receiverInSource.resize(std::size_t(receiver.sampleCount()));
         for (int j = 0; j < receiver.sampleCount(); ++j)
             receiverInSource[std::size_t(j)] = frames.source.coordinates(receiver.sample(j));
@@ -300,8 +309,10 @@ struct Setup {
                 bMin = std::min(bMin, b), bMax = std::max(bMax, b);
             }
         SourceBox box;
+        // Jittered samples lie up to half a cell from their cell centres.
+        const double lo = jittered ? 0.0 : 0.5, hi = jittered ? 1.0 : 0.5;
         if (aMax >= 0)
-            box = {(aMin + 0.5) / na, (aMax + 0.5) / na, (bMin + 0.5) / nb, (bMax + 0.5) / nb};
+            box = {(aMin + lo) / na, (aMax + hi) / na, (bMin + lo) / nb, (bMax + hi) / nb};
         return box;
     }
 
@@ -333,7 +344,8 @@ struct Setup {
     {
         const glm::dvec3& r = receiverInSource[std::size_t(j)];
         if (!occluder.clipPerSample) {
-            backprojectPolygon(occluder.vertices.data(), occluder.count, r, row, parallel ? occluder.factor.data() : nullptr);
+            backprojectPolygon(occluder.vertices.data(), occluder.count, r, jitterShift[std::size_t(j)], row,
+                               parallel ? occluder.factor.data() : nullptr);
             return;
         }
         // Vertices at or beyond the receiver sample's own distance cannot lie on its segments.
@@ -342,14 +354,14 @@ struct Setup {
         std::copy_n(occluder.vertices.begin(), occluder.count, local.vertices.begin());
         clipPolygon(local, glm::dvec3(0, 0, -1), -r.z * (1.0 - double(1e-6f)));
         if (local.count >= 3)
-            backprojectPolygon(local.vertices.data(), local.count, r, row, nullptr);
+            backprojectPolygon(local.vertices.data(), local.count, r, jitterShift[std::size_t(j)], row, nullptr);
     }
 
     /// The backprojection from receiver point r (source coordinates) of a convex polygon whose
     /// vertices all lie in 0 < d < r.d, and the source samples inside it, row by row.
     /// `factors` (may be null): each vertex's r.d / (r.d - d), precomputed for parallel patches.
-    void backprojectPolygon(const glm::dvec3* vertices, int count, const glm::dvec3& r, std::uint64_t* mask,
-                            const double* factors) const
+    void backprojectPolygon(const glm::dvec3* vertices, int count, const glm::dvec3& r, const glm::dvec2& shift,
+                            std::uint64_t* mask, const double* factors) const
     {
         // Backprojection onto the source plane, in source (s, t).
         std::array<double, ClippedPolygon::kMaxVertices> ps, pt;
@@ -357,8 +369,8 @@ struct Setup {
         for (int i = 0; i < count; ++i) {
             const glm::dvec3& x = vertices[i];
             const double k = factors ? factors[i] : r.z / (r.z - x.z);
-            ps[std::size_t(i)] = r.x + (x.x - r.x) * k;
-            pt[std::size_t(i)] = r.y + (x.y - r.y) * k;
+            ps[std::size_t(i)] = r.x + (x.x - r.x) * k - shift.x;
+            pt[std::size_t(i)] = r.y + (x.y - r.y) * k - shift.y;
             tMin = std::min(tMin, pt[std::size_t(i)]);
             tMax = std::max(tMax, pt[std::size_t(i)]);
         }
@@ -635,6 +647,8 @@ struct Pass {
             g.s[lane % 8] = setup.receiverS[std::size_t(j)];
             g.t[lane % 8] = setup.receiverT[std::size_t(j)];
             g.d[lane % 8] = setup.receiverD[std::size_t(j)];
+            g.shiftS[lane % 8] = float(setup.jitterShift[std::size_t(j)].x);
+            g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
             lanes.sample[std::size_t(lane)] = inside ? j : -1;
             lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
         }
@@ -733,7 +747,7 @@ struct Pass {
             subset.instanceOf.push_back(triangles.instanceOf[t]);
         }
         const RayCastScene rays(subset, /*fastBuild=*/true);
-        stats.raysCast = rays.sampleUnblocked(source, receiver, map);
+        stats.raysCast = rays.sampleUnblocked(source, receiver, map, {.jitter = options.jitter});
     }
 };
 
@@ -825,7 +839,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
 
     std::unique_ptr<Workspace> work = takeWorkspace();
     auto body = [&] {
-        Setup setup(source, receiver);
+        Setup setup(source, receiver, options.jitter);
         setup.table = table.get();
         setup.floatKernel = exact && options.simd && source.na <= 32 && detail::floatRowsAvailable();
         Pass pass{setup, triangles_, source, receiver, options, map, local, *work};
@@ -843,7 +857,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            local.raysCast = caster->sampleUnblocked(source, receiver, map);
+            local.raysCast = caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter});
             local.rayMs = msSince(rayStart);
             return;
         }

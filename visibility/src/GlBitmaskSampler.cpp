@@ -111,8 +111,23 @@ flat in int gCount;
 flat in int gClipPerSample;
 uniform vec3 uR0, uRU, uRV;           // receiver (s', t') -> source coordinates
 uniform ivec2 uSourceGrid, uReceiverGrid;
+uniform uint uJitterSeed;             // decorrelated sampling (section 6.2); 0: off
 
 uint mask[4 * TARGETS];
+
+// The same offsets as SourceJitter.h (lowbias32 hash, 2^-24 grid: exact in float).
+uint mixBits(uint x)
+{
+    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+    return x;
+}
+vec2 jitterOffset(int j)
+{
+    if (uJitterSeed == 0u) return vec2(0.0);
+    uint h1 = mixBits(uJitterSeed ^ mixBits(uint(j) + 0x9e3779b9u));
+    uint h2 = mixBits(h1 + 0x85ebca6bu);
+    return vec2(float(h1 >> 8), float(h2 >> 8)) * (1.0 / 16777216.0) - 0.5;
+}
 
 void setRange(int first, int last)
 {
@@ -152,7 +167,10 @@ void main()
         tMin = min(tMin, pt[i]);
         tMax = max(tMax, pt[i]);
     }
-    ivec2 rows = sampleRange(tMin, tMax, uSourceGrid.y);
+    // With jitter, this receiver sample's source samples sit at the grid positions plus shift.
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec2 shift = jitterOffset(pixel.y * uReceiverGrid.x + pixel.x) / vec2(uSourceGrid);
+    ivec2 rows = sampleRange(tMin - shift.y, tMax - shift.y, uSourceGrid.y);
     if (rows.x > rows.y) discard;
     for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
     // Exact set (section 5, without the Hough table): per source row, the interval of columns.
@@ -162,7 +180,7 @@ void main()
     // between projected vertices instead loses all precision in float when a vertex lies just
     // short of r's distance (it projects ~10^6 times farther out).
     for (int b = rows.x; b <= rows.y; ++b) {
-        float tb = (float(b) + 0.5) / float(uSourceGrid.y);
+        float tb = (float(b) + 0.5) / float(uSourceGrid.y) + shift.y;
         float lo = 1e30, hi = -1e30;
         for (int i = 0, k = n - 1; i < n; k = i++) {
             float fk = (p[k].y - r.y) * r.z - (tb - r.y) * (r.z - p[k].z);
@@ -174,7 +192,7 @@ void main()
             lo = min(lo, s);
             hi = max(hi, s);
         }
-        ivec2 columns = sampleRange(lo, hi, uSourceGrid.x);
+        ivec2 columns = sampleRange(lo - shift.x, hi - shift.x, uSourceGrid.x);
         if (columns.x <= columns.y)
             setRange(b * uSourceGrid.x + columns.x, b * uSourceGrid.x + columns.y);
     }
@@ -293,6 +311,12 @@ GlBitmaskSampler::~GlBitmaskSampler() = default;
 
 HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats)
 {
+    return sample(source, receiver, SourceJitter{}, stats);
+}
+
+HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
+                                         GlBitmaskStats* stats)
+{
     validatePatchPair(source, receiver);
     const gl::Functions& gl = impl_->gl;
     const auto setupStart = Clock::now();
@@ -330,6 +354,7 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
     set3("uRV", glm::vec3(frames.source.coordinates(receiver.corner + receiver.v) - r0));
     set2i("uSourceGrid", source.na, source.nb);
     set2i("uReceiverGrid", receiver.na, receiver.nb);
+    gl.ProgramUniform1ui(program, gl.GetUniformLocation(program, "uJitterSeed"), jitter.seed);
 
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int k = 0; k < targets; ++k)

@@ -119,8 +119,9 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     // Each receiver sample casts its S rays: origin at the receiver sample, direction to the
     // source sample (t = 1 at the source), all sharing one origin, hence coherent.
     auto castFrom = [&](int j) {
-        const glm::dvec3 r = receiver.sample(j);
-        const glm::vec3 org(r);
+        // With jitter, the source grid seen from j is shifted: cast to the shifted samples.
+        const glm::dvec3 r = receiver.sample(j) - options.jitter.shift(source, j);
+        const glm::vec3 org(receiver.sample(j));
         auto bits = map.row(j);
         std::uint64_t rowCast = 0;
         auto alreadyBlocked = [&](int i) { return (bits[std::size_t(i >> 6)] >> (i & 63)) & 1u; };

@@ -27,6 +27,7 @@
 #include "visibility/Patch.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/Scene.h"
+#include "visibility/SourceJitter.h"
 
 namespace sightline {
 
@@ -74,6 +75,9 @@ struct BitmaskOptions {
     /// to 32 columns) through the single-precision AVX2 kernel, eight receiver samples at a time,
     /// where the CPU has AVX2; the rest stay in double. False: double everywhere.
     bool simd = true;
+    /// Decorrelated source samples per receiver sample (§6.2): each receiver sample's
+    /// backprojections are shifted by its own offset. Off by default.
+    SourceJitter jitter{};
 };
 
 struct BitmaskStats {

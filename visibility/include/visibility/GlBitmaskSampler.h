@@ -22,6 +22,7 @@
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
+#include "visibility/SourceJitter.h"
 #include "visibility/gl/GlFunctions.h"
 
 namespace sightline {
@@ -43,6 +44,9 @@ public:
 
     /// Validates the pair (sightline::Error if invalid), renders, reads the map back.
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats = nullptr);
+    /// With decorrelated source samples per receiver sample (§6.2; SourceJitter.h).
+    HiddenSampleMap sample(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
+                           GlBitmaskStats* stats = nullptr);
 
 private:
     struct Impl;

@@ -19,6 +19,7 @@
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
+#include "visibility/SourceJitter.h"
 
 namespace sightline {
 
@@ -27,6 +28,7 @@ inline constexpr float kSegmentEpsilon = 1e-6f;
 struct RayCastOptions {
     bool packets = true;   ///< rtcOccluded16 packets; false casts single rays (rtcOccluded1)
     int threads = 0;       ///< 0 = all cores
+    SourceJitter jitter{}; ///< decorrelated source samples per receiver sample (§6.2); off by default
 };
 
 class RayCastScene {

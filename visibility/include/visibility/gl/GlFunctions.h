@@ -33,6 +33,7 @@ namespace sightline::gl {
     X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                                             \
     X(PFNGLPROGRAMUNIFORM2IPROC, ProgramUniform2i)                                                 \
     X(PFNGLPROGRAMUNIFORM1FPROC, ProgramUniform1f)                                                 \
+    X(PFNGLPROGRAMUNIFORM1UIPROC, ProgramUniform1ui)                                               \
     X(PFNGLPROGRAMUNIFORM3FVPROC, ProgramUniform3fv)                                               \
     X(PFNGLPROGRAMUNIFORM4FVPROC, ProgramUniform4fv)                                               \
     X(PFNGLCREATEVERTEXARRAYSPROC, CreateVertexArrays)                                             \
