@@ -130,7 +130,7 @@ int runShaft(const ShaftArgs& args)
         strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
     } else if (args.method == "gl") {
         const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
-        GlBitmaskSampler sampler(context->functions(), worldTriangles(scene));
+        GlBitmaskSampler sampler(context->functions(), scene);
         GlBitmaskStats stats;
         ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, jitter, &stats); });
         setupMs = stats.setupMs;

@@ -114,7 +114,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                         if (!context)
                             context = gl::HeadlessContext::create(gl::Backend::OSMesa);
                         if (!gpu)
-                            gpu = std::make_unique<GlBitmaskSampler>(context->functions(), worldTriangles(scene));
+                            gpu = std::make_unique<GlBitmaskSampler>(context->functions(), scene);
                         evaluate = [&] { map = gpu->sample(source, receiver); };
                     } else if (method == "hh") {
                         if (!context)

@@ -82,6 +82,48 @@ TEST_F(GlBitmask, JitteredSamplesMatchBruteForceAndTheCpuSampler)
     EXPECT_GT(changed, 0u);   // the jitter took effect
 }
 
+TEST_F(GlBitmask, WatertightCullingNeverChangesTheAnswer)
+{
+    // Closed boxes in the shaft (one mirrored), and one enclosing the receiver, where culling
+    // must not apply (its front faces are the blockers).
+    Scene scene;
+    const std::uint32_t box = scene.addMesh(closedBox());
+    for (int i = 0; i < 12; ++i) {
+        glm::mat4 m(1.0f);
+        m[0][0] = (i == 3 ? -0.2f : 0.2f) + 0.02f * float(i % 4);
+        m[1][1] = 0.15f + 0.03f * float(i % 3);
+        m[2][2] = 0.2f;
+        m[3] = glm::vec4(0.1f + 0.08f * float(i), 0.15f + 0.06f * float((i * 5) % 11), 0.5f + 0.09f * float(i), 1.0f);
+        scene.instances.push_back({"box", box, m});
+    }
+    const Patch source = xyPatch(0, 16, 16), receiver = xyPatch(2, 24, 24);
+    GlBitmaskSampler gl(context->functions(), scene);
+    const HiddenSampleMap culled = gl.sample(source, receiver, GlBitmaskOptions{});
+    const HiddenSampleMap plain = gl.sample(source, receiver, GlBitmaskOptions{.watertightCulling = false});
+    EXPECT_GT(culled.blockedCount(), 0u);
+    EXPECT_LE(culled.differenceCount(plain) * 10000, culled.rayCount());
+    EXPECT_LE(culled.differenceCount(RayCastScene(scene).sample(source, receiver)) * 10000, culled.rayCount());
+
+    glm::mat4 room(1.0f);
+    room[0][0] = room[1][1] = 3.0f;
+    room[3] = glm::vec4(0.5f, 0.5f, 2.0f, 1.0f);   // z in [1.5, 2.5]: the receiver at z = 2 is inside
+    Scene enclosed;
+    enclosed.instances.push_back({"room", enclosed.addMesh(closedBox()), room});
+    const HiddenSampleMap inside = GlBitmaskSampler(context->functions(), enclosed).sample(xyPatch(0, 8, 8), xyPatch(2, 8, 8));
+    EXPECT_EQ(inside.blockedCount(), inside.rayCount());
+
+    // Culling does run: a lone wall wrongly flagged watertight, facing the source (normal -z),
+    // is dropped with culling on; nothing else would unblock its rays.
+    Mesh wall = quad({-10, -10, 1}, {0, 20, 0}, {20, 0, 0});
+    wall.watertight = true;
+    Scene misflagged;
+    misflagged.addMeshInstance(wall);
+    GlBitmaskSampler wallSampler(context->functions(), misflagged);
+    EXPECT_EQ(wallSampler.sample(xyPatch(0, 8, 8), xyPatch(2, 8, 8), GlBitmaskOptions{}).blockedCount(), 0u);
+    EXPECT_EQ(wallSampler.sample(xyPatch(0, 8, 8), xyPatch(2, 8, 8), GlBitmaskOptions{.watertightCulling = false}).blockedCount(),
+              64u * 64u);
+}
+
 TEST_F(GlBitmask, MatchesCpuAndReferenceAcrossSampleCounts)
 {
     // Every target count from 1 (<= 128 source samples) to 8 (1024), receivers up to 128x96.

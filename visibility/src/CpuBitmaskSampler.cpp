@@ -767,19 +767,9 @@ CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std:
 
 std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver) const
 {
-    // Watertight culling (§7) is safe for an instance only when no receiver sample can lie inside
-    // it: the receiver patch must not touch the instance's bounds.
-    Bounds receiverBox;
-    for (int k = 0; k < 4; ++k)
-        receiverBox.extend(glm::vec3(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v));
-    const float pad = 1e-4f * (1.0f + glm::length(receiverBox.max - receiverBox.min));
     std::vector<char> cullable(instances_.size(), 0);
-    for (std::size_t i = 0; i < instances_.size(); ++i) {
-        const Bounds& b = instances_[i].bounds;
-        const bool apart = glm::any(glm::lessThan(b.max + pad, receiverBox.min)) ||
-                           glm::any(glm::greaterThan(b.min - pad, receiverBox.max));
-        cullable[i] = instances_[i].watertight && apart;
-    }
+    for (std::size_t i = 0; i < instances_.size(); ++i)
+        cullable[i] = instances_[i].watertight && receiverApartFrom(instances_[i].bounds, receiver);
     return cullable;
 }
 

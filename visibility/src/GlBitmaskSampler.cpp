@@ -24,8 +24,10 @@ constexpr int kMaxTargets = kMaxSourceSamples / 128;
 
 const char* kVertexShader = R"(#version 450 core
 layout(location = 0) in vec3 aPosition;
+layout(location = 1) in uint aInstance;
 out vec3 vWorld;
-void main() { vWorld = aPosition; }
+flat out uint vInstance;
+void main() { vWorld = aPosition; vInstance = aInstance; }
 )";
 
 // Shared by the geometry and fragment shaders: Sutherland-Hodgman against one plane, keeping
@@ -50,6 +52,10 @@ const char* kGeometryShader = R"(
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 4) out;
 in vec3 vWorld[];
+flat in uint vInstance[];
+uniform usamplerBuffer uCullable;     // per instance: watertight culling (section 7) allowed
+uniform int uCulling;
+uniform vec3 uSourceWorld[4];         // source corners in world space
 uniform vec4 uSrcS, uSrcT, uSrcD;     // world -> source coordinates (s, t, d)
 uniform vec4 uRcvS, uRcvT, uRcvD;     // world -> receiver coordinates
 uniform float uMarginS, uMarginR, uMinReceiverD;
@@ -61,6 +67,14 @@ flat out int gClipPerSample;
 
 void main()
 {
+    // Watertight front-face culling (section 7), as in CpuBitmaskSampler: a front face of a
+    // closed mesh, seen from all four source corners, cannot be the only blocker of a segment.
+    if (uCulling != 0 && texelFetch(uCullable, int(vInstance[0])).r != 0u) {
+        vec3 n = cross(vWorld[1] - vWorld[0], vWorld[2] - vWorld[0]);
+        bool front = true;
+        for (int c = 0; c < 4; ++c) front = front && dot(n, uSourceWorld[c] - vWorld[0]) > 0.0;
+        if (front) return;
+    }
     vec3 p[8];
     p[0] = vWorld[0]; p[1] = vWorld[1]; p[2] = vWorld[2];
     int n = clipPolygon(p, 3, uSrcD - vec4(0, 0, 0, uMarginS));
@@ -225,8 +239,14 @@ glm::vec4 affineRow(const glm::dvec3& axis, const glm::dvec3& origin)
 struct GlBitmaskSampler::Impl {
     const gl::Functions& gl;
     GLuint programs[kMaxTargets + 1] = {};   // by target count, compiled on first use
-    GLuint vertexArray = 0, buffer = 0;
+    GLuint vertexArray = 0, buffer = 0, instanceBuffer = 0;
     GLsizei vertexCount = 0;
+    GLuint cullableBuffer = 0, cullableTexture = 0;   // per instance, uploaded per call
+    struct InstanceInfo {
+        bool watertight = false;
+        Bounds bounds;
+    };
+    std::vector<InstanceInfo> instances;   // empty for a bare triangle soup
     GLuint framebuffer = 0;
     GLuint textures[kMaxTargets] = {};
     int targetCount = 0, width = 0, height = 0;
@@ -239,6 +259,9 @@ struct GlBitmaskSampler::Impl {
             if (program)
                 gl.DeleteProgram(program);
         releaseTargets();
+        gl.DeleteTextures(1, &cullableTexture);
+        gl.DeleteBuffers(1, &cullableBuffer);
+        gl.DeleteBuffers(1, &instanceBuffer);
         gl.DeleteBuffers(1, &buffer);
         gl.DeleteVertexArrays(1, &vertexArray);
     }
@@ -288,6 +311,18 @@ struct GlBitmaskSampler::Impl {
     }
 };
 
+GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const Scene& scene)
+    : GlBitmaskSampler(gl, worldTriangles(scene))
+{
+    for (const Instance& instance : scene.instances) {
+        Impl::InstanceInfo info;
+        info.watertight = scene.meshes[instance.mesh].watertight;
+        for (const glm::vec3& p : scene.meshes[instance.mesh].positions)
+            info.bounds.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
+        impl_->instances.push_back(info);
+    }
+}
+
 GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles)
     : impl_(std::make_unique<Impl>(gl))
 {
@@ -303,6 +338,19 @@ GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles
     gl.VertexArrayAttribFormat(impl_->vertexArray, 0, 3, GL_FLOAT, GL_FALSE, 0);
     gl.VertexArrayAttribBinding(impl_->vertexArray, 0, 0);
     gl.EnableVertexArrayAttrib(impl_->vertexArray, 0);
+    // Each vertex carries its triangle's instance, for watertight culling.
+    std::vector<std::uint32_t> instanceOfVertex(triangles.vertices.size());
+    for (std::size_t v = 0; v < instanceOfVertex.size(); ++v)
+        instanceOfVertex[v] = v / 3 < triangles.instanceOf.size() ? triangles.instanceOf[v / 3] : 0u;
+    gl.CreateBuffers(1, &impl_->instanceBuffer);
+    gl.NamedBufferData(impl_->instanceBuffer, GLsizeiptr(instanceOfVertex.size() * sizeof(std::uint32_t)),
+                       instanceOfVertex.data(), GL_STATIC_DRAW);
+    gl.VertexArrayVertexBuffer(impl_->vertexArray, 1, impl_->instanceBuffer, 0, sizeof(std::uint32_t));
+    gl.VertexArrayAttribIFormat(impl_->vertexArray, 1, 1, GL_UNSIGNED_INT, 0);
+    gl.VertexArrayAttribBinding(impl_->vertexArray, 1, 1);
+    gl.EnableVertexArrayAttrib(impl_->vertexArray, 1);
+    gl.CreateBuffers(1, &impl_->cullableBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &impl_->cullableTexture);
     impl_->vertexCount = GLsizei(triangles.vertices.size());
     impl_->program(1);   // compile now: shader errors surface at construction
 }
@@ -311,12 +359,19 @@ GlBitmaskSampler::~GlBitmaskSampler() = default;
 
 HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats)
 {
-    return sample(source, receiver, SourceJitter{}, stats);
+    return sample(source, receiver, GlBitmaskOptions{}, stats);
 }
 
 HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
                                          GlBitmaskStats* stats)
 {
+    return sample(source, receiver, GlBitmaskOptions{.jitter = jitter}, stats);
+}
+
+HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
+                                         GlBitmaskStats* stats)
+{
+    const SourceJitter& jitter = options.jitter;
     validatePatchPair(source, receiver);
     const gl::Functions& gl = impl_->gl;
     const auto setupStart = Clock::now();
@@ -355,6 +410,24 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
     set2i("uSourceGrid", source.na, source.nb);
     set2i("uReceiverGrid", receiver.na, receiver.nb);
     gl.ProgramUniform1ui(program, gl.GetUniformLocation(program, "uJitterSeed"), jitter.seed);
+
+    // Watertight culling: which instances may drop their front faces for this receiver.
+    std::vector<std::uint8_t> cullable(std::max<std::size_t>(1, impl_->instances.size()), 0);
+    bool culling = false;
+    if (options.watertightCulling)
+        for (std::size_t i = 0; i < impl_->instances.size(); ++i) {
+            cullable[i] = impl_->instances[i].watertight && receiverApartFrom(impl_->instances[i].bounds, receiver);
+            culling = culling || cullable[i];
+        }
+    gl.NamedBufferData(impl_->cullableBuffer, GLsizeiptr(cullable.size()), cullable.data(), GL_STREAM_DRAW);
+    gl.TextureBuffer(impl_->cullableTexture, GL_R8UI, impl_->cullableBuffer);
+    gl.BindTextureUnit(0, impl_->cullableTexture);
+    gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uCullable"), 0);
+    gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uCulling"), culling ? 1 : 0);
+    std::array<glm::vec3, 4> sourceWorld;
+    for (int k = 0; k < 4; ++k)
+        sourceWorld[std::size_t(k)] = glm::vec3(source.corner + double(k & 1) * source.u + double(k >> 1) * source.v);
+    gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "uSourceWorld"), 4, &sourceWorld[0].x);
 
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int k = 0; k < targets; ++k)

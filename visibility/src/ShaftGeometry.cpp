@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include "visibility/RayCastSampler.h"
 
@@ -135,6 +136,15 @@ bool ShaftHull::excludesBox(const glm::vec3& lo, const glm::vec3& hi) const
     for (int k = 0; k < 8; ++k)
         points[k] = glm::dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
     return excludes(points, 8);
+}
+
+bool receiverApartFrom(const Bounds& b, const Patch& receiver)
+{
+    Bounds receiverBox;
+    for (int k = 0; k < 4; ++k)
+        receiverBox.extend(glm::vec3(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v));
+    const float pad = 1e-4f * (1.0f + glm::length(receiverBox.max - receiverBox.min));
+    return glm::any(glm::lessThan(b.max + pad, receiverBox.min)) || glm::any(glm::greaterThan(b.min - pad, receiverBox.max));
 }
 
 } // namespace sightline

@@ -33,8 +33,17 @@ struct GlBitmaskStats {
     double readbackMs = 0.0; ///< hidden-samples map back to the CPU
 };
 
+struct GlBitmaskOptions {
+    SourceJitter jitter{};           ///< decorrelated source samples (§6.2)
+    /// Watertight front-face culling (§7) for meshes flagged Mesh::watertight, with the CPU
+    /// sampler's safety rule (receiverApartFrom). Needs the Scene constructor.
+    bool watertightCulling = true;
+};
+
 class GlBitmaskSampler {
 public:
+    /// Keeps, per instance, its watertight flag and bounds, for watertight culling.
+    GlBitmaskSampler(const gl::Functions& gl, const Scene& scene);
     /// Compiles the shaders and uploads the triangles; the context must stay current while the
     /// sampler is used. Throws sightline::Error (shader compile log on one line) on failure.
     GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles);
@@ -46,6 +55,8 @@ public:
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats = nullptr);
     /// With decorrelated source samples per receiver sample (§6.2; SourceJitter.h).
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
+                           GlBitmaskStats* stats = nullptr);
+    HiddenSampleMap sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
                            GlBitmaskStats* stats = nullptr);
 
 private:

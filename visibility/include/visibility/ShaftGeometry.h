@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include "visibility/Patch.h"
+#include "visibility/Scene.h"
 
 namespace sightline {
 
@@ -88,5 +89,10 @@ private:
     std::vector<Plane> planes_;
     double tolerance_ = 0.0;
 };
+
+/// Watertight front-face culling (§7) is safe for an instance only when no receiver sample can
+/// lie inside it: the receiver patch must not touch the instance's bounds (a receiver inside a
+/// closed mesh sees its front faces block). Shared by the CPU and GL samplers.
+bool receiverApartFrom(const Bounds& instanceBounds, const Patch& receiver);
 
 } // namespace sightline

@@ -73,7 +73,11 @@ namespace sightline::gl {
     X(PFNGLCREATERENDERBUFFERSPROC, CreateRenderbuffers)                                           \
     X(PFNGLNAMEDRENDERBUFFERSTORAGEPROC, NamedRenderbufferStorage)                                 \
     X(PFNGLNAMEDFRAMEBUFFERRENDERBUFFERPROC, NamedFramebufferRenderbuffer)                         \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                                           \
+    X(PFNGLTEXTUREBUFFERPROC, TextureBuffer)                                                       \
+    X(PFNGLBINDTEXTUREUNITPROC, BindTextureUnit)                                                   \
+    X(PFNGLVERTEXARRAYATTRIBIFORMATPROC, VertexArrayAttribIFormat)                                 \
+    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)
 
 using GetProcAddress = void* (*)(const char* name);
 
