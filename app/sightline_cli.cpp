@@ -132,7 +132,7 @@ int runShaft(const ShaftArgs& args)
         const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
         GlBitmaskSampler sampler(context->functions(), scene);
         GlBitmaskStats stats;
-        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, jitter, &stats); });
+        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, GlBitmaskOptions{.jitter = jitter}, &stats); });
         setupMs = stats.setupMs;
         strategy = "gl-bitmask-exact-rows (" + args.glBackend + ": " + context->renderer() + ")";
         split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}};

@@ -877,24 +877,24 @@ Scene makeDemoLevel()
 
 namespace {
 
-/// The benchmark scenes' patches: the demo view's shapes, 10 m apart along +x.
-DemoView benchView()
+/// An empty benchmark scene with its patches: the demo view's shapes, 10 m apart along +x.
+BenchScene benchScene(std::string name)
 {
-    DemoView view = demoView();
-    view.source.corner = {0.0, 0.3, 5.5};
-    view.receiver.corner = {10.0, 0.2, 4.0};
-    return view;
+    BenchScene out;
+    out.name = std::move(name);
+    const DemoView view = demoView();
+    out.source = view.source;
+    out.receiver = view.receiver;
+    out.source.corner = {0.0, 0.3, 5.5};
+    out.receiver.corner = {10.0, 0.2, 4.0};
+    return out;
 }
 
 } // namespace
 
 BenchScene makeFewOccludersScene()
 {
-    BenchScene out;
-    out.name = "few-occluders";
-    const DemoView view = benchView();
-    out.source = view.source;
-    out.receiver = view.receiver;
+    BenchScene out = benchScene("few-occluders");
     // A wall with a 0.9 m doorway at x = 3, four square pillars, a wall with a window at x = 8.
     out.scene.addMeshInstance(wall("wall_door", {3.0f, 0.0f}, {3.0f, 10.0f}, {{4.55f, 5.45f, 0.0f, 2.1f}}));
     out.scene.addMeshInstance(wall("wall_window", {8.0f, 0.0f}, {8.0f, 10.0f}, {{4.2f, 5.8f, 0.9f, 1.9f}}));
@@ -909,11 +909,7 @@ BenchScene makeFewOccludersScene()
 
 BenchScene makeDenseMeshScene()
 {
-    BenchScene out;
-    out.name = "dense-mesh";
-    const DemoView view = benchView();
-    out.source = view.source;
-    out.receiver = view.receiver;
+    BenchScene out = benchScene("dense-mesh");
     // A lumpy sphere (a scanned statue stand-in) of 2 x 130 x 266 = 69,160 triangles of about
     // 2 cm, in the middle of the shaft: r = 0.75 (1 + 0.12 sin(5 theta) sin(7 phi)).
     constexpr int kStacks = 131, kSlices = 266;

@@ -1,4 +1,6 @@
 // The samplers on the demo level: the CPU bitmask sampler against the Embree reference.
+#include <memory>
+
 #include <gtest/gtest.h>
 
 #include "demo/DemoLevel.h"
@@ -7,27 +9,39 @@
 
 using namespace sightline;
 
-TEST(DemoSamplers, CpuBitmaskAgreesWithTheReference)
-{
-    const Scene level = demo::makeDemoLevel();
+namespace {
+
+/// The demo level is built once for the suite (it takes a noticeable part of a second).
+class DemoSamplers : public ::testing::Test {
+protected:
+    static void SetUpTestSuite()
+    {
+        if (!level)
+            level = std::make_unique<Scene>(demo::makeDemoLevel());
+    }
+    static inline std::unique_ptr<Scene> level;
     const demo::DemoView view = demo::demoView();
-    const HiddenSampleMap expected = RayCastScene(level).sample(view.source, view.receiver);
+};
+
+} // namespace
+
+TEST_F(DemoSamplers, CpuBitmaskAgreesWithTheReference)
+{
+    const HiddenSampleMap expected = RayCastScene(*level).sample(view.source, view.receiver);
     BitmaskStats stats;
-    const HiddenSampleMap map = CpuBitmaskSampler(level).sample(view.source, view.receiver, {}, &stats);
+    const HiddenSampleMap map = CpuBitmaskSampler(*level).sample(view.source, view.receiver, {}, &stats);
     const std::uint64_t differ = map.differenceCount(expected);
     EXPECT_LE(differ * 10000, map.rayCount()) << differ << " rays differ";   // >= 99.99% agreement
     EXPECT_GE(stats.trianglesInShaft, 10000u);
     for (const CpuStrategy strategy : {CpuStrategy::Bitmask, CpuStrategy::Hybrid}) {
-        const HiddenSampleMap other = CpuBitmaskSampler(level).sample(view.source, view.receiver, {.strategy = strategy});
+        const HiddenSampleMap other = CpuBitmaskSampler(*level).sample(view.source, view.receiver, {.strategy = strategy});
         EXPECT_LE(other.differenceCount(expected) * 10000, other.rayCount());
     }
 }
 
-TEST(DemoSamplers, WatertightCullingKeepsTheDemoAnswer)
+TEST_F(DemoSamplers, WatertightCullingKeepsTheDemoAnswer)
 {
-    const Scene level = demo::makeDemoLevel();
-    const demo::DemoView view = demo::demoView();
-    const CpuBitmaskSampler sampler(level);
+    const CpuBitmaskSampler sampler(*level);
     BitmaskStats culled, plain;
     const HiddenSampleMap a = sampler.sample(view.source, view.receiver, {.strategy = CpuStrategy::Bitmask}, &culled);
     const HiddenSampleMap b = sampler.sample(view.source, view.receiver,
@@ -37,11 +51,9 @@ TEST(DemoSamplers, WatertightCullingKeepsTheDemoAnswer)
     EXPECT_LT(culled.pairs, plain.pairs);
 }
 
-TEST(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
+TEST_F(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
 {
-    const Scene level = demo::makeDemoLevel();
-    const demo::DemoView view = demo::demoView();
-    const CpuBitmaskSampler sampler(level);
+    const CpuBitmaskSampler sampler(*level);
     BitmaskStats narrowed, plain;
     const HiddenSampleMap a = sampler.sample(view.source, view.receiver, {.strategy = CpuStrategy::Bitmask}, &narrowed);
     const HiddenSampleMap b = sampler.sample(view.source, view.receiver,
@@ -51,7 +63,7 @@ TEST(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
     EXPECT_LT(narrowed.pairs, plain.pairs);
 }
 
-TEST(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
+TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
 {
     // Few large occluders: the bitmask's case. A dense mesh of tiny triangles filling the shaft:
     // ray casting's case, which Auto must recognise (the bitmask would cost 2x there).

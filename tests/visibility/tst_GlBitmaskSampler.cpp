@@ -73,7 +73,7 @@ TEST_F(GlBitmask, JitteredSamplesMatchBruteForceAndTheCpuSampler)
         if (!c.valid())
             continue;
         ++checked;
-        const HiddenSampleMap map = sampler(c.scene).sample(c.source, c.receiver, jitter);
+        const HiddenSampleMap map = sampler(c.scene).sample(c.source, c.receiver, GlBitmaskOptions{.jitter = jitter});
         const BruteForceMap reference = bruteForceSample(worldTriangles(c.scene), c.source, c.receiver, 1e-5, jitter);
         EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u) << "seed " << seed;
         changed += map.differenceCount(sampler(c.scene).sample(c.source, c.receiver));

@@ -755,13 +755,8 @@ struct Pass {
 
 CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTriangles(scene))
 {
-    for (const Instance& instance : scene.instances) {
-        InstanceInfo info;
-        info.watertight = scene.meshes[instance.mesh].watertight;
-        for (const glm::vec3& p : scene.meshes[instance.mesh].positions)
-            info.bounds.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
-        instances_.push_back(info);
-    }
+    for (const Instance& instance : scene.instances)
+        instances_.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
 }
 CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std::move(triangles)) {}
 

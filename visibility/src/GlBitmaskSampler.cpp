@@ -314,13 +314,8 @@ struct GlBitmaskSampler::Impl {
 GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const Scene& scene)
     : GlBitmaskSampler(gl, worldTriangles(scene))
 {
-    for (const Instance& instance : scene.instances) {
-        Impl::InstanceInfo info;
-        info.watertight = scene.meshes[instance.mesh].watertight;
-        for (const glm::vec3& p : scene.meshes[instance.mesh].positions)
-            info.bounds.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
-        impl_->instances.push_back(info);
-    }
+    for (const Instance& instance : scene.instances)
+        impl_->instances.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
 }
 
 GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles)
@@ -360,12 +355,6 @@ GlBitmaskSampler::~GlBitmaskSampler() = default;
 HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats)
 {
     return sample(source, receiver, GlBitmaskOptions{}, stats);
-}
-
-HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
-                                         GlBitmaskStats* stats)
-{
-    return sample(source, receiver, GlBitmaskOptions{.jitter = jitter}, stats);
 }
 
 HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,

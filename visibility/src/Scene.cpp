@@ -68,8 +68,15 @@ Bounds Scene::bounds() const
 {
     Bounds box;
     for (const Instance& instance : instances)
-        for (const glm::vec3& p : meshes.at(instance.mesh).positions)
-            box.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
+        box.extend(instanceBounds(instance));
+    return box;
+}
+
+Bounds Scene::instanceBounds(const Instance& instance) const
+{
+    Bounds box;
+    for (const glm::vec3& p : meshes.at(instance.mesh).positions)
+        box.extend(glm::vec3(instance.transform * glm::vec4(p, 1.0f)));
     return box;
 }
 

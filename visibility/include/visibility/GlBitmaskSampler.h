@@ -53,9 +53,6 @@ public:
 
     /// Validates the pair (sightline::Error if invalid), renders, reads the map back.
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats = nullptr);
-    /// With decorrelated source samples per receiver sample (§6.2; SourceJitter.h).
-    HiddenSampleMap sample(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
-                           GlBitmaskStats* stats = nullptr);
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
                            GlBitmaskStats* stats = nullptr);
 

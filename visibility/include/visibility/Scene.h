@@ -64,6 +64,8 @@ struct Scene {
     std::size_t uniqueTriangleCount() const;
     /// World-space bounds of all instances (empty box for an empty scene).
     Bounds bounds() const;
+    /// World-space bounds of one placed mesh.
+    Bounds instanceBounds(const Instance& instance) const;
 };
 
 /// Flat world-space triangle soup: triangle t is (vertices[3t], vertices[3t+1], vertices[3t+2]).
