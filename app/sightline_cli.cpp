@@ -1,6 +1,6 @@
 // sightline-cli: headless batch front end (DESIGN.md §4, a contract).
 //
-//   sightline-cli shaft PROJECT.json [--method raycast|cpu|gl] [--mask OUT.npy] [--json]
+//   sightline-cli shaft PROJECT.json [--method raycast|cpu|gl] [--mode exact|table] [--mask OUT.npy] [--json]
 //   sightline-cli info SCENE_OR_PROJECT [--json]
 //   sightline-cli demo OUTDIR
 //
@@ -132,10 +132,21 @@ int runShaft(const ShaftArgs& args)
         const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
         GlBitmaskSampler sampler(context->functions(), scene);
         GlBitmaskStats stats;
-        ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, GlBitmaskOptions{.jitter = jitter}, &stats); });
+        const GlBitmaskOptions options{.jitter = jitter,
+                                       .mode = args.mode == "table" ? MaskMode::Table : MaskMode::Exact,
+                                       .tableWidth = args.table[0],
+                                       .tableHeight = args.table[1]};
+        double tableMs = 0.0;   // the first call builds and uploads the table; later ones reuse it
+        ms = timeSampling(args.repeat, [&] {
+            map = sampler.sample(project.source, project.receiver, options, &stats);
+            tableMs = std::max(tableMs, stats.tableMs);
+        });
         setupMs = stats.setupMs;
-        strategy = "gl-bitmask-exact-rows (" + args.glBackend + ": " + context->renderer() + ")";
-        split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}};
+        const std::string masks = options.mode == MaskMode::Table ? "gl-bitmask-hough-table-" + std::to_string(args.table[0]) +
+                                                                        "x" + std::to_string(args.table[1])
+                                                                  : std::string("gl-bitmask-exact-rows");
+        strategy = masks + " (" + args.glBackend + ": " + context->renderer() + ")";
+        split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}, {"table_ms", tableMs}};
     } else {
         const CpuBitmaskSampler sampler(scene);
         BitmaskStats stats;
@@ -212,11 +223,13 @@ struct BenchArgs {
     bench::Settings settings;
     std::string methods = "raycast,cpu,cpu-bitmask,cpu-table-256x128";
     std::string csv, chart;
+    std::string glBackend = "osmesa";
 };
 
 int runBench(BenchArgs& args)
 {
     args.settings.methods = bench::parseMethods(args.methods);
+    args.settings.glBackend = gl::parseBackend(args.glBackend);
     std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s\n", "project", "method", "sources", "receiver", "ms",
                 "wrong-block", "wrong-free", "error");
     const auto rows = bench::run(args.settings, [](const bench::Row& r) {
@@ -354,7 +367,7 @@ int main(int argc, char** argv)
                          "or raycast (all rays)")
         ->check(CLI::IsMember({"auto", "bitmask", "hybrid", "raycast"}))
         ->capture_default_str();
-    shaftCmd->add_option("--mode", shaft.mode, "cpu: exact (per-row masks) or table (the paper's Hough table)")
+    shaftCmd->add_option("--mode", shaft.mode, "cpu, gl: exact (per-row masks) or table (the paper's Hough table, §5)")
         ->check(CLI::IsMember({"exact", "table"}))
         ->capture_default_str();
     shaftCmd->add_option("--table", shaft.table, "table mode: Hough table resolution, angles and distances")
@@ -378,7 +391,7 @@ int main(int argc, char** argv)
     benchCmd->add_option("projects", benchArgs.settings.projects, "Project files")->required();
     benchCmd->add_option("--methods", benchArgs.methods,
                          "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar (cpu without SIMD), cpu-table-WxH, gl, "
-                         "hh (Heckbert-Herf, counts only)")
+                         "gl-table-WxH (gl with the Hough table), hh (Heckbert-Herf, counts only)")
         ->capture_default_str();
     benchCmd->add_option("--sources", benchArgs.settings.sourceCounts, "Source sample counts (1..1024)")
         ->delimiter(',')
@@ -392,6 +405,9 @@ int main(int argc, char** argv)
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
     benchCmd->add_option("--threads", benchArgs.settings.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    benchCmd->add_option("--gl-backend", benchArgs.glBackend, "gl, gl-table-WxH, hh: headless context, osmesa (software) or egl (GPU)")
+        ->check(CLI::IsMember({"osmesa", "egl"}))
+        ->capture_default_str();
     benchCmd->add_option("--csv", benchArgs.csv, "Write all rows as CSV");
     benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error");
 

@@ -38,9 +38,9 @@ double medianMs(int repeat, const std::function<void()>& f)
     return times[(times.size() - 1) / 2];   // lower median: an even count never reports the slower middle run
 }
 
-bool parseTable(const std::string& name, int& w, int& h)
+/// "<prefix>WxH" with a table resolution HoughMaskTable accepts.
+bool parseTable(const std::string& name, const std::string& prefix, int& w, int& h)
 {
-    const std::string prefix = "cpu-table-";
     if (name.rfind(prefix, 0) != 0)
         return false;
     const std::string size = name.substr(prefix.size());
@@ -65,9 +65,9 @@ std::vector<std::string> parseMethods(const std::string& commaSeparated)
     for (std::string name; std::getline(in, name, ',');) {
         int w, h;
         if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" && name != "hh" &&
-            !parseTable(name, w, h))
+            !parseTable(name, "cpu-table-", w, h) && !parseTable(name, "gl-table-", w, h))
             throw Error("unknown bench method '" + name +
-                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl, hh)");
+                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl, gl-table-WxH, hh)");
         out.push_back(name);
     }
     if (out.empty())
@@ -110,15 +110,21 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     int w = 0, h = 0;
                     if (method == "raycast") {
                         evaluate = [&] { map = reference.sample(source, receiver, {.packets = true, .threads = settings.threads}); };
-                    } else if (method == "gl") {
+                    } else if (method == "gl" || parseTable(method, "gl-table-", w, h)) {
                         if (!context)
-                            context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                            context = gl::HeadlessContext::create(settings.glBackend);
                         if (!gpu)
                             gpu = std::make_unique<GlBitmaskSampler>(context->functions(), scene);
-                        evaluate = [&] { map = gpu->sample(source, receiver); };
+                        GlBitmaskOptions options;
+                        if (method != "gl") {
+                            options.mode = MaskMode::Table;
+                            options.tableWidth = w;
+                            options.tableHeight = h;
+                        }
+                        evaluate = [&, options] { map = gpu->sample(source, receiver, options); };
                     } else if (method == "hh") {
                         if (!context)
-                            context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                            context = gl::HeadlessContext::create(settings.glBackend);
                         if (!heckbertHerf)
                             heckbertHerf = std::make_unique<HeckbertHerfSampler>(context->functions(), worldTriangles(scene));
                         evaluate = [&] { counts = heckbertHerf->blockedCounts(source, receiver); };
@@ -131,7 +137,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                             options.strategy = CpuStrategy::Hybrid;
                         else if (method == "cpu-scalar")
                             options.simd = false;
-                        else if (parseTable(method, w, h)) {
+                        else if (parseTable(method, "cpu-table-", w, h)) {
                             options.mode = MaskMode::Table;
                             options.tableWidth = w;
                             options.tableHeight = h;

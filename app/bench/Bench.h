@@ -9,10 +9,13 @@
 #include <utility>
 #include <vector>
 
+#include "visibility/gl/HeadlessContext.h"
+
 namespace sightline::bench {
 
 /// Method configurations: "raycast", "cpu" (auto strategy), "cpu-bitmask", "cpu-hybrid",
-/// "cpu-table-WxH" (the paper's Hough table at W x H), "gl" (OSMesa context).
+/// "cpu-table-WxH" (the paper's Hough table at W x H), "gl", "gl-table-WxH" (the GL sampler,
+/// exact or with the Hough table, in a Settings::glBackend context), "hh".
 std::vector<std::string> parseMethods(const std::string& commaSeparated);   ///< throws sightline::Error
 
 struct Settings {
@@ -22,6 +25,7 @@ struct Settings {
     std::vector<int> receiverSides = {32, 128};
     int repeat = 5;
     int threads = 0;
+    gl::Backend glBackend = gl::Backend::OSMesa;   ///< headless context of "gl", "gl-table-WxH", "hh"
 };
 
 struct Row {

@@ -85,6 +85,9 @@ TEST(Bench, SettingsAreChecked)
 {
     EXPECT_THROW(bench::parseMethods("raycast,warp"), Error);
     EXPECT_THROW(bench::parseMethods("cpu-table-3x1"), Error);
+    EXPECT_THROW(bench::parseMethods("gl-table-256x8193"), Error);
+    EXPECT_THROW(bench::parseMethods("gl-table-256"), Error);
+    EXPECT_EQ(bench::parseMethods("gl,gl-table-256x128"), (std::vector<std::string>{"gl", "gl-table-256x128"}));
     EXPECT_THROW(bench::parseMethods(""), Error);
     EXPECT_EQ(bench::sourceGrid(32), std::make_pair(8, 4));
     EXPECT_EQ(bench::sourceGrid(128), std::make_pair(16, 8));

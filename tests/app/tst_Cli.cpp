@@ -152,6 +152,76 @@ TEST_F(Cli, GlMethodAgreesWithRaycast)
     EXPECT_LE(a.differenceCount(b) * 10000, a.rayCount());
 }
 
+TEST_F(Cli, GlTableModeAgreesWithCpuTableMode)
+{
+    // The paper's Hough table (§5) on both samplers: the same table and lookups, so the masks
+    // agree up to edges within float rounding of a texel boundary. tst_visibility_gl measures
+    // that at about 1e-6 of rays and holds each case to 1e-4 (0.01%); the same bound here.
+    const std::string project = (folder / "p.json").string();
+    const fs::path glMask = folder / "gt.npy", cpuMask = folder / "ct.npy", exactMask = folder / "ge.npy";
+    const CliRun gl = runCli("shaft " + project + " --method gl --mode table --table 64 32 --json --mask " + glMask.string());
+    if (gl.code != 0 && gl.err.find("OSMesa") != std::string::npos)
+        GTEST_SKIP() << "no OpenGL context: " << gl.err;
+    ASSERT_EQ(gl.code, 0) << gl.err;
+    const CliRun cpu = runCli("shaft " + project + " --method cpu --mode table --table 64 32 --json --mask " + cpuMask.string());
+    ASSERT_EQ(cpu.code, 0) << cpu.err;
+    ASSERT_EQ(runCli("shaft " + project + " --method gl --json --mask " + exactMask.string()).code, 0);
+    const json a = json::parse(gl.out), b = json::parse(cpu.out);
+    EXPECT_EQ(a["method"], "gl");
+    EXPECT_NE(a["strategy"].get<std::string>().find("gl-bitmask-hough-table-64x32"), std::string::npos) << a["strategy"];
+    EXPECT_NE(b["strategy"].get<std::string>().find("bitmask-hough-table-64x32"), std::string::npos) << b["strategy"];
+    EXPECT_GT(a["table_ms"].get<double>(), 0.0);
+    EXPECT_EQ(a["rays"], b["rays"]);
+    const double rays = a["rays"].get<double>();
+    EXPECT_LE(std::abs(a["blocked"].get<double>() - b["blocked"].get<double>()), 1e-4 * rays);
+    const HiddenSampleMap onGl = readMaskNpy(glMask, 128), onCpu = readMaskNpy(cpuMask, 128), exact = readMaskNpy(exactMask, 128);
+    EXPECT_EQ(onGl.blockedCount(), a["blocked"].get<std::uint64_t>());
+    EXPECT_LE(double(onGl.differenceCount(onCpu)), 1e-4 * rays);
+    EXPECT_GT(onGl.differenceCount(exact), 0u);   // a 64x32 table is visibly approximate
+
+    const CliRun bad = runCli("shaft " + project + " --method gl --mode table --table 2 1");
+    EXPECT_NE(bad.code, 0);
+    EXPECT_TRUE(oneLine(bad.err)) << bad.err;
+}
+
+TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
+{
+    const std::string project = (folder / "p.json").string();
+    const CliRun run = runCli("bench " + project + " --sources 128 --receivers 12 --repeat 1 --gl-backend osmesa "
+                              "--methods cpu-table-64x32,gl-table-64x32 --csv " + (folder / "t.csv").string());
+    if (run.code != 0 && run.err.find("OSMesa") != std::string::npos)
+        GTEST_SKIP() << "no OpenGL context: " << run.err;
+    ASSERT_EQ(run.code, 0) << run.err;
+    std::ifstream csv(folder / "t.csv");
+    std::string header;
+    std::getline(csv, header);
+    // Fields after the quoted project: method, source_samples, receiver, rays, ms, blocked,
+    // wrongly_blocked, wrongly_free, error_fraction.
+    std::vector<std::vector<std::string>> rows;
+    for (std::string line; std::getline(csv, line);) {
+        std::vector<std::string> fields;
+        std::stringstream in(line.substr(line.rfind('"') + 2));
+        for (std::string field; std::getline(in, field, ',');)
+            fields.push_back(field);
+        ASSERT_EQ(fields.size(), 9u) << line;
+        rows.push_back(fields);
+    }
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0][0], "cpu-table-64x32");
+    EXPECT_EQ(rows[1][0], "gl-table-64x32");
+    const double rays = std::stod(rows[0][3]);
+    EXPECT_GT(std::stod(rows[0][8]), 0.0);   // the table's error against the reference
+    EXPECT_LE(std::abs(std::stod(rows[0][5]) - std::stod(rows[1][5])), 1e-4 * rays);
+    EXPECT_LE(std::abs(std::stod(rows[0][8]) - std::stod(rows[1][8])), 1e-4);
+
+    for (const std::string& arguments : {"bench " + project + " --methods gl --gl-backend vulkan",
+                                         "bench " + project + " --methods gl-table-3x1"}) {
+        const CliRun bad = runCli(arguments);
+        EXPECT_NE(bad.code, 0) << arguments;
+        EXPECT_TRUE(oneLine(bad.err)) << arguments << " -> [" << bad.err << "]";
+    }
+}
+
 TEST_F(Cli, JitterGivesTheSameMaskInCpuAndRaycast)
 {
     const std::string project = (folder / "p.json").string();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "visibility/Error.h"
+#include "visibility/HoughMaskTable.h"
 #include "visibility/ShaftGeometry.h"
 #include "gl/GlShaders.h"
 
@@ -64,6 +66,9 @@ uniform ivec2 uReceiverGrid;
 flat out vec3 gPoly[7];               // clipped triangle in source coordinates
 flat out int gCount;
 flat out int gClipPerSample;
+#if TABLE_MODE
+flat out vec4 gRegion;                // influence region before padding: (lo, hi)
+#endif
 
 void main()
 {
@@ -102,6 +107,9 @@ void main()
     }
     vec2 pad = 0.5 / vec2(uReceiverGrid);   // half a sample: boundary samples stay covered
     if (whole) { lo = vec2(0.0); hi = vec2(1.0); }
+#if TABLE_MODE
+    vec4 region = vec4(lo, hi);
+#endif
     lo = clamp(lo - pad, 0.0, 1.0);
     hi = clamp(hi + pad, 0.0, 1.0);
     if (any(greaterThanEqual(lo, hi))) return;
@@ -112,6 +120,9 @@ void main()
         for (int i = 0; i < 7; ++i) gPoly[i] = i < n ? poly[i] : vec3(0.0);
         gCount = n;
         gClipPerSample = clipPerSample;
+#if TABLE_MODE
+        gRegion = region;
+#endif
         gl_Position = vec4(corners[k] * 2.0 - 1.0, 0.0, 1.0);
         EmitVertex();
     }
@@ -123,6 +134,9 @@ const char* kFragmentShader = R"(
 flat in vec3 gPoly[7];
 flat in int gCount;
 flat in int gClipPerSample;
+#if TABLE_MODE
+flat in vec4 gRegion;
+#endif
 uniform vec3 uR0, uRU, uRV;           // receiver (s', t') -> source coordinates
 uniform ivec2 uSourceGrid, uReceiverGrid;
 uniform uint uJitterSeed;             // decorrelated sampling (section 6.2); 0: off
@@ -160,9 +174,75 @@ ivec2 sampleRange(float lo, float hi, int n)
     return ivec2(max(0, int(ceil(x0))), min(n - 1, int(floor(x1))));
 }
 
+#if TABLE_MODE
+// Table mode (section 5): the Hough table of HoughMaskTable, texel (i, k) at buffer texels
+// (k * width + i) * TARGETS + target, each 128 source bits in the render targets' order.
+uniform usamplerBuffer uTable;
+uniform ivec2 uTableSize;             // (angles, distances)
+const float kPi = 3.14159265358979;
+const float kMaxDistance = 0.70710678118654752;   // sqrt(2) / 2
+
+// ANDs into mask the entry of the texel nearest to the line with left normal n (unit) at signed
+// distance dist from the source centre: HoughMaskTable::lookup's indexing (theta wraps, r clamps).
+void andTexel(vec2 n, float dist)
+{
+    float angle = atan(n.y, n.x);   // [-pi, pi]
+    int i = int(floor((angle + kPi) / (2.0 * kPi) * float(uTableSize.x)));
+    i = i < 0 ? i + uTableSize.x : (i >= uTableSize.x ? i - uTableSize.x : i);
+    int k = clamp(int(floor((dist + kMaxDistance) / (2.0 * kMaxDistance) * float(uTableSize.y))), 0, uTableSize.y - 1);
+    int base = (k * uTableSize.x + i) * TARGETS;
+    for (int t = 0; t < TARGETS; ++t) {
+        uvec4 bits = texelFetch(uTable, base + t);
+        mask[4 * t] &= bits.x; mask[4 * t + 1] &= bits.y; mask[4 * t + 2] &= bits.z; mask[4 * t + 3] &= bits.w;
+    }
+}
+
+// CpuBitmaskSampler's tableMask: the AND of the masks of the backprojection's edges, inside on
+// the left of each. Each edge's line on the source plane (d = 0) comes from the plane through r
+// and the 3D edge, N = (p_k - r) x (p_i - r): the line is N.xy . X = N . r and the left normal of
+// the backprojected edge from p_k to p_i is -N.xy. Projecting the end points instead loses all
+// precision in float when a vertex lies just short of r's distance (see the exact mode below).
+// The CPU takes the edges counter-clockwise by the sign of the projected area; central
+// projection from r keeps orientation, so that sign is the polygon's orientation seen from r,
+// found once for all edges (per-edge tests flip independently on slivers seen edge-on). Zero:
+// seen edge-on, no inside (the CPU's zero-area rule).
+void tableMask(vec3 p[8], int n, vec3 r, vec2 shift)
+{
+    vec3 g = vec3(0.0);
+    for (int i = 0; i < n; ++i) g += p[i];
+    g /= float(n);
+    vec3 m = vec3(0.0);   // Newell normal of the clipped polygon
+    for (int i = 0, k = n - 1; i < n; k = i++) m += cross(p[k] - g, p[i] - g);
+    float orientation = dot(m, r - g);
+    for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = orientation == 0.0 ? 0u : 0xffffffffu;
+    if (orientation == 0.0) return;
+    float counterClockwise = orientation > 0.0 ? 1.0 : -1.0;
+    bool anyEdge = false;
+    for (int i = 0, k = n - 1; i < n; k = i++) {
+        vec3 normal = counterClockwise * cross(p[k] - r, p[i] - r);
+        float length2 = length(normal.xy);
+        if (length2 == 0.0) continue;   // both ends backproject to one point: the CPU skips it
+        vec2 left = -normal.xy / length2;
+        // Signed distance from the centre of the source grid as this receiver sample sees it.
+        float dist = -dot(normal, r) / length2 - dot(left, vec2(0.5) + shift);
+        andTexel(left, dist);
+        anyEdge = true;
+    }
+    if (!anyEdge)
+        for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
+}
+#endif
+
 void main()
 {
     vec2 sr = gl_FragCoord.xy / vec2(uReceiverGrid);
+#if TABLE_MODE
+    // The CPU sampler's influence region, unpadded: in table mode a backprojection that misses
+    // every sample can still pick up samples from a nearest texel, so the pairs evaluated must
+    // be the same as on the CPU for the answers to agree (without this, a third more rays
+    // differ from the CPU's table mode on the random scenes of tst_GlBitmaskSampler).
+    if (any(lessThan(sr, gRegion.xy)) || any(greaterThan(sr, gRegion.zw))) discard;
+#endif
     vec3 r = uR0 + sr.x * uRU + sr.y * uRV;
     vec3 p[8];
     int n = gCount;
@@ -171,6 +251,10 @@ void main()
         n = clipPolygon(p, n, vec4(0.0, 0.0, -1.0, r.z * (1.0 - 1e-6)));
         if (n < 3) discard;
     }
+#if TABLE_MODE
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    tableMask(p, n, r, jitterOffset(pixel.y * uReceiverGrid.x + pixel.x) / vec2(uSourceGrid));
+#else
     // Backprojection onto the source (section 4).
     float ps[8], pt[8];
     float tMin = 1e30, tMax = -1e30;
@@ -210,11 +294,19 @@ void main()
         if (columns.x <= columns.y)
             setRange(b * uSourceGrid.x + columns.x, b * uSourceGrid.x + columns.y);
     }
+#endif
     OUTPUTS
 }
 )";
 
-std::string fragmentSource(int targets)
+/// "#version" and the compile-time switches shared by the geometry and fragment shaders.
+std::string preamble(int targets, MaskMode mode)
+{
+    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n#define TABLE_MODE " +
+           (mode == MaskMode::Table ? "1" : "0") + "\n";
+}
+
+std::string fragmentSource(int targets, MaskMode mode)
 {
     std::string declarations, outputs;
     for (int k = 0; k < targets; ++k) {
@@ -226,7 +318,7 @@ std::string fragmentSource(int targets)
     }
     std::string body = kFragmentShader;
     body.replace(body.find("OUTPUTS"), 7, outputs);
-    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n" + declarations + kClipFunction + body;
+    return preamble(targets, mode) + declarations + kClipFunction + body;
 }
 
 glm::vec4 affineRow(const glm::dvec3& axis, const glm::dvec3& origin)
@@ -234,11 +326,29 @@ glm::vec4 affineRow(const glm::dvec3& axis, const glm::dvec3& origin)
     return glm::vec4(glm::vec3(axis), float(-glm::dot(axis, origin)));
 }
 
+/// The Hough table's masks as 32-bit words, `targets` RGBA32UI texels per entry: source bit b in
+/// word b / 32, bit b % 32, the render targets' layout (DESIGN.md §2: bit index b*na + a).
+std::vector<std::uint32_t> packTable(const HoughMaskTable& table, int targets)
+{
+    const std::size_t wordsPerEntry = std::size_t(targets) * 4;
+    std::vector<std::uint32_t> words(std::size_t(table.width()) * std::size_t(table.height()) * wordsPerEntry, 0);
+    for (int k = 0; k < table.height(); ++k)
+        for (int i = 0; i < table.width(); ++i) {
+            const std::uint64_t* mask = table.texel(i, k);
+            std::uint32_t* out = &words[(std::size_t(k) * std::size_t(table.width()) + std::size_t(i)) * wordsPerEntry];
+            for (int w = 0; w < table.wordsPerMask(); ++w) {
+                out[2 * w] = std::uint32_t(mask[w]);
+                out[2 * w + 1] = std::uint32_t(mask[w] >> 32);
+            }
+        }
+    return words;
+}
+
 } // namespace
 
 struct GlBitmaskSampler::Impl {
     const gl::Functions& gl;
-    GLuint programs[kMaxTargets + 1] = {};   // by target count, compiled on first use
+    GLuint programs[2][kMaxTargets + 1] = {};   // by mask mode and target count, compiled on first use
     GLuint vertexArray = 0, buffer = 0, instanceBuffer = 0;
     GLsizei vertexCount = 0;
     GLuint cullableBuffer = 0, cullableTexture = 0;   // per instance, uploaded per call
@@ -250,15 +360,27 @@ struct GlBitmaskSampler::Impl {
     GLuint framebuffer = 0;
     GLuint textures[kMaxTargets] = {};
     int targetCount = 0, width = 0, height = 0;
+    /// Table mode: the Hough table of the last source grid and resolution, as a buffer texture
+    /// (RGBA32UI texels; a buffer holds the 8-texel entries of an 8192x8192 table where a 2D
+    /// texture's side would not). The editor samples one grid many times: built once.
+    struct TableKey {
+        int na = 0, nb = 0, width = 0, height = 0;
+        bool operator==(const TableKey&) const = default;
+    };
+    TableKey tableKey;
+    GLuint tableBuffer = 0, tableTexture = 0;
 
     explicit Impl(const gl::Functions& functions) : gl(functions) {}
 
     ~Impl()
     {
-        for (GLuint program : programs)
-            if (program)
-                gl.DeleteProgram(program);
+        for (const auto& byTargets : programs)
+            for (GLuint program : byTargets)
+                if (program)
+                    gl.DeleteProgram(program);
         releaseTargets();
+        gl.DeleteTextures(1, &tableTexture);
+        gl.DeleteBuffers(1, &tableBuffer);
         gl.DeleteTextures(1, &cullableTexture);
         gl.DeleteBuffers(1, &cullableBuffer);
         gl.DeleteBuffers(1, &instanceBuffer);
@@ -266,16 +388,47 @@ struct GlBitmaskSampler::Impl {
         gl.DeleteVertexArrays(1, &vertexArray);
     }
 
-    GLuint program(int targets)
+    GLuint program(int targets, MaskMode mode)
     {
-        if (programs[targets])
-            return programs[targets];
-        const GLuint p = gl::buildProgram(gl,
-                                          {{GL_VERTEX_SHADER, kVertexShader},
-                                           {GL_GEOMETRY_SHADER, std::string("#version 450 core\n") + kClipFunction + kGeometryShader},
-                                           {GL_FRAGMENT_SHADER, fragmentSource(targets)}},
-                                          "GL bitmask sampler");
-        return programs[targets] = p;
+        GLuint& slot = programs[mode == MaskMode::Table ? 1 : 0][targets];
+        if (slot)
+            return slot;
+        return slot = gl::buildProgram(gl,
+                                       {{GL_VERTEX_SHADER, kVertexShader},
+                                        {GL_GEOMETRY_SHADER, preamble(targets, mode) + kClipFunction + kGeometryShader},
+                                        {GL_FRAGMENT_SHADER, fragmentSource(targets, mode)}},
+                                       "GL bitmask sampler");
+    }
+
+    /// Builds (on the CPU, HoughMaskTable) and uploads the table for this grid and resolution
+    /// unless it is the one already uploaded. Returns the milliseconds spent (0 when cached).
+    double ensureTable(int na, int nb, int tableWidth, int tableHeight)
+    {
+        const TableKey key{na, nb, tableWidth, tableHeight};
+        if (tableTexture && key == tableKey)
+            return 0.0;
+        const auto start = Clock::now();
+        const int targets = (na * nb + 127) / 128;
+        GLint maxTexels = 0;
+        gl.GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+        const double texels = double(tableWidth) * double(tableHeight) * double(targets);
+        if (texels > double(maxTexels))
+            throw Error("GL bitmask sampler: a " + std::to_string(tableWidth) + "x" + std::to_string(tableHeight) +
+                        " Hough table for " + std::to_string(na * nb) + " source samples needs " +
+                        std::to_string(std::uint64_t(texels)) + " texels, the context allows " + std::to_string(maxTexels));
+        const std::vector<std::uint32_t> words = packTable(HoughMaskTable(na, nb, tableWidth, tableHeight), targets);
+        if (!tableBuffer) {
+            gl.CreateBuffers(1, &tableBuffer);
+            gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &tableTexture);
+        }
+        tableKey = {};   // until the upload succeeded
+        gl.NamedBufferData(tableBuffer, GLsizeiptr(words.size() * sizeof(std::uint32_t)), words.data(), GL_STATIC_DRAW);
+        gl.TextureBuffer(tableTexture, GL_RGBA32UI, tableBuffer);
+        if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
+            throw Error("GL bitmask sampler: uploading the " + std::to_string(tableWidth) + "x" +
+                        std::to_string(tableHeight) + " Hough table failed (OpenGL error " + std::to_string(error) + ")");
+        tableKey = key;
+        return msSince(start);
     }
 
     void releaseTargets()
@@ -347,7 +500,7 @@ GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles
     gl.CreateBuffers(1, &impl_->cullableBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &impl_->cullableTexture);
     impl_->vertexCount = GLsizei(triangles.vertices.size());
-    impl_->program(1);   // compile now: shader errors surface at construction
+    impl_->program(1, MaskMode::Exact);   // compile now: shader errors surface at construction
 }
 
 GlBitmaskSampler::~GlBitmaskSampler() = default;
@@ -362,11 +515,22 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
 {
     const SourceJitter& jitter = options.jitter;
     validatePatchPair(source, receiver);
+    const bool tableMode = options.mode == MaskMode::Table;
+    if (tableMode)
+        HoughMaskTable::checkResolution(options.tableWidth, options.tableHeight);
     const gl::Functions& gl = impl_->gl;
     const auto setupStart = Clock::now();
     const int targets = (source.sampleCount() + 127) / 128;
-    const GLuint program = impl_->program(targets);
+    const GLuint program = impl_->program(targets, options.mode);
     impl_->ensureTargets(targets, receiver.na, receiver.nb);
+    double tableMs = 0.0;
+    if (tableMode) {
+        // Section 5: the bitmask texture, on texture unit 1 (unit 0 holds the culling flags).
+        tableMs = impl_->ensureTable(source.na, source.nb, options.tableWidth, options.tableHeight);
+        gl.BindTextureUnit(1, impl_->tableTexture);
+        gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uTable"), 1);
+        gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uTableSize"), options.tableWidth, options.tableHeight);
+    }
 
     const ShaftFrames frames(source, receiver);
     auto set4 = [&](const char* name, const glm::vec4& v) { gl.ProgramUniform4fv(program, gl.GetUniformLocation(program, name), 1, &v.x); };
@@ -455,7 +619,7 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
     if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
         throw Error("GL bitmask sampler: OpenGL error " + std::to_string(error));
     if (stats)
-        *stats = {setupMs, drawMs, msSince(readStart)};
+        *stats = {setupMs - tableMs, drawMs, msSince(readStart), tableMs};
     return map;
 }
 

@@ -16,9 +16,7 @@ const double kMaxDistance = std::sqrt(0.5);
 HoughMaskTable::HoughMaskTable(int na, int nb, int width, int height)
     : na_(na), nb_(nb), width_(width), height_(height), words_((na * nb + 63) / 64)
 {
-    if (width < 4 || height < 2 || width > 8192 || height > 8192)
-        throw Error("Hough table resolution must be between 4x2 and 8192x8192, got " + std::to_string(width) + "x" +
-                    std::to_string(height));
+    checkResolution(width, height);
     if (na < 1 || nb < 1 || na * nb > kMaxSourceSamples)
         throw Error("Hough table: unsupported sample grid " + std::to_string(na) + "x" + std::to_string(nb));
     masks_.assign(std::size_t(width) * std::size_t(height) * std::size_t(words_), 0);
@@ -35,6 +33,13 @@ HoughMaskTable::HoughMaskTable(int na, int nb, int width, int height)
                     }
                 }
         }
+}
+
+void HoughMaskTable::checkResolution(int width, int height)
+{
+    if (width < 4 || height < 2 || width > 8192 || height > 8192)
+        throw Error("Hough table resolution must be between 4x2 and 8192x8192, got " + std::to_string(width) + "x" +
+                    std::to_string(height));
 }
 
 double HoughMaskTable::theta(int i) const { return -kPi + (i + 0.5) * (2.0 * kPi / width_); }

@@ -24,6 +24,7 @@
 
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/HoughMaskTable.h"
+#include "visibility/MaskMode.h"
 #include "visibility/Patch.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/Scene.h"
@@ -44,12 +45,6 @@ enum class CpuStrategy {
                ///< the bitmask is weak (many tiny occluders, each touching many receiver samples)
     RayCast,   ///< every ray by Embree packets (the bitmask's cost barely drops with fewer source
                ///< samples, ray casting's does)
-};
-
-/// How the set of source samples inside a backprojection is found (§5).
-enum class MaskMode {
-    Exact,   ///< per source row, the exact interval of columns (default)
-    Table,   ///< the paper's Hough bitmask table, nearest texel, AND of the edges' masks
 };
 
 struct BitmaskOptions {

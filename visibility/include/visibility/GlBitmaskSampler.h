@@ -9,9 +9,12 @@
 //     onto the source and outputs the source samples inside it as a bitmask;
 //   - logic-op OR (§5.1) accumulates the masks in up to 8 RGBA32UI render targets, 128 source
 //     samples each, 1024 in all (§6.1, MRT).
-// The masks are exact (per source row, the backprojection's interval of columns), like the CPU
-// sampler (CpuBitmaskSampler.h), instead of the paper's nearest-texel Hough table; computation
-// is in single precision, so answers can differ from the reference on grazing rays only.
+// By default the masks are exact (per source row, the backprojection's interval of columns), like
+// the CPU sampler (CpuBitmaskSampler.h); computation is in single precision, so answers can differ
+// from the reference on grazing rays only. MaskMode::Table is the paper's own §5 method: the
+// fragment shader ANDs the nearest-texel masks of the backprojection's edges from a Hough table
+// (HoughMaskTable.h, built on the CPU and uploaded once per source grid and resolution), exactly
+// as the CPU sampler's table mode does.
 //
 // Runs in any current OpenGL 4.5 core context: pass its resolved functions (HeadlessContext for
 // OSMesa and EGL, or the editor's Qt context). The triangles are uploaded once.
@@ -20,6 +23,7 @@
 #include <memory>
 
 #include "visibility/HiddenSampleMap.h"
+#include "visibility/MaskMode.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
 #include "visibility/SourceJitter.h"
@@ -31,6 +35,7 @@ struct GlBitmaskStats {
     double setupMs = 0.0;    ///< uniforms, render targets
     double drawMs = 0.0;     ///< the pass, until the GPU finished
     double readbackMs = 0.0; ///< hidden-samples map back to the CPU
+    double tableMs = 0.0;    ///< Table: building and uploading the Hough table (0 when cached)
 };
 
 struct GlBitmaskOptions {
@@ -38,6 +43,9 @@ struct GlBitmaskOptions {
     /// Watertight front-face culling (§7) for meshes flagged Mesh::watertight, with the CPU
     /// sampler's safety rule (receiverApartFrom). Needs the Scene constructor.
     bool watertightCulling = true;
+    MaskMode mode = MaskMode::Exact;
+    int tableWidth = 256;            ///< Table: angles (4..8192, as HoughMaskTable)
+    int tableHeight = 128;           ///< Table: distances (2..8192)
 };
 
 class GlBitmaskSampler {
@@ -51,7 +59,8 @@ public:
     GlBitmaskSampler(const GlBitmaskSampler&) = delete;
     GlBitmaskSampler& operator=(const GlBitmaskSampler&) = delete;
 
-    /// Validates the pair (sightline::Error if invalid), renders, reads the map back.
+    /// Validates the pair and the table resolution (sightline::Error if invalid), renders, reads
+    /// the map back.
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, GlBitmaskStats* stats = nullptr);
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
                            GlBitmaskStats* stats = nullptr);

@@ -23,6 +23,9 @@ public:
     /// `width` angles by `height` distances, for the regular na x nb sample grid of `source`
     /// (positions in the normalised frame (s, t) in [0, 1]^2: ((a + 0.5) / na, (b + 0.5) / nb)).
     HoughMaskTable(int na, int nb, int width = 256, int height = 128);
+    /// Throws sightline::Error unless 4 <= width <= 8192 and 2 <= height <= 8192 (the
+    /// constructor's own check, for callers that validate before building, e.g. the GL sampler).
+    static void checkResolution(int width, int height);
 
     int width() const { return width_; }
     int height() const { return height_; }
