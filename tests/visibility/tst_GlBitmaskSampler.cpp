@@ -253,9 +253,10 @@ TEST_F(GlBitmask, TableIsCachedAndBadResolutionsAreRefused)
     // A table too big for the context's buffer textures is refused before it is built.
     GLint maxTexels = 0;
     context->functions().GetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
-    if (8192.0 * 8192.0 * 8.0 > double(maxTexels))
+    if (8192.0 * 8192.0 * 8.0 > double(maxTexels)) {
         EXPECT_THROW(gpu.sample(xyPatch(0, 32, 32), receiver, GlBitmaskOptions{.mode = MaskMode::Table, .tableWidth = 8192, .tableHeight = 8192}),
                      Error);
+    }
     // A failed call leaves the sampler usable.
     EXPECT_EQ(gpu.sample(source, receiver, table), a);
 }

@@ -38,6 +38,17 @@ SIGHTLINE_AVX2 inline void sampleRange(__m256 lo, __m256 hi, int n, __m256i& fir
                             _mm256_set1_epi32(n - 1));
 }
 
+/// Widens [lo, hi] by `slack`. Two triangles sharing an edge compute that edge from different
+/// vertices, so in single precision a sample exactly on it (a wall of two triangles with the
+/// patches centred on its diagonal puts hundreds of rays there) could fall outside both: a crack
+/// the reference (watertight Embree) does not have. The slack covers the rounding of the
+/// backprojected coordinates and errs towards blocked on rays within it of an edge only.
+SIGHTLINE_AVX2 inline void widen(__m256& lo, __m256& hi, __m256 slack)
+{
+    lo = _mm256_sub_ps(lo, slack);
+    hi = _mm256_add_ps(hi, slack);
+}
+
 } // namespace
 
 SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, int na, int nb)
@@ -54,15 +65,22 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     const __m256 rs = _mm256_load_ps(lanes.s), rt = _mm256_load_ps(lanes.t), rd = _mm256_load_ps(lanes.d);
     const __m256 shiftS = _mm256_load_ps(lanes.shiftS), shiftT = _mm256_load_ps(lanes.shiftT);
     __m256 ps[kMaxPolygon], pt[kMaxPolygon];
-    __m256 tMin = inf, tMax = negInf;
+    __m256 tMin = inf, tMax = negInf, magnitude = _mm256_setzero_ps();
+    const __m256 sign = _mm256_set1_ps(-0.0f);
     for (int i = 0; i < polygon.count; ++i) {
         const __m256 k = _mm256_div_ps(rd, _mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])));
         ps[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs), shiftS);
         pt[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt), shiftT);
         tMin = _mm256_min_ps(tMin, pt[i]);
         tMax = _mm256_max_ps(tMax, pt[i]);
+        magnitude = _mm256_max_ps(magnitude, _mm256_max_ps(_mm256_andnot_ps(sign, ps[i]), _mm256_andnot_ps(sign, pt[i])));
     }
+    // Rounding of an edge's crossing is relative to the coordinates it is computed from (the
+    // vertices), not to its result: 2^-20 of the largest, a few ulps after the projection (factor
+    // <= kMaxFloatFactor) and the interpolation, plus 2^-24 of the patch.
+    const __m256 slack = _mm256_fmadd_ps(magnitude, _mm256_set1_ps(1.0f / 1048576.0f), _mm256_set1_ps(1.0f / 16777216.0f));
     __m256i b0, b1;
+    widen(tMin, tMax, slack);
     sampleRange(tMin, tMax, nb, b0, b1);
     alignas(32) int first[kLanes], last[kLanes];
     _mm256_store_si256(reinterpret_cast<__m256i*>(first), b0);
@@ -94,6 +112,7 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
         eT[i] = pt[k];
         eMin[i] = _mm256_min_ps(pt[k], pt[i]);
         eMax[i] = _mm256_max_ps(pt[k], pt[i]);
+        widen(eMin[i], eMax[i], slack);
     }
 
     const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
@@ -109,6 +128,7 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
             hi = _mm256_max_ps(_mm256_blendv_ps(negInf, _mm256_fmadd_ps(dt, eSlope[e], eHi[e]), spans), hi);
         }
         __m256i a0, a1;
+        widen(lo, hi, slack);
         sampleRange(lo, hi, na, a0, a1);
         const __m256i row = _mm256_set1_epi32(b);
         const __m256i outside = _mm256_or_si256(
