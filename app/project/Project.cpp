@@ -87,21 +87,51 @@ struct Reader {
         if (!object.contains("mesh") || !object.at("mesh").is_string() || object.at("mesh").get<std::string>().empty())
             fail(key + ".mesh", "must be \"box\", \"plane\" or a mesh file path");
         spec.mesh = object.at("mesh").get<std::string>();
-        if (object.contains("transform")) {
-            const json& t = object.at("transform");
-            if (!t.is_array() || t.size() != 16)
-                fail(key + ".transform", "must be 16 numbers (column-major 4x4)");
-            for (int i = 0; i < 16; ++i)
-                spec.transform[i / 4][i % 4] = float(number(t[std::size_t(i)], key + ".transform"));
-        }
+        if (object.contains("transform"))
+            spec.transform = transform(object.at("transform"), key + ".transform");
         spec.extra = object;
         for (const char* known : {"name", "mesh", "transform"})
             spec.extra.erase(known);
         return spec;
     }
+
+    glm::mat4 transform(const json& t, const std::string& key) const
+    {
+        if (!t.is_array() || t.size() != 16)
+            fail(key, "must be 16 numbers (column-major 4x4)");
+        glm::mat4 m(1.0f);
+        for (int i = 0; i < 16; ++i)
+            m[i / 4][i % 4] = float(number(t[std::size_t(i)], key));
+        return m;
+    }
+
+    std::map<std::size_t, glm::mat4> sceneTransforms(const json& list) const
+    {
+        if (!list.is_array())
+            fail("scene_transforms", "must be an array of {instance, transform}");
+        std::map<std::size_t, glm::mat4> result;
+        for (std::size_t i = 0; i < list.size(); ++i) {
+            const std::string key = "scene_transforms[" + std::to_string(i) + "]";
+            const json& object = list[i];
+            if (!object.is_object() || !object.contains("instance") || !object.at("instance").is_number_unsigned())
+                fail(key + ".instance", "must be a non-negative integer");
+            if (!object.contains("transform"))
+                fail(key + ".transform", "is missing");
+            result[object.at("instance").get<std::size_t>()] = transform(object.at("transform"), key + ".transform");
+        }
+        return result;
+    }
 };
 
 json vec3Json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+
+json matrixJson(const glm::mat4& m)
+{
+    json t = json::array();
+    for (int i = 0; i < 16; ++i)
+        t.push_back(m[i / 4][i % 4]);
+    return t;
+}
 
 json patchJson(const Patch& p, const json& extra)
 {
@@ -163,8 +193,10 @@ Project parseProject(const json& document, const std::filesystem::path& folder, 
         for (std::size_t i = 0; i < list.size(); ++i)
             project.occluders.push_back(read.occluder(list[i], i));
     }
+    if (document.contains("scene_transforms"))
+        project.sceneTransforms = read.sceneTransforms(document.at("scene_transforms"));
     project.extra = document;
-    for (const char* known : {"version", "scene", "source", "receiver", "occluders"})
+    for (const char* known : {"version", "scene", "source", "receiver", "occluders", "scene_transforms"})
         project.extra.erase(known);
     return project;
 }
@@ -200,13 +232,16 @@ json toJson(const Project& project)
         json object = spec.extra;
         object["name"] = spec.name;
         object["mesh"] = spec.mesh;
-        json t = json::array();
-        for (int i = 0; i < 16; ++i)
-            t.push_back(spec.transform[i / 4][i % 4]);
-        object["transform"] = std::move(t);
+        object["transform"] = matrixJson(spec.transform);
         occluders.push_back(std::move(object));
     }
     document["occluders"] = std::move(occluders);
+    if (!project.sceneTransforms.empty()) {
+        json moved = json::array();
+        for (const auto& [instance, transform] : project.sceneTransforms)
+            moved.push_back({{"instance", instance}, {"transform", matrixJson(transform)}});
+        document["scene_transforms"] = std::move(moved);
+    }
     return document;
 }
 
@@ -235,24 +270,45 @@ Mesh builtinMesh(const std::string& name)
     throw Error("unknown built-in mesh '" + name + "' (built-ins: box, plane)");
 }
 
+void applySceneTransforms(const Project& project, Scene& sceneFile)
+{
+    for (const auto& [instance, transform] : project.sceneTransforms) {
+        if (instance >= sceneFile.instances.size())
+            throw Error("scene_transforms: instance " + std::to_string(instance) + " does not exist (the scene has " +
+                        std::to_string(sceneFile.instances.size()) + " objects)");
+        sceneFile.instances[instance].transform = transform;
+    }
+}
+
+Scene loadOccluderMesh(const Project& project, const OccluderSpec& spec, std::vector<std::string>* warnings)
+{
+    Scene mesh;
+    if (isBuiltinMesh(spec.mesh))
+        mesh.addMeshInstance(builtinMesh(spec.mesh));
+    else
+        mesh = loadScene(project.resolve(spec.mesh), warnings);
+    return mesh;
+}
+
+void appendOccluder(Scene& scene, const Scene& mesh, const OccluderSpec& spec)
+{
+    Scene part = mesh;
+    for (Instance& instance : part.instances) {
+        instance.transform = spec.transform * instance.transform;
+        if (!spec.name.empty())
+            instance.name = spec.name;
+    }
+    scene.append(part);
+}
+
 Scene buildScene(const Project& project, std::vector<std::string>* warnings)
 {
     Scene scene;
     if (!project.scene.empty())
         scene = loadScene(project.resolve(project.scene), warnings);
-    for (const OccluderSpec& spec : project.occluders) {
-        Scene part;
-        if (isBuiltinMesh(spec.mesh))
-            part.addMeshInstance(builtinMesh(spec.mesh));
-        else
-            part = loadScene(project.resolve(spec.mesh), warnings);
-        for (Instance& instance : part.instances) {
-            instance.transform = spec.transform * instance.transform;
-            if (!spec.name.empty())
-                instance.name = spec.name;
-        }
-        scene.append(part);
-    }
+    applySceneTransforms(project, scene);
+    for (const OccluderSpec& spec : project.occluders)
+        appendOccluder(scene, loadOccluderMesh(project, spec, warnings), spec);
     validate(scene, project.scene.empty() ? "project" : project.scene);
     return scene;
 }

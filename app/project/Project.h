@@ -6,7 +6,9 @@
 // occluder), so files written by newer tools or edited by hand keep what we do not understand.
 // Errors name the file and the offending key: "level.json: source.samples must be two integers".
 
+#include <cstddef>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,9 @@ struct Project {
     Patch source;
     Patch receiver;
     std::vector<OccluderSpec> occluders;
+    /// Objects of the scene file the designer moved: instance index -> world transform replacing
+    /// the file's ("scene_transforms": [{"instance": 3, "transform": [16 numbers]}]).
+    std::map<std::size_t, glm::mat4> sceneTransforms;
     /// Unknown keys of the document and of each patch, kept for saving.
     nlohmann::json extra = nlohmann::json::object();
     nlohmann::json sourceExtra = nlohmann::json::object();
@@ -59,6 +64,15 @@ void saveProject(const Project& project, const std::filesystem::path& file);
 /// The built-in occluder meshes by name ("box", "plane"); throws sightline::Error for others.
 Mesh builtinMesh(const std::string& name);
 bool isBuiltinMesh(const std::string& name);
+
+/// Replaces the transforms of the scene file's instances that the project moved. Throws
+/// sightline::Error for an instance index the scene does not have.
+void applySceneTransforms(const Project& project, Scene& sceneFile);
+
+/// An occluder's mesh(es) in object space: a built-in mesh or the file's scene.
+Scene loadOccluderMesh(const Project& project, const OccluderSpec& spec, std::vector<std::string>* warnings = nullptr);
+/// Appends an occluder to `scene`, placed by its transform and named after it.
+void appendOccluder(Scene& scene, const Scene& mesh, const OccluderSpec& spec);
 
 /// The scene file plus every occluder, as one Scene ready for sampling. Throws sightline::Error.
 Scene buildScene(const Project& project, std::vector<std::string>* warnings = nullptr);

@@ -760,6 +760,16 @@ CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTrian
 }
 CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std::move(triangles)) {}
 
+void CpuBitmaskSampler::setScene(const Scene& scene)
+{
+    triangles_ = worldTriangles(scene);
+    instances_.clear();
+    for (const Instance& instance : scene.instances)
+        instances_.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
+    std::lock_guard lock(rayCasterMutex_);
+    rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
+}
+
 std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver) const
 {
     std::vector<char> cullable(instances_.size(), 0);

@@ -13,7 +13,7 @@
 #include "visibility/Error.h"
 #include "visibility/HoughMaskTable.h"
 #include "visibility/ShaftGeometry.h"
-#include "gl/GlShaders.h"
+#include "visibility/gl/GlShaders.h"
 
 namespace sightline {
 

@@ -6,7 +6,7 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "gl/GlShaders.h"
+#include "visibility/gl/GlShaders.h"
 #include "visibility/Error.h"
 #include "visibility/ShaftGeometry.h"
 

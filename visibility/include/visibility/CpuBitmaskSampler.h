@@ -98,6 +98,11 @@ public:
     explicit CpuBitmaskSampler(WorldTriangles triangles);
     ~CpuBitmaskSampler();
 
+    /// Replaces the scene (the editor moved an object) and keeps the warm buffers: on this machine
+    /// a fresh sampler's first call pays for its page faults (about 40 ms on the demo).
+    /// Not thread-safe against a concurrent sample().
+    void setScene(const Scene& scene);
+
     /// Buffers reused between calls (private to the implementation).
     struct Workspace;
 

@@ -1,4 +1,4 @@
-#include "GlShaders.h"
+#include "visibility/gl/GlShaders.h"
 
 #include <algorithm>
 #include <vector>

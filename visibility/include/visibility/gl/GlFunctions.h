@@ -13,6 +13,13 @@
 
 namespace sightline::gl {
 
+// Qt's headers may include <GL/gl.h> before this file, which defines GL_VERSION_1_1 and so hides
+// glcorearb.h's typedefs of the OpenGL 1.1 entry points: those are named here.
+using PfnDeleteTextures = void(APIENTRYP)(GLsizei n, const GLuint* textures);
+using PfnDrawArrays = void(APIENTRYP)(GLenum mode, GLint first, GLsizei count);
+using PfnDrawElements = void(APIENTRYP)(GLenum mode, GLsizei count, GLenum type, const void* indices);
+using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
+
 #define SIGHTLINE_GL_FUNCTIONS(X)                                                                  \
     X(PFNGLGETSTRINGPROC, GetString)                                                               \
     X(PFNGLGETINTEGERVPROC, GetIntegerv)                                                           \
@@ -49,7 +56,7 @@ namespace sightline::gl {
     X(PFNGLCREATETEXTURESPROC, CreateTextures)                                                     \
     X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                                 \
     X(PFNGLGETTEXTUREIMAGEPROC, GetTextureImage)                                                   \
-    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                                     \
+    X(PfnDeleteTextures, DeleteTextures)                                                            \
     X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                             \
     X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, NamedFramebufferTexture)                                   \
     X(PFNGLNAMEDFRAMEBUFFERDRAWBUFFERSPROC, NamedFramebufferDrawBuffers)                           \
@@ -61,7 +68,7 @@ namespace sightline::gl {
     X(PFNGLENABLEPROC, Enable)                                                                     \
     X(PFNGLDISABLEPROC, Disable)                                                                   \
     X(PFNGLLOGICOPPROC, LogicOp)                                                                   \
-    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                             \
+    X(PfnDrawArrays, DrawArrays)                                                                    \
     X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                           \
     X(PFNGLFINISHPROC, Finish)                                                                     \
     X(PFNGLPROGRAMUNIFORMMATRIX4FVPROC, ProgramUniformMatrix4fv)                                   \
@@ -77,7 +84,19 @@ namespace sightline::gl {
     X(PFNGLTEXTUREBUFFERPROC, TextureBuffer)                                                       \
     X(PFNGLBINDTEXTUREUNITPROC, BindTextureUnit)                                                   \
     X(PFNGLVERTEXARRAYATTRIBIFORMATPROC, VertexArrayAttribIFormat)                                 \
-    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)
+    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                                 \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                                               \
+    X(PFNGLDEPTHMASKPROC, DepthMask)                                                               \
+    X(PFNGLPOLYGONMODEPROC, PolygonMode)                                                           \
+    X(PfnPolygonOffset, PolygonOffset)                                                              \
+    X(PFNGLLINEWIDTHPROC, LineWidth)                                                               \
+    X(PFNGLPOINTSIZEPROC, PointSize)                                                               \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                                             \
+    X(PFNGLNAMEDBUFFERSUBDATAPROC, NamedBufferSubData)                                             \
+    X(PfnDrawElements, DrawElements)                                                                \
+    X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)                                 \
+    X(PFNGLPROGRAMUNIFORM2FPROC, ProgramUniform2f)                                                 \
+    X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)
 
 using GetProcAddress = void* (*)(const char* name);
 

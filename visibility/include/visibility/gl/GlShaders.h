@@ -1,5 +1,5 @@
 #pragma once
-// Internal to the GL samplers: shader compilation and linking with one-line errors.
+// GL programs for the samplers and the editor's viewport: shader compilation and linking with one-line errors.
 
 #include <initializer_list>
 #include <string>

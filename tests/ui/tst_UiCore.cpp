@@ -1,0 +1,363 @@
+// The editor's logic without a window: camera, picking, edits, gizmo, ray subsets, the document
+// with undo and files, live visibility against the reference, and the headless screenshot.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "Camera.h"
+#include "EditorDocument.h"
+#include "Gizmo.h"
+#include "LiveVisibility.h"
+#include "ObjectEdits.h"
+#include "OffscreenRender.h"
+#include "Picking.h"
+#include "UiTestScene.h"
+#include "ViewSettings.h"
+#include "ViewportRenderer.h"
+#include "plugins/SceneFormats.h"
+#include "project/Project.h"
+#include "visibility/Error.h"
+#include "visibility/RayCastSampler.h"
+
+namespace sightline::ui {
+namespace {
+
+using test::floorPatches;
+using test::freshFolder;
+using test::writeFloorObj;
+
+void expectNear(const glm::dvec3& a, const glm::dvec3& b, double tolerance)
+{
+    EXPECT_NEAR(a.x, b.x, tolerance);
+    EXPECT_NEAR(a.y, b.y, tolerance);
+    EXPECT_NEAR(a.z, b.z, tolerance);
+}
+
+TEST(Camera, PixelRaysAndProjectionAgree)
+{
+    Camera camera;
+    camera.target = {1.0, 2.0, 3.0};
+    camera.distance = 7.0;
+    camera.yaw = 0.7;
+    camera.pitch = -0.4;
+    for (const glm::dvec2 pixel : {glm::dvec2(0, 0), glm::dvec2(640, 360), glm::dvec2(1279, 719), glm::dvec2(100, 600)}) {
+        const Ray ray = pixelRay(camera, pixel.x, pixel.y, 1280, 720);
+        const glm::dvec3 back = toPixels(camera, ray.origin + 5.0 * ray.direction, 1280, 720);
+        EXPECT_NEAR(back.x, pixel.x, 1e-6);
+        EXPECT_NEAR(back.y, pixel.y, 1e-6);
+        EXPECT_GT(back.z, 0.0);
+    }
+    // The target is at the centre of the view.
+    const glm::dvec3 centre = toPixels(camera, camera.target, 1280, 720);
+    EXPECT_NEAR(centre.x, 640.0, 1e-9);
+    EXPECT_NEAR(centre.y, 360.0, 1e-9);
+}
+
+TEST(Camera, FramedBoxIsInView)
+{
+    Camera camera;
+    camera.yaw = -2.0;
+    Bounds box;
+    box.extend(glm::vec3(-3, 0, 2));
+    box.extend(glm::vec3(5, 4, 9));
+    frame(camera, box);
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 corner((k & 1) ? 5 : -3, (k & 2) ? 4 : 0, (k & 4) ? 9 : 2);
+        const glm::dvec3 p = toPixels(camera, corner, 800, 800);
+        EXPECT_GT(p.z, 0.0);
+        EXPECT_GE(p.x, 0.0);
+        EXPECT_LE(p.x, 800.0);
+        EXPECT_GE(p.y, 0.0);
+        EXPECT_LE(p.y, 800.0);
+    }
+}
+
+TEST(Camera, OrbitKeepsTargetAndDistance)
+{
+    Camera camera;
+    camera.target = {1, 1, 1};
+    const double distance = camera.distance;
+    orbit(camera, 120.0, -40.0);
+    EXPECT_EQ(camera.target, glm::dvec3(1, 1, 1));
+    EXPECT_NEAR(glm::length(camera.eye() - camera.target), distance, 1e-9);
+    // Fly-look keeps the eye.
+    const glm::dvec3 eye = camera.eye();
+    look(camera, 50.0, 30.0);
+    expectNear(camera.eye(), eye, 1e-9);
+}
+
+TEST(Picking, PatchOnSurfaceLiesOnTheHitSurfaceFacingTheViewer)
+{
+    const Scene scene = loadScene(writeFloorObj(freshFolder("picking")));
+    const WorldTriangles triangles = worldTriangles(scene);
+    const Ray ray{{1.0, 5.0, 2.0}, glm::normalize(glm::dvec3(0.2, -1.0, 0.1))};
+    const auto hit = pickSurface(triangles, ray);
+    ASSERT_TRUE(hit);
+    EXPECT_NEAR(hit->point.y, 0.0, 1e-9);
+    expectNear(hit->normal, {0, 1, 0}, 1e-12);   // facing the ray's origin, above the floor
+    const Patch patch = patchOnSurface(*hit, 2.0, 1.0, 8, 4, 0.02);
+    expectNear(patch.centre(), hit->point + glm::dvec3(0, 0.02, 0), 1e-12);
+    expectNear(patch.normal(), {0, 1, 0}, 1e-12);
+    EXPECT_NEAR(glm::length(patch.u), 2.0, 1e-12);
+    EXPECT_NEAR(glm::length(patch.v), 1.0, 1e-12);
+    EXPECT_EQ(patch.na, 8);
+    EXPECT_EQ(patch.nb, 4);
+    // From below, the normal flips to face the viewer.
+    const auto under = pickSurface(triangles, {{1.0, -5.0, 2.0}, {0.0, 1.0, 0.0}});
+    ASSERT_TRUE(under);
+    expectNear(under->normal, {0, -1, 0}, 1e-12);
+    EXPECT_FALSE(pickSurface(triangles, {{1.0, 5.0, 2.0}, {0.0, 1.0, 0.0}}));
+}
+
+TEST(Picking, PatchHitTest)
+{
+    const Patch source = floorPatches().first;
+    EXPECT_TRUE(pickPatch(source, {{-3.0, 1.5, 0.0}, {1.0, 0.0, 0.0}}));
+    EXPECT_FALSE(pickPatch(source, {{-3.0, 2.5, 0.0}, {1.0, 0.0, 0.0}}));
+    EXPECT_FALSE(pickPatch(source, {{-3.0, 1.5, 0.0}, {-1.0, 0.0, 0.0}}));
+}
+
+TEST(ObjectEdits, RotateAndScaleKeepThePivot)
+{
+    const Patch source = floorPatches().first;
+    const Patch turned = std::get<Patch>(rotated(source, {0, 1, 0}, 0.8));
+    expectNear(turned.centre(), source.centre(), 1e-12);
+    EXPECT_NEAR(glm::length(turned.u), 1.0, 1e-12);
+    const Patch wide = std::get<Patch>(scaled(source, 0, 3.0));
+    expectNear(wide.centre(), source.centre(), 1e-12);
+    EXPECT_NEAR(glm::length(wide.u), 3.0, 1e-12);
+
+    const glm::mat4 box = glm::translate(glm::mat4(1.0f), glm::vec3(2, 0, 1));
+    const glm::mat4 spun = std::get<glm::mat4>(rotated(box, {0, 1, 0}, 1.0));
+    expectNear(pivotOf(spun), {2, 0, 1}, 1e-6);
+}
+
+TEST(ObjectEdits, ComposeInvertsDecompose)
+{
+    Decomposed parts;
+    parts.position = {1.5, -2.0, 3.25};
+    parts.rotationDegrees = {20.0, -35.0, 60.0};
+    parts.scale = {2.0, 0.5, 1.25};
+    const Decomposed back = decompose(compose(parts));
+    expectNear(back.position, parts.position, 1e-5);
+    expectNear(back.rotationDegrees, parts.rotationDegrees, 1e-3);
+    expectNear(back.scale, parts.scale, 1e-5);
+}
+
+TEST(Gizmo, PicksAndDragsAlongTheAxisUnderTheCursor)
+{
+    Camera camera;
+    camera.target = {0, 0, 0};
+    camera.distance = 10.0;
+    camera.yaw = 0.6;
+    camera.pitch = -0.5;
+    const glm::mat4 box(1.0f);
+    const GizmoFrame frame = gizmoFrame(box, GizmoMode::Move, camera);
+    auto pixelOf = [&](const glm::dvec3& p) { return toPixels(camera, p, 1000, 800); };
+    for (int axis = 0; axis < 3; ++axis) {
+        glm::dvec3 dir(0.0);
+        dir[axis] = 1.0;
+        const glm::dvec3 grab = pixelOf(frame.pivot + 0.7 * frame.length * dir);
+        EXPECT_EQ(pickGizmoAxis(frame, camera, grab.x, grab.y, 1000, 800), axis);
+        // Dragging the cursor to where the grabbed point should go moves the box by that much.
+        const GizmoDrag drag = beginGizmoDrag(GizmoMode::Move, axis, box, camera, grab.x, grab.y, 1000, 800);
+        const glm::dvec3 to = pixelOf(frame.pivot + (0.7 * frame.length + 1.25) * dir);
+        const glm::dvec3 moved = pivotOf(dragGizmo(drag, camera, to.x, to.y, 1000, 800));
+        expectNear(moved, 1.25 * dir, 1e-4);
+    }
+    const glm::dvec3 far = pixelOf(frame.pivot + glm::dvec3(0, -3.0, 0));
+    EXPECT_EQ(pickGizmoAxis(frame, camera, far.x, far.y, 1000, 800), -1);
+}
+
+TEST(RaySubset, AllRaysUnderTheCapAndASpreadSubsetAboveIt)
+{
+    const RaySubset all = raySubset(64, 100, 10000);
+    EXPECT_EQ(all.count(), 6400u);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> seen;
+    for (std::uint32_t k = 0; k < all.count(); ++k)
+        seen.insert(subsetRay(all, k));
+    EXPECT_EQ(seen.size(), 6400u);
+
+    for (const auto& [sources, receivers, cap] : {std::tuple{1024, 1024, 4096}, std::tuple{1024, 262144, 65536}, std::tuple{3, 5, 7}}) {
+        const RaySubset s = raySubset(sources, receivers, cap);
+        EXPECT_LE(s.count(), std::uint64_t(cap));
+        EXPECT_GE(s.count(), std::uint64_t(cap) / 2) << "the cap is used";
+        std::set<std::pair<std::uint32_t, std::uint32_t>> pairs;
+        std::set<std::uint32_t> receiversUsed;
+        for (std::uint32_t k = 0; k < s.count(); ++k) {
+            const auto [j, i] = subsetRay(s, k);
+            EXPECT_LT(j, std::uint32_t(receivers));
+            EXPECT_LT(i, std::uint32_t(sources));
+            pairs.insert({j, i});
+            receiversUsed.insert(j);
+        }
+        EXPECT_EQ(pairs.size(), s.count()) << "no ray drawn twice";
+        EXPECT_EQ(receiversUsed.size(), s.receivers);
+    }
+}
+
+TEST(EditorDocument, EveryEditIsUndoable)
+{
+    EditorDocument document;
+    const auto [source, receiver] = floorPatches();
+    document.setState({ObjectKind::Source, 0}, source, "place");
+    document.setState({ObjectKind::Receiver, 0}, receiver, "place");
+    EXPECT_TRUE(document.isModified());
+
+    OccluderSpec box;
+    box.name = "crate";
+    box.mesh = "box";
+    box.transform = glm::translate(glm::mat4(1.0f), glm::vec3(3, 1.5, 0));
+    document.addOccluder(box);
+    ASSERT_EQ(document.project().occluders.size(), 1u);
+    EXPECT_EQ(document.selection(), (ObjectRef{ObjectKind::Occluder, 0}));
+    EXPECT_EQ(document.scene().instances.size(), 1u);
+
+    document.setState({ObjectKind::Occluder, 0}, glm::translate(glm::mat4(1.0f), glm::vec3(3, 5, 0)), "move");
+    document.duplicateSelected();
+    ASSERT_EQ(document.project().occluders.size(), 2u);
+    EXPECT_EQ(document.project().occluders[1].name, "crate copy");
+    document.removeSelected();
+    EXPECT_EQ(document.project().occluders.size(), 1u);
+
+    QUndoStack& undo = *document.undoStack();
+    undo.undo();   // delete
+    EXPECT_EQ(document.project().occluders.size(), 2u);
+    undo.undo();   // duplicate
+    undo.undo();   // move
+    EXPECT_FLOAT_EQ(document.project().occluders[0].transform[3].y, 1.5f);
+    undo.undo();   // add
+    EXPECT_TRUE(document.project().occluders.empty());
+    EXPECT_TRUE(document.scene().instances.empty());
+    undo.undo();
+    undo.undo();
+    EXPECT_FALSE(document.isModified());
+    undo.redo();
+    EXPECT_EQ(document.project().source.corner, source.corner);
+}
+
+TEST(EditorDocument, SaveAndReopenRoundTripsAndRebasesPaths)
+{
+    const auto folder = freshFolder("document-save");
+    const auto mesh = writeFloorObj(folder / "levels");
+    EditorDocument document;
+    document.open(mesh);
+    EXPECT_EQ(document.project().scene, "floor.obj");
+    EXPECT_NO_THROW(validatePatchPair(document.project().source, document.project().receiver))
+        << "a level opened as a mesh gets a valid default pair";
+    OccluderSpec box;
+    box.name = "crate";
+    box.mesh = "box";
+    document.addOccluder(box);
+    document.setState({ObjectKind::SceneObject, 0}, glm::translate(glm::mat4(1.0f), glm::vec3(0, -1, 0)), "lower");
+    nlohmann::json settings;
+    settings["camera"] = cameraToJson(Camera{});
+    document.setEditorSettings(settings);
+
+    std::filesystem::create_directories(folder / "projects");
+    document.save(folder / "projects" / "level.json");
+    EXPECT_FALSE(document.isModified());
+    EXPECT_EQ(document.project().scene, "../levels/floor.obj");
+
+    EditorDocument again;
+    again.open(folder / "projects" / "level.json");
+    EXPECT_EQ(toJson(again.project()), toJson(document.project()));
+    EXPECT_FLOAT_EQ(again.sceneFile().instances[0].transform[3].y, -1.0f);
+    EXPECT_TRUE(cameraFromJson(again.editorSettings().at("camera")));
+    // The CLI's scene is the editor's scene.
+    EXPECT_EQ(worldTriangles(buildScene(loadProject(folder / "projects" / "level.json"))).vertices,
+              worldTriangles(again.scene()).vertices);
+}
+
+TEST(EditorDocument, AFileThatFailsToOpenLeavesTheDocumentAsItWas)
+{
+    const auto folder = freshFolder("document-bad");
+    EditorDocument document;
+    document.open(writeFloorObj(folder));
+    const nlohmann::json before = toJson(document.project());
+    std::ofstream(folder / "broken.json") << "{\"version\": 1, \"source\": 3}";
+    EXPECT_THROW(document.open(folder / "broken.json"), Error);
+    std::ofstream(folder / "missing-mesh.json")
+        << R"({"version": 1, "scene": "nowhere.glb", "source": {"corner": [0,0,0], "u": [1,0,0], "v": [0,1,0]},
+               "receiver": {"corner": [0,0,5], "u": [1,0,0], "v": [0,1,0]}})";
+    EXPECT_THROW(document.open(folder / "missing-mesh.json"), Error);
+    EXPECT_EQ(toJson(document.project()), before);
+}
+
+TEST(LiveVisibility, MatchesTheReferenceAndExplainsInvalidPairs)
+{
+    const std::filesystem::path project = test::copyDemoProject(freshFolder("live"));
+    EditorDocument document;
+    document.open(project);
+    OccluderSpec box;
+    box.mesh = "box";
+    box.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(12.0f, 1.2f, 5.0f)), glm::vec3(0.5f, 1.0f, 0.8f));
+    document.addOccluder(box);
+
+    LiveVisibility live;
+    live.setScene(document.scene());
+    const Project& p = document.project();
+    const VisibilityResult result = live.sample(p.source, p.receiver);
+    ASSERT_TRUE(result.valid) << result.error;
+    const HiddenSampleMap reference = RayCastScene(buildScene(p)).sample(p.source, p.receiver);
+    EXPECT_LE(result.map.differenceCount(reference), result.rays / 10000) << ">= 99.99% agreement (grazing rays)";
+
+    Patch crossing = p.receiver;   // a floor patch through the source's plane
+    crossing.corner = p.source.corner + glm::dvec3(-1.0, 0.0, -1.0);
+    crossing.u = {2.0, 0.0, 0.0};
+    crossing.v = {0.0, 0.0, 1.0};
+    const VisibilityResult invalid = live.sample(p.source, crossing);
+    EXPECT_FALSE(invalid.valid);
+    EXPECT_FALSE(invalid.error.empty());
+    EXPECT_EQ(invalid.rays, 0u);
+}
+
+/// Is this pixel the ray colour (yellow) rather than grey floor or dark background?
+bool yellowish(QRgb c) { return qRed(c) > qBlue(c) + 40 && qGreen(c) > qBlue(c) + 30; }
+
+TEST(OffscreenRender, RaysAreDrawnWhereTheShaftIsOpenAndNotWhereItIsCut)
+{
+    const auto folder = freshFolder("offscreen");
+    EditorDocument document;
+    document.open(writeFloorObj(folder));
+    const auto [source, receiver] = floorPatches();
+    document.setState({ObjectKind::Source, 0}, source, "place");
+    document.setState({ObjectKind::Receiver, 0}, receiver, "place");
+    const Camera camera = shaftView(source, receiver);
+    ViewStyle style;
+    style.rayCap = 1 << 20;
+    style.freeColour = {1.0f, 0.85f, 0.15f, 1.0f};   // opaque, for a crisp check
+
+    // A point inside the shaft, a quarter of the way from the source.
+    const glm::dvec3 inside = source.centre() + 0.25 * (receiver.centre() - source.centre());
+    const glm::dvec3 pixel = toPixels(camera, inside, 320, 240);
+    const OffscreenResult open = renderOffscreen(document, camera, style, 320, 240);
+    ASSERT_EQ(open.image.size(), QSize(320, 240));
+    EXPECT_EQ(open.visibility.blocked, 0u);
+    EXPECT_EQ(open.raysDrawn, 256u * 256u);
+    EXPECT_TRUE(yellowish(open.image.pixel(int(pixel.x), int(pixel.y))));
+    // Outside the shaft: no rays.
+    const glm::dvec3 beside = toPixels(camera, inside + glm::dvec3(0.0, 2.5, 0.0), 320, 240);
+    EXPECT_FALSE(yellowish(open.image.pixel(int(beside.x), int(beside.y))));
+
+    style.showRays = false;
+    EXPECT_FALSE(yellowish(renderOffscreen(document, camera, style, 320, 240).image.pixel(int(pixel.x), int(pixel.y))));
+    style.showRays = true;
+
+    // A wall across the whole shaft at x = 3 blocks every ray: none drawn, though the point
+    // lies before the wall.
+    OccluderSpec wall;
+    wall.mesh = "plane";
+    wall.transform = glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(3, 1.5f, 0)), glm::radians(90.0f), glm::vec3(0, 0, 1)),
+                                glm::vec3(10.0f));
+    document.addOccluder(wall);
+    const OffscreenResult cut = renderOffscreen(document, camera, style, 320, 240);
+    EXPECT_EQ(cut.visibility.blocked, cut.visibility.rays);
+    EXPECT_FALSE(yellowish(cut.image.pixel(int(pixel.x), int(pixel.y))));
+}
+
+} // namespace
+} // namespace sightline::ui

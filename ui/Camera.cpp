@@ -1,0 +1,97 @@
+#include "Camera.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace sightline::ui {
+
+namespace {
+constexpr double kOrbitRadiansPerPixel = 0.008;
+constexpr double kMaxPitch = 1.55;   // just short of straight up/down, where yaw loses meaning
+constexpr double kDollyPerStep = 0.85;
+} // namespace
+
+glm::dvec3 Camera::forward() const
+{
+    return {-std::sin(yaw) * std::cos(pitch), std::sin(pitch), -std::cos(yaw) * std::cos(pitch)};
+}
+
+glm::dvec3 Camera::right() const { return {std::cos(yaw), 0.0, -std::sin(yaw)}; }
+
+glm::dvec3 Camera::up() const { return glm::cross(right(), forward()); }
+
+glm::mat4 Camera::view() const { return glm::mat4(glm::lookAt(eye(), target, up())); }
+
+glm::mat4 Camera::projection(double aspect, double sceneRadius) const
+{
+    const double radius = std::max(sceneRadius, 1.0);
+    const double nearPlane = std::clamp(distance * 0.01, 0.005, radius * 0.01);
+    const double farPlane = distance + 4.0 * radius;
+    return glm::mat4(glm::perspective(fovY, std::max(aspect, 1e-3), nearPlane, farPlane));
+}
+
+void orbit(Camera& camera, double dxPixels, double dyPixels)
+{
+    camera.yaw -= dxPixels * kOrbitRadiansPerPixel;
+    camera.pitch = std::clamp(camera.pitch - dyPixels * kOrbitRadiansPerPixel, -kMaxPitch, kMaxPitch);
+}
+
+void pan(Camera& camera, double dxPixels, double dyPixels, int viewportHeight)
+{
+    // Metres per pixel at the target's depth.
+    const double scale = 2.0 * camera.distance * std::tan(camera.fovY / 2.0) / std::max(viewportHeight, 1);
+    camera.target += (-dxPixels * camera.right() + dyPixels * camera.up()) * scale;
+}
+
+void dolly(Camera& camera, double steps)
+{
+    camera.distance = std::clamp(camera.distance * std::pow(kDollyPerStep, steps), 0.05, 1e5);
+}
+
+void look(Camera& camera, double dxPixels, double dyPixels)
+{
+    const glm::dvec3 eye = camera.eye();
+    orbit(camera, -dxPixels, -dyPixels);
+    camera.target = eye + camera.distance * camera.forward();
+}
+
+void fly(Camera& camera, const glm::dvec3& move)
+{
+    camera.target += move.x * camera.right() + move.y * camera.up() + move.z * camera.forward();
+}
+
+void frame(Camera& camera, const Bounds& bounds)
+{
+    if (bounds.empty())
+        return;
+    const glm::dvec3 lo(bounds.min), hi(bounds.max);
+    camera.target = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 0.1);
+    camera.distance = radius / std::sin(camera.fovY / 2.0) * 1.05;
+}
+
+Ray pixelRay(const Camera& camera, double x, double y, int width, int height)
+{
+    const double aspect = double(width) / std::max(height, 1);
+    const double tanHalf = std::tan(camera.fovY / 2.0);
+    const double ndcX = 2.0 * x / std::max(width, 1) - 1.0;
+    const double ndcY = 1.0 - 2.0 * y / std::max(height, 1);
+    const glm::dvec3 direction = camera.forward() + ndcX * tanHalf * aspect * camera.right() + ndcY * tanHalf * camera.up();
+    return {camera.eye(), glm::normalize(direction)};
+}
+
+glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, int height)
+{
+    const glm::dvec3 d = point - camera.eye();
+    const double depth = glm::dot(d, camera.forward());
+    const double tanHalf = std::tan(camera.fovY / 2.0);
+    const double aspect = double(width) / std::max(height, 1);
+    const double safeDepth = std::abs(depth) < 1e-12 ? 1e-12 : depth;
+    const double ndcX = glm::dot(d, camera.right()) / (safeDepth * tanHalf * aspect);
+    const double ndcY = glm::dot(d, camera.up()) / (safeDepth * tanHalf);
+    return {(ndcX + 1.0) * 0.5 * width, (1.0 - ndcY) * 0.5 * height, depth};
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,58 @@
+#pragma once
+// The viewport camera of a level editor: orbit around a target, pan, dolly, fly (right mouse +
+// WASD), frame a box. Plain data plus free functions, so navigation is tested without a window.
+//
+// Conventions (DESIGN.md §2): right-handed, Y up, metres. yaw turns about +Y, pitch tilts up;
+// at yaw = pitch = 0 the camera looks down -Z.
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "visibility/Scene.h"
+
+namespace sightline::ui {
+
+struct Camera {
+    glm::dvec3 target{0.0};
+    double distance = 10.0;   ///< eye to target, metres
+    double yaw = 0.0;         ///< radians
+    double pitch = -0.3;      ///< radians, in (-pi/2, pi/2)
+    double fovY = 0.8727;     ///< radians (50 degrees)
+
+    glm::dvec3 forward() const;   ///< unit, eye -> target
+    glm::dvec3 right() const;     ///< unit, horizontal
+    glm::dvec3 up() const;        ///< unit
+    glm::dvec3 eye() const { return target - distance * forward(); }
+
+    glm::mat4 view() const;
+    /// Near and far planes follow the distance and the scene's size, so depth precision holds
+    /// from a close-up of a patch to a whole level.
+    glm::mat4 projection(double aspect, double sceneRadius) const;
+};
+
+/// A ray through a pixel: origin at the eye, unit direction.
+struct Ray {
+    glm::dvec3 origin{0.0};
+    glm::dvec3 direction{0.0, 0.0, -1.0};
+};
+
+/// Turns the camera about its target by a mouse motion in pixels.
+void orbit(Camera& camera, double dxPixels, double dyPixels);
+/// Moves target and eye in the view plane so the point under the cursor follows it.
+void pan(Camera& camera, double dxPixels, double dyPixels, int viewportHeight);
+/// Wheel steps (positive = closer); the distance changes by a constant factor per step.
+void dolly(Camera& camera, double steps);
+/// Fly mode: turns the view about the eye (not the target).
+void look(Camera& camera, double dxPixels, double dyPixels);
+/// Fly mode: moves eye and target by `move` in camera axes (x right, y up, z forward), metres.
+void fly(Camera& camera, const glm::dvec3& move);
+/// Looks at the whole box from the current direction.
+void frame(Camera& camera, const Bounds& bounds);
+
+/// The ray through pixel (x, y) of a width x height viewport (origin top left, y down).
+Ray pixelRay(const Camera& camera, double x, double y, int width, int height);
+/// A world point in pixels (origin top left); z is the clip-space w (< 0 behind the eye).
+glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, int height);
+
+} // namespace sightline::ui

@@ -1,0 +1,37 @@
+#include "EditCommands.h"
+
+#include "EditorDocument.h"
+
+namespace sightline::ui {
+
+SetStateCommand::SetStateCommand(EditorDocument& document, ObjectRef object, ObjectState before, ObjectState after,
+                                 const QString& text)
+    : QUndoCommand(text), document_(document), object_(object), before_(std::move(before)), after_(std::move(after))
+{
+}
+
+void SetStateCommand::undo() { document_.applyState(object_, before_); }
+void SetStateCommand::redo() { document_.applyState(object_, after_); }
+
+OccluderListCommand::OccluderListCommand(EditorDocument& document, std::size_t index, OccluderSpec spec, bool remove,
+                                         const QString& text)
+    : QUndoCommand(text), document_(document), index_(index), spec_(std::move(spec)), remove_(remove)
+{
+}
+
+void OccluderListCommand::insert()
+{
+    document_.insertOccluder(index_, spec_);
+    document_.select({ObjectKind::Occluder, index_});
+}
+
+void OccluderListCommand::erase()
+{
+    document_.select({});
+    document_.eraseOccluder(index_);
+}
+
+void OccluderListCommand::undo() { remove_ ? insert() : erase(); }
+void OccluderListCommand::redo() { remove_ ? erase() : insert(); }
+
+} // namespace sightline::ui

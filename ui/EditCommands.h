@@ -1,0 +1,45 @@
+#pragma once
+// Undo commands (QUndoStack) for every edit of the document. They store values, not pointers:
+// an object's state before and after, or the occluder added or removed, so any order of undo and
+// redo restores exactly what was there.
+
+#include <QUndoCommand>
+
+#include "ObjectEdits.h"
+#include "project/Project.h"
+
+namespace sightline::ui {
+
+class EditorDocument;
+
+/// Moves, rotates, resizes or re-samples one object.
+class SetStateCommand : public QUndoCommand {
+public:
+    SetStateCommand(EditorDocument& document, ObjectRef object, ObjectState before, ObjectState after, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    EditorDocument& document_;
+    ObjectRef object_;
+    ObjectState before_, after_;
+};
+
+/// Adds (or, with `remove`, deletes) the occluder at `index`.
+class OccluderListCommand : public QUndoCommand {
+public:
+    OccluderListCommand(EditorDocument& document, std::size_t index, OccluderSpec spec, bool remove, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    void insert();
+    void erase();
+
+    EditorDocument& document_;
+    std::size_t index_;
+    OccluderSpec spec_;
+    bool remove_;
+};
+
+} // namespace sightline::ui

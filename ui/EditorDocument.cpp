@@ -1,0 +1,320 @@
+#include "EditorDocument.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include "EditCommands.h"
+#include "plugins/SceneFormats.h"
+#include "visibility/AtomicFile.h"
+#include "visibility/Error.h"
+
+namespace sightline::ui {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kEditorKey = "editor";   // the project key the CLI ignores (kept as unknown)
+
+/// Rewrites a path written relative to `from` so that it means the same file from `to`
+/// (absolute when `absolute`).
+std::string rebase(const std::string& path, const fs::path& from, const fs::path& to, bool absolute)
+{
+    if (path.empty())
+        return path;
+    const fs::path p(path);
+    const fs::path full = p.is_absolute() ? p : (from / p).lexically_normal();
+    if (absolute)
+        return full.string();
+    const fs::path relative = full.lexically_relative(to);
+    return relative.empty() ? full.string() : relative.generic_string();
+}
+
+Project rebased(Project project, const fs::path& folder, bool absolute)
+{
+    project.scene = rebase(project.scene, project.folder, folder, absolute);
+    for (OccluderSpec& spec : project.occluders)
+        if (!isBuiltinMesh(spec.mesh))
+            spec.mesh = rebase(spec.mesh, project.folder, folder, absolute);
+    project.folder = folder;
+    return project;
+}
+
+} // namespace
+
+bool isMeshFile(const fs::path& file) { return SceneFormatRegistry::builtin().importerFor(file) != nullptr; }
+
+std::pair<Patch, Patch> defaultPatches(const Bounds& level, double side)
+{
+    glm::dvec3 lo(-2.0, 0.0, -2.0), hi(2.0, 3.0, 2.0);
+    if (!level.empty()) {
+        lo = glm::dvec3(level.min);
+        hi = glm::dvec3(level.max);
+    }
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double height = std::min(lo.y + 1.5, hi.y - 0.5 * side);
+    const bool alongX = hi.x - lo.x >= hi.z - lo.z;
+    const double margin = 0.1 * (alongX ? hi.x - lo.x : hi.z - lo.z) + 0.05;
+    Patch source, receiver;
+    if (alongX) {
+        // Facing +X at the low end, -X at the high end; u x v = normal.
+        source.u = {0.0, 0.0, -side};
+        source.v = {0.0, side, 0.0};
+        source.corner = {lo.x + margin, height - 0.5 * side, centre.z + 0.5 * side};
+        receiver.u = {0.0, 0.0, side};
+        receiver.v = {0.0, side, 0.0};
+        receiver.corner = {hi.x - margin, height - 0.5 * side, centre.z - 0.5 * side};
+    } else {
+        source.u = {side, 0.0, 0.0};
+        source.v = {0.0, side, 0.0};
+        source.corner = {centre.x - 0.5 * side, height - 0.5 * side, lo.z + margin};
+        receiver.u = {-side, 0.0, 0.0};
+        receiver.v = {0.0, side, 0.0};
+        receiver.corner = {centre.x + 0.5 * side, height - 0.5 * side, hi.z - margin};
+    }
+    return {source, receiver};
+}
+
+EditorDocument::EditorDocument(QObject* parent) : QObject(parent)
+{
+    connect(&undo_, &QUndoStack::cleanChanged, this, [this](bool clean) { emit modifiedChanged(!clean); });
+    newDocument();
+}
+
+EditorDocument::~EditorDocument() = default;
+
+QString EditorDocument::displayName() const
+{
+    return file_.empty() ? tr("Untitled") : QString::fromStdString(file_.filename().string());
+}
+
+void EditorDocument::reset(Project project, Scene sceneFile, fs::path file)
+{
+    undo_.clear();
+    project_ = std::move(project);
+    sceneFileOriginal_ = std::move(sceneFile);
+    sceneFile_ = sceneFileOriginal_;
+    applySceneTransforms(project_, sceneFile_);
+    occluderMeshes_.clear();
+    file_ = std::move(file);
+    selection_ = {};
+    invalidate(DocumentReset | PatchesChanged | OccludersChanged | SceneFileChanged);
+    emit selectionChanged(selection_);
+    emit fileChanged();
+}
+
+void EditorDocument::newDocument()
+{
+    Project project;
+    project.folder = fs::current_path();
+    std::tie(project.source, project.receiver) = defaultPatches(Bounds{});
+    reset(std::move(project), Scene{}, {});
+}
+
+void EditorDocument::open(const fs::path& file)
+{
+    if (isMeshFile(file)) {
+        Scene scene = loadScene(file);
+        Project project;
+        project.folder = fs::absolute(file).parent_path();
+        project.scene = file.filename().string();
+        std::tie(project.source, project.receiver) = defaultPatches(scene.bounds());
+        reset(std::move(project), std::move(scene), {});
+        return;
+    }
+    Project project = loadProject(file);
+    Scene scene = project.scene.empty() ? Scene{} : loadScene(project.resolve(project.scene));
+    // Checks the occluders and moved objects now, so a broken file is refused as a whole.
+    Scene check = scene;
+    applySceneTransforms(project, check);
+    for (const OccluderSpec& spec : project.occluders)
+        appendOccluder(check, loadOccluderMesh(project, spec), spec);
+    validate(check, file.filename().string());
+    reset(std::move(project), std::move(scene), fs::absolute(file));
+}
+
+void EditorDocument::save(const fs::path& file)
+{
+    const fs::path target = fs::absolute(file);
+    const Project project = rebased(project_, target.parent_path(), false);
+    saveProject(project, target);
+    project_ = project;
+    file_ = target;
+    undo_.setClean();
+    emit fileChanged();
+}
+
+void EditorDocument::saveRecovery(const fs::path& file) const
+{
+    saveProject(rebased(project_, fs::absolute(file).parent_path(), true), file);
+}
+
+void EditorDocument::setEditorSettings(const nlohmann::json& settings) { project_.extra[kEditorKey] = settings; }
+
+nlohmann::json EditorDocument::editorSettings() const
+{
+    const auto it = project_.extra.find(kEditorKey);
+    return it == project_.extra.end() ? nlohmann::json::object() : *it;
+}
+
+ObjectState EditorDocument::state(ObjectRef object) const
+{
+    switch (object.kind) {
+    case ObjectKind::Source: return project_.source;
+    case ObjectKind::Receiver: return project_.receiver;
+    case ObjectKind::Occluder: return project_.occluders.at(object.index).transform;
+    case ObjectKind::SceneObject: return sceneFile_.instances.at(object.index).transform;
+    case ObjectKind::None: break;
+    }
+    throw Error("no object selected");
+}
+
+void EditorDocument::editState(ObjectRef object, const ObjectState& before, const ObjectState& after, const QString& text)
+{
+    undo_.push(new SetStateCommand(*this, object, before, after, text));
+}
+
+void EditorDocument::setState(ObjectRef object, const ObjectState& after, const QString& text)
+{
+    editState(object, state(object), after, text);
+}
+
+void EditorDocument::applyState(ObjectRef object, const ObjectState& state)
+{
+    switch (object.kind) {
+    case ObjectKind::Source:
+        project_.source = std::get<Patch>(state);
+        invalidate(PatchesChanged);
+        break;
+    case ObjectKind::Receiver:
+        project_.receiver = std::get<Patch>(state);
+        invalidate(PatchesChanged);
+        break;
+    case ObjectKind::Occluder:
+        project_.occluders.at(object.index).transform = std::get<glm::mat4>(state);
+        invalidate(OccludersChanged);
+        break;
+    case ObjectKind::SceneObject:
+        project_.sceneTransforms[object.index] = std::get<glm::mat4>(state);
+        sceneFile_.instances.at(object.index).transform = std::get<glm::mat4>(state);
+        invalidate(SceneFileChanged);
+        break;
+    case ObjectKind::None: break;
+    }
+}
+
+void EditorDocument::addOccluder(const OccluderSpec& spec)
+{
+    occluderMesh(spec);   // throws here, before the command, for a mesh file that does not load
+    undo_.push(new OccluderListCommand(*this, project_.occluders.size(), spec, false,
+                                       tr("Add %1").arg(QString::fromStdString(spec.name))));
+}
+
+void EditorDocument::removeSelected()
+{
+    if (selection_.kind != ObjectKind::Occluder)
+        return;
+    const std::size_t index = selection_.index;
+    undo_.push(new OccluderListCommand(*this, index, project_.occluders.at(index), true,
+                                       tr("Delete %1").arg(objectName(selection_))));
+}
+
+void EditorDocument::duplicateSelected()
+{
+    if (selection_.kind != ObjectKind::Occluder)
+        return;
+    OccluderSpec copy = project_.occluders.at(selection_.index);
+    copy.name += " copy";
+    // Offset by half the object's first axis, so the copy is visible beside the original.
+    copy.transform[3] += 0.5f * copy.transform[0];
+    addOccluder(copy);
+}
+
+void EditorDocument::insertOccluder(std::size_t index, const OccluderSpec& spec)
+{
+    project_.occluders.insert(project_.occluders.begin() + std::ptrdiff_t(std::min(index, project_.occluders.size())), spec);
+    invalidate(OccludersChanged);
+}
+
+void EditorDocument::eraseOccluder(std::size_t index)
+{
+    project_.occluders.erase(project_.occluders.begin() + std::ptrdiff_t(index));
+    invalidate(OccludersChanged);
+}
+
+void EditorDocument::select(ObjectRef object)
+{
+    if (object == selection_)
+        return;
+    selection_ = object;
+    emit selectionChanged(selection_);
+}
+
+QString EditorDocument::objectName(ObjectRef object) const
+{
+    switch (object.kind) {
+    case ObjectKind::Source: return tr("Source patch");
+    case ObjectKind::Receiver: return tr("Receiver patch");
+    case ObjectKind::Occluder: {
+        const OccluderSpec& spec = project_.occluders.at(object.index);
+        return QString::fromStdString(spec.name.empty() ? spec.mesh : spec.name);
+    }
+    case ObjectKind::SceneObject: {
+        const Instance& instance = sceneFile_.instances.at(object.index);
+        return instance.name.empty() ? tr("Object %1").arg(object.index) : QString::fromStdString(instance.name);
+    }
+    case ObjectKind::None: break;
+    }
+    return {};
+}
+
+const Scene& EditorDocument::occluderMesh(const OccluderSpec& spec) const
+{
+    auto it = occluderMeshes_.find(spec.mesh);
+    if (it == occluderMeshes_.end())
+        it = occluderMeshes_.emplace(spec.mesh, loadOccluderMesh(project_, spec)).first;
+    return it->second;
+}
+
+const Scene& EditorDocument::occluderScene() const
+{
+    if (!occluderScene_) {
+        Scene scene;
+        occluderOfInstance_.clear();
+        for (std::size_t i = 0; i < project_.occluders.size(); ++i) {
+            const std::size_t before = scene.instances.size();
+            appendOccluder(scene, occluderMesh(project_.occluders[i]), project_.occluders[i]);
+            occluderOfInstance_.insert(occluderOfInstance_.end(), scene.instances.size() - before, i);
+        }
+        occluderScene_ = std::move(scene);
+    }
+    return *occluderScene_;
+}
+
+const std::vector<std::size_t>& EditorDocument::occluderOfInstance() const
+{
+    occluderScene();
+    return occluderOfInstance_;
+}
+
+const Scene& EditorDocument::scene() const
+{
+    if (!scene_) {
+        Scene scene = sceneFile_;
+        scene.append(occluderScene());
+        scene_ = std::move(scene);
+    }
+    return *scene_;
+}
+
+void EditorDocument::invalidate(unsigned changes)
+{
+    if (changes & (OccludersChanged | DocumentReset))
+        occluderScene_.reset();
+    if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
+        scene_.reset();
+    emit changed(changes);
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,118 @@
+#pragma once
+// The document the editor works on: a Project (DESIGN.md §3) plus the scene it names, loaded
+// once, the undo stack of every edit, the file it lives in and the current selection.
+//
+// Every edit goes through an undo command (EditCommands.h). Commands call the apply*() setters,
+// which change the data and emit changed(); views never change the project directly. Selection is
+// not undone (as in most editors).
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <QObject>
+#include <QUndoStack>
+
+#include "ObjectEdits.h"
+#include "project/Project.h"
+
+namespace sightline::ui {
+
+/// What an edit touched; views redo only what depends on it.
+enum Change : unsigned {
+    PatchesChanged = 1u << 0,     ///< source or receiver (geometry or samples)
+    OccludersChanged = 1u << 1,   ///< placed occluders added, removed or moved
+    SceneFileChanged = 1u << 2,   ///< an object of the scene file moved
+    DocumentReset = 1u << 3,      ///< new or opened document: everything
+};
+
+class EditorDocument : public QObject {
+    Q_OBJECT
+public:
+    explicit EditorDocument(QObject* parent = nullptr);
+    ~EditorDocument() override;
+
+    const Project& project() const { return project_; }
+    /// The scene file's objects (moved ones where the project says so).
+    const Scene& sceneFile() const { return sceneFile_; }
+    /// Only the placed occluders, in world space (instance i = occluder i when each is one mesh).
+    const Scene& occluderScene() const;
+    /// Everything that blocks rays: the scene file then the occluders (what buildScene gives).
+    const Scene& scene() const;
+    /// Which occluder each instance of occluderScene() belongs to.
+    const std::vector<std::size_t>& occluderOfInstance() const;
+
+    QUndoStack* undoStack() { return &undo_; }
+    const std::filesystem::path& filePath() const { return file_; }
+    bool isModified() const { return !undo_.isClean(); }
+    QString displayName() const;
+
+    /// An empty level with default patches (no file).
+    void newDocument();
+    /// A project (.json) or a mesh file (.glb, .gltf, .obj, .ply, .off, .stl: a new project on
+    /// it, patches placed across the level). Throws sightline::Error; the document is unchanged
+    /// then.
+    void open(const std::filesystem::path& file);
+    /// Saves atomically; relative paths are rewritten for the new folder. Throws sightline::Error.
+    void save(const std::filesystem::path& file);
+    /// Writes the recovery copy (absolute paths), without touching the clean state.
+    void saveRecovery(const std::filesystem::path& file) const;
+    /// Editor-only settings stored in the project (e.g. the view), unknown to the CLI.
+    void setEditorSettings(const nlohmann::json& settings);
+    nlohmann::json editorSettings() const;
+
+    // ---- edits (each pushes one undo command) ----
+    ObjectState state(ObjectRef object) const;
+    /// `before` is the state the command restores on undo (the state at the start of a drag).
+    void editState(ObjectRef object, const ObjectState& before, const ObjectState& after, const QString& text);
+    void setState(ObjectRef object, const ObjectState& after, const QString& text);
+    /// Adds an occluder ("box", "plane" or a mesh file) and selects it.
+    void addOccluder(const OccluderSpec& spec);
+    void removeSelected();
+    void duplicateSelected();
+
+    // ---- applied by the undo commands only ----
+    void applyState(ObjectRef object, const ObjectState& state);
+    void insertOccluder(std::size_t index, const OccluderSpec& spec);
+    void eraseOccluder(std::size_t index);
+    const OccluderSpec& occluder(std::size_t index) const { return project_.occluders.at(index); }
+
+    // ---- selection ----
+    ObjectRef selection() const { return selection_; }
+    void select(ObjectRef object);
+    QString objectName(ObjectRef object) const;
+
+signals:
+    void changed(unsigned changes);
+    void selectionChanged(sightline::ui::ObjectRef selection);
+    void fileChanged();
+    void modifiedChanged(bool modified);
+
+private:
+    void reset(Project project, Scene sceneFile, std::filesystem::path file);
+    const Scene& occluderMesh(const OccluderSpec& spec) const;
+    void invalidate(unsigned changes);
+
+    Project project_;
+    Scene sceneFileOriginal_;   ///< as loaded, before scene_transforms
+    Scene sceneFile_;
+    std::filesystem::path file_;
+    QUndoStack undo_;
+    ObjectRef selection_;
+    mutable std::map<std::string, Scene> occluderMeshes_;
+    mutable std::optional<Scene> occluderScene_;
+    mutable std::vector<std::size_t> occluderOfInstance_;
+    mutable std::optional<Scene> scene_;
+};
+
+/// Patches across a level: a source and a receiver of `side` metres, 1.5 m above the floor,
+/// facing each other along the level's longer horizontal axis, 32x32 samples each.
+std::pair<Patch, Patch> defaultPatches(const Bounds& level, double side = 1.0);
+
+/// Whether a path names a mesh file the editor opens as a scene.
+bool isMeshFile(const std::filesystem::path& file);
+
+} // namespace sightline::ui

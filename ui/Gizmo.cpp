@@ -1,0 +1,101 @@
+#include "Gizmo.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sightline::ui {
+
+namespace {
+
+constexpr double kScreenFraction = 0.15;     // handle length relative to the eye distance
+constexpr double kRadiansPerPixel = 0.01;
+
+/// Parameter s of the point pivot + s * axis closest to the pixel's ray.
+double axisParameter(const glm::dvec3& pivot, const glm::dvec3& axis, const Ray& ray)
+{
+    const glm::dvec3 w0 = pivot - ray.origin;
+    const double b = glm::dot(axis, ray.direction);
+    const double denom = 1.0 - b * b;
+    if (denom < 1e-9)
+        return 0.0;   // looking straight down the axis: no motion along it
+    return (b * glm::dot(ray.direction, w0) - glm::dot(axis, w0)) / denom;
+}
+
+double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b)
+{
+    const glm::dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (a + t * ab));
+}
+
+} // namespace
+
+GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera)
+{
+    GizmoFrame frame;
+    frame.pivot = pivotOf(state);
+    if (mode == GizmoMode::Scale)
+        frame.axes = localAxesOf(state);
+    else
+        frame.axes = {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)};
+    frame.length = std::max(kScreenFraction * glm::length(camera.eye() - frame.pivot), 1e-3);
+    return frame;
+}
+
+int pickGizmoAxis(const GizmoFrame& frame, const Camera& camera, double x, double y, int width, int height,
+                  double tolerance)
+{
+    const glm::dvec3 origin = toPixels(camera, frame.pivot, width, height);
+    if (origin.z <= 0.0)
+        return -1;
+    int best = -1;
+    double bestDistance = tolerance;
+    for (int axis = 0; axis < 3; ++axis) {
+        const glm::dvec3 tip = toPixels(camera, frame.pivot + frame.length * frame.axes[std::size_t(axis)], width, height);
+        if (tip.z <= 0.0)
+            continue;
+        // Skip the first fifth of the handle, where the three meet and a pick would be a guess.
+        const glm::dvec2 a(origin), b(tip);
+        const double d = distanceToSegment({x, y}, a + 0.2 * (b - a), b);
+        if (d < bestDistance) {
+            bestDistance = d;
+            best = axis;
+        }
+    }
+    return best;
+}
+
+GizmoDrag beginGizmoDrag(GizmoMode mode, int axis, const ObjectState& start, const Camera& camera, double x, double y,
+                         int width, int height)
+{
+    GizmoDrag drag;
+    drag.mode = mode;
+    drag.axis = axis;
+    drag.start = start;
+    drag.frame = gizmoFrame(start, mode, camera);
+    drag.startParam = axisParameter(drag.frame.pivot, drag.frame.axes[std::size_t(axis)], pixelRay(camera, x, y, width, height));
+    drag.startX = x;
+    return drag;
+}
+
+ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height)
+{
+    const glm::dvec3& axis = drag.frame.axes[std::size_t(drag.axis)];
+    switch (drag.mode) {
+    case GizmoMode::Move: {
+        const double s = axisParameter(drag.frame.pivot, axis, pixelRay(camera, x, y, width, height));
+        return translated(drag.start, (s - drag.startParam) * axis);
+    }
+    case GizmoMode::Rotate:
+        return rotated(drag.start, axis, (x - drag.startX) * kRadiansPerPixel);
+    case GizmoMode::Scale: {
+        const double s = axisParameter(drag.frame.pivot, axis, pixelRay(camera, x, y, width, height));
+        const double factor = std::max(0.02, 1.0 + (s - drag.startParam) / drag.frame.length);
+        return scaled(drag.start, drag.axis, factor);
+    }
+    }
+    return drag.start;
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,43 @@
+#pragma once
+// The transform gizmo: three axis handles at the selected object's pivot, drawn at a constant
+// size on screen. Move drags along a world axis, Rotate turns about one, Scale stretches along
+// the object's own axis (a patch's u or v). Pure geometry on a Camera, so it is tested without
+// a window; the viewport only draws the handles and forwards the mouse.
+
+#include <array>
+
+#include "Camera.h"
+#include "ObjectEdits.h"
+
+namespace sightline::ui {
+
+enum class GizmoMode { Move, Rotate, Scale };
+
+struct GizmoFrame {
+    glm::dvec3 pivot{0.0};
+    std::array<glm::dvec3, 3> axes{};   ///< unit
+    double length = 1.0;                ///< handle length in metres (constant on screen)
+};
+
+GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera);
+
+/// The handle under pixel (x, y): 0, 1, 2, or -1 for none (within `tolerance` pixels).
+int pickGizmoAxis(const GizmoFrame& frame, const Camera& camera, double x, double y, int width, int height,
+                  double tolerance = 8.0);
+
+/// A drag in progress: the state it started from, so every step is computed from the start
+/// (no drift) and the undo command gets one before/after pair.
+struct GizmoDrag {
+    GizmoMode mode = GizmoMode::Move;
+    int axis = 0;
+    ObjectState start;
+    GizmoFrame frame;
+    double startParam = 0.0;   ///< Move, Scale: position along the axis where the drag began
+    double startX = 0.0;       ///< Rotate: the cursor's start
+};
+
+GizmoDrag beginGizmoDrag(GizmoMode mode, int axis, const ObjectState& start, const Camera& camera, double x, double y,
+                         int width, int height);
+ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height);
+
+} // namespace sightline::ui

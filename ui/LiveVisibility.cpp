@@ -1,0 +1,99 @@
+#include "LiveVisibility.h"
+
+#include <cstdio>
+
+#include "visibility/Error.h"
+
+namespace sightline::ui {
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+} // namespace
+
+LiveVisibility::LiveVisibility() : cpu_(std::make_unique<CpuBitmaskSampler>(Scene{})) {}
+LiveVisibility::~LiveVisibility() = default;
+
+void LiveVisibility::setScene(const Scene& scene)
+{
+    cpu_->setScene(scene);
+    glSampler_.reset();
+    if (gl_)
+        glScene_ = scene;
+}
+
+void LiveVisibility::setGl(const gl::Functions* gl)
+{
+    gl_ = gl;
+    glSampler_.reset();
+    if (!gl_) {
+        glScene_.reset();
+        backend_ = Backend::Cpu;
+    }
+}
+
+std::string LiveVisibility::backendName() const
+{
+    if (backend_ == Backend::Gl)
+        return "GL bitmask";
+    return CpuBitmaskSampler::simdAvailable() ? "CPU bitmask (AVX2)" : "CPU bitmask";
+}
+
+std::string LiveVisibility::chooseBackend(const Patch& source, const Patch& receiver)
+{
+    const VisibilityResult cpu = sampleWith(Backend::Cpu, source, receiver);
+    if (!gl_ || !cpu.valid) {
+        backend_ = Backend::Cpu;
+        return "using " + backendName();
+    }
+    std::string line;
+    try {
+        sampleWith(Backend::Gl, source, receiver);   // warm-up: shader compile, upload
+        const VisibilityResult glResult = sampleWith(Backend::Gl, source, receiver);
+        backend_ = glResult.ms < cpu.ms ? Backend::Gl : Backend::Cpu;
+        char buffer[160];
+        std::snprintf(buffer, sizeof buffer, "CPU %.1f ms, GL %.1f ms per update: ", cpu.ms, glResult.ms);
+        line = buffer;
+    } catch (const Error& e) {
+        backend_ = Backend::Cpu;
+        line = std::string("GL sampler unavailable (") + e.what() + "): ";
+    }
+    return line + "using " + backendName();
+}
+
+VisibilityResult LiveVisibility::sample(const Patch& source, const Patch& receiver)
+{
+    return sampleWith(backend_, source, receiver);
+}
+
+VisibilityResult LiveVisibility::sampleWith(Backend backend, const Patch& source, const Patch& receiver)
+{
+    VisibilityResult result;
+    try {
+        validatePatchPair(source, receiver);
+    } catch (const Error& e) {
+        result.error = e.what();
+        return result;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    if (backend == Backend::Gl) {
+        if (!glSampler_) {
+            glSampler_ = std::make_unique<GlBitmaskSampler>(*gl_, glScene_ ? *glScene_ : Scene{});
+        }
+        result.map = glSampler_->sample(source, receiver);
+        result.strategy = "gl";
+    } else {
+        BitmaskStats stats;
+        result.map = cpu_->sample(source, receiver, {}, &stats);
+        result.strategy = stats.strategy;
+    }
+    result.ms = msSince(start);
+    result.valid = true;
+    result.rays = result.map.rayCount();
+    result.blocked = result.map.blockedCount();
+    return result;
+}
+
+} // namespace sightline::ui

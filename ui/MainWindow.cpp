@@ -1,0 +1,421 @@
+#include "MainWindow.h"
+
+#include <QAction>
+#include <QActionGroup>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDir>
+#include <QDockWidget>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QLabel>
+#include <QLocale>
+#include <QMimeData>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QSettings>
+#include <QStandardPaths>
+#include <QStatusBar>
+#include <QToolBar>
+
+#include "OutlinePanel.h"
+#include "PropertiesPanel.h"
+#include "ViewSettings.h"
+#include "Viewport.h"
+#include "plugins/SceneFormats.h"
+
+namespace sightline::ui {
+
+namespace {
+constexpr int kMaxRecentFiles = 8;
+constexpr int kAutosaveMs = 60'000;
+} // namespace
+
+QString visibilitySummary(const VisibilityResult& result)
+{
+    if (!result.valid)
+        return QObject::tr("Invalid patch pair: %1").arg(QString::fromStdString(result.error));
+    const QLocale locale(QLocale::English);
+    return QObject::tr("%1 of %2 rays unblocked (%3% visible) · %4 ms")
+        .arg(locale.toString(qulonglong(result.unblocked())), locale.toString(qulonglong(result.rays)))
+        .arg(100.0 * result.visibleFraction(), 0, 'f', 1)
+        .arg(result.ms, 0, 'f', 1);
+}
+
+MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWindow(parent)
+{
+    controller_ = std::make_unique<ViewportController>(document_);
+    viewport_ = new Viewport(document_, *controller_);
+    container_ = QWidget::createWindowContainer(viewport_, this);
+    container_->setMinimumSize(320, 240);
+    container_->setFocusPolicy(Qt::StrongFocus);
+    setCentralWidget(container_);
+    setAcceptDrops(true);
+
+    createPanels();
+    createActions();
+
+    raysLabel_ = new QLabel(this);
+    backendLabel_ = new QLabel(this);
+    statusBar()->addWidget(raysLabel_, 1);
+    statusBar()->addPermanentWidget(backendLabel_);
+    connect(viewport_, &Viewport::visibilityUpdated, this, &MainWindow::updateStatus);
+    connect(viewport_, &Viewport::backendChosen, this, [this](const QString& report) {
+        backendLabel_->setToolTip(report);
+        updateStatus();
+    });
+    connect(viewport_, &Viewport::filesDropped, this, [this](const QStringList& files) {
+        if (maybeSave())
+            openFile(files.front());
+    });
+    connect(controller_.get(), &ViewportController::message, this, [this](const QString& text) { statusBar()->showMessage(text, 5000); });
+    connect(&document_, &EditorDocument::modifiedChanged, this, &MainWindow::updateTitle);
+    connect(&document_, &EditorDocument::fileChanged, this, &MainWindow::updateTitle);
+    connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
+        if (changes & DocumentReset) {
+            controller_->setCamera(projectView(document_.editorSettings(), document_.project().source, document_.project().receiver));
+        }
+    });
+
+    QSettings settings;
+    restoreGeometry(settings.value("window/geometry").toByteArray());
+    restoreState(settings.value("window/state").toByteArray());
+    if (!settings.contains("window/geometry"))
+        resize(1600, 900);
+
+    autosaveTimer_.setInterval(kAutosaveMs);
+    connect(&autosaveTimer_, &QTimer::timeout, this, &MainWindow::autosave);
+    autosaveTimer_.start();
+
+    controller_->setCamera(shaftView(document_.project().source, document_.project().receiver));
+    updateTitle();
+
+    if (options.offerRecovery && QFileInfo::exists(recoveryPath())) {
+        const auto answer = QMessageBox::question(this, tr("Recover unsaved work"),
+                                                  tr("Sightline closed with unsaved changes. Open the recovered project?"));
+        if (answer == QMessageBox::Yes && openFile(recoveryPath()))
+            document_.undoStack()->resetClean();   // recovered work is unsaved work
+        QFile::remove(recoveryPath());
+    }
+}
+
+MainWindow::~MainWindow() = default;
+
+void MainWindow::createPanels()
+{
+    outline_ = new OutlinePanel(document_, this);
+    auto* outlineDock = new QDockWidget(tr("Outline"), this);
+    outlineDock->setObjectName("outline");
+    outlineDock->setWidget(outline_);
+    addDockWidget(Qt::LeftDockWidgetArea, outlineDock);
+
+    properties_ = new PropertiesPanel(document_, this);
+    auto* propertiesDock = new QDockWidget(tr("Properties"), this);
+    propertiesDock->setObjectName("properties");
+    propertiesDock->setWidget(properties_);
+    addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
+}
+
+void MainWindow::createActions()
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        QAction* a = menu->addAction(text);
+        a->setShortcut(shortcut);
+        connect(a, &QAction::triggered, this, slot);
+        return a;
+    };
+
+    QMenu* file = menuBar()->addMenu(tr("&File"));
+    action(file, tr("&New"), QKeySequence::New, [this] {
+        if (maybeSave())
+            document_.newDocument();
+    });
+    action(file, tr("&Open..."), QKeySequence::Open, [this] { open(); });
+    recentMenu_ = file->addMenu(tr("Open &Recent"));
+    rebuildRecentMenu();
+    action(file, tr("&Save"), QKeySequence::Save, [this] { save(); });
+    action(file, tr("Save &As..."), QKeySequence::SaveAs, [this] { saveAs(); });
+    file->addSeparator();
+    action(file, tr("Save Screens&hot..."), QKeySequence(Qt::Key_F12), [this] {
+        const QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), "sightline.png", tr("PNG images (*.png)"));
+        if (!path.isEmpty())
+            screenshotTo(path);
+    });
+    file->addSeparator();
+    action(file, tr("&Quit"), QKeySequence::Quit, [this] { close(); });
+
+    QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+    QAction* undo = document_.undoStack()->createUndoAction(this, tr("&Undo"));
+    undo->setShortcut(QKeySequence::Undo);
+    QAction* redo = document_.undoStack()->createRedoAction(this, tr("&Redo"));
+    redo->setShortcuts({QKeySequence::Redo, QKeySequence(Qt::CTRL | Qt::Key_Y)});
+    edit->addAction(undo);
+    edit->addAction(redo);
+    edit->addSeparator();
+    action(edit, tr("&Duplicate"), QKeySequence(Qt::CTRL | Qt::Key_D), [this] { document_.duplicateSelected(); });
+    action(edit, tr("De&lete"), QKeySequence::Delete, [this] { document_.removeSelected(); });
+    action(edit, tr("Select &None"), QKeySequence(Qt::Key_Escape), [this] {
+        controller_->setTool(Tool::Select);
+        document_.select({});
+    });
+
+    QMenu* create = menuBar()->addMenu(tr("&Create"));
+    action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
+    action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
+    create->addSeparator();
+    auto addBuiltin = [this](const std::string& mesh) {
+        OccluderSpec spec;
+        spec.mesh = mesh;
+        spec.name = mesh + " " + std::to_string(document_.project().occluders.size() + 1);
+        // In front of the camera, on the line of sight, one metre in size.
+        const glm::dvec3 at = controller_->camera().target;
+        spec.transform = glm::translate(glm::mat4(1.0f), glm::vec3(at));
+        document_.addOccluder(spec);
+    };
+    action(create, tr("Add &Box Occluder"), QKeySequence(Qt::CTRL | Qt::Key_B), [=] { addBuiltin("box"); });
+    action(create, tr("Add &Plane Occluder"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_B), [=] { addBuiltin("plane"); });
+    action(create, tr("Add &Mesh Occluder..."), QKeySequence(), [this] {
+        const QString filter = tr("Meshes (%1)").arg(QString::fromStdString(SceneFormatRegistry::builtin().importFilter()));
+        const QString path = QFileDialog::getOpenFileName(this, tr("Add Mesh Occluder"), QString(), filter);
+        if (path.isEmpty())
+            return;
+        OccluderSpec spec;
+        spec.mesh = path.toStdString();
+        spec.name = QFileInfo(path).baseName().toStdString();
+        spec.transform = glm::translate(glm::mat4(1.0f), glm::vec3(controller_->camera().target));
+        try {
+            document_.addOccluder(spec);
+        } catch (const std::exception& e) {
+            QMessageBox::warning(this, tr("Add Mesh Occluder"), QString::fromUtf8(e.what()));
+        }
+    });
+
+    QMenu* transform = menuBar()->addMenu(tr("&Transform"));
+    auto* modes = new QActionGroup(this);
+    const std::pair<QString, GizmoMode> modeList[] = {{tr("&Move"), GizmoMode::Move}, {tr("&Rotate"), GizmoMode::Rotate}, {tr("&Scale"), GizmoMode::Scale}};
+    const Qt::Key modeKeys[] = {Qt::Key_W, Qt::Key_E, Qt::Key_R};
+    QToolBar* toolbar = addToolBar(tr("Tools"));
+    toolbar->setObjectName("tools");
+    for (int i = 0; i < 3; ++i) {
+        QAction* a = action(transform, modeList[i].first, QKeySequence(modeKeys[i]), [this, mode = modeList[i].second] { controller_->setGizmoMode(mode); });
+        a->setCheckable(true);
+        a->setChecked(i == 0);
+        modes->addAction(a);
+        toolbar->addAction(a);
+    }
+    toolbar->addSeparator();
+
+    QMenu* view = menuBar()->addMenu(tr("&View"));
+    action(view, tr("&Frame Selection"), QKeySequence(Qt::Key_F), [this] { controller_->frameSelection(); });
+    QAction* wire = action(view, tr("&Wireframe"), QKeySequence(Qt::Key_Z), [this](bool on) {
+        viewport_->style().wireframe = on;
+        viewport_->requestUpdate();
+    });
+    wire->setCheckable(true);
+    QAction* rays = action(view, tr("Show &Rays"), QKeySequence(Qt::Key_V), [this](bool on) {
+        viewport_->style().showRays = on;
+        viewport_->requestUpdate();
+    });
+    rays->setCheckable(true);
+    rays->setChecked(true);
+    QAction* blocked = action(view, tr("Show &Blocked Rays"), QKeySequence(Qt::Key_B), [this](bool on) {
+        viewport_->style().showBlocked = on;
+        viewport_->requestUpdate();
+    });
+    blocked->setCheckable(true);
+    toolbar->addAction(wire);
+    toolbar->addAction(rays);
+    toolbar->addAction(blocked);
+
+    // Ray density: how many rays are drawn at most (the status bar always counts all of them).
+    auto* density = new QComboBox(this);
+    density->setToolTip(tr("Most rays drawn (a spread-out subset beyond; counts always cover every ray)"));
+    for (int cap : {1024, 4096, 16384, 65536, 262144, 1048576})
+        density->addItem(tr("%1 rays").arg(QLocale(QLocale::English).toString(cap)), cap);
+    density->setCurrentIndex(1);   // 4,096: readable, and about 5 ms a frame on llvmpipe (16,384: 20 ms)
+    viewport_->style().rayCap = 4096;
+    connect(density, &QComboBox::currentIndexChanged, this, [this, density](int) {
+        viewport_->style().rayCap = density->currentData().toInt();
+        viewport_->requestUpdate();
+    });
+    toolbar->addWidget(density);
+
+    QMenu* help = menuBar()->addMenu(tr("&Help"));
+    help->addAction(tr("&Controls"), this, [this] {
+        QMessageBox::information(this, tr("Controls"),
+                                 tr("Orbit: left drag (or Alt + left drag)\nPan: middle drag or Shift + left drag\n"
+                                    "Zoom: wheel\nFly: hold the right button, W A S D Q E, Shift for speed\n"
+                                    "Frame selection: F\nMove / Rotate / Scale handles: W / E / R\n"
+                                    "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click"));
+    });
+}
+
+QString MainWindow::recoveryPath()
+{
+    const QString folder = QStandardPaths::writableLocation(QStandardPaths::AppDataLocation);
+    QDir().mkpath(folder);
+    return folder + "/recovery.json";
+}
+
+void MainWindow::autosave()
+{
+    if (!document_.isModified())
+        return;
+    try {
+        storeView();
+        document_.saveRecovery(recoveryPath().toStdString());
+    } catch (const std::exception& e) {
+        statusBar()->showMessage(tr("Autosave failed: %1").arg(e.what()), 10000);
+    }
+}
+
+void MainWindow::storeView()
+{
+    nlohmann::json settings = document_.editorSettings();
+    settings["camera"] = cameraToJson(controller_->camera());
+    document_.setEditorSettings(settings);
+}
+
+bool MainWindow::openFile(const QString& file)
+{
+    try {
+        document_.open(file.toStdString());
+    } catch (const std::exception& e) {
+        QMessageBox::warning(this, tr("Open"), QString::fromUtf8(e.what()));
+        return false;
+    }
+    addRecentFile(QFileInfo(file).absoluteFilePath());
+    return true;
+}
+
+bool MainWindow::saveTo(const QString& file)
+{
+    try {
+        storeView();
+        document_.save(file.toStdString());
+    } catch (const std::exception& e) {
+        QMessageBox::warning(this, tr("Save"), QString::fromUtf8(e.what()));
+        return false;
+    }
+    QFile::remove(recoveryPath());
+    addRecentFile(QFileInfo(file).absoluteFilePath());
+    statusBar()->showMessage(tr("Saved %1").arg(file), 4000);
+    return true;
+}
+
+bool MainWindow::screenshotTo(const QString& file)
+{
+    const QImage image = viewport_->grabFramebuffer();
+    if (image.isNull() || !image.save(file, "PNG")) {
+        QMessageBox::warning(this, tr("Screenshot"), tr("Could not write %1").arg(file));
+        return false;
+    }
+    statusBar()->showMessage(tr("Screenshot saved to %1").arg(file), 4000);
+    return true;
+}
+
+void MainWindow::open()
+{
+    if (!maybeSave())
+        return;
+    const QString filter = tr("Projects and meshes (*.json %1)").arg(QString::fromStdString(SceneFormatRegistry::builtin().importFilter()));
+    const QString file = QFileDialog::getOpenFileName(this, tr("Open"), QString(), filter);
+    if (!file.isEmpty())
+        openFile(file);
+}
+
+bool MainWindow::save()
+{
+    if (document_.filePath().empty())
+        return saveAs();
+    return saveTo(QString::fromStdString(document_.filePath().string()));
+}
+
+bool MainWindow::saveAs()
+{
+    const QString file = QFileDialog::getSaveFileName(this, tr("Save Project"), "project.json", tr("Sightline projects (*.json)"));
+    return !file.isEmpty() && saveTo(file);
+}
+
+bool MainWindow::maybeSave()
+{
+    if (!document_.isModified())
+        return true;
+    const auto answer = QMessageBox::warning(this, tr("Unsaved changes"),
+                                             tr("%1 has unsaved changes. Save them?").arg(document_.displayName()),
+                                             QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel);
+    if (answer == QMessageBox::Save)
+        return save();
+    return answer == QMessageBox::Discard;
+}
+
+void MainWindow::closeEvent(QCloseEvent* event)
+{
+    if (!maybeSave()) {
+        event->ignore();
+        return;
+    }
+    QSettings settings;
+    settings.setValue("window/geometry", saveGeometry());
+    settings.setValue("window/state", saveState());
+    QFile::remove(recoveryPath());
+    event->accept();
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event)
+{
+    if (event->mimeData()->hasUrls())
+        event->acceptProposedAction();
+}
+
+void MainWindow::dropEvent(QDropEvent* event)
+{
+    const QList<QUrl> urls = event->mimeData()->urls();
+    if (!urls.isEmpty() && urls.front().isLocalFile() && maybeSave())
+        openFile(urls.front().toLocalFile());
+}
+
+void MainWindow::updateTitle()
+{
+    setWindowTitle(tr("%1[*] - Sightline").arg(document_.displayName()));
+    setWindowModified(document_.isModified());
+}
+
+void MainWindow::updateStatus()
+{
+    const VisibilityResult& result = viewport_->visibility();
+    raysLabel_->setText(visibilitySummary(result));
+    raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
+    properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
+    const double rate = viewport_->updateRate();
+    backendLabel_->setText(tr("%1 · %2 Hz").arg(QString::fromStdString(viewport_->backendName())).arg(rate, 0, 'f', 0));
+}
+
+void MainWindow::addRecentFile(const QString& file)
+{
+    QSettings settings;
+    QStringList files = settings.value("recentFiles").toStringList();
+    files.removeAll(file);
+    files.prepend(file);
+    while (files.size() > kMaxRecentFiles)
+        files.removeLast();
+    settings.setValue("recentFiles", files);
+    rebuildRecentMenu();
+}
+
+void MainWindow::rebuildRecentMenu()
+{
+    recentMenu_->clear();
+    const QStringList files = QSettings().value("recentFiles").toStringList();
+    for (const QString& file : files)
+        recentMenu_->addAction(QFileInfo(file).fileName(), this, [this, file] {
+            if (maybeSave())
+                openFile(file);
+        })->setToolTip(file);
+    recentMenu_->setEnabled(!files.isEmpty());
+}
+
+} // namespace sightline::ui

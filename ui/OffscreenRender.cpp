@@ -1,0 +1,65 @@
+#include "OffscreenRender.h"
+
+#include "EditorDocument.h"
+#include "visibility/Error.h"
+
+namespace sightline::ui {
+
+OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& camera, const ViewStyle& style, int width,
+                                int height, gl::Backend backend)
+{
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw Error("image size must be between 1x1 and 16384x16384");
+    const auto context = gl::HeadlessContext::create(backend);
+    const gl::Functions& gl = context->functions();
+
+    GLuint fbo = 0, colour = 0, depth = 0;
+    gl.CreateFramebuffers(1, &fbo);
+    gl.CreateRenderbuffers(1, &colour);
+    gl.NamedRenderbufferStorage(colour, GL_RGBA8, width, height);
+    gl.CreateRenderbuffers(1, &depth);
+    gl.NamedRenderbufferStorage(depth, GL_DEPTH24_STENCIL8, width, height);
+    gl.NamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+    gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
+    if (gl.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("screenshot: the offscreen framebuffer is incomplete");
+
+    OffscreenResult result;
+    {
+        ViewportRenderer renderer(gl);
+        renderer.setSceneFile(document.sceneFile());
+        renderer.setOccluders(document.occluderScene(), document.occluderOfInstance());
+        LiveVisibility visibility;
+        visibility.setScene(document.scene());
+        const Project& project = document.project();
+        result.visibility = visibility.sample(project.source, project.receiver);
+        renderer.setHiddenSamples(result.visibility.valid ? &result.visibility.map : nullptr);
+
+        FrameState frame;
+        frame.camera = camera;
+        frame.width = width;
+        frame.height = height;
+        frame.framebuffer = fbo;
+        const Bounds bounds = document.scene().bounds();
+        frame.sceneRadius = bounds.empty() ? 10.0 : 0.5 * glm::length(bounds.max - bounds.min);
+        frame.source = project.source;
+        frame.receiver = project.receiver;
+        frame.pairValid = result.visibility.valid;
+        frame.style = style;
+        renderer.render(frame);
+        result.raysDrawn = renderer.raysDrawn();
+
+        QImage image(width, height, QImage::Format_RGBA8888);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, fbo);
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+        gl.ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.bits());
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        result.image = image.mirrored().convertToFormat(QImage::Format_RGB32);   // GL rows run bottom-up
+    }
+    gl.DeleteFramebuffers(1, &fbo);
+    gl.DeleteRenderbuffers(1, &colour);
+    gl.DeleteRenderbuffers(1, &depth);
+    return result;
+}
+
+} // namespace sightline::ui

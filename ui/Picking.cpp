@@ -1,0 +1,82 @@
+#include "Picking.h"
+
+#include <cmath>
+#include <limits>
+
+namespace sightline::ui {
+
+std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray& ray)
+{
+    // Möller-Trumbore in double precision.
+    std::optional<SurfaceHit> best;
+    double bestT = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const glm::dvec3 p0(triangles.vertices[3 * t]);
+        const glm::dvec3 e1 = glm::dvec3(triangles.vertices[3 * t + 1]) - p0;
+        const glm::dvec3 e2 = glm::dvec3(triangles.vertices[3 * t + 2]) - p0;
+        const glm::dvec3 p = glm::cross(ray.direction, e2);
+        const double det = glm::dot(e1, p);
+        if (std::abs(det) < 1e-14)
+            continue;
+        const double inv = 1.0 / det;
+        const glm::dvec3 s = ray.origin - p0;
+        const double b1 = glm::dot(s, p) * inv;
+        if (b1 < 0.0 || b1 > 1.0)
+            continue;
+        const glm::dvec3 q = glm::cross(s, e1);
+        const double b2 = glm::dot(ray.direction, q) * inv;
+        if (b2 < 0.0 || b1 + b2 > 1.0)
+            continue;
+        const double dist = glm::dot(e2, q) * inv;
+        if (dist <= 1e-9 || dist >= bestT)
+            continue;
+        bestT = dist;
+        glm::dvec3 n = glm::cross(e1, e2);
+        const double len = glm::length(n);
+        if (len == 0.0)
+            continue;
+        n /= len;
+        if (glm::dot(n, ray.direction) > 0.0)
+            n = -n;
+        best = SurfaceHit{dist, ray.origin + dist * ray.direction, n, t};
+    }
+    return best;
+}
+
+std::optional<double> pickPatch(const Patch& patch, const Ray& ray)
+{
+    const glm::dvec3 n = glm::cross(patch.u, patch.v);
+    const double denom = glm::dot(n, ray.direction);
+    if (std::abs(denom) < 1e-14)
+        return std::nullopt;
+    const double dist = glm::dot(n, patch.corner - ray.origin) / denom;
+    if (dist <= 0.0)
+        return std::nullopt;
+    const glm::dvec3 d = ray.origin + dist * ray.direction - patch.corner;
+    // Coordinates in the (u, v) basis through the dual basis.
+    const double uu = glm::dot(patch.u, patch.u), uv = glm::dot(patch.u, patch.v), vv = glm::dot(patch.v, patch.v);
+    const double det = uu * vv - uv * uv;
+    const double a = (vv * glm::dot(d, patch.u) - uv * glm::dot(d, patch.v)) / det;
+    const double b = (uu * glm::dot(d, patch.v) - uv * glm::dot(d, patch.u)) / det;
+    if (a < 0.0 || a > 1.0 || b < 0.0 || b > 1.0)
+        return std::nullopt;
+    return dist;
+}
+
+Patch patchOnSurface(const SurfaceHit& hit, double width, double height, int na, int nb, double offset)
+{
+    const glm::dvec3 n = glm::normalize(hit.normal);
+    // Walls: u horizontal. Floors and ceilings: u along X (the up hint is then Z).
+    const glm::dvec3 hint = std::abs(n.y) > 0.9 ? glm::dvec3(0.0, 0.0, n.y > 0.0 ? -1.0 : 1.0) : glm::dvec3(0.0, 1.0, 0.0);
+    const glm::dvec3 uDir = glm::normalize(glm::cross(hint, n));
+    const glm::dvec3 vDir = glm::cross(n, uDir);   // u x v = n
+    Patch patch;
+    patch.u = width * uDir;
+    patch.v = height * vDir;
+    patch.corner = hit.point + offset * n - 0.5 * (patch.u + patch.v);
+    patch.na = na;
+    patch.nb = nb;
+    return patch;
+}
+
+} // namespace sightline::ui

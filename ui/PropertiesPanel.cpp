@@ -1,0 +1,154 @@
+#include "PropertiesPanel.h"
+
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QGroupBox>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QSpinBox>
+#include <QVBoxLayout>
+
+#include "EditorDocument.h"
+
+namespace sightline::ui {
+
+PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QWidget(parent), document_(document)
+{
+    auto* layout = new QVBoxLayout(this);
+    title_ = new QLabel(this);
+    title_->setStyleSheet("font-weight: bold");
+    layout->addWidget(title_);
+
+    patchBox_ = new QGroupBox(tr("Patch"), this);
+    auto* patchForm = new QFormLayout(patchBox_);
+    centre_ = addVec3(patchForm, tr("Centre"), 0.05, " m");
+    u_ = addVec3(patchForm, tr("Edge u"), 0.05, " m");
+    v_ = addVec3(patchForm, tr("Edge v"), 0.05, " m");
+    auto* samples = new QWidget(patchBox_);
+    auto* samplesRow = new QHBoxLayout(samples);
+    samplesRow->setContentsMargins(0, 0, 0, 0);
+    na_ = new QSpinBox(samples);
+    nb_ = new QSpinBox(samples);
+    for (QSpinBox* box : {na_, nb_}) {
+        box->setRange(1, kMaxReceiverSide);
+        box->setKeyboardTracking(false);
+        samplesRow->addWidget(box);
+        connect(box, &QSpinBox::editingFinished, this, &PropertiesPanel::commit);
+    }
+    patchForm->addRow(tr("Samples"), samples);
+    pairError_ = new QLabel(patchBox_);
+    pairError_->setWordWrap(true);
+    pairError_->setStyleSheet("color: #e05050");
+    patchForm->addRow(pairError_);
+    layout->addWidget(patchBox_);
+
+    transformBox_ = new QGroupBox(tr("Transform"), this);
+    auto* transformForm = new QFormLayout(transformBox_);
+    position_ = addVec3(transformForm, tr("Position"), 0.05, " m");
+    rotation_ = addVec3(transformForm, tr("Rotation"), 5.0, QString::fromUtf8("°"));
+    scale_ = addVec3(transformForm, tr("Scale"), 0.05, "");
+    layout->addWidget(transformBox_);
+    layout->addStretch(1);
+
+    connect(&document_, &EditorDocument::changed, this, &PropertiesPanel::refresh);
+    connect(&document_, &EditorDocument::selectionChanged, this, &PropertiesPanel::refresh);
+    refresh();
+}
+
+PropertiesPanel::Vec3Fields PropertiesPanel::addVec3(QFormLayout* form, const QString& label, double step, const QString& suffix)
+{
+    auto* row = new QWidget(form->parentWidget());
+    auto* h = new QHBoxLayout(row);
+    h->setContentsMargins(0, 0, 0, 0);
+    Vec3Fields fields{};
+    for (auto& field : fields) {
+        field = new QDoubleSpinBox(row);
+        field->setRange(-1e5, 1e5);
+        field->setDecimals(3);
+        field->setSingleStep(step);
+        field->setSuffix(suffix);
+        field->setKeyboardTracking(false);
+        h->addWidget(field);
+        connect(field, &QDoubleSpinBox::editingFinished, this, &PropertiesPanel::commit);
+    }
+    form->addRow(label, row);
+    return fields;
+}
+
+void PropertiesPanel::setPairError(const QString& error)
+{
+    pairError_->setText(error);
+    pairError_->setVisible(!error.isEmpty());
+}
+
+void PropertiesPanel::refresh()
+{
+    refreshing_ = true;
+    const ObjectRef selection = document_.selection();
+    title_->setText(selection ? document_.objectName(selection) : tr("Nothing selected"));
+    patchBox_->setVisible(selection.isPatch());
+    transformBox_->setVisible(selection.kind == ObjectKind::Occluder || selection.kind == ObjectKind::SceneObject);
+    auto set = [](const Vec3Fields& fields, const glm::dvec3& value) {
+        for (int i = 0; i < 3; ++i)
+            fields[std::size_t(i)]->setValue(value[i]);
+    };
+    if (selection.isPatch()) {
+        const Patch p = std::get<Patch>(document_.state(selection));
+        set(centre_, p.centre());
+        set(u_, p.u);
+        set(v_, p.v);
+        const int limit = selection.kind == ObjectKind::Source ? kMaxSourceSamples : kMaxReceiverSide;
+        na_->setRange(1, limit);
+        nb_->setRange(1, limit);
+        na_->setValue(p.na);
+        nb_->setValue(p.nb);
+    } else if (selection) {
+        const Decomposed parts = decompose(std::get<glm::mat4>(document_.state(selection)));
+        set(position_, parts.position);
+        set(rotation_, parts.rotationDegrees);
+        set(scale_, parts.scale);
+    }
+    refreshing_ = false;
+}
+
+void PropertiesPanel::commit()
+{
+    const ObjectRef selection = document_.selection();
+    if (refreshing_ || !selection)
+        return;
+    auto get = [](const Vec3Fields& fields) {
+        return glm::dvec3(fields[0]->value(), fields[1]->value(), fields[2]->value());
+    };
+    const ObjectState before = document_.state(selection);
+    ObjectState after;
+    if (selection.isPatch()) {
+        const Patch& old = std::get<Patch>(before);
+        Patch p = old;
+        // Fields the user did not touch keep their exact values (the boxes round to 3 decimals).
+        auto differs = [](const glm::dvec3& a, const glm::dvec3& b) { return glm::length(a - b) > 5e-4; };
+        const glm::dvec3 u = get(u_), v = get(v_), centre = get(centre_);
+        if (differs(u, old.u) || differs(v, old.v) || differs(centre, old.centre())) {
+            p.u = differs(u, old.u) ? u : old.u;
+            p.v = differs(v, old.v) ? v : old.v;
+            p.corner = (differs(centre, old.centre()) ? centre : old.centre()) - 0.5 * (p.u + p.v);
+        }
+        p.na = na_->value();
+        p.nb = nb_->value();
+        if (p.corner == old.corner && p.u == old.u && p.v == old.v && p.na == old.na && p.nb == old.nb)
+            return;
+        after = p;
+    } else {
+        Decomposed parts;
+        parts.position = get(position_);
+        parts.rotationDegrees = get(rotation_);
+        parts.scale = get(scale_);
+        const Decomposed old = decompose(std::get<glm::mat4>(before));
+        auto same = [](const glm::dvec3& a, const glm::dvec3& b) { return glm::length(a - b) <= 5e-4; };
+        if (same(parts.position, old.position) && same(parts.rotationDegrees, old.rotationDegrees) && same(parts.scale, old.scale))
+            return;
+        after = compose(parts);
+    }
+    document_.editState(selection, before, after, tr("Edit %1").arg(document_.objectName(selection)));
+}
+
+} // namespace sightline::ui

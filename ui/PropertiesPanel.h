@@ -1,0 +1,45 @@
+#pragma once
+// Numeric editing of the selected object: a patch's centre, edge vectors and sample grid, or an
+// object's position, rotation (degrees) and scale. Each finished field is one undo command.
+
+#include <array>
+
+#include <QWidget>
+
+class QDoubleSpinBox;
+class QFormLayout;
+class QGroupBox;
+class QLabel;
+class QSpinBox;
+
+namespace sightline::ui {
+
+class EditorDocument;
+
+class PropertiesPanel : public QWidget {
+    Q_OBJECT
+public:
+    explicit PropertiesPanel(EditorDocument& document, QWidget* parent = nullptr);
+
+    /// Shows the pair's problem under the patch fields (empty: valid).
+    void setPairError(const QString& error);
+
+private:
+    using Vec3Fields = std::array<QDoubleSpinBox*, 3>;
+    Vec3Fields addVec3(QFormLayout* form, const QString& label, double step, const QString& suffix);
+    void refresh();
+    void commit();
+
+    EditorDocument& document_;
+    QLabel* title_ = nullptr;
+    QGroupBox* patchBox_ = nullptr;
+    QGroupBox* transformBox_ = nullptr;
+    Vec3Fields centre_{}, u_{}, v_{};
+    QSpinBox* na_ = nullptr;
+    QSpinBox* nb_ = nullptr;
+    Vec3Fields position_{}, rotation_{}, scale_{};
+    QLabel* pairError_ = nullptr;
+    bool refreshing_ = false;
+};
+
+} // namespace sightline::ui

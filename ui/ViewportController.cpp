@@ -1,0 +1,264 @@
+#include "ViewportController.h"
+
+#include <cmath>
+
+namespace sightline::ui {
+
+namespace {
+constexpr double kClickSlop = 4.0;   // pixels a press may move and still count as a click
+} // namespace
+
+ViewportController::ViewportController(EditorDocument& document, QObject* parent) : QObject(parent), document_(document)
+{
+    connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
+        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
+            triangles_.reset();
+        emit viewChanged();
+    });
+    connect(&document_, &EditorDocument::selectionChanged, this, [this] {
+        hoveredAxis_ = -1;
+        emit viewChanged();
+    });
+}
+
+void ViewportController::setCamera(const Camera& camera)
+{
+    camera_ = camera;
+    emit viewChanged();
+}
+
+void ViewportController::setViewportSize(int width, int height)
+{
+    width_ = std::max(width, 1);
+    height_ = std::max(height, 1);
+}
+
+void ViewportController::setTool(Tool tool)
+{
+    if (tool == tool_)
+        return;
+    tool_ = tool;
+    emit toolChanged(tool);
+    if (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver)
+        emit message(tr("Click a surface to place the %1 patch (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver")));
+}
+
+void ViewportController::setGizmoMode(GizmoMode mode)
+{
+    gizmoMode_ = mode;
+    emit gizmoModeChanged(mode);
+    emit viewChanged();
+}
+
+std::optional<GizmoFrame> ViewportController::gizmo() const
+{
+    const ObjectRef selection = document_.selection();
+    if (!selection || tool_ != Tool::Select)
+        return std::nullopt;
+    return gizmoFrame(document_.state(selection), gizmoMode_, camera_);
+}
+
+const WorldTriangles& ViewportController::triangles() const
+{
+    if (!triangles_)
+        triangles_ = worldTriangles(document_.scene());
+    return *triangles_;
+}
+
+Ray ViewportController::rayAt(QPointF position) const { return pixelRay(camera_, position.x(), position.y(), width_, height_); }
+
+double ViewportController::sceneRadius() const
+{
+    Bounds bounds = document_.scene().bounds();
+    for (const Patch* p : {&document_.project().source, &document_.project().receiver}) {
+        bounds.extend(glm::vec3(p->corner));
+        bounds.extend(glm::vec3(p->corner + p->u + p->v));
+    }
+    return std::max(0.5 * double(glm::length(bounds.max - bounds.min)), 1.0);
+}
+
+ObjectRef ViewportController::objectAt(QPointF position) const
+{
+    const Ray ray = rayAt(position);
+    ObjectRef best;
+    double bestDistance = std::numeric_limits<double>::infinity();
+    if (auto d = pickPatch(document_.project().source, ray); d && *d < bestDistance) {
+        bestDistance = *d;
+        best = {ObjectKind::Source, 0};
+    }
+    if (auto d = pickPatch(document_.project().receiver, ray); d && *d < bestDistance) {
+        bestDistance = *d;
+        best = {ObjectKind::Receiver, 0};
+    }
+    if (auto hit = pickSurface(triangles(), ray); hit && hit->distance < bestDistance) {
+        const std::size_t instance = triangles().instanceOf[hit->triangle];
+        const std::size_t fileObjects = document_.sceneFile().instances.size();
+        best = instance < fileObjects ? ObjectRef{ObjectKind::SceneObject, instance}
+                                      : ObjectRef{ObjectKind::Occluder, document_.occluderOfInstance().at(instance - fileObjects)};
+    }
+    return best;
+}
+
+bool ViewportController::placePatchAt(ObjectKind which, QPointF position)
+{
+    const auto hit = pickSurface(triangles(), rayAt(position));
+    if (!hit) {
+        emit message(tr("Nothing under the cursor to place the patch on"));
+        return false;
+    }
+    const ObjectRef object{which, 0};
+    const Patch old = std::get<Patch>(document_.state(object));
+    const Patch placed = patchOnSurface(*hit, glm::length(old.u), glm::length(old.v), old.na, old.nb);
+    document_.setState(object, placed, which == ObjectKind::Source ? tr("Place source") : tr("Place receiver"));
+    document_.select(object);
+    return true;
+}
+
+void ViewportController::mousePress(Qt::MouseButton button, Qt::KeyboardModifiers modifiers, QPointF position)
+{
+    last_ = pressPosition_ = position;
+    pressedOnEmpty_ = false;
+    if (button == Qt::RightButton) {
+        navigation_ = Navigation::Fly;
+        flying_ = true;
+        return;
+    }
+    if (button == Qt::MiddleButton || (button == Qt::LeftButton && (modifiers & Qt::ShiftModifier))) {
+        navigation_ = Navigation::Pan;
+        return;
+    }
+    if (button != Qt::LeftButton)
+        return;
+    if (modifiers & Qt::AltModifier) {
+        navigation_ = Navigation::Orbit;
+        return;
+    }
+    if (tool_ == Tool::PlaceSource || tool_ == Tool::PlaceReceiver) {
+        if (placePatchAt(tool_ == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver, position))
+            setTool(Tool::Select);
+        return;
+    }
+    if (const auto frame = gizmo()) {
+        const int axis = pickGizmoAxis(*frame, camera_, position.x(), position.y(), width_, height_);
+        if (axis >= 0) {
+            drag_ = beginGizmoDrag(gizmoMode_, axis, document_.state(document_.selection()), camera_, position.x(),
+                                   position.y(), width_, height_);
+            return;
+        }
+    }
+    // Left press elsewhere: a click selects (on release), a drag orbits.
+    pressedOnEmpty_ = true;
+    navigation_ = Navigation::Orbit;
+}
+
+void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifiers, QPointF position)
+{
+    const QPointF delta = position - last_;
+    last_ = position;
+    if (drag_) {
+        document_.applyState(document_.selection(), dragGizmo(*drag_, camera_, position.x(), position.y(), width_, height_));
+        return;
+    }
+    if (buttons == Qt::NoButton) {
+        const auto frame = gizmo();
+        const int axis = frame ? pickGizmoAxis(*frame, camera_, position.x(), position.y(), width_, height_) : -1;
+        if (axis != hoveredAxis_) {
+            hoveredAxis_ = axis;
+            emit viewChanged();
+        }
+        return;
+    }
+    if (pressedOnEmpty_ && std::hypot(position.x() - pressPosition_.x(), position.y() - pressPosition_.y()) <= kClickSlop)
+        return;   // still a click
+    switch (navigation_) {
+    case Navigation::Orbit: orbit(camera_, delta.x(), delta.y()); break;
+    case Navigation::Pan: pan(camera_, delta.x(), delta.y(), height_); break;
+    case Navigation::Fly: look(camera_, delta.x(), delta.y()); break;
+    case Navigation::None: return;
+    }
+    pressedOnEmpty_ = false;
+    emit viewChanged();
+}
+
+void ViewportController::mouseRelease(Qt::MouseButton button, QPointF position)
+{
+    if (drag_ && button == Qt::LeftButton) {
+        const ObjectRef object = document_.selection();
+        const ObjectState after = document_.state(object);
+        const ObjectState before = drag_->start;
+        drag_.reset();
+        static const char* names[] = {"Move", "Rotate", "Scale"};
+        document_.editState(object, before, after, tr("%1 %2").arg(tr(names[int(gizmoMode_)]), document_.objectName(object)));
+        return;
+    }
+    if (button == Qt::LeftButton && pressedOnEmpty_)
+        document_.select(objectAt(position));
+    if (button == Qt::RightButton) {
+        flying_ = false;
+        flyKeys_ = glm::dvec3(0.0);
+    }
+    pressedOnEmpty_ = false;
+    navigation_ = Navigation::None;
+}
+
+void ViewportController::wheel(double steps)
+{
+    dolly(camera_, steps);
+    emit viewChanged();
+}
+
+bool ViewportController::key(int key, bool pressed)
+{
+    if (key == Qt::Key_Shift) {
+        flyFast_ = pressed;
+        return flying_;
+    }
+    if (!flying_)
+        return false;
+    const double v = pressed ? 1.0 : 0.0;
+    switch (key) {
+    case Qt::Key_W: flyKeys_.z = v; break;
+    case Qt::Key_S: flyKeys_.z = -v; break;
+    case Qt::Key_D: flyKeys_.x = v; break;
+    case Qt::Key_A: flyKeys_.x = -v; break;
+    case Qt::Key_E: flyKeys_.y = v; break;
+    case Qt::Key_Q: flyKeys_.y = -v; break;
+    default: return false;
+    }
+    return true;
+}
+
+void ViewportController::advanceFly(double seconds)
+{
+    if (!flying_ || flyKeys_ == glm::dvec3(0.0))
+        return;
+    const double speed = 0.4 * sceneRadius() * (flyFast_ ? 3.0 : 1.0);   // metres per second
+    fly(camera_, flyKeys_ * (speed * seconds));
+    emit viewChanged();
+}
+
+void ViewportController::frameSelection()
+{
+    Bounds bounds;
+    const ObjectRef selection = document_.selection();
+    if (selection.isPatch()) {
+        const Patch p = std::get<Patch>(document_.state(selection));
+        for (int k = 0; k < 4; ++k)
+            bounds.extend(glm::vec3(p.corner + double(k & 1) * p.u + double(k >> 1) * p.v));
+    } else if (selection.kind == ObjectKind::SceneObject) {
+        bounds = document_.sceneFile().instanceBounds(document_.sceneFile().instances.at(selection.index));
+    } else if (selection.kind == ObjectKind::Occluder) {
+        const Scene& occluders = document_.occluderScene();
+        for (std::size_t i = 0; i < occluders.instances.size(); ++i)
+            if (document_.occluderOfInstance()[i] == selection.index)
+                bounds.extend(occluders.instanceBounds(occluders.instances[i]));
+    } else {
+        bounds = document_.scene().bounds();
+        if (bounds.empty())
+            bounds.extend(glm::vec3(0.0f));
+    }
+    frame(camera_, bounds);
+    emit viewChanged();
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,94 @@
+#pragma once
+// What the mouse and keyboard do in the viewport, kept out of the GL window so it is tested
+// with plain calls: navigation (orbit: left drag on empty space or Alt + left; pan: middle drag or
+// Shift + left; dolly: wheel; fly: right drag + WASD/QE, Shift for speed), placing a patch on the
+// surface under a click, selecting by click, and dragging the gizmo. A drag is shown live
+// (applyState) and becomes one undo command on release.
+
+#include <optional>
+
+#include <QObject>
+#include <QPointF>
+
+#include "Camera.h"
+#include "EditorDocument.h"
+#include "Gizmo.h"
+#include "Picking.h"
+
+namespace sightline::ui {
+
+enum class Tool { Select, PlaceSource, PlaceReceiver };
+
+class ViewportController : public QObject {
+    Q_OBJECT
+public:
+    explicit ViewportController(EditorDocument& document, QObject* parent = nullptr);
+
+    Camera& camera() { return camera_; }
+    const Camera& camera() const { return camera_; }
+    void setCamera(const Camera& camera);
+    void setViewportSize(int width, int height);
+    int width() const { return width_; }
+    int height() const { return height_; }
+
+    Tool tool() const { return tool_; }
+    void setTool(Tool tool);
+    GizmoMode gizmoMode() const { return gizmoMode_; }
+    void setGizmoMode(GizmoMode mode);
+
+    /// The handles of the selected object, if any.
+    std::optional<GizmoFrame> gizmo() const;
+    int hoveredAxis() const { return hoveredAxis_; }
+    bool isFlying() const { return flying_; }
+    bool isDragging() const { return drag_.has_value(); }
+
+    void mousePress(Qt::MouseButton button, Qt::KeyboardModifiers modifiers, QPointF position);
+    void mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifiers modifiers, QPointF position);
+    void mouseRelease(Qt::MouseButton button, QPointF position);
+    void wheel(double steps);
+    /// Fly keys while the right button is held; returns whether the key was used.
+    bool key(int key, bool pressed);
+    /// Moves a flying camera by the keys held, for `seconds`.
+    void advanceFly(double seconds);
+
+    /// Frames the selection (F), or the whole scene when nothing is selected.
+    void frameSelection();
+    /// The scene's extent, for clip planes and fly speed.
+    double sceneRadius() const;
+
+    /// What a click at `position` selects (gizmo handles excepted).
+    ObjectRef objectAt(QPointF position) const;
+    /// Places the source or receiver on the surface under `position`; false when nothing is hit.
+    bool placePatchAt(ObjectKind which, QPointF position);
+
+signals:
+    void viewChanged();   ///< camera, hover or gizmo: repaint
+    void toolChanged(sightline::ui::Tool tool);
+    void gizmoModeChanged(sightline::ui::GizmoMode mode);
+    void message(const QString& text);
+
+private:
+    const WorldTriangles& triangles() const;
+    Ray rayAt(QPointF position) const;
+
+    EditorDocument& document_;
+    Camera camera_;
+    int width_ = 1, height_ = 1;
+    Tool tool_ = Tool::Select;
+    GizmoMode gizmoMode_ = GizmoMode::Move;
+    int hoveredAxis_ = -1;
+
+    enum class Navigation { None, Orbit, Pan, Fly };
+    Navigation navigation_ = Navigation::None;
+    bool flying_ = false;
+    QPointF last_;
+    QPointF pressPosition_;
+    bool pressedOnEmpty_ = false;
+    std::optional<GizmoDrag> drag_;
+    glm::dvec3 flyKeys_{0.0};   ///< x right, y up, z forward: -1, 0, 1
+    bool flyFast_ = false;
+
+    mutable std::optional<WorldTriangles> triangles_;
+};
+
+} // namespace sightline::ui

@@ -1,0 +1,497 @@
+#include "ViewportRenderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <string>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "visibility/SourceJitter.h"
+#include "visibility/gl/GlShaders.h"
+
+namespace sightline::ui {
+
+namespace {
+
+const char* kMeshVertex = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec3 normal;
+layout(location = 2) in uint object;
+uniform mat4 viewProj;
+uniform vec3 eye;
+uniform vec3 viewForward;
+uniform float cutDepth;      // cutaway: nearer than this along viewForward is clipped,
+uniform float cutHeight;     // and above this height (clip distances keep early depth tests)
+out vec3 vPosition;
+out vec3 vNormal;
+flat out uint vObject;
+void main() {
+    vPosition = position;
+    vNormal = normal;
+    vObject = object;
+    gl_ClipDistance[0] = cutHeight - position.y;
+    gl_ClipDistance[1] = dot(position - eye, viewForward) - cutDepth;
+    gl_Position = viewProj * vec4(position, 1.0);
+}
+)";
+
+const char* kMeshFragment = R"(#version 450 core
+in vec3 vPosition;
+in vec3 vNormal;
+flat in uint vObject;
+uniform vec3 eye;
+uniform vec3 baseColour;
+uniform int selected;        // object id, -1 for none
+uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
+layout(location = 0) out vec4 colour;
+void main() {
+    if (flatColour.a > 0.0) { colour = flatColour; return; }
+    vec3 toEye = normalize(eye - vPosition);
+    vec3 n = normalize(vNormal);
+    if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
+    float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
+    vec3 c = baseColour;
+    if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
+    colour = vec4(c * light, 1.0);
+}
+)";
+
+const char* kLineVertex = R"(#version 450 core
+layout(location = 0) in vec3 position;
+layout(location = 1) in vec4 colourIn;
+uniform mat4 viewProj;
+out vec4 vColour;
+void main() { vColour = colourIn; gl_Position = viewProj * vec4(position, 1.0); }
+)";
+
+const char* kLineFragment = R"(#version 450 core
+in vec4 vColour;
+layout(location = 0) out vec4 colour;
+void main() { colour = vColour; }
+)";
+
+// Ray k of the subset (raySubset() in C++ computes the same pairs).
+const char* kRayVertex = R"(#version 450 core
+uniform mat4 viewProj;
+uniform vec3 sourceCorner, sourceU, sourceV;
+uniform ivec2 sourceGrid;
+uniform vec3 receiverCorner, receiverU, receiverV;
+uniform ivec2 receiverGrid;
+uniform uint receivers, receiverStride, sourceStride, wordsPerRow;
+uniform int showBlocked;
+uniform vec4 freeColour, blockedColour;
+layout(binding = 0) uniform usamplerBuffer hidden;
+out vec4 vColour;
+uint mixBits(uint x) {
+    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+    return x;
+}
+vec3 samplePoint(vec3 corner, vec3 u, vec3 v, ivec2 grid, uint index) {
+    uint a = index % uint(grid.x), b = index / uint(grid.x);
+    return corner + (float(a) + 0.5) / float(grid.x) * u + (float(b) + 0.5) / float(grid.y) * v;
+}
+void main() {
+    uint k = uint(gl_VertexID) >> 1;
+    uint jk = k % receivers, ik = k / receivers;
+    uint j = jk * receiverStride + (receiverStride > 1u ? mixBits(jk) % receiverStride : 0u);
+    uint i = ik * sourceStride + (sourceStride > 1u ? mixBits(j ^ 0x5bd1e995u) % sourceStride : 0u);
+    uint word = texelFetch(hidden, int(j * wordsPerRow + (i >> 5))).r;
+    bool blocked = ((word >> (i & 31u)) & 1u) != 0u;
+    vec3 p = (gl_VertexID & 1) == 0 ? samplePoint(sourceCorner, sourceU, sourceV, sourceGrid, i)
+                                   : samplePoint(receiverCorner, receiverU, receiverV, receiverGrid, j);
+    vColour = blocked ? blockedColour : freeColour;
+    gl_Position = (blocked && showBlocked == 0) ? vec4(2.0, 2.0, 2.0, 1.0) : viewProj * vec4(p, 1.0);
+}
+)";
+
+struct MeshVertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+    std::uint32_t object;
+};
+
+struct LineVertex {
+    glm::vec3 position;
+    glm::vec4 colour;
+};
+
+std::vector<MeshVertex> meshVertices(const WorldTriangles& triangles, const std::vector<std::size_t>* objectOf)
+{
+    std::vector<MeshVertex> vertices(triangles.vertices.size());
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const glm::vec3* p = &triangles.vertices[3 * t];
+        const glm::vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+        const float len = glm::length(n);
+        const glm::vec3 unit = len > 0.0f ? n / len : glm::vec3(0.0f, 1.0f, 0.0f);
+        const std::uint32_t instance = triangles.instanceOf[t];
+        const auto object = std::uint32_t(objectOf ? (*objectOf)[instance] : instance);
+        for (int k = 0; k < 3; ++k)
+            vertices[3 * t + std::size_t(k)] = {p[k], unit, object};
+    }
+    return vertices;
+}
+
+} // namespace
+
+RaySubset raySubset(int sourceCount, int receiverCount, int cap)
+{
+    RaySubset s;
+    const auto S = std::uint64_t(std::max(sourceCount, 0)), R = std::uint64_t(std::max(receiverCount, 0));
+    const auto limit = std::uint64_t(std::max(cap, 1));
+    if (S == 0 || R == 0)
+        return s;
+    if (S * R <= limit) {
+        s.receivers = std::uint32_t(R);
+        s.sourcePerReceiver = std::uint32_t(S);
+        return s;
+    }
+    s.sourcePerReceiver = std::uint32_t(std::clamp<std::uint64_t>(limit / R, 1, S));
+    s.sourceStride = std::uint32_t(S / s.sourcePerReceiver);
+    s.receivers = std::uint32_t(std::min<std::uint64_t>(R, limit / s.sourcePerReceiver));
+    s.receiverStride = std::uint32_t(R / s.receivers);
+    return s;
+}
+
+std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& s, std::uint32_t k)
+{
+    const std::uint32_t jk = k % s.receivers, ik = k / s.receivers;
+    const std::uint32_t j = jk * s.receiverStride + (s.receiverStride > 1 ? mixBits(jk) % s.receiverStride : 0);
+    const std::uint32_t i = ik * s.sourceStride + (s.sourceStride > 1 ? mixBits(j ^ 0x5bd1e995U) % s.sourceStride : 0);
+    return {j, i};
+}
+
+Cutaway cutaway(const FrameState& f)
+{
+    if (!f.style.cutaway)
+        return {std::numeric_limits<double>::infinity(), 0.0};
+    // From the camera alone, so that dragging a patch or an occluder never moves the cut (and the
+    // cached background stays valid): 1.5 m above the orbit target, which the default view puts
+    // at the shaft's centre, and the nearer half of the way to the target.
+    return {f.camera.target.y + 1.5, 0.5 * f.camera.distance};
+}
+
+struct ViewportRenderer::MeshBuffer {
+    GLuint vao = 0, vbo = 0;
+    GLsizei vertices = 0;
+};
+
+struct ViewportRenderer::Impl {
+    const gl::Functions& gl;
+    GLuint meshProgram = 0, lineProgram = 0, rayProgram = 0;
+    MeshBuffer sceneFile, occluders;
+    GLuint lineVao = 0, lineVbo = 0;
+    GLuint rayVao = 0, mapBuffer = 0, mapTexture = 0;
+    const HiddenSampleMap* map = nullptr;
+    bool mapUploaded = false;
+
+    // The scene file's image and depth, kept while the view and the scene file stay the same:
+    // during a drag of a patch or an occluder only what moved is drawn again (on llvmpipe the
+    // 83k-triangle demo costs about 30 ms a frame, the blit about 2).
+    struct BackgroundKey {
+        glm::mat4 viewProj{0.0f};
+        int width = 0, height = 0;
+        bool wireframe = false;
+        float cutHeight = 0.0f, cutDepth = 0.0f;
+        int selected = -1;
+        std::uint64_t sceneVersion = 0;
+        bool operator==(const BackgroundKey&) const = default;
+    };
+    GLuint cacheFbo = 0, cacheColour = 0, cacheDepth = 0;
+    int cacheWidth = 0, cacheHeight = 0;
+    std::optional<BackgroundKey> cacheKey;
+    bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
+    std::uint64_t sceneVersion = 0;
+
+    void resizeCache(int width, int height)
+    {
+        if (cacheFbo && width == cacheWidth && height == cacheHeight)
+            return;
+        if (cacheFbo) {
+            gl.DeleteFramebuffers(1, &cacheFbo);
+            gl.DeleteRenderbuffers(1, &cacheColour);
+            gl.DeleteRenderbuffers(1, &cacheDepth);
+        }
+        gl.CreateFramebuffers(1, &cacheFbo);
+        gl.CreateRenderbuffers(1, &cacheColour);
+        gl.NamedRenderbufferStorage(cacheColour, GL_RGBA8, width, height);
+        gl.CreateRenderbuffers(1, &cacheDepth);
+        gl.NamedRenderbufferStorage(cacheDepth, GL_DEPTH24_STENCIL8, width, height);
+        gl.NamedFramebufferRenderbuffer(cacheFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, cacheColour);
+        gl.NamedFramebufferRenderbuffer(cacheFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, cacheDepth);
+        cacheWidth = width;
+        cacheHeight = height;
+        cacheKey.reset();
+    }
+
+    explicit Impl(const gl::Functions& functions) : gl(functions) {}
+
+    GLint loc(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
+
+    void makeMeshBuffer(MeshBuffer& buffer)
+    {
+        gl.CreateVertexArrays(1, &buffer.vao);
+        gl.CreateBuffers(1, &buffer.vbo);
+        gl.VertexArrayVertexBuffer(buffer.vao, 0, buffer.vbo, 0, sizeof(MeshVertex));
+        gl.EnableVertexArrayAttrib(buffer.vao, 0);
+        gl.VertexArrayAttribFormat(buffer.vao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(MeshVertex, position));
+        gl.VertexArrayAttribBinding(buffer.vao, 0, 0);
+        gl.EnableVertexArrayAttrib(buffer.vao, 1);
+        gl.VertexArrayAttribFormat(buffer.vao, 1, 3, GL_FLOAT, GL_FALSE, offsetof(MeshVertex, normal));
+        gl.VertexArrayAttribBinding(buffer.vao, 1, 0);
+        gl.EnableVertexArrayAttrib(buffer.vao, 2);
+        gl.VertexArrayAttribIFormat(buffer.vao, 2, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, object));
+        gl.VertexArrayAttribBinding(buffer.vao, 2, 0);
+    }
+
+    void upload(MeshBuffer& buffer, const std::vector<MeshVertex>& vertices)
+    {
+        gl.NamedBufferData(buffer.vbo, GLsizeiptr(vertices.size() * sizeof(MeshVertex)), vertices.data(), GL_STATIC_DRAW);
+        buffer.vertices = GLsizei(vertices.size());
+    }
+
+    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selected, const glm::vec4& flat)
+    {
+        if (buffer.vertices == 0)
+            return;
+        gl.ProgramUniform3fv(meshProgram, loc(meshProgram, "baseColour"), 1, glm::value_ptr(colour));
+        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), selected);
+        gl.ProgramUniform4fv(meshProgram, loc(meshProgram, "flatColour"), 1, glm::value_ptr(flat));
+        gl.BindVertexArray(buffer.vao);
+        gl.DrawArrays(GL_TRIANGLES, 0, buffer.vertices);
+    }
+};
+
+ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_unique<Impl>(gl))
+{
+    Impl& d = *impl_;
+    d.meshProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kMeshVertex}, {GL_FRAGMENT_SHADER, kMeshFragment}}, "viewport");
+    d.lineProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kLineVertex}, {GL_FRAGMENT_SHADER, kLineFragment}}, "viewport");
+    d.rayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kRayVertex}, {GL_FRAGMENT_SHADER, kLineFragment}}, "viewport");
+    d.makeMeshBuffer(d.sceneFile);
+    d.makeMeshBuffer(d.occluders);
+
+    gl.CreateVertexArrays(1, &d.lineVao);
+    gl.CreateBuffers(1, &d.lineVbo);
+    gl.VertexArrayVertexBuffer(d.lineVao, 0, d.lineVbo, 0, sizeof(LineVertex));
+    gl.EnableVertexArrayAttrib(d.lineVao, 0);
+    gl.VertexArrayAttribFormat(d.lineVao, 0, 3, GL_FLOAT, GL_FALSE, offsetof(LineVertex, position));
+    gl.VertexArrayAttribBinding(d.lineVao, 0, 0);
+    gl.EnableVertexArrayAttrib(d.lineVao, 1);
+    gl.VertexArrayAttribFormat(d.lineVao, 1, 4, GL_FLOAT, GL_FALSE, offsetof(LineVertex, colour));
+    gl.VertexArrayAttribBinding(d.lineVao, 1, 0);
+
+    gl.CreateVertexArrays(1, &d.rayVao);   // attribute-less: the rays come from gl_VertexID
+    gl.CreateBuffers(1, &d.mapBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.mapTexture);
+}
+
+ViewportRenderer::~ViewportRenderer()
+{
+    Impl& d = *impl_;
+    const gl::Functions& gl = d.gl;
+    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram})
+        gl.DeleteProgram(p);
+    GLuint vaos[] = {d.sceneFile.vao, d.occluders.vao, d.lineVao, d.rayVao};
+    gl.DeleteVertexArrays(4, vaos);
+    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer};
+    gl.DeleteBuffers(4, buffers);
+    gl.DeleteTextures(1, &d.mapTexture);
+    if (d.cacheFbo) {
+        gl.DeleteFramebuffers(1, &d.cacheFbo);
+        gl.DeleteRenderbuffers(1, &d.cacheColour);
+        gl.DeleteRenderbuffers(1, &d.cacheDepth);
+    }
+}
+
+void ViewportRenderer::setSceneFile(const Scene& scene)
+{
+    impl_->upload(impl_->sceneFile, meshVertices(worldTriangles(scene), nullptr));
+    ++impl_->sceneVersion;
+}
+
+void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf)
+{
+    impl_->upload(impl_->occluders, meshVertices(worldTriangles(occluders), &occluderOf));
+}
+
+void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
+{
+    Impl& d = *impl_;
+    d.map = map;
+    d.mapUploaded = false;
+    if (!map || map->rayCount() == 0)
+        return;
+    // The map's 64-bit words, little-endian, are the 32-bit words the shader reads, in order.
+    const auto bytes = GLsizeiptr(std::size_t(map->receiverCount()) * std::size_t(map->wordsPerRow()) * 8);
+    d.gl.NamedBufferData(d.mapBuffer, bytes, map->row(0).data(), GL_STREAM_DRAW);
+    d.gl.TextureBuffer(d.mapTexture, GL_R32UI, d.mapBuffer);
+    d.mapUploaded = true;
+}
+
+void ViewportRenderer::render(const FrameState& f)
+{
+    Impl& d = *impl_;
+    const gl::Functions& gl = d.gl;
+    const glm::mat4 viewProj = f.camera.projection(double(f.width) / f.height, f.sceneRadius) * f.camera.view();
+    const glm::vec3 eye(f.camera.eye());
+    const glm::vec3 forward(f.camera.forward());
+    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram})
+        gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+    gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
+    gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
+    auto setCut = [&](double height, double depth) {
+        gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutHeight"), float(std::min(height, 1e30)));
+        gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutDepth"), float(depth));
+    };
+    const Cutaway cut = cutaway(f);
+    const int selectedFile = f.selection.kind == ObjectKind::SceneObject ? int(f.selection.index) : -1;
+    const int selectedOccluder = f.selection.kind == ObjectKind::Occluder ? int(f.selection.index) : -1;
+
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DepthMask(GL_TRUE);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_CULL_FACE);
+    auto drawBackground = [&](GLuint framebuffer) {
+        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        gl.Viewport(0, 0, f.width, f.height);
+        const float background[4] = {0.17f, 0.18f, 0.2f, 1.0f};
+        gl.ClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, background);
+        gl.ClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        gl.UseProgram(d.meshProgram);
+        setCut(cut.height, cut.depth);
+        gl.Enable(GL_CLIP_DISTANCE0);
+        gl.Enable(GL_CLIP_DISTANCE1);
+        gl.Enable(GL_POLYGON_OFFSET_FILL);
+        gl.PolygonOffset(1.0f, 1.0f);   // the wireframe overlay wins the depth test
+        d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, selectedFile, glm::vec4(0.0f));
+        gl.Disable(GL_POLYGON_OFFSET_FILL);
+        if (f.style.wireframe) {
+            gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+            d.drawMesh(d.sceneFile, {}, -1, {0.1f, 0.1f, 0.12f, 1.0f});
+            gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        }
+        gl.Disable(GL_CLIP_DISTANCE0);
+        gl.Disable(GL_CLIP_DISTANCE1);
+    };
+    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion};
+    bool drawn = false;
+    if (!d.cacheBroken) {
+        d.resizeCache(f.width, f.height);
+        if (d.cacheKey != key) {
+            drawBackground(d.cacheFbo);
+            d.cacheKey = key;
+        }
+        while (gl.GetError() != GL_NO_ERROR) {
+        }
+        gl.BlitNamedFramebuffer(d.cacheFbo, f.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width, f.height,
+                                GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
+        drawn = gl.GetError() == GL_NO_ERROR;
+        d.cacheBroken = !drawn;
+    }
+    if (!drawn)
+        drawBackground(f.framebuffer);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, f.framebuffer);
+    gl.Viewport(0, 0, f.width, f.height);
+
+    // Placed occluders: always drawn (they move), never cut away.
+    gl.UseProgram(d.meshProgram);
+    setCut(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    d.drawMesh(d.occluders, {0.45f, 0.6f, 0.85f}, selectedOccluder, glm::vec4(0.0f));
+    if (f.style.wireframe) {
+        gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        d.drawMesh(d.occluders, {}, -1, {0.1f, 0.1f, 0.3f, 1.0f});
+        gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+
+    // Translucent: rays, then the patches, without writing depth.
+    gl.Enable(GL_BLEND);
+    gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    gl.DepthMask(GL_FALSE);
+    raysDrawn_ = 0;
+    if (f.style.showRays && f.pairValid && d.mapUploaded && d.map) {
+        const RaySubset subset = raySubset(d.map->sourceCount(), d.map->receiverCount(), f.style.rayCap);
+        const GLuint p = d.rayProgram;
+        auto vec3 = [&](const char* name, const glm::dvec3& v) {
+            const glm::vec3 x(v);
+            gl.ProgramUniform3fv(p, d.loc(p, name), 1, glm::value_ptr(x));
+        };
+        vec3("sourceCorner", f.source.corner);
+        vec3("sourceU", f.source.u);
+        vec3("sourceV", f.source.v);
+        gl.ProgramUniform2i(p, d.loc(p, "sourceGrid"), f.source.na, f.source.nb);
+        vec3("receiverCorner", f.receiver.corner);
+        vec3("receiverU", f.receiver.u);
+        vec3("receiverV", f.receiver.v);
+        gl.ProgramUniform2i(p, d.loc(p, "receiverGrid"), f.receiver.na, f.receiver.nb);
+        gl.ProgramUniform1ui(p, d.loc(p, "receivers"), subset.receivers);
+        gl.ProgramUniform1ui(p, d.loc(p, "receiverStride"), subset.receiverStride);
+        gl.ProgramUniform1ui(p, d.loc(p, "sourceStride"), subset.sourceStride);
+        gl.ProgramUniform1ui(p, d.loc(p, "wordsPerRow"), GLuint(d.map->wordsPerRow() * 2));
+        gl.ProgramUniform1i(p, d.loc(p, "showBlocked"), f.style.showBlocked ? 1 : 0);
+        gl.ProgramUniform4fv(p, d.loc(p, "freeColour"), 1, glm::value_ptr(f.style.freeColour));
+        gl.ProgramUniform4fv(p, d.loc(p, "blockedColour"), 1, glm::value_ptr(f.style.blockedColour));
+        gl.UseProgram(p);
+        gl.BindTextureUnit(0, d.mapTexture);
+        gl.BindVertexArray(d.rayVao);
+        gl.DrawArrays(GL_LINES, 0, GLsizei(2 * subset.count()));
+        raysDrawn_ = subset.count();
+    }
+
+    std::vector<LineVertex> triangles, lines, overlay;
+    auto quad = [&](const Patch& patch, const glm::vec4& colour) {
+        const glm::vec3 c(patch.corner), u(patch.u), v(patch.v);
+        for (const glm::vec3& p : {c, c + u, c + u + v, c, c + u + v, c + v})
+            triangles.push_back({p, colour});
+        const glm::vec4 edge(glm::vec3(colour) * 1.2f, 1.0f);
+        const glm::vec3 corners[4] = {c, c + u, c + u + v, c + v};
+        for (int k = 0; k < 4; ++k) {
+            lines.push_back({corners[k], edge});
+            lines.push_back({corners[(k + 1) % 4], edge});
+        }
+    };
+    const bool sourceSelected = f.selection.kind == ObjectKind::Source, receiverSelected = f.selection.kind == ObjectKind::Receiver;
+    quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
+    quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
+    // The shaft: corresponding corners joined; red when the pair cannot be sampled.
+    const glm::vec4 shaftColour = f.pairValid ? glm::vec4(0.9f, 0.9f, 0.9f, 0.5f) : glm::vec4(1.0f, 0.2f, 0.2f, 0.9f);
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 s = f.source.corner + double(k & 1) * f.source.u + double(k >> 1) * f.source.v;
+        const glm::dvec3 r = f.receiver.corner + double(k & 1) * f.receiver.u + double(k >> 1) * f.receiver.v;
+        lines.push_back({glm::vec3(s), shaftColour});
+        lines.push_back({glm::vec3(r), shaftColour});
+    }
+    if (f.gizmo) {
+        const glm::vec4 axisColours[3] = {{0.95f, 0.25f, 0.25f, 1.0f}, {0.3f, 0.9f, 0.3f, 1.0f}, {0.3f, 0.5f, 1.0f, 1.0f}};
+        for (int a = 0; a < 3; ++a) {
+            const glm::vec4 colour = a == f.hoveredAxis ? glm::vec4(1.0f, 1.0f, 0.3f, 1.0f) : axisColours[a];
+            const glm::dvec3 tip = f.gizmo->pivot + f.gizmo->length * f.gizmo->axes[std::size_t(a)];
+            overlay.push_back({glm::vec3(f.gizmo->pivot), colour});
+            overlay.push_back({glm::vec3(tip), colour});
+            // A small cross at the tip, so the handle reads as a handle.
+            const glm::dvec3 side = 0.06 * f.gizmo->length * f.gizmo->axes[std::size_t((a + 1) % 3)];
+            overlay.push_back({glm::vec3(tip - side), colour});
+            overlay.push_back({glm::vec3(tip + side), colour});
+        }
+    }
+    auto drawLines = [&](const std::vector<LineVertex>& vertices, GLenum mode) {
+        if (vertices.empty())
+            return;
+        gl.NamedBufferData(d.lineVbo, GLsizeiptr(vertices.size() * sizeof(LineVertex)), vertices.data(), GL_STREAM_DRAW);
+        gl.UseProgram(d.lineProgram);
+        gl.BindVertexArray(d.lineVao);
+        gl.DrawArrays(mode, 0, GLsizei(vertices.size()));
+    };
+    drawLines(triangles, GL_TRIANGLES);
+    drawLines(lines, GL_LINES);
+    gl.Disable(GL_DEPTH_TEST);
+    drawLines(overlay, GL_LINES);
+    gl.DepthMask(GL_TRUE);
+    gl.Disable(GL_BLEND);
+    gl.BindVertexArray(0);
+    gl.UseProgram(0);
+}
+
+} // namespace sightline::ui

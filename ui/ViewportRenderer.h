@@ -1,0 +1,107 @@
+#pragma once
+// Draws the editor's view with OpenGL 4.5 core through gl::Functions, so the same code renders in
+// the Qt viewport, in OSMesa for `sightline --screenshot` and in tests:
+//   - the scene, shaded (headlight + sky term, two-sided), optional wireframe overlay;
+//   - the placed occluders; the selected object highlighted;
+//   - the two patches (translucent), their outlines and the shaft between them (red if the pair
+//     is invalid);
+//   - the rays straight from the hidden-samples map (§9 of Eisemann & Décoret: the map is the
+//     answer the designer looks at). A vertex shader turns gl_VertexID into (receiver sample,
+//     source sample), reads the ray's bit from the map in a buffer texture and moves blocked rays
+//     out of the clip volume: no per-ray CPU work. A cap draws a hashed subset, evenly spread
+//     over the receiver samples, so up to 1M rays stay readable and fast;
+//   - the gizmo handles, over everything.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "Camera.h"
+#include "Gizmo.h"
+#include "ObjectEdits.h"
+#include "visibility/HiddenSampleMap.h"
+#include "visibility/Patch.h"
+#include "visibility/Scene.h"
+#include "visibility/gl/GlFunctions.h"
+
+namespace sightline::ui {
+
+struct ViewStyle {
+    bool wireframe = false;
+    bool showRays = true;
+    bool showBlocked = false;       ///< blocked rays too, in red
+    int rayCap = 4096;              ///< at most this many rays drawn (a hashed subset beyond)
+    /// A section cut, so interiors are seen from outside without hiding the roof by hand: scene
+    /// file geometry more than 1.5 m above the orbit target, or nearer to the eye than half the
+    /// way to it, is not drawn. Display only; sampling sees everything.
+    bool cutaway = true;
+    glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.15f};
+    glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.25f};
+};
+
+/// Which rays the renderer draws for a map and a cap: every one of `sourcePerReceiver` source
+/// samples (hashed per receiver) for every `receiverStride`-th receiver sample (hashed).
+struct RaySubset {
+    std::uint32_t receivers = 0;          ///< receiver samples drawn
+    std::uint32_t receiverStride = 1;
+    std::uint32_t sourcePerReceiver = 0;  ///< source samples drawn per receiver sample
+    std::uint32_t sourceStride = 1;
+    std::uint64_t count() const { return std::uint64_t(receivers) * sourcePerReceiver; }
+};
+RaySubset raySubset(int sourceCount, int receiverCount, int cap);
+/// The (receiver, source) pair of drawn ray k; the shader computes the same.
+std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& subset, std::uint32_t k);
+
+struct FrameState {
+    Camera camera;
+    int width = 1;
+    int height = 1;
+    unsigned framebuffer = 0;     ///< target FBO (0 = default)
+    double sceneRadius = 10.0;
+    Patch source;
+    Patch receiver;
+    bool pairValid = true;
+    ObjectRef selection;
+    std::optional<GizmoFrame> gizmo;
+    int hoveredAxis = -1;
+    ViewStyle style;
+};
+
+/// The cutaway's limits: geometry above `height` or nearer than `depth` along the view direction
+/// is hidden (infinite height and zero depth when the cutaway is off).
+struct Cutaway {
+    double height = 0.0;
+    double depth = 0.0;
+};
+Cutaway cutaway(const FrameState& frame);
+
+class ViewportRenderer {
+public:
+    /// Compiles the programs; the context must stay current while the renderer is used.
+    explicit ViewportRenderer(const gl::Functions& gl);
+    ~ViewportRenderer();
+    ViewportRenderer(const ViewportRenderer&) = delete;
+    ViewportRenderer& operator=(const ViewportRenderer&) = delete;
+
+    /// The scene file's objects (object id = instance index).
+    void setSceneFile(const Scene& scene);
+    /// The placed occluders (object id of instance i = occluderOf[i]).
+    void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
+    /// The map to draw rays from (nullptr: none, e.g. an invalid pair).
+    void setHiddenSamples(const HiddenSampleMap* map);
+
+    void render(const FrameState& frame);
+
+    /// Rays drawn by the last render().
+    std::uint64_t raysDrawn() const { return raysDrawn_; }
+
+private:
+    struct MeshBuffer;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    std::uint64_t raysDrawn_ = 0;
+};
+
+} // namespace sightline::ui
