@@ -89,14 +89,14 @@ QString EditorDocument::displayName() const
     return file_.empty() ? tr("Untitled") : QString::fromStdString(file_.filename().string());
 }
 
-void EditorDocument::reset(Project project, Scene sceneFile, fs::path file)
+void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std::map<std::string, Scene> occluderMeshes)
 {
     undo_.clear();
     project_ = std::move(project);
     sceneFileOriginal_ = std::move(sceneFile);
     sceneFile_ = sceneFileOriginal_;
     applySceneTransforms(project_, sceneFile_);
-    occluderMeshes_.clear();
+    occluderMeshes_ = std::move(occluderMeshes);
     file_ = std::move(file);
     selection_ = {};
     invalidate(DocumentReset | PatchesChanged | OccludersChanged | SceneFileChanged);
@@ -125,13 +125,19 @@ void EditorDocument::open(const fs::path& file)
     }
     Project project = loadProject(file);
     Scene scene = project.scene.empty() ? Scene{} : loadScene(project.resolve(project.scene));
-    // Checks the occluders and moved objects now, so a broken file is refused as a whole.
+    // Checks the occluders and moved objects now, so a broken file is refused as a whole; the
+    // occluder meshes loaded for the check are kept.
     Scene check = scene;
     applySceneTransforms(project, check);
-    for (const OccluderSpec& spec : project.occluders)
-        appendOccluder(check, loadOccluderMesh(project, spec), spec);
+    std::map<std::string, Scene> meshes;
+    for (const OccluderSpec& spec : project.occluders) {
+        auto it = meshes.find(spec.mesh);
+        if (it == meshes.end())
+            it = meshes.emplace(spec.mesh, loadOccluderMesh(project, spec)).first;
+        appendOccluder(check, it->second, spec);
+    }
     validate(check, file.filename().string());
-    reset(std::move(project), std::move(scene), fs::absolute(file));
+    reset(std::move(project), std::move(scene), fs::absolute(file), std::move(meshes));
 }
 
 void EditorDocument::save(const fs::path& file)

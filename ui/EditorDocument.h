@@ -92,7 +92,8 @@ signals:
     void modifiedChanged(bool modified);
 
 private:
-    void reset(Project project, Scene sceneFile, std::filesystem::path file);
+    void reset(Project project, Scene sceneFile, std::filesystem::path file,
+               std::map<std::string, Scene> occluderMeshes = {});
     const Scene& occluderMesh(const OccluderSpec& spec) const;
     void invalidate(unsigned changes);
 

@@ -20,8 +20,12 @@ void LiveVisibility::setScene(const Scene& scene)
 {
     cpu_->setScene(scene);
     glSampler_.reset();
-    if (gl_)
+    // The GL sampler needs its own copy only while it may answer: once the CPU won the timing, a
+    // drag of an occluder should not copy the level every frame.
+    if (gl_ && (backend_ == Backend::Gl || !chosen_))
         glScene_ = scene;
+    else
+        glScene_.reset();
 }
 
 void LiveVisibility::setGl(const gl::Functions* gl)
@@ -43,6 +47,7 @@ std::string LiveVisibility::backendName() const
 
 std::string LiveVisibility::chooseBackend(const Patch& source, const Patch& receiver)
 {
+    chosen_ = true;
     const VisibilityResult cpu = sampleWith(Backend::Cpu, source, receiver);
     if (!gl_ || !cpu.valid) {
         backend_ = Backend::Cpu;

@@ -62,6 +62,7 @@ private:
     VisibilityResult sampleWith(Backend backend, const Patch& source, const Patch& receiver);
 
     Backend backend_ = Backend::Cpu;
+    bool chosen_ = false;   ///< chooseBackend() ran
     std::unique_ptr<CpuBitmaskSampler> cpu_;
     const gl::Functions* gl_ = nullptr;
     std::optional<Scene> glScene_;   ///< kept until the GL sampler is (re)built in the context

@@ -13,16 +13,10 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
     const auto context = gl::HeadlessContext::create(backend);
     const gl::Functions& gl = context->functions();
 
-    GLuint fbo = 0, colour = 0, depth = 0;
-    gl.CreateFramebuffers(1, &fbo);
-    gl.CreateRenderbuffers(1, &colour);
-    gl.NamedRenderbufferStorage(colour, GL_RGBA8, width, height);
-    gl.CreateRenderbuffers(1, &depth);
-    gl.NamedRenderbufferStorage(depth, GL_DEPTH24_STENCIL8, width, height);
-    gl.NamedFramebufferRenderbuffer(fbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-    gl.NamedFramebufferRenderbuffer(fbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
-    if (gl.CheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    RenderTarget target;
+    if (!target.create(gl, width, height))
         throw Error("screenshot: the offscreen framebuffer is incomplete");
+    const GLuint fbo = target.framebuffer;
 
     OffscreenResult result;
     {
@@ -56,9 +50,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
         result.image = image.mirrored().convertToFormat(QImage::Format_RGB32);   // GL rows run bottom-up
     }
-    gl.DeleteFramebuffers(1, &fbo);
-    gl.DeleteRenderbuffers(1, &colour);
-    gl.DeleteRenderbuffers(1, &depth);
+    target.destroy(gl);
     return result;
 }
 

@@ -11,8 +11,10 @@ constexpr double kClickSlop = 4.0;   // pixels a press may move and still count 
 ViewportController::ViewportController(EditorDocument& document, QObject* parent) : QObject(parent), document_(document)
 {
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
-        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
+        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset)) {
             triangles_.reset();
+            sceneBounds_.reset();
+        }
         emit viewChanged();
     });
     connect(&document_, &EditorDocument::selectionChanged, this, [this] {
@@ -69,7 +71,10 @@ Ray ViewportController::rayAt(QPointF position) const { return pixelRay(camera_,
 
 double ViewportController::sceneRadius() const
 {
-    Bounds bounds = document_.scene().bounds();
+    // Called every frame: the scene's bounds (every vertex of every instance) are kept.
+    if (!sceneBounds_)
+        sceneBounds_ = document_.scene().bounds();
+    Bounds bounds = *sceneBounds_;
     for (const Patch* p : {&document_.project().source, &document_.project().receiver}) {
         bounds.extend(glm::vec3(p->corner));
         bounds.extend(glm::vec3(p->corner + p->u + p->v));

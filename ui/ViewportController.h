@@ -89,6 +89,7 @@ private:
     bool flyFast_ = false;
 
     mutable std::optional<WorldTriangles> triangles_;
+    mutable std::optional<Bounds> sceneBounds_;   ///< of document_.scene(); dropped when it changes
 };
 
 } // namespace sightline::ui

@@ -172,6 +172,31 @@ Cutaway cutaway(const FrameState& f)
     return {f.camera.target.y + 1.5, 0.5 * f.camera.distance};
 }
 
+bool RenderTarget::create(const gl::Functions& gl, int w, int h)
+{
+    destroy(gl);
+    gl.CreateFramebuffers(1, &framebuffer);
+    gl.CreateRenderbuffers(1, &colour);
+    gl.NamedRenderbufferStorage(colour, GL_RGBA8, w, h);
+    gl.CreateRenderbuffers(1, &depth);
+    gl.NamedRenderbufferStorage(depth, GL_DEPTH24_STENCIL8, w, h);
+    gl.NamedFramebufferRenderbuffer(framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+    gl.NamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth);
+    width = w;
+    height = h;
+    return gl.CheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+}
+
+void RenderTarget::destroy(const gl::Functions& gl)
+{
+    if (!framebuffer)
+        return;
+    gl.DeleteFramebuffers(1, &framebuffer);
+    gl.DeleteRenderbuffers(1, &colour);
+    gl.DeleteRenderbuffers(1, &depth);
+    *this = {};
+}
+
 struct ViewportRenderer::MeshBuffer {
     GLuint vao = 0, vbo = 0;
     GLsizei vertices = 0;
@@ -198,30 +223,16 @@ struct ViewportRenderer::Impl {
         std::uint64_t sceneVersion = 0;
         bool operator==(const BackgroundKey&) const = default;
     };
-    GLuint cacheFbo = 0, cacheColour = 0, cacheDepth = 0;
-    int cacheWidth = 0, cacheHeight = 0;
+    RenderTarget cache;
     std::optional<BackgroundKey> cacheKey;
     bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
     std::uint64_t sceneVersion = 0;
 
     void resizeCache(int width, int height)
     {
-        if (cacheFbo && width == cacheWidth && height == cacheHeight)
+        if (cache.framebuffer && width == cache.width && height == cache.height)
             return;
-        if (cacheFbo) {
-            gl.DeleteFramebuffers(1, &cacheFbo);
-            gl.DeleteRenderbuffers(1, &cacheColour);
-            gl.DeleteRenderbuffers(1, &cacheDepth);
-        }
-        gl.CreateFramebuffers(1, &cacheFbo);
-        gl.CreateRenderbuffers(1, &cacheColour);
-        gl.NamedRenderbufferStorage(cacheColour, GL_RGBA8, width, height);
-        gl.CreateRenderbuffers(1, &cacheDepth);
-        gl.NamedRenderbufferStorage(cacheDepth, GL_DEPTH24_STENCIL8, width, height);
-        gl.NamedFramebufferRenderbuffer(cacheFbo, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, cacheColour);
-        gl.NamedFramebufferRenderbuffer(cacheFbo, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, cacheDepth);
-        cacheWidth = width;
-        cacheHeight = height;
+        cacheBroken = !cache.create(gl, width, height);
         cacheKey.reset();
     }
 
@@ -298,11 +309,7 @@ ViewportRenderer::~ViewportRenderer()
     GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer};
     gl.DeleteBuffers(4, buffers);
     gl.DeleteTextures(1, &d.mapTexture);
-    if (d.cacheFbo) {
-        gl.DeleteFramebuffers(1, &d.cacheFbo);
-        gl.DeleteRenderbuffers(1, &d.cacheColour);
-        gl.DeleteRenderbuffers(1, &d.cacheDepth);
-    }
+    d.cache.destroy(gl);
 }
 
 void ViewportRenderer::setSceneFile(const Scene& scene)
@@ -378,15 +385,15 @@ void ViewportRenderer::render(const FrameState& f)
     };
     const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion};
     bool drawn = false;
+    d.resizeCache(f.width, f.height);
     if (!d.cacheBroken) {
-        d.resizeCache(f.width, f.height);
         if (d.cacheKey != key) {
-            drawBackground(d.cacheFbo);
+            drawBackground(d.cache.framebuffer);
             d.cacheKey = key;
         }
         while (gl.GetError() != GL_NO_ERROR) {
         }
-        gl.BlitNamedFramebuffer(d.cacheFbo, f.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width, f.height,
+        gl.BlitNamedFramebuffer(d.cache.framebuffer, f.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width, f.height,
                                 GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
         drawn = gl.GetError() == GL_NO_ERROR;
         d.cacheBroken = !drawn;

@@ -54,6 +54,17 @@ RaySubset raySubset(int sourceCount, int receiverCount, int cap);
 /// The (receiver, source) pair of drawn ray k; the shader computes the same.
 std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& subset, std::uint32_t k);
 
+/// A framebuffer with an RGBA8 colour and a 24/8 depth-stencil renderbuffer: the background
+/// cache and the headless screenshot.
+struct RenderTarget {
+    GLuint framebuffer = 0, colour = 0, depth = 0;
+    int width = 0, height = 0;
+
+    /// (Re)creates it at this size; false if the framebuffer is incomplete.
+    bool create(const gl::Functions& gl, int w, int h);
+    void destroy(const gl::Functions& gl);
+};
+
 struct FrameState {
     Camera camera;
     int width = 1;
