@@ -3,6 +3,8 @@
 //   sightline-cli shaft PROJECT.json [--method raycast|cpu|gl] [--mode exact|table] [--mask OUT.npy] [--json]
 //   sightline-cli info SCENE_OR_PROJECT [--json]
 //   sightline-cli demo OUTDIR
+//   sightline-cli importance PROJECT.json --out MAP.png [--npy MAP.npy] [--frames N]   (cli/LightingCommands)
+//   sightline-cli shadow PROJECT.json --out SHADOW.png
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
 // returns non-zero.
@@ -23,6 +25,7 @@
 
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
+#include "cli/LightingCommands.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
@@ -224,19 +227,28 @@ struct BenchArgs {
     std::string methods = "raycast,cpu,cpu-bitmask,cpu-table-256x128";
     std::string csv, chart;
     std::string glBackend = "osmesa";
+    bool shadow = false;
 };
 
 int runBench(BenchArgs& args)
 {
     args.settings.methods = bench::parseMethods(args.methods);
     args.settings.glBackend = gl::parseBackend(args.glBackend);
-    std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s\n", "project", "method", "sources", "receiver", "ms",
-                "wrong-block", "wrong-free", "error");
+    if (args.shadow && args.settings.denseSide == 0)
+        args.settings.denseSide = 128;
+    if (args.settings.denseSide % 32 != 0)
+        throw Error("--dense must be a multiple of 32, got " + std::to_string(args.settings.denseSide));
+    std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s %10s %10s\n", "project", "method", "sources", "receiver", "ms",
+                "wrong-block", "wrong-free", "error", "light-mae", "dense-mae");
     const auto rows = bench::run(args.settings, [](const bench::Row& r) {
         const std::string name = fs::path(r.project).filename().string();
-        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %12llu %12llu %10.6f\n", name.c_str(), r.method.c_str(),
+        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %12llu %12llu %10.6f %10.6f ", name.c_str(), r.method.c_str(),
                     r.sourceSamples, r.receiverSide, r.receiverSide, r.ms, (unsigned long long)r.wronglyBlocked,
-                    (unsigned long long)r.wronglyFree, r.errorFraction());
+                    (unsigned long long)r.wronglyFree, r.errorFraction(), r.lightMae);
+        if (r.denseMae >= 0.0)
+            std::printf("%10.6f\n", r.denseMae);
+        else
+            std::printf("%10s\n", "-");
         std::fflush(stdout);
     });
     if (!args.csv.empty()) {
@@ -244,7 +256,7 @@ int runBench(BenchArgs& args)
         std::printf("wrote %s\n", args.csv.c_str());
     }
     if (!args.chart.empty()) {
-        bench::writeChart(rows, args.chart);
+        bench::writeChart(rows, args.chart, args.shadow ? bench::ChartKind::ShadowError : bench::ChartKind::RayErrors);
         std::printf("wrote %s\n", args.chart.c_str());
     }
     return 0;
@@ -391,7 +403,8 @@ int main(int argc, char** argv)
     benchCmd->add_option("projects", benchArgs.settings.projects, "Project files")->required();
     benchCmd->add_option("--methods", benchArgs.methods,
                          "Comma-separated: raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar (cpu without SIMD), cpu-table-WxH, gl, "
-                         "gl-table-WxH (gl with the Hough table), hh (Heckbert-Herf, counts only)")
+                         "gl-table-WxH (gl with the Hough table), hh (Heckbert-Herf, counts only), raycast-jitter, "
+                         "cpu-jitter, gl-jitter (decorrelated sampling, §6.2)")
         ->capture_default_str();
     benchCmd->add_option("--sources", benchArgs.settings.sourceCounts, "Source sample counts (1..1024)")
         ->delimiter(',')
@@ -408,8 +421,19 @@ int main(int argc, char** argv)
     benchCmd->add_option("--gl-backend", benchArgs.glBackend, "gl, gl-table-WxH, hh: headless context, osmesa (software) or egl (GPU)")
         ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
+    benchCmd->add_flag("--shadow", benchArgs.shadow,
+                       "Soft shadows (paper §8): also compare each method's light fraction with a dense reference "
+                       "(--dense), and chart time against that error");
+    benchCmd->add_option("--dense", benchArgs.settings.denseSide,
+                         "Dense reference: N x N regular source samples (multiple of 32; --shadow default 128)")
+        ->check(CLI::Range(0, 1024));
     benchCmd->add_option("--csv", benchArgs.csv, "Write all rows as CSV");
     benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error");
+
+    cli::ImportanceArgs importance;
+    CLI::App* importanceCmd = cli::addImportanceCommand(app, importance);
+    cli::ShadowArgs shadow;
+    CLI::App* shadowCmd = cli::addShadowCommand(app, shadow);
 
     std::string demoFolder;
     CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json) and the benchmark scenes (few-occluders, dense-mesh)");
@@ -437,6 +461,10 @@ int main(int argc, char** argv)
             return runDemo(demoFolder);
         if (*benchCmd)
             return runBench(benchArgs);
+        if (*importanceCmd)
+            return cli::runImportance(importance);
+        if (*shadowCmd)
+            return cli::runShadow(shadow);
     } catch (const std::exception& e) {
         std::cerr << "sightline-cli: error: " << e.what() << "\n";
         return 1;

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <utility>
 
+#include "lighting/SoftShadow.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
@@ -64,10 +65,12 @@ std::vector<std::string> parseMethods(const std::string& commaSeparated)
     std::stringstream in(commaSeparated);
     for (std::string name; std::getline(in, name, ',');) {
         int w, h;
-        if (name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" && name != "hh" &&
+        const bool jittered = name == "raycast-jitter" || name == "cpu-jitter" || name == "gl-jitter";
+        if (!jittered && name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" && name != "hh" &&
             !parseTable(name, "cpu-table-", w, h) && !parseTable(name, "gl-table-", w, h))
             throw Error("unknown bench method '" + name +
-                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl, gl-table-WxH, hh)");
+                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl, gl-table-WxH, hh, "
+                        "raycast-jitter, cpu-jitter, gl-jitter)");
         out.push_back(name);
     }
     if (out.empty())
@@ -102,21 +105,36 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 std::tie(source.na, source.nb) = sourceGrid(count);
                 receiver.na = receiver.nb = side;
                 validatePatchPair(source, receiver);
-                const HiddenSampleMap truth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
+                const HiddenSampleMap regularTruth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
+                const SourceJitter jitter{.seed = 1};
+                std::unique_ptr<HiddenSampleMap> jitteredTruth;   // made for the first "-jitter" method
+                ImportanceMap dense;
+                if (settings.denseSide > 0)
+                    dense = denseLightFraction(reference, project.source, receiver, settings.denseSide,
+                                               {.packets = true, .threads = settings.threads});
                 for (const std::string& method : settings.methods) {
+                    const bool jittered = method.ends_with("-jitter");
+                    if (jittered && !jitteredTruth)
+                        jitteredTruth = std::make_unique<HiddenSampleMap>(
+                            reference.sample(source, receiver, {.packets = true, .threads = settings.threads, .jitter = jitter}));
+                    const HiddenSampleMap& truth = jittered ? *jitteredTruth : regularTruth;
                     HiddenSampleMap map;
                     std::vector<std::uint32_t> counts;   // hh: blocked source samples per receiver sample
                     std::function<void()> evaluate;
                     int w = 0, h = 0;
-                    if (method == "raycast") {
-                        evaluate = [&] { map = reference.sample(source, receiver, {.packets = true, .threads = settings.threads}); };
-                    } else if (method == "gl" || parseTable(method, "gl-table-", w, h)) {
+                    if (method == "raycast" || method == "raycast-jitter") {
+                        const RayCastOptions options{.packets = true, .threads = settings.threads,
+                                                     .jitter = jittered ? jitter : SourceJitter{}};
+                        evaluate = [&, options] { map = reference.sample(source, receiver, options); };
+                    } else if (method == "gl" || method == "gl-jitter" || parseTable(method, "gl-table-", w, h)) {
                         if (!context)
                             context = gl::HeadlessContext::create(settings.glBackend);
                         if (!gpu)
                             gpu = std::make_unique<GlBitmaskSampler>(context->functions(), scene);
                         GlBitmaskOptions options;
-                        if (method != "gl") {
+                        if (jittered)
+                            options.jitter = jitter;
+                        else if (method != "gl") {
                             options.mode = MaskMode::Table;
                             options.tableWidth = w;
                             options.tableHeight = h;
@@ -131,7 +149,9 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     } else {
                         BitmaskOptions options;
                         options.threads = settings.threads;
-                        if (method == "cpu-bitmask")
+                        if (jittered)
+                            options.jitter = jitter;
+                        else if (method == "cpu-bitmask")
                             options.strategy = CpuStrategy::Bitmask;
                         else if (method == "cpu-hybrid")
                             options.strategy = CpuStrategy::Hybrid;
@@ -173,6 +193,15 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                             }
                         }
                     }
+                    // Light fractions (§8): from the map, or from hh's counts.
+                    ImportanceMap light(receiver.na, receiver.nb);
+                    for (int j = 0; j < truth.receiverCount(); ++j) {
+                        const int blocked = method == "hh" ? int(counts[std::size_t(j)]) : map.blockedCount(j);
+                        light.values[std::size_t(j)] = 1.0f - float(blocked) / float(count);
+                    }
+                    row.lightMae = meanAbsoluteError(light, receiverImportance(truth));
+                    if (!dense.values.empty())
+                        row.denseMae = meanAbsoluteError(light, dense);
                     rows.push_back(row);
                     if (progress)
                         progress(row);
@@ -186,11 +215,16 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
 std::string toCsv(const std::vector<Row>& rows)
 {
     std::ostringstream out;
-    out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction\n";
-    for (const Row& r : rows)
+    out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
+           "light_mae,dense_light_mae\n";
+    for (const Row& r : rows) {
         out << '"' << r.project << "\"," << r.method << ',' << r.sourceSamples << ',' << r.receiverSide << 'x'
             << r.receiverSide << ',' << r.rays << ',' << r.ms << ',' << r.blocked << ',' << r.wronglyBlocked << ','
-            << r.wronglyFree << ',' << r.errorFraction() << '\n';
+            << r.wronglyFree << ',' << r.errorFraction() << ',' << r.lightMae << ',';
+        if (r.denseMae >= 0.0)
+            out << r.denseMae;
+        out << '\n';
+    }
     return out.str();
 }
 

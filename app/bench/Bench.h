@@ -15,7 +15,9 @@ namespace sightline::bench {
 
 /// Method configurations: "raycast", "cpu" (auto strategy), "cpu-bitmask", "cpu-hybrid",
 /// "cpu-table-WxH" (the paper's Hough table at W x H), "gl", "gl-table-WxH" (the GL sampler,
-/// exact or with the Hough table, in a Settings::glBackend context), "hh".
+/// exact or with the Hough table, in a Settings::glBackend context), "hh"; "raycast-jitter",
+/// "cpu-jitter", "gl-jitter": decorrelated sampling (§6.2, seed 1), compared with the reference
+/// cast to the same jittered samples.
 std::vector<std::string> parseMethods(const std::string& commaSeparated);   ///< throws sightline::Error
 
 struct Settings {
@@ -26,6 +28,10 @@ struct Settings {
     int repeat = 5;
     int threads = 0;
     gl::Backend glBackend = gl::Backend::OSMesa;   ///< headless context of "gl", "gl-table-WxH", "hh"
+    /// Soft shadows (§8): when > 0, each receiver grid also gets a dense reference of the light
+    /// fraction (denseLightFraction: denseSide x denseSide regular source samples by Embree), and
+    /// rows report their light's mean absolute error against it.
+    int denseSide = 0;
 };
 
 struct Row {
@@ -36,6 +42,11 @@ struct Row {
     std::uint64_t wronglyBlocked = 0;   ///< method blocked, reference free
     std::uint64_t wronglyFree = 0;      ///< reference blocked, method free
     double errorFraction() const { return rays ? double(wronglyBlocked + wronglyFree) / double(rays) : 0.0; }
+    /// Light fraction per receiver sample (1 - blocked / S), mean absolute error against the
+    /// reference with the same samples ...
+    double lightMae = 0.0;
+    /// ... and against the dense reference (Settings::denseSide; -1 when not computed).
+    double denseMae = -1.0;
 };
 
 /// The most square na x nb grid with na * nb == count and na >= nb (32 -> 8x4, 1024 -> 32x32).

@@ -7,8 +7,6 @@
 #include <memory>
 #include <string>
 
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <QApplication>
 #include <QGraphicsLayout>
@@ -19,47 +17,28 @@
 #include <QImage>
 #include <QPainter>
 
+#include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
 
 namespace sightline::bench {
 
-namespace {
 
-/// Qt Charts needs a QApplication; the CLI has none, so one is made here, offscreen when there
-/// is no display.
-std::unique_ptr<QApplication> ensureApplication()
-{
-    if (QApplication::instance())
-        return nullptr;
-    if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("QT_QPA_PLATFORM"))
-        qputenv("QT_QPA_PLATFORM", "offscreen");
-    if (!std::getenv("XDG_RUNTIME_DIR")) {
-        // Qt warns without one; a private folder, as the spec asks (owner only).
-        const std::string folder = "/tmp/sightline-runtime-" + std::to_string(::getuid());
-        ::mkdir(folder.c_str(), 0700);
-        qputenv("XDG_RUNTIME_DIR", QByteArray::fromStdString(folder));
-    }
-    static int argc = 1;
-    static char name[] = "sightline-cli";
-    static char* argv[] = {name, nullptr};
-    return std::make_unique<QApplication>(argc, argv);
-}
-
-} // namespace
-
-void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png)
+void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png, ChartKind kind)
 {
     const auto app = ensureApplication();
-    constexpr double kFloor = 1e-7;   // where zero error is drawn on the log axis
+    const bool shadow = kind == ChartKind::ShadowError;
+    const double kFloor = shadow ? 1e-5 : 1e-7;   // where zero error is drawn on the log axis
 
     auto* chart = new QChart;
-    chart->setTitle("Time per evaluation against error versus the raycast reference "
-                    "(errors of 0 drawn at 1e-7)");
+    chart->setTitle(shadow ? "Soft shadows: time per evaluation against the light fraction's mean absolute error "
+                             "versus a dense reference (one point per source sample count)"
+                           : "Time per evaluation against error versus the raycast reference "
+                             "(errors of 0 drawn at 1e-7)");
     auto* x = new QLogValueAxis;
     x->setTitleText("ms per evaluation (median)");
     x->setLabelFormat("%g");
     auto* y = new QLogValueAxis;
-    y->setTitleText("fraction of rays wrong");
+    y->setTitleText(shadow ? "mean absolute error of the light fraction" : "fraction of rays wrong");
     y->setLabelFormat("%g");
     chart->addAxis(x, Qt::AlignBottom);
     chart->addAxis(y, Qt::AlignLeft);
@@ -85,6 +64,15 @@ void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png)
     double xMin = 1e300, xMax = 0.0, yMax = kFloor;
     for (const Row& r : rows) {
         auto& pair = series[r.method];
+        if (shadow) {
+            if (!pair.first)
+                pair.first = makeSeries(r.method, palette[(series.size() - 1) % std::size(palette)],
+                                        QScatterSeries::MarkerShapeCircle);
+            const double ms = std::max(r.ms, 1e-3), error = std::max(r.denseMae, kFloor);
+            pair.first->append(ms, error);
+            xMin = std::min(xMin, ms), xMax = std::max(xMax, ms), yMax = std::max(yMax, error);
+            continue;
+        }
         if (!pair.first) {
             const QColor colour = palette[(series.size() - 1) % std::size(palette)];
             pair.first = makeSeries(r.method + ": blocked, reference free", colour, QScatterSeries::MarkerShapeCircle);
@@ -101,7 +89,7 @@ void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png)
     if (rows.empty())
         xMin = 1.0, xMax = 10.0;
     x->setRange(xMin / 2.0, xMax * 2.0);
-    y->setRange(kFloor / 2.0, std::max(1e-3, yMax * 2.0));
+    y->setRange(kFloor / 2.0, std::max(shadow ? 1e-1 : 1e-3, yMax * 2.0));
 
     // Render the chart item directly: no widget is ever shown, so give it its geometry and let
     // its layout settle before painting.

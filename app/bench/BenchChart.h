@@ -10,8 +10,13 @@
 
 namespace sightline::bench {
 
+enum class ChartKind {
+    RayErrors,     ///< y: fraction of rays wrong against the reference, per direction
+    ShadowError,   ///< y: the light fraction's mean absolute error against the dense reference
+};
+
 /// Errors of zero (the reference itself, exact runs) are drawn on the axis floor, labelled so.
 /// Throws sightline::Error if the image cannot be written.
-void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png);
+void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png, ChartKind kind = ChartKind::RayErrors);
 
 } // namespace sightline::bench

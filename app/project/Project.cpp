@@ -301,16 +301,31 @@ void appendOccluder(Scene& scene, const Scene& mesh, const OccluderSpec& spec)
     scene.append(part);
 }
 
-Scene buildScene(const Project& project, std::vector<std::string>* warnings)
+ProjectMeshes loadProjectMeshes(const Project& project, std::vector<std::string>* warnings)
 {
-    Scene scene;
+    ProjectMeshes meshes;
     if (!project.scene.empty())
-        scene = loadScene(project.resolve(project.scene), warnings);
-    applySceneTransforms(project, scene);
+        meshes.level = loadScene(project.resolve(project.scene), warnings);
+    applySceneTransforms(project, meshes.level);
     for (const OccluderSpec& spec : project.occluders)
-        appendOccluder(scene, loadOccluderMesh(project, spec, warnings), spec);
+        meshes.occluders.push_back(loadOccluderMesh(project, spec, warnings));
+    return meshes;
+}
+
+Scene assembleScene(const Project& project, const ProjectMeshes& meshes)
+{
+    if (meshes.occluders.size() != project.occluders.size())
+        throw Error("assembleScene: the project's occluders changed since their meshes were loaded");
+    Scene scene = meshes.level;
+    for (std::size_t k = 0; k < project.occluders.size(); ++k)
+        appendOccluder(scene, meshes.occluders[k], project.occluders[k]);
     validate(scene, project.scene.empty() ? "project" : project.scene);
     return scene;
+}
+
+Scene buildScene(const Project& project, std::vector<std::string>* warnings)
+{
+    return assembleScene(project, loadProjectMeshes(project, warnings));
 }
 
 } // namespace sightline

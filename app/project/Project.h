@@ -74,6 +74,18 @@ Scene loadOccluderMesh(const Project& project, const OccluderSpec& spec, std::ve
 /// Appends an occluder to `scene`, placed by its transform and named after it.
 void appendOccluder(Scene& scene, const Scene& mesh, const OccluderSpec& spec);
 
+/// The meshes a project refers to, loaded once: the scene file (its moved objects placed) and each
+/// occluder's mesh in object space. An animation moves occluders every frame; reassembling from
+/// these costs a copy instead of a file load.
+struct ProjectMeshes {
+    Scene level;
+    std::vector<Scene> occluders;   ///< one per project.occluders entry
+};
+ProjectMeshes loadProjectMeshes(const Project& project, std::vector<std::string>* warnings = nullptr);
+/// The level plus every occluder placed by `project`'s transforms (which may differ from those the
+/// meshes were loaded with; the occluder list must have the same length). Throws sightline::Error.
+Scene assembleScene(const Project& project, const ProjectMeshes& meshes);
+
 /// The scene file plus every occluder, as one Scene ready for sampling. Throws sightline::Error.
 Scene buildScene(const Project& project, std::vector<std::string>* warnings = nullptr);
 

@@ -1,6 +1,7 @@
 // sightline-cli bench: every method against the reference, CSV and chart.
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <unistd.h>
@@ -63,7 +64,8 @@ TEST(Bench, EveryMethodAgainstTheReference)
     }
     const std::string csv = bench::toCsv(rows);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
-    EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction\n", 0), 0u);
+    EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
+                        "light_mae,dense_light_mae\n", 0), 0u);
 
     const fs::path png = folder / "chart.png";
     bench::writeChart(rows, png);
@@ -93,4 +95,41 @@ TEST(Bench, SettingsAreChecked)
     EXPECT_EQ(bench::sourceGrid(128), std::make_pair(16, 8));
     EXPECT_EQ(bench::sourceGrid(1024), std::make_pair(32, 32));
     EXPECT_EQ(bench::sourceGrid(7), std::make_pair(7, 1));
+}
+
+TEST(Bench, ShadowRowsCompareTheLightWithEqualSamplesAndADenseReference)
+{
+    const fs::path folder = fs::temp_directory_path() / ("sightline_bench_shadow_" + std::to_string(getpid()));
+    bench::Settings settings;
+    settings.projects = {writeProject(folder).string()};
+    settings.methods = bench::parseMethods("raycast,cpu,cpu-jitter,raycast-jitter");
+    settings.sourceCounts = {16, 256};
+    settings.receiverSides = {16};
+    settings.repeat = 1;
+    settings.denseSide = 64;
+    const auto rows = bench::run(settings);
+    ASSERT_EQ(rows.size(), 8u);
+    std::map<std::pair<std::string, int>, const bench::Row*> rowOf;
+    const auto byMethod = [&](const char* method, int sources) { return *rowOf.at({method, sources}); };
+    for (const bench::Row& r : rows) {
+        rowOf[{r.method, r.sourceSamples}] = &r;
+        // Exact methods: the light at equal samples within the 1/1024 (in fact 0 or a
+        // grazing ray); every row has its error against the dense reference.
+        EXPECT_LE(r.lightMae, 1.0 / 1024) << r.method;
+        ASSERT_GE(r.denseMae, 0.0) << r.method;
+        EXPECT_LT(r.denseMae, 0.25) << r.method;
+    }
+    // More light samples, closer to the dense light.
+    EXPECT_LT(byMethod("raycast", 256).denseMae, byMethod("raycast", 16).denseMae);
+    // Jittered rows are compared with the reference cast to the same jittered samples.
+    EXPECT_EQ(byMethod("raycast-jitter", 16).lightMae, 0.0);
+    EXPECT_NE(byMethod("raycast-jitter", 16).denseMae, byMethod("raycast", 16).denseMae);
+
+    const fs::path png = folder / "shadow.png";
+    bench::writeChart(rows, png, bench::ChartKind::ShadowError);
+    EXPECT_FALSE(QImage(QString::fromStdString(png.string())).isNull());
+    const std::string csv = bench::toCsv(rows);
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 9);
+    EXPECT_EQ(csv.back(), '\n');
+    fs::remove_all(folder);
 }

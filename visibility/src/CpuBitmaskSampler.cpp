@@ -5,6 +5,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -117,8 +118,18 @@ struct Setup {
     bool jittered = false;
     std::vector<glm::dvec2> jitterShift;   // per receiver sample: its source grid's offset in (s, t)
     std::vector<float> receiverS, receiverT, receiverD;   // receiverInSource in float
+    // A bumpy receiver (§8): receiverInSource holds the displaced samples, and influence regions
+    // are projected onto the receiver-frame planes d = levels[0] (lowest bump) and d = levels[1]
+    // (highest). Flat: the receiver plane alone, d = 0.
+    bool bumpy = false;
+    std::array<double, 2> levels{0.0, 0.0};
+    int levelCount = 1;
+    double bumpySourceMargin = 0.0;    // clip at d_source > this
+    double bumpyReceiverLevel = 0.0;   // clip at d_receiver > this
 
-    Setup(const Patch& source, const Patch& receiver, const SourceJitter& jitter)
+    /// `displaced`: a bumpy receiver's sample positions (world space, by bit index); null: flat.
+    Setup(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
+          const std::vector<glm::dvec3>* displaced)
         : frames(source, receiver), S(source.sampleCount()), na(source.na), nb(source.nb), rna(receiver.na),
           rnb(receiver.nb), jittered(jitter.enabled())
     {
@@ -131,7 +142,8 @@ struct Setup {
         }
         receiverInSource.resize(std::size_t(receiver.sampleCount()));
         for (int j = 0; j < receiver.sampleCount(); ++j)
-            receiverInSource[std::size_t(j)] = frames.source.coordinates(receiver.sample(j));
+            receiverInSource[std::size_t(j)] =
+                frames.source.coordinates(displaced ? (*displaced)[std::size_t(j)] : receiver.sample(j));
         minReceiverDistance = 1e300;
         for (int k = 0; k < 4; ++k) {
             const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
@@ -147,6 +159,8 @@ struct Setup {
         }
         parallel = maxReceiverDistance - minReceiverDistance <= 1e-12 * maxReceiverDistance;
         receiverDistance = receiverCentre.z;
+        if (displaced)
+            setBumps(*displaced);
         for (const glm::dvec3& r : receiverInSource) {
             receiverS.push_back(float(r.x));
             receiverT.push_back(float(r.y));
@@ -154,13 +168,69 @@ struct Setup {
         }
     }
 
+    /// A bumpy receiver (§8): every receiver sample is backprojected from its displaced position
+    /// (receiverInSource), so the quantities that assumed the plane are taken over those samples.
+    void setBumps(const std::vector<glm::dvec3>& displaced)
+    {
+        bumpy = true;
+        double lowest = 1e300, highest = -1e300;
+        minReceiverDistance = 1e300;
+        glm::dvec3 sum(0.0);
+        for (std::size_t j = 0; j < displaced.size(); ++j) {
+            minReceiverDistance = std::min(minReceiverDistance, receiverInSource[j].z);
+            sum += receiverInSource[j];
+            const double height = frames.receiver.coordinates(displaced[j]).z;
+            lowest = std::min(lowest, height), highest = std::max(highest, height);
+        }
+        // The samples' distances from the source differ: no per-occluder projection factors.
+        parallel = false;
+        // Only sizes occluders (Hybrid, the narrowed shaft): any point closer than every sample.
+        receiverCentre = sum / double(displaced.size());
+        receiverDistance = receiverCentre.z;
+        levels = {lowest, highest};
+        levelCount = highest > lowest ? 2 : 1;
+        // The reference's end-point tolerance at the source end, from the nearest sample.
+        bumpySourceMargin = double(kSegmentEpsilon) * minReceiverDistance;
+        // A segment's receiver-frame distance runs between its two ends, so no segment reaches
+        // below the lowest bump (nor below the source, were a bump to rise past a source corner).
+        // Parts beyond an individual sample are clipped per sample (backproject).
+        bumpyReceiverLevel = lowest;
+        for (const glm::dvec3& corner : sourceCornersInReceiver)
+            bumpyReceiverLevel = std::min(bumpyReceiverLevel, corner.z);
+    }
+
+    /// The triangle clipped to the part of the slab any segment can reach (ShaftGeometry.h).
+    ClippedPolygon clip(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const
+    {
+        if (!bumpy)
+            return frames.clipToSlab(a, b, c);
+        ClippedPolygon polygon;
+        polygon.vertices[0] = glm::dvec3(a);
+        polygon.vertices[1] = glm::dvec3(b);
+        polygon.vertices[2] = glm::dvec3(c);
+        polygon.count = 3;
+        const PatchFrame& s = frames.source;
+        const PatchFrame& r = frames.receiver;
+        clipPolygon(polygon, s.dAxis, glm::dot(s.origin, s.dAxis) + bumpySourceMargin);
+        if (polygon.count)
+            clipPolygon(polygon, r.dAxis, glm::dot(r.origin, r.dAxis) + bumpyReceiverLevel);
+        return polygon;
+    }
+
     /// Clips, then bounds the influence region (§3): the projections of the clipped polygon from
     /// the four source corners onto the receiver plane, as a box of receiver samples. Where a
     /// vertex is not strictly closer to the receiver than a corner, the projection is undefined
     /// and the whole receiver is taken (conservative).
+    ///
+    /// A bumpy receiver (§8: "the projection from the light's corners has to be performed on a
+    /// plane lying behind the receiver"): a sample at height h is hidden through X from source
+    /// point Y only if it lies on line YX at height h. That point is a projective image of Y and
+    /// of X with the same denominator d(Y) - d(X) > 0, so for each h it lies in the hull of the
+    /// corner-vertex projections, and it is affine in h, so the projections onto the planes of
+    /// the lowest and the highest bump bound every sample between them.
     bool prepare(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, Occluder& out) const
     {
-        const ClippedPolygon polygon = frames.clipToSlab(a, b, c);
+        const ClippedPolygon polygon = clip(a, b, c);
         if (polygon.count < 3)
             return false;
         out.count = polygon.count;
@@ -178,11 +248,14 @@ struct Setup {
                     whole = true;
                     continue;
                 }
-                const double k = corner.z / denominator;
-                const double s = corner.x + (inReceiver.x - corner.x) * k;
-                const double t = corner.y + (inReceiver.y - corner.y) * k;
-                sMin = std::min(sMin, s), sMax = std::max(sMax, s);
-                tMin = std::min(tMin, t), tMax = std::max(tMax, t);
+                for (int level = 0; level < levelCount; ++level) {
+                    // Flat: levels[0] == 0 and the factor is corner.z / denominator, bit for bit.
+                    const double k = (corner.z - levels[std::size_t(level)]) / denominator;
+                    const double s = corner.x + (inReceiver.x - corner.x) * k;
+                    const double t = corner.y + (inReceiver.y - corner.y) * k;
+                    sMin = std::min(sMin, s), sMax = std::max(sMax, s);
+                    tMin = std::min(tMin, t), tMax = std::max(tMax, t);
+                }
             }
         }
         if (whole) {
@@ -193,7 +266,12 @@ struct Setup {
             sampleRange(sMin - pad, sMax + pad, rna, out.a0, out.a1);
             sampleRange(tMin - pad, tMax + pad, rnb, out.b0, out.b1);
         }
-        out.clipPerSample = maxD >= minReceiverDistance * (1.0 - 1e-9);
+        // Flat: the receiver-side clip margin already keeps every vertex out of the reference's
+        // end-point tolerance. Bumpy: only occluders wholly short of the nearest displaced sample,
+        // by more than that tolerance, skip the per-sample clip; those reaching into the bump
+        // range are clipped at each sample's own distance.
+        out.clipPerSample = bumpy ? maxD >= minReceiverDistance * (1.0 - 2.0 * double(kSegmentEpsilon))
+                                  : maxD >= minReceiverDistance * (1.0 - 1e-9);
         // d_R / (d_R - d_X) <= kMaxFloatFactor for every receiver sample and vertex.
         out.useFloat = floatKernel && maxD <= minReceiverDistance * (1.0 - 1.0 / detail::kMaxFloatFactor);
         if (out.useFloat) {
@@ -317,16 +395,17 @@ struct Setup {
     }
 
     /// Whether the backprojection of `o` from any receiver sample in the tile spanned by the
-    /// corner samples can contain a sample of `box`. The backprojection of a point is an affine
-    /// (parallel patches) or projective function of the receiver point, so its extremes over
-    /// the tile lie at the tile's corners.
-    bool mayHit(const Occluder& o, const std::array<int, 4>& cornerSamples, const SourceBox& box) const
+    /// given samples can contain a sample of `box`. The backprojection of a point is an affine
+    /// (parallel patches) or projective function of the receiver point, so on a flat receiver
+    /// its extremes over the tile lie at the tile's corners; a bumpy receiver's tile is not
+    /// planar, so there the caller passes every sample of the tile.
+    bool mayHit(const Occluder& o, const int* samples, int sampleCount, const SourceBox& box) const
     {
         if (o.clipPerSample)
             return true;
         double sMin = 1e300, sMax = -1e300, tMin = 1e300, tMax = -1e300;
-        for (int j : cornerSamples) {
-            const glm::dvec3& r = receiverInSource[std::size_t(j)];
+        for (int n = 0; n < sampleCount; ++n) {
+            const glm::dvec3& r = receiverInSource[std::size_t(samples[n])];
             for (int i = 0; i < o.count; ++i) {
                 const glm::dvec3& x = o.vertices[std::size_t(i)];
                 const double k = r.z / (r.z - x.z);
@@ -349,6 +428,8 @@ struct Setup {
             return;
         }
         // Vertices at or beyond the receiver sample's own distance cannot lie on its segments.
+        // For a bumpy receiver this is where the parts beyond a displaced sample (farther from
+        // the source than the sample) stop blocking it.
         ClippedPolygon local;
         local.count = occluder.count;
         std::copy_n(occluder.vertices.begin(), occluder.count, local.vertices.begin());
@@ -423,6 +504,86 @@ struct Setup {
     }
 };
 
+/// The shaft of a bumpy receiver (§8) as hull planes: segments run from the source to displaced
+/// samples, which lie in the prism of the receiver parallelogram between its lowest and highest
+/// bump, so the hull of the source's corners and the prism's holds them all. ShaftHull knows only
+/// the flat patch; the construction (every face plane through three points) and the tolerance
+/// are the same.
+class BumpyShaftHull {
+public:
+    BumpyShaftHull(const Patch& source, const Patch& receiver, const glm::dvec3& normal, double lowest, double highest)
+    {
+        std::array<glm::dvec3, 12> points;
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+            points[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+            points[std::size_t(k + 4)] = rc + lowest * normal;
+            points[std::size_t(k + 8)] = rc + highest * normal;
+        }
+        double scale = 0.0;
+        for (const glm::dvec3& p : points)
+            scale = std::max(scale, glm::length(p - points[0]));
+        const double flat = 1e-9 * scale;
+        tolerance_ = 1e-5 * scale;
+        for (std::size_t i = 0; i < points.size(); ++i)
+            for (std::size_t j = i + 1; j < points.size(); ++j)
+                for (std::size_t k = j + 1; k < points.size(); ++k) {
+                    glm::dvec3 n = glm::cross(points[j] - points[i], points[k] - points[i]);
+                    const double length = glm::length(n);
+                    if (length <= 1e-12 * scale * scale)
+                        continue;   // collinear (or repeated, when every bump has one height)
+                    n /= length;
+                    double lo = 1e300, hi = -1e300;
+                    for (const glm::dvec3& p : points) {
+                        const double d = glm::dot(n, p - points[i]);
+                        lo = std::min(lo, d), hi = std::max(hi, d);
+                    }
+                    if (hi > flat && lo < -flat)
+                        continue;   // points on both sides: not a face
+                    if (hi > flat)
+                        n = -n;
+                    const double offset = glm::dot(n, points[i]);
+                    const bool known = std::any_of(planes_.begin(), planes_.end(), [&](const Plane& p) {
+                        return glm::dot(p.normal, n) > 1.0 - 1e-12 && std::abs(p.offset - offset) <= flat;
+                    });
+                    if (!known)
+                        planes_.push_back({n, offset});
+                }
+    }
+
+    bool excludes(const glm::dvec3* points, int count) const
+    {
+        for (const Plane& p : planes_) {
+            bool allOutside = true;
+            for (int i = 0; i < count && allOutside; ++i)
+                allOutside = glm::dot(p.normal, points[i]) > p.offset + tolerance_;
+            if (allOutside)
+                return true;
+        }
+        return false;
+    }
+    bool excludes(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const
+    {
+        const glm::dvec3 points[3] = {glm::dvec3(a), glm::dvec3(b), glm::dvec3(c)};
+        return excludes(points, 3);
+    }
+    bool excludesBox(const glm::vec3& lo, const glm::vec3& hi) const
+    {
+        glm::dvec3 points[8];
+        for (int k = 0; k < 8; ++k)
+            points[k] = glm::dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+        return excludes(points, 8);
+    }
+
+private:
+    struct Plane {
+        glm::dvec3 normal;   ///< unit, outward
+        double offset;       ///< inside: dot(normal, x) <= offset
+    };
+    std::vector<Plane> planes_;
+    double tolerance_ = 0.0;
+};
+
 bool rowFull(const std::uint64_t* row, int words, int S)
 {
     for (int w = 0; w + 1 < words; ++w)
@@ -474,12 +635,15 @@ struct Pass {
     /// Per instance: bounds wholly outside the shaft's hull. Empty: unknown.
     std::vector<char> instanceOutside{};
     const ShaftHull* hull = nullptr;
+    const BumpyShaftHull* bumpyHull = nullptr;   ///< a bumpy receiver's hull, in place of `hull`
 
-    void init(std::vector<char> cullable, std::vector<char> outside, const ShaftHull& shaftHull)
+    void init(std::vector<char> cullable, std::vector<char> outside, const ShaftHull& shaftHull,
+              const BumpyShaftHull* bumpyShaftHull)
     {
         cullableInstance = std::move(cullable);
         instanceOutside = std::move(outside);
         hull = &shaftHull;
+        bumpyHull = bumpyShaftHull;
         for (int k = 0; k < 4; ++k)
             sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
     }
@@ -490,6 +654,8 @@ struct Pass {
     {
         if (!instanceOutside.empty() && instanceOutside[triangles.instanceOf[t]])
             return true;
+        if (bumpyHull)
+            return bumpyHull->excludes(triangle(t)[0], triangle(t)[1], triangle(t)[2]);
         return hull->excludes(triangle(t)[0], triangle(t)[1], triangle(t)[2]);
     }
 
@@ -668,8 +834,18 @@ struct Pass {
                 const int ta = int(tile % std::size_t(tilesA())), tb = int(tile / std::size_t(tilesA()));
                 const int a0 = ta * kTile, b0 = tb * kTile;
                 const int aEnd = std::min(receiver.na, a0 + kTile), bEnd = std::min(receiver.nb, b0 + kTile);
-                const std::array<int, 4> corners = {b0 * receiver.na + a0, b0 * receiver.na + aEnd - 1,
-                                                    (bEnd - 1) * receiver.na + a0, (bEnd - 1) * receiver.na + aEnd - 1};
+                // The samples whose backprojections bound the tile's (mayHit): its corners, or
+                // every sample on a bumpy receiver.
+                std::array<int, kTile * kTile> bounding = {b0 * receiver.na + a0, b0 * receiver.na + aEnd - 1,
+                                                           (bEnd - 1) * receiver.na + a0,
+                                                           (bEnd - 1) * receiver.na + aEnd - 1};
+                int boundingCount = 4;
+                if (setup.bumpy) {
+                    boundingCount = 0;
+                    for (int b = b0; b < bEnd; ++b)
+                        for (int a = a0; a < aEnd; ++a)
+                            bounding[std::size_t(boundingCount++)] = b * receiver.na + a;
+                }
                 SourceBox open;
                 int sinceNarrowed = -1;   // -1: not narrowed yet
                 TileLanes lanes;
@@ -687,7 +863,7 @@ struct Pass {
                                 break;   // the whole tile is blocked
                         }
                         ++sinceNarrowed;
-                        if (!setup.mayHit(o, corners, open)) {
+                        if (!setup.mayHit(o, bounding.data(), boundingCount, open)) {
                             ++tileSkipped;
                             continue;
                         }
@@ -747,7 +923,7 @@ struct Pass {
             subset.instanceOf.push_back(triangles.instanceOf[t]);
         }
         const RayCastScene rays(subset, /*fastBuild=*/true);
-        stats.raysCast = rays.sampleUnblocked(source, receiver, map, {.jitter = options.jitter});
+        stats.raysCast = rays.sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
     }
 };
 
@@ -770,11 +946,23 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
 }
 
-std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver) const
+std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver, const Bounds* displacedBox) const
 {
     std::vector<char> cullable(instances_.size(), 0);
-    for (std::size_t i = 0; i < instances_.size(); ++i)
-        cullable[i] = instances_[i].watertight && receiverApartFrom(instances_[i].bounds, receiver);
+    for (std::size_t i = 0; i < instances_.size(); ++i) {
+        if (!instances_[i].watertight)
+            continue;
+        if (!displacedBox) {
+            cullable[i] = receiverApartFrom(instances_[i].bounds, receiver);
+            continue;
+        }
+        // A bumpy receiver: no displaced sample may lie inside the mesh. receiverApartFrom's
+        // test, on the box of the displaced samples.
+        const Bounds& r = *displacedBox;
+        const Bounds& b = instances_[i].bounds;
+        const float pad = 1e-4f * (1.0f + glm::length(r.max - r.min));
+        cullable[i] = glm::any(glm::lessThan(b.max + pad, r.min)) || glm::any(glm::greaterThan(b.min - pad, r.max));
+    }
     return cullable;
 }
 
@@ -812,6 +1000,26 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                                           BitmaskStats* stats) const
 {
     validatePatchPair(source, receiver);
+    if (options.heights)
+        validateReceiverHeights(source, receiver, *options.heights);
+    // A bumpy receiver (§8). All-zero heights move no sample: the flat path, unchanged.
+    const bool bumpy = !flatReceiver(options.heights);
+    std::vector<glm::dvec3> displaced;
+    Bounds displacedBox;
+    glm::dvec3 normal(0.0);
+    double lowest = 0.0, highest = 0.0;
+    if (bumpy) {
+        // The same expression as RayCastScene's and displacedReceiverSample's: the same bits.
+        normal = receiverNormalTowardSource(source, receiver);
+        const std::vector<double>& metres = options.heights->metres;
+        displaced.resize(metres.size());
+        for (int j = 0; j < receiver.sampleCount(); ++j) {
+            displaced[std::size_t(j)] = receiver.sample(j) + metres[std::size_t(j)] * normal;
+            displacedBox.extend(glm::vec3(displaced[std::size_t(j)]));
+        }
+        const auto [lo, hi] = std::minmax_element(metres.begin(), metres.end());
+        lowest = *lo, highest = *hi;
+    }
     HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
     BitmaskStats local;
     const auto setupStart = Clock::now();
@@ -834,17 +1042,22 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
 
     std::unique_ptr<Workspace> work = takeWorkspace();
     auto body = [&] {
-        Setup setup(source, receiver, options.jitter);
+        Setup setup(source, receiver, options.jitter, bumpy ? &displaced : nullptr);
         setup.table = table.get();
         setup.floatKernel = exact && options.simd && source.na <= 32 && detail::floatRowsAvailable();
         Pass pass{setup, triangles_, source, receiver, options, map, local, *work};
 
         const ShaftHull hull(source, receiver);
+        std::optional<BumpyShaftHull> bumpyHull;
+        if (bumpy)
+            bumpyHull.emplace(source, receiver, normal, lowest, highest);
         std::vector<char> instanceOutside(instances_.size());
         for (std::size_t i = 0; i < instances_.size(); ++i)
-            instanceOutside[i] = hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
-        pass.init(options.watertightCulling ? cullableInstances(receiver) : std::vector<char>{}, std::move(instanceOutside),
-                  hull);
+            instanceOutside[i] = bumpy ? bumpyHull->excludesBox(instances_[i].bounds.min, instances_[i].bounds.max)
+                                       : hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
+        pass.init(options.watertightCulling ? cullableInstances(receiver, bumpy ? &displacedBox : nullptr)
+                                            : std::vector<char>{},
+                  std::move(instanceOutside), hull, bumpy ? &*bumpyHull : nullptr);
         // Few source samples: ray casting everything is cheaper than the bitmask, whose cost
         // follows (triangle, receiver sample) pairs, not rays.
         if (strategy == CpuStrategy::RayCast || (strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper())) {
@@ -852,7 +1065,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            local.raysCast = caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter});
+            local.raysCast =
+                caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
             local.rayMs = msSince(rayStart);
             return;
         }

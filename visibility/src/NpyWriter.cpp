@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iterator>
 #include <regex>
+#include <stdexcept>
 
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
@@ -18,16 +19,12 @@ namespace {
 constexpr char kMagic[] = "\x93NUMPY";
 
 int bytesPerRow(int sourceCount) { return (sourceCount + 7) / 8; }
-} // namespace
 
-std::string encodeMaskNpy(const HiddenSampleMap& map)
+/// Format 1.0 preamble: magic(6) + version(2) + header length(2) + header, padded with spaces and
+/// ended by '\n' so that the data starts on a multiple of 64 bytes.
+std::string npyPreamble(const std::string& descr, const std::string& shape)
 {
-    const int rowBytes = bytesPerRow(map.sourceCount());
-    std::string header = "{'descr': '|u1', 'fortran_order': False, 'shape': (" +
-                         std::to_string(map.receiverNb()) + ", " + std::to_string(map.receiverNa()) +
-                         ", " + std::to_string(rowBytes) + "), }";
-    // Format 1.0: magic(6) + version(2) + header length(2) + header, padded with spaces and ended
-    // by '\n' so that the data starts on a multiple of 64 bytes.
+    std::string header = "{'descr': '" + descr + "', 'fortran_order': False, 'shape': (" + shape + "), }";
     const std::size_t unpadded = 10 + header.size() + 1;
     header.append((64 - unpadded % 64) % 64, ' ');
     header.push_back('\n');
@@ -38,6 +35,40 @@ std::string encodeMaskNpy(const HiddenSampleMap& map)
     out.push_back(static_cast<char>(header.size() & 0xff));
     out.push_back(static_cast<char>(header.size() >> 8));
     out += header;
+    return out;
+}
+
+/// The file's bytes and its header (after the checks every reader needs).
+struct NpyFile {
+    std::string bytes;
+    std::string header;
+    std::size_t dataStart = 0;
+};
+
+NpyFile readNpy(const std::filesystem::path& file)
+{
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+        throw Error(file.string() + ": cannot open");
+    NpyFile npy;
+    npy.bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string& bytes = npy.bytes;
+    if (bytes.size() < 10 || bytes.compare(0, 6, kMagic, 6) != 0 || bytes[6] != 1)
+        throw Error(file.string() + ": not a NumPy format 1.0 file");
+    const std::size_t headerLength = std::size_t(std::uint8_t(bytes[8])) | std::size_t(std::uint8_t(bytes[9])) << 8;
+    if (bytes.size() < 10 + headerLength)
+        throw Error(file.string() + ": truncated .npy header");
+    npy.header = bytes.substr(10, headerLength);
+    npy.dataStart = 10 + headerLength;
+    return npy;
+}
+} // namespace
+
+std::string encodeMaskNpy(const HiddenSampleMap& map)
+{
+    const int rowBytes = bytesPerRow(map.sourceCount());
+    std::string out = npyPreamble("|u1", std::to_string(map.receiverNb()) + ", " + std::to_string(map.receiverNa()) +
+                                             ", " + std::to_string(rowBytes));
 
     const std::size_t dataStart = out.size();
     out.resize(dataStart + std::size_t(rowBytes) * std::size_t(map.receiverCount()));
@@ -54,16 +85,9 @@ void writeMaskNpy(const HiddenSampleMap& map, const std::filesystem::path& file)
 
 HiddenSampleMap readMaskNpy(const std::filesystem::path& file, int sourceCount)
 {
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw Error(file.string() + ": cannot open");
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (bytes.size() < 10 || bytes.compare(0, 6, kMagic, 6) != 0 || bytes[6] != 1)
-        throw Error(file.string() + ": not a NumPy format 1.0 file");
-    const std::size_t headerLength = std::size_t(std::uint8_t(bytes[8])) | std::size_t(std::uint8_t(bytes[9])) << 8;
-    if (bytes.size() < 10 + headerLength)
-        throw Error(file.string() + ": truncated .npy header");
-    const std::string header = bytes.substr(10, headerLength);
+    const NpyFile npy = readNpy(file);
+    const std::string& bytes = npy.bytes;
+    const std::string& header = npy.header;
     static const std::regex shapeRe(R"('shape':\s*\((\d+),\s*(\d+),\s*(\d+),?\))");
     std::smatch m;
     if (header.find("'|u1'") == std::string::npos || header.find("'fortran_order': False") == std::string::npos ||
@@ -73,7 +97,7 @@ HiddenSampleMap readMaskNpy(const std::filesystem::path& file, int sourceCount)
     if (rowBytes != bytesPerRow(sourceCount) || na < 1 || nb < 1)
         throw Error(file.string() + ": shape does not match " + std::to_string(sourceCount) + " source samples");
     HiddenSampleMap map(sourceCount, na, nb);
-    const std::size_t dataStart = 10 + headerLength;
+    const std::size_t dataStart = npy.dataStart;
     if (bytes.size() != dataStart + std::size_t(rowBytes) * std::size_t(na) * std::size_t(nb))
         throw Error(file.string() + ": data size does not match the shape");
     for (int j = 0; j < map.receiverCount(); ++j) {
@@ -84,6 +108,41 @@ HiddenSampleMap readMaskNpy(const std::filesystem::path& file, int sourceCount)
             map.row(j).back() &= (std::uint64_t(1) << (sourceCount % 64)) - 1;
     }
     return map;
+}
+
+std::string encodeFloatNpy(const std::vector<float>& values, int rows, int columns)
+{
+    if (rows < 0 || columns < 0 || std::size_t(rows) * std::size_t(columns) != values.size())
+        throw std::invalid_argument("encodeFloatNpy: shape does not match the value count");
+    std::string out = npyPreamble("<f4", std::to_string(rows) + ", " + std::to_string(columns));
+    const std::size_t dataStart = out.size();
+    out.resize(dataStart + values.size() * sizeof(float));
+    std::memcpy(out.data() + dataStart, values.data(), values.size() * sizeof(float));
+    return out;
+}
+
+void writeFloatNpy(const std::vector<float>& values, int rows, int columns, const std::filesystem::path& file)
+{
+    writeFileAtomically(file, encodeFloatNpy(values, rows, columns));
+}
+
+FloatArray readFloatNpy(const std::filesystem::path& file)
+{
+    const NpyFile npy = readNpy(file);
+    static const std::regex shapeRe(R"('shape':\s*\((\d+),\s*(\d+),?\))");
+    std::smatch m;
+    if (npy.header.find("'<f4'") == std::string::npos || npy.header.find("'fortran_order': False") == std::string::npos ||
+        !std::regex_search(npy.header, m, shapeRe))
+        throw Error(file.string() + ": not a C-order float32 array of 2 dimensions");
+    FloatArray array;
+    array.rows = std::stoi(m[1]);
+    array.columns = std::stoi(m[2]);
+    const std::size_t count = std::size_t(array.rows) * std::size_t(array.columns);
+    if (npy.bytes.size() != npy.dataStart + count * sizeof(float))
+        throw Error(file.string() + ": data size does not match the shape");
+    array.values.resize(count);
+    std::memcpy(array.values.data(), npy.bytes.data() + npy.dataStart, count * sizeof(float));
+    return array;
 }
 
 } // namespace sightline

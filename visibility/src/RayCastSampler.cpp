@@ -105,9 +105,15 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
 {
     if (map.sourceCount() != source.sampleCount() || map.receiverNa() != receiver.na || map.receiverNb() != receiver.nb)
         throw Error("RayCastScene::sampleUnblocked: map dimensions do not match the patches");
+    // A bumpy receiver (§8): each ray starts at its displaced sample. All-zero heights are the
+    // flat patch and take the flat path unchanged.
+    if (options.heights)
+        validateReceiverHeights(source, receiver, *options.heights);
+    const bool bumpy = !flatReceiver(options.heights);
     if (triangleCount_ == 0)
         return 0;
     std::atomic<std::uint64_t> cast{0};
+    const glm::dvec3 normal = bumpy ? receiverNormalTowardSource(source, receiver) : glm::dvec3(0.0);
 
     // Positions in double (DESIGN.md §2), rounded to float only as ray input.
     const int S = source.sampleCount();
@@ -120,8 +126,10 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     // source sample (t = 1 at the source), all sharing one origin, hence coherent.
     auto castFrom = [&](int j) {
         // With jitter, the source grid seen from j is shifted: cast to the shifted samples.
-        const glm::dvec3 r = receiver.sample(j) - options.jitter.shift(source, j);
-        const glm::vec3 org(receiver.sample(j));
+        const glm::dvec3 end =
+            bumpy ? receiver.sample(j) + options.heights->metres[std::size_t(j)] * normal : receiver.sample(j);
+        const glm::dvec3 r = end - options.jitter.shift(source, j);
+        const glm::vec3 org(end);
         auto bits = map.row(j);
         std::uint64_t rowCast = 0;
         auto alreadyBlocked = [&](int i) { return (bits[std::size_t(i >> 6)] >> (i & 63)) & 1u; };

@@ -14,6 +14,11 @@
 // Result: the same hidden-samples map as the Embree reference (RayCastSampler.h) apart from rays
 // that graze an edge or an end point within rounding.
 //
+// A bumpy receiver (§8, ReceiverHeights.h) keeps the method exact: each receiver sample is
+// backprojected from its displaced position, influence regions are projected onto the planes of
+// the lowest and the highest bump ("on a plane lying behind the receiver"), and occluders that
+// reach into the bump range are clipped per receiver sample at that sample's own distance.
+//
 // Parallelism: triangles are binned to tiles of receiver samples; tiles run on all cores (TBB),
 // each owning its receiver rows, so no two threads write one bitmask.
 
@@ -27,6 +32,7 @@
 #include "visibility/MaskMode.h"
 #include "visibility/Patch.h"
 #include "visibility/RayCastSampler.h"
+#include "visibility/ReceiverHeights.h"
 #include "visibility/Scene.h"
 #include "visibility/SourceJitter.h"
 
@@ -73,6 +79,11 @@ struct BitmaskOptions {
     /// Decorrelated source samples per receiver sample (§6.2): each receiver sample's
     /// backprojections are shifted by its own offset. Off by default.
     SourceJitter jitter{};
+    /// A bumpy receiver (§8, ReceiverHeights.h): receiver sample j at its displaced position.
+    /// Null, empty or all zero: the flat patch, sampled exactly as without heights. Not owned;
+    /// must outlive the call. Every strategy and both kernels honour it; the shaft culling is
+    /// widened to the bumps, and the narrowed shaft tests every sample of a tile.
+    const ReceiverHeights* heights = nullptr;
 };
 
 struct BitmaskStats {
@@ -111,13 +122,15 @@ public:
     /// Whether this CPU runs the single-precision SIMD kernel (AVX2 and FMA).
     static bool simdAvailable();
 
-    /// Validates the pair (validatePatchPair throws sightline::Error), then samples.
+    /// Validates the pair (validatePatchPair and, with heights, validateReceiverHeights throw
+    /// sightline::Error), then samples.
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options = {},
                            BitmaskStats* stats = nullptr) const;
 
 private:
-    /// Per instance: may watertight culling skip its front faces with this receiver?
-    std::vector<char> cullableInstances(const Patch& receiver) const;
+    /// Per instance: may watertight culling skip its front faces with this receiver? With a
+    /// bumpy receiver, `displacedBox` bounds its displaced samples (null: the flat patch).
+    std::vector<char> cullableInstances(const Patch& receiver, const Bounds* displacedBox = nullptr) const;
     /// The whole scene's BVH, built on first use.
     std::shared_ptr<const RayCastScene> wholeSceneCaster() const;
     std::unique_ptr<Workspace> takeWorkspace() const;

@@ -18,6 +18,7 @@
 
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
+#include "visibility/ReceiverHeights.h"
 #include "visibility/Scene.h"
 #include "visibility/SourceJitter.h"
 
@@ -29,6 +30,9 @@ struct RayCastOptions {
     bool packets = true;   ///< rtcOccluded16 packets; false casts single rays (rtcOccluded1)
     int threads = 0;       ///< 0 = all cores
     SourceJitter jitter{}; ///< decorrelated source samples per receiver sample (§6.2); off by default
+    /// A bumpy receiver (§8, ReceiverHeights.h): rays start at the displaced receiver samples.
+    /// Null or empty: the flat patch. Not owned; must outlive the call.
+    const ReceiverHeights* heights = nullptr;
 };
 
 class RayCastScene {
@@ -45,12 +49,13 @@ public:
     std::size_t triangleCount() const { return triangleCount_; }
     double buildMilliseconds() const { return buildMs_; }
 
-    /// The hidden-samples map for the pair; validates it first (validatePatchPair throws
-    /// sightline::Error for an invalid pair — never a wrong answer).
+    /// The hidden-samples map for the pair; validates it first (validatePatchPair and, with
+    /// heights, validateReceiverHeights throw sightline::Error — never a wrong answer).
     HiddenSampleMap sample(const Patch& source, const Patch& receiver, const RayCastOptions& options = {}) const;
 
     /// Casts only the rays not yet marked blocked in `map` (dimensions must match the pair, which
-    /// must be valid) and marks those this scene blocks. Returns the number of rays cast.
+    /// must be valid; heights are validated) and marks those this scene blocks. Returns the number
+    /// of rays cast.
     std::uint64_t sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
                                   const RayCastOptions& options = {}) const;
 

@@ -1,0 +1,57 @@
+#include "project/ProjectSampler.h"
+
+#include <chrono>
+
+#include "visibility/Error.h"
+
+namespace sightline {
+
+ProjectSampler::ProjectSampler(const Project& project, ProjectMeshes meshes, SamplerSettings settings)
+    : meshes_(std::move(meshes)), settings_(std::move(settings))
+{
+    if (settings_.method != "cpu" && settings_.method != "raycast")
+        throw Error("unknown method '" + settings_.method + "' (use cpu or raycast)");
+    rebuild(project);
+}
+
+ProjectSampler::~ProjectSampler() = default;
+
+void ProjectSampler::rebuild(const Project& frame)
+{
+    const Scene scene = assembleScene(frame, meshes_);
+    triangles_ = scene.triangleCount();
+    if (settings_.method == "cpu") {
+        if (cpu_)
+            cpu_->setScene(scene);   // keeps the warm buffers
+        else
+            cpu_ = std::make_unique<CpuBitmaskSampler>(scene);
+    } else {
+        rayCaster_ = std::make_unique<RayCastScene>(scene);
+    }
+}
+
+HiddenSampleMap ProjectSampler::sample(const Project& frame, bool occludersMoved)
+{
+    if (occludersMoved)
+        rebuild(frame);
+    const ReceiverHeights* heights = settings_.heights.empty() ? nullptr : &settings_.heights;
+    const auto start = std::chrono::steady_clock::now();
+    HiddenSampleMap map;
+    if (cpu_) {
+        BitmaskOptions options;
+        options.threads = settings_.threads;
+        options.jitter = settings_.jitter;
+        options.heights = heights;
+        map = cpu_->sample(frame.source, frame.receiver, options);
+    } else {
+        RayCastOptions options;
+        options.threads = settings_.threads;
+        options.jitter = settings_.jitter;
+        options.heights = heights;
+        map = rayCaster_->sample(frame.source, frame.receiver, options);
+    }
+    lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return map;
+}
+
+} // namespace sightline

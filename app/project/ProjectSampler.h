@@ -1,0 +1,51 @@
+#pragma once
+// Samples a project's hidden-samples map frame after frame (an animation, or the editor's drags),
+// keeping what does not change: the level's triangles, the CPU sampler's warm buffers, Embree's
+// BVH while no occluder moves.
+
+#include <memory>
+#include <string>
+
+#include "project/Project.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/HiddenSampleMap.h"
+#include "visibility/RayCastSampler.h"
+#include "visibility/ReceiverHeights.h"
+
+namespace sightline {
+
+struct SamplerSettings {
+    std::string method = "cpu";     ///< "cpu" (exact bitmask, auto strategy) or "raycast" (Embree)
+    int threads = 0;                ///< 0 = all cores
+    SourceJitter jitter{};          ///< decorrelated source samples (§6.2)
+    ReceiverHeights heights;        ///< a bumpy receiver (§8); empty = flat
+};
+
+class ProjectSampler {
+public:
+    /// Throws sightline::Error for an unknown method.
+    ProjectSampler(const Project& project, ProjectMeshes meshes, SamplerSettings settings);
+    ~ProjectSampler();
+
+    /// The map for `frame` (the project at some frame: moved patches and occluders, same occluder
+    /// list). `occludersMoved` false promises the occluders are where the previous call had them.
+    /// Validates the pair; throws sightline::Error.
+    HiddenSampleMap sample(const Project& frame, bool occludersMoved);
+
+    std::size_t triangleCount() const { return triangles_; }
+    /// Milliseconds of the last sample() call spent sampling (scene updates excluded).
+    double lastSampleMs() const { return lastMs_; }
+    const SamplerSettings& settings() const { return settings_; }
+
+private:
+    void rebuild(const Project& frame);
+
+    ProjectMeshes meshes_;
+    SamplerSettings settings_;
+    std::unique_ptr<CpuBitmaskSampler> cpu_;
+    std::unique_ptr<RayCastScene> rayCaster_;
+    std::size_t triangles_ = 0;
+    double lastMs_ = 0.0;
+};
+
+} // namespace sightline

@@ -1,0 +1,28 @@
+#pragma once
+// Small 8-bit images a project refers to: a light's colour texture, a receiver's height map.
+// Read with stb_image (PNG, JPEG, BMP, TGA, ...); values stay as stored (no sRGB decoding: a
+// light texture is taken as the light's colours, a height map's grey level as a height).
+
+#include <filesystem>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace sightline {
+
+struct RgbImage {
+    int width = 0, height = 0;
+    std::vector<glm::vec3> pixels;   ///< row-major, top row first, channels in [0, 1]
+
+    /// The pixel under texture coordinates (s, t) in [0, 1]^2 with t = 0 at the bottom row (a
+    /// patch's v direction points up the image), nearest texel.
+    glm::vec3 nearest(double s, double t) const;
+    /// Bilinear between texel centres, clamped at the borders; same (s, t) convention.
+    glm::vec3 bilinear(double s, double t) const;
+};
+
+/// Throws sightline::Error with the file name when the file is missing or not a readable image,
+/// or larger than 16384 pixels a side.
+RgbImage loadRgbImage(const std::filesystem::path& file);
+
+} // namespace sightline

@@ -1,0 +1,57 @@
+#include "lighting/ImageFile.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <stb/stb_image.h>
+
+#include "visibility/Error.h"
+
+namespace sightline {
+
+namespace {
+int clampIndex(int i, int n) { return std::clamp(i, 0, n - 1); }
+} // namespace
+
+glm::vec3 RgbImage::nearest(double s, double t) const
+{
+    const int x = clampIndex(int(std::floor(s * width)), width);
+    const int y = clampIndex(int(std::floor((1.0 - t) * height)), height);
+    return pixels[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+}
+
+glm::vec3 RgbImage::bilinear(double s, double t) const
+{
+    const double fx = s * width - 0.5, fy = (1.0 - t) * height - 0.5;
+    const int x0 = int(std::floor(fx)), y0 = int(std::floor(fy));
+    const float wx = float(fx - x0), wy = float(fy - y0);
+    auto at = [&](int x, int y) {
+        return pixels[std::size_t(clampIndex(y, height)) * std::size_t(width) + std::size_t(clampIndex(x, width))];
+    };
+    return (1.0f - wy) * ((1.0f - wx) * at(x0, y0) + wx * at(x0 + 1, y0)) +
+           wy * ((1.0f - wx) * at(x0, y0 + 1) + wx * at(x0 + 1, y0 + 1));
+}
+
+RgbImage loadRgbImage(const std::filesystem::path& file)
+{
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info(file.string().c_str(), &width, &height, &channels))
+        throw Error(file.string() + ": not a readable image (" +
+                    (std::filesystem::exists(file) ? std::string("unknown format") : std::string("no such file")) + ")");
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw Error(file.string() + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                    " is outside 1..16384 pixels a side");
+    unsigned char* data = stbi_load(file.string().c_str(), &width, &height, &channels, 3);
+    if (!data)
+        throw Error(file.string() + ": cannot decode image: " + stbi_failure_reason());
+    RgbImage image;
+    image.width = width;
+    image.height = height;
+    image.pixels.resize(std::size_t(width) * std::size_t(height));
+    for (std::size_t k = 0; k < image.pixels.size(); ++k)
+        image.pixels[k] = glm::vec3(data[3 * k], data[3 * k + 1], data[3 * k + 2]) / 255.0f;
+    stbi_image_free(data);
+    return image;
+}
+
+} // namespace sightline
