@@ -53,11 +53,30 @@ struct Occluder {
 constexpr double kNarrowCells = 8.0;
 constexpr int kNarrowRefresh = 256;
 
-/// Source samples (as a box of sample-centre coordinates) that some receiver sample of a tile
-/// still sees. Empty when min > max.
+/// Source samples that some receiver sample of a tile still sees: as a box of sample-centre
+/// coordinates (empty when min > max), a quick first test, and as the set itself. Leaves and
+/// grilles leave scattered holes whose box is nearly the whole source; the set still rejects an
+/// occluder whose backprojection covers no open sample (demo, 1024 source samples: pairs 1.40M ->
+/// 1.32M at 32x32 receiver samples, 20.6M -> 15.6M at 128x128).
 struct SourceBox {
     double sMin = 1.0, sMax = 0.0, tMin = 1.0, tMax = 0.0;
+    std::array<std::uint64_t, kMaxSourceSamples / 64> open{};
     bool empty() const { return sMin > sMax; }
+    /// Whether any open sample has a bit index in [first, last].
+    bool anyOpen(int first, int last) const
+    {
+        const int w0 = first >> 6, w1 = last >> 6;
+        const std::uint64_t lo = ~std::uint64_t(0) << (first & 63);
+        const std::uint64_t hi = ~std::uint64_t(0) >> (63 - (last & 63));
+        if (w0 == w1)
+            return (open[std::size_t(w0)] & lo & hi) != 0;
+        if (open[std::size_t(w0)] & lo)
+            return true;
+        for (int w = w0 + 1; w < w1; ++w)
+            if (open[std::size_t(w)])
+                return true;
+        return (open[std::size_t(w1)] & hi) != 0;
+    }
 };
 
 /// Auto picks RayCast when estimated pairs exceed this many times the rays. Scalar kernel: on the
@@ -368,7 +387,8 @@ struct Setup {
     /// sees, from the map as it stands.
     SourceBox unblockedBox(const HiddenSampleMap& map, int a0, int a1, int b0, int b1) const
     {
-        std::uint64_t open[kMaxSourceSamples / 64] = {};
+        SourceBox box;
+        auto& open = box.open;
         const int words = map.wordsPerRow();
         for (int b = b0; b <= b1; ++b)
             for (int a = a0; a <= a1; ++a) {
@@ -386,11 +406,12 @@ struct Setup {
                 aMin = std::min(aMin, a), aMax = std::max(aMax, a);
                 bMin = std::min(bMin, b), bMax = std::max(bMax, b);
             }
-        SourceBox box;
         // Jittered samples lie up to half a cell from their cell centres.
         const double lo = jittered ? 0.0 : 0.5, hi = jittered ? 1.0 : 0.5;
-        if (aMax >= 0)
-            box = {(aMin + lo) / na, (aMax + hi) / na, (bMin + lo) / nb, (bMax + hi) / nb};
+        if (aMax >= 0) {
+            box.sMin = (aMin + lo) / na, box.sMax = (aMax + hi) / na;
+            box.tMin = (bMin + lo) / nb, box.tMax = (bMax + hi) / nb;
+        }
         return box;
     }
 
@@ -415,7 +436,23 @@ struct Setup {
             }
         }
         const double pad = 1e-9;
-        return sMin <= box.sMax + pad && sMax >= box.sMin - pad && tMin <= box.tMax + pad && tMax >= box.tMin - pad;
+        if (!(sMin <= box.sMax + pad && sMax >= box.sMin - pad && tMin <= box.tMax + pad && tMax >= box.tMin - pad))
+            return false;
+        // The samples whose positions can fall in [sMin, sMax] x [tMin, tMax]: centres (a + 0.5) / na,
+        // or anywhere in their cell when jittered.
+        const auto range = [&](double lo, double hi, int n, int& first, int& last) {
+            const double shift = jittered ? 0.0 : 0.5;
+            first = std::max(0, int(std::ceil((lo - pad) * n - shift - (jittered ? 1.0 : 0.0))));
+            last = std::min(n - 1, int(std::floor((hi + pad) * n - shift)));
+            return first <= last;
+        };
+        int aFirst, aLast, bFirst, bLast;
+        if (!range(sMin, sMax, na, aFirst, aLast) || !range(tMin, tMax, nb, bFirst, bLast))
+            return false;
+        for (int b = bFirst; b <= bLast; ++b)
+            if (box.anyOpen(b * na + aFirst, b * na + aLast))
+                return true;
+        return false;
     }
 
     /// ORs into `row` the source samples hidden by `occluder` from receiver sample j (§4-5).
