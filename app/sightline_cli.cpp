@@ -317,19 +317,25 @@ int runInfo(const std::string& path, bool asJson)
 
 /// Writes `scene` as SCENE.glb and a project PROJECT.json looking through it.
 void writeDemoProject(const fs::path& folder, const std::string& sceneName, const std::string& projectName,
-                      const Scene& scene, const Patch& source, const Patch& receiver, const std::string& description)
+                      const Scene* scene, const Patch& source, const Patch& receiver, const std::string& description,
+                      const json& extra = json::object())
 {
     const fs::path sceneFile = folder / (sceneName + ".glb");
-    saveScene(scene, sceneFile);
+    if (scene)
+        saveScene(*scene, sceneFile);
     Project project;
     project.folder = fs::absolute(folder);
     project.scene = sceneFile.filename().string();
     project.source = source;
     project.receiver = receiver;
+    project.extra = extra;
     project.extra["description"] = description;
     const fs::path projectFile = folder / (projectName + ".json");
     saveProject(project, projectFile);
-    std::printf("wrote %s (%zu triangles) and %s\n", sceneFile.c_str(), scene.triangleCount(), projectFile.c_str());
+    if (scene)
+        std::printf("wrote %s (%zu triangles) and %s\n", sceneFile.c_str(), scene->triangleCount(), projectFile.c_str());
+    else
+        std::printf("wrote %s\n", projectFile.c_str());
 }
 
 int runDemo(const std::string& folder)
@@ -339,10 +345,28 @@ int runDemo(const std::string& folder)
     if (ec)
         throw Error(folder + ": cannot create folder (" + ec.message() + ")");
     const demo::DemoView view = demo::demoView();
-    writeDemoProject(folder, "demo_level", "demo", demo::makeDemoLevel(), view.source, view.receiver,
-                     "Sightline demo: two patches looking through a doorway past plants and furniture");
+    const Scene level = demo::makeDemoLevel();
+    // The receiver walks 1.5 m along the conservatory wall and back: `importance --frames` and the
+    // editor's Accumulate Animation have something to accumulate out of the box.
+    const json walk = {{"frames", 40},
+                       {"tracks", {{{"target", "receiver"}, {"interpolation", "linear"}, {"loop", true},
+                                    {"keys", {{{"frame", 0}, {"translate", {0, 0, 0}}},
+                                              {{"frame", 20}, {"translate", {0, 0, -1.5}}},
+                                              {{"frame", 39}, {"translate", {0, 0, 0}}}}}}}}};
+    writeDemoProject(folder, "demo_level", "demo", &level, view.source, view.receiver,
+                     "Sightline demo: two patches looking through a doorway past plants and furniture",
+                     {{"animation", walk}});
+    // Which parts of the conservatory floor the gallery's guard post overlooks (an importance map
+    // over a large receiver, paper §9).
+    Patch floor;
+    floor.corner = {10.2, 0.02, 0.2};
+    floor.u = {0.0, 0.0, 9.6};
+    floor.v = {11.6, 0.0, 0.0};
+    floor.na = floor.nb = 128;
+    writeDemoProject(folder, "demo_level", "demo_floor", nullptr, view.source, floor,
+                     "Sightline demo: the conservatory floor (128x128 samples) seen from the gallery's source patch");
     for (const demo::BenchScene& bench : {demo::makeFewOccludersScene(), demo::makeDenseMeshScene()})
-        writeDemoProject(folder, bench.name, bench.name, bench.scene, bench.source, bench.receiver,
+        writeDemoProject(folder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
                          "Sightline benchmark scene '" + bench.name + "' (data/demo/DemoLevel.h)");
     return 0;
 }
