@@ -1,5 +1,5 @@
 #pragma once
-// Runs sightline-cli as a user does (a child process), for the CLI tests.
+// Runs sightline-cli as a user does (a child process), and the scene file the app tests share.
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -48,5 +48,13 @@ inline CliRun runCli(const std::string& arguments)
 }
 
 inline bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
+
+/// The app tests' scene: a 3 x 2 m wall at z = 2 with a 1 m square hole over [0, 1]^2 (OBJ).
+inline void writeWallWithHoleObj(const fs::path& file)
+{
+    std::ofstream(file) << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
+                           "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
+                           "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+}
 
 } // namespace sightline::test

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "CliRunner.h"
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
 #include "visibility/Error.h"
@@ -23,9 +24,7 @@ namespace {
 fs::path writeProject(const fs::path& folder)
 {
     fs::create_directories(folder);
-    std::ofstream(folder / "wall.obj") << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
-                                          "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
-                                          "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+    test::writeWallWithHoleObj(folder / "wall.obj");
     const nlohmann::json project = {
         {"version", 1},
         {"scene", "wall.obj"},

@@ -40,9 +40,7 @@ protected:
         fs::create_directories(folder);
         // A 2 x 2 m wall (OBJ) with a 1 m hole in the middle between the patches, plus a box
         // occluder placed in the hole's lower half by the project.
-        std::ofstream(folder / "wall.obj") << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
-                                              "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
-                                              "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+        test::writeWallWithHoleObj(folder / "wall.obj");
         json project = {
             {"version", 1},
             {"scene", "wall.obj"},

@@ -541,86 +541,6 @@ struct Setup {
     }
 };
 
-/// The shaft of a bumpy receiver (§8) as hull planes: segments run from the source to displaced
-/// samples, which lie in the prism of the receiver parallelogram between its lowest and highest
-/// bump, so the hull of the source's corners and the prism's holds them all. ShaftHull knows only
-/// the flat patch; the construction (every face plane through three points) and the tolerance
-/// are the same.
-class BumpyShaftHull {
-public:
-    BumpyShaftHull(const Patch& source, const Patch& receiver, const glm::dvec3& normal, double lowest, double highest)
-    {
-        std::array<glm::dvec3, 12> points;
-        for (int k = 0; k < 4; ++k) {
-            const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
-            points[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
-            points[std::size_t(k + 4)] = rc + lowest * normal;
-            points[std::size_t(k + 8)] = rc + highest * normal;
-        }
-        double scale = 0.0;
-        for (const glm::dvec3& p : points)
-            scale = std::max(scale, glm::length(p - points[0]));
-        const double flat = 1e-9 * scale;
-        tolerance_ = 1e-5 * scale;
-        for (std::size_t i = 0; i < points.size(); ++i)
-            for (std::size_t j = i + 1; j < points.size(); ++j)
-                for (std::size_t k = j + 1; k < points.size(); ++k) {
-                    glm::dvec3 n = glm::cross(points[j] - points[i], points[k] - points[i]);
-                    const double length = glm::length(n);
-                    if (length <= 1e-12 * scale * scale)
-                        continue;   // collinear (or repeated, when every bump has one height)
-                    n /= length;
-                    double lo = 1e300, hi = -1e300;
-                    for (const glm::dvec3& p : points) {
-                        const double d = glm::dot(n, p - points[i]);
-                        lo = std::min(lo, d), hi = std::max(hi, d);
-                    }
-                    if (hi > flat && lo < -flat)
-                        continue;   // points on both sides: not a face
-                    if (hi > flat)
-                        n = -n;
-                    const double offset = glm::dot(n, points[i]);
-                    const bool known = std::any_of(planes_.begin(), planes_.end(), [&](const Plane& p) {
-                        return glm::dot(p.normal, n) > 1.0 - 1e-12 && std::abs(p.offset - offset) <= flat;
-                    });
-                    if (!known)
-                        planes_.push_back({n, offset});
-                }
-    }
-
-    bool excludes(const glm::dvec3* points, int count) const
-    {
-        for (const Plane& p : planes_) {
-            bool allOutside = true;
-            for (int i = 0; i < count && allOutside; ++i)
-                allOutside = glm::dot(p.normal, points[i]) > p.offset + tolerance_;
-            if (allOutside)
-                return true;
-        }
-        return false;
-    }
-    bool excludes(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const
-    {
-        const glm::dvec3 points[3] = {glm::dvec3(a), glm::dvec3(b), glm::dvec3(c)};
-        return excludes(points, 3);
-    }
-    bool excludesBox(const glm::vec3& lo, const glm::vec3& hi) const
-    {
-        glm::dvec3 points[8];
-        for (int k = 0; k < 8; ++k)
-            points[k] = glm::dvec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-        return excludes(points, 8);
-    }
-
-private:
-    struct Plane {
-        glm::dvec3 normal;   ///< unit, outward
-        double offset;       ///< inside: dot(normal, x) <= offset
-    };
-    std::vector<Plane> planes_;
-    double tolerance_ = 0.0;
-};
-
 bool rowFull(const std::uint64_t* row, int words, int S)
 {
     for (int w = 0; w + 1 < words; ++w)
@@ -672,15 +592,12 @@ struct Pass {
     /// Per instance: bounds wholly outside the shaft's hull. Empty: unknown.
     std::vector<char> instanceOutside{};
     const ShaftHull* hull = nullptr;
-    const BumpyShaftHull* bumpyHull = nullptr;   ///< a bumpy receiver's hull, in place of `hull`
 
-    void init(std::vector<char> cullable, std::vector<char> outside, const ShaftHull& shaftHull,
-              const BumpyShaftHull* bumpyShaftHull)
+    void init(std::vector<char> cullable, std::vector<char> outside, const ShaftHull& shaftHull)
     {
         cullableInstance = std::move(cullable);
         instanceOutside = std::move(outside);
         hull = &shaftHull;
-        bumpyHull = bumpyShaftHull;
         for (int k = 0; k < 4; ++k)
             sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
     }
@@ -691,8 +608,6 @@ struct Pass {
     {
         if (!instanceOutside.empty() && instanceOutside[triangles.instanceOf[t]])
             return true;
-        if (bumpyHull)
-            return bumpyHull->excludes(triangle(t)[0], triangle(t)[1], triangle(t)[2]);
         return hull->excludes(triangle(t)[0], triangle(t)[1], triangle(t)[2]);
     }
 
@@ -1084,17 +999,25 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         setup.floatKernel = exact && options.simd && source.na <= 32 && detail::floatRowsAvailable();
         Pass pass{setup, triangles_, source, receiver, options, map, local, *work};
 
-        const ShaftHull hull(source, receiver);
-        std::optional<BumpyShaftHull> bumpyHull;
-        if (bumpy)
-            bumpyHull.emplace(source, receiver, normal, lowest, highest);
+        // A bumpy receiver's segments end in the prism of the receiver between its lowest and
+        // highest bump (§8), so its shaft is the hull of the source's corners and that prism.
+        const ShaftHull hull = bumpy ? ShaftHull([&] {
+            std::vector<glm::dvec3> points;
+            for (int k = 0; k < 4; ++k) {
+                const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+                points.push_back(source.corner + double(k & 1) * source.u + double(k >> 1) * source.v);
+                points.push_back(rc + lowest * normal);
+                points.push_back(rc + highest * normal);
+            }
+            return points;
+        }())
+                                     : ShaftHull(source, receiver);
         std::vector<char> instanceOutside(instances_.size());
         for (std::size_t i = 0; i < instances_.size(); ++i)
-            instanceOutside[i] = bumpy ? bumpyHull->excludesBox(instances_[i].bounds.min, instances_[i].bounds.max)
-                                       : hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
+            instanceOutside[i] = hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
         pass.init(options.watertightCulling ? cullableInstances(receiver, bumpy ? &displacedBox : nullptr)
                                             : std::vector<char>{},
-                  std::move(instanceOutside), hull, bumpy ? &*bumpyHull : nullptr);
+                  std::move(instanceOutside), hull);
         // Few source samples: ray casting everything is cheaper than the bitmask, whose cost
         // follows (triangle, receiver sample) pairs, not rays.
         if (strategy == CpuStrategy::RayCast || (strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper())) {

@@ -71,39 +71,44 @@ ClippedPolygon ShaftFrames::clipToSlab(const glm::vec3& a, const glm::vec3& b, c
     return polygon;
 }
 
-ShaftHull::ShaftHull(const Patch& source, const Patch& receiver)
-{
+ShaftHull::ShaftHull(const Patch& source, const Patch& receiver) : ShaftHull([&] {
     std::array<glm::dvec3, 8> corners;
     for (int k = 0; k < 4; ++k) {
         corners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
         corners[std::size_t(k + 4)] = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
     }
+    return std::vector<glm::dvec3>(corners.begin(), corners.end());
+}())
+{
+}
+
+ShaftHull::ShaftHull(const std::vector<glm::dvec3>& points)
+{
     double scale = 0.0;
-    for (const glm::dvec3& c : corners)
-        scale = std::max(scale, glm::length(c - corners[0]));
+    for (const glm::dvec3& c : points)
+        scale = std::max(scale, glm::length(c - points[0]));
     const double flat = 1e-9 * scale;
     tolerance_ = 1e-5 * scale;   // a far larger margin than any rounding in the samplers
-    // Every plane through three corners with all eight on one side is a face plane of the hull
-    // (56 triples: cheap, and no hull algorithm to get wrong).
-    for (int i = 0; i < 8; ++i)
-        for (int j = i + 1; j < 8; ++j)
-            for (int k = j + 1; k < 8; ++k) {
-                glm::dvec3 n = glm::cross(corners[std::size_t(j)] - corners[std::size_t(i)],
-                                          corners[std::size_t(k)] - corners[std::size_t(i)]);
+    // Every plane through three points with all of them on one side is a face plane of the hull
+    // (56 triples for the 8 corners: cheap, and no hull algorithm to get wrong).
+    for (std::size_t i = 0; i < points.size(); ++i)
+        for (std::size_t j = i + 1; j < points.size(); ++j)
+            for (std::size_t k = j + 1; k < points.size(); ++k) {
+                glm::dvec3 n = glm::cross(points[j] - points[i], points[k] - points[i]);
                 const double length = glm::length(n);
                 if (length <= 1e-12 * scale * scale)
-                    continue;   // collinear corners
+                    continue;   // collinear (or repeated) points
                 n /= length;
                 double lo = 1e300, hi = -1e300;
-                for (const glm::dvec3& c : corners) {
-                    const double d = glm::dot(n, c - corners[std::size_t(i)]);
+                for (const glm::dvec3& c : points) {
+                    const double d = glm::dot(n, c - points[i]);
                     lo = std::min(lo, d), hi = std::max(hi, d);
                 }
                 if (hi > flat && lo < -flat)
-                    continue;   // corners on both sides: not a face
+                    continue;   // points on both sides: not a face
                 if (hi > flat)
                     n = -n;
-                const double offset = glm::dot(n, corners[std::size_t(i)]);
+                const double offset = glm::dot(n, points[i]);
                 const bool known = std::any_of(planes_.begin(), planes_.end(), [&](const Plane& p) {
                     return glm::dot(p.normal, n) > 1.0 - 1e-12 && std::abs(p.offset - offset) <= flat;
                 });

@@ -71,6 +71,9 @@ struct ShaftFrames {
 class ShaftHull {
 public:
     ShaftHull(const Patch& source, const Patch& receiver);
+    /// The hull of any points (at least 4, not coplanar): a bumpy receiver's shaft is the hull of
+    /// the source's corners and the receiver's prism between its lowest and highest bump.
+    explicit ShaftHull(const std::vector<glm::dvec3>& points);
 
     /// True when all points lie outside one hull plane by more than a tolerance far above
     /// rounding, so nothing they span can meet a segment of the shaft.
