@@ -1,20 +1,27 @@
-// sightline: the editor. Also renders a project's view headlessly (--screenshot) and measures the
-// live update rate (--benchmark-interaction).
+// sightline: the editor. Also renders a project's view headlessly (--screenshot, optionally with
+// an importance or light overlay and its legend) and measures the live update rate
+// (--benchmark-interaction, optionally with an overlay on).
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <QApplication>
 #include <QCoreApplication>
+#include <QPainter>
 #include <QSurfaceFormat>
 
+#include "AnimationImportance.h"
 #include "EditorDocument.h"
 #include "InteractionBenchmark.h"
 #include "MainWindow.h"
 #include "OffscreenRender.h"
+#include "OverlayControls.h"
+#include "OverlayLegend.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
+#include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
 
 namespace {
@@ -31,12 +38,30 @@ struct Arguments {
     int rays = 4096;
     bool showBlocked = false;
     std::string glBackend = "osmesa";
+    std::string overlay = "none";
+    std::string statistic = "mean";
+    bool accumulate = false;
 };
 
 bool parseSize(const std::string& text, int& width, int& height)
 {
     return std::sscanf(text.c_str(), "%dx%d", &width, &height) == 2 && width > 0 && height > 0 && width <= 16384 &&
            height <= 16384;
+}
+
+/// The overlay a screenshot shows: importance over the project's animation when it has one (the
+/// editor's "Accumulate Animation"), else over the project as it is (one frame).
+QString prepareOverlay(const EditorDocument& document, PatchOverlay& overlay)
+{
+    if (!isImportance(overlay.kind()))
+        return {};
+    const Animation animation = parseAnimation(document.project(), document.displayName().toStdString());
+    if (animation.empty())
+        return {};
+    const ImportanceSide side = overlay.kind() == OverlayKind::SourceImportance ? ImportanceSide::Source : ImportanceSide::Receiver;
+    ImportanceRunResult run = accumulateDocumentAnimation(document, animation, animationFrameCount(animation), side);
+    overlay.showAnimationResult(side, std::move(run.accumulator));
+    return QString::asprintf("%.1f ms a frame", run.sampleMs / std::max(run.framesDone, 1));
 }
 
 int screenshot(const Arguments& args, int width, int height)
@@ -46,9 +71,32 @@ int screenshot(const Arguments& args, int width, int height)
     ViewStyle style;
     style.rayCap = args.rays;
     style.showBlocked = args.showBlocked;
+    PatchOverlay overlay;
+    overlay.setKind(parseOverlayKind(args.overlay));
+    overlay.setStatistic(parseImportanceStatistic(args.statistic));
+    const QString animationTime = prepareOverlay(document, overlay);
     const Project& project = document.project();
     const Camera camera = projectView(document.editorSettings(), project.source, project.receiver);
-    const OffscreenResult result = renderOffscreen(document, camera, style, width, height, gl::parseBackend(args.glBackend));
+    OffscreenResult result = renderOffscreen(document, camera, style, width, height, gl::parseBackend(args.glBackend), &overlay);
+    if (overlay.kind() == OverlayKind::LightOnReceiver && !overlay.error().empty())
+        throw sightline::Error(overlay.error());
+    if (const ImportanceMap* map = overlay.importance()) {
+        // The legend in the top-right corner, as in the editor.
+        const QString caption = overlay.legendCaption();
+        const QSize size = legendPanelSize(caption, height - 16);
+        QPainter painter(&result.image);
+        paintLegendPanel(painter, QRect(QPoint(width - size.width() - 8, 8), size), caption);
+        painter.end();
+        std::printf("overlay %s importance: %s (mean value %.1f%%%s%s)\n", toString(overlay.kind()),
+                    overlay.legendCaption().toUtf8().constData(), 100.0 * map->mean(), animationTime.isEmpty() ? "" : ", ",
+                    animationTime.toUtf8().constData());
+    } else if (const LightImage* light = overlay.light()) {
+        glm::dvec3 sum(0.0);
+        for (const glm::vec3& c : light->rgb)
+            sum += glm::dvec3(c);
+        sum /= double(std::max<std::size_t>(light->rgb.size(), 1));
+        std::printf("overlay light on the receiver: mean R %.1f%%, G %.1f%%, B %.1f%%\n", 100.0 * sum.r, 100.0 * sum.g, 100.0 * sum.b);
+    }
     if (!result.image.save(QString::fromStdString(args.screenshot), "PNG"))
         throw sightline::Error(args.screenshot + ": could not write the image");
     std::printf("wrote %s (%dx%d): %s; %llu rays drawn\n", args.screenshot.c_str(), width, height,
@@ -63,6 +111,9 @@ int benchmark(const Arguments& args, int width, int height)
         return 1;
     window.viewport().style().rayCap = args.rays;
     window.viewport().style().showBlocked = args.showBlocked;
+    window.overlayControls().setKind(parseOverlayKind(args.overlay));
+    window.overlayControls().setStatistic(parseImportanceStatistic(args.statistic));
+    window.overlayControls().setAccumulating(args.accumulate);
     const InteractionFigures f = runInteractionBenchmark(window, args.frames, width, height);
     std::printf("interaction benchmark: %s, %d frames at %dx%d, receiver dragged along a scripted path\n",
                 args.file.c_str(), f.frames, f.width, f.height);
@@ -72,6 +123,7 @@ int benchmark(const Arguments& args, int width, int height)
     std::printf("  update rate    %.1f Hz median (frame %.1f ms median, %.1f ms 90th percentile)\n", f.medianHz,
                 f.medianFrameMs, f.p90FrameMs);
     std::printf("  sampling       %.1f ms median per update\n", f.medianSampleMs);
+    std::printf("  overlay        %s%s\n", args.overlay.c_str(), args.accumulate ? ", accumulating" : "");
     return 0;
 }
 
@@ -91,6 +143,16 @@ int main(int argc, char** argv)
     app.add_option("--size", args.size, "Screenshot or benchmark viewport size, WxH");
     app.add_option("--rays", args.rays, "Most rays drawn (screenshot and benchmark)")->check(CLI::Range(1, 1 << 30));
     app.add_flag("--show-blocked", args.showBlocked, "Draw blocked rays too, in red (screenshot and benchmark)");
+    app.add_option("--overlay", args.overlay, "Paint receiver or source importance, or the source's light on the "
+                                              "receiver. Screenshot: importance accumulated over the project's animation "
+                                              "when it has one (else this frame), with its legend; benchmark: shown while "
+                                              "dragging")
+        ->check(CLI::IsMember({"none", "receiver", "source", "light"}));
+    app.add_option("--statistic", args.statistic,
+                   "How accumulated frames combine (screenshot: the animation's; benchmark: with --accumulate): "
+                   "mean, max or ever")
+        ->check(CLI::IsMember({"mean", "max", "ever"}));
+    app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging");
     app.add_option("--gl-backend", args.glBackend, "Screenshot: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
     try {
         app.parse(argc, argv);
@@ -110,7 +172,13 @@ int main(int argc, char** argv)
     QCoreApplication::setApplicationName("Sightline");
     try {
         if (!args.screenshot.empty()) {
-            QCoreApplication core(argc, argv);   // no display needed: OSMesa renders
+            // No display needed: OSMesa renders. The importance legend's text needs a
+            // QGuiApplication, on the offscreen platform when there is no display.
+            if (args.overlay == "receiver" || args.overlay == "source") {
+                const auto application = ensureApplication();
+                return screenshot(args, width, height);
+            }
+            QCoreApplication core(argc, argv);
             return screenshot(args, width, height);
         }
         QSurfaceFormat format;

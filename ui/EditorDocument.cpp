@@ -304,6 +304,15 @@ const std::vector<std::size_t>& EditorDocument::occluderOfInstance() const
     return occluderOfInstance_;
 }
 
+ProjectMeshes EditorDocument::projectMeshes() const
+{
+    ProjectMeshes meshes;
+    meshes.level = sceneFile_;
+    for (const OccluderSpec& spec : project_.occluders)
+        meshes.occluders.push_back(occluderMesh(spec));
+    return meshes;
+}
+
 const Scene& EditorDocument::scene() const
 {
     if (!scene_) {

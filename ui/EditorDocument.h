@@ -44,6 +44,9 @@ public:
     const Scene& scene() const;
     /// Which occluder each instance of occluderScene() belongs to.
     const std::vector<std::size_t>& occluderOfInstance() const;
+    /// The meshes as loaded (the scene file with its moved objects, each occluder's mesh in object
+    /// space), for a ProjectSampler: what loadProjectMeshes would read from disk, without reading.
+    ProjectMeshes projectMeshes() const;
 
     QUndoStack* undoStack() { return &undo_; }
     const std::filesystem::path& filePath() const { return file_; }

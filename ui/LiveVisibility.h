@@ -51,6 +51,9 @@ public:
     /// Times one sample with each available back end on this pair and keeps the faster.
     /// Returns a line for the user ("CPU bitmask 12 ms, GL bitmask 740 ms: using CPU").
     std::string chooseBackend(const Patch& source, const Patch& receiver);
+    /// A new level is coming (setScene next): both samplers may answer until chooseBackend() runs
+    /// again, since which is faster depends on the level.
+    void forgetChoice() { chosen_ = false; }
     void setBackend(Backend backend) { backend_ = backend; }
     Backend backend() const { return backend_; }
     std::string backendName() const;

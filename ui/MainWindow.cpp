@@ -22,6 +22,7 @@
 #include <QToolBar>
 
 #include "OutlinePanel.h"
+#include "OverlayControls.h"
 #include "PropertiesPanel.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
@@ -62,6 +63,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     backendLabel_ = new QLabel(this);
     statusBar()->addWidget(raysLabel_, 1);
     statusBar()->addPermanentWidget(backendLabel_);
+    overlay_ = new OverlayControls(*this, document_, *viewport_, *controller_, container_, viewMenu_, toolbar_);
     connect(viewport_, &Viewport::visibilityUpdated, this, &MainWindow::updateStatus);
     connect(viewport_, &Viewport::backendChosen, this, [this](const QString& report) {
         backendLabel_->setToolTip(report);
@@ -199,6 +201,7 @@ void MainWindow::createActions()
     const Qt::Key modeKeys[] = {Qt::Key_W, Qt::Key_E, Qt::Key_R};
     QToolBar* toolbar = addToolBar(tr("Tools"));
     toolbar->setObjectName("tools");
+    toolbar_ = toolbar;
     for (int i = 0; i < 3; ++i) {
         QAction* a = action(transform, modeList[i].first, QKeySequence(modeKeys[i]), [this, mode = modeList[i].second] { controller_->setGizmoMode(mode); });
         a->setCheckable(true);
@@ -209,6 +212,7 @@ void MainWindow::createActions()
     toolbar->addSeparator();
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
+    viewMenu_ = view;
     action(view, tr("&Frame Selection"), QKeySequence(Qt::Key_F), [this] { controller_->frameSelection(); });
     QAction* wire = action(view, tr("&Wireframe"), QKeySequence(Qt::Key_Z), [this](bool on) {
         viewport_->style().wireframe = on;

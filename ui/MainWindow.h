@@ -16,10 +16,12 @@
 class QAction;
 class QLabel;
 class QMenu;
+class QToolBar;
 
 namespace sightline::ui {
 
 class OutlinePanel;
+class OverlayControls;
 class PropertiesPanel;
 class Viewport;
 
@@ -41,6 +43,7 @@ public:
     ViewportController& controller() { return *controller_; }
     Viewport& viewport() { return *viewport_; }
     QWidget* viewportContainer() { return container_; }
+    OverlayControls& overlayControls() { return *overlay_; }
 
     /// Opens a project or mesh file; on failure shows the one-line error and returns false.
     bool openFile(const QString& file);
@@ -78,6 +81,9 @@ private:
     QMenu* recentMenu_ = nullptr;
     QLabel* raysLabel_ = nullptr;
     QLabel* backendLabel_ = nullptr;
+    QMenu* viewMenu_ = nullptr;
+    QToolBar* toolbar_ = nullptr;
+    OverlayControls* overlay_ = nullptr;
     QTimer autosaveTimer_;
 };
 

@@ -6,7 +6,7 @@
 namespace sightline::ui {
 
 OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& camera, const ViewStyle& style, int width,
-                                int height, gl::Backend backend)
+                                int height, gl::Backend backend, PatchOverlay* overlay)
 {
     if (width < 1 || height < 1 || width > 16384 || height > 16384)
         throw Error("image size must be between 1x1 and 16384x16384");
@@ -28,6 +28,10 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         const Project& project = document.project();
         result.visibility = visibility.sample(project.source, project.receiver);
         renderer.setHiddenSamples(result.visibility.valid ? &result.visibility.map : nullptr);
+        if (overlay) {
+            overlay->setLive(result.visibility, project, true);
+            renderer.setOverlay(overlayPatch(overlay->kind()), &overlay->texels());
+        }
 
         FrameState frame;
         frame.camera = camera;

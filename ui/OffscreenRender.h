@@ -7,6 +7,7 @@
 
 #include "Camera.h"
 #include "LiveVisibility.h"
+#include "PatchOverlay.h"
 #include "ViewportRenderer.h"
 #include "visibility/gl/HeadlessContext.h"
 
@@ -20,8 +21,10 @@ struct OffscreenResult {
     std::uint64_t raysDrawn = 0;
 };
 
-/// Throws sightline::Error (no GL context, shader errors).
+/// Throws sightline::Error (no GL context, shader errors). With `overlay`, the sampled result goes
+/// to it as a new frame and its colours are drawn (set its kind, statistic or animation result
+/// before).
 OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& camera, const ViewStyle& style, int width,
-                                int height, gl::Backend backend = gl::Backend::OSMesa);
+                                int height, gl::Backend backend = gl::Backend::OSMesa, PatchOverlay* overlay = nullptr);
 
 } // namespace sightline::ui

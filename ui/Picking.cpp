@@ -1,5 +1,6 @@
 #include "Picking.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -43,7 +44,7 @@ std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray
     return best;
 }
 
-std::optional<double> pickPatch(const Patch& patch, const Ray& ray)
+std::optional<PatchSampleHit> pickPatchSample(const Patch& patch, const Ray& ray)
 {
     const glm::dvec3 n = glm::cross(patch.u, patch.v);
     const double denom = glm::dot(n, ray.direction);
@@ -56,11 +57,24 @@ std::optional<double> pickPatch(const Patch& patch, const Ray& ray)
     // Coordinates in the (u, v) basis through the dual basis.
     const double uu = glm::dot(patch.u, patch.u), uv = glm::dot(patch.u, patch.v), vv = glm::dot(patch.v, patch.v);
     const double det = uu * vv - uv * uv;
-    const double a = (vv * glm::dot(d, patch.u) - uv * glm::dot(d, patch.v)) / det;
-    const double b = (uu * glm::dot(d, patch.v) - uv * glm::dot(d, patch.u)) / det;
-    if (a < 0.0 || a > 1.0 || b < 0.0 || b > 1.0)
+    const double s = (vv * glm::dot(d, patch.u) - uv * glm::dot(d, patch.v)) / det;
+    const double t = (uu * glm::dot(d, patch.v) - uv * glm::dot(d, patch.u)) / det;
+    if (!(s >= 0.0 && s <= 1.0 && t >= 0.0 && t <= 1.0))
         return std::nullopt;
-    return dist;
+    PatchSampleHit hit;
+    hit.distance = dist;
+    hit.s = s;
+    hit.t = t;
+    hit.a = std::clamp(int(std::floor(s * patch.na)), 0, std::max(patch.na - 1, 0));   // s = 1 is the last cell's edge
+    hit.b = std::clamp(int(std::floor(t * patch.nb)), 0, std::max(patch.nb - 1, 0));
+    return hit;
+}
+
+std::optional<double> pickPatch(const Patch& patch, const Ray& ray)
+{
+    if (const auto hit = pickPatchSample(patch, ray))
+        return hit->distance;
+    return std::nullopt;
 }
 
 Patch patchOnSurface(const SurfaceHit& hit, double width, double height, int na, int nb, double offset)

@@ -25,6 +25,17 @@ std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray
 /// Distance along the ray to the patch's parallelogram, if hit.
 std::optional<double> pickPatch(const Patch& patch, const Ray& ray);
 
+/// Where a ray crosses a patch: the patch coordinates (s, t) in [0, 1]^2 (point c + s u + t v)
+/// and the sample whose cell holds them. Sample (a, b) sits at the centre of its cell
+/// [a/na, (a+1)/na) x [b/nb, (b+1)/nb) (DESIGN.md §2), which is also the texel the overlay
+/// draws there.
+struct PatchSampleHit {
+    double distance = 0.0;
+    double s = 0.0, t = 0.0;
+    int a = 0, b = 0;
+};
+std::optional<PatchSampleHit> pickPatchSample(const Patch& patch, const Ray& ray);
+
 /// A width x height patch lying on the surface at `hit`, lifted `offset` metres off it along the
 /// normal, facing away from the surface. Edges follow the surface: u horizontal where the surface
 /// is a wall, along X on floors and ceilings; the grid keeps `na` x `nb`.

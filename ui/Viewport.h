@@ -3,7 +3,9 @@
 // a QOpenGLWidget, DESIGN.md §6), placed in the main window with QWidget::createWindowContainer.
 // It owns the GL side (ViewportRenderer, the GL back end of LiveVisibility) and forwards input to
 // the ViewportController. Sampling happens at paint time, only when the patches or the scene
-// changed since the last frame, so a drag costs one sample per frame drawn.
+// changed since the last frame, so a drag costs one sample per frame drawn. Each new result also
+// goes to the patch overlay (importance or light, PatchOverlay.h), which does nothing while it is
+// off; its colours are uploaded only when they changed.
 
 #include <QElapsedTimer>
 #include <QOpenGLWindow>
@@ -13,6 +15,7 @@
 #include <memory>
 
 #include "LiveVisibility.h"
+#include "PatchOverlay.h"
 #include "ViewportController.h"
 #include "ViewportRenderer.h"
 
@@ -33,10 +36,19 @@ public:
     /// Median interval between the last frames that re-sampled (a live update rate), in Hz.
     double updateRate() const;
     std::uint64_t raysDrawn() const { return raysDrawn_; }
+    /// The overlay painted on a patch. After changing it, call update(): the next frame brings it
+    /// up to date (it may need the current result) and emits overlayUpdated().
+    PatchOverlay& overlay() { return overlay_; }
+    const PatchOverlay& overlay() const { return overlay_; }
 
 signals:
     /// After every frame that re-sampled.
     void visibilityUpdated();
+    /// After every frame whose overlay colours changed.
+    void overlayUpdated();
+    /// The mouse moved over the view with no button held (position in logical pixels).
+    void hovered(QPointF position);
+    void hoverLeft();
     void backendChosen(const QString& report);
     void filesDropped(const QStringList& files);
 
@@ -59,6 +71,8 @@ private:
     std::unique_ptr<ViewportRenderer> renderer_;
     LiveVisibility visibility_;
     VisibilityResult result_;
+    PatchOverlay overlay_;
+    std::uint64_t overlayVersion_ = 0;   ///< the overlay version the renderer has
     ViewStyle style_;
     QString backendReport_;
     bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true;

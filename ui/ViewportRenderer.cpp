@@ -106,6 +106,45 @@ void main() {
 }
 )";
 
+// The overlay: the patch's parallelogram, patch coordinates (s, t) in [0, 1]^2, lifted a little
+// towards the eye. Colours come from a buffer texture, sample (a, b) at texel b * na + a, fetched
+// by hand: texel (a, b) covers the cell [a/na, (a+1)/na) x [b/nb, (b+1)/nb) whose centre is sample
+// (a, b) (DESIGN.md §2), exactly; `smoothing` interpolates between sample centres instead.
+const char* kOverlayVertex = R"(#version 450 core
+uniform mat4 viewProj;
+uniform vec3 corner, edgeU, edgeV, lift;
+out vec2 st;
+void main() {
+    const vec2 corners[6] = vec2[6](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
+    st = corners[gl_VertexID];
+    gl_Position = viewProj * vec4(corner + st.x * edgeU + st.y * edgeV + lift, 1.0);
+}
+)";
+
+const char* kOverlayFragment = R"(#version 450 core
+in vec2 st;
+uniform ivec2 grid;
+uniform int smoothing;
+layout(binding = 1) uniform samplerBuffer texels;
+layout(location = 0) out vec4 colour;
+vec4 texel(ivec2 p) {
+    p = clamp(p, ivec2(0), grid - 1);
+    return texelFetch(texels, p.y * grid.x + p.x);
+}
+void main() {
+    vec2 cell = st * vec2(grid);
+    if (smoothing == 0) {
+        colour = vec4(texel(ivec2(floor(cell))).rgb, 1.0);
+        return;
+    }
+    vec2 q = cell - 0.5;   // sample centres at integer q
+    ivec2 i = ivec2(floor(q));
+    vec2 f = q - vec2(i);
+    vec4 c = mix(mix(texel(i), texel(i + ivec2(1, 0)), f.x), mix(texel(i + ivec2(0, 1)), texel(i + ivec2(1, 1)), f.x), f.y);
+    colour = vec4(c.rgb, 1.0);
+}
+)";
+
 struct MeshVertex {
     glm::vec3 position;
     glm::vec3 normal;
@@ -204,12 +243,16 @@ struct ViewportRenderer::MeshBuffer {
 
 struct ViewportRenderer::Impl {
     const gl::Functions& gl;
-    GLuint meshProgram = 0, lineProgram = 0, rayProgram = 0;
+    GLuint meshProgram = 0, lineProgram = 0, rayProgram = 0, overlayProgram = 0;
     MeshBuffer sceneFile, occluders;
     GLuint lineVao = 0, lineVbo = 0;
     GLuint rayVao = 0, mapBuffer = 0, mapTexture = 0;
     const HiddenSampleMap* map = nullptr;
     bool mapUploaded = false;
+    GLuint overlayBuffer = 0, overlayTexture = 0;
+    ObjectKind overlayPatch = ObjectKind::None;   ///< None: no overlay uploaded
+    int overlayNa = 0, overlayNb = 0;
+    bool overlaySmooth = false;
 
     // The scene file's image and depth, kept while the view and the scene file stay the same:
     // during a drag of a patch or an occluder only what moved is drawn again (on llvmpipe the
@@ -280,6 +323,7 @@ ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_un
     d.meshProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kMeshVertex}, {GL_FRAGMENT_SHADER, kMeshFragment}}, "viewport");
     d.lineProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kLineVertex}, {GL_FRAGMENT_SHADER, kLineFragment}}, "viewport");
     d.rayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kRayVertex}, {GL_FRAGMENT_SHADER, kLineFragment}}, "viewport");
+    d.overlayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kOverlayVertex}, {GL_FRAGMENT_SHADER, kOverlayFragment}}, "viewport");
     d.makeMeshBuffer(d.sceneFile);
     d.makeMeshBuffer(d.occluders);
 
@@ -296,19 +340,22 @@ ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_un
     gl.CreateVertexArrays(1, &d.rayVao);   // attribute-less: the rays come from gl_VertexID
     gl.CreateBuffers(1, &d.mapBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.mapTexture);
+    gl.CreateBuffers(1, &d.overlayBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.overlayTexture);
 }
 
 ViewportRenderer::~ViewportRenderer()
 {
     Impl& d = *impl_;
     const gl::Functions& gl = d.gl;
-    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram})
+    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram, d.overlayProgram})
         gl.DeleteProgram(p);
     GLuint vaos[] = {d.sceneFile.vao, d.occluders.vao, d.lineVao, d.rayVao};
     gl.DeleteVertexArrays(4, vaos);
-    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer};
-    gl.DeleteBuffers(4, buffers);
-    gl.DeleteTextures(1, &d.mapTexture);
+    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.overlayBuffer};
+    gl.DeleteBuffers(5, buffers);
+    GLuint textures[] = {d.mapTexture, d.overlayTexture};
+    gl.DeleteTextures(2, textures);
     d.cache.destroy(gl);
 }
 
@@ -337,6 +384,20 @@ void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
     d.mapUploaded = true;
 }
 
+void ViewportRenderer::setOverlay(ObjectKind patch, const OverlayTexels* texels)
+{
+    Impl& d = *impl_;
+    d.overlayPatch = ObjectKind::None;
+    if (!texels || texels->empty() || (patch != ObjectKind::Source && patch != ObjectKind::Receiver))
+        return;
+    d.gl.NamedBufferData(d.overlayBuffer, GLsizeiptr(texels->rgba.size()), texels->rgba.data(), GL_STREAM_DRAW);
+    d.gl.TextureBuffer(d.overlayTexture, GL_RGBA8, d.overlayBuffer);
+    d.overlayPatch = patch;
+    d.overlayNa = texels->na;
+    d.overlayNb = texels->nb;
+    d.overlaySmooth = texels->smooth;
+}
+
 void ViewportRenderer::render(const FrameState& f)
 {
     Impl& d = *impl_;
@@ -344,7 +405,7 @@ void ViewportRenderer::render(const FrameState& f)
     const glm::mat4 viewProj = f.camera.projection(double(f.width) / f.height, f.sceneRadius) * f.camera.view();
     const glm::vec3 eye(f.camera.eye());
     const glm::vec3 forward(f.camera.forward());
-    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram})
+    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram, d.overlayProgram})
         gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
@@ -413,6 +474,38 @@ void ViewportRenderer::render(const FrameState& f)
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     }
 
+    // The overlay, opaque (depth written, so translucent things behind it stay behind it).
+    const Patch* overlaid = d.overlayPatch == ObjectKind::Source     ? &f.source
+                            : d.overlayPatch == ObjectKind::Receiver ? &f.receiver
+                                                                     : nullptr;
+    if (overlaid && (overlaid->na != d.overlayNa || overlaid->nb != d.overlayNb))
+        overlaid = nullptr;   // the grid changed since the upload: the colours belong to another grid
+    if (overlaid) {
+        const GLuint p = d.overlayProgram;
+        auto vec3 = [&](const char* name, const glm::dvec3& v) {
+            const glm::vec3 x(v);
+            gl.ProgramUniform3fv(p, d.loc(p, name), 1, glm::value_ptr(x));
+        };
+        // Lifted towards the eye by a millimetre a metre of patch, and pulled forward in depth, so
+        // it wins against the patch's own plane and the surface the patch was placed on (2 cm).
+        const glm::dvec3 n = glm::normalize(glm::cross(overlaid->u, overlaid->v));
+        const double side = glm::dot(glm::dvec3(eye) - overlaid->corner, n) >= 0.0 ? 1.0 : -1.0;
+        const double size = std::max(glm::length(overlaid->u), glm::length(overlaid->v));
+        vec3("corner", overlaid->corner);
+        vec3("edgeU", overlaid->u);
+        vec3("edgeV", overlaid->v);
+        vec3("lift", side * 1e-3 * size * n);
+        gl.ProgramUniform2i(p, d.loc(p, "grid"), d.overlayNa, d.overlayNb);
+        gl.ProgramUniform1i(p, d.loc(p, "smoothing"), d.overlaySmooth ? 1 : 0);
+        gl.UseProgram(p);
+        gl.BindTextureUnit(1, d.overlayTexture);
+        gl.BindVertexArray(d.rayVao);   // attribute-less too
+        gl.Enable(GL_POLYGON_OFFSET_FILL);
+        gl.PolygonOffset(-1.0f, -1.0f);
+        gl.DrawArrays(GL_TRIANGLES, 0, 6);
+        gl.Disable(GL_POLYGON_OFFSET_FILL);
+    }
+
     // Translucent: rays, then the patches, without writing depth.
     gl.Enable(GL_BLEND);
     gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
@@ -450,8 +543,9 @@ void ViewportRenderer::render(const FrameState& f)
     std::vector<LineVertex> triangles, lines, overlay;
     auto quad = [&](const Patch& patch, const glm::vec4& colour) {
         const glm::vec3 c(patch.corner), u(patch.u), v(patch.v);
-        for (const glm::vec3& p : {c, c + u, c + u + v, c, c + u + v, c + v})
-            triangles.push_back({p, colour});
+        if (&patch != overlaid)   // a tint over the overlay would change its colours
+            for (const glm::vec3& p : {c, c + u, c + u + v, c, c + u + v, c + v})
+                triangles.push_back({p, colour});
         const glm::vec4 edge(glm::vec3(colour) * 1.2f, 1.0f);
         const glm::vec3 corners[4] = {c, c + u, c + u + v, c + v};
         for (int k = 0; k < 4; ++k) {

@@ -5,6 +5,8 @@
 //   - the placed occluders; the selected object highlighted;
 //   - the two patches (translucent), their outlines and the shaft between them (red if the pair
 //     is invalid);
+//   - an overlay on one patch (importance or light, PatchOverlay.h): one texel per sample, drawn
+//     opaque just in front of the patch in place of its translucent fill;
 //   - the rays straight from the hidden-samples map (§9 of Eisemann & Décoret: the map is the
 //     answer the designer looks at). A vertex shader turns gl_VertexID into (receiver sample,
 //     source sample), reads the ray's bit from the map in a buffer texture and moves blocked rays
@@ -21,6 +23,7 @@
 #include "Camera.h"
 #include "Gizmo.h"
 #include "ObjectEdits.h"
+#include "OverlayTexels.h"
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
@@ -102,6 +105,10 @@ public:
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair).
     void setHiddenSamples(const HiddenSampleMap* map);
+    /// Colours to draw on the source or receiver patch (nullptr or ObjectKind::None: none).
+    /// Copied: a small buffer upload (4 bytes a sample). Drawn only while the patch's grid is
+    /// the texels' grid.
+    void setOverlay(ObjectKind patch, const OverlayTexels* texels);
 
     void render(const FrameState& frame);
 

@@ -1,17 +1,31 @@
 // The editor as a user drives it, under Xvfb (Qt Test): open the demo project, place a patch with
-// a click, drag an occluder into the shaft with the gizmo, undo, save and reload, screenshot.
+// a click, drag an occluder into the shaft with the gizmo, undo, save and reload, screenshot; the
+// importance overlay with its legend, read-out, accumulation and the animation run.
 
+#include <QAction>
+#include <QApplication>
+#include <QComboBox>
+#include <QLabel>
+#include <QMessageBox>
+#include <QScreen>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QTest>
+#include <QTimer>
+
+#include <fstream>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "MainWindow.h"
+#include "OverlayControls.h"
+#include "OverlayLegend.h"
 #include "UiTestScene.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
+#include "project/Animation.h"
 #include "project/Project.h"
+#include "visibility/ColourMap.h"
 #include "visibility/RayCastSampler.h"
 
 using namespace sightline;
@@ -33,6 +47,41 @@ QPoint pixelOf(const ViewportController& controller, const glm::dvec3& point)
 }
 
 bool yellowish(QRgb c) { return qRed(c) > qBlue(c) + 40 && qGreen(c) > qBlue(c) + 30; }
+
+bool closeTo(QRgb c, Rgb8 expected, int tolerance)
+{
+    return std::abs(qRed(c) - expected.r) <= tolerance && std::abs(qGreen(c) - expected.g) <= tolerance &&
+           std::abs(qBlue(c) - expected.b) <= tolerance;
+}
+
+/// A camera in front of `patch` (on its normal's side), looking at its centre.
+Camera facing(const Patch& patch, double distance)
+{
+    Camera camera;
+    camera.target = patch.centre();
+    camera.distance = distance;
+    const glm::dvec3 forward = -patch.normal();
+    camera.yaw = std::atan2(-forward.x, -forward.z);
+    camera.pitch = std::asin(forward.y);
+    return camera;
+}
+
+/// Runs `action` with a QTimer that, once a modal dialog is up, records its text and closes it.
+QString modalTextDuring(const std::function<void()>& action)
+{
+    QString text;
+    QTimer timer;
+    timer.setInterval(50);
+    QObject::connect(&timer, &QTimer::timeout, [&] {
+        if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+            text = box->text();
+            box->done(QMessageBox::Ok);
+        }
+    });
+    timer.start();
+    action();
+    return text;
+}
 
 } // namespace
 
@@ -169,6 +218,204 @@ private slots:
         QVERIFY(!yellowish(image.pixel(above)));
     }
 
+    void overlayShowsTheLegendAndReadsOutTheSampleUnderTheCursor()
+    {
+        OverlayControls& controls = window_->overlayControls();
+        Viewport& viewport = window_->viewport();
+        QVERIFY(viewport.overlay().kind() == OverlayKind::None);
+        QVERIFY(!controls.legend()->isVisible());
+        QVERIFY(viewport.overlay().texels().empty());
+
+        window_->findChild<QAction*>("overlayReceiver")->trigger();
+        waitForOverlay();
+        QVERIFY(viewport.overlay().kind() == OverlayKind::ReceiverImportance);
+        QCOMPARE(controls.kindCombo()->currentIndex(), 1);
+        QVERIFY(viewport.overlay().importance());
+        QVERIFY(controls.legend()->isVisible());
+        QCOMPARE(controls.legend()->caption(), QString::fromUtf8("fraction of the source seen — this frame"));
+
+        // Seen on screen, over the 3D view: the colour bar's top is 100% (yellow), its bottom 0%.
+        QTest::qWait(200);
+        const QRect bar = controls.legend()->colourBar();
+        const QPoint topLeft = controls.legend()->mapToGlobal(bar.topLeft());
+        const QImage screen = window_->screen()->grabWindow(0, topLeft.x(), topLeft.y(), bar.width(), bar.height()).toImage();
+        QVERIFY(!screen.isNull());
+        const QRgb top = screen.pixel(bar.width() / 2, 1);
+        QVERIFY2(closeTo(top, viridis8(1.0f), 12), qPrintable(QString::number(top, 16)));
+        QVERIFY(closeTo(screen.pixel(bar.width() / 2, bar.height() - 2), viridis8(0.0f), 12));
+        const QPoint legendCorner = controls.legend()->mapTo(window_->viewportContainer(), QPoint(0, 0));
+        QVERIFY(window_->viewportContainer()->rect().contains(QRect(legendCorner, controls.legend()->size())));
+
+        // Hovering a receiver sample: its value in the status bar, the fraction of the source it sees.
+        const Project& project = window_->document().project();
+        ViewportController& controller = window_->controller();
+        controller.setCamera(facing(project.receiver, 2.0));
+        waitForOverlay();
+        const glm::dvec3 point = project.receiver.corner + (12.5 / 32.0) * project.receiver.u + (30.5 / 32.0) * project.receiver.v;
+        QTest::mouseMove(&viewport, pixelOf(controller, point));
+        QTRY_VERIFY(!controls.readOutLabel()->text().isEmpty());
+        const QPoint at = pixelOf(controller, point);
+        const Ray ray = pixelRay(controller.camera(), at.x(), at.y(), controller.width(), controller.height());
+        const auto hit = pickPatchSample(project.receiver, ray);
+        QVERIFY(hit);
+        const double fraction = receiverImportance(viewport.visibility().map).at(hit->a, hit->b);
+        QCOMPARE(controls.readOutLabel()->text(),
+                 QString("receiver sample (%1, %2): %3% of the source seen (this frame)")
+                     .arg(hit->a)
+                     .arg(hit->b)
+                     .arg(100.0 * fraction, 0, 'f', 1));
+        QVERIFY(std::abs(hit->a - 12) <= 1 && std::abs(hit->b - 30) <= 1);
+        // Off the patch: no read-out.
+        QTest::mouseMove(&viewport, QPoint(5, 5));
+        QTRY_VERIFY(controls.readOutLabel()->text().isEmpty());
+
+        // The toolbar's combo and the menu stay in step; the light has no legend but a read-out.
+        controls.kindCombo()->setCurrentIndex(3);
+        waitForOverlay();
+        QVERIFY(window_->findChild<QAction*>("overlayLight")->isChecked());
+        QVERIFY(viewport.overlay().light());
+        QVERIFY(!controls.legend()->isVisible());
+        QTest::mouseMove(&viewport, pixelOf(controller, point));
+        QTRY_VERIFY(controls.readOutLabel()->text().contains("light R "));
+        controls.kindCombo()->setCurrentIndex(2);
+        waitForOverlay();
+        QVERIFY(window_->findChild<QAction*>("overlaySource")->isChecked());
+        QCOMPARE(controls.legend()->caption(), QString::fromUtf8("fraction of the receiver seeing it — this frame"));
+    }
+
+    void accumulatesWhileEditingAndResets()
+    {
+        OverlayControls& controls = window_->overlayControls();
+        Viewport& viewport = window_->viewport();
+        EditorDocument& document = window_->document();
+        controls.setKind(OverlayKind::ReceiverImportance);
+        QVERIFY(!controls.accumulateAction()->isChecked());
+        controls.accumulateAction()->trigger();
+        waitForOverlay();
+        QVERIFY(viewport.overlay().accumulating());
+        QCOMPARE(viewport.overlay().frames(), 1);   // the current frame starts it
+
+        // Two drags of the receiver: three different frames, their mean shown.
+        const ObjectRef receiver{ObjectKind::Receiver, 0};
+        const Patch start = document.project().receiver;
+        std::vector<ImportanceMap> frames{receiverImportance(viewport.visibility().map)};
+        for (int step = 1; step <= 2; ++step) {
+            Patch moved = start;
+            moved.corner += 0.4 * step * start.u;
+            document.applyState(receiver, moved);
+            waitForUpdate();
+            frames.push_back(receiverImportance(viewport.visibility().map));
+        }
+        QCOMPARE(viewport.overlay().frames(), 3);
+        QCOMPARE(controls.legend()->caption(), QString::fromUtf8("fraction of the source seen — mean of 3 frames"));
+        const ImportanceMap* mean = viewport.overlay().importance();
+        QVERIFY(mean);
+        for (std::size_t k = 0; k < mean->values.size(); k += 97)
+            QVERIFY(std::abs(mean->values[k] - (frames[0].values[k] + frames[1].values[k] + frames[2].values[k]) / 3.0f) < 1e-5f);
+
+        // The statistic from the toolbar.
+        controls.statisticCombo()->setCurrentIndex(1);
+        waitForOverlay();
+        QVERIFY(viewport.overlay().statistic() == ImportanceStatistic::Maximum);
+        QVERIFY(window_->findChild<QAction*>("statisticMaximum")->isChecked());
+        QCOMPARE(controls.legend()->caption(), QString::fromUtf8("fraction of the source seen — maximum of 3 frames"));
+        controls.statisticCombo()->setCurrentIndex(0);
+
+        // Ctrl+R starts again from the current frame.
+        QCOMPARE(controls.resetAction()->shortcut(), QKeySequence(Qt::CTRL | Qt::Key_R));
+        window_->activateWindow();   // shortcuts go to the active window (no window manager here)
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_R, Qt::ControlModifier);
+        waitForOverlay();
+        QCOMPARE(viewport.overlay().frames(), 1);
+
+        // Another receiver grid: a new accumulation.
+        document.applyState(receiver, start);
+        waitForUpdate();
+        QCOMPARE(viewport.overlay().frames(), 2);
+        Patch finer = start;
+        finer.na = finer.nb = 16;
+        document.setState(receiver, finer, "grid");
+        waitForUpdate();
+        QCOMPARE(viewport.overlay().frames(), 1);
+        QCOMPARE(viewport.overlay().importance()->na, 16);
+        document.undoStack()->undo();
+        waitForUpdate();
+
+        // Off: the current frame again.
+        controls.accumulateAction()->trigger();
+        waitForOverlay();
+        QVERIFY(!viewport.overlay().accumulating());
+        QCOMPARE(controls.legend()->caption(), QString::fromUtf8("fraction of the source seen — this frame"));
+    }
+
+    void accumulatesTheProjectsAnimation()
+    {
+        OverlayControls& controls = window_->overlayControls();
+        Viewport& viewport = window_->viewport();
+        // Without an animation: a message says so and nothing changes.
+        nlohmann::json document = nlohmann::json::parse(std::ifstream(project_));
+        document.erase("animation");
+        const auto still = folder_ / "still.json";
+        std::ofstream(still) << document.dump(2);
+        QVERIFY(window_->openFile(QString::fromStdString(still.string())));
+        waitForUpdate();
+        const QString message = modalTextDuring([&] { QVERIFY(!controls.accumulateAnimation()); });
+        QVERIFY2(message.contains("still.json has no animation"), qPrintable(message));
+        QVERIFY(!viewport.overlay().hasAnimationResult());
+
+        // The demo with the receiver stepping 0.5 m sideways every other frame.
+        document["animation"] = nlohmann::json::parse(R"({"frames": 4, "tracks": [{"target": "receiver",
+            "interpolation": "step", "loop": true,
+            "keys": [{"frame": 0, "translate": [0, 0, 0]}, {"frame": 1, "translate": [0, 0, 0.5]}]}]})");
+        const auto animated = folder_ / "animated.json";
+        std::ofstream(animated) << document.dump(2);
+        QVERIFY(window_->openFile(QString::fromStdString(animated.string())));
+        waitForUpdate();
+        QVERIFY(controls.accumulateAnimation());
+        waitForOverlay();
+        QVERIFY(viewport.overlay().hasAnimationResult());
+        QVERIFY(viewport.overlay().kind() == OverlayKind::ReceiverImportance);
+        QCOMPARE(viewport.overlay().frames(), 4);
+        QCOMPARE(controls.legend()->caption(), QString::fromUtf8("fraction of the source seen — mean of 4 animation frames"));
+        QVERIFY(controls.legend()->isVisible());
+        // The mean of the two configurations, as the reference computes them (grazing rays aside).
+        const Project saved = loadProject(animated);
+        const Animation animation = parseAnimation(saved, "animated.json");
+        ImportanceMap expected;
+        for (int f = 0; f < 2; ++f) {
+            const Project frame = projectAtFrame(saved, animation, f);
+            const ImportanceMap fraction = receiverImportance(RayCastScene(buildScene(frame)).sample(frame.source, frame.receiver));
+            if (f == 0)
+                expected = fraction;
+            else
+                for (std::size_t k = 0; k < fraction.values.size(); ++k)
+                    expected.values[k] = 0.5f * (expected.values[k] + fraction.values[k]);
+        }
+        const ImportanceMap& shown = *viewport.overlay().importance();
+        QVERIFY(shown.sameGrid(expected));
+        float worst = 0.0f;
+        for (std::size_t k = 0; k < shown.values.size(); ++k)
+            worst = std::max(worst, std::abs(shown.values[k] - expected.values[k]));
+        QVERIFY2(worst <= 4.0f / 1024.0f, qPrintable(QString("worst sample off by %1").arg(worst)));
+        const HiddenSampleMap frame0 = RayCastScene(buildScene(saved)).sample(saved.source, saved.receiver);
+        const double visible0 = receiverImportance(frame0).mean();
+        QVERIFY(std::abs(shown.mean() - visible0) > 1e-3);   // the step matters
+
+        // An edit returns to the live overlay.
+        const ObjectRef receiver{ObjectKind::Receiver, 0};
+        window_->document().applyState(receiver, window_->document().project().receiver);
+        waitForUpdate();
+        QVERIFY(!viewport.overlay().hasAnimationResult());
+        QCOMPARE(viewport.overlay().frames(), 1);
+        QVERIFY(std::abs(viewport.overlay().importance()->mean() - visible0) < 1e-3);
+
+        controls.setKind(OverlayKind::None);
+        waitForOverlay();
+        QVERIFY(!controls.legend()->isVisible());
+        QVERIFY(viewport.overlay().texels().empty());
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
@@ -179,6 +426,14 @@ private:
     void waitForUpdate()
     {
         QSignalSpy spy(&window_->viewport(), &Viewport::visibilityUpdated);
+        window_->viewport().requestUpdate();
+        spy.wait(3000);
+        QTest::qWait(50);
+    }
+
+    void waitForOverlay()
+    {
+        QSignalSpy spy(&window_->viewport(), &Viewport::overlayUpdated);
         window_->viewport().requestUpdate();
         spy.wait(3000);
         QTest::qWait(50);

@@ -1,0 +1,105 @@
+#include "OverlayLegend.h"
+
+#include <algorithm>
+
+#include <QEvent>
+#include <QFontMetrics>
+#include <QPainter>
+#include <QWindow>
+
+#include "report/MapImage.h"
+
+namespace sightline::ui {
+
+namespace {
+constexpr int kMargin = 10;        // inside the panel
+constexpr int kBarWidth = 24;
+constexpr int kLabels = 82;        // ticks, labels and the rotated caption right of the bar (paintLegend)
+constexpr int kCorner = 8;         // from the viewport's corner
+constexpr int kMinBarHeight = 160;
+const QColor kPanel(34, 36, 40);
+
+QFont captionFont()
+{
+    QFont font;
+    font.setPixelSize(12);   // what paintLegend draws with
+    return font;
+}
+
+QRect barIn(const QRect& panel) { return {panel.left() + kMargin, panel.top() + kMargin, kBarWidth, panel.height() - 2 * kMargin}; }
+} // namespace
+
+QSize legendPanelSize(const QString& caption, int maxHeight)
+{
+    // The caption runs along the bar: the bar is as long as the caption, within limits.
+    const int captionLength = QFontMetrics(captionFont()).horizontalAdvance(caption) + 16;
+    const int bar = std::max(kMinBarHeight, captionLength);
+    return {kMargin + kBarWidth + kLabels + kMargin, std::max(std::min(bar + 2 * kMargin, maxHeight), 60)};
+}
+
+void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& caption)
+{
+    painter.save();
+    painter.fillRect(panel, kPanel);
+    painter.setPen(QColor(80, 84, 92));
+    painter.drawRect(panel.adjusted(0, 0, -1, -1));
+    painter.setBackground(kPanel);   // paintLegend picks light ink on a dark background
+    painter.setFont(captionFont());
+    paintLegend(painter, barIn(panel), caption);
+    painter.restore();
+}
+
+OverlayLegend::OverlayLegend(QWidget* host) : QWidget(host), host_(host)
+{
+    setObjectName("overlayLegend");
+    setAttribute(Qt::WA_NativeWindow);   // above the native 3D view (see the header)
+    setAttribute(Qt::WA_TransparentForMouseEvents);
+    host_->installEventFilter(this);
+    hide();
+}
+
+void OverlayLegend::setCaption(const QString& caption)
+{
+    caption_ = caption;
+    setToolTip(caption);
+    place();
+    update();
+}
+
+QRect OverlayLegend::colourBar() const { return barIn(rect()); }
+
+void OverlayLegend::paintEvent(QPaintEvent*)
+{
+    QPainter painter(this);
+    paintLegendPanel(painter, rect(), caption_);
+}
+
+bool OverlayLegend::eventFilter(QObject* watched, QEvent* event)
+{
+    if (watched == host_ && (event->type() == QEvent::Resize || event->type() == QEvent::Show))
+        place();
+    return QWidget::eventFilter(watched, event);
+}
+
+void OverlayLegend::place()
+{
+    const QSize size = legendPanelSize(caption_, host_->height() - 2 * kCorner);
+    setGeometry(host_->width() - size.width() - kCorner, kCorner, size.width(), size.height());
+    raiseAboveView();
+}
+
+void OverlayLegend::raiseAboveView()
+{
+    // QWidget::raise() does nothing for the only child widget of the container, but the embedded
+    // view is a sibling native window: raise the legend's own native window.
+    if (QWindow* window = windowHandle())
+        window->raise();
+}
+
+void OverlayLegend::showEvent(QShowEvent* event)
+{
+    QWidget::showEvent(event);
+    raiseAboveView();
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,47 @@
+#pragma once
+// The importance overlay's legend (viridis colour bar, 0-100% ticks, a caption saying what the
+// values are and over how many frames): report/MapImage's paintLegend, the legend of the CLI's
+// importance images, on a small dark panel. A widget in the viewport's top-right corner, and the
+// same panel painted onto headless screenshots.
+//
+// The 3D view is a native window inside a window container, which paints over ordinary sibling
+// and child widgets; the legend is a native widget itself, raised above the view, so that it is
+// seen over it.
+
+#include <QWidget>
+
+class QPainter;
+
+namespace sightline::ui {
+
+/// The panel's size for `caption` (the rotated caption sets the bar's height), at most
+/// `maxHeight` tall.
+QSize legendPanelSize(const QString& caption, int maxHeight);
+/// Paints the panel into `panel` (background, colour bar, ticks, caption).
+void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& caption);
+
+class OverlayLegend : public QWidget {
+    Q_OBJECT
+public:
+    /// Lives in `host`'s top-right corner (host: the viewport's container); hidden until shown.
+    explicit OverlayLegend(QWidget* host);
+
+    void setCaption(const QString& caption);
+    const QString& caption() const { return caption_; }
+    /// Where the colour bar is, in widget coordinates (value 1 at its top row, 0 at its bottom).
+    QRect colourBar() const;
+
+protected:
+    void paintEvent(QPaintEvent* event) override;
+    void showEvent(QShowEvent* event) override;
+    bool eventFilter(QObject* watched, QEvent* event) override;
+
+private:
+    void place();
+    void raiseAboveView();
+
+    QWidget* host_;
+    QString caption_;
+};
+
+} // namespace sightline::ui
