@@ -173,10 +173,13 @@ int runShaft(const ShaftArgs& args)
         strategy = used == "hybrid"    ? "hybrid: " + masks + " + embree-packets-16"
                    : used == "raycast" ? std::string("raycast: embree-packets-16 (cheaper than the bitmask here)")
                                        : masks;
+        if (stats.probed)
+            strategy += " (chosen by timing both on 1 tile in 8)";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
                  {"rays_cast", stats.raysCast},
-                 {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway}};
+                 {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
+                 {"estimated_pairs", stats.estimatedPairs}, {"probed", stats.probed}};
     }
 
     if (!args.mask.empty())

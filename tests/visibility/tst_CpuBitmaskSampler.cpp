@@ -236,6 +236,59 @@ TEST(CpuBitmaskSampler, AutoRayCastsWhenSourceSamplesAreFew)
     EXPECT_LT(a.blockedCount(), a.rayCount());
 }
 
+TEST(CpuBitmaskSampler, AutoTimesBothMethodsWhereTheEstimateIsUnsure)
+{
+    if (!CpuBitmaskSampler::simdAvailable())
+        GTEST_SKIP() << "the probe runs with the SIMD kernel only";
+    // The comb of small triangles again, seen by a 64x64 receiver (256 tiles): with fewer source
+    // samples the estimated pairs per ray rise through the band where Auto measures both methods
+    // on a few tiles. Whichever it picks, tiles done by either probe stay as they are.
+    Mesh grid;
+    const int n = 40;
+    for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x)
+            grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n, 1.0f + 0.01f * float((x * 7 + y * 3) % 5));
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; x += 2) {
+            const std::uint32_t i = std::uint32_t(y * (n + 1) + x);
+            grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
+        }
+    const Scene scene = sceneOf({grid});
+    const CpuBitmaskSampler sampler(scene);
+    const RayCastScene reference(scene);
+    const Patch receiver = xyPatch(2, 64, 64);
+    int probed = 0;
+    for (int side : {32, 16, 8, 4, 2}) {
+        const Patch source = xyPatch(0, side, side);
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
+        const double perRay = double(stats.estimatedPairs) / double(map.rayCount());
+        EXPECT_EQ(stats.probed, perRay > 6.0 && perRay < 20.0) << side << " sources a side, " << perRay << " pairs a ray";
+        probed += stats.probed;
+        // Every row comes from the bitmask or from Embree: no more grazing disagreements than
+        // the bitmask alone has (the comb's edges graze a few hundred of 4M rays).
+        BitmaskOptions bitmaskOnly;
+        bitmaskOnly.strategy = CpuStrategy::Bitmask;
+        const HiddenSampleMap expected = reference.sample(source, receiver);
+        EXPECT_LE(map.differenceCount(expected), sampler.sample(source, receiver, bitmaskOnly).differenceCount(expected)) << side;
+    }
+    EXPECT_GE(probed, 1);
+}
+
+TEST(RayCastSampler, UnblockedCastsOnlyTheReceiverSubset)
+{
+    const Scene wall = sceneOf({quad({-5, -5, 1}, {10, 0, 0}, {0, 10, 0})});
+    const RayCastScene caster(wall);
+    const Patch source = xyPatch(0, 4, 4), receiver = xyPatch(2, 8, 8);
+    HiddenSampleMap map(16, 8, 8);
+    const std::vector<int> subset = {0, 9, 63};
+    EXPECT_EQ(caster.sampleUnblocked(source, receiver, map, {.receiverSubset = &subset}), 3u * 16u);
+    for (int j = 0; j < 64; ++j)
+        EXPECT_EQ(map.blockedCount(j), j == 0 || j == 9 || j == 63 ? 16 : 0) << j;
+    const std::vector<int> outside = {64};
+    EXPECT_THROW(caster.sampleUnblocked(source, receiver, map, {.receiverSubset = &outside}), Error);
+}
+
 TEST(SourceJitter, OffsetsAreDecorrelatedAndWithinHalfACell)
 {
     const SourceJitter off, on{.seed = 7}, other{.seed = 8};

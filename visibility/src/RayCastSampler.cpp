@@ -179,11 +179,16 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
         cast += rowCast;
     };
 
-    const int receivers = receiver.sampleCount();
+    const std::vector<int>* subset = options.receiverSubset;
+    const int receivers = subset ? int(subset->size()) : receiver.sampleCount();
     auto run = [&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, receivers, 16), [&](const tbb::blocked_range<int>& range) {
-            for (int j = range.begin(); j != range.end(); ++j)
+            for (int k = range.begin(); k != range.end(); ++k) {
+                const int j = subset ? (*subset)[std::size_t(k)] : k;
+                if (j < 0 || j >= receiver.sampleCount())
+                    throw Error("RayCastScene::sampleUnblocked: receiver sample " + std::to_string(j) + " is outside the grid");
                 castFrom(j);
+            }
         });
     };
     if (options.threads > 0) {

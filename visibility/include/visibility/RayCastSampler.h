@@ -15,6 +15,7 @@
 // reused by every sample() call (the editor re-samples on every patch move).
 
 #include <memory>
+#include <vector>
 
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
@@ -33,6 +34,9 @@ struct RayCastOptions {
     /// A bumpy receiver (§8, ReceiverHeights.h): rays start at the displaced receiver samples.
     /// Null or empty: the flat patch. Not owned; must outlive the call.
     const ReceiverHeights* heights = nullptr;
+    /// sampleUnblocked only: cast from these receiver samples (bit indices) and leave the other
+    /// rows alone. Null: every receiver sample. Not owned.
+    const std::vector<int>* receiverSubset = nullptr;
 };
 
 class RayCastScene {
