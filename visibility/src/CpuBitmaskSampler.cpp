@@ -1,6 +1,7 @@
 #include "visibility/CpuBitmaskSampler.h"
 
 #include <algorithm>
+#include <random>
 #include <atomic>
 #include <bit>
 #include <chrono>
@@ -100,6 +101,10 @@ constexpr std::uint32_t kProbeStride = 8;
 /// large part of the answer (demo at 32x32, 128 sources: 17.4 ms probed against 12.4 by Embree
 /// alone): the estimate decides there.
 constexpr std::size_t kProbeMinTiles = 256;
+/// The probe needs every triangle binned to its tiles first (about estimated pairs / 16 entries).
+/// The conservatory floor at 512x512 samples would bin 126M entries (5 s, 500 MB) before Embree
+/// answers in 4.7 s: above this many, the estimate decides.
+constexpr std::uint64_t kProbeMaxBinEntries = std::uint64_t(16) << 20;
 
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
 /// a ray pass cost more than they save).
@@ -1054,7 +1059,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper(&local.estimatedPairs);
         const double estimatePerRay = double(local.estimatedPairs) / double(map.rayCount());
         const bool probe = estimateSaysRays && estimatePerRay < kProbePairsPerRay && setup.floatKernel && !bumpy &&
-                           pass.tileCount() >= kProbeMinTiles;
+                           pass.tileCount() >= kProbeMinTiles &&
+                           local.estimatedPairs / std::uint64_t(kTile * kTile) <= kProbeMaxBinEntries;
         if (strategy == CpuStrategy::RayCast || (estimateSaysRays && !probe)) {
             local.strategy = "raycast";
             const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
@@ -1078,6 +1084,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<std::uint32_t> bitmaskTiles, rayTiles, rest;
             for (std::uint32_t t = 0; t < std::uint32_t(bins.size()); ++t)
                 (t % kProbeStride == 0 ? bitmaskTiles : t % kProbeStride == kProbeStride / 2 ? rayTiles : rest).push_back(t);
+            // Batches spread over the whole receiver: in row order the first ones would all lie
+            // along one edge (a floor's edge by the wall costs nothing either way). A fixed seed:
+            // the same tiles every call.
+            std::mt19937 scramble(12345);
+            std::shuffle(bitmaskTiles.begin(), bitmaskTiles.end(), scramble);
+            std::shuffle(rayTiles.begin(), rayTiles.end(), scramble);
             const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             std::vector<int> samples;
             RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
@@ -1104,8 +1116,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     rayMs += msSince(start);
                     rayDone = end;
                 }
+                // Stop once one method costs twice the other per tile, or the probe has cost a
+                // tenth of what the faster would take for the whole receiver.
                 const double perBitmask = bitmaskMs / double(bitmaskDone), perRay = rayMs / double(rayDone);
-                if (perBitmask > 2.0 * perRay || perRay > 2.0 * perBitmask)
+                const double wholeFaster = std::min(perBitmask, perRay) * double(bins.size());
+                if (perBitmask > 2.0 * perRay || perRay > 2.0 * perBitmask ||
+                    (bitmaskDone >= 2 * batch && bitmaskMs + rayMs > 0.1 * wholeFaster))
                     break;
             }
             local.rayMs += rayMs;
