@@ -20,7 +20,6 @@
 #include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
-#include "visibility/GlBitmaskSampler.h"
 #include "visibility/HeckbertHerfSampler.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/gl/HeadlessContext.h"
@@ -94,8 +93,12 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
     command->add_option("--stat", args.statistic, "Accumulated statistic: mean, max, or ever (1 where any frame saw anything)")
         ->check(CLI::IsMember({"mean", "max", "ever"}))
         ->capture_default_str();
-    command->add_option("--method", args.method, "Sampler: cpu (exact bitmask) or raycast (Embree reference)")
-        ->check(CLI::IsMember({"cpu", "raycast"}))
+    command->add_option("--method", args.method,
+                        "Sampler: cpu (exact bitmask), raycast (Embree reference) or gl (bitmask in OpenGL)")
+        ->check(CLI::IsMember({"cpu", "raycast", "gl"}))
+        ->capture_default_str();
+    command->add_option("--gl-backend", args.glBackend, "gl: osmesa (software) or egl (GPU)")
+        ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
     command->add_option("--jitter", args.jitter, "Decorrelated sampling seed (paper §6.2), 0 = off")
         ->check(CLI::Range(0u, 0xffffffffu));
@@ -131,6 +134,7 @@ int runImportance(const ImportanceArgs& args)
     std::vector<std::string> warnings;
     SamplerSettings settings;
     settings.method = args.method;
+    settings.glBackend = args.glBackend;
     settings.threads = args.threads;
     settings.jitter = SourceJitter{.seed = args.jitter};
     settings.heights = projectReceiverHeights(project, project.receiver, what);
@@ -238,29 +242,25 @@ int runShadow(const ShadowArgs& args)
     HiddenSampleMap map;
     ImportanceMap counted;   // hh: light fractions from counts, no map
     double ms = 0.0;
-    if (args.method == "cpu" || args.method == "raycast") {
-        SamplerSettings settings{.method = args.method, .threads = args.threads, .jitter = jitter, .heights = heights};
+    if (args.method != "hh") {
+        SamplerSettings settings{
+            .method = args.method, .glBackend = args.glBackend, .threads = args.threads, .jitter = jitter, .heights = heights};
         ProjectSampler sampler(project, loadProjectMeshes(project, &warnings), settings);
         map = sampler.sample(project, false);
         ms = sampler.lastSampleMs();
     } else {
         if (!heights.empty())
-            throw Error("--method " + args.method + ": a height-field receiver needs cpu or raycast");
+            throw Error("--method hh: a height-field receiver needs cpu or raycast");
+        if (jitter.enabled() || light.groups.size() != 1 || light.groups[0].count != light.sourceCount)
+            throw Error("--method hh counts blocked samples only: white light and no --jitter (use cpu, raycast or gl)");
         const Scene scene = buildScene(project, &warnings);
         const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
         const auto sampleStart = std::chrono::steady_clock::now();
-        if (args.method == "gl") {
-            GlBitmaskSampler sampler(context->functions(), scene);
-            map = sampler.sample(project.source, project.receiver, GlBitmaskOptions{.jitter = jitter});
-        } else {
-            if (jitter.enabled() || light.groups.size() != 1 || light.groups[0].count != light.sourceCount)
-                throw Error("--method hh counts blocked samples only: white light and no --jitter (use cpu, raycast or gl)");
-            HeckbertHerfSampler sampler(context->functions(), worldTriangles(scene));
-            const std::vector<std::uint32_t> counts = sampler.blockedCounts(project.source, project.receiver);
-            counted = ImportanceMap(project.receiver.na, project.receiver.nb);
-            for (std::size_t j = 0; j < counts.size(); ++j)
-                counted.values[j] = 1.0f - float(counts[j]) / float(project.source.sampleCount());
-        }
+        HeckbertHerfSampler sampler(context->functions(), worldTriangles(scene));
+        const std::vector<std::uint32_t> counts = sampler.blockedCounts(project.source, project.receiver);
+        counted = ImportanceMap(project.receiver.na, project.receiver.nb);
+        for (std::size_t j = 0; j < counts.size(); ++j)
+            counted.values[j] = 1.0f - float(counts[j]) / float(project.source.sampleCount());
         ms = millisecondsSince(sampleStart);
     }
     printWarnings(warnings);

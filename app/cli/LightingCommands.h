@@ -22,6 +22,7 @@ struct ImportanceArgs {
     std::string of = "receiver";
     std::string statistic = "mean";
     std::string method = "cpu";
+    std::string glBackend = "osmesa";
     std::uint32_t jitter = 0;
     int threads = 0;
     bool json = false;

@@ -3,14 +3,20 @@
 #include <chrono>
 
 #include "visibility/Error.h"
+#include "visibility/GlBitmaskSampler.h"
+#include "visibility/gl/HeadlessContext.h"
 
 namespace sightline {
 
 ProjectSampler::ProjectSampler(const Project& project, ProjectMeshes meshes, SamplerSettings settings)
     : meshes_(std::move(meshes)), settings_(std::move(settings))
 {
-    if (settings_.method != "cpu" && settings_.method != "raycast")
-        throw Error("unknown method '" + settings_.method + "' (use cpu or raycast)");
+    if (settings_.method != "cpu" && settings_.method != "raycast" && settings_.method != "gl")
+        throw Error("unknown method '" + settings_.method + "' (use cpu, raycast or gl)");
+    if (settings_.method == "gl" && !settings_.heights.empty())
+        throw Error("the GL sampler does not take receiver heights; use cpu or raycast for a bumpy receiver");
+    if (settings_.method == "gl")
+        context_ = gl::HeadlessContext::create(gl::parseBackend(settings_.glBackend));
     rebuild(project);
 }
 
@@ -25,6 +31,9 @@ void ProjectSampler::rebuild(const Project& frame)
             cpu_->setScene(scene);   // keeps the warm buffers
         else
             cpu_ = std::make_unique<CpuBitmaskSampler>(scene);
+    } else if (settings_.method == "gl") {
+        gl_.reset();   // before its replacement allocates: GPU memory
+        gl_ = std::make_unique<GlBitmaskSampler>(context_->functions(), scene);
     } else {
         rayCaster_ = std::make_unique<RayCastScene>(scene);
     }
@@ -43,6 +52,8 @@ HiddenSampleMap ProjectSampler::sample(const Project& frame, bool occludersMoved
         options.jitter = settings_.jitter;
         options.heights = heights;
         map = cpu_->sample(frame.source, frame.receiver, options);
+    } else if (gl_) {
+        map = gl_->sample(frame.source, frame.receiver, GlBitmaskOptions{.jitter = settings_.jitter});
     } else {
         RayCastOptions options;
         options.threads = settings_.threads;

@@ -14,8 +14,15 @@
 
 namespace sightline {
 
+class GlBitmaskSampler;
+namespace gl {
+class HeadlessContext;
+}
+
 struct SamplerSettings {
-    std::string method = "cpu";     ///< "cpu" (exact bitmask, auto strategy) or "raycast" (Embree)
+    std::string method = "cpu";     ///< "cpu" (exact bitmask, auto strategy), "raycast" (Embree) or
+                                    ///< "gl" (the paper's GPU pass in a headless context)
+    std::string glBackend = "osmesa";   ///< "gl": "osmesa" (software) or "egl" (a GPU)
     int threads = 0;                ///< 0 = all cores
     SourceJitter jitter{};          ///< decorrelated source samples (§6.2)
     ReceiverHeights heights;        ///< a bumpy receiver (§8); empty = flat
@@ -23,7 +30,7 @@ struct SamplerSettings {
 
 class ProjectSampler {
 public:
-    /// Throws sightline::Error for an unknown method.
+    /// Throws sightline::Error for an unknown method, or "gl" with heights or without a context.
     ProjectSampler(const Project& project, ProjectMeshes meshes, SamplerSettings settings);
     ~ProjectSampler();
 
@@ -44,6 +51,8 @@ private:
     SamplerSettings settings_;
     std::unique_ptr<CpuBitmaskSampler> cpu_;
     std::unique_ptr<RayCastScene> rayCaster_;
+    std::unique_ptr<gl::HeadlessContext> context_;   ///< "gl": current on the calling thread
+    std::unique_ptr<GlBitmaskSampler> gl_;
     std::size_t triangles_ = 0;
     double lastMs_ = 0.0;
 };

@@ -290,3 +290,40 @@ TEST_F(ImportanceProject, CliShadowWritesTheLightOnTheReceiver)
         EXPECT_TRUE(oneLine(bad.err)) << arguments << ": " << bad.err;
     }
 }
+
+TEST_F(ImportanceProject, CliImportanceAndShadowThroughTheGlSampler)
+{
+    // The animation moves an occluder, so the GL sampler is rebuilt per frame; its accumulated
+    // map must match the reference's (grazing rays aside: within two source samples of 128).
+    const fs::path png = folder / "gl.png", npy = folder / "gl.npy";
+    const CliRun run = runCli("importance " + projectFile().string() + " --method gl --out " + png.string() +
+                              " --npy " + npy.string());
+    if (run.code != 0 && run.err.find("OSMesa") != std::string::npos)
+        GTEST_SKIP() << "no OpenGL context: " << run.err;
+    ASSERT_EQ(run.code, 0) << run.err;
+    const FloatArray values = readFloatNpy(npy);
+    const ImportanceMap a = referenceAt(0), b = referenceAt(1);
+    ASSERT_EQ(values.values.size(), a.values.size());
+    double sum = 0.0;
+    for (std::size_t k = 0; k < values.values.size(); ++k) {
+        const double expected = 0.5 * (a.values[k] + b.values[k]);
+        EXPECT_NEAR(values.values[k], expected, 2.0 / 128.0) << k;
+        sum += std::abs(values.values[k] - expected);
+    }
+    EXPECT_LE(sum / double(values.values.size()), 1.0 / 1024.0);
+
+    const CliRun shadow = runCli("shadow " + projectFile().string() + " --method gl --out " + png.string() + " --json");
+    ASSERT_EQ(shadow.code, 0) << shadow.err;
+    // `shadow` samples the project as saved: the door in the hole, which is frame 1's place.
+    EXPECT_NEAR(json::parse(shadow.out)["mean_light"].get<double>(), b.mean(), 1.0 / 1024.0);
+
+    // Heights need cpu or raycast: one clear line.
+    std::vector<float> metres(24 * 20, 0.01f);
+    writeFloatNpy(metres, 20, 24, folder / "h.npy");
+    document["receiver_heights"] = {{"npy", "h.npy"}};
+    save();
+    const CliRun bumpy = runCli("importance " + projectFile().string() + " --method gl --out " + png.string());
+    EXPECT_NE(bumpy.code, 0);
+    EXPECT_TRUE(oneLine(bumpy.err)) << bumpy.err;
+    EXPECT_NE(bumpy.err.find("heights"), std::string::npos) << bumpy.err;
+}
