@@ -60,6 +60,25 @@ inline Scene sceneOf(std::vector<Mesh> meshes)
     return s;
 }
 
+/// A comb of many small triangles across the shaft of xyPatch pairs at z ~ 1 (1.00 to 1.04): a
+/// 3 x 3 m grid of 40 x 40 cells of which every other column is filled, so partly open. Every
+/// triangle touches most receiver samples: with few source samples the pairs outnumber the rays.
+inline Mesh combWall()
+{
+    Mesh grid;
+    const int n = 40;
+    for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x)
+            grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n,
+                                        1.0f + 0.01f * float((x * 7 + y * 3) % 5));
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; x += 2) {
+            const std::uint32_t i = std::uint32_t(y * (n + 1) + x);
+            grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
+        }
+    return grid;
+}
+
 /// Two parallel unit patches facing each other along +Z: source at z = 0, receiver at z = depth,
 /// both spanning [0, 1]^2 in XY.
 inline Patch xyPatch(double z, int na, int nb, double size = 1.0)

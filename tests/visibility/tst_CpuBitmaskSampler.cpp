@@ -211,17 +211,7 @@ TEST(CpuBitmaskSampler, AutoRayCastsWhenSourceSamplesAreFew)
 {
     // A wall of many small triangles fills the shaft: every triangle touches most receiver
     // samples, so with 4 source samples the pairs far outnumber the rays.
-    Mesh grid;
-    const int n = 40;
-    for (int y = 0; y <= n; ++y)
-        for (int x = 0; x <= n; ++x)
-            grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n, 1.0f + 0.01f * float((x * 7 + y * 3) % 5));
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; x += 2) {   // every other column: a comb, partly open
-            const std::uint32_t i = std::uint32_t(y * (n + 1) + x);
-            grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
-        }
-    const Scene scene = sceneOf({grid});
+    const Scene scene = sceneOf({combWall()});
     const CpuBitmaskSampler sampler(scene);
     const RayCastScene reference(scene);
     BitmaskStats few, many;
@@ -243,17 +233,7 @@ TEST(CpuBitmaskSampler, AutoTimesBothMethodsWhereTheEstimateIsUnsure)
     // The comb of small triangles again, seen by a 64x64 receiver (256 tiles): with fewer source
     // samples the estimated pairs per ray rise through the band where Auto measures both methods
     // on a few tiles. Whichever it picks, tiles done by either probe stay as they are.
-    Mesh grid;
-    const int n = 40;
-    for (int y = 0; y <= n; ++y)
-        for (int x = 0; x <= n; ++x)
-            grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n, 1.0f + 0.01f * float((x * 7 + y * 3) % 5));
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; x += 2) {
-            const std::uint32_t i = std::uint32_t(y * (n + 1) + x);
-            grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
-        }
-    const Scene scene = sceneOf({grid});
+    const Scene scene = sceneOf({combWall()});
     const CpuBitmaskSampler sampler(scene);
     const RayCastScene reference(scene);
     const Patch receiver = xyPatch(2, 64, 64);

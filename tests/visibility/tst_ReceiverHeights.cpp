@@ -343,21 +343,10 @@ TEST(ReceiverHeights, JitteredBumpyReceiverMatchesTheReference)
 
 TEST(ReceiverHeights, AutoAndRayCastStrategiesHonourHeights)
 {
-    // The comb of many small triangles from AutoRayCastsWhenSourceSamplesAreFew at z ~ 1, the
+    // The comb of many small triangles (combWall) at z ~ 1, the
     // receiver at z = 2: with 4 source samples Auto casts rays (Embree). Samples raised above the
     // comb (h > 1.04) see everything; the rest see through its gaps.
-    Mesh grid;
-    const int n = 40;
-    for (int y = 0; y <= n; ++y)
-        for (int x = 0; x <= n; ++x)
-            grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n,
-                                        1.0f + 0.01f * float((x * 7 + y * 3) % 5));
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; x += 2) {
-            const std::uint32_t i = std::uint32_t(y * (n + 1) + x);
-            grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
-        }
-    const Scene scene = sceneOf({grid});
+    const Scene scene = sceneOf({combWall()});
     const CpuBitmaskSampler sampler(scene);
     const RayCastScene reference(scene);
     const Patch receiver = xyPatch(2, 32, 32);
