@@ -391,7 +391,9 @@ void MainWindow::updateTitle()
 void MainWindow::updateStatus()
 {
     const VisibilityResult& result = viewport_->visibility();
-    raysLabel_->setText(visibilitySummary(result));
+    raysLabel_->setText(viewport_->resultIsStale()
+                            ? visibilitySummary(result) + tr(" · updating when the drag ends (%1 ms an update)").arg(result.ms, 0, 'f', 0)
+                            : visibilitySummary(result));
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
     const double rate = viewport_->updateRate();

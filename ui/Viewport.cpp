@@ -119,8 +119,9 @@ void Viewport::paintGL()
         backendReport_ = QString::fromStdString(visibility_.chooseBackend(project.source, project.receiver));
         emit backendChosen(backendReport_);
     }
-    const bool resampled = samplesDirty_;
-    if (samplesDirty_) {
+    const bool deferred = samplesDirty_ && controller_.isDragging() && result_.ms > dragBudgetMs_;
+    const bool resampled = samplesDirty_ && !deferred;
+    if (resampled) {
         result_ = visibility_.sample(project.source, project.receiver);
         renderer_->setHiddenSamples(result_.valid ? &result_.map : nullptr);
         samplesDirty_ = false;
@@ -150,8 +151,9 @@ void Viewport::paintGL()
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();
 
-    if (resampled) {
-        updateTimes_.push_back(clock_.nsecsElapsed());
+    if (resampled || deferred) {
+        if (resampled)
+            updateTimes_.push_back(clock_.nsecsElapsed());
         while (updateTimes_.size() > kRateWindow)
             updateTimes_.pop_front();
         emit visibilityUpdated();
@@ -208,7 +210,12 @@ void Viewport::mouseMoveEvent(QMouseEvent* event)
         emit hovered(event->position());
 }
 
-void Viewport::mouseReleaseEvent(QMouseEvent* event) { controller_.mouseRelease(event->button(), event->position()); }
+void Viewport::mouseReleaseEvent(QMouseEvent* event)
+{
+    controller_.mouseRelease(event->button(), event->position());
+    if (samplesDirty_)
+        update();   // a slow update waited for the drag to end
+}
 
 void Viewport::wheelEvent(QWheelEvent* event) { controller_.wheel(event->angleDelta().y() / 120.0); }
 

@@ -41,6 +41,14 @@ public:
     PatchOverlay& overlay() { return overlay_; }
     const PatchOverlay& overlay() const { return overlay_; }
 
+    /// While a gizmo drag is under way and the last update took longer than this, frames show the
+    /// last result and sampling waits for the release: a 512x512 floor takes seconds an update,
+    /// and a drag must not freeze. Default 150 ms (the demo's 32x32 pair takes about 20).
+    void setDragBudgetMs(double ms) { dragBudgetMs_ = ms; }
+    /// The shown result is older than the patches and occluders (a slow update waits for the
+    /// drag to end).
+    bool resultIsStale() const { return samplesDirty_; }
+
 signals:
     /// After every frame that re-sampled.
     void visibilityUpdated();
@@ -71,6 +79,7 @@ private:
     std::unique_ptr<ViewportRenderer> renderer_;
     LiveVisibility visibility_;
     VisibilityResult result_;
+    double dragBudgetMs_ = 150.0;
     PatchOverlay overlay_;
     std::uint64_t overlayVersion_ = 0;   ///< the overlay version the renderer has
     ViewStyle style_;

@@ -10,6 +10,7 @@
 #include <QScreen>
 #include <QSignalSpy>
 #include <QStandardPaths>
+#include <QStatusBar>
 #include <QTest>
 #include <QTimer>
 
@@ -182,6 +183,50 @@ private slots:
         document.undoStack()->redo();
         waitForUpdate();
         QCOMPARE(window_->viewport().visibility().blocked, dragged);
+    }
+
+    void aSlowUpdateWaitsForTheDragToEnd()
+    {
+        // A budget of 0 ms makes every update "slow": frames during the drag keep the last result
+        // (and say so), the release samples the new position.
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        const Project& project = document.project();
+        const glm::dvec3 inShaft = project.source.centre() + 0.4 * (project.receiver.centre() - project.source.centre());
+        OccluderSpec block;
+        block.name = "block";
+        block.mesh = "box";
+        block.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(inShaft + glm::dvec3(0, 0, 2.0))), glm::vec3(0.6f));
+        document.addOccluder(block);
+        document.select({ObjectKind::Occluder, document.project().occluders.size() - 1});
+        controller.setGizmoMode(GizmoMode::Move);
+        waitForUpdate();
+        const std::uint64_t beside = window_->viewport().visibility().blocked;
+        window_->viewport().setDragBudgetMs(0.0);
+
+        const GizmoFrame frame = *controller.gizmo();
+        const glm::dvec3 grabPoint = frame.pivot + 0.7 * frame.length * glm::dvec3(0, 0, 1);
+        const QPoint grab = pixelOf(controller, grabPoint);
+        QTest::mousePress(&window_->viewport(), Qt::LeftButton, {}, grab);
+        for (int step = 1; step <= 4; ++step) {
+            QTest::mouseMove(&window_->viewport(), pixelOf(controller, grabPoint - glm::dvec3(0, 0, 0.5 * step)));
+            waitForUpdate();
+        }
+        QVERIFY(window_->viewport().resultIsStale());
+        QCOMPARE(window_->viewport().visibility().blocked, beside);
+        bool saysStale = false;
+        for (const QLabel* label : window_->findChild<QStatusBar*>()->findChildren<QLabel*>())
+            saysStale |= label->text().contains("updating when the drag ends");
+        QVERIFY(saysStale);
+
+        QTest::mouseRelease(&window_->viewport(), Qt::LeftButton, {}, pixelOf(controller, grabPoint - glm::dvec3(0, 0, 2.0)));
+        waitForUpdate();
+        QVERIFY(!window_->viewport().resultIsStale());
+        QVERIFY2(window_->viewport().visibility().blocked > beside, "after the release the block in the shaft counts");
+        window_->viewport().setDragBudgetMs(150.0);
+        document.undoStack()->undo();   // the drag
+        document.undoStack()->undo();   // the block
+        waitForUpdate();
     }
 
     void saveAndReloadRoundTrips()
