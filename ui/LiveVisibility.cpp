@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "project/LightingSetup.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
@@ -68,6 +69,17 @@ std::string LiveVisibility::chooseBackend(const Patch& source, const Patch& rece
     return line + "using " + backendName();
 }
 
+void LiveVisibility::loadReceiverHeights(const Project& project, const std::string& what)
+{
+    try {
+        heights_ = projectReceiverHeights(project, project.receiver, what);
+        heightsError_.clear();
+    } catch (const Error& e) {
+        heights_ = {};
+        heightsError_ = e.what();
+    }
+}
+
 VisibilityResult LiveVisibility::sample(const Patch& source, const Patch& receiver)
 {
     return sampleWith(backend_, source, receiver);
@@ -78,12 +90,16 @@ VisibilityResult LiveVisibility::sampleWith(Backend backend, const Patch& source
     VisibilityResult result;
     try {
         validatePatchPair(source, receiver);
+        if (!heightsError_.empty())
+            throw Error(heightsError_);
+        if (!heights_.empty())
+            validateReceiverHeights(source, receiver, heights_);
     } catch (const Error& e) {
         result.error = e.what();
         return result;
     }
     const auto start = std::chrono::steady_clock::now();
-    if (backend == Backend::Gl) {
+    if (backend == Backend::Gl && heights_.empty()) {
         if (!glSampler_) {
             glSampler_ = std::make_unique<GlBitmaskSampler>(*gl_, glScene_ ? *glScene_ : Scene{});
         }
@@ -91,7 +107,9 @@ VisibilityResult LiveVisibility::sampleWith(Backend backend, const Patch& source
         result.strategy = "gl";
     } else {
         BitmaskStats stats;
-        result.map = cpu_->sample(source, receiver, {}, &stats);
+        BitmaskOptions options;
+        options.heights = heights_.empty() ? nullptr : &heights_;
+        result.map = cpu_->sample(source, receiver, options, &stats);
         result.strategy = stats.strategy;
     }
     result.ms = msSince(start);

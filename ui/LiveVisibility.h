@@ -13,10 +13,12 @@
 #include <optional>
 #include <string>
 
+#include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
+#include "visibility/ReceiverHeights.h"
 #include "visibility/Scene.h"
 #include "visibility/gl/GlFunctions.h"
 
@@ -58,7 +60,19 @@ public:
     Backend backend() const { return backend_; }
     std::string backendName() const;
 
-    /// Never throws for an invalid pair: the result says why instead.
+    /// A bumpy receiver (§8; the project's "receiver_heights" for the current receiver grid), or
+    /// empty for a flat one. Only the CPU sampler takes heights: while they are set, it answers
+    /// whichever back end was chosen.
+    void setReceiverHeights(ReceiverHeights heights) { heights_ = std::move(heights); }
+    /// The project's heights could not be read: every result is invalid with this message until
+    /// heights are set again (a flat answer would be a wrong one). Empty clears it.
+    void setReceiverHeightsError(std::string error) { heightsError_ = std::move(error); }
+    /// Both of the above from the project's "receiver_heights" for its receiver grid
+    /// (LightingSetup.h); `what` names the project in messages.
+    void loadReceiverHeights(const Project& project, const std::string& what);
+    const ReceiverHeights& receiverHeights() const { return heights_; }
+
+    /// Never throws for an invalid pair or invalid heights: the result says why instead.
     VisibilityResult sample(const Patch& source, const Patch& receiver);
 
 private:
@@ -70,6 +84,8 @@ private:
     const gl::Functions* gl_ = nullptr;
     std::optional<Scene> glScene_;   ///< kept until the GL sampler is (re)built in the context
     std::unique_ptr<GlBitmaskSampler> glSampler_;
+    ReceiverHeights heights_;
+    std::string heightsError_;
 };
 
 } // namespace sightline::ui

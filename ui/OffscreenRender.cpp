@@ -26,6 +26,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         LiveVisibility visibility;
         visibility.setScene(document.scene());
         const Project& project = document.project();
+        visibility.loadReceiverHeights(project, document.displayName().toStdString());
         result.visibility = visibility.sample(project.source, project.receiver);
         renderer.setHiddenSamples(result.visibility.valid ? &result.visibility.map : nullptr);
         if (overlay) {

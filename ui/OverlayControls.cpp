@@ -71,8 +71,7 @@ OverlayControls::OverlayControls(QMainWindow& window, EditorDocument& document, 
     const QString kindTip =
         tr("Paint a map on a patch (Eisemann & Décoret §8-9): the fraction of the source each receiver sample sees, the "
            "fraction of the receiver that sees each source sample, or the source's light (white, or the project's "
-           "\"light\" texture) on the receiver.\nLive overlays sample a flat receiver: the project's receiver_heights "
-           "are ignored here (Accumulate Animation and sightline-cli use them).");
+           "\"light\" texture) on the receiver.\nThe project's receiver_heights apply (the patch is drawn flat).");
     view->addSeparator();
     QMenu* overlayMenu = view->addMenu(tr("&Overlay"));
     overlayMenu->setToolTipsVisible(true);

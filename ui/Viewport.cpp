@@ -36,8 +36,10 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         if (changes & (OccludersChanged | DocumentReset))
             occludersDirty_ = true;
         // An animation's accumulation described the document before this change.
-        if (changes & DocumentReset)
+        if (changes & DocumentReset) {
             overlay_.clear();
+            heightsGrid_.reset();
+        }
         else
             overlay_.dropAnimationResult();
         samplesDirty_ = true;
@@ -118,6 +120,13 @@ void Viewport::paintGL()
         backendChosen_ = true;
         backendReport_ = QString::fromStdString(visibility_.chooseBackend(project.source, project.receiver));
         emit backendChosen(backendReport_);
+    }
+    // A bumpy receiver (§8): the CPU sampler answers with the project's heights, read again
+    // for each new receiver grid.
+    if (const std::pair grid{project.receiver.na, project.receiver.nb}; heightsGrid_ != grid) {
+        heightsGrid_ = grid;
+        visibility_.loadReceiverHeights(project, document_.displayName().toStdString());
+        samplesDirty_ = true;
     }
     const bool deferred = samplesDirty_ && controller_.isDragging() && result_.ms > dragBudgetMs_;
     const bool resampled = samplesDirty_ && !deferred;

@@ -13,6 +13,8 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include "LiveVisibility.h"
 #include "PatchOverlay.h"
@@ -80,6 +82,9 @@ private:
     LiveVisibility visibility_;
     VisibilityResult result_;
     double dragBudgetMs_ = 150.0;
+    /// The receiver grid the live sampler's heights were read for (re-read on a new document or
+    /// a new grid: "receiver_heights" is resampled to the grid).
+    std::optional<std::pair<int, int>> heightsGrid_;
     PatchOverlay overlay_;
     std::uint64_t overlayVersion_ = 0;   ///< the overlay version the renderer has
     ViewStyle style_;

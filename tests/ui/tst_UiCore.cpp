@@ -20,6 +20,7 @@
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "visibility/Error.h"
+#include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
 
 namespace sightline::ui {
@@ -313,6 +314,44 @@ TEST(LiveVisibility, MatchesTheReferenceAndExplainsInvalidPairs)
     EXPECT_FALSE(invalid.valid);
     EXPECT_FALSE(invalid.error.empty());
     EXPECT_EQ(invalid.rays, 0u);
+}
+
+TEST(LiveVisibility, UsesTheProjectsReceiverHeightsAndRefusesUnreadableOnes)
+{
+    // The demo's receiver raised by a height map read from the project (§8): the live CPU answer
+    // is the reference's with the same heights, and differs from the flat one.
+    const std::filesystem::path folder = freshFolder("live-heights");
+    const std::filesystem::path file = test::copyDemoProject(folder);
+    EditorDocument document;
+    document.open(file);
+    Project p = document.project();
+    std::vector<float> metres(std::size_t(p.receiver.sampleCount()));
+    for (int j = 0; j < p.receiver.sampleCount(); ++j)
+        metres[std::size_t(j)] = 0.3f * float(j % p.receiver.na) / float(p.receiver.na);
+    writeFloatNpy(metres, p.receiver.nb, p.receiver.na, folder / "heights.npy");
+    p.extra["receiver_heights"] = {{"npy", "heights.npy"}};
+
+    LiveVisibility live;
+    live.setScene(document.scene());
+    live.loadReceiverHeights(p, "demo.json");
+    ASSERT_EQ(live.receiverHeights().metres.size(), std::size_t(p.receiver.sampleCount()));
+    const VisibilityResult bumpy = live.sample(p.source, p.receiver);
+    ASSERT_TRUE(bumpy.valid) << bumpy.error;
+    RayCastOptions options;
+    options.heights = &live.receiverHeights();
+    const RayCastScene reference(buildScene(p));
+    const HiddenSampleMap expected = reference.sample(p.source, p.receiver, options);
+    EXPECT_LE(bumpy.map.differenceCount(expected), bumpy.rays / 10000);
+    EXPECT_GT(expected.differenceCount(reference.sample(p.source, p.receiver)), bumpy.rays / 1000) << "the heights matter";
+
+    p.extra["receiver_heights"] = {{"npy", "missing.npy"}};
+    live.loadReceiverHeights(p, "demo.json");
+    const VisibilityResult refused = live.sample(p.source, p.receiver);
+    EXPECT_FALSE(refused.valid);
+    EXPECT_NE(refused.error.find("missing.npy"), std::string::npos) << refused.error;
+    p.extra.erase("receiver_heights");
+    live.loadReceiverHeights(p, "demo.json");
+    EXPECT_TRUE(live.sample(p.source, p.receiver).valid);
 }
 
 /// Is this pixel the ray colour (yellow) rather than grey floor or dark background?
