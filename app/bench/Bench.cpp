@@ -4,6 +4,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <span>
 #include <sstream>
@@ -97,6 +98,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
         const CpuBitmaskSampler cpu(scene);
         std::unique_ptr<GlBitmaskSampler> gpu;
         std::unique_ptr<HeckbertHerfSampler> heckbertHerf;
+        std::map<int, ImportanceMap> denseBySide;   // receiver side -> dense light fraction
         for (int count : settings.sourceCounts) {
             if (count < 1 || count > kMaxSourceSamples)
                 throw Error("bench: source sample count " + std::to_string(count) + " is outside [1, 1024]");
@@ -108,8 +110,9 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 const HiddenSampleMap regularTruth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
                 const SourceJitter jitter{.seed = 1};
                 std::unique_ptr<HiddenSampleMap> jitteredTruth;   // made for the first "-jitter" method
-                ImportanceMap dense;
-                if (settings.denseSide > 0)
+                // The dense light does not depend on the source grid: once per receiver grid.
+                ImportanceMap& dense = denseBySide[side];
+                if (settings.denseSide > 0 && dense.values.empty())
                     dense = denseLightFraction(reference, project.source, receiver, settings.denseSide,
                                                {.packets = true, .threads = settings.threads});
                 for (const std::string& method : settings.methods) {

@@ -246,7 +246,7 @@ int runShadow(const ShadowArgs& args)
         SamplerSettings settings{
             .method = args.method, .glBackend = args.glBackend, .threads = args.threads, .jitter = jitter, .heights = heights};
         ProjectSampler sampler(project, loadProjectMeshes(project, &warnings), settings);
-        map = sampler.sample(project, false);
+        map = sampler.sample(project);
         ms = sampler.lastSampleMs();
     } else {
         if (!heights.empty())

@@ -15,11 +15,9 @@ ImportanceRunResult accumulateImportance(ProjectSampler& sampler, const Project&
 {
     const auto start = std::chrono::steady_clock::now();
     ImportanceRunResult result;
-    const bool occludersMove = animation.movesOccluders();
     for (int f = 0; f < frames; ++f) {
         const Project frame = projectAtFrame(project, animation, f);
-        // Frame 0 may already differ from what the sampler was built with.
-        const HiddenSampleMap map = sampler.sample(frame, occludersMove);
+        const HiddenSampleMap map = sampler.sample(frame);   // reassembles only if occluders moved
         result.sampleMs += sampler.lastSampleMs();
         result.accumulator.add(importanceOf(map, frame, side));
         ++result.framesDone;

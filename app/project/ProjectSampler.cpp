@@ -1,5 +1,6 @@
 #include "project/ProjectSampler.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include "visibility/Error.h"
@@ -24,6 +25,9 @@ ProjectSampler::~ProjectSampler() = default;
 
 void ProjectSampler::rebuild(const Project& frame)
 {
+    builtTransforms_.clear();
+    for (const OccluderSpec& spec : frame.occluders)
+        builtTransforms_.push_back(spec.transform);
     const Scene scene = assembleScene(frame, meshes_);
     triangles_ = scene.triangleCount();
     if (settings_.method == "cpu") {
@@ -39,8 +43,12 @@ void ProjectSampler::rebuild(const Project& frame)
     }
 }
 
-HiddenSampleMap ProjectSampler::sample(const Project& frame, bool occludersMoved)
+HiddenSampleMap ProjectSampler::sample(const Project& frame)
 {
+    const bool occludersMoved =
+        frame.occluders.size() != builtTransforms_.size() ||
+        !std::equal(frame.occluders.begin(), frame.occluders.end(), builtTransforms_.begin(),
+                    [](const OccluderSpec& spec, const glm::mat4& built) { return spec.transform == built; });
     if (occludersMoved)
         rebuild(frame);
     const ReceiverHeights* heights = settings_.heights.empty() ? nullptr : &settings_.heights;

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -35,9 +36,9 @@ public:
     ~ProjectSampler();
 
     /// The map for `frame` (the project at some frame: moved patches and occluders, same occluder
-    /// list). `occludersMoved` false promises the occluders are where the previous call had them.
-    /// Validates the pair; throws sightline::Error.
-    HiddenSampleMap sample(const Project& frame, bool occludersMoved);
+    /// list). The scene is reassembled only when an occluder's transform differs from the last
+    /// assembly's. Validates the pair; throws sightline::Error.
+    HiddenSampleMap sample(const Project& frame);
 
     std::size_t triangleCount() const { return triangles_; }
     /// Milliseconds of the last sample() call spent sampling (scene updates excluded).
@@ -53,6 +54,7 @@ private:
     std::unique_ptr<RayCastScene> rayCaster_;
     std::unique_ptr<gl::HeadlessContext> context_;   ///< "gl": current on the calling thread
     std::unique_ptr<GlBitmaskSampler> gl_;
+    std::vector<glm::mat4> builtTransforms_;   ///< the occluders' transforms of the last assembly
     std::size_t triangles_ = 0;
     double lastMs_ = 0.0;
 };

@@ -146,17 +146,9 @@ private slots:
 
         // A crate beside the shaft (2 m off its axis along z), then dragged along z into it.
         const glm::dvec3 inShaft = project.source.centre() + 0.3 * (project.receiver.centre() - project.source.centre());
-        OccluderSpec crate;
-        crate.name = "crate";
-        crate.mesh = "box";
-        crate.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(inShaft + glm::dvec3(0, 0, 2.0))), glm::vec3(0.6f));
-        document.addOccluder(crate);
-        controller.setGizmoMode(GizmoMode::Move);
-        waitForUpdate();
+        const glm::dvec3 grabPoint = addBoxBeside(inShaft, "crate");
         const std::uint64_t beside = window_->viewport().visibility().blocked;
-
         const GizmoFrame frame = *controller.gizmo();
-        const glm::dvec3 grabPoint = frame.pivot + 0.7 * frame.length * glm::dvec3(0, 0, 1);
         const QPoint grab = pixelOf(controller, grabPoint);
         QCOMPARE(pickGizmoAxis(frame, controller.camera(), grab.x(), grab.y(), controller.width(), controller.height()), 2);
         QTest::mousePress(&window_->viewport(), Qt::LeftButton, {}, grab);
@@ -193,19 +185,9 @@ private slots:
         ViewportController& controller = window_->controller();
         const Project& project = document.project();
         const glm::dvec3 inShaft = project.source.centre() + 0.4 * (project.receiver.centre() - project.source.centre());
-        OccluderSpec block;
-        block.name = "block";
-        block.mesh = "box";
-        block.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(inShaft + glm::dvec3(0, 0, 2.0))), glm::vec3(0.6f));
-        document.addOccluder(block);
-        document.select({ObjectKind::Occluder, document.project().occluders.size() - 1});
-        controller.setGizmoMode(GizmoMode::Move);
-        waitForUpdate();
+        const glm::dvec3 grabPoint = addBoxBeside(inShaft, "block");
         const std::uint64_t beside = window_->viewport().visibility().blocked;
         window_->viewport().setDragBudgetMs(0.0);
-
-        const GizmoFrame frame = *controller.gizmo();
-        const glm::dvec3 grabPoint = frame.pivot + 0.7 * frame.length * glm::dvec3(0, 0, 1);
         const QPoint grab = pixelOf(controller, grabPoint);
         QTest::mousePress(&window_->viewport(), Qt::LeftButton, {}, grab);
         for (int step = 1; step <= 4; ++step) {
@@ -468,6 +450,23 @@ private slots:
     }
 
 private:
+    /// Adds a 0.6 m box 2 m along z from `inShaft`, selected, with the move gizmo; returns the
+    /// point on the gizmo's z handle to grab for dragging it back along z.
+    glm::dvec3 addBoxBeside(const glm::dvec3& inShaft, const std::string& name)
+    {
+        EditorDocument& document = window_->document();
+        OccluderSpec box;
+        box.name = name;
+        box.mesh = "box";
+        box.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(inShaft + glm::dvec3(0, 0, 2.0))), glm::vec3(0.6f));
+        document.addOccluder(box);
+        document.select({ObjectKind::Occluder, document.project().occluders.size() - 1});
+        window_->controller().setGizmoMode(GizmoMode::Move);
+        waitForUpdate();
+        const GizmoFrame frame = *window_->controller().gizmo();
+        return frame.pivot + 0.7 * frame.length * glm::dvec3(0, 0, 1);
+    }
+
     void waitForUpdate()
     {
         QSignalSpy spy(&window_->viewport(), &Viewport::visibilityUpdated);
