@@ -26,11 +26,21 @@ constexpr int kMaxPolygon = 8;
 /// A convex polygon in source coordinates (s, t, d), every vertex strictly closer to the source
 /// plane than any receiver sample of the lanes.
 struct FloatPolygon {
-    int count = 0;
     alignas(32) float s[kMaxPolygon];
     float t[kMaxPolygon];
     float d[kMaxPolygon];
+    /// Parallel patches: every lane's receiver sample has the same distance d_R, and k holds each
+    /// vertex's projection factor d_R / (d_R - d), computed once (in double) instead of per lane.
+    float k[kMaxPolygon];
+    int count = 0;
+    bool sharedFactor = false;
 };
+
+/// The box {sMin, sMax, tMin, tMax} of the polygon's backprojections from four receiver points
+/// (s, t, d), each farther from the source plane than every vertex. Single precision: the caller
+/// pads the box by the rounding (relative error about kMaxFloatFactor times the float epsilon).
+void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4],
+                         float out[4]);
 
 /// Up to eight receiver samples in source coordinates and their rows in the hidden-samples map.
 struct LaneGroup {
@@ -39,14 +49,15 @@ struct LaneGroup {
     alignas(32) float d[kLanes];
     alignas(32) float shiftS[kLanes] = {};   ///< decorrelated sampling: subtracted from the
     alignas(32) float shiftT[kLanes] = {};   ///< backprojection (SourceJitter.h)
-    std::uint64_t* rows[kLanes] = {};   ///< null: lane inactive
+    std::uint64_t* rows[kLanes] = {};   ///< each lane's row; read for the lanes `active` names only
 };
 
 /// Whether this CPU runs the AVX2 kernel.
 bool floatRowsAvailable();
 
-/// ORs into each active lane's row the source samples of the na x nb grid (na <= 32) inside the
-/// polygon's backprojection from that lane's receiver sample. Returns the number of active lanes.
-int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, int na, int nb);
+/// ORs into each active lane's row (bit l of `active`: lane l) the source samples of the na x nb
+/// grid (na <= 32) inside the polygon's backprojection from that lane's receiver sample. Returns
+/// the number of active lanes.
+int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, unsigned active, int na, int nb);
 
 } // namespace sightline::detail

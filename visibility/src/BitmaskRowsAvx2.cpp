@@ -13,6 +13,50 @@ namespace sightline::detail {
 
 #ifdef SIGHTLINE_X86
 
+// SSE2, baseline on x86-64: the four corners side by side.
+void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4], float out[4])
+{
+    const __m128 s0 = _mm_loadu_ps(rs), t0 = _mm_loadu_ps(rt), d0 = _mm_loadu_ps(rd);
+    __m128 sMin = _mm_set1_ps(std::numeric_limits<float>::infinity()), tMin = sMin;
+    __m128 sMax = _mm_set1_ps(-std::numeric_limits<float>::infinity()), tMax = sMax;
+    for (int i = 0; i < polygon.count; ++i) {
+        const __m128 k = polygon.sharedFactor ? _mm_set1_ps(polygon.k[i])
+                                              : _mm_div_ps(d0, _mm_sub_ps(d0, _mm_set1_ps(polygon.d[i])));
+        const __m128 s = _mm_add_ps(s0, _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(polygon.s[i]), s0), k));
+        const __m128 t = _mm_add_ps(t0, _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(polygon.t[i]), t0), k));
+        sMin = _mm_min_ps(sMin, s), sMax = _mm_max_ps(sMax, s);
+        tMin = _mm_min_ps(tMin, t), tMax = _mm_max_ps(tMax, t);
+    }
+    // Horizontal: [sMin, tMin] and [sMax, tMax] pairs reduced together.
+    __m128 lo = _mm_min_ps(_mm_unpacklo_ps(sMin, tMin), _mm_unpackhi_ps(sMin, tMin));   // s01 t01 s23 t23
+    __m128 hi = _mm_max_ps(_mm_unpacklo_ps(sMax, tMax), _mm_unpackhi_ps(sMax, tMax));
+    lo = _mm_min_ps(lo, _mm_movehl_ps(lo, lo));   // s, t in lanes 0, 1
+    hi = _mm_max_ps(hi, _mm_movehl_ps(hi, hi));
+    alignas(16) float l[4], h[4];
+    _mm_store_ps(l, lo);
+    _mm_store_ps(h, hi);
+    out[0] = l[0], out[1] = h[0], out[2] = l[1], out[3] = h[1];
+}
+
+#else
+
+void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4], float out[4])
+{
+    out[0] = out[2] = std::numeric_limits<float>::infinity();
+    out[1] = out[3] = -std::numeric_limits<float>::infinity();
+    for (int i = 0; i < polygon.count; ++i)
+        for (int c = 0; c < 4; ++c) {
+            const float k = polygon.sharedFactor ? polygon.k[i] : rd[c] / (rd[c] - polygon.d[i]);
+            const float s = rs[c] + (polygon.s[i] - rs[c]) * k, t = rt[c] + (polygon.t[i] - rt[c]) * k;
+            out[0] = std::min(out[0], s), out[1] = std::max(out[1], s);
+            out[2] = std::min(out[2], t), out[3] = std::max(out[3], t);
+        }
+}
+
+#endif
+
+#ifdef SIGHTLINE_X86
+
 bool floatRowsAvailable()
 {
     static const bool available = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
@@ -51,11 +95,10 @@ SIGHTLINE_AVX2 inline void widen(__m256& lo, __m256& hi, __m256 slack)
 
 } // namespace
 
-SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, int na, int nb)
+SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, unsigned active, int na,
+                                       int nb)
 {
-    unsigned activeLanes = 0;
-    for (int l = 0; l < kLanes; ++l)
-        activeLanes |= unsigned(lanes.rows[l] != nullptr) << l;
+    const unsigned activeLanes = active & 0xffu;
     if (!activeLanes)
         return 0;
     const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
@@ -68,7 +111,8 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     __m256 tMin = inf, tMax = negInf, magnitude = _mm256_setzero_ps();
     const __m256 sign = _mm256_set1_ps(-0.0f);
     for (int i = 0; i < polygon.count; ++i) {
-        const __m256 k = _mm256_div_ps(rd, _mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])));
+        const __m256 k = polygon.sharedFactor ? _mm256_set1_ps(polygon.k[i])
+                                              : _mm256_div_ps(rd, _mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])));
         ps[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs), shiftS);
         pt[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt), shiftT);
         tMin = _mm256_min_ps(tMin, pt[i]);
@@ -91,11 +135,11 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
         rowMin = std::min(rowMin, first[l]);
         rowMax = std::max(rowMax, last[l]);
     }
-    // Inactive lanes get an empty row range, so they never write.
-    alignas(32) int laneOn[kLanes];
-    for (int l = 0; l < kLanes; ++l)
-        laneOn[l] = (activeLanes >> l & 1) ? -1 : 0;
-    const __m256i on = _mm256_load_si256(reinterpret_cast<const __m256i*>(laneOn));
+    if (rowMin > rowMax)
+        return std::popcount(activeLanes);
+    // Inactive lanes get an empty row range, so their bits stay zero.
+    const __m256i laneBit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256i on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(activeLanes)), laneBit), laneBit);
     b0 = _mm256_blendv_epi8(_mm256_set1_epi32(nb), b0, on);
 
     // Edges: per row t = tb, an edge spanning tb crosses at lo + (tb - t0) * slope. An edge along
@@ -116,6 +160,10 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     }
 
     const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
+    // 32 columns (the usual 32 x 32 source): rows 2w and 2w + 1 are the halves of word w, so the
+    // rows' bits are kept and each lane ORs one word per pair of rows, once the rows are done.
+    const bool paired = na == 32;
+    alignas(32) std::uint32_t rowBits[34][kLanes];   // na == 32 means nb <= 32, and a row either side
     alignas(32) std::uint32_t bits[kLanes];
     for (int b = rowMin; b <= rowMax; ++b) {
         const __m256 tb = _mm256_set1_ps((float(b) + 0.5f) / float(nb));
@@ -136,6 +184,10 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
         // Bits a0..a1: (2 << a1) - (1 << a0); for a1 = 31 the first term wraps to 0, still right.
         const __m256i run = _mm256_sub_epi32(_mm256_sllv_epi32(two, a1), _mm256_sllv_epi32(one, a0));
         const __m256i masked = _mm256_andnot_si256(outside, run);
+        if (paired) {
+            _mm256_store_si256(reinterpret_cast<__m256i*>(rowBits[b]), masked);
+            continue;
+        }
         const unsigned empty = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(masked, _mm256_setzero_si256()))));
         unsigned written = ~empty & 0xffu;
         if (!written)
@@ -150,13 +202,26 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
                 out[word + 1] |= std::uint64_t(bits[l]) >> (64 - shift);
         }
     }
+    if (paired) {
+        const int w0 = rowMin >> 1, w1 = rowMax >> 1;
+        if (rowMin & 1)
+            _mm256_store_si256(reinterpret_cast<__m256i*>(rowBits[rowMin - 1]), _mm256_setzero_si256());
+        if (!(rowMax & 1))
+            _mm256_store_si256(reinterpret_cast<__m256i*>(rowBits[rowMax + 1]), _mm256_setzero_si256());
+        for (unsigned m = activeLanes; m; m &= m - 1) {
+            const int l = std::countr_zero(m);
+            std::uint64_t* out = lanes.rows[l];
+            for (int w = w0; w <= w1; ++w)
+                out[w] |= std::uint64_t(rowBits[2 * w][l]) | std::uint64_t(rowBits[2 * w + 1][l]) << 32;
+        }
+    }
     return std::popcount(activeLanes);
 }
 
 #else
 
 bool floatRowsAvailable() { return false; }
-int backprojectRowsAvx2(const FloatPolygon&, const LaneGroup&, int, int) { return 0; }
+int backprojectRowsAvx2(const FloatPolygon&, const LaneGroup&, unsigned, int, int) { return 0; }
 
 #endif
 
