@@ -276,7 +276,7 @@ TEST(CpuBitmaskSampler, AutoTimesBothMethodsWhereTheEstimateIsUnsure)
 {
     if (!CpuBitmaskSampler::simdAvailable())
         GTEST_SKIP() << "the probe runs with the SIMD kernel only";
-    // The comb of small triangles again, seen by a 64x64 receiver (256 tiles): with fewer source
+    // The comb of small triangles again, seen by a 64x64 receiver (where Auto starts probing): with fewer source
     // samples the estimated pairs per ray rise through the band where Auto measures both methods
     // on a few tiles. Whichever it picks, tiles done by either probe stay as they are.
     const Scene scene = sceneOf({combWall()});

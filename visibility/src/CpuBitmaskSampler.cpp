@@ -1,6 +1,7 @@
 #include "visibility/CpuBitmaskSampler.h"
 
 #include <algorithm>
+#include <numeric>
 #include <random>
 #include <atomic>
 #include <bit>
@@ -28,8 +29,11 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
-/// Receiver samples are processed in square tiles; a tile is the unit of parallel work.
-constexpr int kTile = 4;
+/// Receiver samples are processed in square tiles; a tile is the unit of parallel work, of
+/// binning and of the narrowed shaft. 8x8 against 4x4 on the 128x128 wall receiver, 1024 source
+/// samples: 27% more pairs (coarser narrowing) but a third less per-(occluder, tile) work, 122 ->
+/// 105 ms.
+constexpr int kTile = 8;
 
 /// How an occluder is backprojected from a set of receiver samples, cheapest first.
 enum class Path : std::uint8_t {
@@ -119,13 +123,13 @@ constexpr double kPairsPerRayFloat = 6.0;
 /// 7.5 per ray at 1024 sources: bitmask 895 against Embree 271 ms.
 constexpr double kProbePairsPerRay = 20.0;
 constexpr std::uint32_t kProbeStride = 8;
-/// Below 64x64 receiver samples (256 tiles) the probe's own cost (a batch of each method) is a
-/// large part of the answer (demo at 32x32, 128 sources: 17.4 ms probed against 12.4 by Embree
-/// alone): the estimate decides there.
-constexpr std::size_t kProbeMinTiles = 256;
-/// The probe needs every triangle binned to its tiles first (about estimated pairs / 16 entries).
-/// The conservatory floor at 512x512 samples would bin 126M entries (5 s, 500 MB) before Embree
-/// answers in 4.7 s: above this many, the estimate decides.
+/// Below 64x64 receiver samples the probe's own cost (a batch of each method) is a large part of
+/// the answer (demo at 32x32, 128 sources: 17.4 ms probed against 12.4 by Embree alone): the
+/// estimate decides there.
+constexpr int kProbeMinSamples = 64 * 64;
+/// The probe needs every triangle binned to its tiles first (about estimated pairs / 64 entries).
+/// The conservatory floor at 512x512 samples, about 2G estimated pairs, would bin 32M entries
+/// (seconds, hundreds of MB) before Embree answers in 4.7 s: above this many, the estimate decides.
 constexpr std::uint64_t kProbeMaxBinEntries = std::uint64_t(16) << 20;
 
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
@@ -872,21 +876,24 @@ struct Pass {
         return bins;
     }
 
-    /// The receiver samples of one tile as two groups of eight lanes for the SIMD kernel: rows
-    /// b0, b0 + 1 in the first, b0 + 2, b0 + 3 in the second, four columns each.
+    /// The receiver samples of one tile as groups of eight lanes for the SIMD kernel: lane
+    /// (b - b0) * kTile + (a - a0) is sample (a, b), and group g holds lanes 8 g to 8 g + 7, so
+    /// kRowsPerGroup whole rows of the tile.
+    static constexpr int kTileLanes = kTile * kTile;
+    static constexpr int kRowsPerGroup = detail::kLanes / kTile;
+    static constexpr int kGroups = kTileLanes / detail::kLanes;
+    static_assert(detail::kLanes % kTile == 0 && kTileLanes <= 64, "groups of whole tile rows; lane masks in 64 bits");
     struct TileLanes {
-        detail::LaneGroup group[2];
-        std::array<std::uint64_t*, 16> rows{};   // null outside the grid
-        std::array<int, 16> sample{};            // receiver sample index, -1 outside the grid
-        unsigned inside = 0;                     // per lane: inside the grid
+        detail::LaneGroup group[kGroups];
+        std::array<std::uint64_t*, kTileLanes> rows{};   // null outside the grid
+        std::uint64_t inside = 0;                        // per lane: inside the grid
     };
 
     TileLanes tileLanes(int a0, int b0) const
     {
-        static_assert(kTile == 4 && detail::kLanes == 8, "two lane groups of 2 x 4 samples per tile");
         TileLanes lanes;
-        for (int lane = 0; lane < 16; ++lane) {
-            const int a = a0 + lane % 4, b = b0 + lane / 4;
+        for (int lane = 0; lane < kTileLanes; ++lane) {
+            const int a = a0 + lane % kTile, b = b0 + lane / kTile;
             const bool inside = a < receiver.na && b < receiver.nb;
             // Lanes outside the grid compute with the tile's first sample and never write.
             const int j = inside ? b * receiver.na + a : b0 * receiver.na + a0;
@@ -896,10 +903,9 @@ struct Pass {
             g.d[lane % 8] = setup.receiverD[std::size_t(j)];
             g.shiftS[lane % 8] = float(setup.jitterShift[std::size_t(j)].x);
             g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
-            lanes.sample[std::size_t(lane)] = inside ? j : -1;
             lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
             g.rows[lane % 8] = lanes.rows[std::size_t(lane)];
-            lanes.inside |= unsigned(inside) << lane;
+            lanes.inside |= std::uint64_t(inside) << lane;
         }
         return lanes;
     }
@@ -960,7 +966,7 @@ struct Pass {
                 // sets reject 15% more pairs on the 128x128 wall but cost more than they save.
                 SourceBox open;
                 int sinceNarrowed = -1;   // -1: not narrowed yet
-                unsigned full = 0;        // per lane: row already full
+                std::uint64_t full = 0;   // per lane: row already full
                 int sinceFullChecked = kFullRefresh;
                 const std::vector<std::uint32_t>& tileBin = bins[tile];
                 for (std::size_t next = 0; next < tileBin.size(); ++next) {
@@ -991,22 +997,22 @@ struct Pass {
                     }
                     if (path == Path::Float && ++sinceFullChecked >= kFullRefresh) {
                         full = 0;
-                        for (int lane = 0; lane < 16; ++lane)
+                        for (int lane = 0; lane < kTileLanes; ++lane)
                             if (lanes.rows[std::size_t(lane)] && rowFull(lanes.rows[std::size_t(lane)], words, setup.S))
-                                full |= 1u << lane;
+                                full |= std::uint64_t(1) << lane;
                         sinceFullChecked = 0;
                     }
-                    // The kernel's two groups of 2 x 4 samples.
-                    for (int g = 0; g < 2; ++g) {
-                        const int gb0 = std::max(ib0, b0 + 2 * g), gb1 = std::min(ib1, b0 + 2 * g + 1);
-                        if (gb0 > gb1)
-                            continue;
+                    // The kernel's groups of kRowsPerGroup rows.
+                    const unsigned columns = ((2u << (ia1 - a0)) - 1u) & ~((1u << (ia0 - a0)) - 1u);
+                    for (int g = (ib0 - b0) / kRowsPerGroup; g <= (ib1 - b0) / kRowsPerGroup; ++g) {
+                        const int gr0 = b0 + kRowsPerGroup * g;
+                        const int gb0 = std::max(ib0, gr0), gb1 = std::min(ib1, gr0 + kRowsPerGroup - 1);
                         if (path == Path::Float) {
-                            // Lanes: columns ia0..ia1 of rows gb0..gb1, not full (lane l: column
-                            // a0 + l % 4, row b0 + 2 g + l / 4).
-                            const unsigned columns = (0xfu >> (3 - (ia1 - a0))) & (0xfu << (ia0 - a0));
-                            const unsigned rows = (gb0 == b0 + 2 * g ? columns : 0u) | (gb1 == b0 + 2 * g + 1 ? columns << 4 : 0u);
-                            const unsigned active = rows & ~(full >> (8 * g)) & lanes.inside >> (8 * g);
+                            // Lanes: columns ia0..ia1 of rows gb0..gb1, inside the grid, not full.
+                            unsigned active = 0;
+                            for (int b = gb0; b <= gb1; ++b)
+                                active |= columns << (kTile * (b - gr0));
+                            active &= unsigned(~full >> (8 * g) & lanes.inside >> (8 * g));
                             const int n = detail::backprojectRowsAvx2(o.single, lanes.group[g], active, setup.na, setup.nb);
                             tilePairs += std::uint64_t(n);
                             tileFloatPairs += std::uint64_t(n);
@@ -1194,7 +1200,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper(&local.estimatedPairs);
         const double estimatePerRay = double(local.estimatedPairs) / double(map.rayCount());
         const bool probe = estimateSaysRays && estimatePerRay < kProbePairsPerRay && setup.floatKernel && !bumpy &&
-                           pass.tileCount() >= kProbeMinTiles &&
+                           receiver.sampleCount() >= kProbeMinSamples &&
                            local.estimatedPairs / std::uint64_t(kTile * kTile) <= kProbeMaxBinEntries;
         if (strategy == CpuStrategy::RayCast || (estimateSaysRays && !probe)) {
             local.strategy = "raycast";
@@ -1213,18 +1219,21 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
 
         const auto sampleStart = Clock::now();
         if (probe && small.empty()) {
-            // Tiles 0, 8, 16, ... by bitmask and 4, 12, 20, ... by rays, a batch of each at a
-            // time, timed; their rows are final either way. Probing stops once one method costs
-            // twice the other per tile (or the probe tiles run out).
-            std::vector<std::uint32_t> bitmaskTiles, rayTiles, rest;
-            for (std::uint32_t t = 0; t < std::uint32_t(bins.size()); ++t)
-                (t % kProbeStride == 0 ? bitmaskTiles : t % kProbeStride == kProbeStride / 2 ? rayTiles : rest).push_back(t);
-            // Batches spread over the whole receiver: in row order the first ones would all lie
-            // along one edge (a floor's edge by the wall costs nothing either way). A fixed seed:
-            // the same tiles every call.
+            // One tile in kProbeStride by bitmask and another by rays, a batch of each at a time,
+            // timed; their rows are final either way. Probing stops once one method costs twice
+            // the other per tile (or the probe tiles run out). The tiles are drawn at random over
+            // the whole receiver: in row order the first batches would all lie along one edge (a
+            // floor's edge by the wall costs nothing either way), and every 8th tile of a grid 16
+            // tiles wide is two columns of it. A fixed seed: the same tiles every call.
+            std::vector<std::uint32_t> shuffled(bins.size());
+            std::iota(shuffled.begin(), shuffled.end(), 0u);
             std::mt19937 scramble(12345);
-            std::shuffle(bitmaskTiles.begin(), bitmaskTiles.end(), scramble);
-            std::shuffle(rayTiles.begin(), rayTiles.end(), scramble);
+            std::shuffle(shuffled.begin(), shuffled.end(), scramble);
+            const std::size_t probeTiles = shuffled.size() / kProbeStride;
+            std::vector<std::uint32_t> bitmaskTiles(shuffled.begin(), shuffled.begin() + std::ptrdiff_t(probeTiles));
+            std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
+                                                shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
+            std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
             const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             std::vector<int> samples;
             RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
@@ -1255,8 +1264,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 // tenth of what the faster would take for the whole receiver.
                 const double perBitmask = bitmaskMs / double(bitmaskDone), perRay = rayMs / double(rayDone);
                 const double wholeFaster = std::min(perBitmask, perRay) * double(bins.size());
-                if (perBitmask > 2.0 * perRay || perRay > 2.0 * perBitmask ||
-                    (bitmaskDone >= 2 * batch && bitmaskMs + rayMs > 0.1 * wholeFaster))
+                if (bitmaskDone >= 2 * batch &&
+                    (perBitmask > 2.0 * perRay || perRay > 2.0 * perBitmask || bitmaskMs + rayMs > 0.1 * wholeFaster))
                     break;
             }
             local.rayMs += rayMs;
