@@ -49,6 +49,7 @@ struct LaneGroup {
     alignas(32) float d[kLanes];
     alignas(32) float shiftS[kLanes] = {};   ///< decorrelated sampling: subtracted from the
     alignas(32) float shiftT[kLanes] = {};   ///< backprojection (SourceJitter.h)
+    bool shifted = false;                ///< shiftS, shiftT are not all zero
     std::uint64_t* rows[kLanes] = {};   ///< each lane's row; read for the lanes `active` names only
 };
 

@@ -82,6 +82,20 @@ SIGHTLINE_AVX2 inline void sampleRange(__m256 lo, __m256 hi, int n, __m256i& fir
                             _mm256_set1_epi32(n - 1));
 }
 
+SIGHTLINE_AVX2 inline int horizontalMin(__m256i v)
+{
+    __m128i m = _mm_min_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_min_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+}
+
+SIGHTLINE_AVX2 inline int horizontalMax(__m256i v)
+{
+    __m128i m = _mm_max_epi32(_mm256_castsi256_si128(v), _mm256_extracti128_si256(v, 1));
+    m = _mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_cvtsi128_si32(_mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
+}
+
 /// Widens [lo, hi] by `slack`. Two triangles sharing an edge compute that edge from different
 /// vertices, so in single precision a sample exactly on it (a wall of two triangles with the
 /// patches centred on its diagonal puts hundreds of rays there) could fall outside both: a crack
@@ -113,8 +127,12 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     for (int i = 0; i < polygon.count; ++i) {
         const __m256 k = polygon.sharedFactor ? _mm256_set1_ps(polygon.k[i])
                                               : _mm256_div_ps(rd, _mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])));
-        ps[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs), shiftS);
-        pt[i] = _mm256_sub_ps(_mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt), shiftT);
+        ps[i] = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs);
+        pt[i] = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt);
+        if (lanes.shifted) {
+            ps[i] = _mm256_sub_ps(ps[i], shiftS);
+            pt[i] = _mm256_sub_ps(pt[i], shiftT);
+        }
         tMin = _mm256_min_ps(tMin, pt[i]);
         tMax = _mm256_max_ps(tMax, pt[i]);
         magnitude = _mm256_max_ps(magnitude, _mm256_max_ps(_mm256_andnot_ps(sign, ps[i]), _mm256_andnot_ps(sign, pt[i])));
@@ -126,21 +144,13 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     __m256i b0, b1;
     widen(tMin, tMax, slack);
     sampleRange(tMin, tMax, nb, b0, b1);
-    alignas(32) int first[kLanes], last[kLanes];
-    _mm256_store_si256(reinterpret_cast<__m256i*>(first), b0);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(last), b1);
-    int rowMin = nb, rowMax = -1;
-    for (unsigned m = activeLanes; m; m &= m - 1) {
-        const int l = std::countr_zero(m);
-        rowMin = std::min(rowMin, first[l]);
-        rowMax = std::max(rowMax, last[l]);
-    }
-    if (rowMin > rowMax)
-        return std::popcount(activeLanes);
     // Inactive lanes get an empty row range, so their bits stay zero.
     const __m256i laneBit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     const __m256i on = _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(activeLanes)), laneBit), laneBit);
     b0 = _mm256_blendv_epi8(_mm256_set1_epi32(nb), b0, on);
+    const int rowMin = horizontalMin(b0), rowMax = horizontalMax(_mm256_blendv_epi8(_mm256_set1_epi32(-1), b1, on));
+    if (rowMin > rowMax)
+        return std::popcount(activeLanes);
 
     // Edges: per row t = tb, an edge spanning tb crosses at lo + (tb - t0) * slope. An edge along
     // the row (t0 == t1) contributes both ends: slope 0, lo and hi its extremes.
@@ -208,11 +218,17 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
             _mm256_store_si256(reinterpret_cast<__m256i*>(rowBits[rowMin - 1]), _mm256_setzero_si256());
         if (!(rowMax & 1))
             _mm256_store_si256(reinterpret_cast<__m256i*>(rowBits[rowMax + 1]), _mm256_setzero_si256());
-        for (unsigned m = activeLanes; m; m &= m - 1) {
-            const int l = std::countr_zero(m);
-            std::uint64_t* out = lanes.rows[l];
-            for (int w = w0; w <= w1; ++w)
-                out[w] |= std::uint64_t(rowBits[2 * w][l]) | std::uint64_t(rowBits[2 * w + 1][l]) << 32;
+        alignas(32) std::uint64_t pair[kLanes];   // word w of each lane: rows 2w and 2w + 1
+        for (int w = w0; w <= w1; ++w) {
+            const __m256i lo = _mm256_load_si256(reinterpret_cast<const __m256i*>(rowBits[2 * w]));
+            const __m256i hi = _mm256_load_si256(reinterpret_cast<const __m256i*>(rowBits[2 * w + 1]));
+            const __m256i a = _mm256_unpacklo_epi32(lo, hi), b = _mm256_unpackhi_epi32(lo, hi);   // lanes 0 1 4 5, 2 3 6 7
+            _mm256_store_si256(reinterpret_cast<__m256i*>(pair), _mm256_permute2x128_si256(a, b, 0x20));
+            _mm256_store_si256(reinterpret_cast<__m256i*>(pair + 4), _mm256_permute2x128_si256(a, b, 0x31));
+            for (unsigned m = activeLanes; m; m &= m - 1) {
+                const int l = std::countr_zero(m);
+                lanes.rows[l][w] |= pair[l];
+            }
         }
     }
     return std::popcount(activeLanes);

@@ -903,6 +903,7 @@ struct Pass {
             g.d[lane % 8] = setup.receiverD[std::size_t(j)];
             g.shiftS[lane % 8] = float(setup.jitterShift[std::size_t(j)].x);
             g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
+            g.shifted = setup.jittered;
             lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
             g.rows[lane % 8] = lanes.rows[std::size_t(lane)];
             lanes.inside |= std::uint64_t(inside) << lane;
