@@ -211,30 +211,36 @@ TEST(CpuBitmaskSampler, ObjectsStandingOnAFloorMatchTheReference)
         m[3] = glm::vec4(x(rng), y(rng), 0.5f * m[2][2], 1.0f);   // standing on z = 0
         scene.instances.push_back({"box", box, m});
     }
-    Patch source, floor;
+    Patch source;
     source.corner = {0.0, -1.0, 1.0};   // a 2 x 2 m wall patch at x = 0, 1 to 3 m up
     source.u = {0.0, 2.0, 0.0};
     source.v = {0.0, 0.0, 2.0};
     source.na = source.nb = 32;
-    floor.corner = {2.0, -3.0, 0.0};   // 8 x 6 m of floor
-    floor.u = {8.0, 0.0, 0.0};
-    floor.v = {0.0, 6.0, 0.0};
-    floor.na = floor.nb = 64;
-    const HiddenSampleMap reference = RayCastScene(scene).sample(source, floor);
+    const RayCastScene reference(scene);
     const CpuBitmaskSampler sampler(scene);
-    BitmaskStats stats;
-    const HiddenSampleMap map = sampler.sample(source, floor, {.strategy = CpuStrategy::Bitmask}, &stats);
-    EXPECT_GT(reference.blockedCount(), reference.rayCount() / 10);
-    EXPECT_LT(reference.blockedCount(), reference.rayCount() / 2);
-    EXPECT_LE(map.differenceCount(reference) * 10000, map.rayCount());
-    EXPECT_EQ(map, sampler.sample(source, floor, {.strategy = CpuStrategy::Bitmask, .narrowShaft = false}));
-    const HiddenSampleMap scalar = sampler.sample(source, floor, {.strategy = CpuStrategy::Bitmask, .simd = false});
-    EXPECT_LE(scalar.differenceCount(reference) * 10000, map.rayCount());
-    if (CpuBitmaskSampler::simdAvailable()) {
-        // Every box touches the floor: over its whole region it needs clipping, so the float
-        // kernel runs only where a tile's own samples allow it (31% of the pairs; 0 when the path
-        // was chosen per occluder).
-        EXPECT_GT(stats.floatPairs, stats.pairs / 4) << stats.floatPairs << " of " << stats.pairs;
+    // 8 x 6 m of floor, its rows running away from the source (each sample at its own distance)
+    // or along it (a row at one distance, where one clip serves the whole row).
+    for (const bool rowsAlongTheSource : {false, true}) {
+        Patch floor;   // normal up either way
+        floor.corner = rowsAlongTheSource ? glm::dvec3(2.0, 3.0, 0.0) : glm::dvec3(2.0, -3.0, 0.0);
+        floor.u = rowsAlongTheSource ? glm::dvec3(0.0, -6.0, 0.0) : glm::dvec3(8.0, 0.0, 0.0);
+        floor.v = rowsAlongTheSource ? glm::dvec3(8.0, 0.0, 0.0) : glm::dvec3(0.0, 6.0, 0.0);
+        floor.na = floor.nb = 64;
+        const HiddenSampleMap expected = reference.sample(source, floor);
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(source, floor, {.strategy = CpuStrategy::Bitmask}, &stats);
+        EXPECT_GT(expected.blockedCount(), expected.rayCount() / 10);
+        EXPECT_LT(expected.blockedCount(), expected.rayCount() / 2);
+        EXPECT_LE(map.differenceCount(expected) * 10000, map.rayCount()) << rowsAlongTheSource;
+        EXPECT_EQ(map, sampler.sample(source, floor, {.strategy = CpuStrategy::Bitmask, .narrowShaft = false}));
+        const HiddenSampleMap scalar = sampler.sample(source, floor, {.strategy = CpuStrategy::Bitmask, .simd = false});
+        EXPECT_LE(scalar.differenceCount(expected) * 10000, map.rayCount()) << rowsAlongTheSource;
+        if (CpuBitmaskSampler::simdAvailable()) {
+            // Every box touches the floor: over its whole region it needs clipping, so the float
+            // kernel runs only where a tile's own samples allow it (0 when the path was chosen
+            // per occluder).
+            EXPECT_GT(stats.floatPairs, stats.pairs / 4) << stats.floatPairs << " of " << stats.pairs;
+        }
     }
 }
 

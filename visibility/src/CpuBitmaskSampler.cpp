@@ -588,15 +588,29 @@ struct Setup {
                                parallel ? occluder.factor.data() : nullptr);
             return;
         }
-        // Vertices at or beyond the receiver sample's own distance cannot lie on its segments.
-        // For a bumpy receiver this is where the parts beyond a displaced sample (farther from
-        // the source than the sample) stop blocking it.
+        if (occluder.maxD < clipDistance(r.z)) {   // nothing to clip for this sample
+            backprojectPolygon(occluder.vertices.data(), occluder.count, r, jitterShift[std::size_t(j)], row, nullptr);
+            return;
+        }
+        const ClippedPolygon local = clippedFor(occluder, r.z);
+        if (local.count >= 3)
+            backprojectPolygon(local.vertices.data(), local.count, r, jitterShift[std::size_t(j)], row, nullptr);
+    }
+
+    /// Vertices at or beyond a receiver sample's own distance d cannot lie on its segments: the
+    /// part of an occluder that can hide anything from it lies short of this. For a bumpy
+    /// receiver this is where the parts beyond a displaced sample (farther from the source than
+    /// the sample) stop blocking it.
+    static double clipDistance(double d) { return d * (1.0 - double(1e-6f)); }
+
+    /// The occluder clipped for receiver samples at distance d from the source plane.
+    static ClippedPolygon clippedFor(const Occluder& occluder, double d)
+    {
         ClippedPolygon local;
         local.count = occluder.count;
         std::copy_n(occluder.vertices.begin(), occluder.count, local.vertices.begin());
-        clipPolygon(local, glm::dvec3(0, 0, -1), -r.z * (1.0 - double(1e-6f)));
-        if (local.count >= 3)
-            backprojectPolygon(local.vertices.data(), local.count, r, jitterShift[std::size_t(j)], row, nullptr);
+        clipPolygon(local, glm::dvec3(0, 0, -1), -clipDistance(d));
+        return local;
     }
 
     /// The backprojection from receiver point r (source coordinates) of a convex polygon whose
@@ -1008,7 +1022,12 @@ struct Pass {
                     for (int g = (ib0 - b0) / kRowsPerGroup; g <= (ib1 - b0) / kRowsPerGroup; ++g) {
                         const int gr0 = b0 + kRowsPerGroup * g;
                         const int gb0 = std::max(ib0, gr0), gb1 = std::min(ib1, gr0 + kRowsPerGroup - 1);
-                        if (path == Path::Float) {
+                        // A sloping receiver's group may be well clear of an occluder that reaches
+                        // the tile's nearest sample (furniture on a floor).
+                        const Path groupPath = path == Path::Float || setup.bumpy
+                                                   ? path
+                                                   : setup.pathFor(o.maxD, setup.nearestSample(ia0, ia1, gb0, gb1));
+                        if (groupPath == Path::Float) {
                             // Lanes: columns ia0..ia1 of rows gb0..gb1, inside the grid, not full.
                             unsigned active = 0;
                             for (int b = gb0; b <= gb1; ++b)
@@ -1019,13 +1038,35 @@ struct Pass {
                             tileFloatPairs += std::uint64_t(n);
                             continue;
                         }
+                        // A receiver row parallel to the source plane (a floor seen from a wall) lies
+                        // at one distance: one clip serves all its samples.
+                        const int j0 = gb0 * receiver.na + ia0, j1 = gb1 * receiver.na + ia1;
+                        const double z0 = setup.receiverInSource[std::size_t(j0)].z;
+                        if (groupPath == Path::Clip && !setup.bumpy && o.maxD >= Setup::clipDistance(z0) &&
+                            std::abs(setup.receiverInSource[std::size_t(j1)].z - z0) <= 1e-12 * z0) {
+                            const ClippedPolygon clipped = Setup::clippedFor(*o.occluder, z0);
+                            if (clipped.count < 3)
+                                continue;
+                            for (int b = gb0; b <= gb1; ++b)
+                                for (int a = ia0; a <= ia1; ++a) {
+                                    const int j = b * receiver.na + a;
+                                    std::uint64_t* row = map.row(j).data();
+                                    if (rowFull(row, words, setup.S))
+                                        continue;
+                                    setup.backprojectPolygon(clipped.vertices.data(), clipped.count,
+                                                             setup.receiverInSource[std::size_t(j)],
+                                                             setup.jitterShift[std::size_t(j)], row, nullptr);
+                                    ++tilePairs;
+                                }
+                            continue;
+                        }
                         for (int b = gb0; b <= gb1; ++b)
                             for (int a = ia0; a <= ia1; ++a) {
                                 const int j = b * receiver.na + a;
                                 std::uint64_t* row = map.row(j).data();
                                 if (rowFull(row, words, setup.S))
                                     continue;
-                                setup.backproject(*o.occluder, path, j, row);
+                                setup.backproject(*o.occluder, groupPath, j, row);
                                 ++tilePairs;
                             }
                     }
