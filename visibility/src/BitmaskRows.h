@@ -50,7 +50,9 @@ struct LaneGroup {
     alignas(32) float shiftS[kLanes] = {};   ///< decorrelated sampling: subtracted from the
     alignas(32) float shiftT[kLanes] = {};   ///< backprojection (SourceJitter.h)
     bool shifted = false;                ///< shiftS, shiftT are not all zero
-    std::uint64_t* rows[kLanes] = {};   ///< each lane's row; read for the lanes `active` names only
+    /// Each lane's row, valid (possibly a scratch row) for every lane: inactive lanes may have
+    /// zeros ORed into theirs.
+    std::uint64_t* rows[kLanes] = {};
 };
 
 /// Whether this CPU runs the AVX2 kernel.

@@ -225,10 +225,9 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
             const __m256i a = _mm256_unpacklo_epi32(lo, hi), b = _mm256_unpackhi_epi32(lo, hi);   // lanes 0 1 4 5, 2 3 6 7
             _mm256_store_si256(reinterpret_cast<__m256i*>(pair), _mm256_permute2x128_si256(a, b, 0x20));
             _mm256_store_si256(reinterpret_cast<__m256i*>(pair + 4), _mm256_permute2x128_si256(a, b, 0x31));
-            for (unsigned m = activeLanes; m; m &= m - 1) {
-                const int l = std::countr_zero(m);
+            // Every lane: an inactive lane's bits are zero, and its row is valid (LaneGroup).
+            for (int l = 0; l < kLanes; ++l)
                 lanes.rows[l][w] |= pair[l];
-            }
         }
     }
     return std::popcount(activeLanes);

@@ -902,11 +902,14 @@ struct Pass {
         detail::LaneGroup group[kGroups];
         std::array<std::uint64_t*, kTileLanes> rows{};   // null outside the grid
         std::uint64_t inside = 0;                        // per lane: inside the grid
+        /// The kernel's row for lanes outside the grid: it only ever ORs zeros into it.
+        std::array<std::uint64_t, kMaxSourceSamples / 64> scratch{};
     };
 
-    TileLanes tileLanes(int a0, int b0) const
+    /// Fills `lanes` in place: the scratch row's address must stay valid.
+    void tileLanes(int a0, int b0, TileLanes& lanes) const
     {
-        TileLanes lanes;
+        lanes.inside = 0;
         for (int lane = 0; lane < kTileLanes; ++lane) {
             const int a = a0 + lane % kTile, b = b0 + lane / kTile;
             const bool inside = a < receiver.na && b < receiver.nb;
@@ -920,10 +923,9 @@ struct Pass {
             g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
             g.shifted = setup.jittered;
             lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
-            g.rows[lane % 8] = lanes.rows[std::size_t(lane)];
+            g.rows[lane % 8] = inside ? lanes.rows[std::size_t(lane)] : lanes.scratch.data();
             lanes.inside |= std::uint64_t(inside) << lane;
         }
-        return lanes;
     }
 
     /// The receiver samples of a tile (bit indices).
@@ -977,7 +979,7 @@ struct Pass {
                 const int aEnd = std::min(receiver.na, a0 + kTile), bEnd = std::min(receiver.nb, b0 + kTile);
                 TileLanes lanes;
                 if (setup.floatKernel)
-                    lanes = tileLanes(a0, b0);
+                    tileLanes(a0, b0, lanes);
                 // The source samples the tile still sees. Per group of 2 x 4 samples instead, the
                 // sets reject 15% more pairs on the 128x128 wall but cost more than they save.
                 SourceBox open;
