@@ -13,6 +13,7 @@
 // - source grids wider than 32 columns.
 
 #include <cstdint>
+#include <vector>
 
 namespace sightline::detail {
 
@@ -50,10 +51,21 @@ struct LaneGroup {
     alignas(32) float shiftS[kLanes] = {};   ///< decorrelated sampling: subtracted from the
     alignas(32) float shiftT[kLanes] = {};   ///< backprojection (SourceJitter.h)
     bool shifted = false;                ///< shiftS, shiftT are not all zero
+    /// t of each source row's samples, (b + 0.5f) / nb in float (rowCentres in this header).
+    const float* rowCentres = nullptr;
     /// Each lane's row, valid (possibly a scratch row) for every lane: inactive lanes may have
     /// zeros ORed into theirs.
     std::uint64_t* rows[kLanes] = {};
 };
+
+/// The t coordinate of source row b's samples, for b < nb, as the kernel compares them.
+inline std::vector<float> rowCentres(int nb)
+{
+    std::vector<float> t(static_cast<std::size_t>(nb));
+    for (int b = 0; b < nb; ++b)
+        t[std::size_t(b)] = (float(b) + 0.5f) / float(nb);
+    return t;
+}
 
 /// Whether this CPU runs the AVX2 kernel.
 bool floatRowsAvailable();

@@ -176,7 +176,7 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     alignas(32) std::uint32_t rowBits[34][kLanes];   // na == 32 means nb <= 32, and a row either side
     alignas(32) std::uint32_t bits[kLanes];
     for (int b = rowMin; b <= rowMax; ++b) {
-        const __m256 tb = _mm256_set1_ps((float(b) + 0.5f) / float(nb));
+        const __m256 tb = _mm256_broadcast_ss(&lanes.rowCentres[b]);
         __m256 lo = inf, hi = negInf;
         for (int e = 0; e < count; ++e) {
             const __m256 spans = _mm256_and_ps(_mm256_cmp_ps(tb, eMin[e], _CMP_GE_OQ), _mm256_cmp_ps(tb, eMax[e], _CMP_LE_OQ));

@@ -182,6 +182,7 @@ struct Setup {
     bool jittered = false;
     std::vector<glm::dvec2> jitterShift;   // per receiver sample: its source grid's offset in (s, t)
     std::vector<float> receiverS, receiverT, receiverD;   // receiverInSource in float
+    std::vector<float> rowCentres = detail::rowCentres(nb);   // the SIMD kernel's source rows
     // A bumpy receiver (§8): receiverInSource holds the displaced samples, and influence regions
     // are projected onto the receiver-frame planes d = levels[0] (lowest bump) and d = levels[1]
     // (highest). Flat: the receiver plane alone, d = 0.
@@ -922,6 +923,7 @@ struct Pass {
             g.shiftS[lane % 8] = float(setup.jitterShift[std::size_t(j)].x);
             g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
             g.shifted = setup.jittered;
+            g.rowCentres = setup.rowCentres.data();
             lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
             g.rows[lane % 8] = inside ? lanes.rows[std::size_t(lane)] : lanes.scratch.data();
             lanes.inside |= std::uint64_t(inside) << lane;
