@@ -1046,7 +1046,9 @@ struct Pass {
                             continue;
                         }
                         // A receiver row parallel to the source plane (a floor seen from a wall) lies
-                        // at one distance: one clip serves all its samples.
+                        // at one distance: one clip serves all its samples. The distance is affine
+                        // along the row, so its two ends tell.
+                        static_assert(kRowsPerGroup == 1, "a lane group is part of one receiver row");
                         const int j0 = gb0 * receiver.na + ia0, j1 = gb1 * receiver.na + ia1;
                         const double z0 = setup.receiverInSource[std::size_t(j0)].z;
                         if (groupPath == Path::Clip && !setup.bumpy && o.maxD >= Setup::clipDistance(z0) &&
