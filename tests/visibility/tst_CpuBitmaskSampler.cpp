@@ -115,15 +115,16 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
 
 TEST(CpuBitmaskSampler, MatchesTheReferenceAcrossSampleCounts)
 {
-    // A soup in the shaft; source grids of 1, 32, 128 (16x8), 1024 (32x32, 64x16) samples and
-    // receivers up to 512x512; threads 1 and all give the same bits.
+    // A soup in the shaft; source grids of 1, 32, 128 (16x8), 544 (32x17: rows paired into
+    // words, one left over), 1024 (32x32, 64x16) samples and receivers up to 512x512, some not a
+    // multiple of the 8x8 tiles; threads 1 and all give the same bits.
     const Mesh soup = randomSoup(11, 400, -0.3f, 1.3f, 0.3f, 1.7f, 0.15f);
     const Scene scene = sceneOf({soup});
     const RayCastScene reference(scene);
     const CpuBitmaskSampler sampler(scene);
     struct Grid { int na, nb, rna, rnb; };
-    for (const Grid g : {Grid{1, 1, 64, 64}, Grid{32, 1, 32, 32}, Grid{16, 8, 40, 24}, Grid{32, 32, 32, 32},
-                         Grid{64, 16, 16, 16}, Grid{4, 4, 512, 512}}) {
+    for (const Grid g : {Grid{1, 1, 64, 64}, Grid{32, 1, 32, 32}, Grid{16, 8, 40, 24}, Grid{32, 17, 37, 19},
+                         Grid{32, 32, 32, 32}, Grid{64, 16, 16, 16}, Grid{4, 4, 512, 512}}) {
         const Patch source = xyPatch(0, g.na, g.nb), receiver = xyPatch(2, g.rna, g.rnb);
         const HiddenSampleMap expected = reference.sample(source, receiver);
         const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::Bitmask});

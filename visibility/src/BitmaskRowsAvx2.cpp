@@ -14,7 +14,8 @@ namespace sightline::detail {
 #ifdef SIGHTLINE_X86
 
 // SSE2, baseline on x86-64: the four corners side by side.
-void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4], float out[4])
+void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4],
+                         float out[4])
 {
     const __m128 s0 = _mm_loadu_ps(rs), t0 = _mm_loadu_ps(rt), d0 = _mm_loadu_ps(rd);
     __m128 sMin = _mm_set1_ps(std::numeric_limits<float>::infinity()), tMin = sMin;
@@ -40,7 +41,8 @@ void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const f
 
 #else
 
-void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4], float out[4])
+void backprojectedBounds(const FloatPolygon& polygon, const float rs[4], const float rt[4], const float rd[4],
+                         float out[4])
 {
     out[0] = out[2] = std::numeric_limits<float>::infinity();
     out[1] = out[3] = -std::numeric_limits<float>::infinity();
@@ -222,7 +224,8 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
         for (int w = w0; w <= w1; ++w) {
             const __m256i lo = _mm256_load_si256(reinterpret_cast<const __m256i*>(rowBits[2 * w]));
             const __m256i hi = _mm256_load_si256(reinterpret_cast<const __m256i*>(rowBits[2 * w + 1]));
-            const __m256i a = _mm256_unpacklo_epi32(lo, hi), b = _mm256_unpackhi_epi32(lo, hi);   // lanes 0 1 4 5, 2 3 6 7
+            // 64-bit lanes 0 1 4 5 in a, 2 3 6 7 in b; then in order.
+            const __m256i a = _mm256_unpacklo_epi32(lo, hi), b = _mm256_unpackhi_epi32(lo, hi);
             _mm256_store_si256(reinterpret_cast<__m256i*>(pair), _mm256_permute2x128_si256(a, b, 0x20));
             _mm256_store_si256(reinterpret_cast<__m256i*>(pair + 4), _mm256_permute2x128_si256(a, b, 0x31));
             // Every lane: an inactive lane's bits are zero, and its row is valid (LaneGroup).

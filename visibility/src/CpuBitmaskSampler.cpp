@@ -370,8 +370,8 @@ struct Setup {
     /// of a flat receiver: the distance is affine over the plane, so one of the box's corners.
     double nearestSample(int a0, int a1, int b0, int b1) const
     {
-        return std::min(std::min(receiverInSource[std::size_t(b0 * rna + a0)].z, receiverInSource[std::size_t(b0 * rna + a1)].z),
-                        std::min(receiverInSource[std::size_t(b1 * rna + a0)].z, receiverInSource[std::size_t(b1 * rna + a1)].z));
+        const auto d = [&](int a, int b) { return receiverInSource[std::size_t(b * rna + a)].z; };
+        return std::min(std::min(d(a0, b0), d(a1, b0)), std::min(d(a0, b1), d(a1, b1)));
     }
 
     /// The path for an occluder reaching `maxD` from the source, backprojected from receiver
@@ -549,7 +549,8 @@ struct Setup {
             rs[c] = receiverS[j], rt[c] = receiverT[j], rd[c] = receiverD[j];
         }
         detail::backprojectedBounds(polygon, rs, rt, rd, bounds);
-        const double magnitude = std::max({std::abs(bounds[0]), std::abs(bounds[1]), std::abs(bounds[2]), std::abs(bounds[3])});
+        const double magnitude =
+            std::max({std::abs(bounds[0]), std::abs(bounds[1]), std::abs(bounds[2]), std::abs(bounds[3])});
         return boxMayHit(bounds[0], bounds[1], bounds[2], bounds[3], 1e-5 * (1.0 + magnitude), box);
     }
 
@@ -1001,9 +1002,9 @@ struct Pass {
                     // This tile's part of the occluder's region, and the cheapest path there.
                     const int ia0 = std::max<int>(a0, o.a0), ia1 = std::min<int>(aEnd - 1, o.a1);
                     const int ib0 = std::max<int>(b0, o.b0), ib1 = std::min<int>(bEnd - 1, o.b1);
-                    const Path path =
-                        o.path == Path::Float || setup.bumpy ? o.path
-                                                             : setup.pathFor(o.maxD, setup.nearestSample(ia0, ia1, ib0, ib1));
+                    const Path path = o.path == Path::Float || setup.bumpy
+                                          ? o.path
+                                          : setup.pathFor(o.maxD, setup.nearestSample(ia0, ia1, ib0, ib1));
                     if (narrow) {
                         if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
                             open = setup.unblockedBox(map, a0, aEnd - 1, b0, bEnd - 1);
@@ -1040,7 +1041,8 @@ struct Pass {
                             for (int b = gb0; b <= gb1; ++b)
                                 active |= columns << (kTile * (b - gr0));
                             active &= unsigned(~full >> (8 * g) & lanes.inside >> (8 * g));
-                            const int n = detail::backprojectRowsAvx2(o.single, lanes.group[g], active, setup.na, setup.nb);
+                            const int n =
+                                detail::backprojectRowsAvx2(o.single, lanes.group[g], active, setup.na, setup.nb);
                             tilePairs += std::uint64_t(n);
                             tileFloatPairs += std::uint64_t(n);
                             continue;
