@@ -3,12 +3,13 @@
 // receiver samples at once, in single precision with AVX2.
 //
 // Each lane is one receiver sample. Per lane, the polygon's vertices are backprojected onto the
-// source plane (one division each), its edges give, per source-sample row, the interval of
-// columns inside, and the interval becomes a run of bits ((2 << last) - (1 << first) in 32-bit
-// lanes, so source grids up to 32 columns wide). The caller keeps the cases this kernel is not
-// accurate or general enough for on the double-precision scalar path:
+// source plane (one division each, none for parallel patches), its edges give, per source-sample
+// row, the interval of columns inside, and the interval becomes a run of bits ((2 << last) - (1 <<
+// first) in 32-bit lanes, so source grids up to 32 columns wide). The caller keeps the cases this
+// kernel is not accurate or general enough for on the double-precision scalar path:
 // - vertices close to a receiver sample's distance (the projection factor d_R / (d_R - d_X)
-//   amplifies float rounding; the sampler sends only occluders with factors <= kMaxFloatFactor);
+//   amplifies float rounding; the sampler sends an occluder to a lane group only where every
+//   factor is <= kMaxFloatFactor);
 // - vertices at or beyond a receiver sample's distance (they need clipping per sample);
 // - source grids wider than 32 columns.
 
