@@ -175,11 +175,14 @@ int runShaft(const ShaftArgs& args)
                                        : masks;
         if (stats.probed)
             strategy += " (chosen by timing both on 1 tile in 8)";
+        if (stats.reusedProbe)
+            strategy += " (chosen by timing both on an earlier call)";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
                  {"rays_cast", stats.raysCast},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
-                 {"estimated_pairs", stats.estimatedPairs}, {"probed", stats.probed}};
+                 {"estimated_pairs", stats.estimatedPairs}, {"probed", stats.probed},
+                 {"reused_probe", stats.reusedProbe}};
     }
 
     if (!args.mask.empty())

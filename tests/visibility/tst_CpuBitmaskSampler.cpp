@@ -308,6 +308,49 @@ TEST(CpuBitmaskSampler, AutoTimesBothMethodsWhereTheEstimateIsUnsure)
     EXPECT_GE(probed, 1);
 }
 
+TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceForTheNextCalls)
+{
+    if (!CpuBitmaskSampler::simdAvailable())
+        GTEST_SKIP() << "the probe runs with the SIMD kernel only";
+    // The comb at 64x64 receiver samples, with the first source grid on which Auto probes. The
+    // next seven calls with the same grids take that choice without timing; the eighth times
+    // again, and so does the first call after setScene. Every answer is the reference's.
+    const Scene scene = sceneOf({combWall()});
+    CpuBitmaskSampler sampler(scene);
+    const RayCastScene reference(scene);
+    const Patch receiver = xyPatch(2, 64, 64);
+    Patch source;
+    BitmaskStats stats;
+    for (int side : {32, 16, 8, 4, 2}) {
+        source = xyPatch(0, side, side);
+        sampler.sample(source, receiver, {}, &stats);
+        if (stats.probed)
+            break;
+    }
+    ASSERT_TRUE(stats.probed);
+    const std::string chosen = stats.strategy;
+    BitmaskOptions bitmaskOnly;
+    bitmaskOnly.strategy = CpuStrategy::Bitmask;
+    const HiddenSampleMap expected = reference.sample(source, receiver);
+    const std::uint64_t grazing = sampler.sample(source, receiver, bitmaskOnly).differenceCount(expected);
+    for (int call = 1; call <= 8; ++call) {
+        const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
+        EXPECT_EQ(stats.probed, call == 8) << call;
+        EXPECT_EQ(stats.reusedProbe, call < 8) << call;
+        if (stats.reusedProbe) {
+            EXPECT_EQ(chosen, stats.strategy) << call;
+        }
+        EXPECT_LE(map.differenceCount(expected), grazing) << call;
+    }
+    // Other grids time afresh.
+    sampler.sample(xyPatch(0, 32, 32), xyPatch(2, 96, 64), {}, &stats);
+    EXPECT_FALSE(stats.reusedProbe);
+    sampler.setScene(scene);
+    sampler.sample(source, receiver, {}, &stats);
+    EXPECT_TRUE(stats.probed);
+    EXPECT_FALSE(stats.reusedProbe);
+}
+
 TEST(RayCastSampler, UnblockedCastsOnlyTheReceiverSubset)
 {
     const Scene wall = sceneOf({quad({-5, -5, 1}, {10, 0, 0}, {0, 10, 0})});

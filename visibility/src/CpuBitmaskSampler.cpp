@@ -123,6 +123,8 @@ constexpr double kPairsPerRayFloat = 6.0;
 /// 7.5 per ray at 1024 sources: bitmask 895 against Embree 271 ms.
 constexpr double kProbePairsPerRay = 20.0;
 constexpr std::uint32_t kProbeStride = 8;
+/// A probe's choice serves this many later calls with the same grids before Auto times again.
+constexpr int kProbeReuse = 7;
 /// Below 64x64 receiver samples the probe's own cost (a batch of each method) is a large part of
 /// the answer (demo at 32x32, 128 sources: 17.4 ms probed against 12.4 by Embree alone): the
 /// estimate decides there.
@@ -1121,8 +1123,12 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     instances_.clear();
     for (const Instance& instance : scene.instances)
         instances_.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
-    std::lock_guard lock(rayCasterMutex_);
-    rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
+    {
+        std::lock_guard lock(rayCasterMutex_);
+        rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
+    }
+    std::lock_guard lock(probeMutex_);
+    probeMemo_ = {};
 }
 
 std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver, const Bounds* displacedBox) const
@@ -1252,10 +1258,21 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         const bool estimateSaysRays =
             strategy == CpuStrategy::Auto && pass.rayCastingIsCheaper(&local.estimatedPairs);
         const double estimatePerRay = double(local.estimatedPairs) / double(map.rayCount());
-        const bool probe = estimateSaysRays && estimatePerRay < kProbePairsPerRay && setup.floatKernel && !bumpy &&
-                           receiver.sampleCount() >= kProbeMinSamples &&
-                           local.estimatedPairs / std::uint64_t(kTile * kTile) <= kProbeMaxBinEntries;
-        if (strategy == CpuStrategy::RayCast || (estimateSaysRays && !probe)) {
+        bool probe = estimateSaysRays && estimatePerRay < kProbePairsPerRay && setup.floatKernel && !bumpy &&
+                     receiver.sampleCount() >= kProbeMinSamples &&
+                     local.estimatedPairs / std::uint64_t(kTile * kTile) <= kProbeMaxBinEntries;
+        const std::array<int, 4> grids = {source.na, source.nb, receiver.na, receiver.nb};
+        bool rememberedRays = false;
+        if (probe) {
+            std::lock_guard lock(probeMutex_);
+            if (probeMemo_.grids == grids && probeMemo_.callsLeft > 0) {
+                --probeMemo_.callsLeft;
+                probe = false;
+                local.reusedProbe = true;
+                rememberedRays = probeMemo_.rays;
+            }
+        }
+        if (strategy == CpuStrategy::RayCast || (estimateSaysRays && !probe && !local.reusedProbe) || rememberedRays) {
             local.strategy = "raycast";
             const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             local.setupMs = msSince(setupStart);
@@ -1325,7 +1342,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
-            if (bitmaskMs / double(bitmaskDone) <= rayMs / double(rayDone)) {
+            const bool rays = bitmaskMs / double(bitmaskDone) > rayMs / double(rayDone);
+            {
+                std::lock_guard lock(probeMutex_);
+                probeMemo_ = {grids, rays, kProbeReuse};
+            }
+            if (!rays) {
                 local.strategy = "bitmask";
                 pass.bitmaskPass(bins, narrow, &rest);
             } else {

@@ -22,6 +22,7 @@
 // Parallelism: triangles are binned to tiles of receiver samples; tiles run on all cores (TBB),
 // each owning its receiver rows, so no two threads write one bitmask.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -102,6 +103,7 @@ struct BitmaskStats {
     double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
     std::uint64_t estimatedPairs = 0; ///< Auto: the pair estimate it chose by (0 when not estimated)
     bool probed = false;              ///< Auto: chose by timing both methods on a few tiles
+    bool reusedProbe = false;         ///< Auto: took an earlier call's timed choice instead
 };
 
 class CpuBitmaskSampler {
@@ -154,6 +156,16 @@ private:
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;
+    /// Auto's last timed choice between the bitmask and ray casting, reused by the next calls
+    /// with the same sample grids: the editor and animations sample slowly changing
+    /// configurations, and the probe costs 10-15% of a call. Cleared by setScene.
+    struct ProbeMemo {
+        std::array<int, 4> grids{};   // source na, nb, receiver na, nb
+        bool rays = false;
+        int callsLeft = 0;
+    };
+    mutable std::mutex probeMutex_;
+    mutable ProbeMemo probeMemo_;
 };
 
 } // namespace sightline
