@@ -56,15 +56,13 @@ struct Occluder {
     /// Parallel patches: every receiver sample has the same distance d_R, so each vertex's
     /// projection factor d_R / (d_R - d_X) is one number per occluder, not one per pair.
     std::array<double, ClippedPolygon::kMaxVertices> factor;
-    /// The vertices in float, when the sampler runs the single-precision kernel.
-    detail::FloatPolygon single;
 };
 
 /// What the per-tile loop reads of an occluder, stored in processing order so that a tile's walk
 /// through its bin runs forwards through memory: an Occluder is ~600 bytes, and loading one was
 /// the loop's largest stall (a quarter of its samples in perf on the 128x128 wall receiver).
 struct TileOccluder {
-    detail::FloatPolygon single;
+    detail::FloatPolygon single;   // the vertices (and parallel factors) in float
     std::int16_t a0, a1, b0, b1;   // static_assert'ed below: receiver sides fit
     Path path;
     double maxD;
@@ -341,16 +339,6 @@ struct Setup {
         if (parallel)
             for (int i = 0; i < out.count; ++i)
                 out.factor[std::size_t(i)] = receiverDistance / (receiverDistance - out.vertices[std::size_t(i)].z);
-        if (floatKernel) {
-            out.single.count = out.count;
-            out.single.sharedFactor = parallel;
-            for (int i = 0; i < out.count; ++i) {
-                out.single.s[i] = float(out.vertices[std::size_t(i)].x);
-                out.single.t[i] = float(out.vertices[std::size_t(i)].y);
-                out.single.d[i] = float(out.vertices[std::size_t(i)].z);
-                out.single.k[i] = parallel ? float(out.factor[std::size_t(i)]) : 0.0f;
-            }
-        }
         // Sized from the region's farthest corner sample, beyond every vertex unless the occluder
         // crosses the whole region (such occluders go first, as the largest).
         out.cells = 1e300;
@@ -366,6 +354,21 @@ struct Setup {
             out.cells = backprojectedCells(out, receiverCentre);
         }
         return out.a0 <= out.a1 && out.b0 <= out.b1;
+    }
+
+    /// The occluder's vertices, and its factors for parallel patches, for the float kernel.
+    detail::FloatPolygon singlePrecision(const Occluder& o) const
+    {
+        detail::FloatPolygon single;
+        single.count = o.count;
+        single.sharedFactor = parallel;
+        for (int i = 0; i < o.count; ++i) {
+            single.s[i] = float(o.vertices[std::size_t(i)].x);
+            single.t[i] = float(o.vertices[std::size_t(i)].y);
+            single.d[i] = float(o.vertices[std::size_t(i)].z);
+            single.k[i] = parallel ? float(o.factor[std::size_t(i)]) : 0.0f;
+        }
+        return single;
     }
 
     /// The distance from the source plane of the nearest receiver sample in [a0, a1] x [b0, b1]
@@ -886,8 +889,9 @@ struct Pass {
         tileOccluders.resize(order.size());
         for (std::size_t n = 0; n < order.size(); ++n) {
             const Occluder& o = *occluders[order[n]];
-            tileOccluders[n] = {o.single,           std::int16_t(o.a0), std::int16_t(o.a1), std::int16_t(o.b0),
-                                std::int16_t(o.b1), o.path,             o.maxD,             &o};
+            tileOccluders[n] = {setup.floatKernel ? setup.singlePrecision(o) : detail::FloatPolygon{},
+                                std::int16_t(o.a0), std::int16_t(o.a1), std::int16_t(o.b0), std::int16_t(o.b1),
+                                o.path, o.maxD, &o};
             for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
                 for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
                     bins[std::size_t(tb) * std::size_t(tilesA()) + std::size_t(ta)].push_back(std::uint32_t(n));
@@ -904,8 +908,7 @@ struct Pass {
     static_assert(detail::kLanes % kTile == 0 && kTileLanes <= 64, "groups of whole tile rows; lane masks in 64 bits");
     struct TileLanes {
         detail::LaneGroup group[kGroups];
-        std::array<std::uint64_t*, kTileLanes> rows{};   // null outside the grid
-        std::uint64_t inside = 0;                        // per lane: inside the grid
+        std::uint64_t inside = 0;   // per lane: inside the grid
         /// The kernel's row for lanes outside the grid: it only ever ORs zeros into it.
         std::array<std::uint64_t, kMaxSourceSamples / 64> scratch{};
     };
@@ -928,8 +931,7 @@ struct Pass {
             g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
             g.shifted = setup.jittered;
             g.rowCentres = setup.rowCentres.data();
-            lanes.rows[std::size_t(lane)] = inside ? map.row(j).data() : nullptr;
-            g.rows[lane % 8] = inside ? lanes.rows[std::size_t(lane)] : lanes.scratch.data();
+            g.rows[lane % 8] = inside ? map.row(j).data() : lanes.scratch.data();
             lanes.inside |= std::uint64_t(inside) << lane;
         }
     }
@@ -1023,7 +1025,7 @@ struct Pass {
                     if (path == Path::Float && ++sinceFullChecked >= kFullRefresh) {
                         full = 0;
                         for (int lane = 0; lane < kTileLanes; ++lane)
-                            if (lanes.rows[std::size_t(lane)] && rowFull(lanes.rows[std::size_t(lane)], words, setup.S))
+                            if ((lanes.inside >> lane & 1) && rowFull(lanes.group[lane / 8].rows[lane % 8], words, setup.S))
                                 full |= std::uint64_t(1) << lane;
                         sinceFullChecked = 0;
                     }
@@ -1055,33 +1057,31 @@ struct Pass {
                         static_assert(kRowsPerGroup == 1, "a lane group is part of one receiver row");
                         const int j0 = gb0 * receiver.na + ia0, j1 = gb1 * receiver.na + ia1;
                         const double z0 = setup.receiverInSource[std::size_t(j0)].z;
-                        if (groupPath == Path::Clip && !setup.bumpy && o.maxD >= Setup::clipDistance(z0) &&
-                            std::abs(setup.receiverInSource[std::size_t(j1)].z - z0) <= 1e-12 * z0) {
-                            const ClippedPolygon clipped = Setup::clippedFor(*o.occluder, z0);
-                            if (clipped.count < 3)
-                                continue;
+                        const bool sharedClip = groupPath == Path::Clip && !setup.bumpy &&
+                                                o.maxD >= Setup::clipDistance(z0) &&
+                                                std::abs(setup.receiverInSource[std::size_t(j1)].z - z0) <= 1e-12 * z0;
+                        const auto eachOpenRow = [&](const auto& backproject) {
                             for (int b = gb0; b <= gb1; ++b)
                                 for (int a = ia0; a <= ia1; ++a) {
                                     const int j = b * receiver.na + a;
                                     std::uint64_t* row = map.row(j).data();
                                     if (rowFull(row, words, setup.S))
                                         continue;
+                                    backproject(j, row);
+                                    ++tilePairs;
+                                }
+                        };
+                        if (sharedClip) {
+                            const ClippedPolygon clipped = Setup::clippedFor(*o.occluder, z0);
+                            if (clipped.count >= 3)
+                                eachOpenRow([&](int j, std::uint64_t* row) {
                                     setup.backprojectPolygon(clipped.vertices.data(), clipped.count,
                                                              setup.receiverInSource[std::size_t(j)],
                                                              setup.jitterShift[std::size_t(j)], row, nullptr);
-                                    ++tilePairs;
-                                }
-                            continue;
+                                });
+                        } else {
+                            eachOpenRow([&](int j, std::uint64_t* row) { setup.backproject(*o.occluder, groupPath, j, row); });
                         }
-                        for (int b = gb0; b <= gb1; ++b)
-                            for (int a = ia0; a <= ia1; ++a) {
-                                const int j = b * receiver.na + a;
-                                std::uint64_t* row = map.row(j).data();
-                                if (rowFull(row, words, setup.S))
-                                    continue;
-                                setup.backproject(*o.occluder, groupPath, j, row);
-                                ++tilePairs;
-                            }
                     }
                 }
             }
