@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "visibility/ExactSegment.h"
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Patch.h"
 #include "visibility/RayCastSampler.h"
@@ -31,7 +32,7 @@ inline SegmentResult bruteForceSegment(const WorldTriangles& tris, const glm::dv
     SegmentResult result;
     const glm::dvec3 d = to - from;
     const double length = glm::length(d);
-    const double tMin = double(kSegmentEpsilon), tMax = 1.0 - double(kSegmentEpsilon);
+    const double tMin = kEndMarginMetres / length, tMax = 1.0 - kEndMarginMetres / length;
     for (std::size_t t = 0; t < tris.size(); ++t) {
         const glm::dvec3 a(tris.vertices[3 * t]), b(tris.vertices[3 * t + 1]), c(tris.vertices[3 * t + 2]);
         const glm::dvec3 e1 = b - a, e2 = c - a;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <limits>
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -98,53 +99,137 @@ SIGHTLINE_AVX2 inline int horizontalMax(__m256i v)
     return _mm_cvtsi128_si32(_mm_max_epi32(m, _mm_shuffle_epi32(m, _MM_SHUFFLE(2, 3, 0, 1))));
 }
 
-/// Widens [lo, hi] by `slack`. Two triangles sharing an edge compute that edge from different
-/// vertices, so in single precision a sample exactly on it (a wall of two triangles with the
-/// patches centred on its diagonal puts hundreds of rays there) could fall outside both: a crack
-/// the reference (watertight Embree) does not have. The slack covers the rounding of the
-/// backprojected coordinates and errs towards blocked on rays within it of an edge only.
+/// Widens [lo, hi] by `slack`.
 SIGHTLINE_AVX2 inline void widen(__m256& lo, __m256& hi, __m256 slack)
 {
     lo = _mm256_sub_ps(lo, slack);
     hi = _mm256_add_ps(hi, slack);
 }
 
-} // namespace
+SIGHTLINE_AVX2 inline __m256 absolute(__m256 x) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), x); }
 
-SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, unsigned active, int na,
-                                       int nb)
+/// The source-plane error of a lane's backprojection, at most k times its ray term per vertex
+/// (needed to widen a closed mesh, and to tell lanes over the budget that have nothing to
+/// answer), as slacks in source units; and the smallest factor.
+SIGHTLINE_AVX2 inline void sourcePlaneError(int count, const __m256* rayS, const __m256* rayT, const __m256* factor,
+                                            __m256 unit, __m256& slackS, __m256& slackT, __m256& kMin)
 {
-    const unsigned activeLanes = active & 0xffu;
-    if (!activeLanes)
-        return 0;
+    __m256 eS = _mm256_setzero_ps(), eT = eS;
+    kMin = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+    for (int i = 0; i < count; ++i) {
+        eS = _mm256_max_ps(eS, _mm256_mul_ps(rayS[i], factor[i]));
+        eT = _mm256_max_ps(eT, _mm256_mul_ps(rayT[i], factor[i]));
+        kMin = _mm256_min_ps(kMin, factor[i]);
+    }
+    const __m256 two = _mm256_set1_ps(2.0f);
+    slackS = _mm256_mul_ps(unit, _mm256_add_ps(eS, two));
+    slackT = _mm256_mul_ps(unit, _mm256_add_ps(eT, two));
+}
+
+/// The kernel. `Proven`: the caller's coarse bound (backprojectRowsAvx2) already keeps every
+/// lane within the budget and the polygon is not closed, so no per-lane bound, no widening, and
+/// s and t without their residuals (their rounding is not stretched in ray terms).
+template <bool Proven>
+SIGHTLINE_AVX2 int rows(const FloatPolygon& polygon, const LaneGroup& lanes, unsigned activeLanes, int na, int nb,
+                        unsigned* fallback)
+{
     const __m256 inf = _mm256_set1_ps(std::numeric_limits<float>::infinity());
     const __m256 negInf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
+    const __m256 two = _mm256_set1_ps(2.0f);
 
-    // Backprojection of every vertex from every lane's receiver sample (ShaftGeometry.h).
+    // Backprojection of every vertex from every lane's receiver sample (ShaftGeometry.h):
+    // p = r + (x - r) k with k = d_r / (d_r - d_x). Inputs come as float pairs (value and its
+    // rounding residual), so the differences x - r and d_r - d_x are accurate to a few ulps of
+    // themselves, not of the coordinates: otherwise the projection multiplies the coordinates'
+    // rounding by up to 2k + 3. Per lane, a bound on how far the float answer can stray from the
+    // double one, as a distance between ray and occluder boundary (the header's filter): per
+    // vertex and axis, in source units and float epsilons,
+    //   6 |x - r| + (|r| + 4 |p|) / k
+    // (the difference and the factor; then r's residual, the result, the crossings and the
+    // comparisons, which the projection does not stretch in ray terms).
     const __m256 rs = _mm256_load_ps(lanes.s), rt = _mm256_load_ps(lanes.t), rd = _mm256_load_ps(lanes.d);
+    const __m256 rsLo = _mm256_load_ps(lanes.sLo), rtLo = _mm256_load_ps(lanes.tLo), rdLo = _mm256_load_ps(lanes.dLo);
     const __m256 shiftS = _mm256_load_ps(lanes.shiftS), shiftT = _mm256_load_ps(lanes.shiftT);
-    __m256 ps[kMaxPolygon], pt[kMaxPolygon];
-    __m256 tMin = inf, tMax = negInf, magnitude = _mm256_setzero_ps();
-    const __m256 sign = _mm256_set1_ps(-0.0f);
+    const __m256 rsAbs = absolute(rs), rtAbs = absolute(rt);
+    const __m256 six = _mm256_set1_ps(6.0f), four = _mm256_set1_ps(4.0f);
+    __m256 ps[kMaxPolygon], pt[kMaxPolygon], magnitude[kMaxPolygon], factor[kMaxPolygon], rayS[kMaxPolygon],
+        rayT[kMaxPolygon];
+    __m256 tMin = inf, tMax = negInf, rayMaxS = _mm256_setzero_ps(), rayMaxT = rayMaxS;
     for (int i = 0; i < polygon.count; ++i) {
-        const __m256 k = polygon.sharedFactor ? _mm256_set1_ps(polygon.k[i])
-                                              : _mm256_div_ps(rd, _mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])));
-        ps[i] = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs), k, rs);
-        pt[i] = _mm256_fmadd_ps(_mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt), k, rt);
+        const __m256 k =
+            polygon.sharedFactor
+                ? _mm256_set1_ps(polygon.k[i])
+                : _mm256_div_ps(rd, _mm256_add_ps(_mm256_sub_ps(rd, _mm256_set1_ps(polygon.d[i])),
+                                                  _mm256_sub_ps(rdLo, _mm256_set1_ps(polygon.dLo[i]))));
+        __m256 dS = _mm256_sub_ps(_mm256_set1_ps(polygon.s[i]), rs);
+        __m256 dT = _mm256_sub_ps(_mm256_set1_ps(polygon.t[i]), rt);
+        if constexpr (!Proven) {
+            dS = _mm256_add_ps(dS, _mm256_sub_ps(_mm256_set1_ps(polygon.sLo[i]), rsLo));
+            dT = _mm256_add_ps(dT, _mm256_sub_ps(_mm256_set1_ps(polygon.tLo[i]), rtLo));
+        }
+        ps[i] = _mm256_fmadd_ps(dS, k, rs);
+        pt[i] = _mm256_fmadd_ps(dT, k, rt);
         if (lanes.shifted) {
             ps[i] = _mm256_sub_ps(ps[i], shiftS);
             pt[i] = _mm256_sub_ps(pt[i], shiftT);
         }
         tMin = _mm256_min_ps(tMin, pt[i]);
         tMax = _mm256_max_ps(tMax, pt[i]);
-        magnitude = _mm256_max_ps(magnitude, _mm256_max_ps(_mm256_andnot_ps(sign, ps[i]), _mm256_andnot_ps(sign, pt[i])));
+        const __m256 psAbs = absolute(ps[i]), ptAbs = absolute(pt[i]);
+        magnitude[i] = _mm256_add_ps(psAbs, ptAbs);
+        if constexpr (!Proven) {
+            factor[i] = k;
+            const __m256 kInverse = _mm256_rcp_ps(k);   // 1.5e-4 relative: the bound is scaled up for it
+            rayS[i] = _mm256_fmadd_ps(six, absolute(dS), _mm256_mul_ps(_mm256_fmadd_ps(four, psAbs, rsAbs), kInverse));
+            rayT[i] = _mm256_fmadd_ps(six, absolute(dT), _mm256_mul_ps(_mm256_fmadd_ps(four, ptAbs, rtAbs), kInverse));
+            rayMaxS = _mm256_max_ps(rayMaxS, rayS[i]);
+            rayMaxT = _mm256_max_ps(rayMaxT, rayT[i]);
+        }
     }
-    // Rounding of an edge's crossing is relative to the coordinates it is computed from (the
-    // vertices), not to its result: 2^-20 of the largest, a few ulps after the projection (factor
-    // <= kMaxFloatFactor) and the interpolation, plus 2^-24 of the patch.
-    const __m256 slack = _mm256_fmadd_ps(magnitude, _mm256_set1_ps(1.0f / 1048576.0f), _mm256_set1_ps(1.0f / 16777216.0f));
+    __m256 widenS = _mm256_setzero_ps(), widenT = widenS;
+    if constexpr (!Proven) {
+        // In metres, with the row centres' and the jitter shift's rounding (2), times 1.001 for
+        // the approximate 1 / k; samples misclassified lie within it of the exact boundary.
+        const __m256 unit = _mm256_set1_ps(1.001f * kFloatUnit);
+        const __m256 metresS = _mm256_set1_ps(lanes.metresPerS), metresT = _mm256_set1_ps(lanes.metresPerT);
+        __m256 band = _mm256_mul_ps(unit, _mm256_fmadd_ps(_mm256_add_ps(rayMaxS, two), metresS,
+                                                          _mm256_mul_ps(_mm256_add_ps(rayMaxT, two), metresT)));
+        __m256 slackS = _mm256_setzero_ps(), slackT = slackS, kMin = inf;
+        if (polygon.closed) {
+            // Widening a closed mesh's intervals by its source-plane error adds that error over
+            // the smallest k to the band.
+            sourcePlaneError(polygon.count, rayS, rayT, factor, unit, slackS, slackT, kMin);
+            band = _mm256_add_ps(band, _mm256_div_ps(_mm256_fmadd_ps(slackS, metresS, _mm256_mul_ps(slackT, metresT)), kMin));
+        }
+        unsigned over = unsigned(_mm256_movemask_ps(_mm256_cmp_ps(band, _mm256_set1_ps(lanes.bandBudget), _CMP_NLE_UQ)));
+        if (over & activeLanes) {
+            // A lane whose backprojection, widened by its source-plane error, holds no sample
+            // needs no proof: nothing to set, whatever the rounding (most lanes over the budget
+            // are occluders far to the side of their receiver sample).
+            if (!polygon.closed)
+                sourcePlaneError(polygon.count, rayS, rayT, factor, unit, slackS, slackT, kMin);
+            __m256 sMin = inf, sMax = negInf;
+            for (int i = 0; i < polygon.count; ++i)
+                sMin = _mm256_min_ps(sMin, ps[i]), sMax = _mm256_max_ps(sMax, ps[i]);
+            __m256i c0, c1, r0, r1;
+            __m256 bottom = tMin, top = tMax;
+            widen(sMin, sMax, slackS);
+            widen(bottom, top, slackT);
+            sampleRange(sMin, sMax, na, c0, c1);
+            sampleRange(bottom, top, nb, r0, r1);
+            const __m256i none = _mm256_or_si256(_mm256_cmpgt_epi32(c0, c1), _mm256_cmpgt_epi32(r0, r1));
+            over &= ~unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(none)));
+        }
+        *fallback = over & activeLanes;
+        activeLanes &= ~over;
+        if (!activeLanes)
+            return 0;
+        if (polygon.closed)
+            widenS = slackS, widenT = slackT;
+    }
+
     __m256i b0, b1;
-    widen(tMin, tMax, slack);
+    widen(tMin, tMax, widenT);
     sampleRange(tMin, tMax, nb, b0, b1);
     // Inactive lanes get an empty row range, so their bits stay zero.
     const __m256i laneBit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
@@ -154,24 +239,31 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     if (rowMin > rowMax)
         return std::popcount(activeLanes);
 
-    // Edges: per row t = tb, an edge spanning tb crosses at lo + (tb - t0) * slope. An edge along
-    // the row (t0 == t1) contributes both ends: slope 0, lo and hi its extremes.
+    // Edges: per row t = tb, an edge spanning tb crosses at s0 + (tb - t0) * slope, kept within
+    // the edge's own span of s: when an edge's ends have t a few ulps apart the slope is noise,
+    // and unclamped the crossing landed far outside the polygon (one triangle blocked 25k rays
+    // up to 0.39 m from it). The crossing starts from the end of smaller magnitude (whichever way
+    // the polygon walks the edge, so two triangles sharing it compute it bit for bit). An edge
+    // along the row (both t equal) is left out: the edges at its ends reach the row too and bring
+    // its ends.
     const int count = polygon.count;
-    __m256 eLo[kMaxPolygon], eHi[kMaxPolygon], eT[kMaxPolygon], eSlope[kMaxPolygon], eMin[kMaxPolygon],
-        eMax[kMaxPolygon];
+    __m256 eBase[kMaxPolygon], eT0[kMaxPolygon], eSlope[kMaxPolygon], eMin[kMaxPolygon], eMax[kMaxPolygon],
+        eLo[kMaxPolygon], eHi[kMaxPolygon];
     for (int i = 0, k = count - 1; i < count; k = i++) {
         const __m256 flat = _mm256_cmp_ps(pt[k], pt[i], _CMP_EQ_OQ);
-        const __m256 slope = _mm256_div_ps(_mm256_sub_ps(ps[i], ps[k]), _mm256_sub_ps(pt[i], pt[k]));
-        eSlope[i] = _mm256_blendv_ps(slope, _mm256_setzero_ps(), flat);
-        eLo[i] = _mm256_blendv_ps(ps[k], _mm256_min_ps(ps[k], ps[i]), flat);
-        eHi[i] = _mm256_blendv_ps(ps[k], _mm256_max_ps(ps[k], ps[i]), flat);
-        eT[i] = pt[k];
+        const __m256 fromI = _mm256_cmp_ps(magnitude[i], magnitude[k], _CMP_LT_OQ);
+        eSlope[i] = _mm256_div_ps(_mm256_sub_ps(ps[i], ps[k]), _mm256_sub_ps(pt[i], pt[k]));
+        eBase[i] = _mm256_blendv_ps(ps[k], ps[i], fromI);
+        eT0[i] = _mm256_blendv_ps(pt[k], pt[i], fromI);
+        eLo[i] = _mm256_min_ps(ps[k], ps[i]);
+        eHi[i] = _mm256_max_ps(ps[k], ps[i]);
         eMin[i] = _mm256_min_ps(pt[k], pt[i]);
         eMax[i] = _mm256_max_ps(pt[k], pt[i]);
-        widen(eMin[i], eMax[i], slack);
+        widen(eMin[i], eMax[i], widenT);
+        eMin[i] = _mm256_blendv_ps(eMin[i], inf, flat);
     }
 
-    const __m256i one = _mm256_set1_epi32(1), two = _mm256_set1_epi32(2);
+    const __m256i oneI = _mm256_set1_epi32(1), twoI = _mm256_set1_epi32(2);
     // Source rows that tile 64-bit words: each lane ORs a word once, not a row at a time.
     // 32 columns (the usual 32 x 32 source): rows 2w and 2w + 1 are the halves of word w; their
     // bits are kept and paired up once the rows are done. Narrower widths that divide 64 (16 for
@@ -190,19 +282,20 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
         __m256 lo = inf, hi = negInf;
         for (int e = 0; e < count; ++e) {
             const __m256 spans = _mm256_and_ps(_mm256_cmp_ps(tb, eMin[e], _CMP_GE_OQ), _mm256_cmp_ps(tb, eMax[e], _CMP_LE_OQ));
-            const __m256 dt = _mm256_sub_ps(tb, eT[e]);
-            // min/max return their second operand when the first is NaN: the accumulator survives.
-            lo = _mm256_min_ps(_mm256_blendv_ps(inf, _mm256_fmadd_ps(dt, eSlope[e], eLo[e]), spans), lo);
-            hi = _mm256_max_ps(_mm256_blendv_ps(negInf, _mm256_fmadd_ps(dt, eSlope[e], eHi[e]), spans), hi);
+            const __m256 x = _mm256_fmadd_ps(_mm256_sub_ps(tb, eT0[e]), eSlope[e], eBase[e]);
+            // max/min return their second operand when the first is NaN (a 0 * inf slope).
+            const __m256 clamped = _mm256_min_ps(_mm256_max_ps(x, eLo[e]), eHi[e]);
+            lo = _mm256_min_ps(_mm256_blendv_ps(inf, clamped, spans), lo);
+            hi = _mm256_max_ps(_mm256_blendv_ps(negInf, clamped, spans), hi);
         }
         __m256i a0, a1;
-        widen(lo, hi, slack);
+        widen(lo, hi, widenS);
         sampleRange(lo, hi, na, a0, a1);
         const __m256i row = _mm256_set1_epi32(b);
         const __m256i outside = _mm256_or_si256(
             _mm256_or_si256(_mm256_cmpgt_epi32(b0, row), _mm256_cmpgt_epi32(row, b1)), _mm256_cmpgt_epi32(a0, a1));
         // Bits a0..a1: (2 << a1) - (1 << a0); for a1 = 31 the first term wraps to 0, still right.
-        const __m256i run = _mm256_sub_epi32(_mm256_sllv_epi32(two, a1), _mm256_sllv_epi32(one, a0));
+        const __m256i run = _mm256_sub_epi32(_mm256_sllv_epi32(twoI, a1), _mm256_sllv_epi32(oneI, a0));
         const __m256i masked = _mm256_andnot_si256(outside, run);
         if (paired) {
             _mm256_store_si256(reinterpret_cast<__m256i*>(rowBits[b]), masked);
@@ -260,10 +353,34 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
     return std::popcount(activeLanes);
 }
 
+} // namespace
+
+SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, unsigned active, int na,
+                                       int nb, unsigned* fallback)
+{
+    const unsigned activeLanes = active & 0xffu;
+    *fallback = 0;
+    if (!activeLanes)
+        return 0;
+    // A coarse bound on the per-lane one, from the largest coordinates alone (|x - r| <= |x| +
+    // |r|, |p| / k <= |r| / k + |x - r|, s and t without residuals): u (10 |x| + 15 |r| + 2) per
+    // axis. It settles most calls; the rest take the per-lane proof.
+    const float coarse = 1.001f * kFloatUnit *
+                         ((10.0f * polygon.sReach + 15.0f * lanes.sReach + 2.0f) * lanes.metresPerS +
+                          (10.0f * polygon.tReach + 15.0f * lanes.tReach + 2.0f) * lanes.metresPerT);
+    if (!polygon.closed && coarse <= lanes.bandBudget)
+        return rows<true>(polygon, lanes, activeLanes, na, nb, fallback);
+    return rows<false>(polygon, lanes, activeLanes, na, nb, fallback);
+}
+
 #else
 
 bool floatRowsAvailable() { return false; }
-int backprojectRowsAvx2(const FloatPolygon&, const LaneGroup&, unsigned, int, int) { return 0; }
+int backprojectRowsAvx2(const FloatPolygon&, const LaneGroup&, unsigned active, int, int, unsigned* fallback)
+{
+    *fallback = active & 0xffu;   // no kernel: every lane takes the double path
+    return 0;
+}
 
 #endif
 

@@ -19,6 +19,7 @@
 #include <glm/vector_relational.hpp>
 
 #include "BitmaskRows.h"
+#include "visibility/ExactSegment.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -65,6 +66,7 @@ struct TileOccluder {
     detail::FloatPolygon single;   // the vertices (and parallel factors) in float
     std::int16_t a0, a1, b0, b1;   // static_assert'ed below: receiver sides fit
     Path path;
+    bool closed;                   // of a watertight instance (culling may trim it, §7)
     double maxD;
     const Occluder* occluder;      // the double-precision data
 };
@@ -103,6 +105,11 @@ struct SourceBox {
         return (open[std::size_t(w1)] & hi) != 0;
     }
 };
+
+/// The float kernel answers a lane only when the samples it may get wrong lie within this many
+/// metres (ray to occluder boundary) of the exact answer's boundary: well inside the contract's
+/// ties (1e-5 m), so nothing it answers can be a non-tie disagreement (BitmaskRows.h).
+constexpr double kFloatBandBudget = 6e-6;
 
 /// Auto picks RayCast when estimated pairs exceed this many times the rays. Scalar kernel: on the
 /// demo a pair costs about half a ray (36 ns against 72 ns wall time on 2 cores, 1024 source
@@ -183,6 +190,7 @@ struct Setup {
     std::vector<glm::dvec2> jitterShift;   // per receiver sample: its source grid's offset in (s, t)
     std::vector<float> receiverS, receiverT, receiverD;   // receiverInSource in float
     std::vector<float> rowCentres = detail::rowCentres(nb);   // the SIMD kernel's source rows
+    double metresPerS = 1.0, metresPerT = 1.0;             // |u|, |v| of the source
     // A bumpy receiver (§8): receiverInSource holds the displaced samples, and influence regions
     // are projected onto the receiver-frame planes d = levels[0] (lowest bump) and d = levels[1]
     // (highest). Flat: the receiver plane alone, d = 0.
@@ -196,7 +204,8 @@ struct Setup {
     Setup(const Patch& source, const Patch& receiver, const SourceJitter& jitter,
           const std::vector<glm::dvec3>* displaced)
         : frames(source, receiver), S(source.sampleCount()), na(source.na), nb(source.nb), rna(receiver.na),
-          rnb(receiver.nb), jittered(jitter.enabled())
+          rnb(receiver.nb), jittered(jitter.enabled()), metresPerS(glm::length(source.u)),
+          metresPerT(glm::length(source.v))
     {
         // Sample i seen from j lies at (s_i + dx, t_i + dy); testing the backprojection shifted
         // by (-dx, -dy) against the regular grid is the same test.
@@ -254,8 +263,8 @@ struct Setup {
         receiverDistance = receiverCentre.z;
         levels = {lowest, highest};
         levelCount = highest > lowest ? 2 : 1;
-        // The reference's end-point tolerance at the source end, from the nearest sample.
-        bumpySourceMargin = double(kSegmentEpsilon) * minReceiverDistance;
+        // DESIGN.md §2's end margin at the source end.
+        bumpySourceMargin = kEndMarginMetres;
         // A segment's receiver-frame distance runs between its two ends, so no segment reaches
         // below the lowest bump (nor below the source, were a bump to rise past a source corner).
         // Parts beyond an individual sample are clipped per sample (backproject).
@@ -356,17 +365,22 @@ struct Setup {
         return out.a0 <= out.a1 && out.b0 <= out.b1;
     }
 
-    /// The occluder's vertices, and its factors for parallel patches, for the float kernel.
-    detail::FloatPolygon singlePrecision(const Occluder& o) const
+    /// The occluder's vertices as float pairs, and its factors for parallel patches, for the
+    /// float kernel (BitmaskRows.h) and the narrowing test's bounds (mayHitFloat).
+    detail::FloatPolygon singlePrecision(const Occluder& o, bool closed) const
     {
         detail::FloatPolygon single;
         single.count = o.count;
         single.sharedFactor = parallel;
+        single.closed = closed;
         for (int i = 0; i < o.count; ++i) {
-            single.s[i] = float(o.vertices[std::size_t(i)].x);
-            single.t[i] = float(o.vertices[std::size_t(i)].y);
-            single.d[i] = float(o.vertices[std::size_t(i)].z);
+            const glm::dvec3& x = o.vertices[std::size_t(i)];
+            single.s[i] = float(x.x), single.sLo[i] = float(x.x - double(single.s[i]));
+            single.t[i] = float(x.y), single.tLo[i] = float(x.y - double(single.t[i]));
+            single.d[i] = float(x.z), single.dLo[i] = float(x.z - double(single.d[i]));
             single.k[i] = parallel ? float(o.factor[std::size_t(i)]) : 0.0f;
+            single.sReach = std::max(single.sReach, std::abs(single.s[i]));
+            single.tReach = std::max(single.tReach, std::abs(single.t[i]));
         }
         return single;
     }
@@ -387,7 +401,7 @@ struct Setup {
     /// d_R / (d_R - d_X) <= kMaxFloatFactor for every sample and vertex.
     Path pathFor(double maxD, double nearest) const
     {
-        if (bumpy ? maxD >= nearest * (1.0 - 2.0 * double(kSegmentEpsilon)) : maxD >= nearest * (1.0 - 1e-9))
+        if (maxD >= nearest - (bumpy ? 2.0 : 1.0) * kEndMarginMetres)
             return Path::Clip;
         if (floatKernel && maxD <= nearest * (1.0 - 1.0 / detail::kMaxFloatFactor))
             return Path::Float;
@@ -412,7 +426,9 @@ struct Setup {
 
     /// The common case, a backprojected triangle with some height: a scanline walk. Sorted by t,
     /// rows below the middle vertex lie between the long edge (0-2) and edge 0-1, the others
-    /// between the long edge and edge 1-2; no per-row arrays, no per-edge row ranges.
+    /// between the long edge and edge 1-2; no per-row arrays, no per-edge row ranges. Crossings
+    /// stay within their edge's span of s (a nearly flat edge's slope is rounding noise), and
+    /// every interval is widened a hair (lower, upper).
     void triangleRows(const double* ps, const double* pt, int b0, int b1, std::uint64_t* mask) const
     {
         int i0 = 0, i1 = 1, i2 = 2;
@@ -423,25 +439,39 @@ struct Setup {
         if (pt[i0] > pt[i1])
             std::swap(i0, i1);
         const double s0 = ps[i0], t0 = pt[i0], s1 = ps[i1], t1 = pt[i1], s2 = ps[i2], t2 = pt[i2];
-        const double slopeLong = (s2 - s0) / (t2 - t0);
         for (int b = b0; b <= b1; ++b) {
             const double tb = (b + 0.5) / nb;
-            const double xLong = s0 + (tb - t0) * slopeLong;
+            const double xLong = edgeCrossing(tb, s0, t0, s2, t2);
             double xShortLo, xShortHi;
             if (tb < t1 && t1 > t0) {
-                xShortLo = xShortHi = s0 + (tb - t0) * ((s1 - s0) / (t1 - t0));
+                xShortLo = xShortHi = edgeCrossing(tb, s0, t0, s1, t1);
             } else if (t2 > t1) {
-                xShortLo = xShortHi = s1 + (tb - t1) * ((s2 - s1) / (t2 - t1));
+                xShortLo = xShortHi = edgeCrossing(tb, s1, t1, s2, t2);
             } else {   // top edge along the row: both of its ends count
                 xShortLo = std::min(s1, s2);
                 xShortHi = std::max(s1, s2);
             }
             int a0, a1;
-            sampleRange(std::min(xLong, xShortLo), std::max(xLong, xShortHi), na, a0, a1);
+            sampleRange(lower(std::min(xLong, xShortLo)), upper(std::max(xLong, xShortHi)), na, a0, a1);
             if (a0 <= a1)
                 setBitRange(mask, b * na + a0, b * na + a1);
         }
     }
+
+    /// Where row t = tb crosses the edge (sa, ta) - (sb, tb_) (ta < tb_), kept within the edge's s.
+    static double edgeCrossing(double tb, double sa, double ta, double sb, double tbEnd)
+    {
+        const double x = sa + (tb - ta) * ((sb - sa) / (tbEnd - ta));
+        return std::clamp(x, std::min(sa, sb), std::max(sa, sb));
+    }
+
+    /// The double path's widening of an interval end: relative to the end itself (an occluder
+    /// reaching near a receiver sample projects to 1e9 and more, and a slack relative to that
+    /// would move its near edges by millimetres), far below any tie and far above rounding: two
+    /// polygons sharing an edge compute it from different vertices, so a sample exactly on it
+    /// could otherwise fall in neither.
+    static double lower(double x) { return x - 1e-12 * (1.0 + std::abs(x)); }
+    static double upper(double x) { return x + 1e-12 * (1.0 + std::abs(x)); }
 
     /// Table mode (§5): the AND of the Hough-table masks of the backprojection's edges, taken
     /// counter-clockwise so that the inside is on the left of every edge.
@@ -544,18 +574,20 @@ struct Setup {
     }
 
     /// mayHit for a float-path occluder on a flat receiver, from the four corners of a rectangle
-    /// of samples, in single precision: the box is padded by the rounding of a backprojection
-    /// with factors up to kMaxFloatFactor (1e-6 of the coordinates; 1e-5 taken).
+    /// of samples, in single precision. The box is padded by the rounding of a backprojection
+    /// with factors k up to kMaxFloatFactor: per vertex about u (2k |r| + (2k + 2) |p - r| + |p|)
+    /// (BitmaskRows.h), under 70 u (|r| + |p|) = 4.2e-6 (|r| + |p|); 1e-5 taken.
     bool mayHitFloat(const detail::FloatPolygon& polygon, const std::array<int, 4>& corners, const SourceBox& box) const
     {
         float rs[4], rt[4], rd[4], bounds[4];
+        double magnitude = 0.0;
         for (int c = 0; c < 4; ++c) {
             const std::size_t j = std::size_t(corners[std::size_t(c)]);
             rs[c] = receiverS[j], rt[c] = receiverT[j], rd[c] = receiverD[j];
+            magnitude = std::max({magnitude, std::abs(double(rs[c])), std::abs(double(rt[c]))});
         }
         detail::backprojectedBounds(polygon, rs, rt, rd, bounds);
-        const double magnitude =
-            std::max({std::abs(bounds[0]), std::abs(bounds[1]), std::abs(bounds[2]), std::abs(bounds[3])});
+        magnitude += std::max({std::abs(bounds[0]), std::abs(bounds[1]), std::abs(bounds[2]), std::abs(bounds[3])});
         return boxMayHit(bounds[0], bounds[1], bounds[2], bounds[3], 1e-5 * (1.0 + magnitude), box);
     }
 
@@ -606,10 +638,10 @@ struct Setup {
     }
 
     /// Vertices at or beyond a receiver sample's own distance d cannot lie on its segments: the
-    /// part of an occluder that can hide anything from it lies short of this. For a bumpy
-    /// receiver this is where the parts beyond a displaced sample (farther from the source than
-    /// the sample) stop blocking it.
-    static double clipDistance(double d) { return d * (1.0 - double(1e-6f)); }
+    /// part of an occluder that can hide anything from it lies short of this (the end margin of
+    /// ExactSegment.h). For a bumpy receiver this is where the parts beyond a displaced sample
+    /// (farther from the source than the sample) stop blocking it.
+    static double clipDistance(double d) { return d - kEndMarginMetres; }
 
     /// The occluder clipped for receiver samples at distance d from the source plane.
     static ClippedPolygon clippedFor(const Occluder& occluder, double d)
@@ -643,7 +675,7 @@ struct Setup {
             return;
         }
         int b0, b1;
-        sampleRange(tMin, tMax, nb, b0, b1);
+        sampleRange(lower(tMin), upper(tMax), nb, b0, b1);
         if (b0 > b1)
             return;
         if (count == 3 && tMax > tMin) {
@@ -655,12 +687,11 @@ struct Setup {
         double lo[kMaxSourceSamples], hi[kMaxSourceSamples];
         std::fill(lo + b0, lo + b1 + 1, 1e300);
         std::fill(hi + b0, hi + b1 + 1, -1e300);
-        const double rowStep = 1.0 / nb;
         for (int i = 0, k = count - 1; i < count; k = i++) {
             const double t0 = pt[std::size_t(k)], t1 = pt[std::size_t(i)];
             const double s0 = ps[std::size_t(k)], s1 = ps[std::size_t(i)];
             int r0, r1;
-            sampleRange(std::min(t0, t1), std::max(t0, t1), nb, r0, r1);
+            sampleRange(lower(std::min(t0, t1)), upper(std::max(t0, t1)), nb, r0, r1);
             r0 = std::max(r0, b0);
             r1 = std::min(r1, b1);
             if (r0 > r1)
@@ -670,17 +701,18 @@ struct Setup {
                 hi[r0] = std::max({hi[r0], s0, s1});
                 continue;
             }
-            const double slope = (s1 - s0) / (t1 - t0);
-            double x = s0 + ((r0 + 0.5) * rowStep - t0) * slope;
-            const double dx = slope * rowStep;
-            for (int row = r0; row <= r1; ++row, x += dx) {
+            // From the lower end, whichever way the polygon walks the edge.
+            const bool up = t0 < t1;
+            const double sa = up ? s0 : s1, ta = up ? t0 : t1, sb = up ? s1 : s0, tbEnd = up ? t1 : t0;
+            for (int row = r0; row <= r1; ++row) {
+                const double x = edgeCrossing((row + 0.5) / nb, sa, ta, sb, tbEnd);
                 lo[row] = std::min(lo[row], x);
                 hi[row] = std::max(hi[row], x);
             }
         }
         for (int b = b0; b <= b1; ++b) {
             int a0, a1;
-            sampleRange(lo[b], hi[b], na, a0, a1);
+            sampleRange(lower(lo[b]), upper(hi[b]), na, a0, a1);
             if (a0 <= a1)
                 setBitRange(mask, b * na + a0, b * na + a1);
         }
@@ -734,6 +766,10 @@ struct Pass {
 
     /// Per instance: may watertight culling (§7) skip its front faces? Empty: no culling.
     std::vector<char> cullableInstance{};
+    /// Per instance: a mesh flagged watertight (closed). Its triangles' float intervals are
+    /// widened by their error bound whether or not culling trims it this call, so culling on and
+    /// off give the same answer (BitmaskRows.h). Empty: none.
+    std::vector<char> closedInstance{};
     std::array<glm::dvec3, 4> sourceCorners{};
 
     /// Per instance: bounds wholly outside the shaft's hull. Empty: unknown.
@@ -889,9 +925,11 @@ struct Pass {
         tileOccluders.resize(order.size());
         for (std::size_t n = 0; n < order.size(); ++n) {
             const Occluder& o = *occluders[order[n]];
-            tileOccluders[n] = {setup.floatKernel ? setup.singlePrecision(o) : detail::FloatPolygon{},
+            const std::uint32_t instance = triangles.instanceOf[triangleOf[order[n]]];
+            const bool closed = !closedInstance.empty() && closedInstance[instance];
+            tileOccluders[n] = {setup.floatKernel ? setup.singlePrecision(o, closed) : detail::FloatPolygon{},
                                 std::int16_t(o.a0), std::int16_t(o.a1), std::int16_t(o.b0), std::int16_t(o.b1),
-                                o.path, o.maxD, &o};
+                                o.path, closed, o.maxD, &o};
             for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
                 for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
                     bins[std::size_t(tb) * std::size_t(tilesA()) + std::size_t(ta)].push_back(std::uint32_t(n));
@@ -927,10 +965,21 @@ struct Pass {
             g.s[lane % 8] = setup.receiverS[std::size_t(j)];
             g.t[lane % 8] = setup.receiverT[std::size_t(j)];
             g.d[lane % 8] = setup.receiverD[std::size_t(j)];
+            const glm::dvec3& r = setup.receiverInSource[std::size_t(j)];
+            g.sLo[lane % 8] = float(r.x - double(g.s[lane % 8]));
+            g.tLo[lane % 8] = float(r.y - double(g.t[lane % 8]));
+            g.dLo[lane % 8] = float(r.z - double(g.d[lane % 8]));
+            if (lane % 8 == 0)
+                g.sReach = g.tReach = 0.0f;
+            g.sReach = std::max(g.sReach, std::abs(g.s[lane % 8]));
+            g.tReach = std::max(g.tReach, std::abs(g.t[lane % 8]));
             g.shiftS[lane % 8] = float(setup.jitterShift[std::size_t(j)].x);
             g.shiftT[lane % 8] = float(setup.jitterShift[std::size_t(j)].y);
             g.shifted = setup.jittered;
             g.rowCentres = setup.rowCentres.data();
+            g.metresPerS = float(setup.metresPerS);
+            g.metresPerT = float(setup.metresPerT);
+            g.bandBudget = float(kFloatBandBudget);
             g.rows[lane % 8] = inside ? map.row(j).data() : lanes.scratch.data();
             lanes.inside |= std::uint64_t(inside) << lane;
         }
@@ -971,7 +1020,7 @@ struct Pass {
     void bitmaskPass(const std::vector<std::vector<std::uint32_t>>& bins, bool narrow,
                      const std::vector<std::uint32_t>* only = nullptr)
     {
-        std::atomic<std::uint64_t> narrowedAway{0}, pairs{0}, floatPairs{0};
+        std::atomic<std::uint64_t> narrowedAway{0}, pairs{0}, floatPairs{0}, floatFallbacks{0};
         const int words = map.wordsPerRow();
         // Lanes whose rows are full are switched off; rechecked every this many float occluders.
         constexpr int kFullRefresh = 32;
@@ -979,7 +1028,7 @@ struct Pass {
         const std::size_t tileCount = only ? only->size() : bins.size();
         const std::vector<TileOccluder>& tileOccluders = work.tileOccluders;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tileCount, 1), [&](const auto& range) {
-            std::uint64_t tilePairs = 0, tileFloatPairs = 0, tileSkipped = 0;
+            std::uint64_t tilePairs = 0, tileFloatPairs = 0, tileSkipped = 0, tileFallbacks = 0;
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
                 const std::size_t tile = only ? (*only)[k] : k;
                 const int ta = int(tile % std::size_t(tilesA())), tb = int(tile / std::size_t(tilesA()));
@@ -1045,10 +1094,19 @@ struct Pass {
                             for (int b = gb0; b <= gb1; ++b)
                                 active |= columns << (kTile * (b - gr0));
                             active &= unsigned(~full >> (8 * g) & lanes.inside >> (8 * g));
-                            const int n =
-                                detail::backprojectRowsAvx2(o.single, lanes.group[g], active, setup.na, setup.nb);
+                            unsigned fallback = 0;
+                            const int n = detail::backprojectRowsAvx2(o.single, lanes.group[g], active, setup.na,
+                                                                      setup.nb, &fallback);
                             tilePairs += std::uint64_t(n);
                             tileFloatPairs += std::uint64_t(n);
+                            // What the kernel could not prove, in double.
+                            for (; fallback; fallback &= fallback - 1) {
+                                const int lane = std::countr_zero(fallback);
+                                const int j = (gr0 + lane / kTile) * receiver.na + a0 + lane % kTile;
+                                setup.backproject(*o.occluder, Path::Double, j, map.row(j).data());
+                                ++tilePairs;
+                                ++tileFallbacks;
+                            }
                             continue;
                         }
                         // A receiver row parallel to the source plane (a floor seen from a wall) lies
@@ -1088,10 +1146,12 @@ struct Pass {
             pairs += tilePairs;
             floatPairs += tileFloatPairs;
             narrowedAway += tileSkipped;
+            floatFallbacks += tileFallbacks;
         });
         stats.pairs += pairs;
         stats.floatPairs += floatPairs;
         stats.narrowedAway += narrowedAway;
+        stats.floatFallbacks += floatFallbacks;
     }
 
     /// Hybrid: the still-unblocked rays against a BVH of the small triangles only.
@@ -1248,6 +1308,9 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         std::vector<char> instanceOutside(instances_.size());
         for (std::size_t i = 0; i < instances_.size(); ++i)
             instanceOutside[i] = hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
+        pass.closedInstance.resize(instances_.size());
+        for (std::size_t i = 0; i < instances_.size(); ++i)
+            pass.closedInstance[i] = instances_[i].watertight;
         pass.init(options.watertightCulling ? cullableInstances(receiver, bumpy ? &displacedBox : nullptr)
                                             : std::vector<char>{},
                   std::move(instanceOutside), hull);

@@ -41,7 +41,8 @@ layout(location = 0) out float oCount;
 void main() { oCount = 1.0; }
 )";
 
-/// The reference's end-point tolerance (kSegmentEpsilon), as a fraction of the way to the source.
+/// How far short of the source sample the counted part of the segment stops, as a fraction of the
+/// way (a baseline that counts only; the exact samplers use ExactSegment.h's margin).
 constexpr double kNear = 1e-6;
 
 } // namespace

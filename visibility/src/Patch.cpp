@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "visibility/Error.h"
+#include "visibility/ExactSegment.h"
 
 namespace sightline {
 
@@ -51,6 +52,10 @@ void validatePatch(const Patch& p, const std::string& role)
 {
     if (!finite(p.corner) || !finite(p.u) || !finite(p.v))
         throw Error(role + " patch has a non-finite corner or edge vector");
+    for (const glm::dvec3& c : corners(p))
+        if (std::max({std::abs(c.x), std::abs(c.y), std::abs(c.z)}) > kMaxCoordinateMetres)
+            throw Error(role + " patch reaches beyond " + std::to_string(int(kMaxCoordinateMetres)) +
+                        " m from the origin; Sightline accepts coordinates up to that");
     const double lu = glm::length(p.u), lv = glm::length(p.v);
     if (lu <= 0.0 || lv <= 0.0)
         throw Error(role + " patch is degenerate: an edge vector has zero length");

@@ -1,9 +1,12 @@
 #include "visibility/RayCastSampler.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <shared_mutex>
 #include <string>
 
 #include <embree3/rtcore.h>
@@ -12,85 +15,144 @@
 #include <tbb/task_arena.h>
 
 #include "visibility/Error.h"
+#include "visibility/ExactSegment.h"
 
 namespace sightline {
 
-struct RayCastScene::Embree {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    std::string error;
-
-    ~Embree()
-    {
-        if (scene)
-            rtcReleaseScene(scene);
-        if (device)
-            rtcReleaseDevice(device);
-    }
-};
-
 namespace {
 
-/// A single ray for the segment org -> org + dir with the reference's end-point semantics.
-RTCRay segmentRay(const glm::vec3& org, const glm::vec3& dir)
-{
-    RTCRay ray{};
-    ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
-    ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-    ray.tnear = kSegmentEpsilon;
-    ray.tfar = 1.0f - kSegmentEpsilon;
-    ray.mask = 0xffffffffu;
-    return ray;
-}
+/// The float ray Embree traverses, org + t dir with org = fl(R) and dir = fl(S - R), strays from
+/// the exact segment by at most (|R| + |S - R|) float epsilons per coordinate; boxes are widened
+/// by four times that (the float unit roundoff is 2^-24).
+constexpr double kStrayPerMetre = 4.0 / 16777216.0;
 
 void onEmbreeError(void* user, RTCError, const char* message)
 {
     static_cast<std::string*>(user)->assign(message ? message : "unknown Embree error");
 }
 
+double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
 } // namespace
+
+struct RayCastScene::Embree {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::string error;
+    std::vector<glm::vec3> vertices;   ///< 3 per triangle: the exact float world values
+    std::size_t triangles = 0;
+    bool fastBuild = false;
+    double pad = 0.0;                  ///< every box is widened by this much (metres)
+    double buildMs = 0.0;
+    mutable std::shared_mutex lock;    ///< sampling shares it; a wider rebuild takes it alone
+
+    ~Embree() { release(); }
+
+    void release()
+    {
+        if (scene)
+            rtcReleaseScene(scene);
+        if (device)
+            rtcReleaseDevice(device);
+        scene = nullptr, device = nullptr;
+    }
+
+    glm::dvec3 vertex(std::size_t k) const { return glm::dvec3(vertices[k]); }
+
+    /// Builds the BVH with boxes widened by `widening`.
+    void build(double widening)
+    {
+        release();
+        const auto start = std::chrono::steady_clock::now();
+        pad = widening;
+        device = rtcNewDevice(nullptr);
+        if (!device)
+            throw Error("Embree: cannot create a device (" + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+        rtcSetDeviceErrorFunction(device, onEmbreeError, &error);
+        scene = rtcNewScene(device);
+        rtcSetSceneFlags(scene, RTC_SCENE_FLAG_ROBUST);   // conservative box tests
+        rtcSetSceneBuildQuality(scene, fastBuild ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
+        if (triangles > 0) {
+            RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(geometry, unsigned(triangles));
+            rtcSetGeometryUserData(geometry, this);
+            rtcSetGeometryBoundsFunction(geometry, &Embree::bounds, nullptr);
+            rtcSetGeometryIntersectFunction(geometry, &Embree::intersect);
+            rtcSetGeometryOccludedFunction(geometry, &Embree::occluded);
+            rtcCommitGeometry(geometry);
+            rtcAttachGeometry(scene, geometry);
+            rtcReleaseGeometry(geometry);
+        }
+        rtcCommitScene(scene);
+        if (!error.empty())
+            throw Error("Embree: " + error);
+        buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+
+    static void bounds(const RTCBoundsFunctionArguments* args)
+    {
+        const Embree& self = *static_cast<const Embree*>(args->geometryUserPtr);
+        const glm::vec3* v = &self.vertices[3 * std::size_t(args->primID)];
+        const glm::vec3 lo = glm::min(v[0], glm::min(v[1], v[2])), hi = glm::max(v[0], glm::max(v[1], v[2]));
+        // Widened in double, then rounded outwards to float.
+        const auto down = [](double x) { return std::nextafter(float(x), -std::numeric_limits<float>::infinity()); };
+        const auto up = [](double x) { return std::nextafter(float(x), std::numeric_limits<float>::infinity()); };
+        RTCBounds* b = args->bounds_o;
+        b->lower_x = down(double(lo.x) - self.pad), b->lower_y = down(double(lo.y) - self.pad);
+        b->lower_z = down(double(lo.z) - self.pad);
+        b->upper_x = up(double(hi.x) + self.pad), b->upper_y = up(double(hi.y) + self.pad);
+        b->upper_z = up(double(hi.z) + self.pad);
+    }
+
+    /// What one call's rays carry to the primitive test: the exact segment ends. Embree passes
+    /// this context (its first member) to every callback of the call.
+    struct SegmentContext {
+        RTCIntersectContext base;
+        const Embree* self = nullptr;
+        glm::dvec3 receiverEnd{0.0};
+        const glm::dvec3* sourceEnds = nullptr;   ///< by source index (the ray's id)
+        glm::dvec3 shift{0.0};                    ///< jitter: added to every source end
+    };
+
+    static void occluded(const RTCOccludedFunctionNArguments* args)
+    {
+        const auto* context = reinterpret_cast<const SegmentContext*>(args->context);
+        const Embree& self = *context->self;
+        const std::size_t t = 3 * std::size_t(args->primID);
+        const glm::dvec3 a = self.vertex(t), b = self.vertex(t + 1), c = self.vertex(t + 2);
+        for (unsigned i = 0; i < args->N; ++i) {
+            if (args->valid[i] != -1)
+                continue;
+            const unsigned source = RTCRayN_id(args->ray, args->N, i);
+            const glm::dvec3 q = context->sourceEnds[source] + context->shift;
+            if (segmentCrossesTriangle(context->receiverEnd, q, a, b, c))
+                RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+        }
+    }
+
+    /// Never called (only occlusion is queried); Embree requires one.
+    static void intersect(const RTCIntersectFunctionNArguments*) {}
+};
 
 RayCastScene::RayCastScene(const Scene& scene) : RayCastScene(worldTriangles(scene)) {}
 
-RayCastScene::RayCastScene(const WorldTriangles& triangles, bool fastBuild)
-    : embree_(std::make_unique<Embree>()), triangleCount_(triangles.size())
+RayCastScene::RayCastScene(const WorldTriangles& triangles, bool fastBuild) : embree_(std::make_unique<Embree>())
 {
-    const auto start = std::chrono::steady_clock::now();
-    embree_->device = rtcNewDevice(nullptr);
-    if (!embree_->device)
-        throw Error("Embree: cannot create a device (" + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
-    rtcSetDeviceErrorFunction(embree_->device, onEmbreeError, &embree_->error);
-
-    embree_->scene = rtcNewScene(embree_->device);
-    rtcSetSceneFlags(embree_->scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(embree_->scene, fastBuild ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
-    if (triangleCount_ > 0) {
-        RTCGeometry geometry = rtcNewGeometry(embree_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        // Embree may read 16 bytes past a float3, so the vertex buffer is padded by one element.
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), triangles.vertices.size() + 1));
-        auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangleCount_));
-        if (!vertices || !indices)
-            throw Error("Embree: out of memory for " + std::to_string(triangleCount_) + " triangles");
-        for (std::size_t i = 0; i < triangles.vertices.size(); ++i) {
-            vertices[3 * i + 0] = triangles.vertices[i].x;
-            vertices[3 * i + 1] = triangles.vertices[i].y;
-            vertices[3 * i + 2] = triangles.vertices[i].z;
-        }
-        for (std::size_t i = 0; i < 3 * triangleCount_; ++i)
-            indices[i] = static_cast<unsigned>(i);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(embree_->scene, geometry);
-        rtcReleaseGeometry(geometry);
-    }
-    rtcCommitScene(embree_->scene);
-    if (!embree_->error.empty())
-        throw Error("Embree: " + embree_->error);
-    buildMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    validateCoordinates(triangles, "scene");
+    embree_->vertices = triangles.vertices;
+    embree_->triangles = triangles.size();
+    embree_->fastBuild = fastBuild;
+    // Wide enough for rays between any points of the scene's box and as far again beyond it.
+    double extent = 0.0;
+    for (const glm::vec3& v : triangles.vertices)
+        extent = std::max(extent, maxAbs(glm::dvec3(v)));
+    embree_->build(kStrayPerMetre * 3.0 * extent);
 }
 
 RayCastScene::~RayCastScene() = default;
+
+std::size_t RayCastScene::triangleCount() const { return embree_->triangles; }
+double RayCastScene::buildMilliseconds() const { return embree_->buildMs; }
 
 HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver, const RayCastOptions& options) const
 {
@@ -98,6 +160,24 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
     HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
     sampleUnblocked(source, receiver, map, options);
     return map;
+}
+
+bool RayCastScene::segmentBlocked(const glm::dvec3& p, const glm::dvec3& q) const
+{
+    // One segment: the BVH finds the candidates, exactly as for a whole call.
+    std::shared_lock lock(embree_->lock);
+    Embree::SegmentContext context;
+    rtcInitIntersectContext(&context.base);
+    context.self = embree_.get();
+    context.receiverEnd = p;
+    context.sourceEnds = &q;
+    const glm::vec3 org(p), dir(q - p);
+    RTCRay ray{};
+    ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
+    ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
+    ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu, ray.id = 0;
+    rtcOccluded1(embree_->scene, &context.base, &ray);
+    return ray.tfar < 0.0f;
 }
 
 std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
@@ -110,32 +190,65 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     if (options.heights)
         validateReceiverHeights(source, receiver, *options.heights);
     const bool bumpy = !flatReceiver(options.heights);
-    if (triangleCount_ == 0)
+    if (embree_->triangles == 0)
         return 0;
-    std::atomic<std::uint64_t> cast{0};
     const glm::dvec3 normal = bumpy ? receiverNormalTowardSource(source, receiver) : glm::dvec3(0.0);
 
-    // Positions in double (DESIGN.md §2), rounded to float only as ray input.
+    // Positions in double (DESIGN.md §2).
     const int S = source.sampleCount();
     std::vector<glm::dvec3> sourceExact(static_cast<std::size_t>(S));
     for (int i = 0; i < S; ++i)
         sourceExact[std::size_t(i)] = source.sample(i);
+    const auto receiverEnd = [&](int j) {
+        return bumpy ? receiver.sample(j) + options.heights->metres[std::size_t(j)] * normal : receiver.sample(j);
+    };
+
+    // The boxes must cover this call's float rays: widen (rebuild) first if its patches lie
+    // beyond what the build allowed for.
+    double farthest = 0.0, longest = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+        const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+        farthest = std::max({farthest, maxAbs(sc), maxAbs(rc)});
+        for (int l = 0; l < 4; ++l)
+            longest = std::max(longest, maxAbs(rc - (source.corner + double(l & 1) * source.u + double(l >> 1) * source.v)));
+    }
+    if (bumpy)
+        for (int j = 0; j < receiver.sampleCount(); ++j)
+            farthest = std::max(farthest, maxAbs(receiverEnd(j)));
+    // Jitter moves a source sample by under a cell.
+    const double needed = kStrayPerMetre * (farthest + 2.0 * longest + maxAbs(source.u) + maxAbs(source.v));
+    {
+        std::unique_lock lock(embree_->lock, std::defer_lock);
+        std::shared_lock check(embree_->lock);
+        if (needed > embree_->pad) {
+            check.unlock();
+            lock.lock();
+            if (needed > embree_->pad)
+                embree_->build(2.0 * needed);
+        }
+    }
+    std::shared_lock lock(embree_->lock);
     RTCScene scene = embree_->scene;
+    std::atomic<std::uint64_t> cast{0};
 
     // Each receiver sample casts its S rays: origin at the receiver sample, direction to the
     // source sample (t = 1 at the source), all sharing one origin, hence coherent.
     auto castFrom = [&](int j) {
-        // With jitter, the source grid seen from j is shifted: cast to the shifted samples.
-        const glm::dvec3 end =
-            bumpy ? receiver.sample(j) + options.heights->metres[std::size_t(j)] * normal : receiver.sample(j);
-        const glm::dvec3 r = end - options.jitter.shift(source, j);
+        const glm::dvec3 end = receiverEnd(j);
+        const glm::dvec3 shift = options.jitter.shift(source, j);
         const glm::vec3 org(end);
         auto bits = map.row(j);
         std::uint64_t rowCast = 0;
         auto alreadyBlocked = [&](int i) { return (bits[std::size_t(i >> 6)] >> (i & 63)) & 1u; };
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        Embree::SegmentContext context;
+        rtcInitIntersectContext(&context.base);
+        context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        context.self = embree_.get();
+        context.receiverEnd = end;
+        context.sourceEnds = sourceExact.data();
+        context.shift = shift;
+        const auto direction = [&](int i) { return glm::vec3(sourceExact[std::size_t(i)] + shift - end); };
         if (options.packets) {
             alignas(64) RTCRay16 rays;
             alignas(64) int valid[16];
@@ -145,20 +258,20 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                     const int i = first + k;
                     valid[k] = i < S && !alreadyBlocked(i) ? -1 : 0;
                     lanes += valid[k] != 0;
-                    const glm::vec3 dir = i < S ? glm::vec3(sourceExact[std::size_t(i)] - r) : glm::vec3(1.0f);
+                    const glm::vec3 dir = i < S ? direction(i) : glm::vec3(1.0f);
                     rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
                     rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
-                    rays.tnear[k] = kSegmentEpsilon;
-                    rays.tfar[k] = 1.0f - kSegmentEpsilon;
+                    rays.tnear[k] = 0.0f;
+                    rays.tfar[k] = 1.0f;
                     rays.time[k] = 0.0f;
                     rays.mask[k] = 0xffffffffu;
-                    rays.id[k] = unsigned(k);
+                    rays.id[k] = unsigned(i < S ? i : 0);
                     rays.flags[k] = 0;
                 }
                 if (lanes == 0)
                     continue;
                 rowCast += std::uint64_t(lanes);
-                rtcOccluded16(valid, scene, &context, &rays);
+                rtcOccluded16(valid, scene, &context.base, &rays);
                 for (int k = 0; k < 16 && first + k < S; ++k)
                     if (valid[k] && rays.tfar[k] < 0.0f) {
                         const int i = first + k;
@@ -170,8 +283,12 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                 if (alreadyBlocked(i))
                     continue;
                 ++rowCast;
-                RTCRay ray = segmentRay(org, glm::vec3(sourceExact[std::size_t(i)] - r));
-                rtcOccluded1(scene, &context, &ray);
+                const glm::vec3 dir = direction(i);
+                RTCRay ray{};
+                ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
+                ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
+                ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu, ray.id = unsigned(i);
+                rtcOccluded1(scene, &context.base, &ray);
                 if (ray.tfar < 0.0f)
                     bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
             }

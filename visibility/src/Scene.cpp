@@ -1,12 +1,14 @@
 #include "visibility/Scene.h"
 
 #include <cmath>
+#include <cstdio>
 
 #include <glm/common.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
 #include "visibility/Error.h"
+#include "visibility/ExactSegment.h"
 
 namespace sightline {
 
@@ -102,6 +104,16 @@ WorldTriangles worldTriangles(const Scene& scene)
 
 namespace {
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool outOfRange(const glm::vec3& v)
+{
+    return std::abs(v.x) > kMaxCoordinateMetres || std::abs(v.y) > kMaxCoordinateMetres || std::abs(v.z) > kMaxCoordinateMetres;
+}
+std::string coordinates(const glm::vec3& v)
+{
+    char text[96];
+    std::snprintf(text, sizeof text, "%.6g, %.6g, %.6g", double(v.x), double(v.y), double(v.z));
+    return text;
+}
 } // namespace
 
 void validate(const Mesh& mesh, const std::string& what)
@@ -134,6 +146,25 @@ void validate(const Scene& scene, const std::string& what)
             for (int r = 0; r < 4; ++r)
                 if (!std::isfinite(instance.transform[c][r]))
                     throw Error(what + ": instance '" + instance.name + "' has a non-finite transform");
+        const Mesh& mesh = scene.meshes[instance.mesh];
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            const glm::vec3 p(instance.transform * glm::vec4(mesh.positions[i], 1.0f));
+            if (!finite(p) || outOfRange(p))
+                throw Error(what + ": instance '" + instance.name + "' places vertex " + std::to_string(i) + " at (" +
+                            coordinates(p) + "); Sightline accepts coordinates up to " + std::to_string(int(kMaxCoordinateMetres)) +
+                            " m from the origin");
+        }
+    }
+}
+
+void validateCoordinates(const WorldTriangles& triangles, const std::string& what)
+{
+    for (std::size_t i = 0; i < triangles.vertices.size(); ++i) {
+        const glm::vec3& p = triangles.vertices[i];
+        if (!finite(p) || outOfRange(p))
+            throw Error(what + ": triangle " + std::to_string(i / 3) + " has a vertex at (" + coordinates(p) +
+                        "); Sightline accepts coordinates up to " + std::to_string(int(kMaxCoordinateMetres)) +
+                        " m from the origin");
     }
 }
 

@@ -8,7 +8,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vector_relational.hpp>
 
-#include "visibility/RayCastSampler.h"
+#include "visibility/ExactSegment.h"
 
 namespace sightline {
 
@@ -34,28 +34,21 @@ void clipPolygon(ClippedPolygon& polygon, const glm::dvec3& normal, double offse
         const double dp = glm::dot(p, normal) - offset, dq = glm::dot(q, normal) - offset;
         if (dp > 0.0)
             out.vertices[std::size_t(out.count++)] = p;
-        if ((dp > 0.0) != (dq > 0.0))
+        // Interpolated from the inside end, whichever way the edge is walked: two triangles
+        // sharing the edge then cut it at the same point, bit for bit (no crack between them).
+        if (dp > 0.0 && !(dq > 0.0))
             out.vertices[std::size_t(out.count++)] = p + (q - p) * (dp / (dp - dq));
+        else if (!(dp > 0.0) && dq > 0.0)
+            out.vertices[std::size_t(out.count++)] = q + (p - q) * (dq / (dq - dp));
         assert(out.count <= ClippedPolygon::kMaxVertices);
     }
     polygon = out;
 }
 
 ShaftFrames::ShaftFrames(const Patch& sourcePatch, const Patch& receiverPatch)
-    : source(sourcePatch, receiverPatch.centre()), receiver(receiverPatch, sourcePatch.centre())
+    : source(sourcePatch, receiverPatch.centre()), receiver(receiverPatch, sourcePatch.centre()),
+      sourceMargin(kEndMarginMetres), receiverMargin(kEndMarginMetres)
 {
-    // The reference counts a hit at segment parameter t in [eps, 1 - eps]; near an end, that is
-    // a distance from the end's plane of eps times the other end's distance. Margins use the
-    // smallest such distance (the difference is far below the grazing tolerance).
-    double minReceiverD = 1e300, minSourceD = 1e300;
-    for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 rc = receiverPatch.corner + double(k & 1) * receiverPatch.u + double(k >> 1) * receiverPatch.v;
-        const glm::dvec3 sc = sourcePatch.corner + double(k & 1) * sourcePatch.u + double(k >> 1) * sourcePatch.v;
-        minReceiverD = std::min(minReceiverD, source.coordinates(rc).z);
-        minSourceD = std::min(minSourceD, receiver.coordinates(sc).z);
-    }
-    sourceMargin = double(kSegmentEpsilon) * minReceiverD;
-    receiverMargin = double(kSegmentEpsilon) * minSourceD;
 }
 
 ClippedPolygon ShaftFrames::clipToSlab(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const

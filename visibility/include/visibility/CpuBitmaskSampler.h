@@ -97,6 +97,7 @@ struct BitmaskStats {
     std::size_t smallTriangles = 0;   ///< hybrid: of those, handled by ray casting
     std::uint64_t pairs = 0;          ///< (triangle, receiver sample) pairs backprojected
     std::uint64_t floatPairs = 0;     ///< of those, by the single-precision SIMD kernel
+    std::uint64_t floatFallbacks = 0; ///< pairs the kernel could not prove exact, sent to double
     std::uint64_t raysCast = 0;       ///< hybrid: rays cast against the small triangles
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft

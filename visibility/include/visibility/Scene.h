@@ -82,9 +82,15 @@ WorldTriangles worldTriangles(const Scene& scene);
 
 /// Throws sightline::Error naming the first problem: an index out of range, an index count that is
 /// not a multiple of 3, a non-finite position, a normal count that differs from the position count,
-/// an instance naming a missing mesh, or a non-finite transform. `what` prefixes the message
-/// (usually the file name).
+/// an instance naming a missing mesh, a non-finite transform, or (scenes) a placed vertex farther
+/// than kMaxCoordinateMetres (ExactSegment.h, DESIGN.md §2) from the origin on some axis. `what`
+/// prefixes the message (usually the file name).
 void validate(const Mesh& mesh, const std::string& what);
 void validate(const Scene& scene, const std::string& what);
+
+/// Throws sightline::Error when a world vertex is not finite or lies beyond kMaxCoordinateMetres
+/// on some axis: every sampler refuses such input rather than answer wrongly (Embree asserts on
+/// coordinates near 1e19, and float arithmetic on them is meaningless).
+void validateCoordinates(const WorldTriangles& triangles, const std::string& what);
 
 } // namespace sightline

@@ -48,11 +48,12 @@ struct ClippedPolygon {
 };
 
 /// Keeps the part of `polygon` where dot(X, normal) > offset (Sutherland-Hodgman, one plane).
-/// Works in any affine coordinates.
+/// Works in any affine coordinates. A cut edge is interpolated from its inside end, so polygons
+/// sharing an edge get bit-identical cut points.
 void clipPolygon(ClippedPolygon& polygon, const glm::dvec3& normal, double offset);
 
-/// The shaft between a valid patch pair: both frames, with the relative end-point tolerance of the
-/// reference sampler (kSegmentEpsilon) turned into slab margins.
+/// The shaft between a valid patch pair: both frames, and the end margin of DESIGN.md §2
+/// (kEndMarginMetres, ExactSegment.h) as the distance the slab keeps from each patch's plane.
 struct ShaftFrames {
     PatchFrame source;     ///< d > 0 towards the receiver
     PatchFrame receiver;   ///< d > 0 towards the source
