@@ -22,24 +22,36 @@ using namespace sightline::test;
 
 namespace {
 
-struct Method {
-    std::string name;
-    std::function<HiddenSampleMap(const Scene&, const Patch&, const Patch&)> sample;
+/// What a case asks besides the scene and the patches: decorrelated source samples, a bumpy
+/// receiver.
+struct Question {
+    SourceJitter jitter{};
+    const ReceiverHeights* heights = nullptr;
 };
 
-/// The methods that answer the plain question (no jitter, flat receiver).
-std::vector<Method> plainMethods()
+struct Method {
+    std::string name;
+    std::function<HiddenSampleMap(const Scene&, const Patch&, const Patch&, const Question&)> sample;
+};
+
+/// Every exact CPU-side method: the reference, and the CPU sampler's strategies and kernels.
+std::vector<Method> cpuMethods()
 {
     const auto cpu = [](CpuStrategy strategy, bool simd) {
-        return [=](const Scene& scene, const Patch& s, const Patch& r) {
+        return [=](const Scene& scene, const Patch& s, const Patch& r, const Question& q) {
             BitmaskOptions options;
             options.strategy = strategy;
             options.simd = simd;
+            options.jitter = q.jitter;
+            options.heights = q.heights;
             return CpuBitmaskSampler(scene).sample(s, r, options);
         };
     };
     return {
-        {"raycast", [](const Scene& scene, const Patch& s, const Patch& r) { return RayCastScene(scene).sample(s, r); }},
+        {"raycast",
+         [](const Scene& scene, const Patch& s, const Patch& r, const Question& q) {
+             return RayCastScene(scene).sample(s, r, {.jitter = q.jitter, .heights = q.heights});
+         }},
         {"cpu", cpu(CpuStrategy::Auto, true)},
         {"cpu-bitmask", cpu(CpuStrategy::Bitmask, true)},
         {"cpu-scalar", cpu(CpuStrategy::Bitmask, false)},
@@ -48,6 +60,9 @@ std::vector<Method> plainMethods()
     };
 }
 
+/// How each case is asked: plainly, or with jitter and bumps made from the case's seed.
+enum class Variant { Plain, Jittered, Bumpy };
+
 struct Tally {
     std::uint64_t wronglyBlocked = 0, wronglyFree = 0, judged = 0, ties = 0;
     std::string firstExample;
@@ -55,18 +70,33 @@ struct Tally {
 
 /// Runs `methods` on every case, judges each against the brute force, and returns per method the
 /// non-tie errors (summed over the cases), printing a line per case that has any.
-std::map<std::string, Tally> judgeSuite(const std::vector<AdversarialCase>& cases, const std::vector<Method>& methods)
+std::map<std::string, Tally> judgeSuite(const std::vector<AdversarialCase>& cases, const std::vector<Method>& methods,
+                                        Variant variant = Variant::Plain)
 {
     std::map<std::string, Tally> tallies;
-    for (const AdversarialCase& c : cases) {
+    for (std::size_t n = 0; n < cases.size(); ++n) {
+        const AdversarialCase& c = cases[n];
+        Question question;
+        ReceiverHeights heights;
+        std::vector<glm::dvec3> displaced;
+        if (variant == Variant::Jittered)
+            question.jitter.seed = std::uint32_t(n + 1);
+        if (variant == Variant::Bumpy) {
+            // Bumps up to a tenth of the distance between the patches, towards the source.
+            const double distance = glm::length(c.receiver.centre() - c.source.centre());
+            heights = randomHeights(c.receiver, unsigned(n + 1), 0.1 * distance);
+            question.heights = &heights;
+            displaced = displacedSamples(c.source, c.receiver, heights);
+        }
         std::vector<HiddenSampleMap> maps;
         for (const Method& m : methods)
-            maps.push_back(m.sample(c.scene, c.source, c.receiver));
+            maps.push_back(m.sample(c.scene, c.source, c.receiver, question));
         std::vector<const HiddenSampleMap*> pointers;
         for (const HiddenSampleMap& m : maps)
             pointers.push_back(&m);
         const auto rays = raysToJudge(pointers, 2048, 7u);
-        const ExactJudge judge(worldTriangles(c.scene), c.source, c.receiver);
+        const ExactJudge judge(worldTriangles(c.scene), c.source, c.receiver, question.jitter,
+                               displaced.empty() ? nullptr : &displaced);
         for (std::size_t k = 0; k < methods.size(); ++k) {
             const Verdict v = judge.judge(maps[k], rays);
             Tally& t = tallies[methods[k].name];
@@ -118,10 +148,23 @@ int seeds(int ci)
 
 TEST(Exactness, EveryCpuMethodIsExactOnAdversarialScenesAtTheOrigin)
 {
-    expectExact(judgeSuite(suite({0.0}, seeds(4)), plainMethods()));
+    expectExact(judgeSuite(suite({0.0}, seeds(4)), cpuMethods()));
 }
 
 TEST(Exactness, EveryCpuMethodIsExactOnAdversarialScenesFarFromTheOrigin)
 {
-    expectExact(judgeSuite(suite({1e3, 1e4, 1e5}, seeds(2)), plainMethods()));
+    expectExact(judgeSuite(suite({1e3, 1e4, 1e5}, seeds(2)), cpuMethods()));
+}
+
+TEST(Exactness, DecorrelatedSamplesAreExactToo)
+{
+    // Every receiver sample sees the source grid shifted by its own offset (§6.2); the judge casts
+    // to the same shifted samples.
+    expectExact(judgeSuite(suite({0.0, 1e4}, seeds(2)), cpuMethods(), Variant::Jittered));
+}
+
+TEST(Exactness, BumpyReceiversAreExactToo)
+{
+    // Each receiver sample raised towards the source by its own height (§8).
+    expectExact(judgeSuite(suite({0.0, 1e4}, seeds(2)), cpuMethods(), Variant::Bumpy));
 }
