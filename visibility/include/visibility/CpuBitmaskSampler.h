@@ -157,16 +157,12 @@ private:
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;
-    /// Auto's last timed choice between the bitmask and ray casting, reused by the next calls
-    /// with the same sample grids: the editor and animations sample slowly changing
-    /// configurations, and the probe costs 10-15% of a call. Cleared by setScene.
-    struct ProbeMemo {
-        std::array<int, 4> grids{};   // source na, nb, receiver na, nb
-        bool rays = false;
-        int callsLeft = 0;
-    };
+    /// Auto's last measured choice between the bitmask and ray casting, reused by the next calls
+    /// on a similar configuration: the editor and animations sample slowly changing ones, and
+    /// the probe costs 10-15% of a call. Cleared by setScene.
+    struct StrategyMemo;
     mutable std::mutex probeMutex_;
-    mutable ProbeMemo probeMemo_;
+    mutable std::unique_ptr<StrategyMemo> probeMemo_;
 };
 
 } // namespace sightline

@@ -1,0 +1,72 @@
+#pragma once
+// Internal to the CPU bitmask sampler: how Auto chooses between the bitmask and ray casting.
+//
+// The bitmask's cost follows (occluder, receiver sample) pairs after the narrowed shaft, ray
+// casting's follows the rays; neither is known before sampling. Auto estimates the pairs from a
+// sample of the triangles, decides where the estimate is clear-cut, and otherwise measures both
+// methods on a few random tiles (their rows are final either way) and finishes with the faster.
+// A measured choice serves later calls on a similar configuration (the editor and animations
+// sample slowly changing ones). The decisions are plain functions of measured and estimated
+// costs, tested on their own (tst_Strategy).
+
+#include <array>
+#include <cstdint>
+
+#include "visibility/Patch.h"
+
+namespace sightline::bitmask {
+
+/// What Auto knows before it samples.
+struct CostEstimate {
+    std::uint64_t rays = 0;
+    std::uint64_t estimatedPairs = 0;   ///< before narrowing, from every 32nd triangle
+    bool floatKernel = false;           ///< the SIMD kernel takes well-conditioned occluders
+    bool bumpy = false;
+    int receiverSamples = 0;
+};
+
+enum class Plan {
+    Bitmask,   ///< the estimate says the bitmask is cheaper
+    RayCast,   ///< the estimate says ray casting is cheaper, clear-cut
+    Probe,     ///< not clear-cut: time both on a few tiles first
+};
+
+/// The estimate's verdict.
+Plan planFor(const CostEstimate& estimate);
+
+/// While probing: whether enough is known to stop, from the tiles done by each method and their
+/// times, and the whole receiver's tile count and the batch size.
+bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
+                    std::size_t batch);
+
+/// The probe's verdict: ray casting when its measured cost per tile is the lower.
+bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs);
+
+/// One sampling configuration, as far as Auto's choice depends on it.
+struct Configuration {
+    Patch source, receiver;
+    bool jittered = false;
+    bool bumpy = false;
+};
+
+/// Whether a choice measured on `measured` may serve `now`: the same sample grids and options,
+/// both patches facing the same way within 10 degrees, their centres moved by less than a fifth
+/// of the distance between them and their sizes within a fifth. A receiver dragged across a
+/// wall keeps its choice; one moved to the floor does not.
+bool similarConfiguration(const Configuration& measured, const Configuration& now);
+
+/// A measured choice and how many more calls it may serve.
+struct ProbeMemo {
+    Configuration configuration;
+    bool rays = false;
+    int callsLeft = 0;
+};
+
+/// A probe's choice serves this many later calls on a similar configuration before Auto
+/// measures again.
+constexpr int kProbeReuse = 7;
+
+/// Auto's probe: one tile in this many by each method.
+constexpr std::uint32_t kProbeStride = 8;
+
+} // namespace sightline::bitmask
