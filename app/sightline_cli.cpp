@@ -149,7 +149,9 @@ int runShaft(const ShaftArgs& args)
                                                                         "x" + std::to_string(args.table[1])
                                                                   : std::string("gl-bitmask-exact-rows");
         strategy = masks + " (" + args.glBackend + ": " + context->renderer() + ")";
-        split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}, {"table_ms", tableMs}};
+        split = {{"draw_ms", stats.drawMs}, {"readback_ms", stats.readbackMs}, {"table_ms", tableMs},
+                 {"cpu_ms", stats.cpuMs}, {"gpu_occluders", stats.gpuOccluders}, {"cpu_occluders", stats.cpuOccluders},
+                 {"flagged_samples", stats.flaggedSamples}};
     } else {
         const CpuBitmaskSampler sampler(scene);
         BitmaskStats stats;

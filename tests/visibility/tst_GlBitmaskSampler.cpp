@@ -165,7 +165,7 @@ TEST_F(GlBitmask, TableModeMatchesTheCpuTableMode)
     // Measured on llvmpipe: here 27 of 25.2M rays (1.1e-6), at most 11 of 1M (1.05e-5) in one
     // case; over 40 seeds at 32x32 x 32x32, with and without jitter, 101 of 83.9M (1.2e-6), at
     // most 16 of 1M. Tolerances, about 10x the worst measured: 1e-5 of all rays, 1e-4 (0.01%)
-    // in any one case.
+    // in any one case (or 8 rays).
     std::uint64_t differing = 0, rays = 0, tableVersusExact = 0;
     int checked = 0;
     for (unsigned seed = 1; seed <= 24; ++seed) {
@@ -187,7 +187,8 @@ TEST_F(GlBitmask, TableModeMatchesTheCpuTableMode)
             const HiddenSampleMap onGl =
                 gpu.sample(c.source, c.receiver, GlBitmaskOptions{.jitter = jitter, .mode = MaskMode::Table});
             const std::uint64_t d = onGl.differenceCount(onCpu);
-            EXPECT_LE(d * 10000, onGl.rayCount()) << "seed " << seed << (large ? " (32x32)" : "");
+            // (A case of the generator's small grids has 1-2,000 rays: one flipped texel is a few.)
+            EXPECT_LE(d, std::max<std::uint64_t>(onGl.rayCount() / 10000, 8)) << "seed " << seed << (large ? " (32x32)" : "");
             differing += d;
             rays += onGl.rayCount();
             tableVersusExact += onGl.differenceCount(gpu.sample(c.source, c.receiver, GlBitmaskOptions{.jitter = jitter}));

@@ -10,6 +10,10 @@
 
 #include <glm/geometric.hpp>
 
+#include "BitmaskRows.h"
+#include "bitmask/Occluders.h"
+#include "bitmask/Shaft.h"
+#include "bitmask/TilePass.h"
 #include "visibility/Error.h"
 #include "visibility/HoughMaskTable.h"
 #include "visibility/ShaftGeometry.h"
@@ -24,138 +28,41 @@ double msSince(Clock::time_point t) { return std::chrono::duration<double, std::
 
 constexpr int kMaxTargets = kMaxSourceSamples / 128;
 
+/// One occluder as the shaders read it (std430): its vertices in the source frame as float pairs.
+struct GpuPolygon {
+    std::int32_t info[4];   // vertex count, closed (§7), shared factor (parallel patches), clip per sample
+    float hi[8][4];         // s, t, d, and the shared factor d_R / (d_R - d)
+    float lo[8][4];         // the residuals of s, t, d
+};
+static_assert(sizeof(GpuPolygon) == 272, "std430 layout of Polygon");
+
+/// Each occluder's influence region, drawn as a quad: receiver samples a0..a1 x b0..b1.
 const char* kVertexShader = R"(#version 450 core
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in uint aInstance;
-out vec3 vWorld;
-flat out uint vInstance;
-void main() { vWorld = aPosition; vInstance = aInstance; }
-)";
-
-// Shared by the geometry and fragment shaders: Sutherland-Hodgman against one plane, keeping
-// dot(plane.xyz, X) + plane.w > 0.
-const char* kClipFunction = R"(
-int clipPolygon(inout vec3 p[8], int n, vec4 plane)
-{
-    vec3 q[8];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-        vec3 a = p[i], b = p[(i + 1) % n];
-        float da = dot(plane.xyz, a) + plane.w, db = dot(plane.xyz, b) + plane.w;
-        if (da > 0.0) q[m++] = a;
-        if ((da > 0.0) != (db > 0.0)) q[m++] = a + (b - a) * (da / (da - db));
-    }
-    p = q;
-    return m;
-}
-)";
-
-const char* kGeometryShader = R"(
-layout(triangles) in;
-layout(triangle_strip, max_vertices = 4) out;
-in vec3 vWorld[];
-flat in uint vInstance[];
-uniform usamplerBuffer uCullable;     // per instance: watertight culling (section 7) allowed
-uniform int uCulling;
-uniform vec3 uSourceWorld[4];         // source corners in world space
-uniform vec4 uSrcS, uSrcT, uSrcD;     // world -> source coordinates (s, t, d)
-uniform vec4 uRcvS, uRcvT, uRcvD;     // world -> receiver coordinates
-uniform float uMarginS, uMarginR, uMinReceiverD;
-uniform vec3 uCorner[4];              // source corners in receiver coordinates
+uniform isamplerBuffer uRegions;
 uniform ivec2 uReceiverGrid;
-flat out vec3 gPoly[7];               // clipped triangle in source coordinates
-flat out int gCount;
-flat out int gClipPerSample;
-#if TABLE_MODE
-flat out vec4 gRegion;                // influence region before padding: (lo, hi)
-#endif
-
+flat out int vPolygon;
 void main()
 {
-    // Watertight front-face culling (section 7), as in CpuBitmaskSampler: a front face of a
-    // closed mesh, seen from all four source corners, cannot be the only blocker of a segment.
-    if (uCulling != 0 && texelFetch(uCullable, int(vInstance[0])).r != 0u) {
-        vec3 n = cross(vWorld[1] - vWorld[0], vWorld[2] - vWorld[0]);
-        bool front = true;
-        for (int c = 0; c < 4; ++c) front = front && dot(n, uSourceWorld[c] - vWorld[0]) > 0.0;
-        if (front) return;
-    }
-    vec3 p[8];
-    p[0] = vWorld[0]; p[1] = vWorld[1]; p[2] = vWorld[2];
-    int n = clipPolygon(p, 3, uSrcD - vec4(0, 0, 0, uMarginS));
-    if (n < 3) return;
-    n = clipPolygon(p, n, uRcvD - vec4(0, 0, 0, uMarginR));
-    if (n < 3) return;
-
-    // Influence region (section 3): projections from the source corners, as a box.
-    vec2 lo = vec2(1e30), hi = vec2(-1e30);
-    bool whole = false;
-    float maxD = -1e30;
-    vec3 poly[7];
-    for (int i = 0; i < n; ++i) {
-        vec4 x = vec4(p[i], 1.0);
-        poly[i] = vec3(dot(uSrcS, x), dot(uSrcT, x), dot(uSrcD, x));
-        maxD = max(maxD, poly[i].z);
-        vec3 r = vec3(dot(uRcvS, x), dot(uRcvT, x), dot(uRcvD, x));
-        for (int c = 0; c < 4; ++c) {
-            float denominator = uCorner[c].z - r.z;
-            if (denominator <= 1e-6 * uCorner[c].z) { whole = true; continue; }
-            vec2 y = uCorner[c].xy + (r.xy - uCorner[c].xy) * (uCorner[c].z / denominator);
-            lo = min(lo, y);
-            hi = max(hi, y);
-        }
-    }
-    vec2 pad = 0.5 / vec2(uReceiverGrid);   // half a sample: boundary samples stay covered
-    if (whole) { lo = vec2(0.0); hi = vec2(1.0); }
-#if TABLE_MODE
-    vec4 region = vec4(lo, hi);
-#endif
-    lo = clamp(lo - pad, 0.0, 1.0);
-    hi = clamp(hi + pad, 0.0, 1.0);
-    if (any(greaterThanEqual(lo, hi))) return;
-
-    int clipPerSample = maxD >= uMinReceiverD * (1.0 - 1e-6) ? 1 : 0;
-    vec2 corners[4] = vec2[4](vec2(lo.x, lo.y), vec2(hi.x, lo.y), vec2(lo.x, hi.y), vec2(hi.x, hi.y));
-    for (int k = 0; k < 4; ++k) {
-        for (int i = 0; i < 7; ++i) gPoly[i] = i < n ? poly[i] : vec3(0.0);
-        gCount = n;
-        gClipPerSample = clipPerSample;
-#if TABLE_MODE
-        gRegion = region;
-#endif
-        gl_Position = vec4(corners[k] * 2.0 - 1.0, 0.0, 1.0);
-        EmitVertex();
-    }
-    EndPrimitive();
+    ivec4 region = texelFetch(uRegions, gl_InstanceID);
+    vec2 pixel = vec2((gl_VertexID & 1) != 0 ? region.y + 1 : region.x, (gl_VertexID & 2) != 0 ? region.w + 1 : region.z);
+    gl_Position = vec4(pixel / vec2(uReceiverGrid) * 2.0 - 1.0, 0.0, 1.0);
+    vPolygon = gl_InstanceID;
 }
 )";
 
-const char* kFragmentShader = R"(
-flat in vec3 gPoly[7];
-flat in int gCount;
-flat in int gClipPerSample;
-#if TABLE_MODE
-flat in vec4 gRegion;
-#endif
-uniform vec3 uR0, uRU, uRV;           // receiver (s', t') -> source coordinates
+const char* kFragmentCommon = R"(
+struct Polygon {
+    ivec4 info;
+    vec4 hi[8];
+    vec4 lo[8];
+};
+layout(std430, binding = 0) readonly buffer Polygons { Polygon polygons[]; };
+// Per receiver sample: (s, t, d) in the source frame, their residuals, the jitter shift (§6.2).
+layout(std430, binding = 1) readonly buffer Samples { vec4 samples[]; };
+flat in int vPolygon;
 uniform ivec2 uSourceGrid, uReceiverGrid;
-uniform uint uJitterSeed;             // decorrelated sampling (section 6.2); 0: off
 
 uint mask[4 * TARGETS];
-
-// The same offsets as SourceJitter.h (lowbias32 hash, 2^-24 grid: exact in float).
-uint mixBits(uint x)
-{
-    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-    return x;
-}
-vec2 jitterOffset(int j)
-{
-    if (uJitterSeed == 0u) return vec2(0.0);
-    uint h1 = mixBits(uJitterSeed ^ mixBits(uint(j) + 0x9e3779b9u));
-    uint h2 = mixBits(h1 + 0x85ebca6bu);
-    return vec2(float(h1 >> 8), float(h2 >> 8)) * (1.0 / 16777216.0) - 0.5;
-}
 
 void setRange(int first, int last)
 {
@@ -165,22 +72,123 @@ void setRange(int first, int last)
         mask[w] |= bits;
     }
 }
+)";
 
-// Samples k at (k + 0.5) / n inside [lo, hi], as an index range (empty when first > last).
-ivec2 sampleRange(float lo, float hi, int n)
+// The exact masks: the CPU float kernel's filtered predicate (BitmaskRows.h), one receiver
+// sample per fragment. Differences of float pairs; per vertex and axis the bound
+//     8 |x - r| + (|r| + 6 |p|) / k
+// in float epsilons, a little wider than the CPU's (6, 4) for the GPU's 2.5-ulp division, and
+// the unit 1.25 times the float epsilon. A fragment over the budget flags its sample for the
+// CPU's double path and writes nothing.
+const char* kExactFragment = R"(
+layout(std430, binding = 2) buffer Flags { uint flags[]; };
+uniform vec2 uMetres;       // |u|, |v| of the source
+uniform float uBudget;      // metres between ray and occluder boundary
+const float kUnit = 1.25 / 16777216.0;
+
+void main()
 {
-    float x0 = clamp(lo * float(n) - 0.5, -2.0, float(n) + 1.0);
-    float x1 = clamp(hi * float(n) - 0.5, -2.0, float(n) + 1.0);
-    return ivec2(max(0, int(ceil(x0))), min(n - 1, int(floor(x1))));
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    int j = pixel.y * uReceiverGrid.x + pixel.x;
+    int n = polygons[vPolygon].info.x;
+    bool closed = polygons[vPolygon].info.y != 0;
+    bool sharedFactor = polygons[vPolygon].info.z != 0;
+    precise vec3 r = samples[3 * j].xyz;
+    precise vec3 rLo = samples[3 * j + 1].xyz;
+    vec2 shift = samples[3 * j + 2].xy;
+    float ps[8], pt[8], magnitude[8], factor[8], rayS[8], rayT[8];
+    float tMin = 1e38, tMax = -1e38, rayMaxS = 0.0, rayMaxT = 0.0;
+    for (int i = 0; i < n; ++i) {
+        precise vec4 hi = polygons[vPolygon].hi[i];
+        precise vec3 lo = polygons[vPolygon].lo[i].xyz;
+        precise float k = sharedFactor ? hi.w : r.z / ((r.z - hi.z) + (rLo.z - lo.z));
+        precise float dS = (hi.x - r.x) + (lo.x - rLo.x);
+        precise float dT = (hi.y - r.y) + (lo.y - rLo.y);
+        ps[i] = fma(dS, k, r.x) - shift.x;
+        pt[i] = fma(dT, k, r.y) - shift.y;
+        tMin = min(tMin, pt[i]);
+        tMax = max(tMax, pt[i]);
+        magnitude[i] = abs(ps[i]) + abs(pt[i]);
+        factor[i] = k;
+        rayS[i] = 8.0 * abs(dS) + (abs(r.x) + 6.0 * abs(ps[i])) / k;
+        rayT[i] = 8.0 * abs(dT) + (abs(r.y) + 6.0 * abs(pt[i])) / k;
+        rayMaxS = max(rayMaxS, rayS[i]);
+        rayMaxT = max(rayMaxT, rayT[i]);
+    }
+    float eS = 0.0, eT = 0.0, kMin = 1e38, sMin = 1e38, sMax = -1e38;
+    for (int i = 0; i < n; ++i) {
+        eS = max(eS, rayS[i] * factor[i]);
+        eT = max(eT, rayT[i] * factor[i]);
+        kMin = min(kMin, factor[i]);
+        sMin = min(sMin, ps[i]);
+        sMax = max(sMax, ps[i]);
+    }
+    float errorS = kUnit * (eS + 2.0), errorT = kUnit * (eT + 2.0);
+    float band = kUnit * ((rayMaxS + 2.0) * uMetres.x + (rayMaxT + 2.0) * uMetres.y);
+    float slackS = 0.0, slackT = 0.0;
+    if (closed) {   // widened, so that no crack opens against a neighbour the CPU answers
+        band += (errorS * uMetres.x + errorT * uMetres.y) / kMin;
+        slackS = errorS;
+        slackT = errorT;
+    }
+    if (band > uBudget) {
+        // Nothing to prove when even the widened bounds hold no sample.
+        ivec2 columns = sampleRange(sMin - errorS, sMax + errorS, uSourceGrid.x);
+        ivec2 rows = sampleRange(tMin - errorT, tMax + errorT, uSourceGrid.y);
+        if (columns.x <= columns.y && rows.x <= rows.y)
+            flags[j] = 1u;
+        discard;
+    }
+    ivec2 rows = sampleRange(tMin - slackT, tMax + slackT, uSourceGrid.y);
+    if (rows.x > rows.y) discard;
+    for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
+    for (int b = rows.x; b <= rows.y; ++b) {
+        float tb = (float(b) + 0.5) / float(uSourceGrid.y);
+        float lo = 1e38, hi = -1e38;
+        // Crossings from each edge's end of smaller magnitude, kept within the edge's span of s;
+        // an edge along the row is left out (the edges at its ends bring them): BitmaskRows.h.
+        for (int i = 0, k = n - 1; i < n; k = i++) {
+            if (pt[k] == pt[i]) continue;
+            if (tb < min(pt[k], pt[i]) - slackT || tb > max(pt[k], pt[i]) + slackT) continue;
+            bool fromI = magnitude[i] < magnitude[k];
+            float s0 = fromI ? ps[i] : ps[k], t0 = fromI ? pt[i] : pt[k];
+            float slope = (ps[i] - ps[k]) / (pt[i] - pt[k]);
+            float dt = tb - t0;
+            float x = dt == 0.0 ? s0 : fma(dt, slope, s0);
+            x = clamp(x, min(ps[k], ps[i]), max(ps[k], ps[i]));
+            lo = min(lo, x);
+            hi = max(hi, x);
+        }
+        ivec2 columns = sampleRange(lo - slackS, hi + slackS, uSourceGrid.x);
+        if (columns.x <= columns.y)
+            setRange(b * uSourceGrid.x + columns.x, b * uSourceGrid.x + columns.y);
+    }
+    OUTPUTS
 }
+)";
 
-#if TABLE_MODE
-// Table mode (section 5): the Hough table of HoughMaskTable, texel (i, k) at buffer texels
-// (k * width + i) * TARGETS + target, each 128 source bits in the render targets' order.
+// Table mode (§5): the Hough table of HoughMaskTable, texel (i, k) at buffer texels
+// (k * width + i) * TARGETS + target, each 128 source bits in the render targets' order. Every
+// occluder is drawn; those reaching a receiver sample's distance are clipped per sample.
+const char* kTableFragment = R"(
 uniform usamplerBuffer uTable;
 uniform ivec2 uTableSize;             // (angles, distances)
 const float kPi = 3.14159265358979;
 const float kMaxDistance = 0.70710678118654752;   // sqrt(2) / 2
+
+int clipPolygon(inout vec3 p[8], int n, vec4 plane)
+{
+    vec3 q[8];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        vec3 a = p[i], b = p[(i + 1) % n];
+        float da = dot(plane.xyz, a) + plane.w, db = dot(plane.xyz, b) + plane.w;
+        if (da > 0.0) q[m++] = a;
+        if ((da > 0.0) != (db > 0.0) && m < 8) q[m++] = a + (b - a) * (da / (da - db));
+    }
+    p = q;
+    return m;
+}
 
 // ANDs into mask the entry of the texel nearest to the line with left normal n (unit) at signed
 // distance dist from the source centre: HoughMaskTable::lookup's indexing (theta wraps, r clamps).
@@ -197,15 +205,11 @@ void andTexel(vec2 n, float dist)
     }
 }
 
-// CpuBitmaskSampler's tableMask: the AND of the masks of the backprojection's edges, inside on
-// the left of each. Each edge's line on the source plane (d = 0) comes from the plane through r
-// and the 3D edge, N = (p_k - r) x (p_i - r): the line is N.xy . X = N . r and the left normal of
-// the backprojected edge from p_k to p_i is -N.xy. Projecting the end points instead loses all
-// precision in float when a vertex lies just short of r's distance (see the exact mode below).
-// The CPU takes the edges counter-clockwise by the sign of the projected area; central
-// projection from r keeps orientation, so that sign is the polygon's orientation seen from r,
-// found once for all edges (per-edge tests flip independently on slivers seen edge-on). Zero:
-// seen edge-on, no inside (the CPU's zero-area rule).
+// The CPU's tableMask: the AND of the masks of the backprojection's edges, inside on the left of
+// each. Each edge's line on the source plane (d = 0) comes from the plane through r and the 3D
+// edge, N = (p_k - r) x (p_i - r): the line is N.xy . X = N . r and the left normal of the
+// backprojected edge from p_k to p_i is -N.xy. The orientation is the polygon's seen from r,
+// found once for all edges; zero: seen edge-on, no inside.
 void tableMask(vec3 p[8], int n, vec3 r, vec2 shift)
 {
     vec3 g = vec3(0.0);
@@ -223,7 +227,6 @@ void tableMask(vec3 p[8], int n, vec3 r, vec2 shift)
         float length2 = length(normal.xy);
         if (length2 == 0.0) continue;   // both ends backproject to one point: the CPU skips it
         vec2 left = -normal.xy / length2;
-        // Signed distance from the centre of the source grid as this receiver sample sees it.
         float dist = -dot(normal, r) / length2 - dot(left, vec2(0.5) + shift);
         andTexel(left, dist);
         anyEdge = true;
@@ -231,81 +234,26 @@ void tableMask(vec3 p[8], int n, vec3 r, vec2 shift)
     if (!anyEdge)
         for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
 }
-#endif
 
 void main()
 {
-    vec2 sr = gl_FragCoord.xy / vec2(uReceiverGrid);
-#if TABLE_MODE
-    // The CPU sampler's influence region, unpadded: in table mode a backprojection that misses
-    // every sample can still pick up samples from a nearest texel, so the pairs evaluated must
-    // be the same as on the CPU for the answers to agree (without this, a third more rays
-    // differ from the CPU's table mode on the random scenes of tst_GlBitmaskSampler).
-    if (any(lessThan(sr, gRegion.xy)) || any(greaterThan(sr, gRegion.zw))) discard;
-#endif
-    vec3 r = uR0 + sr.x * uRU + sr.y * uRV;
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    int j = pixel.y * uReceiverGrid.x + pixel.x;
+    vec3 r = samples[3 * j].xyz;
+    vec2 shift = samples[3 * j + 2].xy;
+    int n = polygons[vPolygon].info.x;
     vec3 p[8];
-    int n = gCount;
-    for (int i = 0; i < 7; ++i) p[i] = gPoly[i];
-    if (gClipPerSample != 0) {   // points at or beyond this sample's distance lie on none of its rays
+    for (int i = 0; i < 8; ++i) p[i] = i < n ? polygons[vPolygon].hi[i].xyz : vec3(0.0);
+    if (polygons[vPolygon].info.w != 0) {   // points at or beyond this sample's distance lie on none of its rays
         n = clipPolygon(p, n, vec4(0.0, 0.0, -1.0, r.z * (1.0 - 1e-6)));
         if (n < 3) discard;
     }
-#if TABLE_MODE
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    tableMask(p, n, r, jitterOffset(pixel.y * uReceiverGrid.x + pixel.x) / vec2(uSourceGrid));
-#else
-    // Backprojection onto the source (section 4).
-    float ps[8], pt[8];
-    float tMin = 1e30, tMax = -1e30;
-    for (int i = 0; i < n; ++i) {
-        float k = r.z / (r.z - p[i].z);
-        ps[i] = r.x + (p[i].x - r.x) * k;
-        pt[i] = r.y + (p[i].y - r.y) * k;
-        tMin = min(tMin, pt[i]);
-        tMax = max(tMax, pt[i]);
-    }
-    // With jitter, this receiver sample's source samples sit at the grid positions plus shift.
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    vec2 shift = jitterOffset(pixel.y * uReceiverGrid.x + pixel.x) / vec2(uSourceGrid);
-    ivec2 rows = sampleRange(tMin - shift.y, tMax - shift.y, uSourceGrid.y);
-    if (rows.x > rows.y) discard;
-    for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
-    // Exact set (section 5, without the Hough table): per source row, the interval of columns.
-    // The points that backproject onto row line t = tb form a plane through r, linear in X:
-    //     (x.t - r.t) r.d - (tb - r.t) (r.d - x.d) = 0,
-    // so each edge is cut by that plane in 3D and only the cut point is projected. Interpolating
-    // between projected vertices instead loses all precision in float when a vertex lies just
-    // short of r's distance (it projects ~10^6 times farther out).
-    for (int b = rows.x; b <= rows.y; ++b) {
-        float tb = (float(b) + 0.5) / float(uSourceGrid.y) + shift.y;
-        float lo = 1e30, hi = -1e30;
-        for (int i = 0, k = n - 1; i < n; k = i++) {
-            float fk = (p[k].y - r.y) * r.z - (tb - r.y) * (r.z - p[k].z);
-            float fi = (p[i].y - r.y) * r.z - (tb - r.y) * (r.z - p[i].z);
-            if (fk * fi > 0.0) continue;
-            if (fk == fi) { lo = min(lo, min(ps[k], ps[i])); hi = max(hi, max(ps[k], ps[i])); continue; }
-            vec3 x = p[k] + (p[i] - p[k]) * (fk / (fk - fi));
-            float s = r.x + (x.x - r.x) * (r.z / (r.z - x.z));
-            lo = min(lo, s);
-            hi = max(hi, s);
-        }
-        ivec2 columns = sampleRange(lo - shift.x, hi - shift.x, uSourceGrid.x);
-        if (columns.x <= columns.y)
-            setRange(b * uSourceGrid.x + columns.x, b * uSourceGrid.x + columns.y);
-    }
-#endif
+    tableMask(p, n, r, shift);
     OUTPUTS
 }
 )";
 
-/// "#version" and the compile-time switches shared by the geometry and fragment shaders.
-std::string preamble(int targets, MaskMode mode)
-{
-    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n#define TABLE_MODE " +
-           (mode == MaskMode::Table ? "1" : "0") + "\n";
-}
-
+/// "#version" and the compile-time switches shared by the fragment shaders.
 std::string fragmentSource(int targets, MaskMode mode)
 {
     std::string declarations, outputs;
@@ -316,14 +264,10 @@ std::string fragmentSource(int targets, MaskMode mode)
         outputs.append("o").append(n).append(" = uvec4(mask[").append(w).append("], mask[").append(w)
             .append(" + 1], mask[").append(w).append(" + 2], mask[").append(w).append(" + 3]);\n    ");
     }
-    std::string body = kFragmentShader;
+    std::string body = mode == MaskMode::Table ? kTableFragment : kExactFragment;
     body.replace(body.find("OUTPUTS"), 7, outputs);
-    return preamble(targets, mode) + declarations + kClipFunction + body;
-}
-
-glm::vec4 affineRow(const glm::dvec3& axis, const glm::dvec3& origin)
-{
-    return glm::vec4(glm::vec3(axis), float(-glm::dot(axis, origin)));
+    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n" + declarations + kFragmentCommon +
+           gl::kSampleRangeGlsl + body;
 }
 
 /// The Hough table's masks as 32-bit words, `targets` RGBA32UI texels per entry: source bit b in
@@ -344,19 +288,26 @@ std::vector<std::uint32_t> packTable(const HoughMaskTable& table, int targets)
     return words;
 }
 
+/// A float and its rounding residual.
+void split(double x, float& hi, float& lo)
+{
+    hi = float(x);
+    lo = float(x - double(hi));
+}
+
 } // namespace
 
 struct GlBitmaskSampler::Impl {
     const gl::Functions& gl;
-    GLuint programs[2][kMaxTargets + 1] = {};   // by mask mode and target count, compiled on first use
-    GLuint vertexArray = 0, buffer = 0, instanceBuffer = 0;
-    GLsizei vertexCount = 0;
-    GLuint cullableBuffer = 0, cullableTexture = 0;   // per instance, uploaded per call
+    WorldTriangles triangles;
     struct InstanceInfo {
         bool watertight = false;
         Bounds bounds;
     };
     std::vector<InstanceInfo> instances;   // empty for a bare triangle soup
+    GLuint programs[2][kMaxTargets + 1] = {};   // by mask mode and target count, compiled on first use
+    GLuint vertexArray = 0;                // attribute-less: the vertex shader reads the regions
+    GLuint polygonBuffer = 0, sampleBuffer = 0, flagBuffer = 0, regionBuffer = 0, regionTexture = 0;
     GLuint framebuffer = 0;
     GLuint textures[kMaxTargets] = {};
     int targetCount = 0, width = 0, height = 0;
@@ -369,6 +320,9 @@ struct GlBitmaskSampler::Impl {
     };
     TableKey tableKey;
     GLuint tableBuffer = 0, tableTexture = 0;
+    /// The CPU's share, kept between calls (bitmask/Occluders.h, TilePass.h).
+    bitmask::OccluderSet occluders;
+    bitmask::TileBins bins;
 
     explicit Impl(const gl::Functions& functions) : gl(functions) {}
 
@@ -381,10 +335,9 @@ struct GlBitmaskSampler::Impl {
         releaseTargets();
         gl.DeleteTextures(1, &tableTexture);
         gl.DeleteBuffers(1, &tableBuffer);
-        gl.DeleteTextures(1, &cullableTexture);
-        gl.DeleteBuffers(1, &cullableBuffer);
-        gl.DeleteBuffers(1, &instanceBuffer);
-        gl.DeleteBuffers(1, &buffer);
+        gl.DeleteTextures(1, &regionTexture);
+        for (GLuint* buffer : {&polygonBuffer, &sampleBuffer, &flagBuffer, &regionBuffer})
+            gl.DeleteBuffers(1, buffer);
         gl.DeleteVertexArrays(1, &vertexArray);
     }
 
@@ -393,10 +346,7 @@ struct GlBitmaskSampler::Impl {
         GLuint& slot = programs[mode == MaskMode::Table ? 1 : 0][targets];
         if (slot)
             return slot;
-        return slot = gl::buildProgram(gl,
-                                       {{GL_VERTEX_SHADER, kVertexShader},
-                                        {GL_GEOMETRY_SHADER, preamble(targets, mode) + kClipFunction + kGeometryShader},
-                                        {GL_FRAGMENT_SHADER, fragmentSource(targets, mode)}},
+        return slot = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, fragmentSource(targets, mode)}},
                                        "GL bitmask sampler");
     }
 
@@ -464,8 +414,7 @@ struct GlBitmaskSampler::Impl {
     }
 };
 
-GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const Scene& scene)
-    : GlBitmaskSampler(gl, worldTriangles(scene))
+GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const Scene& scene) : GlBitmaskSampler(gl, worldTriangles(scene))
 {
     for (const Instance& instance : scene.instances)
         impl_->instances.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
@@ -474,32 +423,16 @@ GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const Scene& scene)
 GlBitmaskSampler::GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles)
     : impl_(std::make_unique<Impl>(gl))
 {
+    validateCoordinates(triangles, "scene");
     GLint drawBuffers = 0;
     gl.GetIntegerv(GL_MAX_DRAW_BUFFERS, &drawBuffers);
     if (drawBuffers < kMaxTargets)
         throw Error("GL bitmask sampler: needs 8 draw buffers, the context has " + std::to_string(drawBuffers));
+    impl_->triangles = triangles;
     gl.CreateVertexArrays(1, &impl_->vertexArray);
-    gl.CreateBuffers(1, &impl_->buffer);
-    gl.NamedBufferData(impl_->buffer, GLsizeiptr(triangles.vertices.size() * sizeof(glm::vec3)),
-                       triangles.vertices.data(), GL_STATIC_DRAW);
-    gl.VertexArrayVertexBuffer(impl_->vertexArray, 0, impl_->buffer, 0, sizeof(glm::vec3));
-    gl.VertexArrayAttribFormat(impl_->vertexArray, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl.VertexArrayAttribBinding(impl_->vertexArray, 0, 0);
-    gl.EnableVertexArrayAttrib(impl_->vertexArray, 0);
-    // Each vertex carries its triangle's instance, for watertight culling.
-    std::vector<std::uint32_t> instanceOfVertex(triangles.vertices.size());
-    for (std::size_t v = 0; v < instanceOfVertex.size(); ++v)
-        instanceOfVertex[v] = v / 3 < triangles.instanceOf.size() ? triangles.instanceOf[v / 3] : 0u;
-    gl.CreateBuffers(1, &impl_->instanceBuffer);
-    gl.NamedBufferData(impl_->instanceBuffer, GLsizeiptr(instanceOfVertex.size() * sizeof(std::uint32_t)),
-                       instanceOfVertex.data(), GL_STATIC_DRAW);
-    gl.VertexArrayVertexBuffer(impl_->vertexArray, 1, impl_->instanceBuffer, 0, sizeof(std::uint32_t));
-    gl.VertexArrayAttribIFormat(impl_->vertexArray, 1, 1, GL_UNSIGNED_INT, 0);
-    gl.VertexArrayAttribBinding(impl_->vertexArray, 1, 1);
-    gl.EnableVertexArrayAttrib(impl_->vertexArray, 1);
-    gl.CreateBuffers(1, &impl_->cullableBuffer);
-    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &impl_->cullableTexture);
-    impl_->vertexCount = GLsizei(triangles.vertices.size());
+    for (GLuint* buffer : {&impl_->polygonBuffer, &impl_->sampleBuffer, &impl_->flagBuffer, &impl_->regionBuffer})
+        gl.CreateBuffers(1, buffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &impl_->regionTexture);
     impl_->program(1, MaskMode::Exact);   // compile now: shader errors surface at construction
 }
 
@@ -513,93 +446,129 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
 HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
                                          GlBitmaskStats* stats)
 {
-    const SourceJitter& jitter = options.jitter;
+    using namespace bitmask;
     validatePatchPair(source, receiver);
     const bool tableMode = options.mode == MaskMode::Table;
     if (tableMode)
         HoughMaskTable::checkResolution(options.tableWidth, options.tableHeight);
     const gl::Functions& gl = impl_->gl;
+    GlBitmaskStats local;
     const auto setupStart = Clock::now();
+
+    // The occluders, prepared on the CPU in double as the CPU sampler prepares them.
+    Shaft shaft(source, receiver, options.jitter, nullptr);
+    shaft.floatKernel = detail::floatRowsAvailable();   // for the CPU's share
+    const ShaftHull hull(source, receiver);
+    TriangleFilter filter;
+    filter.triangles = &impl_->triangles;
+    filter.hull = &hull;
+    std::vector<char> closedInstance(impl_->instances.size());
+    filter.instanceOutside.resize(impl_->instances.size());
+    if (options.watertightCulling)
+        filter.cullable.resize(impl_->instances.size());
+    for (std::size_t i = 0; i < impl_->instances.size(); ++i) {
+        const auto& instance = impl_->instances[i];
+        filter.instanceOutside[i] = hull.excludesBox(instance.bounds.min, instance.bounds.max);
+        closedInstance[i] = instance.watertight;
+        if (options.watertightCulling)
+            filter.cullable[i] = instance.watertight && receiverApartFrom(instance.bounds, receiver);
+    }
+    for (int k = 0; k < 4; ++k)
+        filter.sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+    OccluderSet& set = impl_->occluders;
+    set.prepare(shaft, filter);
+
+    // The GPU's share: every occluder in table mode; in exact mode the well-conditioned ones,
+    // factors up to kMaxFloatFactor over their whole region.
+    std::vector<char> onGpu(set.occluders.size(), 0);
+    std::vector<GpuPolygon> polygons;
+    std::vector<std::int32_t> regions;
+    for (std::size_t n = 0; n < set.occluders.size(); ++n) {
+        const Occluder& o = *set.occluders[n];
+        const double nearest = shaft.nearestSample(o.a0, o.a1, o.b0, o.b1);
+        if (!tableMode && !(o.maxD <= nearest * (1.0 - 1.0 / detail::kMaxFloatFactor)))
+            continue;
+        onGpu[n] = 1;
+        GpuPolygon p{};
+        const bool closed = !closedInstance.empty() && closedInstance[impl_->triangles.instanceOf[set.triangleOf[n]]];
+        p.info[0] = o.count, p.info[1] = closed, p.info[2] = shaft.parallel && o.path != Path::Clip;
+        p.info[3] = o.path == Path::Clip;
+        for (int i = 0; i < o.count; ++i) {
+            const glm::dvec3& x = o.vertices[std::size_t(i)];
+            split(x.x, p.hi[i][0], p.lo[i][0]);
+            split(x.y, p.hi[i][1], p.lo[i][1]);
+            split(x.z, p.hi[i][2], p.lo[i][2]);
+            p.hi[i][3] = shaft.parallel ? float(o.factor[std::size_t(i)]) : 0.0f;
+        }
+        polygons.push_back(p);
+        regions.insert(regions.end(), {o.a0, o.a1, o.b0, o.b1});
+    }
+    local.gpuOccluders = polygons.size();
+    local.cpuOccluders = set.occluders.size() - polygons.size();
+
+    // Per receiver sample: its source-frame coordinates as float pairs, and its jitter shift.
+    std::vector<float> samples(std::size_t(receiver.sampleCount()) * 12, 0.0f);
+    for (int j = 0; j < receiver.sampleCount(); ++j) {
+        float* out = &samples[std::size_t(j) * 12];
+        const glm::dvec3& r = shaft.receiverInSource[std::size_t(j)];
+        split(r.x, out[0], out[4]);
+        split(r.y, out[1], out[5]);
+        split(r.z, out[2], out[6]);
+        out[8] = float(shaft.jitterShift[std::size_t(j)].x);
+        out[9] = float(shaft.jitterShift[std::size_t(j)].y);
+    }
+    const std::vector<std::uint32_t> noFlags(std::size_t(receiver.sampleCount()), 0u);
+
     const int targets = (source.sampleCount() + 127) / 128;
     const GLuint program = impl_->program(targets, options.mode);
     impl_->ensureTargets(targets, receiver.na, receiver.nb);
-    double tableMs = 0.0;
     if (tableMode) {
-        // Section 5: the bitmask texture, on texture unit 1 (unit 0 holds the culling flags).
-        tableMs = impl_->ensureTable(source.na, source.nb, options.tableWidth, options.tableHeight);
+        local.tableMs = impl_->ensureTable(source.na, source.nb, options.tableWidth, options.tableHeight);
         gl.BindTextureUnit(1, impl_->tableTexture);
         gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uTable"), 1);
         gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uTableSize"), options.tableWidth, options.tableHeight);
     }
-
-    const ShaftFrames frames(source, receiver);
-    auto set4 = [&](const char* name, const glm::vec4& v) { gl.ProgramUniform4fv(program, gl.GetUniformLocation(program, name), 1, &v.x); };
-    auto set3 = [&](const char* name, const glm::vec3& v) { gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, name), 1, &v.x); };
-    auto set1 = [&](const char* name, double v) { gl.ProgramUniform1f(program, gl.GetUniformLocation(program, name), float(v)); };
-    auto set2i = [&](const char* name, int a, int b) { gl.ProgramUniform2i(program, gl.GetUniformLocation(program, name), a, b); };
-    set4("uSrcS", affineRow(frames.source.sAxis, frames.source.origin));
-    set4("uSrcT", affineRow(frames.source.tAxis, frames.source.origin));
-    set4("uSrcD", affineRow(frames.source.dAxis, frames.source.origin));
-    set4("uRcvS", affineRow(frames.receiver.sAxis, frames.receiver.origin));
-    set4("uRcvT", affineRow(frames.receiver.tAxis, frames.receiver.origin));
-    set4("uRcvD", affineRow(frames.receiver.dAxis, frames.receiver.origin));
-    set1("uMarginS", frames.sourceMargin);
-    set1("uMarginR", frames.receiverMargin);
-    double minReceiverD = 1e300;
-    std::array<glm::vec3, 4> corners;
-    for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
-        corners[std::size_t(k)] = glm::vec3(frames.receiver.coordinates(sc));
-        const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
-        minReceiverD = std::min(minReceiverD, frames.source.coordinates(rc).z);
+    // Never empty: a zero-sized buffer cannot back a binding.
+    const auto upload = [&](GLuint buffer, const void* data, std::size_t bytes) {
+        static const std::uint32_t zero[4] = {};
+        gl.NamedBufferData(buffer, GLsizeiptr(std::max<std::size_t>(bytes, sizeof zero)), bytes ? data : zero, GL_STREAM_DRAW);
+    };
+    upload(impl_->polygonBuffer, polygons.data(), polygons.size() * sizeof(GpuPolygon));
+    upload(impl_->sampleBuffer, samples.data(), samples.size() * sizeof(float));
+    upload(impl_->flagBuffer, noFlags.data(), noFlags.size() * sizeof(std::uint32_t));
+    upload(impl_->regionBuffer, regions.data(), regions.size() * sizeof(std::int32_t));
+    gl.TextureBuffer(impl_->regionTexture, GL_RGBA32I, impl_->regionBuffer);
+    gl.BindTextureUnit(0, impl_->regionTexture);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, impl_->polygonBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, impl_->sampleBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, impl_->flagBuffer);
+    gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uRegions"), 0);
+    gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uSourceGrid"), source.na, source.nb);
+    gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uReceiverGrid"), receiver.na, receiver.nb);
+    if (!tableMode) {
+        gl.ProgramUniform2f(program, gl.GetUniformLocation(program, "uMetres"), float(shaft.metresPerS),
+                            float(shaft.metresPerT));
+        gl.ProgramUniform1f(program, gl.GetUniformLocation(program, "uBudget"), float(kFloatBandBudget));
     }
-    set1("uMinReceiverD", minReceiverD);
-    gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "uCorner"), 4, &corners[0].x);
-    // Receiver (s', t') -> source coordinates: affine, so origin plus two edge images.
-    const glm::dvec3 r0 = frames.source.coordinates(receiver.corner);
-    set3("uR0", glm::vec3(r0));
-    set3("uRU", glm::vec3(frames.source.coordinates(receiver.corner + receiver.u) - r0));
-    set3("uRV", glm::vec3(frames.source.coordinates(receiver.corner + receiver.v) - r0));
-    set2i("uSourceGrid", source.na, source.nb);
-    set2i("uReceiverGrid", receiver.na, receiver.nb);
-    gl.ProgramUniform1ui(program, gl.GetUniformLocation(program, "uJitterSeed"), jitter.seed);
-
-    // Watertight culling: which instances may drop their front faces for this receiver.
-    std::vector<std::uint8_t> cullable(std::max<std::size_t>(1, impl_->instances.size()), 0);
-    bool culling = false;
-    if (options.watertightCulling)
-        for (std::size_t i = 0; i < impl_->instances.size(); ++i) {
-            cullable[i] = impl_->instances[i].watertight && receiverApartFrom(impl_->instances[i].bounds, receiver);
-            culling = culling || cullable[i];
-        }
-    gl.NamedBufferData(impl_->cullableBuffer, GLsizeiptr(cullable.size()), cullable.data(), GL_STREAM_DRAW);
-    gl.TextureBuffer(impl_->cullableTexture, GL_R8UI, impl_->cullableBuffer);
-    gl.BindTextureUnit(0, impl_->cullableTexture);
-    gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uCullable"), 0);
-    gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uCulling"), culling ? 1 : 0);
-    std::array<glm::vec3, 4> sourceWorld;
-    for (int k = 0; k < 4; ++k)
-        sourceWorld[std::size_t(k)] = glm::vec3(source.corner + double(k & 1) * source.u + double(k >> 1) * source.v);
-    gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "uSourceWorld"), 4, &sourceWorld[0].x);
-
     const GLuint zero[4] = {0, 0, 0, 0};
     for (int k = 0; k < targets; ++k)
         gl.ClearNamedFramebufferuiv(impl_->framebuffer, GL_COLOR, k, zero);
-    const double setupMs = msSince(setupStart);
+    local.setupMs = msSince(setupStart) - local.tableMs;
 
     const auto drawStart = Clock::now();
     gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->framebuffer);
     gl.Viewport(0, 0, receiver.na, receiver.nb);
     gl.Enable(GL_COLOR_LOGIC_OP);
-    gl.LogicOp(GL_OR);   // section 5.1: the union over triangles, done by the blending stage
+    gl.LogicOp(GL_OR);   // section 5.1: the union over occluders, done by the blending stage
     gl.UseProgram(program);
     gl.BindVertexArray(impl_->vertexArray);
-    if (impl_->vertexCount)
-        gl.DrawArrays(GL_TRIANGLES, 0, impl_->vertexCount);
+    if (!polygons.empty())
+        gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(polygons.size()));
+    gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     gl.Finish();
     gl.Disable(GL_COLOR_LOGIC_OP);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    const double drawMs = msSince(drawStart);
+    local.drawMs = msSince(drawStart);
 
     const auto readStart = Clock::now();
     HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
@@ -616,10 +585,42 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
             std::memcpy(reinterpret_cast<unsigned char*>(map.row(j).data()) + 16 * k, &pixels[std::size_t(j) * 4],
                         std::size_t(bytes));
     }
+    std::vector<std::uint32_t> flags(noFlags.size(), 0u);
+    if (!tableMode)
+        gl.GetNamedBufferSubData(impl_->flagBuffer, 0, GLsizeiptr(flags.size() * sizeof(std::uint32_t)), flags.data());
     if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
         throw Error("GL bitmask sampler: OpenGL error " + std::to_string(error));
+    local.readbackMs = msSince(readStart);
+
+    if (!tableMode) {
+        // The CPU's share: the occluders the GPU did not take, on the CPU sampler's tile pass
+        // (narrowed by what the GPU already blocked); then every flagged sample's tile again,
+        // with the GPU's occluders in double.
+        const auto cpuStart = Clock::now();
+        TileBins& bins = impl_->bins;
+        bins.build(shaft, set, onGpu, closedInstance, impl_->triangles);
+        bitmaskPass(shaft, bins, map, /*narrow=*/true);
+        std::vector<std::uint32_t> flaggedTiles;
+        const int tilesA = (receiver.na + kTile - 1) / kTile;
+        for (int j = 0; j < receiver.sampleCount(); ++j)
+            if (flags[std::size_t(j)]) {
+                ++local.flaggedSamples;
+                flaggedTiles.push_back(std::uint32_t((j / receiver.na / kTile) * tilesA + (j % receiver.na) / kTile));
+            }
+        if (!flaggedTiles.empty()) {
+            std::sort(flaggedTiles.begin(), flaggedTiles.end());
+            flaggedTiles.erase(std::unique(flaggedTiles.begin(), flaggedTiles.end()), flaggedTiles.end());
+            std::vector<char> offGpu(onGpu.size());
+            for (std::size_t n = 0; n < onGpu.size(); ++n)
+                offGpu[n] = !onGpu[n];
+            shaft.floatKernel = false;   // the shader could not prove them: double, not float again
+            bins.build(shaft, set, offGpu, closedInstance, impl_->triangles);
+            bitmaskPass(shaft, bins, map, /*narrow=*/true, &flaggedTiles);
+        }
+        local.cpuMs = msSince(cpuStart);
+    }
     if (stats)
-        *stats = {setupMs - tableMs, drawMs, msSince(readStart), tableMs};
+        *stats = local;
     return map;
 }
 

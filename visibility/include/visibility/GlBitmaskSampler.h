@@ -1,23 +1,30 @@
 #pragma once
-// The bitmask visibility sampler on the GPU, as Eisemann & Décoret 2007 describe it: one
-// rendering pass over the scene's triangles.
-//   - vertex shader: world positions;
-//   - geometry shader (§3): clips the triangle to the slab between the patch planes, bounds its
-//     influence region by projecting it from the four source corners onto the receiver plane,
-//     and emits that box as a quad over the receiver grid (one pixel = one receiver sample);
-//   - fragment shader (§4-5): backprojects the clipped triangle from the pixel's receiver sample
-//     onto the source and outputs the source samples inside it as a bitmask;
-//   - logic-op OR (§5.1) accumulates the masks in up to 8 RGBA32UI render targets, 128 source
-//     samples each, 1024 in all (§6.1, MRT).
-// By default the masks are exact (per source row, the backprojection's interval of columns), like
-// the CPU sampler (CpuBitmaskSampler.h); computation is in single precision, so answers can differ
-// from the reference on grazing rays only. MaskMode::Table is the paper's own §5 method: the
-// fragment shader ANDs the nearest-texel masks of the backprojection's edges from a Hough table
-// (HoughMaskTable.h, built on the CPU and uploaded once per source grid and resolution), exactly
-// as the CPU sampler's table mode does.
+// The bitmask visibility sampler on the GPU (Eisemann & Décoret 2007): one rendering pass in
+// which every occluder covers its influence region (§3) on a render target of one pixel per
+// receiver sample, the fragment shader backprojects it onto the source (§4) and outputs the
+// source samples inside as a bitmask (§5, exact per-row intervals instead of the Hough table),
+// and logic-op OR (§5.1) accumulates the masks in up to 8 RGBA32UI render targets, 128 source
+// samples each, 1024 in all (§6.1, MRT).
+//
+// Exact by DESIGN.md §2's contract. The shader has no double, so:
+// - the CPU prepares the occluders as the CPU sampler does (bitmask/Occluders.h), in double:
+//   shaft and watertight culling, clipping to the slab, the move to the source frame, and each
+//   occluder's influence region, which a vertex shader then draws as a quad (the paper does this
+//   in a geometry shader, in float; clipping huge triangles in float was 0.3-0.6 m wrong);
+// - only well-conditioned occluders go to the GPU (projection factors d_R / (d_R - d_X) up to
+//   16 over their whole region), as float pairs (value and rounding residual), and the fragment
+//   shader runs the CPU float kernel's filter (BitmaskRows.h): it bounds its own answer's error
+//   as a distance between ray and occluder boundary, answers only what it proves within the
+//   budget, and flags every receiver sample it cannot prove;
+// - the other occluders (those reaching near a receiver sample's distance) take the CPU
+//   sampler's double path, and so do the flagged samples; everything is ORed into one map.
+// MaskMode::Table is the paper's own §5 method, inexact by design: every occluder on the GPU,
+// the AND of its edges' nearest-texel masks from a Hough table (HoughMaskTable.h, uploaded once
+// per source grid and resolution), as the CPU sampler's table mode does.
 //
 // Runs in any current OpenGL 4.5 core context: pass its resolved functions (HeadlessContext for
-// OSMesa and EGL, or the editor's Qt context). The triangles are uploaded once.
+// OSMesa and EGL, or the editor's Qt context). The triangles stay on the CPU; each call uploads
+// the occluders of its shaft.
 
 #include <cstdint>
 #include <memory>
@@ -32,10 +39,14 @@
 namespace sightline {
 
 struct GlBitmaskStats {
-    double setupMs = 0.0;    ///< uniforms, render targets
+    double setupMs = 0.0;    ///< occluder preparation, uploads, uniforms, render targets
     double drawMs = 0.0;     ///< the pass, until the GPU finished
-    double readbackMs = 0.0; ///< hidden-samples map back to the CPU
+    double readbackMs = 0.0; ///< hidden-samples map and flags back to the CPU
     double tableMs = 0.0;    ///< Table: building and uploading the Hough table (0 when cached)
+    double cpuMs = 0.0;      ///< Exact: the occluders and samples the CPU answered
+    std::size_t gpuOccluders = 0;     ///< drawn
+    std::size_t cpuOccluders = 0;     ///< answered by the CPU's double path
+    std::size_t flaggedSamples = 0;   ///< receiver samples the shader could not prove
 };
 
 struct GlBitmaskOptions {
@@ -52,8 +63,9 @@ class GlBitmaskSampler {
 public:
     /// Keeps, per instance, its watertight flag and bounds, for watertight culling.
     GlBitmaskSampler(const gl::Functions& gl, const Scene& scene);
-    /// Compiles the shaders and uploads the triangles; the context must stay current while the
-    /// sampler is used. Throws sightline::Error (shader compile log on one line) on failure.
+    /// Compiles the shaders; the context must stay current while the sampler is used. Throws
+    /// sightline::Error (shader compile log on one line) on failure, or for coordinates beyond
+    /// DESIGN.md §2's range.
     GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles);
     ~GlBitmaskSampler();
     GlBitmaskSampler(const GlBitmaskSampler&) = delete;

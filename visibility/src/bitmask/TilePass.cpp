@@ -178,7 +178,8 @@ TilePassCounts bitmaskPass(const Shaft& shaft, const TileBins& bins, HiddenSampl
                 // This tile's part of the occluder's region, and the cheapest path there.
                 const int ia0 = std::max<int>(a0, o.a0), ia1 = std::min<int>(aEnd - 1, o.a1);
                 const int ib0 = std::max<int>(b0, o.b0), ib1 = std::min<int>(bEnd - 1, o.b1);
-                const Path path = o.path == Path::Float || shaft.bumpy
+                // (A Float occluder takes the double path where the shaft has no float kernel.)
+                const Path path = (o.path == Path::Float && shaft.floatKernel) || shaft.bumpy
                                       ? o.path
                                       : shaft.pathFor(o.maxD, shaft.nearestSample(ia0, ia1, ib0, ib1));
                 if (narrow) {

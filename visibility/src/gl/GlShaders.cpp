@@ -7,6 +7,15 @@
 
 namespace sightline::gl {
 
+const char* const kSampleRangeGlsl = R"(
+ivec2 sampleRange(float lo, float hi, int n)
+{
+    float x0 = clamp(lo * float(n) - 0.5, -2.0, float(n) + 1.0);
+    float x1 = clamp(hi * float(n) - 0.5, -2.0, float(n) + 1.0);
+    return ivec2(max(0, int(ceil(x0))), min(n - 1, int(floor(x1))));
+}
+)";
+
 namespace {
 
 std::string oneLine(std::string log)

@@ -96,7 +96,11 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PfnDrawElements, DrawElements)                                                                \
     X(PFNGLVERTEXARRAYELEMENTBUFFERPROC, VertexArrayElementBuffer)                                 \
     X(PFNGLPROGRAMUNIFORM2FPROC, ProgramUniform2f)                                                 \
-    X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)
+    X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)                                         \
+    X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
+    X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                     \
+    X(PFNGLGETNAMEDBUFFERSUBDATAPROC, GetNamedBufferSubData)                                       \
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)
 
 using GetProcAddress = void* (*)(const char* name);
 
