@@ -106,6 +106,10 @@ inline std::vector<float> rowCentres(int nb)
 /// Whether this CPU runs the AVX2 kernel.
 bool floatRowsAvailable();
 
+/// The kernel's own sample-range rounding (SampleRange.h's, in AVX2), for eight intervals at
+/// once: for tests that check the languages against each other. Needs floatRowsAvailable().
+void sampleRangeFloat8(const float lo[kLanes], const float hi[kLanes], int n, int first[kLanes], int last[kLanes]);
+
 /// ORs into each active lane's row (bit l of `active`: lane l) the source samples of the na x nb
 /// grid (na <= 32) inside the polygon's backprojection from that lane's receiver sample. Lanes
 /// whose answer the kernel cannot prove within the band budget are left alone and set in

@@ -355,6 +355,15 @@ SIGHTLINE_AVX2 int rows(const FloatPolygon& polygon, const LaneGroup& lanes, uns
 
 } // namespace
 
+SIGHTLINE_AVX2 void sampleRangeFloat8(const float lo[kLanes], const float hi[kLanes], int n, int first[kLanes],
+                                      int last[kLanes])
+{
+    __m256i f, l;
+    sampleRange(_mm256_loadu_ps(lo), _mm256_loadu_ps(hi), n, f, l);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(first), f);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(last), l);
+}
+
 SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGroup& lanes, unsigned active, int na,
                                        int nb, unsigned* fallback)
 {
@@ -376,6 +385,7 @@ SIGHTLINE_AVX2 int backprojectRowsAvx2(const FloatPolygon& polygon, const LaneGr
 #else
 
 bool floatRowsAvailable() { return false; }
+void sampleRangeFloat8(const float*, const float*, int, int*, int*) {}
 int backprojectRowsAvx2(const FloatPolygon&, const LaneGroup&, unsigned active, int, int, unsigned* fallback)
 {
     *fallback = active & 0xffu;   // no kernel: every lane takes the double path

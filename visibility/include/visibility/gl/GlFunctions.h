@@ -100,7 +100,8 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
     X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                     \
     X(PFNGLGETNAMEDBUFFERSUBDATAPROC, GetNamedBufferSubData)                                       \
-    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                       \
+    X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)
 
 using GetProcAddress = void* (*)(const char* name);
 
