@@ -28,6 +28,7 @@
 #include "cli/LightingCommands.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
+#include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -92,6 +93,13 @@ int runShaft(const ShaftArgs& args)
 {
     const Project project = loadProject(args.project);
     validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
+    const std::string what = fs::path(args.project).filename().string();
+    // Refused before the heights file is read: whatever it holds, these samplers would answer
+    // for the flat receiver, which is not the project's question.
+    if ((args.method == "gl" || args.method == "hh") && project.extra.contains("receiver_heights"))
+        throw Error("--method " + args.method + ": " + what +
+                    " has receiver_heights (a bumpy receiver), which only --method cpu or raycast sample");
+    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, what);
 
     std::vector<std::string> warnings;
     const auto loadStart = std::chrono::steady_clock::now();
@@ -128,6 +136,7 @@ int runShaft(const ShaftArgs& args)
         options.packets = !args.singleRays;
         options.threads = args.threads;
         options.jitter = jitter;
+        options.heights = heights.empty() ? nullptr : &heights;
         ms = timeSampling(args.repeat, [&] { map = rayCaster.sample(project.source, project.receiver, options); });
         setupMs = rayCaster.buildMilliseconds();
         strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
@@ -160,6 +169,7 @@ int runShaft(const ShaftArgs& args)
         options.tableHeight = args.table[1];
         options.simd = !args.scalar;
         options.jitter = jitter;
+        options.heights = heights.empty() ? nullptr : &heights;
         options.strategy = args.strategy == "bitmask"   ? CpuStrategy::Bitmask
                            : args.strategy == "hybrid"  ? CpuStrategy::Hybrid
                            : args.strategy == "raycast" ? CpuStrategy::RayCast
@@ -209,6 +219,7 @@ int runShaft(const ShaftArgs& args)
             {"threads", threads},
             {"repeat", args.repeat},
             {"jitter_seed", args.jitter},
+            {"height_field", !heights.empty()},
         };
         if (!args.mask.empty())
             out["mask"] = args.mask;
@@ -217,8 +228,8 @@ int runShaft(const ShaftArgs& args)
     } else {
         std::printf("method     %s (%s, %d threads)\n", args.method.c_str(), strategy.c_str(), threads);
         std::printf("scene      %zu triangles (setup %.1f ms)\n", scene.triangleCount(), setupMs);
-        std::printf("patches    %dx%d source x %dx%d receiver samples\n", project.source.na, project.source.nb,
-                    project.receiver.na, project.receiver.nb);
+        std::printf("patches    %dx%d source x %dx%d receiver samples%s\n", project.source.na, project.source.nb,
+                    project.receiver.na, project.receiver.nb, heights.empty() ? "" : " (receiver height field)");
         std::printf("rays       %llu: %llu blocked, %llu unblocked (%.2f%% visible)\n", (unsigned long long)rays,
                     (unsigned long long)blocked, (unsigned long long)(rays - blocked), 100.0 * visible);
         std::printf("time       %.2f ms\n", ms);

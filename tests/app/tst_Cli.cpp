@@ -20,6 +20,7 @@
 #include "project/Project.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
+#include "visibility/ReceiverHeights.h"
 
 using namespace sightline;
 using namespace sightline::test;
@@ -208,6 +209,56 @@ TEST_F(Cli, JitterGivesTheSameMaskInCpuAndRaycast)
     const CliRun hh = runCli("shaft " + project + " --method hh --jitter 3");
     EXPECT_NE(hh.code, 0);
     EXPECT_TRUE(oneLine(hh.err)) << hh.err;
+}
+
+TEST_F(Cli, ShaftHonoursReceiverHeightsInRaycastAndCpu)
+{
+    // The receiver's right half raised 0.3 m toward the source (heights as float32 (nb, na)).
+    std::vector<float> metres(24 * 20);
+    for (std::size_t j = 0; j < metres.size(); ++j)
+        metres[j] = j % 24 >= 12 ? 0.3f : 0.0f;
+    writeFloatNpy(metres, 20, 24, folder / "h.npy");
+    json document = json::parse(std::ifstream(folder / "p.json"));
+    document["receiver_heights"] = {{"npy", "h.npy"}};
+    std::ofstream(folder / "bumpy.json") << document.dump();
+    const std::string flat = (folder / "p.json").string(), bumpy = (folder / "bumpy.json").string();
+
+    const fs::path flatMask = folder / "flat.npy", rayMask = folder / "ray.npy", cpuMask = folder / "cpu.npy",
+                   cpuRayMask = folder / "cpu-ray.npy";
+    ASSERT_EQ(runCli("shaft " + flat + " --method raycast --mask " + flatMask.string()).code, 0);
+    const CliRun ray = runCli("shaft " + bumpy + " --method raycast --json --mask " + rayMask.string());
+    ASSERT_EQ(ray.code, 0) << ray.err;
+    EXPECT_EQ(json::parse(ray.out)["height_field"], true);
+    const CliRun cpu = runCli("shaft " + bumpy + " --method cpu --json --mask " + cpuMask.string());
+    ASSERT_EQ(cpu.code, 0) << cpu.err;
+    EXPECT_EQ(json::parse(cpu.out)["height_field"], true);
+    // The cpu sampler's own ray casting must take the heights too.
+    ASSERT_EQ(runCli("shaft " + bumpy + " --method cpu --strategy raycast --mask " + cpuRayMask.string()).code, 0);
+
+    // The reference in process, with the same heights: the CLI's raycast answer exactly.
+    const Project project = loadProject(folder / "bumpy.json");
+    ReceiverHeights heights;
+    heights.metres.assign(metres.begin(), metres.end());
+    const HiddenSampleMap expected =
+        RayCastScene(buildScene(project)).sample(project.source, project.receiver, {.heights = &heights});
+    const HiddenSampleMap onFlat = readMaskNpy(flatMask, 128), onRay = readMaskNpy(rayMask, 128),
+                          onCpu = readMaskNpy(cpuMask, 128), onCpuRay = readMaskNpy(cpuRayMask, 128);
+    EXPECT_EQ(onRay, expected);
+    // The bumps change the answer on many rays (the raised half sees past the wall differently) ...
+    EXPECT_GT(onRay.differenceCount(onFlat), onRay.rayCount() / 50);
+    // ... and cpu gives the reference's answer (grazing rays aside, as for the flat receiver).
+    EXPECT_LE(onCpu.differenceCount(onRay) * 10000, onRay.rayCount());
+    EXPECT_LE(onCpuRay.differenceCount(onRay) * 10000, onRay.rayCount());
+
+    // The GL sampler and Heckbert-Herf take a flat receiver only: refused before any GL context
+    // is made, so these need no OpenGL.
+    for (const char* method : {"gl", "hh"}) {
+        const CliRun refused = runCli("shaft " + bumpy + " --method " + method);
+        EXPECT_NE(refused.code, 0) << method;
+        EXPECT_TRUE(oneLine(refused.err)) << method << " -> [" << refused.err << "]";
+        EXPECT_NE(refused.err.find("receiver_heights"), std::string::npos) << refused.err;
+        EXPECT_TRUE(refused.out.empty()) << method;
+    }
 }
 
 TEST_F(Cli, HeckbertHerfCountsAgreeWithRaycastAndRefuseMasks)
