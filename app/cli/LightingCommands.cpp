@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/OptionRules.h"
 #include "lighting/SoftShadow.h"
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
@@ -75,6 +76,18 @@ void addGridOptions(CLI::App* command, GridOverrides& grids)
 
 } // namespace
 
+void checkImportanceOptions(const CLI::App& command, const ImportanceArgs& args)
+{
+    requireMethod(command, "--gl-backend", args.method, {"gl"});
+    requireMethod(command, "--threads", args.method, {"cpu", "raycast"});
+}
+
+void checkShadowOptions(const CLI::App& command, const ShadowArgs& args)
+{
+    requireMethod(command, "--gl-backend", args.method, {"gl", "hh"});
+    requireMethod(command, "--threads", args.method, {"cpu", "raycast"});
+}
+
 CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
 {
     CLI::App* command = app.add_subcommand(
@@ -102,7 +115,7 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
         ->capture_default_str();
     command->add_option("--jitter", args.jitter, "Decorrelated sampling seed (paper §6.2), 0 = off")
         ->check(CLI::Range(0u, 0xffffffffu));
-    command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    command->add_option("--threads", args.threads, "cpu, raycast: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     command->add_flag("--progress", args.progress, "Print progress on stderr (default when stderr is a terminal)");
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addGridOptions(command, args.grids);
@@ -221,7 +234,7 @@ CLI::App* addShadowCommand(CLI::App& app, ShadowArgs& args)
     command->add_option("--jitter", args.jitter,
                         "Decorrelated sampling seed (paper §6.2): trades the banding of few light samples for noise")
         ->check(CLI::Range(0u, 0xffffffffu));
-    command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    command->add_option("--threads", args.threads, "cpu, raycast: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addGridOptions(command, args.grids);
     return command;

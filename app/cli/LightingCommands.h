@@ -44,6 +44,9 @@ struct ShadowArgs {
 
 CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args);
 CLI::App* addShadowCommand(CLI::App& app, ShadowArgs& args);
+/// Throw sightline::Error for an option the chosen --method would ignore (cli/OptionRules.h).
+void checkImportanceOptions(const CLI::App& command, const ImportanceArgs& args);
+void checkShadowOptions(const CLI::App& command, const ShadowArgs& args);
 int runImportance(const ImportanceArgs& args);
 int runShadow(const ShadowArgs& args);
 

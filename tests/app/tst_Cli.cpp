@@ -336,6 +336,81 @@ TEST_F(Cli, FailuresAreOneLineAndNonZero)
     EXPECT_NE(run.err.find("patch pair"), std::string::npos) << run.err;
 }
 
+TEST_F(Cli, OptionsTheMethodWouldIgnoreAreRefused)
+{
+    const std::string project = (folder / "p.json").string();
+    const std::string png = " --out " + (folder / "x.png").string();
+    struct Case {
+        std::string arguments, option;   // the option the one-line error must name
+    };
+    const std::vector<Case> refused = {
+        {"shaft " + project + " --strategy bitmask", "--strategy"},   // the default method is raycast
+        {"shaft " + project + " --method raycast --mode table", "--mode"},
+        {"shaft " + project + " --method raycast --scalar", "--scalar"},
+        {"shaft " + project + " --method gl --strategy hybrid", "--strategy"},
+        {"shaft " + project + " --method hh --mode table", "--mode"},
+        {"shaft " + project + " --method cpu --single-rays", "--single-rays"},
+        {"shaft " + project + " --method gl --single-rays", "--single-rays"},
+        {"shaft " + project + " --method hh --single-rays", "--single-rays"},
+        {"shaft " + project + " --method gl --threads 1", "--threads"},
+        {"shaft " + project + " --method hh --threads 2", "--threads"},
+        {"shaft " + project + " --method cpu --table 64 32", "--table"},
+        {"shaft " + project + " --method gl --mode exact --table 64 32", "--table"},
+        {"shaft " + project + " --method cpu --mode table --strategy bitmask", "--strategy"},
+        {"shaft " + project + " --method cpu --mode table --scalar", "--scalar"},
+        {"shaft " + project + " --method cpu --gl-backend osmesa", "--gl-backend"},
+        {"shaft " + project + " --gl-backend egl", "--gl-backend"},
+        {"shaft " + project + " --method hh --jitter 3", "--jitter"},
+        {"shaft " + project + " --repeat 0", "--repeat"},
+        {"importance " + project + png + " --gl-backend osmesa", "--gl-backend"},
+        {"importance " + project + png + " --method raycast --gl-backend egl", "--gl-backend"},
+        {"importance " + project + png + " --method gl --threads 1", "--threads"},
+        {"shadow " + project + png + " --method cpu --gl-backend osmesa", "--gl-backend"},
+        {"shadow " + project + png + " --method gl --threads 1", "--threads"},
+        {"shadow " + project + png + " --method hh --threads 1", "--threads"},
+        {"bench " + project + " --methods raycast,cpu --gl-backend osmesa --repeat 1", "--gl-backend"},
+    };
+    for (const Case& c : refused) {
+        const CliRun run = runCli(c.arguments);
+        EXPECT_NE(run.code, 0) << c.arguments;
+        EXPECT_TRUE(oneLine(run.err)) << c.arguments << " -> [" << run.err << "]";
+        EXPECT_NE(run.err.find(c.option), std::string::npos) << c.arguments << " -> [" << run.err << "]";
+        EXPECT_TRUE(run.out.empty()) << c.arguments;
+        EXPECT_FALSE(fs::exists(folder / "x.png")) << c.arguments;
+    }
+    // The same options where they apply still run.
+    for (const std::string& arguments : {"shaft " + project + " --method cpu --strategy bitmask --scalar --threads 1",
+                                         "shaft " + project + " --method cpu --mode table --table 64 32",
+                                         "shaft " + project + " --method raycast --single-rays --threads 1",
+                                         "shaft " + project + " --method raycast --jitter 0"}) {
+        const CliRun run = runCli(arguments);
+        EXPECT_EQ(run.code, 0) << arguments << " -> " << run.err;
+    }
+}
+
+TEST_F(Cli, ForcedRaycastStrategySaysSo)
+{
+    const CliRun run = runCli("shaft " + (folder / "p.json").string() + " --method cpu --strategy raycast --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    const std::string strategy = json::parse(run.out)["strategy"];
+    EXPECT_EQ(strategy, "raycast: embree-packets-16 (forced by --strategy)");
+}
+
+TEST_F(Cli, RepeatWarmsUpOnceThenTimesNRuns)
+{
+    const std::string project = (folder / "p.json").string();
+    const json cold = json::parse(runCli("shaft " + project + " --json").out);
+    EXPECT_EQ(cold["repeat"], 1);
+    EXPECT_EQ(cold["warm_up"], false);
+    const json once = json::parse(runCli("shaft " + project + " --json --repeat 1").out);
+    EXPECT_EQ(once["repeat"], 1);
+    EXPECT_EQ(once["warm_up"], true);
+    const json five = json::parse(runCli("shaft " + project + " --json --repeat 5").out);
+    EXPECT_EQ(five["repeat"], 5);
+    EXPECT_EQ(five["warm_up"], true);
+    EXPECT_EQ(five["blocked"], cold["blocked"]);
+}
+
 TEST_F(Cli, InfoCountsInstances)
 {
     const CliRun run = runCli("info " + (folder / "p.json").string() + " --json");
