@@ -97,7 +97,8 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
     command->add_option("--out", args.out, "PNG: the map in the viridis colour map with a legend")->required();
     command->add_option("--npy", args.npy, "Also write the raw values as float32 .npy, shape (nb, na), in [0, 1]");
     command->add_option("--frames", args.frames,
-                        "Frames to accumulate (default: the animation's \"frames\", or 1 without an animation)")
+                        "Frames to accumulate (default: the animation's \"frames\", else its last key frame + 1, "
+                        "or 1 without an animation)")
         ->check(CLI::Range(1, kMaxAnimationFrames));
     command->add_option("--of", args.of, "Which patch the map is over: receiver (fraction of the source each "
                                          "receiver sample sees) or source (fraction of receiver samples seeing it)")
@@ -129,7 +130,7 @@ int runImportance(const ImportanceArgs& args)
     applyGrids(args.grids, project);
     const std::string what = std::filesystem::path(args.project).filename().string();
     const Animation animation = parseAnimation(project, what);
-    const int frames = args.frames > 0 ? args.frames : std::max(animation.frames, 1);
+    const int frames = args.frames > 0 ? args.frames : defaultFrameCount(animation);
     if (frames > 1 && animation.empty())
         std::cerr << "sightline-cli: warning: the project has no animation; all " << frames << " frames are the same\n";
     // Refuse an invalid pair at any frame before the expensive work (never a wrong answer).

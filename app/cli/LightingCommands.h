@@ -18,7 +18,7 @@ struct GridOverrides {
 
 struct ImportanceArgs {
     std::string project, out, npy;
-    int frames = 0;                ///< 0: the animation's frame count, or 1 without an animation
+    int frames = 0;                ///< 0: defaultFrameCount(the project's animation)
     std::string of = "receiver";
     std::string statistic = "mean";
     std::string method = "cpu";
