@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -16,6 +17,7 @@
 #include "BruteForceCaster.h"
 #include "CliRunner.h"
 #include "TestScenes.h"
+#include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "visibility/NpyWriter.h"
@@ -427,6 +429,21 @@ TEST_F(Cli, DemoWritesARunnableProject)
     ASSERT_EQ(demo.code, 0) << demo.err;
     ASSERT_TRUE(fs::exists(folder / "demo" / "demo.json"));
     ASSERT_TRUE(fs::exists(folder / "demo" / "demo_level.glb"));
+    // The level's watertight flags survive the file: the importer re-checks each (closedAndOutward).
+    std::vector<std::string> warnings;
+    const Scene loaded = loadScene(folder / "demo" / "demo_level.glb", &warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    std::map<std::string, bool> flags;   // mesh name -> flag as generated
+    for (const Mesh& mesh : demo::makeDemoLevel().meshes)
+        flags[mesh.name] = mesh.watertight;
+    ASSERT_EQ(loaded.meshes.size(), flags.size());
+    int flagged = 0;
+    for (const Mesh& mesh : loaded.meshes) {
+        ASSERT_TRUE(flags.contains(mesh.name)) << mesh.name;
+        EXPECT_EQ(mesh.watertight, flags[mesh.name]) << mesh.name;
+        flagged += mesh.watertight;
+    }
+    EXPECT_GE(flagged, 10);
     for (const char* bench : {"few-occluders", "dense-mesh"}) {
         ASSERT_TRUE(fs::exists(folder / "demo" / (std::string(bench) + ".json"))) << bench;
         const CliRun run = runCli("shaft " + (folder / "demo" / (std::string(bench) + ".json")).string() + " --json");
