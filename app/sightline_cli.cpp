@@ -26,8 +26,10 @@
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
 #include "cli/LightingCommands.h"
+#include "cli/OptionRules.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
+#include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -64,34 +66,62 @@ struct ShaftArgs {
     bool singleRays = false;
     bool scalar = false;
     std::uint32_t jitter = 0;
-    int repeat = 1;
+    int repeat = 0;   ///< 0: --repeat not given, one cold run
     std::string strategy = "auto";
     std::string glBackend = "osmesa";
     std::string mode = "exact";
     std::vector<int> table = {256, 128};
 };
 
-/// Runs `sample` once, or 1 + `repeat` times with the first as warm-up (thread pools, page
-/// faults), and returns the median time in milliseconds.
+/// Without --repeat (`repeat` 0), runs `sample` once and returns its time in milliseconds: what
+/// one call costs cold, as a script calling the CLI once sees it. With --repeat N, runs it once to
+/// warm up (thread pools, page faults, shader compilation), then N timed times, and returns their
+/// lower median, as `bench` does.
 template <typename Sample>
 double timeSampling(int repeat, Sample&& sample)
 {
+    if (repeat > 0)
+        sample();
     std::vector<double> times;
-    for (int k = 0; k < (repeat > 1 ? repeat + 1 : 1); ++k) {
+    for (int k = 0; k < std::max(repeat, 1); ++k) {
         const auto start = std::chrono::steady_clock::now();
         sample();
         times.push_back(millisecondsSince(start));
     }
-    if (times.size() > 1)
-        times.erase(times.begin());
     std::sort(times.begin(), times.end());
-    return times[times.size() / 2];
+    return times[(times.size() - 1) / 2];
+}
+
+/// Refuses options that `--method` (and `--mode`) would ignore (cli/OptionRules.h).
+void checkShaftOptions(const CLI::App& command, const ShaftArgs& args)
+{
+    const std::string& method = args.method;
+    cli::requireMethod(command, "--strategy", method, {"cpu"});
+    cli::requireMethod(command, "--scalar", method, {"cpu"});
+    cli::requireMethod(command, "--single-rays", method, {"raycast"});
+    cli::requireMethod(command, "--threads", method, {"raycast", "cpu"});
+    cli::requireMethod(command, "--mode", method, {"cpu", "gl"});
+    cli::requireMethod(command, "--gl-backend", method, {"gl", "hh"});
+    if (cli::given(command, "--table") && args.mode != "table")
+        throw Error("--table sets the Hough table's resolution and applies to --mode table only; add --mode table");
+    // The table mode is the paper's method as published: every triangle by bitmask, in double.
+    for (const char* option : {"--strategy", "--scalar"})
+        if (cli::given(command, option) && args.mode == "table")
+            throw Error(std::string(option) + " applies to --mode exact only (table mode backprojects every triangle "
+                                              "through the Hough table)");
 }
 
 int runShaft(const ShaftArgs& args)
 {
     const Project project = loadProject(args.project);
     validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
+    const std::string what = fs::path(args.project).filename().string();
+    // Refused before the heights file is read: whatever it holds, these samplers would answer
+    // for the flat receiver, which is not the project's question.
+    if ((args.method == "gl" || args.method == "hh") && project.extra.contains("receiver_heights"))
+        throw Error("--method " + args.method + ": " + what +
+                    " has receiver_heights (a bumpy receiver), which only --method cpu or raycast sample");
+    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, what);
 
     std::vector<std::string> warnings;
     const auto loadStart = std::chrono::steady_clock::now();
@@ -128,6 +158,7 @@ int runShaft(const ShaftArgs& args)
         options.packets = !args.singleRays;
         options.threads = args.threads;
         options.jitter = jitter;
+        options.heights = heights.empty() ? nullptr : &heights;
         ms = timeSampling(args.repeat, [&] { map = rayCaster.sample(project.source, project.receiver, options); });
         setupMs = rayCaster.buildMilliseconds();
         strategy = options.packets ? "embree-packets-16" : "embree-single-rays";
@@ -162,6 +193,7 @@ int runShaft(const ShaftArgs& args)
         options.tableHeight = args.table[1];
         options.simd = !args.scalar;
         options.jitter = jitter;
+        options.heights = heights.empty() ? nullptr : &heights;
         options.strategy = args.strategy == "bitmask"   ? CpuStrategy::Bitmask
                            : args.strategy == "hybrid"  ? CpuStrategy::Hybrid
                            : args.strategy == "raycast" ? CpuStrategy::RayCast
@@ -172,8 +204,10 @@ int runShaft(const ShaftArgs& args)
                                       ? "bitmask-hough-table-" + std::to_string(args.table[0]) + "x" + std::to_string(args.table[1])
                                       : std::string("bitmask-exact-rows");
         const std::string used = stats.strategy;
+        const bool forced = options.strategy != CpuStrategy::Auto;
         strategy = used == "hybrid"    ? "hybrid: " + masks + " + embree-packets-16"
-                   : used == "raycast" ? std::string("raycast: embree-packets-16 (cheaper than the bitmask here)")
+                   : used == "raycast" ? std::string("raycast: embree-packets-16") +
+                                             (forced ? " (forced by --strategy)" : " (cheaper than the bitmask here)")
                                        : masks;
         if (stats.probed)
             strategy += " (chosen by timing both on 1 tile in 8)";
@@ -209,8 +243,10 @@ int runShaft(const ShaftArgs& args)
             {"source_samples", json::array({project.source.na, project.source.nb})},
             {"receiver_samples", json::array({project.receiver.na, project.receiver.nb})},
             {"threads", threads},
-            {"repeat", args.repeat},
+            {"repeat", std::max(args.repeat, 1)},   // timed runs
+            {"warm_up", args.repeat > 0},
             {"jitter_seed", args.jitter},
+            {"height_field", !heights.empty()},
         };
         if (!args.mask.empty())
             out["mask"] = args.mask;
@@ -219,8 +255,8 @@ int runShaft(const ShaftArgs& args)
     } else {
         std::printf("method     %s (%s, %d threads)\n", args.method.c_str(), strategy.c_str(), threads);
         std::printf("scene      %zu triangles (setup %.1f ms)\n", scene.triangleCount(), setupMs);
-        std::printf("patches    %dx%d source x %dx%d receiver samples\n", project.source.na, project.source.nb,
-                    project.receiver.na, project.receiver.nb);
+        std::printf("patches    %dx%d source x %dx%d receiver samples%s\n", project.source.na, project.source.nb,
+                    project.receiver.na, project.receiver.nb, heights.empty() ? "" : " (receiver height field)");
         std::printf("rays       %llu: %llu blocked, %llu unblocked (%.2f%% visible)\n", (unsigned long long)rays,
                     (unsigned long long)blocked, (unsigned long long)(rays - blocked), 100.0 * visible);
         std::printf("time       %.2f ms\n", ms);
@@ -235,12 +271,18 @@ struct BenchArgs {
     std::string methods = "raycast,cpu,cpu-bitmask,cpu-table-256x128";
     std::string csv, chart;
     std::string glBackend = "osmesa";
+    bool glBackendGiven = false;
     bool shadow = false;
 };
 
 int runBench(BenchArgs& args)
 {
     args.settings.methods = bench::parseMethods(args.methods);
+    const bool anyGl = std::any_of(args.settings.methods.begin(), args.settings.methods.end(), [](const std::string& m) {
+        return m == "gl" || m == "hh" || m.starts_with("gl-");
+    });
+    if (args.glBackendGiven && !anyGl)
+        throw Error("--gl-backend applies to the GL methods (gl, gl-table-WxH, gl-jitter, hh), and --methods names none");
     args.settings.glBackend = gl::parseBackend(args.glBackend);
     if (args.shadow && args.settings.denseSide == 0)
         args.settings.denseSide = 128;
@@ -399,29 +441,31 @@ int main(int argc, char** argv)
         ->capture_default_str();
     shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)");
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
-    shaftCmd->add_option("--threads", shaft.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    shaftCmd->add_option("--threads", shaft.threads, "raycast, cpu: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
     shaftCmd->add_option("--jitter", shaft.jitter,
                          "Decorrelated sampling (paper §6.2): shift each receiver sample's source grid by a hashed "
                          "offset under half a cell; SEED > 0, same offsets in every method (not hh)")
         ->check(CLI::Range(0u, 0xffffffffu));
-    shaftCmd->add_flag("--scalar", shaft.scalar, "cpu: double precision everywhere, no SIMD kernel");
+    shaftCmd->add_flag("--scalar", shaft.scalar, "cpu, exact mode: double precision everywhere, no SIMD kernel");
     shaftCmd->add_option("--strategy", shaft.strategy,
-                         "cpu: auto, bitmask (every triangle backprojected), hybrid (small triangles ray cast) "
-                         "or raycast (all rays)")
+                         "cpu, exact mode: auto, bitmask (every triangle backprojected), hybrid (small triangles ray "
+                         "cast) or raycast (all rays)")
         ->check(CLI::IsMember({"auto", "bitmask", "hybrid", "raycast"}))
         ->capture_default_str();
     shaftCmd->add_option("--mode", shaft.mode, "cpu, gl: exact (per-row masks) or table (the paper's Hough table, §5)")
         ->check(CLI::IsMember({"exact", "table"}))
         ->capture_default_str();
-    shaftCmd->add_option("--table", shaft.table, "table mode: Hough table resolution, angles and distances")
+    shaftCmd->add_option("--table", shaft.table, "--mode table: Hough table resolution, angles and distances")
         ->expected(2)
         ->check(CLI::Range(4, 8192))
         ->capture_default_str();
     shaftCmd->add_option("--gl-backend", shaft.glBackend, "gl, hh: headless context, osmesa (software) or egl (GPU)")
         ->check(CLI::IsMember({"osmesa", "egl"}))
         ->capture_default_str();
-    shaftCmd->add_option("--repeat", shaft.repeat, "Time N runs after one warm-up run and report the median ms")
+    shaftCmd->add_option("--repeat", shaft.repeat,
+                         "Run once to warm up, then time N runs and report their median ms (without --repeat: "
+                         "one cold run, no warm-up)")
         ->check(CLI::Range(1, 1000));
 
     std::string infoPath;
@@ -485,18 +529,26 @@ int main(int argc, char** argv)
     }
 
     try {
-        if (*shaftCmd)
+        if (*shaftCmd) {
+            checkShaftOptions(*shaftCmd, shaft);
             return runShaft(shaft);
+        }
         if (*infoCmd)
             return runInfo(infoPath, infoJson);
         if (*demoCmd)
             return runDemo(demoFolder);
-        if (*benchCmd)
+        if (*benchCmd) {
+            benchArgs.glBackendGiven = cli::given(*benchCmd, "--gl-backend");
             return runBench(benchArgs);
-        if (*importanceCmd)
+        }
+        if (*importanceCmd) {
+            cli::checkImportanceOptions(*importanceCmd, importance);
             return cli::runImportance(importance);
-        if (*shadowCmd)
+        }
+        if (*shadowCmd) {
+            cli::checkShadowOptions(*shadowCmd, shadow);
             return cli::runShadow(shadow);
+        }
     } catch (const std::exception& e) {
         std::cerr << "sightline-cli: error: " << e.what() << "\n";
         return 1;

@@ -59,7 +59,7 @@ QString prepareOverlay(const EditorDocument& document, PatchOverlay& overlay)
     if (animation.empty())
         return {};
     const ImportanceSide side = overlay.kind() == OverlayKind::SourceImportance ? ImportanceSide::Source : ImportanceSide::Receiver;
-    ImportanceRunResult run = accumulateDocumentAnimation(document, animation, animationFrameCount(animation), side);
+    ImportanceRunResult run = accumulateDocumentAnimation(document, animation, defaultFrameCount(animation), side);
     overlay.showAnimationResult(side, std::move(run.accumulator));
     return QString::asprintf("%.1f ms a frame", run.sampleMs / std::max(run.framesDone, 1));
 }

@@ -1,23 +1,10 @@
 #include "AnimationImportance.h"
 
-#include <algorithm>
-
 #include "project/LightingSetup.h"
 #include "project/ProjectSampler.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
-
-int animationFrameCount(const Animation& animation)
-{
-    if (animation.frames > 0)
-        return animation.frames;
-    int frames = 1;
-    for (const AnimationTrack& track : animation.tracks)
-        if (!track.keys.empty())
-            frames = std::max(frames, track.keys.back().frame + 1);
-    return frames;
-}
 
 ImportanceRunResult accumulateDocumentAnimation(const EditorDocument& document, const Animation& animation, int frames,
                                                 ImportanceSide side, const std::function<bool(int, int)>& progress)

@@ -14,9 +14,6 @@
 
 namespace sightline::ui {
 
-/// Frames an accumulation runs: the animation's "frames", else up to its last key frame.
-int animationFrameCount(const Animation& animation);
-
 /// Accumulates `side`'s importance over `frames` frames of `animation` applied to the document's
 /// project. `progress(done, total)` as in accumulateImportance (false cancels). Throws
 /// sightline::Error naming the frame that failed (an invalid pair, a broken light or height key).

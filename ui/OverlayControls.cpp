@@ -216,7 +216,7 @@ bool OverlayControls::accumulateAnimation()
     }
     const ImportanceSide side = viewport_.overlay().kind() == OverlayKind::SourceImportance ? ImportanceSide::Source
                                                                                            : ImportanceSide::Receiver;
-    const int frames = animationFrameCount(animation);
+    const int frames = defaultFrameCount(animation);   // as `sightline-cli importance` without --frames
     QProgressDialog progress(tr("Sampling %1 frames of the animation...").arg(frames), tr("Cancel"), 0, frames, &window_);
     progress.setWindowTitle(title);
     progress.setWindowModality(Qt::WindowModal);   // no edits while the frames are sampled

@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "cli/OptionRules.h"
 #include "lighting/SoftShadow.h"
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
@@ -75,6 +76,18 @@ void addGridOptions(CLI::App* command, GridOverrides& grids)
 
 } // namespace
 
+void checkImportanceOptions(const CLI::App& command, const ImportanceArgs& args)
+{
+    requireMethod(command, "--gl-backend", args.method, {"gl"});
+    requireMethod(command, "--threads", args.method, {"cpu", "raycast"});
+}
+
+void checkShadowOptions(const CLI::App& command, const ShadowArgs& args)
+{
+    requireMethod(command, "--gl-backend", args.method, {"gl", "hh"});
+    requireMethod(command, "--threads", args.method, {"cpu", "raycast"});
+}
+
 CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
 {
     CLI::App* command = app.add_subcommand(
@@ -84,7 +97,8 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
     command->add_option("--out", args.out, "PNG: the map in the viridis colour map with a legend")->required();
     command->add_option("--npy", args.npy, "Also write the raw values as float32 .npy, shape (nb, na), in [0, 1]");
     command->add_option("--frames", args.frames,
-                        "Frames to accumulate (default: the animation's \"frames\", or 1 without an animation)")
+                        "Frames to accumulate (default: the animation's \"frames\", else its last key frame + 1, "
+                        "or 1 without an animation)")
         ->check(CLI::Range(1, kMaxAnimationFrames));
     command->add_option("--of", args.of, "Which patch the map is over: receiver (fraction of the source each "
                                          "receiver sample sees) or source (fraction of receiver samples seeing it)")
@@ -102,7 +116,7 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
         ->capture_default_str();
     command->add_option("--jitter", args.jitter, "Decorrelated sampling seed (paper §6.2), 0 = off")
         ->check(CLI::Range(0u, 0xffffffffu));
-    command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    command->add_option("--threads", args.threads, "cpu, raycast: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     command->add_flag("--progress", args.progress, "Print progress on stderr (default when stderr is a terminal)");
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addGridOptions(command, args.grids);
@@ -116,7 +130,7 @@ int runImportance(const ImportanceArgs& args)
     applyGrids(args.grids, project);
     const std::string what = std::filesystem::path(args.project).filename().string();
     const Animation animation = parseAnimation(project, what);
-    const int frames = args.frames > 0 ? args.frames : std::max(animation.frames, 1);
+    const int frames = args.frames > 0 ? args.frames : defaultFrameCount(animation);
     if (frames > 1 && animation.empty())
         std::cerr << "sightline-cli: warning: the project has no animation; all " << frames << " frames are the same\n";
     // Refuse an invalid pair at any frame before the expensive work (never a wrong answer).
@@ -221,7 +235,7 @@ CLI::App* addShadowCommand(CLI::App& app, ShadowArgs& args)
     command->add_option("--jitter", args.jitter,
                         "Decorrelated sampling seed (paper §6.2): trades the banding of few light samples for noise")
         ->check(CLI::Range(0u, 0xffffffffu));
-    command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    command->add_option("--threads", args.threads, "cpu, raycast: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addGridOptions(command, args.grids);
     return command;

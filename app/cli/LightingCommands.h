@@ -18,7 +18,7 @@ struct GridOverrides {
 
 struct ImportanceArgs {
     std::string project, out, npy;
-    int frames = 0;                ///< 0: the animation's frame count, or 1 without an animation
+    int frames = 0;                ///< 0: defaultFrameCount(the project's animation)
     std::string of = "receiver";
     std::string statistic = "mean";
     std::string method = "cpu";
@@ -44,6 +44,9 @@ struct ShadowArgs {
 
 CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args);
 CLI::App* addShadowCommand(CLI::App& app, ShadowArgs& args);
+/// Throw sightline::Error for an option the chosen --method would ignore (cli/OptionRules.h).
+void checkImportanceOptions(const CLI::App& command, const ImportanceArgs& args);
+void checkShadowOptions(const CLI::App& command, const ShadowArgs& args);
 int runImportance(const ImportanceArgs& args);
 int runShadow(const ShadowArgs& args);
 

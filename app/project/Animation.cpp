@@ -32,6 +32,17 @@ glm::dvec3 AnimationTrack::offsetAt(int frame) const
     return k0.translate + t * (k1.translate - k0.translate);
 }
 
+int defaultFrameCount(const Animation& animation)
+{
+    if (animation.frames > 0)
+        return animation.frames;
+    int frames = 1;
+    for (const AnimationTrack& track : animation.tracks)
+        if (!track.keys.empty())
+            frames = std::max(frames, track.keys.back().frame + 1);
+    return frames;
+}
+
 bool Animation::movesOccluders() const
 {
     return std::any_of(tracks.begin(), tracks.end(),

@@ -5,7 +5,7 @@
 // Optional key "animation" of the project document (kept verbatim on save like any extra key):
 //
 //   "animation": {
-//     "frames": 60,                                 // default frame count of an accumulation
+//     "frames": 60,                                 // optional: frames an accumulation runs
 //     "tracks": [
 //       {"target": "occluder", "name": "door",      // or "source" / "receiver" (no name)
 //        "interpolation": "linear",                 // or "step"
@@ -55,6 +55,13 @@ struct Animation {
 };
 
 inline constexpr int kMaxAnimationFrames = 100000;
+
+/// The frames an accumulation runs when the user names no count (the CLI's `importance` without
+/// --frames, the editor's Accumulate Animation; both call this so that one project gives one
+/// answer): the animation's "frames" when given; else the last key frame + 1 over all tracks, so
+/// that every keyed motion plays to its end once (a looping track's whole cycle) and nothing the
+/// author keyed is left out; else 1 (no tracks: the project does not move).
+int defaultFrameCount(const Animation& animation);
 
 /// Reads project.extra["animation"] (an empty Animation when absent). Throws sightline::Error
 /// naming the key: unknown target, a name that matches no occluder, keys out of order, ...

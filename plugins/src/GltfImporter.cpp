@@ -24,6 +24,7 @@
 
 #include "BuiltinFormats.h"
 #include "visibility/Error.h"
+#include "visibility/Scene.h"
 
 namespace sightline {
 
@@ -405,7 +406,7 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
     const tinygltf::Mesh& src = model.meshes[meshIndex];
     Mesh mesh;
     mesh.name = src.name.empty() ? "mesh " + std::to_string(meshIndex) : src.name;
-    // Written by our exporter (or by hand): the mesh is closed and outward oriented.
+    // Written by our exporter (or by hand, or by another tool): a claim, checked below.
     mesh.watertight = src.extras.IsObject() && src.extras.Has("watertight") &&
                       src.extras.Get("watertight").IsBool() && src.extras.Get("watertight").Get<bool>();
     bool allNormals = true;
@@ -448,6 +449,13 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
     }
     if (!allNormals)
         mesh.normals.clear();
+    // Culling trusts the flag (§7): on an open or inward mesh it would drop real blockers.
+    if (mesh.watertight && !closedAndOutward(mesh)) {
+        mesh.watertight = false;
+        warnings.push_back(file + ": mesh " + std::to_string(meshIndex) + " ('" + mesh.name +
+                           "') is flagged watertight in its extras but is not closed and outward-facing; "
+                           "loaded without the flag");
+    }
     return mesh;
 }
 

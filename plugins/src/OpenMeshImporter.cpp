@@ -28,6 +28,7 @@
 
 #include "BuiltinFormats.h"
 #include "visibility/Error.h"
+#include "visibility/Scene.h"
 
 namespace sightline {
 
@@ -453,10 +454,12 @@ public:
     }
 
 private:
-    /// The file's one mesh, named after the file, at the origin.
+    /// The file's one mesh, named after the file, at the origin. These formats carry no
+    /// watertight flag: a closed, outward mesh earns it (watertight culling, §7).
     static Scene oneInstance(Mesh mesh, const std::filesystem::path& file)
     {
         mesh.name = file.stem().string();
+        mesh.watertight = closedAndOutward(mesh);
         Scene scene;
         scene.addMeshInstance(std::move(mesh));
         validate(scene, file.string());

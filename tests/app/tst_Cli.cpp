@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
@@ -16,10 +17,12 @@
 #include "BruteForceCaster.h"
 #include "CliRunner.h"
 #include "TestScenes.h"
+#include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
+#include "visibility/ReceiverHeights.h"
 
 using namespace sightline;
 using namespace sightline::test;
@@ -210,6 +213,56 @@ TEST_F(Cli, JitterGivesTheSameMaskInCpuAndRaycast)
     EXPECT_TRUE(oneLine(hh.err)) << hh.err;
 }
 
+TEST_F(Cli, ShaftHonoursReceiverHeightsInRaycastAndCpu)
+{
+    // The receiver's right half raised 0.3 m toward the source (heights as float32 (nb, na)).
+    std::vector<float> metres(24 * 20);
+    for (std::size_t j = 0; j < metres.size(); ++j)
+        metres[j] = j % 24 >= 12 ? 0.3f : 0.0f;
+    writeFloatNpy(metres, 20, 24, folder / "h.npy");
+    json document = json::parse(std::ifstream(folder / "p.json"));
+    document["receiver_heights"] = {{"npy", "h.npy"}};
+    std::ofstream(folder / "bumpy.json") << document.dump();
+    const std::string flat = (folder / "p.json").string(), bumpy = (folder / "bumpy.json").string();
+
+    const fs::path flatMask = folder / "flat.npy", rayMask = folder / "ray.npy", cpuMask = folder / "cpu.npy",
+                   cpuRayMask = folder / "cpu-ray.npy";
+    ASSERT_EQ(runCli("shaft " + flat + " --method raycast --mask " + flatMask.string()).code, 0);
+    const CliRun ray = runCli("shaft " + bumpy + " --method raycast --json --mask " + rayMask.string());
+    ASSERT_EQ(ray.code, 0) << ray.err;
+    EXPECT_EQ(json::parse(ray.out)["height_field"], true);
+    const CliRun cpu = runCli("shaft " + bumpy + " --method cpu --json --mask " + cpuMask.string());
+    ASSERT_EQ(cpu.code, 0) << cpu.err;
+    EXPECT_EQ(json::parse(cpu.out)["height_field"], true);
+    // The cpu sampler's own ray casting must take the heights too.
+    ASSERT_EQ(runCli("shaft " + bumpy + " --method cpu --strategy raycast --mask " + cpuRayMask.string()).code, 0);
+
+    // The reference in process, with the same heights: the CLI's raycast answer exactly.
+    const Project project = loadProject(folder / "bumpy.json");
+    ReceiverHeights heights;
+    heights.metres.assign(metres.begin(), metres.end());
+    const HiddenSampleMap expected =
+        RayCastScene(buildScene(project)).sample(project.source, project.receiver, {.heights = &heights});
+    const HiddenSampleMap onFlat = readMaskNpy(flatMask, 128), onRay = readMaskNpy(rayMask, 128),
+                          onCpu = readMaskNpy(cpuMask, 128), onCpuRay = readMaskNpy(cpuRayMask, 128);
+    EXPECT_EQ(onRay, expected);
+    // The bumps change the answer on many rays (the raised half sees past the wall differently) ...
+    EXPECT_GT(onRay.differenceCount(onFlat), onRay.rayCount() / 50);
+    // ... and cpu gives the reference's answer (grazing rays aside, as for the flat receiver).
+    EXPECT_LE(onCpu.differenceCount(onRay) * 10000, onRay.rayCount());
+    EXPECT_LE(onCpuRay.differenceCount(onRay) * 10000, onRay.rayCount());
+
+    // The GL sampler and Heckbert-Herf take a flat receiver only: refused before any GL context
+    // is made, so these need no OpenGL.
+    for (const char* method : {"gl", "hh"}) {
+        const CliRun refused = runCli("shaft " + bumpy + " --method " + method);
+        EXPECT_NE(refused.code, 0) << method;
+        EXPECT_TRUE(oneLine(refused.err)) << method << " -> [" << refused.err << "]";
+        EXPECT_NE(refused.err.find("receiver_heights"), std::string::npos) << refused.err;
+        EXPECT_TRUE(refused.out.empty()) << method;
+    }
+}
+
 TEST_F(Cli, HeckbertHerfCountsAgreeWithRaycastAndRefuseMasks)
 {
     const std::string project = (folder / "p.json").string();
@@ -285,6 +338,81 @@ TEST_F(Cli, FailuresAreOneLineAndNonZero)
     EXPECT_NE(run.err.find("patch pair"), std::string::npos) << run.err;
 }
 
+TEST_F(Cli, OptionsTheMethodWouldIgnoreAreRefused)
+{
+    const std::string project = (folder / "p.json").string();
+    const std::string png = " --out " + (folder / "x.png").string();
+    struct Case {
+        std::string arguments, option;   // the option the one-line error must name
+    };
+    const std::vector<Case> refused = {
+        {"shaft " + project + " --strategy bitmask", "--strategy"},   // the default method is raycast
+        {"shaft " + project + " --method raycast --mode table", "--mode"},
+        {"shaft " + project + " --method raycast --scalar", "--scalar"},
+        {"shaft " + project + " --method gl --strategy hybrid", "--strategy"},
+        {"shaft " + project + " --method hh --mode table", "--mode"},
+        {"shaft " + project + " --method cpu --single-rays", "--single-rays"},
+        {"shaft " + project + " --method gl --single-rays", "--single-rays"},
+        {"shaft " + project + " --method hh --single-rays", "--single-rays"},
+        {"shaft " + project + " --method gl --threads 1", "--threads"},
+        {"shaft " + project + " --method hh --threads 2", "--threads"},
+        {"shaft " + project + " --method cpu --table 64 32", "--table"},
+        {"shaft " + project + " --method gl --mode exact --table 64 32", "--table"},
+        {"shaft " + project + " --method cpu --mode table --strategy bitmask", "--strategy"},
+        {"shaft " + project + " --method cpu --mode table --scalar", "--scalar"},
+        {"shaft " + project + " --method cpu --gl-backend osmesa", "--gl-backend"},
+        {"shaft " + project + " --gl-backend egl", "--gl-backend"},
+        {"shaft " + project + " --method hh --jitter 3", "--jitter"},
+        {"shaft " + project + " --repeat 0", "--repeat"},
+        {"importance " + project + png + " --gl-backend osmesa", "--gl-backend"},
+        {"importance " + project + png + " --method raycast --gl-backend egl", "--gl-backend"},
+        {"importance " + project + png + " --method gl --threads 1", "--threads"},
+        {"shadow " + project + png + " --method cpu --gl-backend osmesa", "--gl-backend"},
+        {"shadow " + project + png + " --method gl --threads 1", "--threads"},
+        {"shadow " + project + png + " --method hh --threads 1", "--threads"},
+        {"bench " + project + " --methods raycast,cpu --gl-backend osmesa --repeat 1", "--gl-backend"},
+    };
+    for (const Case& c : refused) {
+        const CliRun run = runCli(c.arguments);
+        EXPECT_NE(run.code, 0) << c.arguments;
+        EXPECT_TRUE(oneLine(run.err)) << c.arguments << " -> [" << run.err << "]";
+        EXPECT_NE(run.err.find(c.option), std::string::npos) << c.arguments << " -> [" << run.err << "]";
+        EXPECT_TRUE(run.out.empty()) << c.arguments;
+        EXPECT_FALSE(fs::exists(folder / "x.png")) << c.arguments;
+    }
+    // The same options where they apply still run.
+    for (const std::string& arguments : {"shaft " + project + " --method cpu --strategy bitmask --scalar --threads 1",
+                                         "shaft " + project + " --method cpu --mode table --table 64 32",
+                                         "shaft " + project + " --method raycast --single-rays --threads 1",
+                                         "shaft " + project + " --method raycast --jitter 0"}) {
+        const CliRun run = runCli(arguments);
+        EXPECT_EQ(run.code, 0) << arguments << " -> " << run.err;
+    }
+}
+
+TEST_F(Cli, ForcedRaycastStrategySaysSo)
+{
+    const CliRun run = runCli("shaft " + (folder / "p.json").string() + " --method cpu --strategy raycast --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    const std::string strategy = json::parse(run.out)["strategy"];
+    EXPECT_EQ(strategy, "raycast: embree-packets-16 (forced by --strategy)");
+}
+
+TEST_F(Cli, RepeatWarmsUpOnceThenTimesNRuns)
+{
+    const std::string project = (folder / "p.json").string();
+    const json cold = json::parse(runCli("shaft " + project + " --json").out);
+    EXPECT_EQ(cold["repeat"], 1);
+    EXPECT_EQ(cold["warm_up"], false);
+    const json once = json::parse(runCli("shaft " + project + " --json --repeat 1").out);
+    EXPECT_EQ(once["repeat"], 1);
+    EXPECT_EQ(once["warm_up"], true);
+    const json five = json::parse(runCli("shaft " + project + " --json --repeat 5").out);
+    EXPECT_EQ(five["repeat"], 5);
+    EXPECT_EQ(five["warm_up"], true);
+    EXPECT_EQ(five["blocked"], cold["blocked"]);
+}
+
 TEST_F(Cli, InfoCountsInstances)
 {
     const CliRun run = runCli("info " + (folder / "p.json").string() + " --json");
@@ -301,6 +429,21 @@ TEST_F(Cli, DemoWritesARunnableProject)
     ASSERT_EQ(demo.code, 0) << demo.err;
     ASSERT_TRUE(fs::exists(folder / "demo" / "demo.json"));
     ASSERT_TRUE(fs::exists(folder / "demo" / "demo_level.glb"));
+    // The level's watertight flags survive the file: the importer re-checks each (closedAndOutward).
+    std::vector<std::string> warnings;
+    const Scene loaded = loadScene(folder / "demo" / "demo_level.glb", &warnings);
+    EXPECT_TRUE(warnings.empty()) << warnings.front();
+    std::map<std::string, bool> flags;   // mesh name -> flag as generated
+    for (const Mesh& mesh : demo::makeDemoLevel().meshes)
+        flags[mesh.name] = mesh.watertight;
+    ASSERT_EQ(loaded.meshes.size(), flags.size());
+    int flagged = 0;
+    for (const Mesh& mesh : loaded.meshes) {
+        ASSERT_TRUE(flags.contains(mesh.name)) << mesh.name;
+        EXPECT_EQ(mesh.watertight, flags[mesh.name]) << mesh.name;
+        flagged += mesh.watertight;
+    }
+    EXPECT_GE(flagged, 10);
     for (const char* bench : {"few-occluders", "dense-mesh"}) {
         ASSERT_TRUE(fs::exists(folder / "demo" / (std::string(bench) + ".json"))) << bench;
         const CliRun run = runCli("shaft " + (folder / "demo" / (std::string(bench) + ".json")).string() + " --json");

@@ -90,6 +90,23 @@ TEST(Animation, TracksInterpolateStepAndLoop)
     EXPECT_EQ(track.offsetAt(21), glm::dvec3(0, 0, 0));
 }
 
+TEST(Animation, DefaultFrameCountIsFramesElseTheLastKeyElseOne)
+{
+    Animation animation;
+    EXPECT_EQ(defaultFrameCount(animation), 1);   // nothing moves
+    AnimationTrack walk, door;
+    walk.target = AnimationTrack::Target::Receiver;
+    walk.keys = {{0, {0, 0, 0}}, {20, {0, 0, -1.5}}, {39, {0, 0, 0}}};
+    door.loop = true;
+    door.keys = {{0, {0, 0, 0}}, {5, {0, 1, 0}}};
+    animation.tracks = {door, walk};
+    EXPECT_EQ(defaultFrameCount(animation), 40);   // the longest track, frames 0 .. 39
+    animation.tracks = {door};
+    EXPECT_EQ(defaultFrameCount(animation), 6);
+    animation.frames = 3;                            // given: wins over the keys
+    EXPECT_EQ(defaultFrameCount(animation), 3);
+}
+
 TEST_F(ImportanceProject, AnimationIsReadAndMovesTheNamedOccluder)
 {
     const Project project = loadProject(projectFile());
@@ -250,6 +267,29 @@ TEST_F(ImportanceProject, CliImportanceWritesTheMapWithItsLegendAndTheRawValues)
     const FloatArray sourceValues = readFloatNpy(npy);
     EXPECT_EQ(sourceValues.rows, 4);
     EXPECT_EQ(sourceValues.columns, 8);
+}
+
+TEST_F(ImportanceProject, CliImportanceWithoutFramesRunsToTheLastKey)
+{
+    // No "frames": the door stays out of the way for frames 0..38 and steps into the hole at 39.
+    document["animation"] = {{"tracks", {{{"target", "occluder"}, {"name", "door"}, {"interpolation", "step"},
+                                          {"keys", {{{"frame", 0}, {"translate", {0, 5, 0}}},
+                                                    {{"frame", 39}, {"translate", {0, 0, 0}}}}}}}}};
+    save();
+    const fs::path png = folder / "map.png", npy = folder / "map.npy";
+    const CliRun run = runCli("importance " + projectFile().string() + " --method raycast --json --out " + png.string() +
+                              " --npy " + npy.string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_EQ(json::parse(run.out)["frames"], 40);
+    const FloatArray values = readFloatNpy(npy);
+    const ImportanceMap open = referenceAt(0), shut = referenceAt(39);
+    ASSERT_EQ(values.values.size(), open.values.size());
+    double differs = 0.0;
+    for (std::size_t k = 0; k < values.values.size(); ++k) {
+        ASSERT_NEAR(values.values[k], (39.0f * open.values[k] + shut.values[k]) / 40.0f, 1e-6f) << k;
+        differs += std::abs(open.values[k] - shut.values[k]);
+    }
+    EXPECT_GT(differs, 1.0);   // the door's one frame shows in the mean
 }
 
 TEST_F(ImportanceProject, CliShadowWritesTheLightOnTheReceiver)

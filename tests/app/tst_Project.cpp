@@ -157,6 +157,8 @@ TEST(Project, BuiltinMeshesAreClosedAndOriented)
     const Mesh box = builtinMesh("box");
     ASSERT_EQ(box.triangleCount(), 12u);
     EXPECT_TRUE(box.watertight);
+    EXPECT_TRUE(closedAndOutward(box));   // the check an imported mesh must pass for the flag
+    EXPECT_FALSE(builtinMesh("plane").watertight);
     // Every face normal points away from the centre.
     for (std::size_t t = 0; t < 12; ++t) {
         const glm::vec3 a = box.positions[box.indices[3 * t]], b = box.positions[box.indices[3 * t + 1]],

@@ -270,6 +270,47 @@ TEST(GltfImporter, MissingImageOnlyWarns)
     EXPECT_FALSE(warnings.empty());
 }
 
+/// The unit cube [0, 1]^3, outward, as one indexed glTF mesh flagged (or not) watertight in its
+/// extras; `dropLast` triangles left out.
+GltfDoc cubeDoc(bool flagged, int dropLast = 0)
+{
+    GltfDoc g;
+    const int pos = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1, 1, 1, 1});
+    std::vector<std::uint16_t> cube = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
+                                       2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+    cube.resize(cube.size() - 3 * std::size_t(dropLast));
+    const int idx = g.indices(cube, kU16);
+    g.mesh(json::array({{{"attributes", {{"POSITION", pos}}}, {"indices", idx}}}));
+    if (flagged)
+        g.doc["meshes"][0]["extras"] = {{"watertight", true}};
+    g.doc["meshes"][0]["name"] = "cube";
+    g.scene(json::array({{{"mesh", 0}}}), {0});
+    return g;
+}
+
+TEST(GltfImporter, WatertightFlagIsHonouredOnlyOnAClosedOutwardMesh)
+{
+    TempDir dir;
+    std::vector<std::string> warnings;
+    const Scene closed = loadScene(cubeDoc(true).writeEmbedded(dir / "closed.gltf"), &warnings);
+    EXPECT_TRUE(closed.meshes[0].watertight);
+    EXPECT_TRUE(warnings.empty());
+
+    // Flagged but open (the +x face's two triangles missing): no flag, one warning naming the mesh.
+    const Scene open = loadScene(cubeDoc(true, 2).writeGlb(dir / "open.glb"), &warnings);
+    ASSERT_EQ(open.triangleCount(), 10u);
+    EXPECT_FALSE(open.meshes[0].watertight);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0].find('\n'), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("'cube'"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("watertight"), std::string::npos) << warnings[0];
+
+    // glTF carries its own claim: an unflagged closed mesh stays unflagged.
+    warnings.clear();
+    EXPECT_FALSE(loadScene(cubeDoc(false).writeEmbedded(dir / "plain.gltf"), &warnings).meshes[0].watertight);
+    EXPECT_TRUE(warnings.empty());
+}
+
 // ---- refusals ----------------------------------------------------------------------------------
 
 TEST(GltfImporter, BufferUriEscapingTheFolderIsRefused)

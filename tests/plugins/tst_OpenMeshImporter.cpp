@@ -2,7 +2,9 @@
 // instance layout, and one-line errors for malformed files. Every file is written by the test.
 
 #include <cstring>
+#include <iterator>
 #include <limits>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -266,6 +268,61 @@ TEST(OpenMeshImporter, UppercaseExtensionIsAccepted)
     TempDir dir;
     const auto file = writeFile(dir / "TRI.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     EXPECT_EQ(loadScene(file).triangleCount(), 1u);
+}
+
+namespace {
+
+// The unit cube [0, 1]^3 as OBJ quads, counter-clockwise seen from outside; face 3 is +y.
+const char* kCubeVertices = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
+const std::vector<std::string> kCubeFaces = {"f 1 4 3 2\n", "f 5 6 7 8\n", "f 1 2 6 5\n",
+                                             "f 4 8 7 3\n", "f 1 5 8 4\n", "f 2 3 7 6\n"};
+
+std::string cubeObj(std::size_t missingFace = 99, std::size_t flippedFace = 99)
+{
+    std::string obj = kCubeVertices;
+    for (std::size_t f = 0; f < kCubeFaces.size(); ++f) {
+        if (f == missingFace)
+            continue;
+        if (f != flippedFace) {
+            obj += kCubeFaces[f];
+            continue;
+        }
+        std::istringstream in(kCubeFaces[f].substr(2));   // "f a b c d" -> "f d c b a"
+        std::vector<std::string> v{std::istream_iterator<std::string>(in), std::istream_iterator<std::string>()};
+        obj += "f " + v[3] + " " + v[2] + " " + v[1] + " " + v[0] + "\n";
+    }
+    return obj;
+}
+
+} // namespace
+
+TEST(OpenMeshImporter, ClosedOutwardMeshesEarnTheWatertightFlag)
+{
+    TempDir dir;
+    const Scene closed = loadScene(writeFile(dir / "cube.obj", cubeObj()));
+    ASSERT_EQ(closed.triangleCount(), 12u);
+    EXPECT_TRUE(closed.meshes[0].watertight);
+    const Scene open = loadScene(writeFile(dir / "open.obj", cubeObj(3)));
+    ASSERT_EQ(open.triangleCount(), 10u);
+    EXPECT_FALSE(open.meshes[0].watertight);
+    const Scene flipped = loadScene(writeFile(dir / "flipped.obj", cubeObj(99, 3)));
+    ASSERT_EQ(flipped.triangleCount(), 12u);
+    EXPECT_FALSE(flipped.meshes[0].watertight);
+
+    // STL repeats every vertex per facet: the check welds equal positions first.
+    std::string stl = "solid cube\n";
+    const Mesh& cube = closed.meshes[0];
+    auto text = [&](std::uint32_t i) {
+        const glm::vec3& p = cube.positions[i];
+        return std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z);
+    };
+    for (std::size_t t = 0; t < cube.triangleCount(); ++t)
+        stl += asciiFacet(text(cube.indices[3 * t]).c_str(), text(cube.indices[3 * t + 1]).c_str(),
+                          text(cube.indices[3 * t + 2]).c_str());
+    stl += "endsolid cube\n";
+    const Scene fromStl = loadScene(writeFile(dir / "cube.stl", stl));
+    ASSERT_EQ(fromStl.meshes[0].positions.size(), 36u);
+    EXPECT_TRUE(fromStl.meshes[0].watertight);
 }
 
 TEST(SceneFormatRegistry, MissingFileAndUnknownExtension)

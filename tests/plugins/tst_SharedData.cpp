@@ -275,3 +275,16 @@ TEST(SharedGeometry, MissingTexturesOnlyWarn)
 }
 
 } // namespace
+
+TEST(SharedGeometry, ClosedScansEarnTheWatertightFlagAndOpenOnesDoNot)
+{
+    SIGHTLINE_REQUIRE_SHARED_DATA();
+    // SOURCES.md: armadillo and dragon are closed manifolds; the bunny has holes in its base (223
+    // boundary edges) and the teapot unwelded patch seams (1,036).
+    for (const auto& [file, closed] : {std::pair{"meshes/armadillo.obj", true}, std::pair{"meshes/dragon.obj", true},
+                                       std::pair{"meshes/bun_zipper.ply", false}, std::pair{"meshes/teapot.obj", false}}) {
+        const Scene scene = loadScene(sharedData() / file);
+        ASSERT_EQ(scene.meshes.size(), 1u) << file;
+        EXPECT_EQ(scene.meshes[0].watertight, closed) << file;
+    }
+}

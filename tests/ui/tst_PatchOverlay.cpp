@@ -371,7 +371,7 @@ TEST(AnimationImportance, AlternatingWallGivesTheMeanOfBothFrames)
     EditorDocument document;
     document.open(writeWallProject(freshFolder("overlay-animation"), true));
     const Animation animation = parseAnimation(document.project(), "wall.json");
-    ASSERT_EQ(animationFrameCount(animation), 4);
+    ASSERT_EQ(defaultFrameCount(animation), 4);
     int calls = 0;
     const auto progress = [&](int done, int total) {
         EXPECT_EQ(total, 4);

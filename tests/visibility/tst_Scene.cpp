@@ -116,3 +116,99 @@ TEST(Scene, MirroredInstancesKeepOutwardWinding)
     // Mirroring z maps the +Z face normal to -Z: the outward side moved, and the winding follows.
     EXPECT_LT(normal(1).z, 0.0f);
 }
+
+namespace {
+
+/// The closed box with every triangle given its own three vertices (as OBJ/STL/glTF files often
+/// store them), shifted by `offset`.
+Mesh unweldedBox(const glm::vec3& offset = glm::vec3(0.0f))
+{
+    const Mesh box = closedBox();
+    Mesh m;
+    for (std::uint32_t i : box.indices) {
+        m.positions.push_back(box.positions[i] + offset);
+        m.indices.push_back(std::uint32_t(m.indices.size()));
+    }
+    return m;
+}
+
+} // namespace
+
+TEST(ClosedAndOutward, ClosedOutwardBoxesPassWeldedOrNotAndFarOut)
+{
+    EXPECT_TRUE(closedAndOutward(closedBox()));
+    EXPECT_TRUE(closedAndOutward(unweldedBox()));
+    EXPECT_TRUE(closedAndOutward(unweldedBox({1e5f, -3e4f, 2e5f})));   // volume from a local origin
+    // Two disjoint boxes: each closed, volumes summed.
+    Mesh two = unweldedBox();
+    const Mesh other = unweldedBox({3.0f, 0.0f, 0.0f});
+    for (std::uint32_t i : other.indices)
+        two.indices.push_back(std::uint32_t(two.positions.size()) + i);
+    two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
+    EXPECT_TRUE(closedAndOutward(two));
+}
+
+TEST(ClosedAndOutward, OpenFlippedInvertedAndNonManifoldMeshesFail)
+{
+    Mesh open = closedBox();
+    open.indices.resize(open.indices.size() - 6);   // one face (two triangles) missing
+    EXPECT_FALSE(closedAndOutward(open));
+
+    Mesh flipped = closedBox();
+    std::swap(flipped.indices[1], flipped.indices[2]);   // one triangle wound the other way
+    std::swap(flipped.indices[4], flipped.indices[5]);   // and its face's other triangle
+    EXPECT_FALSE(closedAndOutward(flipped));
+
+    Mesh inverted = closedBox();   // closed and consistent, but every face inward
+    for (std::size_t t = 0; t < inverted.triangleCount(); ++t)
+        std::swap(inverted.indices[3 * t + 1], inverted.indices[3 * t + 2]);
+    EXPECT_FALSE(closedAndOutward(inverted));
+
+    Mesh doubled = closedBox();   // a triangle stored twice: three faces on its edges
+    doubled.indices.insert(doubled.indices.end(), {0, 2, 3});
+    EXPECT_FALSE(closedAndOutward(doubled));
+
+    // Two boxes sharing an edge (x = 0.5, z = 0.5 of the first): four faces on one edge.
+    Mesh touching = unweldedBox();
+    const Mesh other = unweldedBox({1.0f, 0.0f, 1.0f});
+    for (std::uint32_t i : other.indices)
+        touching.indices.push_back(std::uint32_t(touching.positions.size()) + i);
+    touching.positions.insert(touching.positions.end(), other.positions.begin(), other.positions.end());
+    EXPECT_FALSE(closedAndOutward(touching));
+
+    EXPECT_FALSE(closedAndOutward(Mesh{}));
+    Mesh outOfRange = closedBox();
+    outOfRange.indices[7] = 8;
+    EXPECT_FALSE(closedAndOutward(outOfRange));
+}
+
+TEST(ClosedAndOutward, DegenerateTrianglesAsDocumented)
+{
+    // A triangle with two corners at one position is skipped: the box stays closed.
+    Mesh collapsed = closedBox();
+    collapsed.positions.push_back(collapsed.positions[3]);   // a second vertex at corner 3's place
+    collapsed.indices.insert(collapsed.indices.end(), {0, 3, 8});
+    EXPECT_TRUE(closedAndOutward(collapsed));
+
+    // A T-junction: the top face's edge 2-6 is split at its midpoint m in the -x face, and a
+    // zero-area sliver (2, m, 6) joins the halves to the +y face's whole edge. Closed with the
+    // sliver, open without it.
+    Mesh split = closedBox();
+    const std::uint32_t m = std::uint32_t(split.positions.size());
+    split.positions.push_back(0.5f * (split.positions[2] + split.positions[6]));
+    // The -x face (0, 4, 6, 2) is re-fanned through m: 0-4-6, 0-6 becomes 0-m and m-6 ...
+    std::vector<std::uint32_t> indices;
+    for (std::size_t t = 0; t < split.triangleCount(); ++t) {
+        const std::uint32_t a = split.indices[3 * t], b = split.indices[3 * t + 1], c = split.indices[3 * t + 2];
+        if (a == 0 && b == 4 && c == 6)
+            indices.insert(indices.end(), {0, 4, 6, 0, 6, m});
+        else if (a == 0 && b == 6 && c == 2)
+            indices.insert(indices.end(), {0, m, 2});
+        else
+            indices.insert(indices.end(), {a, b, c});
+    }
+    split.indices = indices;
+    EXPECT_FALSE(closedAndOutward(split));   // edges 6-m and m-2 have no partner
+    split.indices.insert(split.indices.end(), {2, m, 6});
+    EXPECT_TRUE(closedAndOutward(split));
+}

@@ -1,7 +1,10 @@
 #include "visibility/Scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
+#include <tuple>
 
 #include <glm/common.hpp>
 #include <glm/mat3x3.hpp>
@@ -100,6 +103,54 @@ WorldTriangles worldTriangles(const Scene& scene)
         out.instanceOf.insert(out.instanceOf.end(), mesh.triangleCount(), static_cast<std::uint32_t>(i));
     }
     return out;
+}
+
+bool closedAndOutward(const Mesh& mesh)
+{
+    const std::vector<glm::vec3>& p = mesh.positions;
+    if (mesh.indices.empty() || mesh.indices.size() % 3 != 0)
+        return false;
+    for (std::uint32_t i : mesh.indices)
+        if (i >= p.size())
+            return false;
+
+    std::vector<std::uint32_t> order(p.size());
+    std::iota(order.begin(), order.end(), 0u);
+    const auto less = [&](std::uint32_t a, std::uint32_t b) {
+        return std::tie(p[a].x, p[a].y, p[a].z) < std::tie(p[b].x, p[b].y, p[b].z);
+    };
+    std::sort(order.begin(), order.end(), less);
+    std::vector<std::uint64_t> weld(p.size());
+    std::uint64_t id = 0;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        if (k > 0 && less(order[k - 1], order[k]))
+            ++id;
+        weld[order[k]] = id;
+    }
+
+    // Relative to one of its vertices, so that a mesh far from the origin keeps its volume's digits.
+    const glm::dvec3 origin(p[mesh.indices[0]]);
+    double volume6 = 0.0;
+    std::vector<std::uint64_t> edges;
+    edges.reserve(mesh.indices.size());
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const std::uint32_t* v = &mesh.indices[3 * t];
+        const std::uint64_t a = weld[v[0]], b = weld[v[1]], c = weld[v[2]];
+        if (a == b || b == c || c == a)
+            continue;
+        edges.insert(edges.end(), {a << 32 | b, b << 32 | c, c << 32 | a});
+        volume6 += glm::dot(glm::dvec3(p[v[0]]) - origin,
+                            glm::cross(glm::dvec3(p[v[1]]) - origin, glm::dvec3(p[v[2]]) - origin));
+    }
+    if (edges.empty())
+        return false;
+    std::sort(edges.begin(), edges.end());
+    if (std::adjacent_find(edges.begin(), edges.end()) != edges.end())
+        return false;   // an edge traversed twice the same way: a flipped face, or more than two faces on it
+    for (std::uint64_t e : edges)
+        if (!std::binary_search(edges.begin(), edges.end(), e << 32 | e >> 32))
+            return false;   // a boundary edge: the mesh is open there
+    return volume6 > 0.0;
 }
 
 namespace {

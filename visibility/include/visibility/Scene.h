@@ -34,7 +34,9 @@ struct Mesh {
     std::vector<glm::vec3> normals;
     std::vector<std::uint32_t> indices;
     /// The mesh is closed and consistently oriented (outward faces). Only an optimisation may rely
-    /// on it (watertight front-face culling, Eisemann & Décoret §7), never the answer.
+    /// on it (watertight front-face culling, Eisemann & Décoret §7), never the answer. A flag
+    /// wrongly set on an open mesh loses real blockers, so importers set it only where
+    /// closedAndOutward() holds.
     bool watertight = false;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
@@ -79,6 +81,21 @@ struct WorldTriangles {
 };
 
 WorldTriangles worldTriangles(const Scene& scene);
+
+/// Whether `mesh` may carry Mesh::watertight: its surface is closed and consistently wound with
+/// outward faces. Vertices at exactly equal positions are welded first (OBJ, STL and glTF files
+/// often repeat a vertex per face or per normal); then every directed edge must occur once and
+/// its reverse once, i.e. each undirected edge is shared by exactly two triangles that traverse it
+/// in opposite directions; and the signed volume (the sum of dot(a, cross(b, c)) / 6) must be
+/// positive, which a closed mesh wound inward fails.
+///
+/// Degenerate triangles: one with two corners at the same position is skipped (it covers nothing,
+/// and its two real edges are each other's reverse, so it neither opens nor closes the surface);
+/// a zero-area triangle with three distinct corners (a sliver closing a T-junction) counts like
+/// any other, its edges matched or not. A mesh of several closed parts passes when each part is
+/// closed and their volumes sum positive. False for an empty mesh, an index count that is not a
+/// multiple of 3, or an index out of range.
+bool closedAndOutward(const Mesh& mesh);
 
 /// Throws sightline::Error naming the first problem: an index out of range, an index count that is
 /// not a multiple of 3, a non-finite position, a normal count that differs from the position count,
