@@ -37,7 +37,8 @@ constexpr double kMaxFloatFactor = 16.0;
 constexpr float kFloatUnit = 1.0f / 16777216.0f;
 
 constexpr int kLanes = 8;
-constexpr int kMaxPolygon = 8;
+/// A triangle clipped to the slab between the patches: at most two cuts, so five vertices.
+constexpr int kMaxPolygon = 5;
 
 /// A convex polygon in source coordinates (s, t, d), every vertex strictly closer to the source
 /// plane than any receiver sample of the lanes. Each coordinate is a float and its rounding

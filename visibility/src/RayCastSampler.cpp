@@ -1,8 +1,11 @@
 #include "visibility/RayCastSampler.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <numeric>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -32,6 +35,29 @@ void onEmbreeError(void* user, RTCError, const char* message)
 }
 
 double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+
+/// TriangleSeenFrom::crossedBy for `count` segments (directions d), branch-free so that the
+/// compiler vectorises it, with AVX2 where the CPU has it: the same arithmetic, lane by lane.
+/// (A float filter in front of it, deciding most lanes in single precision, measured slower: the
+/// callbacks are short, 8.9 lanes each on the dense mesh.)
+__attribute__((target_clones("avx2", "default"))) void crossedLanes(const TriangleSeenFrom& tri, const double* dx,
+                                                                     const double* dy, const double* dz, int count,
+                                                                     std::int64_t* hit)
+{
+    const double margin2 = kEndMarginMetres * kEndMarginMetres;
+    for (int i = 0; i < count; ++i) {
+        const double w0 = tri.ab.x * dx[i] + tri.ab.y * dy[i] + tri.ab.z * dz[i];
+        const double w1 = tri.bc.x * dx[i] + tri.bc.y * dy[i] + tri.bc.z * dz[i];
+        const double w2 = tri.ca.x * dx[i] + tri.ca.y * dy[i] + tri.ca.z * dz[i];
+        const bool inside = ((w0 >= 0.0) & (w1 >= 0.0) & (w2 >= 0.0)) | ((w0 <= 0.0) & (w1 <= 0.0) & (w2 <= 0.0));
+        const double sq = tri.sp + (tri.normal.x * dx[i] + tri.normal.y * dy[i] + tri.normal.z * dz[i]);
+        const bool opposite = ((tri.sp > 0.0) & (sq < 0.0)) | ((tri.sp < 0.0) & (sq > 0.0));
+        const double t = tri.sp / (tri.sp - sq);   // inf or NaN only where `opposite` is false
+        const double length2 = dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i];
+        const bool ends = (t * t * length2 > margin2) & ((1.0 - t) * (1.0 - t) * length2 > margin2);
+        hit[i] = std::int64_t(inside & opposite & ends);
+    }
+}
 
 } // namespace
 
@@ -106,12 +132,14 @@ struct RayCastScene::Embree {
 
     /// What one call's rays carry to the primitive test: the exact segment ends. Embree passes
     /// this context (its first member) to every callback of the call.
+    /// What one receiver sample's rays carry to the primitive test: their exact common start and
+    /// directions, by source index (the ray's id). Embree passes this context (its first member)
+    /// to every callback of the call.
     struct SegmentContext {
         RTCIntersectContext base;
         const Embree* self = nullptr;
         glm::dvec3 receiverEnd{0.0};
-        const glm::dvec3* sourceEnds = nullptr;   ///< by source index (the ray's id)
-        glm::dvec3 shift{0.0};                    ///< jitter: added to every source end
+        const glm::dvec3* directions = nullptr;   ///< q - p
     };
 
     static void occluded(const RTCOccludedFunctionNArguments* args)
@@ -119,14 +147,25 @@ struct RayCastScene::Embree {
         const auto* context = reinterpret_cast<const SegmentContext*>(args->context);
         const Embree& self = *context->self;
         const std::size_t t = 3 * std::size_t(args->primID);
-        const glm::dvec3 a = self.vertex(t), b = self.vertex(t + 1), c = self.vertex(t + 2);
-        for (unsigned i = 0; i < args->N; ++i) {
-            if (args->valid[i] != -1)
-                continue;
-            const unsigned source = RTCRayN_id(args->ray, args->N, i);
-            const glm::dvec3 q = context->sourceEnds[source] + context->shift;
-            if (segmentCrossesTriangle(context->receiverEnd, q, a, b, c))
-                RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+        // The rays of a call share their receiver end: what depends on it and the triangle once.
+        const TriangleSeenFrom triangle(context->receiverEnd, self.vertex(t), self.vertex(t + 1), self.vertex(t + 2));
+        constexpr unsigned kMax = 16;
+        alignas(32) double dx[kMax], dy[kMax], dz[kMax];
+        alignas(32) std::int64_t hit[kMax];
+        unsigned lane[kMax];
+        for (unsigned first = 0; first < args->N; first += kMax) {
+            int count = 0;
+            for (unsigned i = first; i < std::min(args->N, first + kMax); ++i) {
+                if (args->valid[i] != -1)
+                    continue;
+                const glm::dvec3& d = context->directions[RTCRayN_id(args->ray, args->N, i)];
+                dx[count] = d.x, dy[count] = d.y, dz[count] = d.z;
+                lane[count++] = i;
+            }
+            crossedLanes(triangle, dx, dy, dz, count, hit);
+            for (int k = 0; k < count; ++k)
+                if (hit[k])
+                    RTCRayN_tfar(args->ray, args->N, lane[k]) = -std::numeric_limits<float>::infinity();
         }
     }
 
@@ -170,8 +209,9 @@ bool RayCastScene::segmentBlocked(const glm::dvec3& p, const glm::dvec3& q) cons
     rtcInitIntersectContext(&context.base);
     context.self = embree_.get();
     context.receiverEnd = p;
-    context.sourceEnds = &q;
-    const glm::vec3 org(p), dir(q - p);
+    const glm::dvec3 d = q - p;
+    context.directions = &d;
+    const glm::vec3 org(p), dir(d);
     RTCRay ray{};
     ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
     ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
@@ -230,6 +270,15 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     }
     std::shared_lock lock(embree_->lock);
     RTCScene scene = embree_->scene;
+    // Packets of 4x4 source samples where the grid allows (coherent rays: on the demo 63 -> 52 ms
+    // against 16 along a row), else of 16 in bit order.
+    std::vector<int> order(static_cast<std::size_t>(S));
+    std::iota(order.begin(), order.end(), 0);
+    if (source.na % 4 == 0 && source.nb % 4 == 0)
+        for (int k = 0; k < S; ++k) {
+            const int block = k / 16, within = k % 16, blocksAcross = source.na / 4;
+            order[std::size_t(k)] = ((block / blocksAcross) * 4 + within / 4) * source.na + (block % blocksAcross) * 4 + within % 4;
+        }
     std::atomic<std::uint64_t> cast{0};
 
     // Each receiver sample casts its S rays: origin at the receiver sample, direction to the
@@ -246,16 +295,19 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
         context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         context.self = embree_.get();
         context.receiverEnd = end;
-        context.sourceEnds = sourceExact.data();
-        context.shift = shift;
-        const auto direction = [&](int i) { return glm::vec3(sourceExact[std::size_t(i)] + shift - end); };
+        thread_local std::vector<glm::dvec3> directions;
+        directions.resize(std::size_t(S));
+        for (int i = 0; i < S; ++i)
+            directions[std::size_t(i)] = sourceExact[std::size_t(i)] + shift - end;
+        context.directions = directions.data();
+        const auto direction = [&](int i) { return glm::vec3(directions[std::size_t(i)]); };
         if (options.packets) {
             alignas(64) RTCRay16 rays;
             alignas(64) int valid[16];
             for (int first = 0; first < S; first += 16) {
                 int lanes = 0;
                 for (int k = 0; k < 16; ++k) {
-                    const int i = first + k;
+                    const int i = first + k < S ? order[std::size_t(first + k)] : S;
                     valid[k] = i < S && !alreadyBlocked(i) ? -1 : 0;
                     lanes += valid[k] != 0;
                     const glm::vec3 dir = i < S ? direction(i) : glm::vec3(1.0f);
@@ -274,7 +326,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                 rtcOccluded16(valid, scene, &context.base, &rays);
                 for (int k = 0; k < 16 && first + k < S; ++k)
                     if (valid[k] && rays.tfar[k] < 0.0f) {
-                        const int i = first + k;
+                        const int i = order[std::size_t(first + k)];
                         bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
                     }
             }

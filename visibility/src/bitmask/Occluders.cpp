@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -20,6 +21,7 @@ bool prepareOccluder(const Shaft& shaft, const glm::vec3& a, const glm::vec3& b,
     const ClippedPolygon polygon = shaft.clip(a, b, c);
     if (polygon.count < 3)
         return false;
+    assert(polygon.count <= Occluder::kMaxVertices);   // a triangle and two planes
     out.count = polygon.count;
     double sMin = 1e300, sMax = -1e300, tMin = 1e300, tMax = -1e300, maxD = -1e300;
     bool whole = false;

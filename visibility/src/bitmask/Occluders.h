@@ -21,7 +21,10 @@ namespace sightline::bitmask {
 /// A triangle clipped to the slab, ready for backprojection: vertices in source coordinates
 /// (s, t, d) and the range of receiver samples its influence region covers.
 struct Occluder {
-    std::array<glm::dvec3, ClippedPolygon::kMaxVertices> vertices;
+    /// A triangle cut by the two slab planes has at most five vertices (the per-sample clip of
+    /// the double path copies them into a ClippedPolygon, which has room for one more cut).
+    static constexpr int kMaxVertices = detail::kMaxPolygon;
+    std::array<glm::dvec3, kMaxVertices> vertices;
     int count = 0;
     int a0 = 0, a1 = -1, b0 = 0, b1 = -1;   ///< receiver sample range, inclusive
     double maxD = 0.0;                      ///< the largest vertex distance from the source plane
@@ -31,7 +34,7 @@ struct Occluder {
     double cells = 0.0;                     ///< backprojected area from the region, in source cells
     /// Parallel patches: every receiver sample has the same distance d_R, so each vertex's
     /// projection factor d_R / (d_R - d_X) is one number per occluder, not one per pair.
-    std::array<double, ClippedPolygon::kMaxVertices> factor;
+    std::array<double, kMaxVertices> factor;
 };
 
 /// Clips the triangle and bounds its influence region (§3): the projections of the clipped

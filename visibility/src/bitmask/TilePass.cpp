@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "DoublePath.h"
 #include "Narrowing.h"
@@ -107,25 +108,36 @@ void TileBins::build(const Shaft& shaft, const OccluderSet& set, const std::vect
                      const std::vector<char>& closedInstance, const WorldTriangles& triangles)
 {
     const std::vector<const Occluder*>& occluders = set.occluders;
-    order_.clear();
+    // Largest first; equal sizes in triangle order, so the order (and every answer's bits) does
+    // not depend on the thread count. Sorted by key, not through the pointers.
+    keys_.clear();
     for (std::size_t i = 0; i < occluders.size(); ++i)
         if (leave.empty() || !leave[i])
-            order_.push_back(std::uint32_t(i));
-    std::stable_sort(order_.begin(), order_.end(),
-                     [&](std::uint32_t x, std::uint32_t y) { return occluders[x]->cells > occluders[y]->cells; });
+            keys_.push_back({occluders[i]->cells, std::uint32_t(i)});
+    tbb::parallel_sort(keys_.begin(), keys_.end(), [](const Key& x, const Key& y) {
+        return x.cells > y.cells || (x.cells == y.cells && x.occluder < y.occluder);
+    });
+    order_.resize(keys_.size());
+    for (std::size_t n = 0; n < keys_.size(); ++n)
+        order_[n] = keys_[n].occluder;
     tilesA_ = (shaft.rna + kTile - 1) / kTile;
     const int tilesB = (shaft.rnb + kTile - 1) / kTile;
     bins_.resize(std::size_t(tilesA_) * std::size_t(tilesB));
     for (auto& tileBin : bins_)
         tileBin.clear();
     tileOccluders_.resize(order_.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, order_.size(), 1024), [&](const auto& range) {
+        for (std::size_t n = range.begin(); n != range.end(); ++n) {
+            const Occluder& o = *occluders[order_[n]];
+            const std::uint32_t instance = triangles.instanceOf[set.triangleOf[order_[n]]];
+            const bool closed = !closedInstance.empty() && closedInstance[instance];
+            tileOccluders_[n] = {shaft.floatKernel ? floatPolygon(shaft, o, closed) : detail::FloatPolygon{},
+                                 std::int16_t(o.a0), std::int16_t(o.a1), std::int16_t(o.b0), std::int16_t(o.b1),
+                                 o.path, closed, o.maxD, &o};
+        }
+    });
     for (std::size_t n = 0; n < order_.size(); ++n) {
-        const Occluder& o = *occluders[order_[n]];
-        const std::uint32_t instance = triangles.instanceOf[set.triangleOf[order_[n]]];
-        const bool closed = !closedInstance.empty() && closedInstance[instance];
-        tileOccluders_[n] = {shaft.floatKernel ? floatPolygon(shaft, o, closed) : detail::FloatPolygon{},
-                             std::int16_t(o.a0), std::int16_t(o.a1), std::int16_t(o.b0), std::int16_t(o.b1),
-                             o.path, closed, o.maxD, &o};
+        const TileOccluder& o = tileOccluders_[n];
         for (int tb = o.b0 / kTile; tb <= o.b1 / kTile; ++tb)
             for (int ta = o.a0 / kTile; ta <= o.a1 / kTile; ++ta)
                 bins_[std::size_t(tb) * std::size_t(tilesA_) + std::size_t(ta)].push_back(std::uint32_t(n));

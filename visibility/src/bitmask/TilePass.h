@@ -52,7 +52,12 @@ public:
     void tileSamples(std::size_t tile, int receiverNa, int receiverNb, std::vector<int>& out) const;
 
 private:
+    struct Key {
+        double cells;
+        std::uint32_t occluder;
+    };
     int tilesA_ = 0;
+    std::vector<Key> keys_;
     std::vector<std::uint32_t> order_;
     std::vector<TileOccluder> tileOccluders_;   // in order_
     std::vector<std::vector<std::uint32_t>> bins_;   // positions in tileOccluders_
