@@ -68,6 +68,7 @@ struct ShaftArgs {
     std::uint32_t jitter = 0;
     int repeat = 0;   ///< 0: --repeat not given, one cold run
     std::string strategy = "auto";
+    bool strategyGiven = false;   ///< --strategy on the command line (else --scalar implies bitmask)
     std::string glBackend = "osmesa";
     std::string mode = "exact";
     std::vector<int> table = {256, 128};
@@ -194,10 +195,12 @@ int runShaft(const ShaftArgs& args)
         options.simd = !args.scalar;
         options.jitter = jitter;
         options.heights = heights.empty() ? nullptr : &heights;
-        options.strategy = args.strategy == "bitmask"   ? CpuStrategy::Bitmask
-                           : args.strategy == "hybrid"  ? CpuStrategy::Hybrid
-                           : args.strategy == "raycast" ? CpuStrategy::RayCast
-                                                        : CpuStrategy::Auto;
+        // --scalar asks for the double kernel's answer: without a strategy named, the bitmask.
+        const std::string named = args.strategy == "auto" && args.scalar && !args.strategyGiven ? "bitmask" : args.strategy;
+        options.strategy = named == "bitmask"   ? CpuStrategy::Bitmask
+                           : named == "hybrid"  ? CpuStrategy::Hybrid
+                           : named == "raycast" ? CpuStrategy::RayCast
+                                                : CpuStrategy::Auto;
         ms = timeSampling(args.repeat, [&] { map = sampler.sample(project.source, project.receiver, options, &stats); });
         setupMs = stats.setupMs;
         const std::string masks = options.mode == MaskMode::Table
@@ -217,7 +220,7 @@ int runShaft(const ShaftArgs& args)
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
                  {"rays_cast", stats.raysCast}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
-                 {"estimated_pairs", stats.estimatedPairs}, {"probed", stats.probed},
+                 {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}};
     }
 
@@ -447,7 +450,9 @@ int main(int argc, char** argv)
                          "Decorrelated sampling (paper §6.2): shift each receiver sample's source grid by a hashed "
                          "offset under half a cell; SEED > 0, same offsets in every method (not hh)")
         ->check(CLI::Range(0u, 0xffffffffu));
-    shaftCmd->add_flag("--scalar", shaft.scalar, "cpu, exact mode: double precision everywhere, no SIMD kernel");
+    shaftCmd->add_flag("--scalar", shaft.scalar,
+                       "cpu, exact mode: the bitmask in double precision everywhere, no SIMD kernel (with it, "
+                       "--strategy defaults to bitmask: the answer is the double kernel's)");
     shaftCmd->add_option("--strategy", shaft.strategy,
                          "cpu, exact mode: auto, bitmask (every triangle backprojected), hybrid (small triangles ray "
                          "cast) or raycast (all rays)")
@@ -531,6 +536,7 @@ int main(int argc, char** argv)
     try {
         if (*shaftCmd) {
             checkShaftOptions(*shaftCmd, shaft);
+            shaft.strategyGiven = cli::given(*shaftCmd, "--strategy");
             return runShaft(shaft);
         }
         if (*infoCmd)

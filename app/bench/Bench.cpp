@@ -10,6 +10,7 @@
 #include <sstream>
 #include <utility>
 
+#include "bench/TunedEmbree.h"
 #include "lighting/SoftShadow.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -67,11 +68,12 @@ std::vector<std::string> parseMethods(const std::string& commaSeparated)
     for (std::string name; std::getline(in, name, ',');) {
         int w, h;
         const bool jittered = name == "raycast-jitter" || name == "cpu-jitter" || name == "gl-jitter";
-        if (!jittered && name != "raycast" && name != "cpu" && name != "cpu-bitmask" && name != "cpu-hybrid" && name != "cpu-scalar" && name != "gl" && name != "hh" &&
-            !parseTable(name, "cpu-table-", w, h) && !parseTable(name, "gl-table-", w, h))
+        const bool plain = name == "raycast" || name == "embree-tuned" || name == "cpu" || name == "cpu-bitmask" ||
+                           name == "cpu-hybrid" || name == "cpu-raycast" || name == "cpu-scalar" || name == "gl" || name == "hh";
+        if (!jittered && !plain && !parseTable(name, "cpu-table-", w, h) && !parseTable(name, "gl-table-", w, h))
             throw Error("unknown bench method '" + name +
-                        "' (raycast, cpu, cpu-bitmask, cpu-hybrid, cpu-scalar, cpu-table-WxH, gl, gl-table-WxH, hh, "
-                        "raycast-jitter, cpu-jitter, gl-jitter)");
+                        "' (raycast, embree-tuned, cpu, cpu-bitmask, cpu-hybrid, cpu-raycast, cpu-scalar, cpu-table-WxH, gl, "
+                        "gl-table-WxH, hh, raycast-jitter, cpu-jitter, gl-jitter)");
         out.push_back(name);
     }
     if (out.empty())
@@ -96,6 +98,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
         const Scene scene = buildScene(project);
         const RayCastScene reference(scene);
         const CpuBitmaskSampler cpu(scene);
+        std::unique_ptr<TunedEmbree> tuned;   // made on first use
         std::unique_ptr<GlBitmaskSampler> gpu;
         std::unique_ptr<HeckbertHerfSampler> heckbertHerf;
         std::map<int, ImportanceMap> denseBySide;   // receiver side -> dense light fraction
@@ -125,7 +128,11 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     std::vector<std::uint32_t> counts;   // hh: blocked source samples per receiver sample
                     std::function<void()> evaluate;
                     int w = 0, h = 0;
-                    if (method == "raycast" || method == "raycast-jitter") {
+                    if (method == "embree-tuned") {
+                        if (!tuned)
+                            tuned = std::make_unique<TunedEmbree>(worldTriangles(scene));
+                        evaluate = [&] { map = tuned->sample(source, receiver, settings.threads); };
+                    } else if (method == "raycast" || method == "raycast-jitter") {
                         const RayCastOptions options{.packets = true, .threads = settings.threads,
                                                      .jitter = jittered ? jitter : SourceJitter{}};
                         evaluate = [&, options] { map = reference.sample(source, receiver, options); };
@@ -158,6 +165,8 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                             options.strategy = CpuStrategy::Bitmask;
                         else if (method == "cpu-hybrid")
                             options.strategy = CpuStrategy::Hybrid;
+                        else if (method == "cpu-raycast")
+                            options.strategy = CpuStrategy::RayCast;
                         else if (method == "cpu-scalar")
                             options.simd = false;
                         else if (parseTable(method, "cpu-table-", w, h)) {

@@ -13,7 +13,9 @@
 
 namespace sightline::bench {
 
-/// Method configurations: "raycast", "cpu" (auto strategy), "cpu-bitmask", "cpu-hybrid",
+/// Method configurations: "raycast" (the exact reference), "embree-tuned" (the tuned float ray
+/// tracer the speed targets are measured against, TunedEmbree.h), "cpu" (auto strategy),
+/// "cpu-bitmask", "cpu-hybrid", "cpu-raycast" (the CPU sampler's strategies forced),
 /// "cpu-table-WxH" (the paper's Hough table at W x H), "gl", "gl-table-WxH" (the GL sampler,
 /// exact or with the Hough table, in a Settings::glBackend context), "hh"; "raycast-jitter",
 /// "cpu-jitter", "gl-jitter": decorrelated sampling (§6.2, seed 1), compared with the reference

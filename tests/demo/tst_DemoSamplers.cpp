@@ -66,7 +66,8 @@ TEST_F(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
 TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
 {
     // Few large occluders: the bitmask's case. A dense mesh of tiny triangles filling the shaft:
-    // ray casting's case, which Auto must recognise (the bitmask would cost 2x there).
+    // once ray casting's case, now the bitmask's too (its narrowed shaft against the exact ray
+    // caster: 40 against 106 ms measured), which Auto's cost model must see.
     const demo::BenchScene few = demo::makeFewOccludersScene();
     const demo::BenchScene dense = demo::makeDenseMeshScene();
     EXPECT_LT(few.scene.triangleCount(), 200u);
@@ -80,7 +81,8 @@ TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
         BitmaskStats stats;
         const HiddenSampleMap map = sampler.sample(bench->source, bench->receiver, {}, &stats);
         EXPECT_LE(map.differenceCount(expected) * 10000, map.rayCount()) << bench->name;
-        EXPECT_STREQ(stats.strategy, bench == &few ? "bitmask" : "raycast") << bench->name;
+        EXPECT_STREQ(stats.strategy, "bitmask") << bench->name;
+        EXPECT_LT(stats.predictedBitmaskMs, 0.5 * stats.predictedRayMs) << bench->name;
         const HiddenSampleMap bitmask =
             sampler.sample(bench->source, bench->receiver, {.strategy = CpuStrategy::Bitmask});
         EXPECT_LE(bitmask.differenceCount(expected) * 10000, bitmask.rayCount()) << bench->name;

@@ -210,9 +210,15 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         // follows (triangle, receiver sample) pairs, not rays (Strategy.h).
         Plan plan = Plan::Bitmask;
         if (strategy == CpuStrategy::Auto) {
-            local.estimatedPairs = estimatePairs(shaft, filter);
-            plan = planFor({.rays = map.rayCount(), .estimatedPairs = local.estimatedPairs,
-                            .floatKernel = shaft.floatKernel, .bumpy = bumpy, .receiverSamples = receiver.sampleCount()});
+            const PairEstimate estimate = estimatePairs(shaft, filter);
+            local.estimatedPairs = estimate.pairs;
+            local.estimatedTriangles = estimate.triangles;
+            const CostEstimate cost{.rays = map.rayCount(), .estimatedPairs = estimate.pairs,
+                                    .estimatedTriangles = estimate.triangles, .floatKernel = shaft.floatKernel,
+                                    .bumpy = bumpy, .receiverSamples = receiver.sampleCount()};
+            plan = planFor(cost, measuredCosts(shaft.floatKernel));
+            local.predictedBitmaskMs = predictedBitmaskMs(cost, measuredCosts(shaft.floatKernel));
+            local.predictedRayMs = predictedRayMs(cost, measuredCosts(shaft.floatKernel));
         }
         const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy};
         bool rememberedRays = false;
@@ -251,8 +257,9 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             for (std::size_t i = 0; i < occluders.size(); ++i)
                 if (occluders[i]->cells < options.smallCells)
                     smallTriangles.push_back(std::uint32_t(i));
+        // (A CPU without AVX2, not a caller who asked for the double kernel.)
         const bool hybrid = strategy == CpuStrategy::Hybrid ||
-                            (strategy == CpuStrategy::Auto && !shaft.floatKernel &&
+                            (strategy == CpuStrategy::Auto && !detail::floatRowsAvailable() &&
                              smallTriangles.size() >= kHybridMinSmallTriangles);
         if (!hybrid)
             smallTriangles.clear();

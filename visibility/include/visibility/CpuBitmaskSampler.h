@@ -41,18 +41,17 @@ namespace sightline {
 
 /// How the exact CPU method splits the work.
 enum class CpuStrategy {
-    Auto,      ///< by estimated cost: RayCast when the (triangle, receiver sample) pairs outnumber
-               ///< the rays by more than a pair's cost relative to a ray (6x with the SIMD kernel,
-               ///< 2x without: few source samples, dense meshes), else Bitmask; from 6x to 20x
-               ///< (SIMD, flat receiver) both are timed on a few tiles first; without the SIMD
-               ///< kernel, Hybrid when the shaft holds enough small triangles. Table mode is
-               ///< always Bitmask.
+    Auto,      ///< by predicted cost (bitmask/Strategy.h): the bitmask's setup per triangle in the
+               ///< shaft and pass per (triangle, receiver sample) pair, against ray casting's cost
+               ///< per ray, each measured on these machines; where neither prediction is under
+               ///< half the other, both are timed on a few tiles first. Without AVX2 in the CPU,
+               ///< Hybrid when the shaft holds enough small triangles. Table mode is always Bitmask.
     Bitmask,   ///< every triangle by backprojection
     Hybrid,    ///< large triangles by backprojection, then only the still-unblocked rays are cast
-               ///< (Embree packets) against the small ones: ray casting is strong exactly where
-               ///< the bitmask is weak (many tiny occluders, each touching many receiver samples)
-    RayCast,   ///< every ray by Embree packets (the bitmask's cost barely drops with fewer source
-               ///< samples, ray casting's does)
+               ///< against the small ones: ray casting is strong exactly where the bitmask is weak
+               ///< (many tiny occluders, each touching many receiver samples)
+    RayCast,   ///< every ray cast, exactly (RayCastSampler.h: the bitmask's cost barely drops with
+               ///< fewer source samples, ray casting's does)
 };
 
 struct BitmaskOptions {
@@ -103,6 +102,9 @@ struct BitmaskStats {
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
     double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
     std::uint64_t estimatedPairs = 0; ///< Auto: the pair estimate it chose by (0 when not estimated)
+    std::uint64_t estimatedTriangles = 0;  ///< Auto: triangles in the shaft, estimated likewise
+    double predictedBitmaskMs = 0.0;  ///< Auto: its cost model's predictions (0 when not estimated)
+    double predictedRayMs = 0.0;
     bool probed = false;              ///< Auto: chose by timing both methods on a few tiles
     bool reusedProbe = false;         ///< Auto: took an earlier call's timed choice instead
 };

@@ -132,23 +132,28 @@ bool TriangleFilter::culled(std::size_t t) const
     return true;
 }
 
-std::uint64_t estimatePairs(const Shaft& shaft, const TriangleFilter& filter)
+PairEstimate estimatePairs(const Shaft& shaft, const TriangleFilter& filter)
 {
     constexpr std::size_t kStride = 32;
     const std::size_t count = filter.triangles->size();
     return tbb::parallel_reduce(
-        tbb::blocked_range<std::size_t>(0, (count + kStride - 1) / kStride, 64), std::uint64_t(0),
-        [&](const auto& range, std::uint64_t sum) {
+        tbb::blocked_range<std::size_t>(0, (count + kStride - 1) / kStride, 64), PairEstimate{},
+        [&](const auto& range, PairEstimate sum) {
             Occluder o;
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
                 const std::size_t t = k * kStride;
                 const glm::vec3* v = filter.triangle(t);
-                if (!filter.outsideShaft(t) && !filter.culled(t) && prepareOccluder(shaft, v[0], v[1], v[2], o))
-                    sum += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
+                if (!filter.outsideShaft(t) && !filter.culled(t) && prepareOccluder(shaft, v[0], v[1], v[2], o)) {
+                    sum.triangles += kStride;
+                    sum.pairs += kStride * std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
+                }
             }
             return sum;
         },
-        std::plus<>());
+        [](PairEstimate a, const PairEstimate& b) {
+            a.triangles += b.triangles, a.pairs += b.pairs;
+            return a;
+        });
 }
 
 void OccluderSet::prepare(const Shaft& shaft, const TriangleFilter& filter)
@@ -165,6 +170,10 @@ void OccluderSet::prepare(const Shaft& shaft, const TriangleFilter& filter)
         std::size_t chunkCulled = 0;
         found_[chunk].clear();
         foundTriangle_[chunk].clear();
+        // Once, at the chunk's full size: growing by doubling copied every occluder about twice
+        // on a sampler's first call (dense mesh: 39 ms of setup cold, 11 warm).
+        found_[chunk].reserve(kChunk);
+        foundTriangle_[chunk].reserve(kChunk);
         for (std::size_t t = chunk * kChunk; t < std::min(triangles.size(), (chunk + 1) * kChunk); ++t) {
             if (filter.outsideShaft(t))
                 continue;

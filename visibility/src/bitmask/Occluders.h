@@ -73,9 +73,14 @@ struct TriangleFilter {
     bool culled(std::size_t t) const;
 };
 
-/// The (occluder, receiver sample) pairs the bitmask would backproject before narrowing,
-/// estimated from every 32nd triangle the filter keeps (Auto's cost model, Strategy.h).
-std::uint64_t estimatePairs(const Shaft& shaft, const TriangleFilter& filter);
+/// The triangles in the shaft that culling keeps and the (occluder, receiver sample) pairs the
+/// bitmask would backproject before narrowing, estimated from every 32nd triangle (Auto's cost
+/// model, Strategy.h).
+struct PairEstimate {
+    std::uint64_t triangles = 0;
+    std::uint64_t pairs = 0;
+};
+PairEstimate estimatePairs(const Shaft& shaft, const TriangleFilter& filter);
 
 /// The occluders of one call, prepared in parallel and kept in triangle order whatever the
 /// thread count. Storage is kept between calls (fresh multi-megabyte allocations cost page

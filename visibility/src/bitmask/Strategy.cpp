@@ -9,31 +9,42 @@ namespace sightline::bitmask {
 
 namespace {
 
-/// Auto picks RayCast when estimated pairs exceed this many times the rays. Scalar kernel: on the
-/// demo a pair costs about half a ray. SIMD kernel: the crossover lies near 8 estimated pairs per
-/// ray on the demo and the dense mesh (README, "Scene kinds"); 6 leans towards ray casting.
-constexpr double kPairsPerRay = 2.0;
-constexpr double kPairsPerRayFloat = 6.0;
-/// Between kPairsPerRayFloat and this many estimated pairs per ray, Auto measures both methods
-/// (the estimate does not see the narrowed shaft).
-constexpr double kProbePairsPerRay = 20.0;
-/// Below 64x64 receiver samples the probe's own cost (a batch of each method) is a large part of
-/// the answer: the estimate decides there.
-constexpr int kProbeMinSamples = 64 * 64;
+/// One prediction under this fraction of the other is clear-cut.
+constexpr double kClearCut = 0.5;
+/// Below this many receiver samples (16 tiles of 8x8) a probe's tiles are too few to tell.
+constexpr int kProbeMinSamples = 32 * 32;
 /// The probe needs every triangle binned to its tiles first (about estimated pairs / 64 entries,
-/// 4 bytes each): above this many, the estimate decides.
+/// 4 bytes each): above this many, the prediction decides.
 constexpr std::uint64_t kProbeMaxBinEntries = std::uint64_t(40) << 20;
 
 } // namespace
 
-Plan planFor(const CostEstimate& e)
+const CostModel& measuredCosts(bool floatKernel)
 {
-    const double pairsPerRay = double(e.estimatedPairs) / double(std::max<std::uint64_t>(e.rays, 1));
-    if (pairsPerRay <= (e.floatKernel ? kPairsPerRayFloat : kPairsPerRay))
+    // README, "Auto's cost model": medians over the bench scenes (2 threads).
+    static const CostModel simd{.setupNsPerTriangle = 250.0, .passNsPerPair = 3.0, .rayNs = 100.0};
+    static const CostModel scalar{.setupNsPerTriangle = 250.0, .passNsPerPair = 12.0, .rayNs = 100.0};
+    return floatKernel ? simd : scalar;
+}
+
+double predictedBitmaskMs(const CostEstimate& e, const CostModel& m)
+{
+    return 1e-6 * (m.setupNsPerTriangle * double(e.estimatedTriangles) + m.passNsPerPair * double(e.estimatedPairs));
+}
+
+double predictedRayMs(const CostEstimate& e, const CostModel& m) { return 1e-6 * m.rayNs * double(e.rays); }
+
+Plan planFor(const CostEstimate& e, const CostModel& m)
+{
+    const double bitmask = predictedBitmaskMs(e, m), rays = predictedRayMs(e, m);
+    if (bitmask <= kClearCut * rays)
         return Plan::Bitmask;
-    const bool probe = pairsPerRay < kProbePairsPerRay && e.floatKernel && !e.bumpy &&
-                       e.receiverSamples >= kProbeMinSamples && e.estimatedPairs / 64 <= kProbeMaxBinEntries;
-    return probe ? Plan::Probe : Plan::RayCast;
+    if (rays <= kClearCut * bitmask)
+        return Plan::RayCast;
+    const bool probe = !e.bumpy && e.receiverSamples >= kProbeMinSamples && e.estimatedPairs / 64 <= kProbeMaxBinEntries;
+    if (probe)
+        return Plan::Probe;
+    return bitmask <= rays ? Plan::Bitmask : Plan::RayCast;
 }
 
 bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,

@@ -16,23 +16,43 @@
 
 namespace sightline::bitmask {
 
-/// What Auto knows before it samples.
+/// What Auto knows before it samples, estimated from every 32nd triangle the shaft keeps.
 struct CostEstimate {
     std::uint64_t rays = 0;
-    std::uint64_t estimatedPairs = 0;   ///< before narrowing, from every 32nd triangle
-    bool floatKernel = false;           ///< the SIMD kernel takes well-conditioned occluders
+    std::uint64_t estimatedPairs = 0;       ///< (triangle, receiver sample) pairs, before narrowing
+    std::uint64_t estimatedTriangles = 0;   ///< triangles in the shaft, not culled
+    bool floatKernel = false;               ///< the SIMD kernel takes well-conditioned occluders
     bool bumpy = false;
     int receiverSamples = 0;
 };
 
+/// What a unit of each method's work costs, measured on these 2-core machines (README, "Auto's
+/// cost model"): the bitmask's setup per triangle in the shaft and its pass per estimated pair
+/// (narrowing folded in, as measured over the bench scenes), and the exact ray caster per ray.
+struct CostModel {
+    double setupNsPerTriangle = 0.0;
+    double passNsPerPair = 0.0;
+    double rayNs = 0.0;
+};
+
+/// The model Auto uses: with the SIMD kernel, and without it (the double kernel's pairs cost more).
+const CostModel& measuredCosts(bool floatKernel);
+
+/// Predicted milliseconds of each method for an estimate.
+double predictedBitmaskMs(const CostEstimate& estimate, const CostModel& model);
+double predictedRayMs(const CostEstimate& estimate, const CostModel& model);
+
 enum class Plan {
-    Bitmask,   ///< the estimate says the bitmask is cheaper
-    RayCast,   ///< the estimate says ray casting is cheaper, clear-cut
+    Bitmask,   ///< the bitmask is clearly cheaper, or nothing better can be known cheaply
+    RayCast,   ///< ray casting is clearly cheaper
     Probe,     ///< not clear-cut: time both on a few tiles first
 };
 
-/// The estimate's verdict.
-Plan planFor(const CostEstimate& estimate);
+/// The estimate's verdict: clear-cut when one prediction is under half the other (the predictions
+/// miss the narrowed shaft and the scene's ray cost by up to that much over the bench scenes);
+/// otherwise probe, where the receiver has tiles enough for a probe (and its bins are not
+/// huge), else the cheaper prediction.
+Plan planFor(const CostEstimate& estimate, const CostModel& model);
 
 /// While probing: whether enough is known to stop, from the tiles done by each method and their
 /// times, and the whole receiver's tile count and the batch size.

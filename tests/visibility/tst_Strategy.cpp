@@ -1,0 +1,116 @@
+// Auto's choice between the bitmask and ray casting (bitmask/Strategy.h) as plain functions of
+// estimated and measured costs, on made-up inputs with known answers.
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "TestScenes.h"
+#include "bitmask/Strategy.h"
+
+using namespace sightline;
+using namespace sightline::bitmask;
+using sightline::test::xyPatch;
+
+namespace {
+
+const CostModel kModel{.setupNsPerTriangle = 200.0, .passNsPerPair = 2.0, .rayNs = 100.0};
+
+CostEstimate estimate(std::uint64_t rays, std::uint64_t pairs, std::uint64_t triangles, int receiverSamples = 64 * 64)
+{
+    return {.rays = rays, .estimatedPairs = pairs, .estimatedTriangles = triangles, .floatKernel = true, .bumpy = false,
+            .receiverSamples = receiverSamples};
+}
+
+} // namespace
+
+TEST(Strategy, PredictsEachMethodFromItsUnits)
+{
+    const CostEstimate e = estimate(1'000'000, 4'000'000, 10'000);
+    EXPECT_DOUBLE_EQ(predictedBitmaskMs(e, kModel), 1e-6 * (200.0 * 10'000 + 2.0 * 4'000'000));   // 10 ms
+    EXPECT_DOUBLE_EQ(predictedRayMs(e, kModel), 100.0);
+}
+
+TEST(Strategy, DecidesWhereOnePredictionIsUnderHalfTheOther)
+{
+    // 1M rays (100 ms by ray casting) against a bitmask of 10 ms: the bitmask.
+    EXPECT_EQ(planFor(estimate(1'000'000, 4'000'000, 10'000), kModel), Plan::Bitmask);
+    // 32k rays (3.2 ms) against the same bitmask: ray casting.
+    EXPECT_EQ(planFor(estimate(32'000, 4'000'000, 10'000), kModel), Plan::RayCast);
+    // 48 ms of bitmask against 100 ms of rays: just under half, clear-cut.
+    EXPECT_EQ(planFor(estimate(1'000'000, 23'000'000, 10'000), kModel), Plan::Bitmask);
+    // In between (60 against 100 ms): timed on a few tiles first.
+    EXPECT_EQ(planFor(estimate(1'000'000, 29'000'000, 10'000), kModel), Plan::Probe);
+    EXPECT_EQ(planFor(estimate(1'000'000, 70'000'000, 10'000), kModel), Plan::Probe);   // 141 against 100
+}
+
+TEST(Strategy, DoesNotProbeWhereAProbeCannotTell)
+{
+    // Too few receiver samples for a probe's tiles, a bumpy receiver (the probe's ray tiles would
+    // need the heights), or bins too large to build for a probe: the cheaper prediction decides.
+    CostEstimate small = estimate(1'000'000, 29'000'000, 10'000, 16 * 16);
+    EXPECT_EQ(planFor(small, kModel), Plan::Bitmask);
+    small.estimatedPairs = 70'000'000;
+    EXPECT_EQ(planFor(small, kModel), Plan::RayCast);
+    CostEstimate bumpy = estimate(1'000'000, 29'000'000, 10'000);
+    bumpy.bumpy = true;
+    EXPECT_EQ(planFor(bumpy, kModel), Plan::Bitmask);
+    const CostEstimate huge = estimate(1'000'000'000, 40'000'000'000, 100'000);   // 80 s against 100 s
+    EXPECT_EQ(planFor(huge, kModel), Plan::Bitmask);
+}
+
+TEST(Strategy, TheMeasuredModelsCostTheDoubleKernelMore)
+{
+    EXPECT_GT(measuredCosts(false).passNsPerPair, measuredCosts(true).passNsPerPair);
+    EXPECT_EQ(measuredCosts(false).rayNs, measuredCosts(true).rayNs);
+}
+
+TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)
+{
+    // 64 tiles, batches of 4: not before two batches of the bitmask.
+    EXPECT_FALSE(probeIsDecided(4, 4.0, 4, 10.0, 64, 4));
+    // Ray tiles at 2.5 ms against bitmask tiles at 1 ms: decided.
+    EXPECT_TRUE(probeIsDecided(8, 8.0, 4, 10.0, 64, 4));
+    // Within a factor of two, and the probe has cost under a tenth of the faster whole: go on.
+    EXPECT_FALSE(probeIsDecided(8, 8.0, 8, 12.0, 1000, 4));
+    // ... and once it has cost a tenth of it: stop.
+    EXPECT_TRUE(probeIsDecided(8, 8.0, 8, 12.0, 100, 4));
+    EXPECT_TRUE(probeChoosesRays(8, 10.0, 8, 8.0));
+    EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0));
+    EXPECT_FALSE(probeChoosesRays(8, 8.0, 4, 4.0));   // per tile: equal, the bitmask
+}
+
+TEST(Strategy, AChoiceServesSimilarConfigurationsOnly)
+{
+    const Configuration wall{xyPatch(0, 32, 32), xyPatch(10, 64, 64), false, false};
+    Configuration moved = wall;
+    moved.receiver.corner += glm::dvec3(0.5, -0.3, 0.2);   // under a fifth of the 10 m between them
+    EXPECT_TRUE(similarConfiguration(wall, moved));
+    // The receiver now a floor: facing another way.
+    Configuration floor = wall;
+    floor.receiver.v = {0.0, 0.0, 1.0};
+    floor.receiver.corner = {0.0, -1.0, 9.0};
+    EXPECT_FALSE(similarConfiguration(wall, floor));
+    // Turned by 5 degrees: similar; by 15: not.
+    for (const auto& [degrees, similar] : {std::pair(5.0, true), std::pair(15.0, false)}) {
+        Configuration turned = wall;
+        const double a = degrees * M_PI / 180.0;
+        turned.receiver.u = {std::cos(a), 0.0, std::sin(a)};
+        EXPECT_EQ(similarConfiguration(wall, turned), similar) << degrees;
+    }
+    // Moved by 3 m of the 10: not.
+    Configuration far = wall;
+    far.receiver.corner.x += 3.0;
+    EXPECT_FALSE(similarConfiguration(wall, far));
+    // Twice the size: not.
+    Configuration larger = wall;
+    larger.receiver.u *= 2.0;
+    EXPECT_FALSE(similarConfiguration(wall, larger));
+    // Other grids or options: not.
+    Configuration grid = wall;
+    grid.receiver.na = 128;
+    EXPECT_FALSE(similarConfiguration(wall, grid));
+    Configuration jittered = wall;
+    jittered.jittered = true;
+    EXPECT_FALSE(similarConfiguration(wall, jittered));
+}
