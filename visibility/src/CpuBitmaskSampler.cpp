@@ -15,6 +15,7 @@
 #include "bitmask/Shaft.h"
 #include "bitmask/Strategy.h"
 #include "bitmask/TilePass.h"
+#include "raycast/FastRayCaster.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -44,6 +45,10 @@ struct CpuBitmaskSampler::Workspace {
     OccluderSet occluders;
     std::vector<char> small;   // per occluder: left to the hybrid's ray pass
     TileBins bins;
+    // RayCast: the close triangles its float pass leaves to the bitmask.
+    OccluderSet closeOccluders;
+    std::vector<char> none;
+    TileBins closeBins;
 };
 
 /// Auto's last measured choice (Strategy.h).
@@ -121,11 +126,11 @@ void CpuBitmaskSampler::returnWorkspace(std::unique_ptr<Workspace> work) const
         idleWorkspaces_.push_back(std::move(work));
 }
 
-std::shared_ptr<const RayCastScene> CpuBitmaskSampler::wholeSceneCaster() const
+std::shared_ptr<const raycast::FastRayCaster> CpuBitmaskSampler::wholeSceneCaster() const
 {
     std::lock_guard lock(rayCasterMutex_);
     if (!rayCaster_)
-        rayCaster_ = std::make_shared<const RayCastScene>(triangles_);
+        rayCaster_ = std::make_shared<const raycast::FastRayCaster>(triangles_);
     return rayCaster_;
 }
 
@@ -232,13 +237,36 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 plan = rememberedRays ? Plan::RayCast : Plan::Bitmask;
             }
         }
+        const auto addCounts = [&](const TilePassCounts& counts) {
+            local.pairs += counts.pairs;
+            local.floatPairs += counts.floatPairs;
+            local.floatFallbacks += counts.floatFallbacks;
+            local.narrowedAway += counts.narrowedAway;
+        };
+        // Ray casting's float pass answers for every triangle but the shaft's close ones (seen
+        // nearly edge-on from both patches, slivers: FastRayCaster.h); the bitmask answers for
+        // those, over the whole receiver (they are few: a BVH of them and exact casts cost more).
+        const auto prepareRays = [&] {
+            const std::shared_ptr<const raycast::FastRayCaster> caster = wholeSceneCaster();
+            auto rays = caster->prepare(source, receiver, {.jitter = options.jitter, .heights = options.heights},
+                                        raycast::FastRayCaster::CloseTriangles::LeftToCaller);
+            local.closeTriangles = rays->closeTriangles();
+            if (!rays->closeTriangleIndices().empty()) {
+                TriangleFilter closeOnly = filter;
+                closeOnly.only = &rays->closeTriangleIndices();
+                work->closeOccluders.prepare(shaft, closeOnly);
+                work->none.assign(work->closeOccluders.occluders.size(), 0);
+                work->closeBins.build(shaft, work->closeOccluders, work->none, closedInstance, triangles_);
+                addCounts(bitmaskPass(shaft, work->closeBins, map, narrow));
+            }
+            return std::pair(caster, std::move(rays));
+        };
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
-            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            local.raysCast =
-                caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
+            const auto [caster, rays] = prepareRays();
+            local.raysCast = caster->cast(*rays, map);
             local.rayMs = msSince(rayStart);
             return;
         }
@@ -274,12 +302,6 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         bins.build(shaft, work->occluders, small, closedInstance, triangles_);
         local.setupMs = msSince(setupStart);
 
-        const auto addCounts = [&](const TilePassCounts& counts) {
-            local.pairs += counts.pairs;
-            local.floatPairs += counts.floatPairs;
-            local.floatFallbacks += counts.floatFallbacks;
-            local.narrowedAway += counts.narrowedAway;
-        };
         const auto sampleStart = Clock::now();
         if (plan == Plan::Probe && smallTriangles.empty()) {
             // One tile in kProbeStride by bitmask and another by rays, a batch of each at a time,
@@ -296,12 +318,15 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
                                                 shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
             std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
-            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
+            // Ray casting's setup (the close triangles, by bitmask over the whole receiver) counts
+            // for the ray tiles in proportion.
+            const auto rayStart = Clock::now();
+            const auto [caster, rayShaft] = prepareRays();
+            const double raySetupMs = msSince(rayStart);
             std::vector<int> samples;
-            RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
             const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
             std::size_t bitmaskDone = 0, rayDone = 0;
-            double bitmaskMs = 0.0, rayMs = 0.0;
+            double bitmaskMs = 0.0, rayMs = 0.0, rayCastMs = 0.0;
             while (bitmaskDone < bitmaskTiles.size() || rayDone < rayTiles.size()) {
                 if (bitmaskDone < bitmaskTiles.size()) {
                     const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
@@ -318,14 +343,16 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     for (std::size_t k = rayDone; k < end; ++k)
                         bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
                     const auto start = Clock::now();
-                    local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
-                    rayMs += msSince(start);
+                    local.raysCast += caster->cast(*rayShaft, map, &samples);
+                    const double ms = msSince(start);
+                    rayCastMs += ms;
+                    rayMs += ms + raySetupMs * double(end - rayDone) / double(bins.tileCount());
                     rayDone = end;
                 }
                 if (probeIsDecided(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), batch))
                     break;
             }
-            local.rayMs += rayMs;
+            local.rayMs += raySetupMs + rayCastMs;
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
@@ -343,7 +370,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 for (std::uint32_t t : rest)
                     bins.tileSamples(t, receiver.na, receiver.nb, samples);
                 const auto restStart = Clock::now();
-                local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
+                local.raysCast += caster->cast(*rayShaft, map, &samples);
                 local.rayMs += msSince(restStart);
             }
             local.sampleMs = msSince(sampleStart) - local.rayMs;

@@ -5,7 +5,6 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
-#include <numeric>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -19,6 +18,7 @@
 
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
+#include "raycast/RayPackets.h"
 
 namespace sightline {
 
@@ -35,29 +35,6 @@ void onEmbreeError(void* user, RTCError, const char* message)
 }
 
 double maxAbs(const glm::dvec3& v) { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
-
-/// TriangleSeenFrom::crossedBy for `count` segments (directions d), branch-free so that the
-/// compiler vectorises it, with AVX2 where the CPU has it: the same arithmetic, lane by lane.
-/// (A float filter in front of it, deciding most lanes in single precision, measured slower: the
-/// callbacks are short, 8.9 lanes each on the dense mesh.)
-__attribute__((target_clones("avx2", "default"))) void crossedLanes(const TriangleSeenFrom& tri, const double* dx,
-                                                                     const double* dy, const double* dz, int count,
-                                                                     std::int64_t* hit)
-{
-    const double margin2 = kEndMarginMetres * kEndMarginMetres;
-    for (int i = 0; i < count; ++i) {
-        const double w0 = tri.ab.x * dx[i] + tri.ab.y * dy[i] + tri.ab.z * dz[i];
-        const double w1 = tri.bc.x * dx[i] + tri.bc.y * dy[i] + tri.bc.z * dz[i];
-        const double w2 = tri.ca.x * dx[i] + tri.ca.y * dy[i] + tri.ca.z * dz[i];
-        const bool inside = ((w0 >= 0.0) & (w1 >= 0.0) & (w2 >= 0.0)) | ((w0 <= 0.0) & (w1 <= 0.0) & (w2 <= 0.0));
-        const double sq = tri.sp + (tri.normal.x * dx[i] + tri.normal.y * dy[i] + tri.normal.z * dz[i]);
-        const bool opposite = ((tri.sp > 0.0) & (sq < 0.0)) | ((tri.sp < 0.0) & (sq > 0.0));
-        const double t = tri.sp / (tri.sp - sq);   // inf or NaN only where `opposite` is false
-        const double length2 = dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i];
-        const bool ends = (t * t * length2 > margin2) & ((1.0 - t) * (1.0 - t) * length2 > margin2);
-        hit[i] = std::int64_t(inside & opposite & ends);
-    }
-}
 
 } // namespace
 
@@ -162,7 +139,7 @@ struct RayCastScene::Embree {
                 dx[count] = d.x, dy[count] = d.y, dz[count] = d.z;
                 lane[count++] = i;
             }
-            crossedLanes(triangle, dx, dy, dz, count, hit);
+            raycast::crossedLanes(triangle, dx, dy, dz, count, hit);
             for (int k = 0; k < count; ++k)
                 if (hit[k])
                     RTCRayN_tfar(args->ray, args->N, lane[k]) = -std::numeric_limits<float>::infinity();
@@ -199,25 +176,6 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
     HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
     sampleUnblocked(source, receiver, map, options);
     return map;
-}
-
-bool RayCastScene::segmentBlocked(const glm::dvec3& p, const glm::dvec3& q) const
-{
-    // One segment: the BVH finds the candidates, exactly as for a whole call.
-    std::shared_lock lock(embree_->lock);
-    Embree::SegmentContext context;
-    rtcInitIntersectContext(&context.base);
-    context.self = embree_.get();
-    context.receiverEnd = p;
-    const glm::dvec3 d = q - p;
-    context.directions = &d;
-    const glm::vec3 org(p), dir(d);
-    RTCRay ray{};
-    ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
-    ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-    ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu, ray.id = 0;
-    rtcOccluded1(embree_->scene, &context.base, &ray);
-    return ray.tfar < 0.0f;
 }
 
 std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
@@ -270,15 +228,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     }
     std::shared_lock lock(embree_->lock);
     RTCScene scene = embree_->scene;
-    // Packets of 4x4 source samples where the grid allows (coherent rays: on the demo 63 -> 52 ms
-    // against 16 along a row), else of 16 in bit order.
-    std::vector<int> order(static_cast<std::size_t>(S));
-    std::iota(order.begin(), order.end(), 0);
-    if (source.na % 4 == 0 && source.nb % 4 == 0)
-        for (int k = 0; k < S; ++k) {
-            const int block = k / 16, within = k % 16, blocksAcross = source.na / 4;
-            order[std::size_t(k)] = ((block / blocksAcross) * 4 + within / 4) * source.na + (block % blocksAcross) * 4 + within % 4;
-        }
+    const std::vector<int> order = raycast::packetOrder(source);
     std::atomic<std::uint64_t> cast{0};
 
     // Each receiver sample casts its S rays: origin at the receiver sample, direction to the

@@ -18,8 +18,9 @@
 // reused by every sample() call (the editor re-samples on every patch move); a call whose patches
 // lie so far out that the boxes' widening would not cover its rays rebuilds it, wider, first.
 //
-// The fast ray casting the CPU sampler's strategies use (FastRayCaster.h) answers the same
-// question with Embree's own triangles and proves each answer, sending close calls here.
+// The CPU sampler's ray casting (src/raycast/FastRayCaster.h) answers the same question at a tuned
+// float tracer's speed: Embree's own triangles, grown, each hit proven or tested exactly, and the
+// few triangles it cannot answer for cast exactly (by this class, or by the bitmask).
 
 #include <memory>
 #include <vector>
@@ -68,10 +69,6 @@ public:
     /// of rays cast.
     std::uint64_t sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
                                   const RayCastOptions& options = {}) const;
-
-    /// Whether the single segment p -> q is blocked (the same exact test, for callers that need
-    /// one ray: the fast ray caster's close calls).
-    bool segmentBlocked(const glm::dvec3& p, const glm::dvec3& q) const;
 
 private:
     struct Embree;

@@ -1,0 +1,41 @@
+#include "RayPackets.h"
+
+#include <numeric>
+
+namespace sightline::raycast {
+
+std::vector<int> packetOrder(const Patch& source)
+{
+    const int S = source.sampleCount();
+    std::vector<int> order(static_cast<std::size_t>(S));
+    std::iota(order.begin(), order.end(), 0);
+    if (source.na % 4 == 0 && source.nb % 4 == 0)
+        for (int k = 0; k < S; ++k) {
+            const int block = k / 16, within = k % 16, blocksAcross = source.na / 4;
+            order[std::size_t(k)] = ((block / blocksAcross) * 4 + within / 4) * source.na + (block % blocksAcross) * 4 + within % 4;
+        }
+    return order;
+}
+
+// (A float filter in front of it, deciding most lanes in single precision, measured slower: the
+// callbacks are short, 8.9 lanes each on the dense mesh.)
+__attribute__((target_clones("avx2", "default"))) void crossedLanes(const TriangleSeenFrom& tri, const double* dx,
+                                                                     const double* dy, const double* dz, int count,
+                                                                     std::int64_t* hit)
+{
+    const double margin2 = kEndMarginMetres * kEndMarginMetres;
+    for (int i = 0; i < count; ++i) {
+        const double w0 = tri.ab.x * dx[i] + tri.ab.y * dy[i] + tri.ab.z * dz[i];
+        const double w1 = tri.bc.x * dx[i] + tri.bc.y * dy[i] + tri.bc.z * dz[i];
+        const double w2 = tri.ca.x * dx[i] + tri.ca.y * dy[i] + tri.ca.z * dz[i];
+        const bool inside = ((w0 >= 0.0) & (w1 >= 0.0) & (w2 >= 0.0)) | ((w0 <= 0.0) & (w1 <= 0.0) & (w2 <= 0.0));
+        const double sq = tri.sp + (tri.normal.x * dx[i] + tri.normal.y * dy[i] + tri.normal.z * dz[i]);
+        const bool opposite = ((tri.sp > 0.0) & (sq < 0.0)) | ((tri.sp < 0.0) & (sq > 0.0));
+        const double t = tri.sp / (tri.sp - sq);   // inf or NaN only where `opposite` is false
+        const double length2 = dx[i] * dx[i] + dy[i] * dy[i] + dz[i] * dz[i];
+        const bool ends = (t * t * length2 > margin2) & ((1.0 - t) * (1.0 - t) * length2 > margin2);
+        hit[i] = std::int64_t(inside & opposite & ends);
+    }
+}
+
+} // namespace sightline::raycast
