@@ -27,6 +27,7 @@
 #include "bench/BenchChart.h"
 #include "cli/LightingCommands.h"
 #include "cli/OptionRules.h"
+#include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/LightingSetup.h"
@@ -421,6 +422,21 @@ int runDemo(const std::string& folder)
     for (const demo::BenchScene& bench : {demo::makeFewOccludersScene(), demo::makeDenseMeshScene()})
         writeDemoProject(folder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
                          "Sightline benchmark scene '" + bench.name + "' (data/demo/DemoLevel.h)");
+    // Three seeds of every generated kind: enough to tune the CPU sampler's strategy choice on
+    // some and check it on the others; `bench` takes any seed's project the same way.
+    const fs::path benchFolder = fs::path(folder) / "bench";
+    fs::create_directories(benchFolder, ec);
+    if (ec)
+        throw Error(benchFolder.string() + ": cannot create folder (" + ec.message() + ")");
+    constexpr int kBenchSeeds = 3;
+    for (const demo::BenchKind kind : demo::kBenchKinds)
+        for (int seed = 1; seed <= kBenchSeeds; ++seed) {
+            const demo::BenchScene bench = demo::makeBenchScene(kind, std::uint64_t(seed));
+            writeDemoProject(benchFolder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
+                             "Sightline benchmark scene '" + bench.name + "', layout '" + bench.layout +
+                                 "' (data/demo/BenchScenes.h)",
+                             {{"bench", {{"kind", demo::benchKindName(kind)}, {"seed", seed}, {"layout", bench.layout}}}});
+        }
     return 0;
 }
 
@@ -517,7 +533,7 @@ int main(int argc, char** argv)
     CLI::App* shadowCmd = cli::addShadowCommand(app, shadow);
 
     std::string demoFolder;
-    CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json) and the benchmark scenes (few-occluders, dense-mesh)");
+    CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json), the benchmark scenes (few-occluders, dense-mesh) and seeds 1-3 of each generated bench kind (bench/KIND-SEED.glb + .json)");
     demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
 
     try {

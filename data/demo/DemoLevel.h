@@ -43,8 +43,7 @@
 // flagged watertight are closed and outward oriented (CCW seen from outside); composite ones (a
 // chair) are unions of such closed parts that never share an edge.
 
-#include <string>
-
+#include "demo/BenchScenes.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
 
@@ -82,12 +81,7 @@ DemoView demoView();
 ///    (about 150 triangles, all of them large): the bitmask's best case;
 ///  - dense-mesh: one lumpy sphere of 69k triangles about 2 cm across filling the middle of the
 ///    shaft: ray casting's best case.
-struct BenchScene {
-    std::string name;
-    Scene scene;
-    Patch source;
-    Patch receiver;
-};
+/// More kinds, by seed and layout, are in BenchScenes.h.
 BenchScene makeFewOccludersScene();
 BenchScene makeDenseMeshScene();
 

@@ -17,6 +17,7 @@
 #include "BruteForceCaster.h"
 #include "CliRunner.h"
 #include "TestScenes.h"
+#include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
@@ -449,6 +450,29 @@ TEST_F(Cli, DemoWritesARunnableProject)
         const CliRun run = runCli("shaft " + (folder / "demo" / (std::string(bench) + ".json")).string() + " --json");
         ASSERT_EQ(run.code, 0) << run.err;
     }
+    // Seeds 1-3 of every generated kind under bench/. Seed 1 of each must come back from its files
+    // as generated: flags kept, the same patches, the same rays blocked.
+    for (const demo::BenchKind kind : demo::kBenchKinds)
+        for (int seed = 1; seed <= 3; ++seed) {
+            const std::string stem = std::string(demo::benchKindName(kind)) + "-" + std::to_string(seed);
+            const fs::path project = folder / "demo" / "bench" / (stem + ".json");
+            ASSERT_TRUE(fs::exists(project)) << stem;
+            ASSERT_TRUE(fs::exists(folder / "demo" / "bench" / (stem + ".glb"))) << stem;
+            if (seed != 1)
+                continue;
+            const demo::BenchScene bench = demo::makeBenchScene(kind, 1);
+            std::vector<std::string> benchWarnings;
+            const Scene benchLoaded = loadScene(folder / "demo" / "bench" / (stem + ".glb"), &benchWarnings);
+            EXPECT_TRUE(benchWarnings.empty()) << stem << ": " << benchWarnings.front();
+            EXPECT_EQ(benchLoaded.triangleCount(), bench.scene.triangleCount()) << stem;
+            const Project loadedProject = loadProject(project);
+            EXPECT_EQ(loadedProject.source.corner, bench.source.corner) << stem;
+            EXPECT_EQ(loadedProject.receiver.u, bench.receiver.u) << stem;
+            const CliRun run = runCli("shaft " + project.string() + " --json");
+            ASSERT_EQ(run.code, 0) << run.err;
+            const HiddenSampleMap expected = RayCastScene(bench.scene).sample(bench.source, bench.receiver);
+            EXPECT_EQ(json::parse(run.out)["blocked"].get<std::uint64_t>(), expected.blockedCount()) << stem;
+        }
     const CliRun shaft = runCli("shaft " + (folder / "demo" / "demo.json").string() + " --json");
     ASSERT_EQ(shaft.code, 0) << shaft.err;
     const json out = json::parse(shaft.out);

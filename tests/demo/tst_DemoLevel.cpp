@@ -11,11 +11,16 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "HullClip.h"
 #include "demo/DemoLevel.h"
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
 
 using namespace sightline;
+using test::corners;
+using test::hullPlanes;
+using test::intersects;
+using test::slab;
 
 namespace {
 
@@ -33,91 +38,10 @@ const WorldTriangles& world()
 
 bool isPlant(const Mesh& mesh) { return mesh.name.rfind(demo::kPlantMeshPrefix, 0) == 0; }
 
-// ---------------------------------------------------------------- exact triangle vs convex hull
-
-struct Plane {
-    glm::dvec3 n;   // inside: dot(n, p) <= d
-    double d;
-};
-
-/// The faces of the convex hull of `points`: every plane through three of them with all points on
-/// one side (duplicates are harmless).
-std::vector<Plane> hullPlanes(const std::vector<glm::dvec3>& points)
-{
-    double scale = 0.0;
-    for (const auto& p : points)
-        scale = std::max(scale, glm::length(p - points[0]));
-    const double eps = 1e-9 * scale;
-    std::vector<Plane> planes;
-    const std::size_t n = points.size();
-    for (std::size_t i = 0; i < n; ++i)
-        for (std::size_t j = i + 1; j < n; ++j)
-            for (std::size_t k = j + 1; k < n; ++k) {
-                glm::dvec3 normal = glm::cross(points[j] - points[i], points[k] - points[i]);
-                if (glm::length(normal) <= 1e-12 * scale * scale)
-                    continue;   // collinear
-                normal = glm::normalize(normal);
-                const double d = glm::dot(normal, points[i]);
-                bool below = true, above = true;
-                for (const auto& p : points) {
-                    const double s = glm::dot(normal, p) - d;
-                    below = below && s <= eps;
-                    above = above && s >= -eps;
-                }
-                if (below)
-                    planes.push_back({normal, d});
-                else if (above)
-                    planes.push_back({-normal, -d});
-            }
-    return planes;
-}
-
-/// Sutherland-Hodgman: a triangle meets the convex polytope iff clipping it by every half-space
-/// leaves something.
-bool intersects(const std::vector<Plane>& planes, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c)
-{
-    std::vector<glm::dvec3> poly{a, b, c}, next;
-    for (const Plane& plane : planes) {
-        next.clear();
-        for (std::size_t i = 0; i < poly.size(); ++i) {
-            const glm::dvec3& p = poly[i];
-            const glm::dvec3& q = poly[(i + 1) % poly.size()];
-            const double sp = glm::dot(plane.n, p) - plane.d, sq = glm::dot(plane.n, q) - plane.d;
-            if (sp <= 0.0)
-                next.push_back(p);
-            if ((sp < 0.0 && sq > 0.0) || (sp > 0.0 && sq < 0.0))
-                next.push_back(p + (q - p) * (sp / (sp - sq)));
-        }
-        poly.swap(next);
-        if (poly.empty())
-            return false;
-    }
-    return true;
-}
-
 /// Indices of the world triangles that meet the convex hull of `points`.
 std::vector<std::size_t> trianglesInHull(const std::vector<glm::dvec3>& points)
 {
-    const std::vector<Plane> planes = hullPlanes(points);
-    glm::dvec3 lo(1e30), hi(-1e30);
-    for (const auto& p : points)
-        lo = glm::min(lo, p), hi = glm::max(hi, p);
-    std::vector<std::size_t> hits;
-    const WorldTriangles& w = world();
-    for (std::size_t t = 0; t < w.size(); ++t) {
-        const glm::dvec3 a(w.vertices[3 * t]), b(w.vertices[3 * t + 1]), c(w.vertices[3 * t + 2]);
-        if (glm::any(glm::lessThan(glm::max(a, glm::max(b, c)), lo)) ||
-            glm::any(glm::greaterThan(glm::min(a, glm::min(b, c)), hi)))
-            continue;
-        if (intersects(planes, a, b, c))
-            hits.push_back(t);
-    }
-    return hits;
-}
-
-std::vector<glm::dvec3> corners(const Patch& p)
-{
-    return {p.corner, p.corner + p.u, p.corner + p.u + p.v, p.corner + p.v};
+    return test::trianglesInHull(world(), points);
 }
 
 std::vector<glm::dvec3> shaftCorners(const demo::DemoView& view)
@@ -125,18 +49,6 @@ std::vector<glm::dvec3> shaftCorners(const demo::DemoView& view)
     std::vector<glm::dvec3> points = corners(view.source);
     const std::vector<glm::dvec3> r = corners(view.receiver);
     points.insert(points.end(), r.begin(), r.end());
-    return points;
-}
-
-/// The patch thickened by `margin` on both sides (and around its rim).
-std::vector<glm::dvec3> slab(const Patch& p, double margin)
-{
-    const glm::dvec3 n = p.normal() * margin;
-    const glm::dvec3 du = glm::normalize(p.u) * margin, dv = glm::normalize(p.v) * margin;
-    const Patch grown{p.corner - du - dv, p.u + 2.0 * du, p.v + 2.0 * dv, p.na, p.nb};
-    std::vector<glm::dvec3> points;
-    for (const glm::dvec3& c : corners(grown))
-        points.insert(points.end(), {c - n, c + n});
     return points;
 }
 
@@ -329,7 +241,7 @@ TEST(DemoView, HullTestIsExactOnSimpleCases)
     std::vector<glm::dvec3> cube;
     for (int i = 0; i < 8; ++i)
         cube.push_back({double(i & 1), double((i >> 1) & 1), double((i >> 2) & 1)});
-    const std::vector<Plane> planes = hullPlanes(cube);
+    const std::vector<test::HullPlane> planes = hullPlanes(cube);
     EXPECT_GE(planes.size(), 6u);
     EXPECT_TRUE(intersects(planes, {0.2, 0.2, 0.2}, {0.4, 0.2, 0.2}, {0.2, 0.4, 0.2}));
     EXPECT_TRUE(intersects(planes, {-1, 0.5, -1}, {3, 0.5, -1}, {-1, 0.5, 3}));   // big, cuts through
