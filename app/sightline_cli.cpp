@@ -392,7 +392,7 @@ void writeDemoProject(const fs::path& folder, const std::string& sceneName, cons
         std::printf("wrote %s\n", projectFile.c_str());
 }
 
-int runDemo(const std::string& folder)
+int runDemo(const std::string& folder, int firstSeed, int lastSeed)
 {
     std::error_code ec;
     fs::create_directories(folder, ec);
@@ -422,15 +422,14 @@ int runDemo(const std::string& folder)
     for (const demo::BenchScene& bench : {demo::makeFewOccludersScene(), demo::makeDenseMeshScene()})
         writeDemoProject(folder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
                          "Sightline benchmark scene '" + bench.name + "' (data/demo/DemoLevel.h)");
-    // Three seeds of every generated kind: enough to tune the CPU sampler's strategy choice on
-    // some and check it on the others; `bench` takes any seed's project the same way.
+    // Seeds of every generated kind (1-3 by default): the CPU sampler's strategy choice is tuned on
+    // those and checked on others (--seeds); `bench` takes any seed's project the same way.
     const fs::path benchFolder = fs::path(folder) / "bench";
     fs::create_directories(benchFolder, ec);
     if (ec)
         throw Error(benchFolder.string() + ": cannot create folder (" + ec.message() + ")");
-    constexpr int kBenchSeeds = 3;
     for (const demo::BenchKind kind : demo::kBenchKinds)
-        for (int seed = 1; seed <= kBenchSeeds; ++seed) {
+        for (int seed = firstSeed; seed <= lastSeed; ++seed) {
             const demo::BenchScene bench = demo::makeBenchScene(kind, std::uint64_t(seed));
             writeDemoProject(benchFolder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
                              "Sightline benchmark scene '" + bench.name + "', layout '" + bench.layout +
@@ -535,6 +534,8 @@ int main(int argc, char** argv)
     std::string demoFolder;
     CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json), the benchmark scenes (few-occluders, dense-mesh) and seeds 1-3 of each generated bench kind (bench/KIND-SEED.glb + .json)");
     demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
+    std::string demoSeeds = "1-3";
+    demoCmd->add_option("--seeds", demoSeeds, "Seeds of each generated bench kind, FIRST-LAST (1-3; at most 100 of them)");
 
     try {
         app.parse(argc, argv);
@@ -557,8 +558,15 @@ int main(int argc, char** argv)
         }
         if (*infoCmd)
             return runInfo(infoPath, infoJson);
-        if (*demoCmd)
-            return runDemo(demoFolder);
+        if (*demoCmd) {
+            int first = 0, last = 0;
+            char dash = 0, extra = 0;
+            if (std::sscanf(demoSeeds.c_str(), "%d%c%d%c", &first, &dash, &last, &extra) != 3 || dash != '-' || first < 0 ||
+                last < first || last - first >= 100)
+                throw Error("demo --seeds: expected FIRST-LAST with 0 <= FIRST <= LAST, at most 100 seeds, not '" +
+                            demoSeeds + "'");
+            return runDemo(demoFolder, first, last);
+        }
         if (*benchCmd) {
             benchArgs.glBackendGiven = cli::given(*benchCmd, "--gl-backend");
             return runBench(benchArgs);

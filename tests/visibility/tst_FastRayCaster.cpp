@@ -138,10 +138,13 @@ TEST(FastRayCaster, LeavesFinsSeenEdgeOnAndSliversToTheClosePass)
     HiddenSampleMap floatOnly(source.sampleCount(), receiver.na, receiver.nb);
     fast.cast(*shaft, floatOnly);
     const HiddenSampleMap reference = RayCastScene(scene).sample(source, receiver);
-    for (int j = 0; j < reference.receiverCount(); ++j)
-        for (int i = 0; i < reference.sourceCount(); ++i)
-            if (floatOnly.blocked(j, i))
+    for (int j = 0; j < reference.receiverCount(); ++j) {
+        for (int i = 0; i < reference.sourceCount(); ++i) {
+            if (floatOnly.blocked(j, i)) {
                 ASSERT_TRUE(reference.blocked(j, i)) << "receiver " << j << ", source " << i;
+            }
+        }
+    }
     // Cast exactly, the close triangles give the reference's answer.
     HiddenSampleMap whole(source.sampleCount(), receiver.na, receiver.nb);
     fast.sampleUnblocked(source, receiver, whole);

@@ -14,7 +14,10 @@ using sightline::test::xyPatch;
 
 namespace {
 
-const CostModel kModel{.setupNsPerTriangle = 200.0, .passNsPerPair = 2.0, .rayNs = 100.0};
+/// Flat costs: 2 ns a pair whatever the pairs per ray, 100 ns a ray whatever the shaft, no close
+/// triangles.
+const CostModel kModel{.setupNsPerTriangle = 200.0, .passNsPerPair = 2.0, .passFalloff = 0.0, .rayNsPerLevel = 0.0,
+                       .rayNsOffset = 0.0, .minRayNs = 100.0, .rayPassShare = 0.0};
 
 CostEstimate estimate(std::uint64_t rays, std::uint64_t pairs, std::uint64_t triangles, int receiverSamples = 64 * 64)
 {
@@ -29,6 +32,25 @@ TEST(Strategy, PredictsEachMethodFromItsUnits)
     const CostEstimate e = estimate(1'000'000, 4'000'000, 10'000);
     EXPECT_DOUBLE_EQ(predictedBitmaskMs(e, kModel), 1e-6 * (200.0 * 10'000 + 2.0 * 4'000'000));   // 10 ms
     EXPECT_DOUBLE_EQ(predictedRayMs(e, kModel), 100.0);
+}
+
+TEST(Strategy, PairsCostLessAsTheyCrowdARayAndRaysMoreInADeeperTree)
+{
+    CostModel m = kModel;
+    m.passFalloff = 0.5;
+    EXPECT_DOUBLE_EQ(m.passNs(4.0), 2.0);    // the reference point: 4 pairs a ray
+    EXPECT_DOUBLE_EQ(m.passNs(16.0), 1.0);   // four times as many: half the cost each
+    EXPECT_DOUBLE_EQ(m.passNs(0.0), m.passNs(0.01));
+    m.rayNsPerLevel = 6.0, m.rayNsOffset = 20.0, m.minRayNs = 5.0;
+    EXPECT_DOUBLE_EQ(m.rayNs(1023), 6.0 * 10.0 - 20.0);   // 2^10 triangles: ten levels
+    EXPECT_DOUBLE_EQ(m.rayNs(0), 5.0);                     // the floor
+    // Ray casting also pays its share of the bitmask pass (its close triangles).
+    m.rayPassShare = 0.5;
+    const CostEstimate e = estimate(1'000'000, 4'000'000, 1023);
+    EXPECT_DOUBLE_EQ(predictedRayMs(e, m), 1e-6 * 40.0 * 1'000'000 + 0.5 * 1e-6 * 2.0 * 4'000'000);
+    // The measured model has both effects.
+    EXPECT_LT(measuredCosts(true).passNs(100.0), measuredCosts(true).passNs(1.0));
+    EXPECT_GT(measuredCosts(true).rayNs(50'000), measuredCosts(true).rayNs(100));
 }
 
 TEST(Strategy, DecidesWhereOnePredictionIsUnderHalfTheOther)
@@ -62,7 +84,7 @@ TEST(Strategy, DoesNotProbeWhereAProbeCannotTell)
 TEST(Strategy, TheMeasuredModelsCostTheDoubleKernelMore)
 {
     EXPECT_GT(measuredCosts(false).passNsPerPair, measuredCosts(true).passNsPerPair);
-    EXPECT_EQ(measuredCosts(false).rayNs, measuredCosts(true).rayNs);
+    EXPECT_EQ(measuredCosts(false).rayNs(10'000), measuredCosts(true).rayNs(10'000));
 }
 
 TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)

@@ -245,28 +245,37 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         };
         // Ray casting's float pass answers for every triangle but the shaft's close ones (seen
         // nearly edge-on from both patches, slivers: FastRayCaster.h); the bitmask answers for
-        // those, over the whole receiver (they are few: a BVH of them and exact casts cost more).
+        // those, after the float pass, so that its narrowed shaft skips them wherever the float
+        // pass has blocked a tile's rays already (a BVH of them and exact casts cost more).
+        const std::shared_ptr<const raycast::FastRayCaster> caster =
+            strategy == CpuStrategy::RayCast || plan != Plan::Bitmask ? wholeSceneCaster() : nullptr;
+        std::unique_ptr<raycast::FastRayCaster::Shaft> rayShaft;
         const auto prepareRays = [&] {
-            const std::shared_ptr<const raycast::FastRayCaster> caster = wholeSceneCaster();
-            auto rays = caster->prepare(source, receiver, {.jitter = options.jitter, .heights = options.heights},
-                                        raycast::FastRayCaster::CloseTriangles::LeftToCaller);
-            local.closeTriangles = rays->closeTriangles();
-            if (!rays->closeTriangleIndices().empty()) {
-                TriangleFilter closeOnly = filter;
-                closeOnly.only = &rays->closeTriangleIndices();
-                work->closeOccluders.prepare(shaft, closeOnly);
-                work->none.assign(work->closeOccluders.occluders.size(), 0);
-                work->closeBins.build(shaft, work->closeOccluders, work->none, closedInstance, triangles_);
-                addCounts(bitmaskPass(shaft, work->closeBins, map, narrow));
-            }
-            return std::pair(caster, std::move(rays));
+            rayShaft = caster->prepare(source, receiver, {.jitter = options.jitter, .heights = options.heights},
+                                   raycast::FastRayCaster::CloseTriangles::LeftToCaller);
+            local.closeTriangles = rayShaft->closeTriangles();
+            TriangleFilter closeOnly = filter;
+            closeOnly.only = &rayShaft->closeTriangleIndices();
+            work->closeOccluders.prepare(shaft, closeOnly);
+            work->none.assign(work->closeOccluders.occluders.size(), 0);
+            work->closeBins.build(shaft, work->closeOccluders, work->none, closedInstance, triangles_);
+        };
+        // Casts from the receiver samples of `tiles` (null: all), then the close triangles there.
+        const auto castRays = [&](const std::vector<std::uint32_t>* tiles) {
+            std::vector<int> samples;
+            if (tiles)
+                for (std::uint32_t t : *tiles)
+                    work->closeBins.tileSamples(t, receiver.na, receiver.nb, samples);
+            local.raysCast += caster->cast(*rayShaft, map, tiles ? &samples : nullptr);
+            if (!work->closeOccluders.occluders.empty())
+                addCounts(bitmaskPass(shaft, work->closeBins, map, narrow, tiles));
         };
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            const auto [caster, rays] = prepareRays();
-            local.raysCast = caster->cast(*rays, map);
+            prepareRays();
+            castRays(nullptr);
             local.rayMs = msSince(rayStart);
             return;
         }
@@ -318,12 +327,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
                                                 shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
             std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
-            // Ray casting's setup (the close triangles, by bitmask over the whole receiver) counts
-            // for the ray tiles in proportion.
+            // Ray casting's setup counts for the ray tiles in proportion.
             const auto rayStart = Clock::now();
-            const auto [caster, rayShaft] = prepareRays();
+            prepareRays();
             const double raySetupMs = msSince(rayStart);
-            std::vector<int> samples;
             const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
             std::size_t bitmaskDone = 0, rayDone = 0;
             double bitmaskMs = 0.0, rayMs = 0.0, rayCastMs = 0.0;
@@ -339,11 +346,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 }
                 if (rayDone < rayTiles.size()) {
                     const std::size_t end = std::min(rayDone + batch, rayTiles.size());
-                    samples.clear();
-                    for (std::size_t k = rayDone; k < end; ++k)
-                        bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
+                    const std::vector<std::uint32_t> part(rayTiles.begin() + std::ptrdiff_t(rayDone),
+                                                          rayTiles.begin() + std::ptrdiff_t(end));
                     const auto start = Clock::now();
-                    local.raysCast += caster->cast(*rayShaft, map, &samples);
+                    castRays(&part);
                     const double ms = msSince(start);
                     rayCastMs += ms;
                     rayMs += ms + raySetupMs * double(end - rayDone) / double(bins.tileCount());
@@ -366,11 +372,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 addCounts(bitmaskPass(shaft, bins, map, narrow, &rest));
             } else {
                 local.strategy = "raycast";
-                samples.clear();
-                for (std::uint32_t t : rest)
-                    bins.tileSamples(t, receiver.na, receiver.nb, samples);
                 const auto restStart = Clock::now();
-                local.raysCast += caster->cast(*rayShaft, map, &samples);
+                castRays(&rest);
                 local.rayMs += msSince(restStart);
             }
             local.sampleMs = msSince(sampleStart) - local.rayMs;

@@ -26,13 +26,28 @@ struct CostEstimate {
     int receiverSamples = 0;
 };
 
-/// What a unit of each method's work costs, measured on these 2-core machines (README, "Auto's
-/// cost model"): the bitmask's setup per triangle in the shaft and its pass per estimated pair
-/// (narrowing folded in, as measured over the bench scenes), and the exact ray caster per ray.
+/// What a unit of each method's work costs, fitted to runs on these 2-core machines over the
+/// demo, its floor, the dense mesh, few occluders and the twelve bench scenes at 64-1024 sources
+/// and 32-128 receiver samples (README, "Auto's cost model"):
+/// - the bitmask: setup per triangle in the shaft, and its pass per estimated pair, which falls
+///   as the pairs per ray grow (the narrowed shaft skips more of them once a tile is blocked):
+///   passNsPerPair * (pairs per ray / 4)^-passFalloff;
+/// - ray casting: per ray, growing with the BVH's depth, rayNsPerLevel * log2(1 + triangles in
+///   the shaft) - rayNsOffset (at least minRayNs), plus its close triangles' bitmask pass (and
+///   its per-receiver work) as a share of the bitmask's pass.
 struct CostModel {
     double setupNsPerTriangle = 0.0;
     double passNsPerPair = 0.0;
-    double rayNs = 0.0;
+    double passFalloff = 0.0;
+    double rayNsPerLevel = 0.0;
+    double rayNsOffset = 0.0;
+    double minRayNs = 0.0;
+    double rayPassShare = 0.0;
+
+    /// The bitmask pass's cost per pair for this many pairs per ray.
+    double passNs(double pairsPerRay) const;
+    /// Ray casting's cost per ray with this many triangles in the shaft.
+    double rayNs(std::uint64_t trianglesInShaft) const;
 };
 
 /// The model Auto uses: with the SIMD kernel, and without it (the double kernel's pairs cost more).

@@ -85,7 +85,7 @@ struct FastRayCaster::Impl {
         float fourSizes = 0.0f;
         float sizeSquared = 0.0f;
         float normalError = 0.0f;      ///< 8 u size^2
-        float twiceScaleSize = 0.0f;
+        float scaleSize = 0.0f;
     };
     std::vector<GeometryClass> classes;   ///< by geomID
 
@@ -121,18 +121,17 @@ struct FastRayCaster::Impl {
         float originReach = 0.0f;                 ///< |O| of every float origin of the call, at most
         /// The original segment spans [lead, 1 - lead] of the lengthened one.
         float lead = 0.0f;
-        /// Bounds on the lengthened segments' lengths from this receiver sample.
-        float shortest = 0.0f, longest = 0.0f;
         float errorPerMetre = float(kErrorUlps * kUnitRoundoff * 1.001);
     };
 
     /// Whether Embree's hit of lane i is a crossing of the original triangle by the contract,
     /// decided in float from the hit and the call's bounds alone (no memory of the triangle's):
     /// the hit point's barycentrics on the original triangle put it inside every edge by more
-    /// than twice the error bound, and its distance along the segment from both ends exceeds the
-    /// bound on Embree's distance error. Close calls go to the exact test.
+    /// than the error bound (which has its own factor of two), and its distance along the
+    /// segment from both ends exceeds the bound on Embree's distance error. Close calls go to the
+    /// exact test.
     ///
-    /// The bounds (kErrorUlps), with D the lengthened segment, |D| <= longest, |C| <= t |D| + size,
+    /// The bounds (kErrorUlps), with D the lengthened segment, |C| <= t |D| + size,
     /// den = |Ng . D| minus Ng's rounding (Ng is e2 x e1 of the rounded edges: within
     /// 8 u size^2 |D| of the exact den):
     /// - barycentrics on the grown triangle err by E / (sin(alpha) h) <= E |D| size / den (h a
@@ -147,20 +146,22 @@ struct FastRayCaster::Impl {
                     dz = RTCRayN_dir_z(args->ray, args->N, i);
         const float nx = RTCHitN_Ng_x(args->hit, args->N, i), ny = RTCHitN_Ng_y(args->hit, args->N, i),
                     nz = RTCHitN_Ng_z(args->hit, args->N, i);
-        const float den = std::abs(nx * dx + ny * dy + nz * dz) - g.normalError * context.longest;
+        // |D|, a little over (for the error bound) and under (for distances along it).
+        const float length = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float over = length * 1.00001f, under = length * 0.99999f;
+        const float den = std::abs(nx * dx + ny * dy + nz * dz) - g.normalError * over;
         const float t = RTCRayN_tfar(args->ray, args->N, i);
-        // E |D| / den, times den: (|O| + |C| + 3 size) |D|, with a little to spare for this
-        // arithmetic.
-        const float errorTimesDen = context.errorPerMetre * (context.originReach + t * context.longest + g.fourSizes) * context.longest;
+        // E |D| / den, times den: (|O| + |C| + 3 size) |D|.
+        const float errorTimesDen = context.errorPerMetre * (context.originReach + t * over + g.fourSizes) * over;
         // Along the segment, from both ends: E size^2 |D| / den (+ 1e-6 m) <= (t - lead) |D|.
-        const float nearEnd = std::min(t - context.lead, 1.0f - context.lead - t) * context.shortest;
+        const float nearEnd = std::min(t - context.lead, 1.0f - context.lead - t) * under;
         if (!(den > 0.0f && nearEnd * den >= errorTimesDen * g.sizeSquared + 1e-6f * den))
             return false;
         // In the plane: b = scale * g - (scale - 1) / 3 on the original triangle, g Embree's
         // barycentrics on the grown one; 1e-5 more covers this arithmetic and Embree's division.
         const float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
         const float inside = std::min({1.0f - u - v, u, v}) * g.scale - g.shift - 1e-5f;
-        return inside * den >= g.twiceScaleSize * errorTimesDen;
+        return inside * den >= g.scaleSize * errorTimesDen;
     }
 
     /// Keeps a reported hit only where the contract's test says the segment crosses the triangle.
@@ -321,7 +322,7 @@ FastRayCaster::FastRayCaster(const WorldTriangles& triangles) : impl_(std::make_
         g.fourSizes = 4.0f * g.size;
         g.sizeSquared = g.size * g.size;
         g.normalError = float(8.0 * kUnitRoundoff) * g.sizeSquared;
-        g.twiceScaleSize = 2.0f * g.scale * g.size;
+        g.scaleSize = g.scale * g.size;
         m.classes.push_back(g);
         first = end;
     }
@@ -511,16 +512,6 @@ std::uint64_t FastRayCaster::cast(const Shaft& shaft, HiddenSampleMap& map, cons
         const double lengthen = d.extension / std::abs(glm::dot(sourceNormal, end - source.corner));
         // Rounded up: the proof then asks a little more distance from the ends than it needs.
         context.lead = float(lengthen / (1.0 + 2.0 * lengthen) * (1.0 + 1e-6));
-        double shortest = std::numeric_limits<double>::infinity(), longest = 0.0;
-        for (int k = 0; k < 4; ++k) {
-            const double length = glm::length(source.corner + double(k & 1) * source.u + double(k >> 1) * source.v - end);
-            longest = std::max(longest, length);
-        }
-        // Jittered samples stay inside the source; no segment is shorter than the end's distance
-        // from the source's plane.
-        shortest = std::abs(glm::dot(sourceNormal, end - source.corner));
-        context.shortest = float((1.0 + 2.0 * lengthen) * shortest * (1.0 - 1e-6));
-        context.longest = float((1.0 + 2.0 * lengthen) * longest * (1.0 + 1e-6));
         const glm::dvec3 local = end - m.origin;
         std::uint64_t rowCast = 0;
         alignas(64) RTCRay16 rays;
