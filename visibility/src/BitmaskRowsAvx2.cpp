@@ -267,9 +267,8 @@ SIGHTLINE_AVX2 int rows(const FloatPolygon& polygon, const LaneGroup& lanes, uns
     // Source rows that tile 64-bit words: each lane ORs a word once, not a row at a time.
     // 32 columns (the usual 32 x 32 source): rows 2w and 2w + 1 are the halves of word w; their
     // bits are kept and paired up once the rows are done. Narrower widths that divide 64 (16 for
-    // 256 samples; 1.78 -> 1.41 s CPU against scattering, on 11 runs of the 128x128 wall) gather
-    // a word's rows in 64-bit lanes as they go (for 32 columns that was 5% slower than pairing).
-    // Other widths scatter row by row.
+    // 256 samples) gather a word's rows in 64-bit lanes as they go, which beats scattering (for
+    // 32 columns it lost to pairing; README, "Measured"). Other widths scatter row by row.
     const bool paired = na == 32;
     const bool packed = !paired && 64 % na == 0;
     const int rowsPerWord = packed ? 64 / na : 1;

@@ -40,7 +40,7 @@ constexpr std::size_t kHybridMinSmallTriangles = 500;
 } // namespace
 
 /// Buffers kept between calls: the editor samples ~20 times a second, and fresh multi-megabyte
-/// allocations cost page faults every time (measured: 40 ms of a 75 ms call on the demo).
+/// allocations cost page faults every time.
 struct CpuBitmaskSampler::Workspace {
     OccluderSet occluders;
     std::vector<char> small;   // per occluder: left to the hybrid's ray pass
@@ -285,8 +285,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         local.trianglesInShaft = occluders.size();
 
         // Hybrid: the small triangles leave the bitmask pass for a ray pass. With the SIMD kernel
-        // the plain bitmask beats the hybrid's ray pass (demo, 1024 sources: 26 against 45 ms), so
-        // Auto sends small triangles to ray casting only without it.
+        // the plain bitmask beats the hybrid's ray pass, so Auto sends small triangles to ray
+        // casting only without it.
         std::vector<char>& small = work->small;
         small.assign(occluders.size(), 0);
         std::vector<std::uint32_t> smallTriangles;

@@ -11,8 +11,10 @@
 // plane are handled, and the backprojection is the projective map, so patches need not be
 // parallel.
 //
-// Result: the same hidden-samples map as the Embree reference (RayCastSampler.h) apart from rays
-// that graze an edge or an end point within rounding.
+// Result: exact by DESIGN.md §2's contract, as the Embree reference (RayCastSampler.h) is: the
+// two may differ only on ties (rays within 1e-5 m of an edge or of their own end). The
+// single-precision kernel answers only what it can prove and sends the rest to double
+// (BitmaskRows.h); the RayCast strategy proves Embree's float answers (src/raycast/FastRayCaster.h).
 //
 // A bumpy receiver (§8, ReceiverHeights.h) keeps the method exact: each receiver sample is
 // backprojected from its displaced position, influence regions are projected onto the planes of
@@ -47,7 +49,7 @@ class FastRayCaster;
 enum class CpuStrategy {
     Auto,      ///< by predicted cost (bitmask/Strategy.h): the bitmask's setup per triangle in the
                ///< shaft and pass per (triangle, receiver sample) pair, against ray casting's cost
-               ///< per ray, each measured on these machines; where neither prediction is under
+               ///< per ray, fitted to runs on these machines; where neither prediction is under
                ///< half the other, both are timed on a few tiles first. Without AVX2 in the CPU,
                ///< Hybrid when the shaft holds enough small triangles. Table mode is always Bitmask.
     Bitmask,   ///< every triangle by backprojection
@@ -77,7 +79,7 @@ struct BitmaskOptions {
     /// Per receiver tile, skip small triangles whose backprojection misses every source sample
     /// the tile still sees (what the large occluders already block narrows the shaft). Exact
     /// mode only.
-    bool narrowShaft = true;   // measured on the demo: 2 -> 56 ms, 8 -> 62 ms, 64 -> 71 ms
+    bool narrowShaft = true;
     /// Exact mode: run well-conditioned occluders (projection factors up to 16, source grids up
     /// to 32 columns) through the single-precision AVX2 kernel, eight receiver samples at a time,
     /// where the CPU has AVX2; the rest stay in double. False: double everywhere.
@@ -124,8 +126,8 @@ public:
     explicit CpuBitmaskSampler(WorldTriangles triangles);
     ~CpuBitmaskSampler();
 
-    /// Replaces the scene (the editor moved an object) and keeps the warm buffers: on this machine
-    /// a fresh sampler's first call pays for its page faults (about 40 ms on the demo).
+    /// Replaces the scene (the editor moved an object) and keeps the warm buffers (a fresh
+    /// sampler's first call pays for its page faults).
     /// Not thread-safe against a concurrent sample().
     void setScene(const Scene& scene);
 

@@ -172,7 +172,7 @@ void OccluderSet::prepare(const Shaft& shaft, const TriangleFilter& filter)
         found_[chunk].clear();
         foundTriangle_[chunk].clear();
         // Once, at the chunk's full size: growing by doubling copied every occluder about twice
-        // on a sampler's first call (dense mesh: 39 ms of setup cold, 11 warm).
+        // on a sampler's first call.
         found_[chunk].reserve(kChunk);
         foundTriangle_[chunk].reserve(kChunk);
         for (std::size_t k = chunk * kChunk; k < std::min(count, (chunk + 1) * kChunk); ++k) {
@@ -183,7 +183,8 @@ void OccluderSet::prepare(const Shaft& shaft, const TriangleFilter& filter)
                 ++chunkCulled;
                 continue;
             }
-            // Prepared in place: an Occluder is ~450 bytes, copies of it showed in profiles.
+            // Prepared in place: an Occluder is a few hundred bytes, and copies of it showed in
+            // profiles.
             Occluder& o = found_[chunk].emplace_back();
             const glm::vec3* v = filter.triangle(t);
             if (prepareOccluder(shaft, v[0], v[1], v[2], o))

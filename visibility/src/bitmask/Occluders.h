@@ -87,7 +87,7 @@ PairEstimate estimatePairs(const Shaft& shaft, const TriangleFilter& filter);
 
 /// The occluders of one call, prepared in parallel and kept in triangle order whatever the
 /// thread count. Storage is kept between calls (fresh multi-megabyte allocations cost page
-/// faults: 40 ms of a 75 ms call on the demo, once).
+/// faults on every call).
 struct OccluderSet {
     std::vector<const Occluder*> occluders;   ///< in triangle order
     std::vector<std::uint32_t> triangleOf;    ///< each occluder's triangle

@@ -18,7 +18,7 @@ std::vector<int> packetOrder(const Patch& source)
 }
 
 // (A float filter in front of it, deciding most lanes in single precision, measured slower: the
-// callbacks are short, 8.9 lanes each on the dense mesh.)
+// callbacks hold few lanes.)
 __attribute__((target_clones("avx2", "default"))) void crossedLanes(const TriangleSeenFrom& tri, const double* dx,
                                                                      const double* dy, const double* dz, int count,
                                                                      std::int64_t* hit)
