@@ -15,7 +15,6 @@
 #include "bitmask/Shaft.h"
 #include "bitmask/Strategy.h"
 #include "bitmask/TilePass.h"
-#include "raycast/FastRayCaster.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -45,10 +44,6 @@ struct CpuBitmaskSampler::Workspace {
     OccluderSet occluders;
     std::vector<char> small;   // per occluder: left to the hybrid's ray pass
     TileBins bins;
-    // RayCast: the close triangles its float pass leaves to the bitmask.
-    OccluderSet closeOccluders;
-    std::vector<char> none;
-    TileBins closeBins;
 };
 
 /// Auto's last measured choice (Strategy.h).
@@ -126,11 +121,11 @@ void CpuBitmaskSampler::returnWorkspace(std::unique_ptr<Workspace> work) const
         idleWorkspaces_.push_back(std::move(work));
 }
 
-std::shared_ptr<const raycast::FastRayCaster> CpuBitmaskSampler::wholeSceneCaster() const
+std::shared_ptr<const RayCastScene> CpuBitmaskSampler::wholeSceneCaster() const
 {
     std::lock_guard lock(rayCasterMutex_);
     if (!rayCaster_)
-        rayCaster_ = std::make_shared<const raycast::FastRayCaster>(triangles_);
+        rayCaster_ = std::make_shared<const RayCastScene>(triangles_);
     return rayCaster_;
 }
 
@@ -237,45 +232,13 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 plan = rememberedRays ? Plan::RayCast : Plan::Bitmask;
             }
         }
-        const auto addCounts = [&](const TilePassCounts& counts) {
-            local.pairs += counts.pairs;
-            local.floatPairs += counts.floatPairs;
-            local.floatFallbacks += counts.floatFallbacks;
-            local.narrowedAway += counts.narrowedAway;
-        };
-        // Ray casting's float pass answers for every triangle but the shaft's close ones (seen
-        // nearly edge-on from both patches, slivers: FastRayCaster.h); the bitmask answers for
-        // those, after the float pass, so that its narrowed shaft skips them wherever the float
-        // pass has blocked a tile's rays already (a BVH of them and exact casts cost more).
-        const std::shared_ptr<const raycast::FastRayCaster> caster =
-            strategy == CpuStrategy::RayCast || plan != Plan::Bitmask ? wholeSceneCaster() : nullptr;
-        std::unique_ptr<raycast::FastRayCaster::Shaft> rayShaft;
-        const auto prepareRays = [&] {
-            rayShaft = caster->prepare(source, receiver, {.jitter = options.jitter, .heights = options.heights},
-                                   raycast::FastRayCaster::CloseTriangles::LeftToCaller);
-            local.closeTriangles = rayShaft->closeTriangles();
-            TriangleFilter closeOnly = filter;
-            closeOnly.only = &rayShaft->closeTriangleIndices();
-            work->closeOccluders.prepare(shaft, closeOnly);
-            work->none.assign(work->closeOccluders.occluders.size(), 0);
-            work->closeBins.build(shaft, work->closeOccluders, work->none, closedInstance, triangles_);
-        };
-        // Casts from the receiver samples of `tiles` (null: all), then the close triangles there.
-        const auto castRays = [&](const std::vector<std::uint32_t>* tiles) {
-            std::vector<int> samples;
-            if (tiles)
-                for (std::uint32_t t : *tiles)
-                    work->closeBins.tileSamples(t, receiver.na, receiver.nb, samples);
-            local.raysCast += caster->cast(*rayShaft, map, tiles ? &samples : nullptr);
-            if (!work->closeOccluders.occluders.empty())
-                addCounts(bitmaskPass(shaft, work->closeBins, map, narrow, tiles));
-        };
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
+            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            prepareRays();
-            castRays(nullptr);
+            local.raysCast =
+                caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
             local.rayMs = msSince(rayStart);
             return;
         }
@@ -311,6 +274,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         bins.build(shaft, work->occluders, small, closedInstance, triangles_);
         local.setupMs = msSince(setupStart);
 
+        const auto addCounts = [&](const TilePassCounts& counts) {
+            local.pairs += counts.pairs;
+            local.floatPairs += counts.floatPairs;
+            local.floatFallbacks += counts.floatFallbacks;
+            local.narrowedAway += counts.narrowedAway;
+        };
         const auto sampleStart = Clock::now();
         if (plan == Plan::Probe && smallTriangles.empty()) {
             // One tile in kProbeStride by bitmask and another by rays, a batch of each at a time,
@@ -327,13 +296,12 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
                                                 shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
             std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
-            // Ray casting's setup counts for the ray tiles in proportion.
-            const auto rayStart = Clock::now();
-            prepareRays();
-            const double raySetupMs = msSince(rayStart);
+            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
+            std::vector<int> samples;
+            RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
             const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
             std::size_t bitmaskDone = 0, rayDone = 0;
-            double bitmaskMs = 0.0, rayMs = 0.0, rayCastMs = 0.0;
+            double bitmaskMs = 0.0, rayMs = 0.0;
             while (bitmaskDone < bitmaskTiles.size() || rayDone < rayTiles.size()) {
                 if (bitmaskDone < bitmaskTiles.size()) {
                     const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
@@ -346,19 +314,18 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 }
                 if (rayDone < rayTiles.size()) {
                     const std::size_t end = std::min(rayDone + batch, rayTiles.size());
-                    const std::vector<std::uint32_t> part(rayTiles.begin() + std::ptrdiff_t(rayDone),
-                                                          rayTiles.begin() + std::ptrdiff_t(end));
+                    samples.clear();
+                    for (std::size_t k = rayDone; k < end; ++k)
+                        bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
                     const auto start = Clock::now();
-                    castRays(&part);
-                    const double ms = msSince(start);
-                    rayCastMs += ms;
-                    rayMs += ms + raySetupMs * double(end - rayDone) / double(bins.tileCount());
+                    local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
+                    rayMs += msSince(start);
                     rayDone = end;
                 }
                 if (probeIsDecided(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), batch))
                     break;
             }
-            local.rayMs += raySetupMs + rayCastMs;
+            local.rayMs += rayMs;
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
@@ -372,8 +339,11 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 addCounts(bitmaskPass(shaft, bins, map, narrow, &rest));
             } else {
                 local.strategy = "raycast";
+                samples.clear();
+                for (std::uint32_t t : rest)
+                    bins.tileSamples(t, receiver.na, receiver.nb, samples);
                 const auto restStart = Clock::now();
-                castRays(&rest);
+                local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
                 local.rayMs += msSince(restStart);
             }
             local.sampleMs = msSince(sampleStart) - local.rayMs;

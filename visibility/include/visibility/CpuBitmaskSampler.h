@@ -14,7 +14,7 @@
 // Result: exact by DESIGN.md §2's contract, as the Embree reference (RayCastSampler.h) is: the
 // two may differ only on ties (rays within 1e-5 m of an edge or of their own end). The
 // single-precision kernel answers only what it can prove and sends the rest to double
-// (BitmaskRows.h); the RayCast strategy proves Embree's float answers (src/raycast/FastRayCaster.h).
+// (BitmaskRows.h); the RayCast strategy casts with the reference's exact method.
 //
 // A bumpy receiver (§8, ReceiverHeights.h) keeps the method exact: each receiver sample is
 // backprojected from its displaced position, influence regions are projected onto the planes of
@@ -41,10 +41,6 @@
 
 namespace sightline {
 
-namespace raycast {
-class FastRayCaster;
-}
-
 /// How the exact CPU method splits the work.
 enum class CpuStrategy {
     Auto,      ///< by predicted cost (bitmask/Strategy.h): the bitmask's setup per triangle in the
@@ -56,9 +52,8 @@ enum class CpuStrategy {
     Hybrid,    ///< large triangles by backprojection, then only the still-unblocked rays are cast
                ///< against the small ones: ray casting is strong exactly where the bitmask is weak
                ///< (many tiny occluders, each touching many receiver samples)
-    RayCast,   ///< every ray cast, exactly: Embree's float triangles with each answer proven
-               ///< (src/raycast/FastRayCaster.h; the bitmask's cost barely drops with fewer source
-               ///< samples, ray casting's does)
+    RayCast,   ///< every ray cast, exactly (RayCastSampler.h: the bitmask's cost barely drops with
+               ///< fewer source samples, ray casting's does)
 };
 
 struct BitmaskOptions {
@@ -99,14 +94,13 @@ struct BitmaskStats {
     double setupMs = 0.0;             ///< clipping, influence regions, binning
     double sampleMs = 0.0;            ///< backprojection and bit setting
     double rayMs = 0.0;               ///< ray casting: hybrid's BVH build of the small triangles and
-                                      ///< casts; RayCast's close triangles and casts
+                                      ///< casts; RayCast's casts
     std::size_t trianglesInShaft = 0; ///< triangles with a non-empty influence region
     std::size_t smallTriangles = 0;   ///< hybrid: of those, handled by ray casting
     std::uint64_t pairs = 0;          ///< (triangle, receiver sample) pairs backprojected
     std::uint64_t floatPairs = 0;     ///< of those, by the single-precision SIMD kernel
     std::uint64_t floatFallbacks = 0; ///< pairs the kernel could not prove exact, sent to double
     std::uint64_t raysCast = 0;       ///< rays cast (hybrid: against the small triangles)
-    std::size_t closeTriangles = 0;   ///< RayCast: triangles cast exactly after the float pass
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
     double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
@@ -148,8 +142,8 @@ private:
     /// Per instance: may watertight culling skip its front faces with this receiver? With a
     /// bumpy receiver, `displacedBox` bounds its displaced samples (null: the flat patch).
     std::vector<char> cullableInstances(const Patch& receiver, const Bounds* displacedBox = nullptr) const;
-    /// The whole scene's ray caster, built on first use.
-    std::shared_ptr<const raycast::FastRayCaster> wholeSceneCaster() const;
+    /// The whole scene's BVH, built on first use.
+    std::shared_ptr<const RayCastScene> wholeSceneCaster() const;
     std::unique_ptr<Workspace> takeWorkspace() const;
     void returnWorkspace(std::unique_ptr<Workspace> work) const;
 
@@ -164,7 +158,7 @@ private:
     mutable std::shared_ptr<const HoughMaskTable> table_;
     /// The whole scene's BVH, built the first time the RayCast strategy is chosen.
     mutable std::mutex rayCasterMutex_;
-    mutable std::shared_ptr<const raycast::FastRayCaster> rayCaster_;
+    mutable std::shared_ptr<const RayCastScene> rayCaster_;
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;

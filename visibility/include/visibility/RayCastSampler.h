@@ -18,9 +18,9 @@
 // reused by every sample() call (the editor re-samples on every patch move); a call whose patches
 // lie so far out that the boxes' widening would not cover its rays rebuilds it, wider, first.
 //
-// The CPU sampler's ray casting (src/raycast/FastRayCaster.h) answers the same question at a tuned
-// float tracer's speed: Embree's own triangles, grown, each hit proven or tested exactly, and the
-// few triangles it cannot answer for cast exactly (by this class, or by the bitmask).
+// The CPU sampler's RayCast strategy casts with this class too. (Embree's own float triangles,
+// grown so that every exact crossing is reported and each hit proven or tested exactly in an
+// occlusion filter, answered the same bit for bit but were no faster: README, "Measured".)
 
 #include <memory>
 #include <vector>

@@ -160,8 +160,7 @@ void OccluderSet::prepare(const Shaft& shaft, const TriangleFilter& filter)
 {
     const WorldTriangles& triangles = *filter.triangles;
     constexpr std::size_t kChunk = 2048;
-    const std::size_t count = filter.only ? filter.only->size() : triangles.size();
-    const std::size_t chunks = (count + kChunk - 1) / kChunk;
+    const std::size_t chunks = (triangles.size() + kChunk - 1) / kChunk;
     if (found_.size() < chunks) {
         found_.resize(chunks);
         foundTriangle_.resize(chunks);
@@ -175,8 +174,7 @@ void OccluderSet::prepare(const Shaft& shaft, const TriangleFilter& filter)
         // on a sampler's first call.
         found_[chunk].reserve(kChunk);
         foundTriangle_[chunk].reserve(kChunk);
-        for (std::size_t k = chunk * kChunk; k < std::min(count, (chunk + 1) * kChunk); ++k) {
-            const std::size_t t = filter.only ? (*filter.only)[k] : k;
+        for (std::size_t t = chunk * kChunk; t < std::min(triangles.size(), (chunk + 1) * kChunk); ++t) {
             if (filter.outsideShaft(t))
                 continue;
             if (filter.culled(t)) {

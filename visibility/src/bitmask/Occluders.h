@@ -66,9 +66,6 @@ struct TriangleFilter {
     std::vector<char> instanceOutside;   ///< per instance: bounds wholly outside the hull; empty: unknown
     std::vector<char> cullable;          ///< per instance: front faces may be culled; empty: none
     std::array<glm::dvec3, 4> sourceCorners{};
-    /// When set, only these triangles (ascending indices) are considered: the close triangles
-    /// the RayCast strategy's float pass leaves to the bitmask. Not owned.
-    const std::vector<std::uint32_t>* only = nullptr;
 
     const glm::vec3* triangle(std::size_t t) const { return &triangles->vertices[3 * t]; }
     bool outsideShaft(std::size_t t) const;

@@ -23,11 +23,11 @@ const CostModel& measuredCosts(bool floatKernel)
 {
     // README, "Auto's cost model": least squares on the logarithms over the bench scenes
     // (2 threads); the double kernel's pairs cost about four times the float kernel's.
-    static const CostModel simd{.setupNsPerTriangle = 300.0, .passNsPerPair = 3.0, .passFalloff = 0.4,
-                                .rayNsPerLevel = 6.0, .rayNsOffset = 20.0, .minRayNs = 5.0, .rayPassShare = 0.5};
+    static const CostModel simd{.setupNsPerTriangle = 400.0, .passNsPerPair = 2.5, .passFalloff = 0.5,
+                                .rayNsPerLevel = 12.0, .rayNsOffset = 100.0, .minRayNs = 5.0, .rayPassShare = 0.5};
     static const CostModel scalar = [] {
         CostModel m = simd;
-        m.passNsPerPair = 12.0;
+        m.passNsPerPair = 10.0;
         return m;
     }();
     return floatKernel ? simd : scalar;

@@ -33,8 +33,8 @@ struct CostEstimate {
 ///   as the pairs per ray grow (the narrowed shaft skips more of them once a tile is blocked):
 ///   passNsPerPair * (pairs per ray / 4)^-passFalloff;
 /// - ray casting: per ray, growing with the BVH's depth, rayNsPerLevel * log2(1 + triangles in
-///   the shaft) - rayNsOffset (at least minRayNs), plus its close triangles' bitmask pass (and
-///   its per-receiver work) as a share of the bitmask's pass.
+///   the shaft) - rayNsOffset (at least minRayNs), plus a share of the bitmask's pass (the fit's
+///   way of saying that a crowded shaft costs rays more candidates each, not only a deeper walk).
 struct CostModel {
     double setupNsPerTriangle = 0.0;
     double passNsPerPair = 0.0;

@@ -1,5 +1,6 @@
 #pragma once
-// Internal to the ray casters (RayCastSampler.cpp, FastRayCaster.cpp): what both do the same way.
+// Internal to the reference ray caster (RayCastSampler.cpp): how its rays go into packets and how
+// a packet's lanes are tested against one triangle.
 
 #include <cstdint>
 #include <vector>
