@@ -63,10 +63,9 @@ inline Scene sceneOf(std::vector<Mesh> meshes)
 /// A comb of many small triangles across the shaft of xyPatch pairs at z ~ 1 (1.00 to 1.04): a
 /// 3 x 3 m grid of 40 x 40 cells of which every other column is filled, so partly open. Every
 /// triangle touches most receiver samples: with few source samples the pairs outnumber the rays.
-inline Mesh combWall()
+inline Mesh combWall(int n = 40)
 {
     Mesh grid;
-    const int n = 40;
     for (int y = 0; y <= n; ++y)
         for (int x = 0; x <= n; ++x)
             grid.positions.emplace_back(-1.0f + 3.0f * float(x) / n, -1.0f + 3.0f * float(y) / n,

@@ -263,11 +263,11 @@ TEST(CpuBitmaskSampler, NoCullingForAReceiverInsideAClosedMesh)
 
 TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
 {
-    // A comb of many small triangles fills the shaft: every triangle touches most receiver
+    // A comb of 14,400 small triangles fills the shaft: every triangle touches most receiver
     // samples, so with few source samples the bitmask's pairs outnumber the rays. Where one
     // method's predicted cost is under half the other's, Auto takes it without timing; in between
     // it times both on a few tiles (bitmask/Strategy.h). Every answer is the reference's.
-    const Scene scene = sceneOf({combWall()});
+    const Scene scene = sceneOf({combWall(120)});
     const CpuBitmaskSampler sampler(scene);
     const RayCastScene reference(scene);
     int clearBitmask = 0, clearRays = 0, probed = 0;
@@ -294,8 +294,20 @@ TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
             EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 256, 1u)).nonTie(), 0u) << side << " " << r;
         }
     EXPECT_GT(clearBitmask, 0);
-    EXPECT_GT(clearRays, 0);
     EXPECT_GT(probed, 0);
+    // 20,000 small triangles in the shaft and one source sample: the bitmask's setup alone costs
+    // far more than the 1,024 rays, so Auto ray casts without timing.
+    const Scene soup = sceneOf({randomSoup(3, 20000, -0.5f, 1.5f, 0.2f, 1.8f, 0.05f)});
+    const Patch one = xyPatch(0, 1, 1), receiver = xyPatch(2, 32, 32);
+    BitmaskStats stats;
+    const HiddenSampleMap map = CpuBitmaskSampler(soup).sample(one, receiver, {}, &stats);
+    EXPECT_LE(stats.predictedRayMs, 0.5 * stats.predictedBitmaskMs);
+    EXPECT_STREQ(stats.strategy, "raycast");
+    EXPECT_FALSE(stats.probed);
+    ++clearRays;
+    const HiddenSampleMap expected = RayCastScene(soup).sample(one, receiver);
+    const ExactJudge judge(worldTriangles(soup), one, receiver);
+    EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 256, 1u)).nonTie(), 0u);
 }
 
 TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
@@ -306,7 +318,7 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     // configuration (the receiver moved a little) take that choice without timing; the eighth
     // times again, and so does a call after the receiver turned to face another way, or after
     // setScene. Every answer is the reference's.
-    const Scene scene = sceneOf({combWall()});
+    const Scene scene = sceneOf({combWall(120)});
     const RayCastScene reference(scene);
     Patch receiver = xyPatch(2, 64, 64);
     BitmaskStats stats;

@@ -16,7 +16,7 @@ namespace {
 
 /// Flat costs: 2 ns a pair whatever the pairs per ray, 100 ns a ray whatever the shaft, no close
 /// triangles.
-const CostModel kModel{.setupNsPerTriangle = 200.0, .passNsPerPair = 2.0, .passFalloff = 0.0, .rayNsPerLevel = 0.0,
+const CostModel kModel{.setupNsPerTriangle = 200.0, .rayNsPerReceiverSample = 0.0, .passNsPerPair = 2.0, .passFalloff = 0.0, .rayNsPerLevel = 0.0,
                        .rayNsOffset = 0.0, .minRayNs = 100.0, .rayPassShare = 0.0};
 
 CostEstimate estimate(std::uint64_t rays, std::uint64_t pairs, std::uint64_t triangles, int receiverSamples = 64 * 64)
@@ -48,6 +48,9 @@ TEST(Strategy, PairsCostLessAsTheyCrowdARayAndRaysMoreInADeeperTree)
     m.rayPassShare = 0.5;
     const CostEstimate e = estimate(1'000'000, 4'000'000, 1023);
     EXPECT_DOUBLE_EQ(predictedRayMs(e, m), 1e-6 * 40.0 * 1'000'000 + 0.5 * 1e-6 * 2.0 * 4'000'000);
+    // And its packets' share per receiver sample.
+    m.rayNsPerReceiverSample = 1000.0;
+    EXPECT_DOUBLE_EQ(predictedRayMs(e, m), 1e-6 * 40.0 * 1'000'000 + 0.5 * 1e-6 * 2.0 * 4'000'000 + 1e-6 * 1000.0 * 64 * 64);
     // The measured model has both effects.
     EXPECT_LT(measuredCosts(true).passNs(100.0), measuredCosts(true).passNs(1.0));
     EXPECT_GT(measuredCosts(true).rayNs(50'000), measuredCosts(true).rayNs(100));
@@ -85,6 +88,14 @@ TEST(Strategy, TheMeasuredModelsCostTheDoubleKernelMore)
 {
     EXPECT_GT(measuredCosts(false).passNsPerPair, measuredCosts(true).passNsPerPair);
     EXPECT_EQ(measuredCosts(false).rayNs(10'000), measuredCosts(true).rayNs(10'000));
+}
+
+TEST(Strategy, AProbeTimesOneTileInEightButAtLeastFour)
+{
+    EXPECT_EQ(probeTilesPerMethod(256), 32u);   // 128x128 receiver samples
+    EXPECT_EQ(probeTilesPerMethod(64), 8u);     // 64x64
+    EXPECT_EQ(probeTilesPerMethod(16), 4u);     // 32x32: a quarter each
+    EXPECT_EQ(probeTilesPerMethod(8), 2u);      // never more than half the receiver in all
 }
 
 TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)

@@ -282,7 +282,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         };
         const auto sampleStart = Clock::now();
         if (plan == Plan::Probe && smallTriangles.empty()) {
-            // One tile in kProbeStride by bitmask and another by rays, a batch of each at a time,
+            // A few tiles (probeTilesPerMethod) by bitmask and as many by rays, a batch of each at a time,
             // timed; their rows are final either way. The tiles are drawn at random over the
             // whole receiver: in row order the first batches would all lie along one edge (a
             // floor's edge by the wall costs nothing either way), and every 8th tile of a grid 16
@@ -291,7 +291,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::iota(shuffled.begin(), shuffled.end(), 0u);
             std::mt19937 scramble(12345);
             std::shuffle(shuffled.begin(), shuffled.end(), scramble);
-            const std::size_t probeTiles = shuffled.size() / kProbeStride;
+            const std::size_t probeTiles = probeTilesPerMethod(shuffled.size());
             std::vector<std::uint32_t> bitmaskTiles(shuffled.begin(), shuffled.begin() + std::ptrdiff_t(probeTiles));
             std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
                                                 shuffled.begin() + std::ptrdiff_t(2 * probeTiles));

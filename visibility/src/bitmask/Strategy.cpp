@@ -23,8 +23,9 @@ const CostModel& measuredCosts(bool floatKernel)
 {
     // README, "Auto's cost model": least squares on the logarithms over the bench scenes
     // (2 threads); the double kernel's pairs cost about four times the float kernel's.
-    static const CostModel simd{.setupNsPerTriangle = 400.0, .passNsPerPair = 2.5, .passFalloff = 0.5,
-                                .rayNsPerLevel = 12.0, .rayNsOffset = 100.0, .minRayNs = 5.0, .rayPassShare = 0.5};
+    static const CostModel simd{.setupNsPerTriangle = 400.0, .rayNsPerReceiverSample = 500.0, .passNsPerPair = 2.5,
+                                .passFalloff = 0.5, .rayNsPerLevel = 14.0, .rayNsOffset = 120.0, .minRayNs = 5.0,
+                                .rayPassShare = 0.3};
     static const CostModel scalar = [] {
         CostModel m = simd;
         m.passNsPerPair = 10.0;
@@ -61,7 +62,13 @@ double predictedBitmaskMs(const CostEstimate& e, const CostModel& m)
 
 double predictedRayMs(const CostEstimate& e, const CostModel& m)
 {
-    return 1e-6 * m.rayNs(e.estimatedTriangles) * double(e.rays) + m.rayPassShare * passMs(e, m);
+    return 1e-6 * (m.rayNs(e.estimatedTriangles) * double(e.rays) + m.rayNsPerReceiverSample * double(e.receiverSamples)) +
+           m.rayPassShare * passMs(e, m);
+}
+
+std::size_t probeTilesPerMethod(std::size_t tiles)
+{
+    return std::max(tiles / 8, std::min<std::size_t>(4, tiles / 4));
 }
 
 Plan planFor(const CostEstimate& e, const CostModel& m)

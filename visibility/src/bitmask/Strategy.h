@@ -34,9 +34,12 @@ struct CostEstimate {
 ///   passNsPerPair * (pairs per ray / 4)^-passFalloff;
 /// - ray casting: per ray, growing with the BVH's depth, rayNsPerLevel * log2(1 + triangles in
 ///   the shaft) - rayNsOffset (at least minRayNs), plus a share of the bitmask's pass (the fit's
-///   way of saying that a crowded shaft costs rays more candidates each, not only a deeper walk).
+///   way of saying that a crowded shaft costs rays more candidates each, not only a deeper walk),
+///   plus rayNsPerReceiverSample per receiver sample (with few source samples a packet's rays
+///   share little of the traversal).
 struct CostModel {
     double setupNsPerTriangle = 0.0;
+    double rayNsPerReceiverSample = 0.0;   ///< ray casting's work per receiver sample (its packets)
     double passNsPerPair = 0.0;
     double passFalloff = 0.0;
     double rayNsPerLevel = 0.0;
@@ -101,7 +104,9 @@ struct ProbeMemo {
 /// measures again.
 constexpr int kProbeReuse = 7;
 
-/// Auto's probe: one tile in this many by each method.
-constexpr std::uint32_t kProbeStride = 8;
+/// Auto's probe: how many of a receiver's `tiles` each method times at most: one in eight, but at
+/// least four where the receiver has 16 or more (at 32x32 samples, two tiles each were too few to
+/// tell the methods apart reliably).
+std::size_t probeTilesPerMethod(std::size_t tiles);
 
 } // namespace sightline::bitmask
