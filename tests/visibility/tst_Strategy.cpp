@@ -108,9 +108,14 @@ TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)
     EXPECT_FALSE(probeIsDecided(8, 8.0, 8, 12.0, 1000, 4));
     // ... and once it has cost a tenth of it: stop.
     EXPECT_TRUE(probeIsDecided(8, 8.0, 8, 12.0, 100, 4));
-    EXPECT_TRUE(probeChoosesRays(8, 10.0, 8, 8.0));
-    EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0));
-    EXPECT_FALSE(probeChoosesRays(8, 8.0, 4, 4.0));   // per tile: equal, the bitmask
+    // 64 tiles; no setup: per tile decides.
+    EXPECT_TRUE(probeChoosesRays(8, 10.0, 8, 8.0, 64, 0.0));
+    EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 0.0));
+    EXPECT_FALSE(probeChoosesRays(8, 8.0, 4, 4.0, 64, 0.0));   // per tile: equal, the bitmask
+    // Rays 25% dearer per tile (80 against 64 ms for the receiver), but the bitmask's setup took
+    // 20 ms: rays, which later calls take without that setup.
+    EXPECT_TRUE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 20.0));
+    EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 10.0));
 }
 
 TEST(Strategy, AChoiceServesSimilarConfigurationsOnly)

@@ -329,7 +329,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
-            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs);
+            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), local.setupMs);
             {
                 std::lock_guard lock(probeMutex_);
                 probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, kProbeReuse}});

@@ -96,9 +96,12 @@ bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayT
     return perBitmask > 2.0 * perRay || perRay > 2.0 * perBitmask || bitmaskMs + rayMs > 0.1 * wholeFaster;
 }
 
-bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs)
+bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
+                      double bitmaskSetupMs)
 {
-    return bitmaskMs / double(std::max<std::size_t>(bitmaskTiles, 1)) > rayMs / double(std::max<std::size_t>(rayTiles, 1));
+    const double perBitmask = bitmaskMs / double(std::max<std::size_t>(bitmaskTiles, 1));
+    const double perRay = rayMs / double(std::max<std::size_t>(rayTiles, 1));
+    return perRay * double(tiles) < bitmaskSetupMs + perBitmask * double(tiles);
 }
 
 bool similarConfiguration(const Configuration& a, const Configuration& b)

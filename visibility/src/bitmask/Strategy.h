@@ -77,8 +77,12 @@ Plan planFor(const CostEstimate& estimate, const CostModel& model);
 bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
                     std::size_t batch);
 
-/// The probe's verdict: ray casting when its measured cost per tile is the lower.
-bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs);
+/// The probe's verdict: ray casting when a whole call by rays (its cost per tile times the
+/// receiver's `tiles`) would cost less than a whole call by the bitmask, which is its cost per
+/// tile times the tiles plus its setup (`bitmaskSetupMs`: clipping, regions, binning). The choice
+/// serves later calls (ProbeMemo), which by rays skip that setup altogether.
+bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
+                      double bitmaskSetupMs);
 
 /// One sampling configuration, as far as Auto's choice depends on it.
 struct Configuration {
