@@ -83,3 +83,50 @@ TEST(NpyWriter, RoundTripAndBadFiles)
     EXPECT_THROW(writeMaskNpy(map, folder / "missing-folder" / "m.npy"), Error);
     std::filesystem::remove_all(folder);
 }
+
+namespace {
+
+/// A .npy file with this header dictionary and data, padded as NumPy pads it.
+std::string npyWith(std::string header, const std::string& data)
+{
+    while ((10 + header.size() + 1) % 64 != 0)
+        header += ' ';
+    header += '\n';
+    std::string bytes = "\x93NUMPY\x01";
+    bytes += '\0';
+    bytes += char(header.size() & 0xff);
+    bytes += char(header.size() >> 8);
+    return bytes + header + data;
+}
+
+std::string npyError(const std::string& bytes, bool mask)
+{
+    const auto file = std::filesystem::temp_directory_path() / "sightline_npy_bad_shape.npy";
+    std::ofstream(file, std::ios::binary) << bytes;
+    try {
+        if (mask)
+            readMaskNpy(file, 8);
+        else
+            readFloatNpy(file);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+} // namespace
+
+// Found by fuzz_npy: a shape's digits overflowed std::stoi (an exception that is not an Error), a
+// huge shape allocated its map before the data size was checked, and an empty float array copied
+// from a null pointer.
+TEST(NpyWriter, ShapesAreCheckedBeforeAnythingIsAllocated)
+{
+    const std::string mask = "{'descr': '|u1', 'fortran_order': False, 'shape': (%, 1, 1), }";
+    auto with = [](std::string text, const std::string& value) { return text.replace(text.find('%'), 1, value); };
+    EXPECT_NE(npyError(npyWith(with(mask, "99999999999999999999"), "x"), true).find("outside 1..65536"),
+              std::string::npos);
+    EXPECT_NE(npyError(npyWith(with(mask, "60000"), "x"), true).find("data size does not match"), std::string::npos);
+    const std::string floats = "{'descr': '<f4', 'fortran_order': False, 'shape': (0, 3), }";
+    EXPECT_NE(npyError(npyWith(floats, ""), false).find("empty array"), std::string::npos);
+    EXPECT_EQ(npyError(npyWith(with(mask, "2"), std::string(2, '\0')), true), "");   // a good one loads
+}

@@ -1,6 +1,7 @@
 #include "visibility/NpyWriter.h"
 
 #include <bit>
+#include <charconv>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -9,6 +10,7 @@
 
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
+#include "visibility/InputFile.h"
 
 namespace sightline {
 
@@ -47,11 +49,8 @@ struct NpyFile {
 
 NpyFile readNpy(const std::filesystem::path& file)
 {
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw Error(file.string() + ": cannot open");
     NpyFile npy;
-    npy.bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    npy.bytes = readInputFile(file, ".npy");
     const std::string& bytes = npy.bytes;
     if (bytes.size() < 10 || bytes.compare(0, 6, kMagic, 6) != 0 || bytes[6] != 1)
         throw Error(file.string() + ": not a NumPy format 1.0 file");
@@ -62,6 +61,21 @@ NpyFile readNpy(const std::filesystem::path& file)
     npy.dataStart = 10 + headerLength;
     return npy;
 }
+
+/// A dimension of the header's shape: the digits as written, refused past `limit` (std::stoi
+/// would throw its own exception on long digit strings, and a huge shape must be refused before
+/// anything is allocated for it).
+int dimension(const std::filesystem::path& file, const std::string& digits, int limit)
+{
+    int value = 0;
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+    if (ec != std::errc() || end != digits.data() + digits.size() || value > limit)
+        throw Error(file.string() + ": shape dimension " + digits + " is outside 1.." + std::to_string(limit));
+    return value;
+}
+
+/// No array dimension Sightline writes exceeds this (receiver grids are at most 4096 a side).
+constexpr int kMaxNpyDimension = 1 << 16;
 } // namespace
 
 std::string encodeMaskNpy(const HiddenSampleMap& map)
@@ -93,13 +107,14 @@ HiddenSampleMap readMaskNpy(const std::filesystem::path& file, int sourceCount)
     if (header.find("'|u1'") == std::string::npos || header.find("'fortran_order': False") == std::string::npos ||
         !std::regex_search(header, m, shapeRe))
         throw Error(file.string() + ": not a C-order |u1 array of 3 dimensions");
-    const int nb = std::stoi(m[1]), na = std::stoi(m[2]), rowBytes = std::stoi(m[3]);
-    if (rowBytes != bytesPerRow(sourceCount) || na < 1 || nb < 1)
+    const int nb = dimension(file, m[1], kMaxNpyDimension), na = dimension(file, m[2], kMaxNpyDimension),
+              rowBytes = dimension(file, m[3], kMaxNpyDimension);
+    if (sourceCount < 1 || rowBytes != bytesPerRow(sourceCount) || na < 1 || nb < 1)
         throw Error(file.string() + ": shape does not match " + std::to_string(sourceCount) + " source samples");
-    HiddenSampleMap map(sourceCount, na, nb);
     const std::size_t dataStart = npy.dataStart;
     if (bytes.size() != dataStart + std::size_t(rowBytes) * std::size_t(na) * std::size_t(nb))
         throw Error(file.string() + ": data size does not match the shape");
+    HiddenSampleMap map(sourceCount, na, nb);   // only now: its size is bounded by the file's
     for (int j = 0; j < map.receiverCount(); ++j) {
         std::memcpy(map.row(j).data(), bytes.data() + dataStart + std::size_t(j) * std::size_t(rowBytes),
                     std::size_t(rowBytes));
@@ -135,8 +150,10 @@ FloatArray readFloatNpy(const std::filesystem::path& file)
         !std::regex_search(npy.header, m, shapeRe))
         throw Error(file.string() + ": not a C-order float32 array of 2 dimensions");
     FloatArray array;
-    array.rows = std::stoi(m[1]);
-    array.columns = std::stoi(m[2]);
+    array.rows = dimension(file, m[1], kMaxNpyDimension);
+    array.columns = dimension(file, m[2], kMaxNpyDimension);
+    if (array.rows < 1 || array.columns < 1)
+        throw Error(file.string() + ": an empty array (shape " + std::string(m[1]) + " x " + std::string(m[2]) + ")");
     const std::size_t count = std::size_t(array.rows) * std::size_t(array.columns);
     if (npy.bytes.size() != npy.dataStart + count * sizeof(float))
         throw Error(file.string() + ": data size does not match the shape");
