@@ -44,6 +44,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         frame.source = project.source;
         frame.receiver = project.receiver;
         frame.pairValid = result.visibility.valid;
+        frame.selection = document.selection();   // the image shows what the editor shows
         frame.style = style;
         renderer.render(frame);
         result.raysDrawn = renderer.raysDrawn();

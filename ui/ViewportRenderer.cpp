@@ -409,9 +409,11 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
+    // Finite values only: "no cut" as an infinite distance reached the clip distances as infinite
+    // (or NaN) and llvmpipe dropped every triangle of the placed occluders, which are drawn uncut.
     auto setCut = [&](double height, double depth) {
         gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutHeight"), float(std::min(height, 1e30)));
-        gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutDepth"), float(depth));
+        gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutDepth"), float(std::max(depth, -1e30)));
     };
     const Cutaway cut = cutaway(f);
     const int selectedFile = f.selection.kind == ObjectKind::SceneObject ? int(f.selection.index) : -1;
@@ -467,7 +469,7 @@ void ViewportRenderer::render(const FrameState& f)
     // Placed occluders: always drawn (they move), never cut away.
     gl.UseProgram(d.meshProgram);
     setCut(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
-    d.drawMesh(d.occluders, {0.45f, 0.6f, 0.85f}, selectedOccluder, glm::vec4(0.0f));
+    d.drawMesh(d.occluders, kOccluderColour, selectedOccluder, glm::vec4(0.0f));
     if (f.style.wireframe) {
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         d.drawMesh(d.occluders, {}, -1, {0.1f, 0.1f, 0.3f, 1.0f});

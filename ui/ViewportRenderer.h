@@ -31,6 +31,10 @@
 
 namespace sightline::ui {
 
+/// Placed occluders' colour: violet, apart from the source's green, the receiver's blue, the
+/// rays' yellow and the selection's orange.
+inline constexpr glm::vec3 kOccluderColour{0.62f, 0.42f, 0.82f};
+
 struct ViewStyle {
     bool wireframe = false;
     bool showRays = true;

@@ -399,4 +399,43 @@ TEST(OffscreenRender, RaysAreDrawnWhereTheShaftIsOpenAndNotWhereItIsCut)
 }
 
 } // namespace
+
+/// Is this pixel the placed occluders' violet (shaded), rather than grey, yellow or background?
+bool violet(QRgb c) { return qBlue(c) > qGreen(c) + 30 && qRed(c) > qGreen(c) + 10; }
+
+// Placed occluders were sampled but never drawn: "no cut" reached the shader as infinite clip
+// distances and llvmpipe dropped their triangles.
+TEST(OffscreenRender, PlacedOccludersAreDrawnAndTheSelectedOneHighlighted)
+{
+    const auto folder = freshFolder("offscreen-occluder");
+    EditorDocument document;
+    document.open(writeFloorObj(folder));
+    const auto [source, receiver] = floorPatches();
+    document.setState({ObjectKind::Source, 0}, source, "place");
+    document.setState({ObjectKind::Receiver, 0}, receiver, "place");
+    const Camera camera = shaftView(source, receiver);
+    ViewStyle style;
+    style.showRays = false;
+    const glm::dvec3 middle = 0.5 * (source.centre() + receiver.centre());
+    const glm::dvec3 pixel = toPixels(camera, middle, 320, 240);
+    EXPECT_FALSE(violet(renderOffscreen(document, camera, style, 320, 240).image.pixel(int(pixel.x), int(pixel.y))));
+
+    OccluderSpec crate;
+    crate.mesh = "box";
+    crate.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(middle)), glm::vec3(0.6f));
+    document.addOccluder(crate);
+    document.select({ObjectKind::None, 0});   // adding selects it
+    const OffscreenResult placed = renderOffscreen(document, camera, style, 320, 240);
+    EXPECT_TRUE(violet(placed.image.pixel(int(pixel.x), int(pixel.y))))
+        << std::hex << placed.image.pixel(int(pixel.x), int(pixel.y));
+    style.wireframe = true;
+    EXPECT_TRUE(violet(renderOffscreen(document, camera, style, 320, 240).image.pixel(int(pixel.x), int(pixel.y))));
+    style.wireframe = false;
+
+    document.select({ObjectKind::Occluder, 0});
+    const OffscreenResult selected = renderOffscreen(document, camera, style, 320, 240);
+    const QRgb c = selected.image.pixel(int(pixel.x), int(pixel.y));
+    EXPECT_GT(qRed(c), qBlue(c)) << "the selected occluder is drawn in the selection's orange";
+}
+
 } // namespace sightline::ui
