@@ -9,6 +9,7 @@
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QLocale>
 #include <QMimeData>
@@ -37,8 +38,13 @@ constexpr int kAutosaveMs = 60'000;
 
 QString visibilitySummary(const VisibilityResult& result)
 {
-    if (!result.valid)
-        return QObject::tr("Invalid patch pair: %1").arg(QString::fromStdString(result.error));
+    if (!result.valid) {
+        // The error says what is wrong ("invalid patch pair: the receiver touches ..."): as is.
+        QString error = QString::fromStdString(result.error);
+        if (!error.isEmpty())
+            error[0] = error[0].toUpper();
+        return error;
+    }
     const QLocale locale(QLocale::English);
     return QObject::tr("%1 of %2 rays unblocked (%3% visible) · %4 ms")
         .arg(locale.toString(qulonglong(result.unblocked())), locale.toString(qulonglong(result.rays)))
@@ -58,6 +64,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
 
     createPanels();
     createActions();
+    qApp->installEventFilter(this);
 
     raysLabel_ = new QLabel(this);
     backendLabel_ = new QLabel(this);
@@ -121,6 +128,21 @@ void MainWindow::createPanels()
     addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
 }
 
+bool MainWindow::eventFilter(QObject* watched, QEvent* event)
+{
+    if (event->type() == QEvent::ShortcutOverride) {
+        auto* key = static_cast<QKeyEvent*>(event);
+        auto* widget = qobject_cast<QWidget*>(watched);
+        const bool undoKey = key->matches(QKeySequence::Undo) || key->matches(QKeySequence::Redo) ||
+                             (key->modifiers() == Qt::ControlModifier && key->key() == Qt::Key_Y);
+        if (undoKey && widget && properties_ && properties_->isAncestorOf(widget)) {
+            event->ignore();   // not overridden: the Edit menu's shortcut runs
+            return true;
+        }
+    }
+    return QMainWindow::eventFilter(watched, event);
+}
+
 void MainWindow::createActions()
 {
     auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
@@ -139,7 +161,8 @@ void MainWindow::createActions()
     recentMenu_ = file->addMenu(tr("Open &Recent"));
     rebuildRecentMenu();
     action(file, tr("&Save"), QKeySequence::Save, [this] { save(); });
-    action(file, tr("Save &As..."), QKeySequence::SaveAs, [this] { saveAs(); });
+    // QKeySequence::SaveAs has no binding outside KDE and GNOME (e.g. under Xvfb): spelled out.
+    action(file, tr("Save &As..."), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S), [this] { saveAs(); });
     file->addSeparator();
     action(file, tr("Save Screens&hot..."), QKeySequence(Qt::Key_F12), [this] {
         const QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), "sightline.png", tr("PNG images (*.png)"));

@@ -58,6 +58,9 @@ protected:
     void closeEvent(QCloseEvent* event) override;
     void dragEnterEvent(QDragEnterEvent* event) override;
     void dropEvent(QDropEvent* event) override;
+    /// Undo and redo are the document's while a properties field has focus (a field would
+    /// otherwise take Ctrl+Z for its own text).
+    bool eventFilter(QObject* watched, QEvent* event) override;
 
 private:
     void createActions();

@@ -12,6 +12,8 @@
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QTest>
+#include <QDialog>
+#include <QDoubleSpinBox>
 #include <QTimer>
 
 #include <fstream>
@@ -441,6 +443,67 @@ private slots:
         waitForOverlay();
         QVERIFY(!controls.legend()->isVisible());
         QVERIFY(viewport.overlay().texels().empty());
+    }
+
+    // Issue 16 §1: Ctrl+Shift+S did nothing (QKeySequence::SaveAs is unbound outside KDE/GNOME).
+    void saveAsHasItsShortcut()
+    {
+        QAction* saveAs = nullptr;
+        for (QAction* a : window_->findChildren<QAction*>())
+            if (a->text() == QObject::tr("Save &As..."))
+                saveAs = a;
+        QVERIFY(saveAs);
+        QCOMPARE(saveAs->shortcut(), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S));
+        bool dialogShown = false;
+        QTimer closer;
+        closer.setInterval(50);
+        QObject::connect(&closer, &QTimer::timeout, [&] {
+            if (auto* dialog = qobject_cast<QDialog*>(QApplication::activeModalWidget())) {
+                dialogShown = true;
+                dialog->reject();
+            }
+        });
+        closer.start();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_S, Qt::ControlModifier | Qt::ShiftModifier);
+        QTRY_VERIFY_WITH_TIMEOUT(dialogShown, 3000);
+    }
+
+    // Issue 16 §1: Ctrl+Z in a properties field undid the field's text, not the last edit.
+    void undoWorksWhileAPropertiesFieldHasFocus()
+    {
+        EditorDocument& document = window_->document();
+        document.select({ObjectKind::Receiver, 0});
+        const Patch before = document.project().receiver;
+        Patch moved = before;
+        moved.corner += glm::dvec3(0, 0, 0.25);
+        document.setState({ObjectKind::Receiver, 0}, moved, "move");
+        QDoubleSpinBox* field = nullptr;
+        for (QDoubleSpinBox* box : window_->findChildren<QDoubleSpinBox*>())
+            if (box->isVisible() && !field)
+                field = box;
+        QVERIFY(field);
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        field->setFocus();
+        QTRY_VERIFY(field->hasFocus() || QApplication::focusWidget() == field);
+        QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier);
+        QVERIFY(document.project().receiver.corner == before.corner);
+        QTest::keyClick(QApplication::focusWidget(), Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+        QVERIFY(document.project().receiver.corner == moved.corner);
+        document.undoStack()->undo();
+        window_->viewportContainer()->setFocus();
+        waitForUpdate();
+    }
+
+    // Issue 16 §1: the status bar said "Invalid patch pair: invalid patch pair: ...".
+    void anInvalidPairIsReportedOnce()
+    {
+        VisibilityResult result;
+        result.valid = false;
+        result.error = "invalid patch pair: the receiver touches or crosses the source's plane";
+        QCOMPARE(visibilitySummary(result), QString("Invalid patch pair: the receiver touches or crosses the source's plane"));
     }
 
     void cleanupTestCase()
