@@ -2,8 +2,10 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
+#include "plugins/JsonText.h"
 #include "plugins/SceneFormats.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
@@ -206,15 +208,9 @@ Project loadProject(const std::filesystem::path& file)
     std::ifstream in(file, std::ios::binary);
     if (!in)
         throw Error(file.string() + ": no such project file");
-    json document;
-    try {
-        document = json::parse(in);
-    } catch (const json::parse_error& e) {
-        // nlohmann's message is one line: "[json.exception.parse_error.101] parse error at line 3, ..."
-        std::string message = e.what();
-        const auto pos = message.find("] ");
-        throw Error(file.string() + ": invalid JSON: " + (pos == std::string::npos ? message : message.substr(pos + 2)));
-    }
+    // Depth-checked before parsing, and every parser failure one line naming the file (JsonText.h).
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const json document = parseJsonText(text, file.string());
     const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
     return parseProject(document, folder, file.string());
 }

@@ -5,16 +5,20 @@
 // file is untrusted input and tinygltf does not check accessor ranges. Policy decisions:
 //  - no required extension is honoured: any `extensionsRequired` entry refuses the file;
 //  - textures are never decoded (a no-op image loader), and a missing image is only a warning;
-//  - external files are read only from inside the glTF file's folder (FsCallbacks guard).
+//  - external files are read only from inside the glTF file's folder (FsCallbacks guard), and every
+//    file through readInputFile (a regular file within the size limit);
+//  - the JSON is depth-checked and its indices and node forest validated (GltfValidation.h) before
+//    tinygltf sees it, since tinygltf silently drops what it cannot convert;
+//  - what the nodes expand to is counted before expanding it (SceneLimits.h), and the hierarchy is
+//    walked with an explicit stack, so neither a wide nor a deep file exhausts memory or the stack.
 // Each glTF mesh becomes one sightline::Mesh (its triangle primitives merged); each node that
 // references it becomes an Instance, so instancing survives the import.
 
 #include <algorithm>
 #include <cstring>
-#include <fstream>
-#include <iterator>
-#include <optional>
+#include <limits>
 #include <sstream>
+#include <string_view>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -23,8 +27,12 @@
 #include <tiny_gltf.h>
 
 #include "BuiltinFormats.h"
+#include "GltfValidation.h"
+#include "plugins/JsonText.h"
 #include "visibility/Error.h"
+#include "visibility/InputFile.h"
 #include "visibility/Scene.h"
+#include "visibility/SceneLimits.h"
 
 namespace sightline {
 
@@ -48,45 +56,51 @@ std::string firstLine(const std::string& text)
     return "unknown error";
 }
 
-std::vector<unsigned char> readBytes(const fs::path& file)
-{
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw Error(file.string() + ": cannot open file");
-    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad())
-        throw Error(file.string() + ": read failed");
-    return bytes;
-}
-
-std::uint32_t readU32(const std::vector<unsigned char>& bytes, std::size_t at)
+std::uint32_t readU32(std::string_view bytes, std::size_t at)
 {
     std::uint32_t v = 0;
     std::memcpy(&v, bytes.data() + at, 4); // GLB is little-endian, as is every platform we build for
     return v;
 }
 
-bool isGlb(const std::vector<unsigned char>& bytes)
-{
-    return bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
-}
+bool isGlb(std::string_view bytes) { return bytes.size() >= 4 && bytes.substr(0, 4) == "glTF"; }
 
-/// The JSON text of a .gltf, or of a well-formed GLB's JSON chunk. tinygltf does not check the GLB
-/// version, so a glTF 1.0 binary (version 1) is refused here.
-std::optional<std::string> jsonText(const std::vector<unsigned char>& bytes, const std::string& what)
+constexpr std::uint32_t kChunkJson = 0x4E4F534Au; // "JSON"
+
+/// The JSON chunk of a GLB container, after checking the whole container (glTF 2.0 §4.4): version 2
+/// (tinygltf does not check it, and a glTF 1.0 binary is another format), a total length equal to the
+/// file's size, a JSON chunk first, and every chunk inside the file. tinygltf trusts these fields.
+std::string_view glbJsonChunk(std::string_view bytes, const std::string& what)
 {
-    if (!isGlb(bytes))
-        return std::string(bytes.begin(), bytes.end());
     if (bytes.size() < 20)
-        throw Error(what + ": truncated GLB header");
+        throw Error(what + ": truncated GLB header (" + std::to_string(bytes.size()) + " bytes)");
     const std::uint32_t version = readU32(bytes, 4);
     if (version != 2)
         throw Error(what + ": GLB container version " + std::to_string(version) +
                     " is not supported (only glTF 2.0)");
-    const std::uint64_t jsonLength = readU32(bytes, 12);
-    if (readU32(bytes, 16) != 0x4E4F534Au || 20 + jsonLength > bytes.size())
-        return std::nullopt; // malformed container: tinygltf reports it
-    return std::string(bytes.begin() + 20, bytes.begin() + static_cast<std::ptrdiff_t>(20 + jsonLength));
+    if (readU32(bytes, 8) != bytes.size())
+        throw Error(what + ": GLB header gives a length of " + std::to_string(readU32(bytes, 8)) +
+                    " bytes, but the file has " + std::to_string(bytes.size()));
+    std::size_t at = 12;
+    std::string_view json;
+    for (int chunk = 0; at < bytes.size(); ++chunk) {
+        if (bytes.size() - at < 8)
+            throw Error(what + ": GLB chunk " + std::to_string(chunk) + " header is cut off at byte " +
+                        std::to_string(at));
+        const std::uint64_t length = readU32(bytes, at);
+        if (length > bytes.size() - at - 8)
+            throw Error(what + ": GLB chunk " + std::to_string(chunk) + " claims " + std::to_string(length) +
+                        " bytes, past the end of the file");
+        if (chunk == 0) {
+            if (readU32(bytes, at + 4) != kChunkJson)
+                throw Error(what + ": the first GLB chunk is not JSON");
+            json = bytes.substr(at + 8, length);
+        }
+        at += 8 + length;
+    }
+    if (json.empty())
+        throw Error(what + ": GLB has no JSON chunk");
+    return json;
 }
 
 bool isInside(const fs::path& candidate, const fs::path& folder)
@@ -100,19 +114,13 @@ bool isInside(const fs::path& candidate, const fs::path& folder)
 
 /// Refuses what Sightline will not honour before any bytes are loaded: required extensions, and
 /// buffer URIs that are absolute or resolve outside the file's folder.
-void preflight(const std::string& json, const fs::path& folder, const std::string& what)
+void preflight(std::string_view json, const fs::path& folder, const std::string& what)
 {
-    nlohmann::json doc;
-    try {
-        doc = nlohmann::json::parse(json);
-    } catch (const nlohmann::json::exception& e) {
-        std::string reason = e.what(); // "[json.exception.parse_error.101] parse error at line 1, ..."
-        if (const auto bracket = reason.find("] "); reason.front() == '[' && bracket != std::string::npos)
-            reason.erase(0, bracket + 2);
-        throw Error(what + ": malformed JSON: " + firstLine(reason));
-    }
+    const nlohmann::json doc = parseJsonText(json, what);
     if (!doc.is_object())
         throw Error(what + ": JSON root is not an object");
+    gltf::checkIndices(doc, what);
+    gltf::checkNodeForest(doc, what);
     if (auto it = doc.find("extensionsRequired"); it != doc.end() && it->is_array() && !it->empty())
         throw Error(what + ": requires glTF extension " + (it->front().is_string() ? it->front().get<std::string>() : "?") +
                     ", which Sightline does not support");
@@ -139,6 +147,7 @@ void preflight(const std::string& json, const fs::path& folder, const std::strin
 struct FsGuard {
     fs::path folder;
     std::string refused; ///< first path that was refused, for the error message
+    std::string failed;  ///< first readInputFile refusal (a FIFO, a file past the size limit), whole
 
     static bool exists(const std::string& path, void* self)
     {
@@ -161,9 +170,18 @@ struct FsGuard {
             *err = "not readable here";
             return false;
         }
-        std::ifstream in(path, std::ios::binary);
-        out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-        return !in.bad();
+        // tinygltf is C code in spirit: report through its error string, not an exception through it.
+        auto* guard = static_cast<FsGuard*>(self);
+        try {
+            const std::string bytes = readInputFile(path, "glTF buffer or image");
+            out->assign(bytes.begin(), bytes.end());
+            return true;
+        } catch (const std::exception& e) {
+            if (guard->failed.empty())
+                guard->failed = e.what();
+            *err = e.what();
+            return false;
+        }
     }
     static bool write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*)
     {
@@ -183,12 +201,14 @@ bool discardImage(tinygltf::Image* image, const int, std::string*, std::string*,
 tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warnings)
 {
     const std::string what = file.string();
-    const std::vector<unsigned char> bytes = readBytes(file);
+    const std::string bytes = readInputFile(file, "glTF scene");
     const fs::path folder = fs::weakly_canonical(fs::absolute(file)).parent_path();
-    if (const auto json = jsonText(bytes, what))
-        preflight(*json, folder, what);
+    const bool glb = isGlb(bytes);
+    if (!glb && file.extension() == ".glb")
+        throw Error(what + ": not a GLB file (it does not start with the magic 'glTF')");
+    preflight(glb ? glbJsonChunk(bytes, what) : std::string_view(bytes), folder, what);
 
-    FsGuard guard{folder, {}};
+    FsGuard guard{folder, {}, {}};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&FsGuard::exists, &FsGuard::expand, &FsGuard::read, &FsGuard::write, &guard});
     loader.SetImageLoader(&discardImage, nullptr);
@@ -200,11 +220,11 @@ tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warni
     if (bytes.size() > std::numeric_limits<unsigned int>::max())
         throw Error(what + ": file too large for glTF");
     const auto size = static_cast<unsigned int>(bytes.size());
-    if (isGlb(bytes))
-        ok = loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), size, folder.string());
+    if (glb)
+        ok = loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                         size, folder.string());
     else
-        ok = loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()), size,
-                                        folder.string());
+        ok = loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), size, folder.string());
     std::istringstream warnLines(warn); // one entry per tinygltf warning line
     for (std::string line; std::getline(warnLines, line);)
         if (line.find_first_not_of(" \t\r") != std::string::npos)
@@ -212,6 +232,8 @@ tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warni
     if (!ok) {
         if (!guard.refused.empty())
             throw Error(what + ": refused to read '" + guard.refused + "': it resolves outside the glTF file's folder");
+        if (!guard.failed.empty())
+            throw Error(what + ": " + guard.failed);
         throw Error(what + ": " + firstLine(err));
     }
     return model;
@@ -273,6 +295,25 @@ int indexSize(int componentType)
     }
 }
 
+/// glTF 2.0 §3.6.2.4: an accessor's offset within its bufferView, its offset within the buffer and the
+/// view's byteStride are multiples of its component size. Data that breaks this is not what its writer
+/// meant (a shifted float is a different number), so it is refused, not read.
+void checkAlignment(const tinygltf::BufferView& view, int viewIndex, std::uint64_t byteOffset, int componentSize,
+                    const std::string& where)
+{
+    const auto size = static_cast<std::uint64_t>(componentSize);
+    const std::string component = "its component size (" + std::to_string(size) + " bytes)";
+    if (byteOffset % size != 0)
+        throw Error(where + ": byteOffset " + std::to_string(byteOffset) + " is not a multiple of " + component);
+    if ((view.byteOffset + byteOffset) % size != 0)
+        throw Error(where + ": starts at byte " + std::to_string(view.byteOffset + byteOffset) + " of buffer " +
+                    std::to_string(view.buffer) + " (bufferView " + std::to_string(viewIndex) + " byteOffset " +
+                    std::to_string(view.byteOffset) + "), not a multiple of " + component);
+    if (view.byteStride % size != 0)
+        throw Error(where + ": bufferView " + std::to_string(viewIndex) + " byteStride " +
+                    std::to_string(view.byteStride) + " is not a multiple of " + component);
+}
+
 /// Element bytes of an accessor, tightly packed, strides resolved and sparse values substituted.
 std::vector<unsigned char> accessorBytes(const tinygltf::Model& model, int index, std::size_t& elementSize,
                                          const std::string& what)
@@ -303,6 +344,7 @@ std::vector<unsigned char> accessorBytes(const tinygltf::Model& model, int index
         if (stride < elementSize)
             throw Error(where + ": byteStride " + std::to_string(stride) + " is smaller than an element (" +
                         std::to_string(elementSize) + " bytes)");
+        checkAlignment(view, acc.bufferView, acc.byteOffset, componentSize, where);
         const std::uint64_t span = std::uint64_t(stride) * (acc.count - 1) + elementSize;
         const unsigned char* base = viewBytes(model, acc.bufferView, acc.byteOffset, span, where);
         out.resize(acc.count * elementSize);
@@ -318,6 +360,10 @@ std::vector<unsigned char> accessorBytes(const tinygltf::Model& model, int index
         if (sp.count < 0 || sp.indices.byteOffset < 0 || sp.values.byteOffset < 0 || idxSize == 0)
             throw Error(where + ": invalid sparse description");
         const auto n = static_cast<std::uint64_t>(sp.count);
+        checkAlignment(bufferView(model, sp.indices.bufferView, where + " sparse indices"), sp.indices.bufferView,
+                       static_cast<std::uint64_t>(sp.indices.byteOffset), idxSize, where + " sparse indices");
+        checkAlignment(bufferView(model, sp.values.bufferView, where + " sparse values"), sp.values.bufferView,
+                       static_cast<std::uint64_t>(sp.values.byteOffset), componentSize, where + " sparse values");
         const unsigned char* indices = viewBytes(model, sp.indices.bufferView,
                                                  static_cast<std::uint64_t>(sp.indices.byteOffset),
                                                  n * static_cast<std::uint64_t>(idxSize), where + " sparse indices");
@@ -490,24 +536,57 @@ glm::mat4 localTransform(const tinygltf::Node& node, const std::string& what)
     return glm::mat4(trs);
 }
 
-/// Walks the node hierarchy, accumulating transforms and emitting one Instance per mesh reference.
+/// Walks the node hierarchy from the roots, accumulating transforms and emitting one Instance per
+/// mesh reference, in depth-first pre-order (a node before its children, children in their order).
+/// An explicit stack instead of recursion: a legal chain of nodes is as deep as the file is long.
 class SceneBuilder {
 public:
     SceneBuilder(const tinygltf::Model& model, std::string file, std::vector<std::string>& warnings)
         : model_(model), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1),
-          onPath_(model.nodes.size(), false)
+          reached_(model.nodes.size(), false)
     {
     }
 
-    void visit(int nodeIndex, const glm::dmat4& parent)
+    void build(const std::vector<int>& roots)
     {
-        const std::string what = file_ + ": node " + std::to_string(nodeIndex);
+        struct Pending {
+            int node;
+            glm::dmat4 parent;
+        };
+        std::vector<Pending> stack;
+        for (auto root = roots.rbegin(); root != roots.rend(); ++root)
+            stack.push_back({*root, glm::dmat4(1.0)});
+        while (!stack.empty()) {
+            const Pending next = stack.back();
+            stack.pop_back();
+            const tinygltf::Node& node = reach(next.node);
+            const glm::dmat4 world = visit(next.node, node, next.parent);
+            for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
+                stack.push_back({*child, world});
+        }
+    }
+
+    Scene take() { return std::move(scene_); }
+
+private:
+    /// The node, reached for the first time. The preflight refused anything but disjoint trees with
+    /// distinct roots, so a second arrival means that check was bypassed: refuse rather than loop.
+    const tinygltf::Node& reach(int nodeIndex)
+    {
         if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= model_.nodes.size())
             throw Error(file_ + ": reference to missing node " + std::to_string(nodeIndex));
         const auto n = static_cast<std::size_t>(nodeIndex);
-        if (onPath_[n])
-            throw Error(what + " is its own ancestor (cyclic hierarchy)");
-        const tinygltf::Node& node = model_.nodes[n];
+        if (reached_[n])
+            throw Error(file_ + ": node " + std::to_string(nodeIndex) +
+                        " is reached twice; glTF nodes must form strict trees");
+        reached_[n] = true;
+        return model_.nodes[n];
+    }
+
+    /// Emits the node's instance, if it has a mesh; returns its world transform.
+    glm::dmat4 visit(int nodeIndex, const tinygltf::Node& node, const glm::dmat4& parent)
+    {
+        const std::string what = file_ + ": node " + std::to_string(nodeIndex);
         const glm::dmat4 world = parent * glm::dmat4(localTransform(node, what));
         if (node.mesh >= 0) {
             if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
@@ -515,15 +594,9 @@ public:
             const std::string name = node.name.empty() ? "node " + std::to_string(nodeIndex) : node.name;
             scene_.instances.push_back(Instance{name, meshSlot(static_cast<std::size_t>(node.mesh)), glm::mat4(world)});
         }
-        onPath_[n] = true;
-        for (int child : node.children)
-            visit(child, world);
-        onPath_[n] = false;
+        return world;
     }
 
-    Scene take() { return std::move(scene_); }
-
-private:
     /// Converts each referenced glTF mesh once; later references reuse it (instancing).
     std::uint32_t meshSlot(std::size_t gltfMesh)
     {
@@ -536,9 +609,115 @@ private:
     std::string file_;
     std::vector<std::string>& warnings_;
     std::vector<std::int64_t> meshSlot_;
-    std::vector<bool> onPath_;
+    std::vector<bool> reached_;
     Scene scene_;
 };
+
+// ---- what a file expands to, counted before expanding it -------------------------------------------
+
+/// Sums that stick at the maximum instead of wrapping, so a count past every limit stays past it.
+std::uint64_t addSaturated(std::uint64_t a, std::uint64_t b)
+{
+    return a > std::numeric_limits<std::uint64_t>::max() - b ? std::numeric_limits<std::uint64_t>::max() : a + b;
+}
+
+std::uint64_t accessorCount(const tinygltf::Model& model, int index)
+{
+    return index >= 0 && static_cast<std::size_t>(index) < model.accessors.size()
+               ? model.accessors[static_cast<std::size_t>(index)].count
+               : 0; // a bad reference is refused when the mesh is converted
+}
+
+/// The triangles convertMesh will produce, from accessor counts alone (no bytes are read).
+std::uint64_t meshTriangles(const tinygltf::Model& model, const tinygltf::Mesh& mesh)
+{
+    std::uint64_t triangles = 0;
+    for (const tinygltf::Primitive& prim : mesh.primitives) {
+        const auto pos = prim.attributes.find("POSITION");
+        if (!isTriangleMode(prim.mode) || pos == prim.attributes.end())
+            continue;
+        const std::uint64_t n = prim.indices >= 0 ? accessorCount(model, prim.indices) : accessorCount(model, pos->second);
+        const bool stripOrFan = prim.mode == TINYGLTF_MODE_TRIANGLE_STRIP || prim.mode == TINYGLTF_MODE_TRIANGLE_FAN;
+        triangles = addSaturated(triangles, stripOrFan ? (n >= 3 ? n - 2 : 0) : n / 3);
+    }
+    return triangles;
+}
+
+struct Expansion {
+    std::uint64_t instances = 0;
+    std::uint64_t triangles = 0;
+};
+
+/// What the roots expand to: mesh instances and their triangles, counted on the node graph. Each
+/// node's subtree total is computed once (post-order, explicit stack) and reused by every reference to
+/// it, so the count stays linear in the file even where the expansion would be exponential.
+Expansion countExpansion(const tinygltf::Model& model, const std::vector<int>& roots, const std::string& what)
+{
+    std::vector<std::uint64_t> triangles(model.meshes.size());
+    for (std::size_t m = 0; m < model.meshes.size(); ++m)
+        triangles[m] = meshTriangles(model, model.meshes[m]);
+
+    enum : unsigned char { kUnseen, kOpen, kDone };
+    std::vector<unsigned char> state(model.nodes.size(), kUnseen);
+    std::vector<Expansion> subtree(model.nodes.size());
+    const auto valid = [&](int n) { return n >= 0 && static_cast<std::size_t>(n) < model.nodes.size(); };
+    std::vector<std::pair<std::size_t, std::size_t>> stack; // node, next child to descend into
+    for (int root : roots) {
+        if (!valid(root) || state[static_cast<std::size_t>(root)] == kDone)
+            continue;
+        stack.push_back({static_cast<std::size_t>(root), 0});
+        state[static_cast<std::size_t>(root)] = kOpen;
+        while (!stack.empty()) {
+            auto& [n, next] = stack.back();
+            const tinygltf::Node& node = model.nodes[n];
+            if (next < node.children.size()) {
+                const int child = node.children[next++];
+                if (!valid(child) || state[static_cast<std::size_t>(child)] == kDone)
+                    continue;
+                if (state[static_cast<std::size_t>(child)] == kOpen)
+                    throw Error(what + ": node " + std::to_string(child) + " is its own ancestor (a cycle in the node hierarchy)");
+                state[static_cast<std::size_t>(child)] = kOpen;
+                stack.push_back({static_cast<std::size_t>(child), 0});
+                continue;
+            }
+            Expansion total;
+            if (node.mesh >= 0 && static_cast<std::size_t>(node.mesh) < model.meshes.size())
+                total = {1, triangles[static_cast<std::size_t>(node.mesh)]};
+            for (int child : node.children)
+                if (valid(child)) {
+                    total.instances = addSaturated(total.instances, subtree[static_cast<std::size_t>(child)].instances);
+                    total.triangles = addSaturated(total.triangles, subtree[static_cast<std::size_t>(child)].triangles);
+                }
+            subtree[n] = total;
+            state[n] = kDone;
+            stack.pop_back();
+        }
+    }
+    Expansion scene;
+    for (int root : roots)
+        if (valid(root)) {
+            scene.instances = addSaturated(scene.instances, subtree[static_cast<std::size_t>(root)].instances);
+            scene.triangles = addSaturated(scene.triangles, subtree[static_cast<std::size_t>(root)].triangles);
+        }
+    return scene;
+}
+
+std::string countText(std::uint64_t n)
+{
+    return n == std::numeric_limits<std::uint64_t>::max() ? "more than 18 quintillion" : std::to_string(n);
+}
+
+/// Refuses a file whose nodes would place more than SceneLimits.h allows, before anything is expanded.
+void checkExpansion(const tinygltf::Model& model, const std::vector<int>& roots, const std::string& what)
+{
+    const Expansion e = countExpansion(model, roots, what);
+    if (e.instances > kMaxSceneInstances)
+        throw Error(what + ": the node hierarchy places " + countText(e.instances) +
+                    " mesh instances, more than the limit of " + std::to_string(kMaxSceneInstances));
+    if (e.triangles > kMaxSceneTriangles)
+        throw Error(what + ": the node hierarchy places " + countText(e.triangles) +
+                    " triangles in all, more than the limit of " + std::to_string(kMaxSceneTriangles));
+}
 
 /// Root nodes of the default scene, else scene 0, else every node that is nobody's child.
 std::vector<int> rootNodes(const tinygltf::Model& model)
@@ -568,9 +747,10 @@ public:
     {
         try {
             const tinygltf::Model model = parseModel(file, warnings);
+            const std::vector<int> roots = rootNodes(model);
+            checkExpansion(model, roots, file.string());
             SceneBuilder builder(model, file.string(), warnings);
-            for (int root : rootNodes(model))
-                builder.visit(root, glm::dmat4(1.0));
+            builder.build(roots);
             Scene scene = builder.take();
             validate(scene, file.string());
             return scene;

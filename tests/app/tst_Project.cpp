@@ -125,6 +125,48 @@ TEST(Project, ErrorsNameTheBadKey)
     EXPECT_THROW(loadProject(folder.path / "missing.json"), Error);
 }
 
+/// loadProject's error for a file holding `text`: one line naming the file, or a failure.
+std::string loadError(const fs::path& file, const std::string& text)
+{
+    std::ofstream(file, std::ios::binary) << text;
+    try {
+        loadProject(file);
+    } catch (const Error& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        EXPECT_NE(message.find(file.filename().string()), std::string::npos) << message;
+        return message;
+    } catch (const std::exception& e) {
+        ADD_FAILURE() << "not a sightline::Error: " << e.what();
+        return {};
+    }
+    ADD_FAILURE() << file << " loaded";
+    return {};
+}
+
+TEST(Project, HostileJsonIsOneLineNamingTheFile)
+{
+    TempFolder folder("sightline_project_hostile");
+    const std::string prefix = minimalDocument().dump();
+    const std::string head = prefix.substr(0, prefix.size() - 1) + ",\"notes\":";
+
+    // Nested far past any parser's stack under an unknown key (kept on load, so walked on save).
+    const std::string deep = loadError(folder.path / "deep.json", head + std::string(100'000, '[') +
+                                                                      std::string(100'000, ']') + "}");
+    EXPECT_NE(deep.find("nested deeper than 512"), std::string::npos) << deep;
+    const std::string array = loadError(folder.path / "array.json", std::string(1'000'000, '[') + std::string(1'000'000, ']'));
+    EXPECT_NE(array.find("nested deeper than 512"), std::string::npos) << array;
+
+    // A number beyond double: nlohmann's out_of_range, not a parse_error; no bracketed id.
+    const std::string overflow = loadError(folder.path / "overflow.json", head + "1e400}");
+    EXPECT_NE(overflow.find("invalid JSON: number overflow parsing '1e400', at byte"), std::string::npos) << overflow;
+    EXPECT_EQ(overflow.find("[json.exception"), std::string::npos) << overflow;
+
+    // Unknown keys of a legal depth are still kept.
+    std::ofstream(folder.path / "notes.json") << head + "[[[\"[{\\\"\"]]]}";
+    EXPECT_EQ(loadProject(folder.path / "notes.json").extra.at("notes").dump(), "[[[\"[{\\\"\"]]]");
+}
+
 TEST(Project, BuildSceneAddsOccluders)
 {
     TempFolder folder("sightline_project_scene");

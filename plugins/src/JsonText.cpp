@@ -1,0 +1,66 @@
+#include "plugins/JsonText.h"
+
+#include "visibility/Error.h"
+#include "visibility/JsonDepth.h"
+
+namespace sightline {
+
+namespace {
+
+using nlohmann::json;
+
+/// nlohmann's messages start "[json.exception.parse_error.101] parse error at line 1, column 2: ...";
+/// a user needs the words after the id.
+std::string words(const std::string& message)
+{
+    std::string out = message;
+    if (!out.empty() && out.front() == '[')
+        if (const auto bracket = out.find("] "); bracket != std::string::npos)
+            out.erase(0, bracket + 2);
+    if (const auto newline = out.find_first_of("\r\n"); newline != std::string::npos)
+        out.erase(newline);
+    return out;
+}
+
+/// nlohmann's DOM builder, which also keeps where a failure happened: errors that are not
+/// parse_error (a number overflowing double, out_of_range.406) carry no byte of their own.
+class PositionedDom : public nlohmann::detail::json_sax_dom_parser<json> {
+public:
+    explicit PositionedDom(json& result) : json_sax_dom_parser(result, false) {}
+
+    template <class Exception>
+    bool parse_error(std::size_t position, const std::string&, const Exception& error)
+    {
+        position_ = position;
+        message_ = words(error.what());
+        return false; // stop here; parseJsonText reports it
+    }
+
+    std::size_t position() const { return position_; }
+    const std::string& message() const { return message_; }
+
+private:
+    std::size_t position_ = 0;
+    std::string message_;
+};
+
+} // namespace
+
+json parseJsonText(std::string_view text, const std::string& what)
+{
+    checkJsonDepth(text, what);
+    json result;
+    PositionedDom dom(result);
+    bool ok = false;
+    try {
+        ok = json::sax_parse(text, &dom);
+    } catch (const json::exception& e) { // anything nlohmann raises outside its parse_error path
+        throw Error(what + ": invalid JSON: " + words(e.what()));
+    }
+    if (!ok)
+        throw Error(what + ": invalid JSON: " + (dom.message().empty() ? "malformed" : dom.message()) +
+                    ", at byte " + std::to_string(dom.position()));
+    return result;
+}
+
+} // namespace sightline
