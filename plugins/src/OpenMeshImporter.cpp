@@ -836,8 +836,11 @@ Mesh readAsciiStl(std::string_view text, const std::string& what)
         while (more && token == "facet") {
             advance();
             expect("normal");
-            for (int k = 0; k < 3; ++k)
-                number("normal");
+            for (int k = 0; k < 3; ++k) { // unused, and some exporters write "nan" for degenerate facets
+                if (!more || token == "outer")
+                    failAt(what, t.line(), "STL facet normal has fewer than 3 values");
+                advance();
+            }
             expect("outer");
             expect("loop");
             loop.clear();

@@ -206,6 +206,10 @@ TEST(BadMeshes, StlValuesAndRange)
     };
     expectRefused(writeFile(dir / "big.stl", facet("1e39 0 0")), {"line 5", "'1e39'", "float range"});
     expectRefused(writeFile(dir / "hex.stl", facet("0x1p3 0 0")), {"line 5", "hexadecimal"});
+    // Normals are not used, and some exporters write NaN ones for degenerate facets.
+    std::string nanNormal = facet("1 0 0");
+    nanNormal.replace(nanNormal.find("normal 0 0 1"), 12, "normal nan -nan 0");
+    EXPECT_EQ(loadScene(writeFile(dir / "normal.stl", nanNormal)).triangleCount(), 1u);
     // A flipped exponent bit in binary STL is finite but far out: the §2 coordinate range refuses it.
     std::string s(80, ' ');
     s += u32(1) + f32(0) + f32(0) + f32(1);
