@@ -751,7 +751,8 @@ std::pair<std::size_t, std::size_t> offCounts(Lines& lines, const std::string& w
 Mesh readOff(std::string_view text, const std::string& what)
 {
     Lines lines(text);
-    const auto [vertices, faces] = offCounts(lines, what);
+    const auto counts = offCounts(lines, what);
+    const std::size_t vertices = counts.first, faces = counts.second;   // lambdas capture these (clang 14: not bindings)
     const auto truncated = [&](std::size_t v, std::size_t f) {
         throw Error(what + ": truncated: the header declares " + plural(vertices, "vertex") + " and " + plural(faces, "face") +
                     ", the data holds " + plural(v, "vertex") + " and " + plural(f, "face"));
