@@ -27,12 +27,14 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
+#include "visibility/Error.h"
 
 namespace sightline::ui {
 
 namespace {
 constexpr int kMaxRecentFiles = 8;
 constexpr int kAutosaveMs = 60'000;
+constexpr const char* kAllowOutsidePathsKey = "files/allowOutsidePaths";
 } // namespace
 
 QString visibilitySummary(const VisibilityResult& result)
@@ -56,6 +58,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     setCentralWidget(container_);
     setAcceptDrops(true);
 
+    document_.setAllowOutsidePaths(options.allowOutsidePaths || QSettings().value(kAllowOutsidePathsKey).toBool());
     createPanels();
     createActions();
 
@@ -145,6 +148,16 @@ void MainWindow::createActions()
         const QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), "sightline.png", tr("PNG images (*.png)"));
         if (!path.isEmpty())
             screenshotTo(path);
+    });
+    file->addSeparator();
+    // The project-path rule (visibility/PathRule.h): a file someone sent must not read files
+    // outside its folder unless the user says so; the choice is remembered.
+    QAction* outside = file->addAction(tr("Allow Project Paths &Outside Its Folder"));
+    outside->setCheckable(true);
+    outside->setChecked(document_.allowOutsidePaths());
+    connect(outside, &QAction::toggled, this, [this](bool allow) {
+        document_.setAllowOutsidePaths(allow);
+        QSettings().setValue(kAllowOutsidePathsKey, allow);
     });
     file->addSeparator();
     action(file, tr("&Quit"), QKeySequence::Quit, [this] { close(); });
@@ -288,7 +301,8 @@ bool MainWindow::openFile(const QString& file)
     try {
         document_.open(file.toStdString());
     } catch (const std::exception& e) {
-        QMessageBox::warning(this, tr("Open"), QString::fromUtf8(e.what()));
+        QMessageBox::warning(this, tr("Open"),
+                             QString::fromStdString(describeFailure(e, "opening " + file.toStdString())));
         return false;
     }
     addRecentFile(QFileInfo(file).absoluteFilePath());
@@ -301,7 +315,8 @@ bool MainWindow::saveTo(const QString& file)
         storeView();
         document_.save(file.toStdString());
     } catch (const std::exception& e) {
-        QMessageBox::warning(this, tr("Save"), QString::fromUtf8(e.what()));
+        QMessageBox::warning(this, tr("Save"),
+                             QString::fromStdString(describeFailure(e, "saving " + file.toStdString())));
         return false;
     }
     QFile::remove(recoveryPath());

@@ -1,14 +1,14 @@
 #include "visibility/NpyWriter.h"
 
 #include <bit>
+#include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <regex>
 #include <stdexcept>
 
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
+#include "visibility/InputFile.h"
 
 namespace sightline {
 
@@ -47,11 +47,8 @@ struct NpyFile {
 
 NpyFile readNpy(const std::filesystem::path& file)
 {
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw Error(file.string() + ": cannot open");
     NpyFile npy;
-    npy.bytes.assign((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    npy.bytes = readInputFile(file, "NumPy array");
     const std::string& bytes = npy.bytes;
     if (bytes.size() < 10 || bytes.compare(0, 6, kMagic, 6) != 0 || bytes[6] != 1)
         throw Error(file.string() + ": not a NumPy format 1.0 file");
@@ -61,6 +58,25 @@ NpyFile readNpy(const std::filesystem::path& file)
     npy.header = bytes.substr(10, headerLength);
     npy.dataStart = 10 + headerLength;
     return npy;
+}
+
+/// A dimension of a shape as written (digits only, from the header's regex). Anything past the
+/// file's own size cannot match its data, so it is refused before any arithmetic can overflow.
+int dimension(const std::string& digits, const NpyFile& npy, const std::filesystem::path& file)
+{
+    if (digits.size() > 10 || std::stoull(digits) > npy.bytes.size() || std::stoull(digits) > 0x7fffffffull)
+        throw Error(file.string() + ": shape dimension " + digits + " does not match the file's " +
+                    std::to_string(npy.bytes.size()) + " bytes");
+    return int(std::stoull(digits));
+}
+
+/// Refuses data whose size is not `count` items of `itemBytes`, before anything is allocated.
+void checkDataSize(const NpyFile& npy, std::uint64_t count, std::uint64_t itemBytes, const std::filesystem::path& file)
+{
+    // Dividing first keeps a hostile shape from overflowing count * itemBytes.
+    const std::uint64_t available = npy.bytes.size() - npy.dataStart;
+    if (count > available / itemBytes || count * itemBytes != available)
+        throw Error(file.string() + ": data size does not match the shape");
 }
 } // namespace
 
@@ -93,13 +109,12 @@ HiddenSampleMap readMaskNpy(const std::filesystem::path& file, int sourceCount)
     if (header.find("'|u1'") == std::string::npos || header.find("'fortran_order': False") == std::string::npos ||
         !std::regex_search(header, m, shapeRe))
         throw Error(file.string() + ": not a C-order |u1 array of 3 dimensions");
-    const int nb = std::stoi(m[1]), na = std::stoi(m[2]), rowBytes = std::stoi(m[3]);
+    const int nb = dimension(m[1], npy, file), na = dimension(m[2], npy, file), rowBytes = dimension(m[3], npy, file);
     if (rowBytes != bytesPerRow(sourceCount) || na < 1 || nb < 1)
         throw Error(file.string() + ": shape does not match " + std::to_string(sourceCount) + " source samples");
+    checkDataSize(npy, std::uint64_t(na) * std::uint64_t(nb), std::uint64_t(rowBytes), file);
     HiddenSampleMap map(sourceCount, na, nb);
     const std::size_t dataStart = npy.dataStart;
-    if (bytes.size() != dataStart + std::size_t(rowBytes) * std::size_t(na) * std::size_t(nb))
-        throw Error(file.string() + ": data size does not match the shape");
     for (int j = 0; j < map.receiverCount(); ++j) {
         std::memcpy(map.row(j).data(), bytes.data() + dataStart + std::size_t(j) * std::size_t(rowBytes),
                     std::size_t(rowBytes));
@@ -135,11 +150,10 @@ FloatArray readFloatNpy(const std::filesystem::path& file)
         !std::regex_search(npy.header, m, shapeRe))
         throw Error(file.string() + ": not a C-order float32 array of 2 dimensions");
     FloatArray array;
-    array.rows = std::stoi(m[1]);
-    array.columns = std::stoi(m[2]);
+    array.rows = dimension(m[1], npy, file);
+    array.columns = dimension(m[2], npy, file);
     const std::size_t count = std::size_t(array.rows) * std::size_t(array.columns);
-    if (npy.bytes.size() != npy.dataStart + count * sizeof(float))
-        throw Error(file.string() + ": data size does not match the shape");
+    checkDataSize(npy, count, sizeof(float), file);
     array.values.resize(count);
     std::memcpy(array.values.data(), npy.bytes.data() + npy.dataStart, count * sizeof(float));
     return array;
