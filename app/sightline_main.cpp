@@ -22,6 +22,7 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "cli/OutputLimits.h"
+#include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
 
@@ -100,8 +101,7 @@ int screenshot(const Arguments& args, int width, int height)
         sum /= double(std::max<std::size_t>(light->rgb.size(), 1));
         std::printf("overlay light on the receiver: mean R %.1f%%, G %.1f%%, B %.1f%%\n", 100.0 * sum.r, 100.0 * sum.g, 100.0 * sum.b);
     }
-    if (!result.image.save(QString::fromStdString(args.screenshot), "PNG"))
-        throw sightline::Error(args.screenshot + ": could not write the image");
+    savePng(result.image, args.screenshot);   // atomic: an interrupted render leaves the old file
     std::printf("wrote %s (%dx%d): %s; %llu rays drawn\n", args.screenshot.c_str(), width, height,
                 visibilitySummary(result.visibility).toUtf8().constData(), static_cast<unsigned long long>(result.raysDrawn));
     return 0;

@@ -7,6 +7,7 @@
 #include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
+#include <QBuffer>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QLabel>
@@ -27,6 +28,7 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
+#include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
@@ -328,8 +330,18 @@ bool MainWindow::saveTo(const QString& file)
 bool MainWindow::screenshotTo(const QString& file)
 {
     const QImage image = viewport_->grabFramebuffer();
-    if (image.isNull() || !image.save(file, "PNG")) {
-        QMessageBox::warning(this, tr("Screenshot"), tr("Could not write %1").arg(file));
+    QByteArray bytes;
+    QBuffer buffer(&bytes);
+    buffer.open(QIODevice::WriteOnly);
+    if (image.isNull() || !image.save(&buffer, "PNG")) {
+        QMessageBox::warning(this, tr("Screenshot"), tr("Could not encode the screenshot as PNG"));
+        return false;
+    }
+    try {
+        // Atomic, keeping the old file's mode and a symlink, like every other save.
+        writeFileAtomically(file.toStdString(), std::string_view(bytes.constData(), std::size_t(bytes.size())));
+    } catch (const std::exception& e) {
+        QMessageBox::warning(this, tr("Screenshot"), QString::fromStdString(describeFailure(e, "saving the screenshot")));
         return false;
     }
     statusBar()->showMessage(tr("Screenshot saved to %1").arg(file), 4000);
