@@ -38,7 +38,14 @@ fs::path finalTarget(const fs::path& path)
     throw Error(path.string() + ": too many levels of symlinks");
 }
 
-std::string tempPrefix(const fs::path& target) { return "." + target.filename().string() + ".tmp-"; }
+std::string tempPrefix(const fs::path& target)
+{
+    // Appended piecewise: GCC 12 warns falsely (-Wrestrict) on "." + name + ".tmp-".
+    std::string prefix = ".";
+    prefix += target.filename().string();
+    prefix += ".tmp-";
+    return prefix;
+}
 
 /// Whether a temporary file left beside the target by some writer is safe to delete: its writer
 /// (the pid in its name) is gone and it has not been touched for a while. The age also covers
