@@ -27,6 +27,7 @@
 #include "bench/BenchChart.h"
 #include "cli/LightingCommands.h"
 #include "cli/OptionRules.h"
+#include "cli/OutputLimits.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
@@ -37,6 +38,7 @@
 #include "visibility/Error.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/HeckbertHerfSampler.h"
+#include "visibility/HoughMaskTable.h"
 #include "visibility/gl/HeadlessContext.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
@@ -73,6 +75,7 @@ struct ShaftArgs {
     std::string glBackend = "osmesa";
     std::string mode = "exact";
     std::vector<int> table = {256, 128};
+    bool allowOutsidePaths = false;
 };
 
 /// Without --repeat (`repeat` 0), runs `sample` once and returns its time in milliseconds: what
@@ -115,8 +118,15 @@ void checkShaftOptions(const CLI::App& command, const ShaftArgs& args)
 
 int runShaft(const ShaftArgs& args)
 {
-    const Project project = loadProject(args.project);
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
+    if (args.mode == "table") {
+        try {
+            HoughMaskTable::checkBudget(project.source.sampleCount(), args.table[0], args.table[1]);
+        } catch (const Error& e) {
+            throw Error("--table " + std::to_string(args.table[0]) + " " + std::to_string(args.table[1]) + ": " + e.what());
+        }
+    }
     const std::string what = fs::path(args.project).filename().string();
     // Refused before the heights file is read: whatever it holds, these samplers would answer
     // for the flat receiver, which is not the project's question.
@@ -225,9 +235,6 @@ int runShaft(const ShaftArgs& args)
                  {"reused_probe", stats.reusedProbe}};
     }
 
-    if (!args.mask.empty())
-        writeMaskNpy(map, args.mask);
-
     const std::uint64_t rays = std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount());
     const std::uint64_t blocked = countedBlocked ? *countedBlocked : map.blockedCount();
     const double visible = rays ? double(rays - blocked) / double(rays) : 0.0;
@@ -255,8 +262,15 @@ int runShaft(const ShaftArgs& args)
         if (!args.mask.empty())
             out["mask"] = args.mask;
         out.update(split);
-        std::cout << out.dump() << "\n";
+        // Everything that can refuse happens before the mask is written: a failed run leaves
+        // no side file behind.
+        const std::string text = cli::dumpJson(out);
+        if (!args.mask.empty())
+            writeMaskNpy(map, args.mask);
+        std::cout << text << "\n";
     } else {
+        if (!args.mask.empty())
+            writeMaskNpy(map, args.mask);
         std::printf("method     %s (%s, %d threads)\n", args.method.c_str(), strategy.c_str(), threads);
         std::printf("scene      %zu triangles (setup %.1f ms)\n", scene.triangleCount(), setupMs);
         std::printf("patches    %dx%d source x %dx%d receiver samples%s\n", project.source.na, project.source.nb,
@@ -316,13 +330,13 @@ int runBench(BenchArgs& args)
     return 0;
 }
 
-int runInfo(const std::string& path, bool asJson)
+int runInfo(const std::string& path, bool asJson, bool allowOutsidePaths)
 {
     std::vector<std::string> warnings;
     Scene scene;
     const bool isProject = fs::path(path).extension() == ".json";
     if (isProject)
-        scene = buildScene(loadProject(path), &warnings);
+        scene = buildScene(loadProject(path, {.allowOutsidePaths = allowOutsidePaths}), &warnings);
     else
         scene = loadScene(path, &warnings);
     printWarnings(warnings);
@@ -346,7 +360,7 @@ int runInfo(const std::string& path, bool asJson)
                     {"instance_list", instances}};
         if (!box.empty())
             out["bounds"] = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
-        std::cout << out.dump() << "\n";
+        std::cout << cli::dumpJson(out) << "\n";
         return 0;
     }
     std::printf("file       %s\n", path.c_str());
@@ -487,12 +501,15 @@ int main(int argc, char** argv)
                          "Run once to warm up, then time N runs and report their median ms (without --repeat: "
                          "one cold run, no warm-up)")
         ->check(CLI::Range(1, 1000));
+    cli::addAllowOutsidePaths(shaftCmd, shaft.allowOutsidePaths);
 
     std::string infoPath;
     bool infoJson = false;
+    bool infoAllowOutside = false;
     CLI::App* infoCmd = app.add_subcommand("info", "Print counts, bounds and instances of a scene or project");
     infoCmd->add_option("file", infoPath, "Scene file (glTF, GLB, OBJ, PLY, OFF, STL) or project (.json)")->required();
     infoCmd->add_flag("--json", infoJson, "Print one JSON object instead of text");
+    cli::addAllowOutsidePaths(infoCmd, infoAllowOutside);
 
     BenchArgs benchArgs;
     CLI::App* benchCmd = app.add_subcommand("bench", "Time every method against the raycast reference; CSV and chart");
@@ -525,6 +542,7 @@ int main(int argc, char** argv)
         ->check(CLI::Range(0, 1024));
     benchCmd->add_option("--csv", benchArgs.csv, "Write all rows as CSV");
     benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error");
+    cli::addAllowOutsidePaths(benchCmd, benchArgs.settings.allowOutsidePaths);
 
     cli::ImportanceArgs importance;
     CLI::App* importanceCmd = cli::addImportanceCommand(app, importance);
@@ -557,7 +575,7 @@ int main(int argc, char** argv)
             return runShaft(shaft);
         }
         if (*infoCmd)
-            return runInfo(infoPath, infoJson);
+            return runInfo(infoPath, infoJson, infoAllowOutside);
         if (*demoCmd) {
             int first = 0, last = 0;
             char dash = 0, extra = 0;
@@ -580,7 +598,8 @@ int main(int argc, char** argv)
             return cli::runShadow(shadow);
         }
     } catch (const std::exception& e) {
-        std::cerr << "sightline-cli: error: " << e.what() << "\n";
+        const CLI::App* command = app.get_subcommands().front();
+        std::cerr << "sightline-cli: error: " << describeFailure(e, "running '" + command->get_name() + "'") << "\n";
         return 1;
     }
     return 1;

@@ -21,6 +21,8 @@
 #include "OverlayLegend.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
+#include "cli/OutputLimits.h"
+#include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
 
@@ -41,12 +43,13 @@ struct Arguments {
     std::string overlay = "none";
     std::string statistic = "mean";
     bool accumulate = false;
+    bool allowOutsidePaths = false;
 };
 
 bool parseSize(const std::string& text, int& width, int& height)
 {
-    return std::sscanf(text.c_str(), "%dx%d", &width, &height) == 2 && width > 0 && height > 0 && width <= 16384 &&
-           height <= 16384;
+    char extra = 0;
+    return std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &extra) == 2 && width > 0 && height > 0;
 }
 
 /// The overlay a screenshot shows: importance over the project's animation when it has one (the
@@ -67,6 +70,7 @@ QString prepareOverlay(const EditorDocument& document, PatchOverlay& overlay)
 int screenshot(const Arguments& args, int width, int height)
 {
     EditorDocument document;
+    document.setAllowOutsidePaths(args.allowOutsidePaths);
     document.open(args.file);
     ViewStyle style;
     style.rayCap = args.rays;
@@ -97,8 +101,7 @@ int screenshot(const Arguments& args, int width, int height)
         sum /= double(std::max<std::size_t>(light->rgb.size(), 1));
         std::printf("overlay light on the receiver: mean R %.1f%%, G %.1f%%, B %.1f%%\n", 100.0 * sum.r, 100.0 * sum.g, 100.0 * sum.b);
     }
-    if (!result.image.save(QString::fromStdString(args.screenshot), "PNG"))
-        throw sightline::Error(args.screenshot + ": could not write the image");
+    savePng(result.image, args.screenshot);   // atomic: an interrupted render leaves the old file
     std::printf("wrote %s (%dx%d): %s; %llu rays drawn\n", args.screenshot.c_str(), width, height,
                 visibilitySummary(result.visibility).toUtf8().constData(), static_cast<unsigned long long>(result.raysDrawn));
     return 0;
@@ -106,7 +109,7 @@ int screenshot(const Arguments& args, int width, int height)
 
 int benchmark(const Arguments& args, int width, int height)
 {
-    MainWindow window(EditorOptions{.offerRecovery = false});
+    MainWindow window(EditorOptions{.offerRecovery = false, .allowOutsidePaths = args.allowOutsidePaths});
     if (!window.openFile(QString::fromStdString(args.file)))
         return 1;
     window.viewport().style().rayCap = args.rays;
@@ -154,6 +157,9 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"mean", "max", "ever"}));
     app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging");
     app.add_option("--gl-backend", args.glBackend, "Screenshot: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
+    app.add_flag("--allow-outside-paths", args.allowOutsidePaths,
+                 "Read files the project names by a relative path that leaves its folder (refused otherwise; "
+                 "the editor's File menu keeps this as a setting)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -161,7 +167,14 @@ int main(int argc, char** argv)
     }
     int width = 0, height = 0;
     if (!parseSize(args.size, width, height)) {
-        std::fprintf(stderr, "sightline: --size must be WxH with sides from 1 to 16384, got '%s'\n", args.size.c_str());
+        std::fprintf(stderr, "sightline: --size must be WxH with positive sides, got '%s'\n", args.size.c_str());
+        return 2;
+    }
+    try {
+        // Render target, read-back and two conversions: about 24 bytes a pixel.
+        cli::checkImageSize(width, height, "--size " + args.size, 24);
+    } catch (const sightline::Error& e) {
+        std::fprintf(stderr, "sightline: %s\n", e.what());
         return 2;
     }
     if ((!args.screenshot.empty() || args.benchmark) && args.file.empty()) {
@@ -197,7 +210,10 @@ int main(int argc, char** argv)
             window.openFile(QString::fromStdString(args.file));
         return application.exec();
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "sightline: %s\n", e.what());
+        const std::string doing = !args.screenshot.empty() ? "rendering the screenshot of " + args.file
+                                  : args.benchmark          ? "benchmarking " + args.file
+                                                            : std::string("running the editor");
+        std::fprintf(stderr, "sightline: %s\n", describeFailure(e, doing).c_str());
         return 1;
     }
 }

@@ -18,7 +18,8 @@ namespace {
 constexpr const char* kEditorKey = "editor";   // the project key the CLI ignores (kept as unknown)
 
 /// Rewrites a path written relative to `from` so that it means the same file from `to`
-/// (absolute when `absolute`).
+/// (absolute when `absolute`, or when the relative form would climb out of `to`: such a path is
+/// refused on load, visibility/PathRule.h, while an absolute one is taken as written).
 std::string rebase(const std::string& path, const fs::path& from, const fs::path& to, bool absolute)
 {
     if (path.empty())
@@ -28,7 +29,8 @@ std::string rebase(const std::string& path, const fs::path& from, const fs::path
     if (absolute)
         return full.string();
     const fs::path relative = full.lexically_relative(to);
-    return relative.empty() ? full.string() : relative.generic_string();
+    const bool leaves = !relative.empty() && *relative.begin() == "..";
+    return relative.empty() || leaves ? full.string() : relative.generic_string();
 }
 
 Project rebased(Project project, const fs::path& folder, bool absolute)
@@ -104,10 +106,17 @@ void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std:
     emit fileChanged();
 }
 
+void EditorDocument::setAllowOutsidePaths(bool allow)
+{
+    allowOutsidePaths_ = allow;
+    project_.allowOutsidePaths = allow;
+}
+
 void EditorDocument::newDocument()
 {
     Project project;
     project.folder = fs::current_path();
+    project.allowOutsidePaths = allowOutsidePaths_;
     std::tie(project.source, project.receiver) = defaultPatches(Bounds{});
     reset(std::move(project), Scene{}, {});
 }
@@ -119,12 +128,13 @@ void EditorDocument::open(const fs::path& file)
         Project project;
         project.folder = fs::absolute(file).parent_path();
         project.scene = file.filename().string();
+        project.allowOutsidePaths = allowOutsidePaths_;
         std::tie(project.source, project.receiver) = defaultPatches(scene.bounds());
         reset(std::move(project), std::move(scene), {});
         return;
     }
-    Project project = loadProject(file);
-    Scene scene = project.scene.empty() ? Scene{} : loadScene(project.resolve(project.scene));
+    Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_});
+    Scene scene = project.scene.empty() ? Scene{} : loadScene(project.resolve(project.scene, "scene"));
     // Checks the occluders and moved objects now, so a broken file is refused as a whole; the
     // occluder meshes loaded for the check are kept.
     Scene check = scene;

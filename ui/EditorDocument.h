@@ -59,7 +59,13 @@ public:
     /// it, patches placed across the level). Throws sightline::Error; the document is unchanged
     /// then.
     void open(const std::filesystem::path& file);
-    /// Saves atomically; relative paths are rewritten for the new folder. Throws sightline::Error.
+    /// Whether files the project names may lie outside its folder by a relative path
+    /// (visibility/PathRule.h): the editor's setting or --allow-outside-paths, applied to every
+    /// document opened from now on and to the current one.
+    void setAllowOutsidePaths(bool allow);
+    bool allowOutsidePaths() const { return allowOutsidePaths_; }
+    /// Saves atomically; relative paths are rewritten for the new folder (absolute where the
+    /// relative form would leave it). Throws sightline::Error.
     void save(const std::filesystem::path& file);
     /// Writes the recovery copy (absolute paths), without touching the clean state.
     void saveRecovery(const std::filesystem::path& file) const;
@@ -110,6 +116,7 @@ private:
     mutable std::optional<Scene> occluderScene_;
     mutable std::vector<std::size_t> occluderOfInstance_;
     mutable std::optional<Scene> scene_;
+    bool allowOutsidePaths_ = false;
 };
 
 /// Patches across a level: a source and a receiver of `side` metres, 1.5 m above the floor,

@@ -7,6 +7,7 @@
 #include <QComboBox>
 #include <QDir>
 #include <QDockWidget>
+#include <QBuffer>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QKeyEvent>
@@ -28,12 +29,15 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
+#include "visibility/AtomicFile.h"
+#include "visibility/Error.h"
 
 namespace sightline::ui {
 
 namespace {
 constexpr int kMaxRecentFiles = 8;
 constexpr int kAutosaveMs = 60'000;
+constexpr const char* kAllowOutsidePathsKey = "files/allowOutsidePaths";
 } // namespace
 
 QString visibilitySummary(const VisibilityResult& result)
@@ -62,6 +66,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     setCentralWidget(container_);
     setAcceptDrops(true);
 
+    document_.setAllowOutsidePaths(options.allowOutsidePaths || QSettings().value(kAllowOutsidePathsKey).toBool());
     createPanels();
     createActions();
     qApp->installEventFilter(this);
@@ -168,6 +173,16 @@ void MainWindow::createActions()
         const QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), "sightline.png", tr("PNG images (*.png)"));
         if (!path.isEmpty())
             screenshotTo(path);
+    });
+    file->addSeparator();
+    // The project-path rule (visibility/PathRule.h): a file someone sent must not read files
+    // outside its folder unless the user says so; the choice is remembered.
+    QAction* outside = file->addAction(tr("Allow Project Paths &Outside Its Folder"));
+    outside->setCheckable(true);
+    outside->setChecked(document_.allowOutsidePaths());
+    connect(outside, &QAction::toggled, this, [this](bool allow) {
+        document_.setAllowOutsidePaths(allow);
+        QSettings().setValue(kAllowOutsidePathsKey, allow);
     });
     file->addSeparator();
     action(file, tr("&Quit"), QKeySequence::Quit, [this] { close(); });
@@ -311,7 +326,8 @@ bool MainWindow::openFile(const QString& file)
     try {
         document_.open(file.toStdString());
     } catch (const std::exception& e) {
-        QMessageBox::warning(this, tr("Open"), QString::fromUtf8(e.what()));
+        QMessageBox::warning(this, tr("Open"),
+                             QString::fromStdString(describeFailure(e, "opening " + file.toStdString())));
         return false;
     }
     addRecentFile(QFileInfo(file).absoluteFilePath());
@@ -324,7 +340,8 @@ bool MainWindow::saveTo(const QString& file)
         storeView();
         document_.save(file.toStdString());
     } catch (const std::exception& e) {
-        QMessageBox::warning(this, tr("Save"), QString::fromUtf8(e.what()));
+        QMessageBox::warning(this, tr("Save"),
+                             QString::fromStdString(describeFailure(e, "saving " + file.toStdString())));
         return false;
     }
     QFile::remove(recoveryPath());
@@ -336,8 +353,18 @@ bool MainWindow::saveTo(const QString& file)
 bool MainWindow::screenshotTo(const QString& file)
 {
     const QImage image = viewport_->grabFramebuffer();
-    if (image.isNull() || !image.save(file, "PNG")) {
-        QMessageBox::warning(this, tr("Screenshot"), tr("Could not write %1").arg(file));
+    QByteArray bytes;
+    QBuffer buffer(&bytes);
+    buffer.open(QIODevice::WriteOnly);
+    if (image.isNull() || !image.save(&buffer, "PNG")) {
+        QMessageBox::warning(this, tr("Screenshot"), tr("Could not encode the screenshot as PNG"));
+        return false;
+    }
+    try {
+        // Atomic, keeping the old file's mode and a symlink, like every other save.
+        writeFileAtomically(file.toStdString(), std::string_view(bytes.constData(), std::size_t(bytes.size())));
+    } catch (const std::exception& e) {
+        QMessageBox::warning(this, tr("Screenshot"), QString::fromStdString(describeFailure(e, "saving the screenshot")));
         return false;
     }
     statusBar()->showMessage(tr("Screenshot saved to %1").arg(file), 4000);

@@ -31,6 +31,8 @@ QString visibilitySummary(const VisibilityResult& result);
 
 struct EditorOptions {
     bool offerRecovery = true;   ///< ask to restore a recovery file found at start-up
+    /// --allow-outside-paths: for this run, whatever the saved setting (File menu) says.
+    bool allowOutsidePaths = false;
 };
 
 class MainWindow : public QMainWindow {

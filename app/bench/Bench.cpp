@@ -94,7 +94,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
     std::vector<Row> rows;
     std::unique_ptr<gl::HeadlessContext> context;   // made on first use of "gl"
     for (const std::string& file : settings.projects) {
-        const Project project = loadProject(file);
+        const Project project = loadProject(file, {.allowOutsidePaths = settings.allowOutsidePaths});
         const Scene scene = buildScene(project);
         const RayCastScene reference(scene);
         const CpuBitmaskSampler cpu(scene);

@@ -17,6 +17,7 @@
 #include <QImage>
 #include <QPainter>
 
+#include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
 
@@ -106,8 +107,7 @@ void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png, 
     painter.setRenderHint(QPainter::Antialiasing);
     scene.render(&painter, QRectF(QPointF(0, 0), size), QRectF(QPointF(0, 0), size));
     painter.end();
-    if (!image.save(QString::fromStdString(png.string()), "PNG"))
-        throw Error(png.string() + ": cannot write the chart");
+    savePng(image, png);   // atomic, like every other output
 }
 
 } // namespace sightline::bench

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/OptionRules.h"
+#include "cli/OutputLimits.h"
 #include "lighting/SoftShadow.h"
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
@@ -120,13 +121,14 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
     command->add_flag("--progress", args.progress, "Print progress on stderr (default when stderr is a terminal)");
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addGridOptions(command, args.grids);
+    addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
 }
 
 int runImportance(const ImportanceArgs& args)
 {
     const auto start = std::chrono::steady_clock::now();
-    Project project = loadProject(args.project);
+    Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     applyGrids(args.grids, project);
     const std::string what = std::filesystem::path(args.project).filename().string();
     const Animation animation = parseAnimation(project, what);
@@ -201,7 +203,7 @@ int runImportance(const ImportanceArgs& args)
                     {"out", args.out}};
         if (!args.npy.empty())
             out["npy"] = args.npy;
-        std::cout << out.dump() << "\n";
+        std::cout << dumpJson(out) << "\n";
     } else {
         std::printf("importance %s, %s over %d frame%s, %dx%d samples (%s)\n", args.of.c_str(), statisticText.c_str(),
                     run.framesDone, run.framesDone == 1 ? "" : "s", map.na, map.nb, args.method.c_str());
@@ -238,15 +240,21 @@ CLI::App* addShadowCommand(CLI::App& app, ShadowArgs& args)
     command->add_option("--threads", args.threads, "cpu, raycast: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addGridOptions(command, args.grids);
+    addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
 }
 
 int runShadow(const ShadowArgs& args)
 {
     const auto start = std::chrono::steady_clock::now();
-    Project project = loadProject(args.project);
+    Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     applyGrids(args.grids, project);
     validatePatchPair(project.source, project.receiver);
+    // The PNG is the receiver grid times --scale a side: both in range can still be too big.
+    checkImageSize(project.receiver.na * args.scale, project.receiver.nb * args.scale,
+                   "--scale " + std::to_string(args.scale) + " of the " + std::to_string(project.receiver.na) + "x" +
+                       std::to_string(project.receiver.nb) + " receiver",
+                   8);
     const std::string what = std::filesystem::path(args.project).filename().string();
     const AreaLight light = projectLight(project, project.source, what);
     const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, what);
@@ -312,7 +320,7 @@ int runShadow(const ShadowArgs& args)
                     {"out", args.out}};
         if (!args.npy.empty())
             out["npy"] = args.npy;
-        std::cout << out.dump() << "\n";
+        std::cout << dumpJson(out) << "\n";
     } else {
         std::printf("shadow     %dx%d receiver samples, %dx%d light samples in %zu colour group%s%s (%s)\n",
                     project.receiver.na, project.receiver.nb, project.source.na, project.source.nb, light.groups.size(),

@@ -27,6 +27,7 @@ struct ImportanceArgs {
     int threads = 0;
     bool json = false;
     bool progress = false;
+    bool allowOutsidePaths = false;
     GridOverrides grids;
 };
 
@@ -39,6 +40,7 @@ struct ShadowArgs {
     int scale = 1;
     bool intensity = false;
     bool json = false;
+    bool allowOutsidePaths = false;
     GridOverrides grids;
 };
 

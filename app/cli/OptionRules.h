@@ -20,6 +20,14 @@ inline bool given(const CLI::App& command, const std::string& name)
     return command.get_option(name)->count() > 0;
 }
 
+/// --allow-outside-paths, on every subcommand that loads a project (visibility/PathRule.h).
+inline void addAllowOutsidePaths(CLI::App* command, bool& allow)
+{
+    command->add_flag("--allow-outside-paths", allow,
+                      "Read files the project names by a relative path that leaves its folder ('../x.glb', or a "
+                      "symlink out of it); refused without this flag. Absolute paths are always read");
+}
+
 /// Throws sightline::Error when `option` was given with a `method` outside `methods`:
 /// "--threads applies to --method raycast or cpu, not gl".
 inline void requireMethod(const CLI::App& command, const std::string& option, const std::string& method,

@@ -40,7 +40,7 @@ AreaLight projectLight(const Project& project, const Patch& source, const std::s
             fail(what, "light.levels", "must be an integer in [1, 255]");
         levels = light.at("levels").get<int>();
     }
-    const RgbImage texture = loadRgbImage(project.resolve(pathKey(light, what, "texture")));
+    const RgbImage texture = loadRgbImage(project.resolve(pathKey(light, what, "texture"), "light.texture"));
     return AreaLight::fromTexture(texture, source, levels);
 }
 
@@ -54,7 +54,7 @@ ReceiverHeights projectReceiverHeights(const Project& project, const Patch& rece
         fail(what, "receiver_heights", "must be an object with either image (and metres) or npy");
     heights.metres.resize(std::size_t(receiver.sampleCount()));
     if (spec.contains("npy")) {
-        const FloatArray array = readFloatNpy(project.resolve(pathKey(spec, what, "npy")));
+        const FloatArray array = readFloatNpy(project.resolve(pathKey(spec, what, "npy"), "receiver_heights.npy"));
         if (array.rows != receiver.nb || array.columns != receiver.na)
             fail(what, "receiver_heights.npy", "has shape (" + std::to_string(array.rows) + ", " +
                                                    std::to_string(array.columns) + "); the receiver's grid needs (" +
@@ -66,7 +66,7 @@ ReceiverHeights projectReceiverHeights(const Project& project, const Patch& rece
     if (!spec.contains("metres") || !spec.at("metres").is_number() || !std::isfinite(spec.at("metres").get<double>()))
         fail(what, "receiver_heights.metres", "must be a finite number (the height of white)");
     const double metres = spec.at("metres").get<double>();
-    const RgbImage image = loadRgbImage(project.resolve(pathKey(spec, what, "image")));
+    const RgbImage image = loadRgbImage(project.resolve(pathKey(spec, what, "image"), "receiver_heights.image"));
     for (int b = 0; b < receiver.nb; ++b) {
         for (int a = 0; a < receiver.na; ++a) {
             const glm::vec3 c = image.bilinear((a + 0.5) / receiver.na, (b + 0.5) / receiver.nb);

@@ -1,14 +1,15 @@
 #include "project/Project.h"
 
 #include <cmath>
-#include <fstream>
-#include <iterator>
+#include <cstdint>
 #include <sstream>
 
 #include "plugins/JsonText.h"
 #include "plugins/SceneFormats.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
+#include "visibility/InputFile.h"
+#include "visibility/PathRule.h"
 
 namespace sightline {
 
@@ -61,11 +62,18 @@ struct Reader {
             const json& s = object.at("samples");
             if (!s.is_array() || s.size() != 2 || !s[0].is_number_integer() || !s[1].is_number_integer())
                 fail(key + ".samples", "must be two integers [na, nb]");
-            const auto na = s[0].get<long long>(), nb = s[1].get<long long>();
             const long long limit = key == "source" ? kMaxSourceSamples : kMaxReceiverSide;
-            if (na < 1 || nb < 1 || na > limit || nb > limit)
-                fail(key + ".samples", "must be in [1, " + std::to_string(limit) + "], got [" +
-                                           std::to_string(na) + ", " + std::to_string(nb) + "]");
+            // Range-check in the JSON's own type: a count above 2^63 is unsigned there and would
+            // wrap negative as long long. The message quotes the numbers as written.
+            auto inRange = [&](const json& n) {
+                return n.is_number_unsigned() ? n.get<std::uint64_t>() <= std::uint64_t(limit) &&
+                                                    n.get<std::uint64_t>() >= 1
+                                              : n.get<long long>() >= 1 && n.get<long long>() <= limit;
+            };
+            if (!inRange(s[0]) || !inRange(s[1]))
+                fail(key + ".samples", "must be in [1, " + std::to_string(limit) + "], got [" + s[0].dump() + ", " +
+                                           s[1].dump() + "]");
+            const auto na = s[0].get<long long>(), nb = s[1].get<long long>();
             p.na = int(na);
             p.nb = int(nb);
         }
@@ -157,10 +165,9 @@ Mesh makeMesh(std::string name, std::vector<glm::vec3> positions, std::vector<st
 
 } // namespace
 
-std::filesystem::path Project::resolve(const std::string& path) const
+std::filesystem::path Project::resolve(const std::string& path, const std::string& key) const
 {
-    const std::filesystem::path p(path);
-    return p.is_absolute() ? p : (folder / p).lexically_normal();
+    return resolveWrittenPath(path, folder, allowOutsidePaths, name, key);
 }
 
 Project parseProject(const json& document, const std::filesystem::path& folder, const std::string& what)
@@ -170,6 +177,7 @@ Project parseProject(const json& document, const std::filesystem::path& folder, 
         throw Error(what + ": a project must be a JSON object");
     Project project;
     project.folder = folder;
+    project.name = what;
     if (!document.contains("version"))
         read.fail("version", "is missing (this file is not a Sightline project)");
     if (!document.at("version").is_number_integer())
@@ -203,16 +211,16 @@ Project parseProject(const json& document, const std::filesystem::path& folder, 
     return project;
 }
 
-Project loadProject(const std::filesystem::path& file)
+Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions& options)
 {
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-        throw Error(file.string() + ": no such project file");
-    // Depth-checked before parsing, and every parser failure one line naming the file (JsonText.h).
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // A FIFO would block forever, a folder fail deep in the stream library: checked first; then
+    // depth-checked before parsing, and every parser failure one line naming the file (JsonText.h).
+    const std::string text = readInputFile(file, "project");
     const json document = parseJsonText(text, file.string());
     const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
-    return parseProject(document, folder, file.string());
+    Project project = parseProject(document, folder, file.string());
+    project.allowOutsidePaths = options.allowOutsidePaths;
+    return project;
 }
 
 json toJson(const Project& project)
@@ -243,7 +251,15 @@ json toJson(const Project& project)
 
 void saveProject(const Project& project, const std::filesystem::path& file)
 {
-    writeFileAtomically(file, toJson(project).dump(2) + "\n");
+    std::string text;
+    try {
+        text = toJson(project).dump(2) + "\n";
+    } catch (const json::type_error&) {
+        // A path or name that is not UTF-8 cannot be stored in the JSON the contract asks for;
+        // refuse the save rather than write a file that reads back differently.
+        throw Error(file.string() + ": cannot save: a path or name in the project is not valid UTF-8");
+    }
+    writeFileAtomically(file, text);
 }
 
 bool isBuiltinMesh(const std::string& name) { return name == "box" || name == "plane"; }
@@ -276,13 +292,21 @@ void applySceneTransforms(const Project& project, Scene& sceneFile)
     }
 }
 
+namespace {
+/// Where an occluder's mesh path was written, for errors.
+std::string occluderKey(const OccluderSpec& spec)
+{
+    return spec.name.empty() ? std::string("occluder mesh") : "occluder '" + spec.name + "' mesh";
+}
+} // namespace
+
 Scene loadOccluderMesh(const Project& project, const OccluderSpec& spec, std::vector<std::string>* warnings)
 {
     Scene mesh;
     if (isBuiltinMesh(spec.mesh))
         mesh.addMeshInstance(builtinMesh(spec.mesh));
     else
-        mesh = loadScene(project.resolve(spec.mesh), warnings);
+        mesh = loadScene(project.resolve(spec.mesh, occluderKey(spec)), warnings);
     return mesh;
 }
 
@@ -301,7 +325,7 @@ ProjectMeshes loadProjectMeshes(const Project& project, std::vector<std::string>
 {
     ProjectMeshes meshes;
     if (!project.scene.empty())
-        meshes.level = loadScene(project.resolve(project.scene), warnings);
+        meshes.level = loadScene(project.resolve(project.scene, "scene"), warnings);
     applySceneTransforms(project, meshes.level);
     for (const OccluderSpec& spec : project.occluders)
         meshes.occluders.push_back(loadOccluderMesh(project, spec, warnings));

@@ -34,6 +34,11 @@ struct OccluderSpec {
 struct Project {
     /// Folder that relative paths are resolved against (the project file's folder).
     std::filesystem::path folder;
+    /// Names the project in errors (its file name as given).
+    std::string name = "project";
+    /// Lets relative paths leave `folder` (--allow-outside-paths; visibility/PathRule.h). Not saved:
+    /// it is the user's choice for one run, not the file's.
+    bool allowOutsidePaths = false;
     /// Scene file as written in the project (relative or absolute); empty for none.
     std::string scene;
     Patch source;
@@ -47,15 +52,22 @@ struct Project {
     nlohmann::json sourceExtra = nlohmann::json::object();
     nlohmann::json receiverExtra = nlohmann::json::object();
 
-    /// Absolute path of a path written in the project (scene or occluder mesh).
-    std::filesystem::path resolve(const std::string& path) const;
+    /// The file a path written in the project means (scene, occluder mesh, light image, ...);
+    /// `key` says where it was written ("scene"). A relative path that leaves `folder` throws
+    /// sightline::Error unless allowOutsidePaths (visibility/PathRule.h). Every place a project
+    /// names a file goes through here.
+    std::filesystem::path resolve(const std::string& path, const std::string& key) const;
 };
 
 /// Parses a project document. `what` names it in errors (the file name). Patch geometry is read
 /// as given; the pair is validated where it is sampled (validatePatchPair), so that an editor can
 /// still open and fix a file whose patches are invalid.
 Project parseProject(const nlohmann::json& document, const std::filesystem::path& folder, const std::string& what);
-Project loadProject(const std::filesystem::path& file);
+struct ProjectLoadOptions {
+    bool allowOutsidePaths = false;   ///< see Project::allowOutsidePaths
+};
+/// Reads and parses a project file (a regular file of bounded size, visibility/InputFile.h).
+Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions& options = {});
 
 nlohmann::json toJson(const Project& project);
 /// Atomic: a temporary file beside `file`, then a rename.

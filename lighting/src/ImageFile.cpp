@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include <stb/stb_image.h>
 
 #include "visibility/Error.h"
+#include "visibility/InputFile.h"
 
 namespace sightline {
 
@@ -34,13 +36,20 @@ glm::vec3 RgbImage::bilinear(double s, double t) const
 
 RgbImage loadRgbImage(const std::filesystem::path& file)
 {
+    // stb opens whatever it is given: a FIFO would block, a folder read as garbage.
+    checkInputFile(file, "image");
     int width = 0, height = 0, channels = 0;
     if (!stbi_info(file.string().c_str(), &width, &height, &channels))
-        throw Error(file.string() + ": not a readable image (" +
-                    (std::filesystem::exists(file) ? std::string("unknown format") : std::string("no such file")) + ")");
-    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw Error(file.string() + ": not a readable image (unknown format)");
+    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
         throw Error(file.string() + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " is outside 1..16384 pixels a side");
+                    " is outside 1.." + std::to_string(kMaxImageSide) + " pixels a side");
+    // Each pixel costs 3 decoded bytes plus 12 as floats; refuse before stb allocates.
+    const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+    if (pixels > kMaxImagePixels)
+        throw Error(file.string() + ": image " + std::to_string(width) + "x" + std::to_string(height) + " would take " +
+                    std::to_string(pixels * 15 >> 20) + " MB to load; at most " + std::to_string(kMaxImagePixels >> 20) +
+                    " Mpixels are read (light textures and height maps need far fewer)");
     unsigned char* data = stbi_load(file.string().c_str(), &width, &height, &channels, 3);
     if (!data)
         throw Error(file.string() + ": cannot decode image: " + stbi_failure_reason());

@@ -28,10 +28,13 @@ inline fs::path uniqueFolder()
     return fs::temp_directory_path() / ("sightline_cli_" + std::string(test->name()) + "_" + std::to_string(getpid()));
 }
 
-inline CliRun runCli(const std::string& arguments)
+/// Runs `program` (the CLI by default) with `arguments`. With `timeoutSeconds`, a run that hangs
+/// is killed and returns code 124, so that a test of "never blocks" fails instead of hanging.
+inline CliRun runProgram(const std::string& program, const std::string& arguments, int timeoutSeconds = 0)
 {
     const fs::path errFile = uniqueFolder() / "stderr.txt";
-    const std::string command = std::string(SIGHTLINE_CLI) + " " + arguments + " 2>" + errFile.string();
+    const std::string prefix = timeoutSeconds > 0 ? "timeout -k 5 " + std::to_string(timeoutSeconds) + " " : "";
+    const std::string command = prefix + program + " " + arguments + " 2>" + errFile.string();
     CliRun run;
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe)
@@ -45,6 +48,11 @@ inline CliRun runCli(const std::string& arguments)
     err << std::ifstream(errFile).rdbuf();
     run.err = err.str();
     return run;
+}
+
+inline CliRun runCli(const std::string& arguments, int timeoutSeconds = 0)
+{
+    return runProgram(SIGHTLINE_CLI, arguments, timeoutSeconds);
 }
 
 inline bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }

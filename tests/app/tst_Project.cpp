@@ -50,8 +50,8 @@ TEST(Project, ParsesTheContractExample)
 {
     const Project p = parseProject(minimalDocument(), "/levels", "p.json");
     EXPECT_EQ(p.scene, "level.obj");
-    EXPECT_EQ(p.resolve(p.scene), fs::path("/levels/level.obj"));
-    EXPECT_EQ(p.resolve("/abs/x.glb"), fs::path("/abs/x.glb"));
+    EXPECT_EQ(p.resolve(p.scene, "scene"), fs::path("/levels/level.obj"));
+    EXPECT_EQ(p.resolve("/abs/x.glb", "scene"), fs::path("/abs/x.glb"));
     EXPECT_EQ(p.source.na, 8);
     EXPECT_EQ(p.source.nb, 4);
     EXPECT_EQ(p.receiver.na, 32);   // default

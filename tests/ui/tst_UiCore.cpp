@@ -261,7 +261,9 @@ TEST(EditorDocument, SaveAndReopenRoundTripsAndRebasesPaths)
     std::filesystem::create_directories(folder / "projects");
     document.save(folder / "projects" / "level.json");
     EXPECT_FALSE(document.isModified());
-    EXPECT_EQ(document.project().scene, "../levels/floor.obj");
+    // The relative form would climb out of the project's folder, which loading refuses
+    // (visibility/PathRule.h): the editor writes the path absolute instead.
+    EXPECT_EQ(document.project().scene, std::filesystem::absolute(folder / "levels" / "floor.obj").lexically_normal().string());
 
     EditorDocument again;
     again.open(folder / "projects" / "level.json");
@@ -286,6 +288,26 @@ TEST(EditorDocument, AFileThatFailsToOpenLeavesTheDocumentAsItWas)
                "receiver": {"corner": [0,0,5], "u": [1,0,0], "v": [0,1,0]}})";
     EXPECT_THROW(document.open(folder / "missing-mesh.json"), Error);
     EXPECT_EQ(toJson(document.project()), before);
+}
+
+TEST(EditorDocument, PathsOutsideTheProjectsFolderNeedTheSetting)
+{
+    const auto folder = freshFolder("document-outside");
+    writeFloorObj(folder / "levels");
+    std::filesystem::create_directories(folder / "projects");
+    std::ofstream(folder / "projects" / "p.json")
+        << R"({"version": 1, "scene": "../levels/floor.obj", "source": {"corner": [0,0,0], "u": [1,0,0], "v": [0,1,0]},
+               "receiver": {"corner": [0,0,5], "u": [1,0,0], "v": [0,1,0]}})";
+    EditorDocument document;
+    try {
+        document.open(folder / "projects" / "p.json");
+        FAIL() << "a scene outside the project's folder was read";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("leaves the project's folder"), std::string::npos) << e.what();
+    }
+    document.setAllowOutsidePaths(true);   // File > Allow Project Paths Outside Its Folder
+    EXPECT_NO_THROW(document.open(folder / "projects" / "p.json"));
+    EXPECT_EQ(document.sceneFile().instances.size(), 1u);
 }
 
 TEST(LiveVisibility, MatchesTheReferenceAndExplainsInvalidPairs)

@@ -123,9 +123,9 @@ TEST(NpyWriter, ShapesAreCheckedBeforeAnythingIsAllocated)
 {
     const std::string mask = "{'descr': '|u1', 'fortran_order': False, 'shape': (%, 1, 1), }";
     auto with = [](std::string text, const std::string& value) { return text.replace(text.find('%'), 1, value); };
-    EXPECT_NE(npyError(npyWith(with(mask, "99999999999999999999"), "x"), true).find("outside 1..65536"),
+    EXPECT_NE(npyError(npyWith(with(mask, "99999999999999999999"), "x"), true).find("shape dimension"),
               std::string::npos);
-    EXPECT_NE(npyError(npyWith(with(mask, "60000"), "x"), true).find("data size does not match"), std::string::npos);
+    EXPECT_NE(npyError(npyWith(with(mask, "60"), "x"), true).find("data size does not match"), std::string::npos);
     const std::string floats = "{'descr': '<f4', 'fortran_order': False, 'shape': (0, 3), }";
     EXPECT_NE(npyError(npyWith(floats, ""), false).find("empty array"), std::string::npos);
     EXPECT_EQ(npyError(npyWith(with(mask, "2"), std::string(2, '\0')), true), "");   // a good one loads

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <numbers>
 
 #include "visibility/Error.h"
@@ -19,6 +21,7 @@ HoughMaskTable::HoughMaskTable(int na, int nb, int width, int height)
     checkResolution(width, height);
     if (na < 1 || nb < 1 || na * nb > kMaxSourceSamples)
         throw Error("Hough table: unsupported sample grid " + std::to_string(na) + "x" + std::to_string(nb));
+    checkBudget(na * nb, width, height);
     masks_.assign(std::size_t(width) * std::size_t(height) * std::size_t(words_), 0);
     for (int k = 0; k < height; ++k)
         for (int i = 0; i < width; ++i) {
@@ -40,6 +43,27 @@ void HoughMaskTable::checkResolution(int width, int height)
     if (width < 4 || height < 2 || width > 8192 || height > 8192)
         throw Error("Hough table resolution must be between 4x2 and 8192x8192, got " + std::to_string(width) + "x" +
                     std::to_string(height));
+}
+
+std::uint64_t HoughMaskTable::bytesFor(int sampleCount, int width, int height)
+{
+    const std::uint64_t words = (std::uint64_t(std::max(sampleCount, 0)) + 63) / 64;
+    return std::uint64_t(std::max(width, 0)) * std::uint64_t(std::max(height, 0)) * words * sizeof(std::uint64_t);
+}
+
+void HoughMaskTable::checkBudget(int sampleCount, int width, int height)
+{
+    const std::uint64_t bytes = bytesFor(sampleCount, width, height);
+    if (bytes <= kMaxBytes)
+        return;
+    const auto gib = [](std::uint64_t b) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.1f GiB", double(b) / double(std::uint64_t(1) << 30));
+        return std::string(text);
+    };
+    throw Error("a " + std::to_string(width) + "x" + std::to_string(height) + " Hough table for " +
+                std::to_string(sampleCount) + " source samples would take " + gib(bytes) + ", more than the limit of " +
+                gib(kMaxBytes) + "; use a smaller table or fewer source samples");
 }
 
 double HoughMaskTable::theta(int i) const { return -kPi + (i + 0.5) * (2.0 * kPi / width_); }

@@ -1,10 +1,8 @@
 #include "visibility/NpyWriter.h"
 
 #include <bit>
-#include <charconv>
+#include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <regex>
 #include <stdexcept>
 
@@ -50,7 +48,7 @@ struct NpyFile {
 NpyFile readNpy(const std::filesystem::path& file)
 {
     NpyFile npy;
-    npy.bytes = readInputFile(file, ".npy");
+    npy.bytes = readInputFile(file, "NumPy array");
     const std::string& bytes = npy.bytes;
     if (bytes.size() < 10 || bytes.compare(0, 6, kMagic, 6) != 0 || bytes[6] != 1)
         throw Error(file.string() + ": not a NumPy format 1.0 file");
@@ -62,20 +60,24 @@ NpyFile readNpy(const std::filesystem::path& file)
     return npy;
 }
 
-/// A dimension of the header's shape: the digits as written, refused past `limit` (std::stoi
-/// would throw its own exception on long digit strings, and a huge shape must be refused before
-/// anything is allocated for it).
-int dimension(const std::filesystem::path& file, const std::string& digits, int limit)
+/// A dimension of a shape as written (digits only, from the header's regex). Anything past the
+/// file's own size cannot match its data, so it is refused before any arithmetic can overflow.
+int dimension(const std::string& digits, const NpyFile& npy, const std::filesystem::path& file)
 {
-    int value = 0;
-    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
-    if (ec != std::errc() || end != digits.data() + digits.size() || value > limit)
-        throw Error(file.string() + ": shape dimension " + digits + " is outside 1.." + std::to_string(limit));
-    return value;
+    if (digits.size() > 10 || std::stoull(digits) > npy.bytes.size() || std::stoull(digits) > 0x7fffffffull)
+        throw Error(file.string() + ": shape dimension " + digits + " does not match the file's " +
+                    std::to_string(npy.bytes.size()) + " bytes");
+    return int(std::stoull(digits));
 }
 
-/// No array dimension Sightline writes exceeds this (receiver grids are at most 4096 a side).
-constexpr int kMaxNpyDimension = 1 << 16;
+/// Refuses data whose size is not `count` items of `itemBytes`, before anything is allocated.
+void checkDataSize(const NpyFile& npy, std::uint64_t count, std::uint64_t itemBytes, const std::filesystem::path& file)
+{
+    // Dividing first keeps a hostile shape from overflowing count * itemBytes.
+    const std::uint64_t available = npy.bytes.size() - npy.dataStart;
+    if (count > available / itemBytes || count * itemBytes != available)
+        throw Error(file.string() + ": data size does not match the shape");
+}
 } // namespace
 
 std::string encodeMaskNpy(const HiddenSampleMap& map)
@@ -107,14 +109,12 @@ HiddenSampleMap readMaskNpy(const std::filesystem::path& file, int sourceCount)
     if (header.find("'|u1'") == std::string::npos || header.find("'fortran_order': False") == std::string::npos ||
         !std::regex_search(header, m, shapeRe))
         throw Error(file.string() + ": not a C-order |u1 array of 3 dimensions");
-    const int nb = dimension(file, m[1], kMaxNpyDimension), na = dimension(file, m[2], kMaxNpyDimension),
-              rowBytes = dimension(file, m[3], kMaxNpyDimension);
+    const int nb = dimension(m[1], npy, file), na = dimension(m[2], npy, file), rowBytes = dimension(m[3], npy, file);
     if (sourceCount < 1 || rowBytes != bytesPerRow(sourceCount) || na < 1 || nb < 1)
         throw Error(file.string() + ": shape does not match " + std::to_string(sourceCount) + " source samples");
+    checkDataSize(npy, std::uint64_t(na) * std::uint64_t(nb), std::uint64_t(rowBytes), file);
+    HiddenSampleMap map(sourceCount, na, nb);
     const std::size_t dataStart = npy.dataStart;
-    if (bytes.size() != dataStart + std::size_t(rowBytes) * std::size_t(na) * std::size_t(nb))
-        throw Error(file.string() + ": data size does not match the shape");
-    HiddenSampleMap map(sourceCount, na, nb);   // only now: its size is bounded by the file's
     for (int j = 0; j < map.receiverCount(); ++j) {
         std::memcpy(map.row(j).data(), bytes.data() + dataStart + std::size_t(j) * std::size_t(rowBytes),
                     std::size_t(rowBytes));
@@ -150,13 +150,12 @@ FloatArray readFloatNpy(const std::filesystem::path& file)
         !std::regex_search(npy.header, m, shapeRe))
         throw Error(file.string() + ": not a C-order float32 array of 2 dimensions");
     FloatArray array;
-    array.rows = dimension(file, m[1], kMaxNpyDimension);
-    array.columns = dimension(file, m[2], kMaxNpyDimension);
-    if (array.rows < 1 || array.columns < 1)
+    array.rows = dimension(m[1], npy, file);
+    array.columns = dimension(m[2], npy, file);
+    if (array.rows < 1 || array.columns < 1)   // nothing to read, and no data pointer to copy from
         throw Error(file.string() + ": an empty array (shape " + std::string(m[1]) + " x " + std::string(m[2]) + ")");
     const std::size_t count = std::size_t(array.rows) * std::size_t(array.columns);
-    if (npy.bytes.size() != npy.dataStart + count * sizeof(float))
-        throw Error(file.string() + ": data size does not match the shape");
+    checkDataSize(npy, count, sizeof(float), file);
     array.values.resize(count);
     std::memcpy(array.values.data(), npy.bytes.data() + npy.dataStart, count * sizeof(float));
     return array;

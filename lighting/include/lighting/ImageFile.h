@@ -3,6 +3,7 @@
 // Read with stb_image (PNG, JPEG, BMP, TGA, ...); values stay as stored (no sRGB decoding: a
 // light texture is taken as the light's colours, a height map's grey level as a height).
 
+#include <cstdint>
 #include <filesystem>
 #include <vector>
 
@@ -21,8 +22,12 @@ struct RgbImage {
     glm::vec3 bilinear(double s, double t) const;
 };
 
-/// Throws sightline::Error with the file name when the file is missing or not a readable image,
-/// or larger than 16384 pixels a side.
+/// The largest image read: a side, and pixels in all (each costs 15 bytes while loading).
+inline constexpr int kMaxImageSide = 16384;
+inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t(1) << 25;
+
+/// Throws sightline::Error with the file name when the file is missing, not a regular file
+/// (visibility/InputFile.h), not a readable image, or larger than the limits above.
 RgbImage loadRgbImage(const std::filesystem::path& file);
 
 } // namespace sightline

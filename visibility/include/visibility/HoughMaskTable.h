@@ -26,6 +26,13 @@ public:
     /// Throws sightline::Error unless 4 <= width <= 8192 and 2 <= height <= 8192 (the
     /// constructor's own check, for callers that validate before building, e.g. the GL sampler).
     static void checkResolution(int width, int height);
+    /// Bytes the table takes for `sampleCount` source samples: one mask a texel.
+    static std::uint64_t bytesFor(int sampleCount, int width, int height);
+    /// Throws sightline::Error, saying the cost, when the table would take more than kMaxBytes:
+    /// every resolution in range fits a small source, not every one fits 1024 samples. The
+    /// constructor checks it before allocating; callers check it before loading a scene.
+    static void checkBudget(int sampleCount, int width, int height);
+    static constexpr std::uint64_t kMaxBytes = std::uint64_t(2) << 30;
 
     int width() const { return width_; }
     int height() const { return height_; }
