@@ -5,3 +5,5 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 echo "== tests"
 ctest --preset default
+echo "== fuzzing every reader (bounded, fixed seed; scripts/fuzz.sh for longer runs)"
+scripts/fuzz.sh --ci

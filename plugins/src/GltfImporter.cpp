@@ -30,6 +30,7 @@
 #include "GltfValidation.h"
 #include "plugins/JsonText.h"
 #include "visibility/Error.h"
+#include "visibility/PathRule.h"
 #include "visibility/InputFile.h"
 #include "visibility/Scene.h"
 #include "visibility/SceneLimits.h"
@@ -103,15 +104,6 @@ std::string_view glbJsonChunk(std::string_view bytes, const std::string& what)
     return json;
 }
 
-bool isInside(const fs::path& candidate, const fs::path& folder)
-{
-    std::error_code ec;
-    const fs::path resolved = fs::weakly_canonical(candidate, ec);
-    if (ec)
-        return false;
-    return std::mismatch(folder.begin(), folder.end(), resolved.begin(), resolved.end()).first == folder.end();
-}
-
 /// Refuses what Sightline will not honour before any bytes are loaded: required extensions, and
 /// buffer URIs that are absolute or resolve outside the file's folder.
 void preflight(std::string_view json, const fs::path& folder, const std::string& what)
@@ -136,7 +128,7 @@ void preflight(std::string_view json, const fs::path& folder, const std::string&
         const fs::path path(uri);
         if (path.is_absolute() || path.has_root_name() || path.has_root_directory())
             throw Error(what + ": buffer URI '" + uri + "' is an absolute path; only files beside the glTF are read");
-        if (!isInside(folder / path, folder))
+        if (!resolvesInside(folder / path, folder))
             throw Error(what + ": buffer URI '" + uri + "' resolves outside the glTF file's folder; refused");
     }
 }
@@ -155,7 +147,7 @@ struct FsGuard {
         const std::string prefix = guard->folder.string() + "/";
         if (path.compare(0, prefix.size(), prefix) != 0)
             return false; // the working-folder fallback
-        if (!isInside(path, guard->folder)) {
+        if (!resolvesInside(path, guard->folder)) {
             if (guard->refused.empty())
                 guard->refused = path.substr(prefix.size());
             return false;
