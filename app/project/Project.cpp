@@ -1,6 +1,8 @@
 #include "project/Project.h"
 
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <sstream>
 
@@ -20,6 +22,7 @@ namespace {
 /// Reading helpers: each throws sightline::Error("<what>: <key> <problem>").
 struct Reader {
     const std::string& what;
+    std::map<std::array<float, 16>, json>* transformsAsWritten = nullptr;   ///< filled as read
 
     [[noreturn]] void fail(const std::string& key, const std::string& problem) const
     {
@@ -110,12 +113,15 @@ struct Reader {
         if (!t.is_array() || t.size() != 16)
             fail(key, "must be 16 numbers (column-major 4x4)");
         glm::mat4 m(1.0f);
+        std::array<float, 16> values{};
         for (int i = 0; i < 16; ++i)
-            m[i / 4][i % 4] = float(number(t[std::size_t(i)], key));
+            m[i / 4][i % 4] = values[std::size_t(i)] = float(number(t[std::size_t(i)], key));
+        if (transformsAsWritten)
+            transformsAsWritten->emplace(values, t);
         return m;
     }
 
-    std::map<std::size_t, glm::mat4> sceneTransforms(const json& list) const
+    std::map<std::size_t, glm::mat4> sceneTransforms(const json& list, std::map<std::size_t, json>& extra) const
     {
         if (!list.is_array())
             fail("scene_transforms", "must be an array of {instance, transform}");
@@ -127,7 +133,13 @@ struct Reader {
                 fail(key + ".instance", "must be a non-negative integer");
             if (!object.contains("transform"))
                 fail(key + ".transform", "is missing");
-            result[object.at("instance").get<std::size_t>()] = transform(object.at("transform"), key + ".transform");
+            const auto instance = object.at("instance").get<std::size_t>();
+            result[instance] = transform(object.at("transform"), key + ".transform");
+            json unknown = object;
+            unknown.erase("instance");
+            unknown.erase("transform");
+            if (!unknown.empty())
+                extra[instance] = std::move(unknown);
         }
         return result;
     }
@@ -135,11 +147,26 @@ struct Reader {
 
 json vec3Json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 
-json matrixJson(const glm::mat4& m)
+/// A float as the shortest decimal that reads back as it (0.1f as 0.1, not 0.10000000149).
+double shortestDecimal(float x)
 {
-    json t = json::array();
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, x).ptr;
+    *end = '\0';
+    return std::strtod(text, nullptr);
+}
+
+/// A transform as the file wrote it where it is unedited, else its floats as shortest decimals.
+json matrixJson(const glm::mat4& m, const std::map<std::array<float, 16>, json>& asWritten)
+{
+    std::array<float, 16> values{};
     for (int i = 0; i < 16; ++i)
-        t.push_back(m[i / 4][i % 4]);
+        values[std::size_t(i)] = m[i / 4][i % 4];
+    if (const auto found = asWritten.find(values); found != asWritten.end())
+        return found->second;
+    json t = json::array();
+    for (const float x : values)
+        t.push_back(shortestDecimal(x));
     return t;
 }
 
@@ -172,10 +199,10 @@ std::filesystem::path Project::resolve(const std::string& path, const std::strin
 
 Project parseProject(const json& document, const std::filesystem::path& folder, const std::string& what)
 {
-    const Reader read{what};
     if (!document.is_object())
         throw Error(what + ": a project must be a JSON object");
     Project project;
+    const Reader read{what, &project.transformsAsWritten};
     project.folder = folder;
     project.name = what;
     if (!document.contains("version"))
@@ -204,7 +231,7 @@ Project parseProject(const json& document, const std::filesystem::path& folder, 
             project.occluders.push_back(read.occluder(list[i], i));
     }
     if (document.contains("scene_transforms"))
-        project.sceneTransforms = read.sceneTransforms(document.at("scene_transforms"));
+        project.sceneTransforms = read.sceneTransforms(document.at("scene_transforms"), project.sceneTransformExtra);
     project.extra = document;
     for (const char* known : {"version", "scene", "source", "receiver", "occluders", "scene_transforms"})
         project.extra.erase(known);
@@ -236,14 +263,19 @@ json toJson(const Project& project)
         json object = spec.extra;
         object["name"] = spec.name;
         object["mesh"] = spec.mesh;
-        object["transform"] = matrixJson(spec.transform);
+        object["transform"] = matrixJson(spec.transform, project.transformsAsWritten);
         occluders.push_back(std::move(object));
     }
     document["occluders"] = std::move(occluders);
     if (!project.sceneTransforms.empty()) {
         json moved = json::array();
-        for (const auto& [instance, transform] : project.sceneTransforms)
-            moved.push_back({{"instance", instance}, {"transform", matrixJson(transform)}});
+        for (const auto& [instance, transform] : project.sceneTransforms) {
+            const auto extra = project.sceneTransformExtra.find(instance);
+            json entry = extra != project.sceneTransformExtra.end() ? extra->second : json::object();
+            entry["instance"] = instance;
+            entry["transform"] = matrixJson(transform, project.transformsAsWritten);
+            moved.push_back(std::move(entry));
+        }
         document["scene_transforms"] = std::move(moved);
     }
     return document;

@@ -6,6 +6,7 @@
 // occluder), so files written by newer tools or edited by hand keep what we do not understand.
 // Errors name the file and the offending key: "level.json: source.samples must be two integers".
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <map>
@@ -47,6 +48,11 @@ struct Project {
     /// Objects of the scene file the designer moved: instance index -> world transform replacing
     /// the file's ("scene_transforms": [{"instance": 3, "transform": [16 numbers]}]).
     std::map<std::size_t, glm::mat4> sceneTransforms;
+    /// Unknown keys of each scene_transforms entry, by instance, kept for saving.
+    std::map<std::size_t, nlohmann::json> sceneTransformExtra;
+    /// Every transform as the file wrote it, by the float32 matrix it reads as: saving writes an
+    /// unedited matrix back exactly as read (1234567.891 stays, not the float's 1234567.875).
+    std::map<std::array<float, 16>, nlohmann::json> transformsAsWritten;
     /// Unknown keys of the document and of each patch, kept for saving.
     nlohmann::json extra = nlohmann::json::object();
     nlohmann::json sourceExtra = nlohmann::json::object();

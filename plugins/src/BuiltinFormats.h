@@ -9,6 +9,6 @@ namespace sightline {
 
 std::unique_ptr<SceneImporter> makeGltfImporter();
 std::unique_ptr<SceneExporter> makeGltfExporter();
-std::unique_ptr<SceneImporter> makeOpenMeshImporter();
+std::unique_ptr<SceneImporter> makeMeshFileImporter();
 
 } // namespace sightline

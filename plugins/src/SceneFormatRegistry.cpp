@@ -49,7 +49,7 @@ const SceneFormatRegistry& SceneFormatRegistry::builtin()
         SceneFormatRegistry r;
         r.add(makeGltfImporter());
         r.add(makeGltfExporter());
-        r.add(makeOpenMeshImporter());
+        r.add(makeMeshFileImporter());
         return r;
     }();
     return registry;

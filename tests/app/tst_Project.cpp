@@ -81,6 +81,33 @@ TEST(Project, RoundTripKeepsUnknownKeysEverywhere)
     EXPECT_EQ(toJson(p), saved);
 }
 
+// Issue 16 §1: unknown keys inside scene_transforms entries were dropped, and transforms were
+// written back as float32 (1234567.891 as 1234567.875, 0.1 as 0.10000000149).
+TEST(Project, SavingWritesBackWhatTheUserWrote)
+{
+    json document = minimalDocument();
+    document["occluders"][0]["transform"] = json::parse("[1,0,0,0, 0,0.1,0,0, 0,0,1,0, 1234567.891,0,4.7,1]");
+    document["scene_transforms"] = json::parse(R"([{"instance": 2, "transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0.3,0,-7.77,1],
+                                                  "note": "moved for the sniper", "locked": true}])");
+    TempFolder folder("sightline_project_as_written");
+    Project p = parseProject(document, folder.path, "p.json");
+    saveProject(p, folder.path / "p.json");
+    json saved;
+    std::ifstream(folder.path / "p.json") >> saved;
+    EXPECT_EQ(saved["occluders"][0]["transform"], document["occluders"][0]["transform"]);
+    EXPECT_EQ(saved["occluders"][0]["transform"][12].get<double>(), 1234567.891);
+    EXPECT_EQ(saved["scene_transforms"], document["scene_transforms"]);
+
+    // An edited transform is written as the shortest decimals its floats read back as.
+    p.occluders[0].transform[3][0] = 2.5f;
+    p.occluders[0].transform[1][1] = 0.2f;
+    const json edited = toJson(p)["occluders"][0]["transform"];
+    EXPECT_EQ(edited[12].get<double>(), 2.5);
+    EXPECT_EQ(edited[5].get<double>(), 0.2);
+    EXPECT_EQ(edited[14].get<double>(), 4.7);   // 4.7f, unedited in value, printed short
+    EXPECT_EQ(parseProject(toJson(p), folder.path, "p.json").occluders[0].transform, p.occluders[0].transform);
+}
+
 TEST(Project, ErrorsNameTheBadKey)
 {
     json d = minimalDocument();

@@ -2,7 +2,7 @@
 // Scene importers and exporters behind one small registry keyed by file extension.
 //
 // Built-in formats register exactly like any later plugin would: glTF 2.0 (.gltf/.glb, tinygltf;
-// import and export) and OBJ/PLY/OFF/STL (OpenMesh; import). Every importer returns a validated
+// import and export) and OBJ/PLY/OFF/STL (strict readers of our own, MeshFileImporter.cpp: import). Every importer returns a validated
 // Scene (sightline::validate) or throws sightline::Error with one line naming the file and the
 // problem. Non-fatal oddities (points/lines ignored, missing textures) go to `warnings`.
 

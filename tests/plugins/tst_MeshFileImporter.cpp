@@ -37,7 +37,7 @@ std::string binaryPly()
     return s;
 }
 
-TEST(OpenMeshImporter, ObjKeepsNonManifoldAndPolygonFaces)
+TEST(MeshFileImporter, ObjKeepsNonManifoldAndPolygonFaces)
 {
     TempDir dir;
     // Three triangles share edge 0-1 (a "complex edge" a halfedge mesh would drop), plus a pentagon.
@@ -57,14 +57,14 @@ TEST(OpenMeshImporter, ObjKeepsNonManifoldAndPolygonFaces)
     EXPECT_EQ(third, (std::vector<std::uint32_t>{1, 0, 4}));
 }
 
-TEST(OpenMeshImporter, ObjWithNaNVertexIsRefused)
+TEST(MeshFileImporter, ObjWithNaNVertexIsRefused)
 {
     TempDir dir;
     const auto file = writeFile(dir / "nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n");
     expectOneLineError(file, [&] { loadScene(file); });
 }
 
-TEST(OpenMeshImporter, ObjUnreadableVertexNeverShiftsIndices)
+TEST(MeshFileImporter, ObjUnreadableVertexNeverShiftsIndices)
 {
     TempDir dir;
     // A reader that skipped the bad line would make face 1 2 3 silently use the wrong vertices.
@@ -73,7 +73,7 @@ TEST(OpenMeshImporter, ObjUnreadableVertexNeverShiftsIndices)
               std::string::npos);
 }
 
-TEST(OpenMeshImporter, BinaryPlyWithNaNVertexIsRefused)
+TEST(MeshFileImporter, BinaryPlyWithNaNVertexIsRefused)
 {
     TempDir dir;
     std::string ply = binaryPly();
@@ -83,7 +83,7 @@ TEST(OpenMeshImporter, BinaryPlyWithNaNVertexIsRefused)
     EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("not finite"), std::string::npos);
 }
 
-TEST(OpenMeshImporter, TruncatedAsciiPlyIsRefused)
+TEST(MeshFileImporter, TruncatedAsciiPlyIsRefused)
 {
     TempDir dir;
     const auto file = writeFile(dir / "short.ply", "ply\nformat ascii 1.0\nelement vertex 900000000\nproperty float x\n"
@@ -91,21 +91,21 @@ TEST(OpenMeshImporter, TruncatedAsciiPlyIsRefused)
     expectOneLineError(file, [&] { loadScene(file); });
 }
 
-TEST(OpenMeshImporter, ObjFaceIndexOutOfRangeIsRefused)
+TEST(MeshFileImporter, ObjFaceIndexOutOfRangeIsRefused)
 {
     TempDir dir;
     const auto file = writeFile(dir / "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
     expectOneLineError(file, [&] { loadScene(file); });
 }
 
-TEST(OpenMeshImporter, OffFaceIndexOutOfRangeIsRefused)
+TEST(MeshFileImporter, OffFaceIndexOutOfRangeIsRefused)
 {
     TempDir dir;
     const auto file = writeFile(dir / "range.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n");
     expectOneLineError(file, [&] { loadScene(file); });
 }
 
-TEST(OpenMeshImporter, OffWithCommentsColoursAndInlineCounts)
+TEST(MeshFileImporter, OffWithCommentsColoursAndInlineCounts)
 {
     TempDir dir;
     const auto file = writeFile(dir / "quad.off", "COFF 4 1 0 # counts on the header line\n"
@@ -119,7 +119,7 @@ TEST(OpenMeshImporter, OffWithCommentsColoursAndInlineCounts)
     EXPECT_EQ(scene.meshes[0].positions[2], glm::vec3(1, 1, 0));
 }
 
-TEST(OpenMeshImporter, TruncatedOrGarbledOffIsRefused)
+TEST(MeshFileImporter, TruncatedOrGarbledOffIsRefused)
 {
     TempDir dir;
     const std::string cases[] = {
@@ -137,7 +137,7 @@ TEST(OpenMeshImporter, TruncatedOrGarbledOffIsRefused)
     }
 }
 
-TEST(OpenMeshImporter, AsciiPlyCounts)
+TEST(MeshFileImporter, AsciiPlyCounts)
 {
     TempDir dir;
     const auto file = writeFile(dir / "quad.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
@@ -150,7 +150,7 @@ TEST(OpenMeshImporter, AsciiPlyCounts)
     EXPECT_EQ(scene.meshes[0].positions[4], glm::vec3(0, 0, 1));
 }
 
-TEST(OpenMeshImporter, BinaryPlyCounts)
+TEST(MeshFileImporter, BinaryPlyCounts)
 {
     TempDir dir;
     const auto file = writeFile(dir / "quad_bin.ply", binaryPly());
@@ -160,7 +160,7 @@ TEST(OpenMeshImporter, BinaryPlyCounts)
     EXPECT_EQ(scene.meshes[0].positions[2], glm::vec3(1, 1, 0));
 }
 
-TEST(OpenMeshImporter, TruncatedBinaryPlyIsRefused)
+TEST(MeshFileImporter, TruncatedBinaryPlyIsRefused)
 {
     TempDir dir;
     const std::string full = binaryPly();
@@ -170,14 +170,14 @@ TEST(OpenMeshImporter, TruncatedBinaryPlyIsRefused)
     expectOneLineError(early, [&] { loadScene(early); });
 }
 
-TEST(OpenMeshImporter, GarbagePlyIsRefused)
+TEST(MeshFileImporter, GarbagePlyIsRefused)
 {
     TempDir dir;
     const auto file = writeFile(dir / "garbage.ply", "this is not a mesh\n\x01\x02\x03");
     expectOneLineError(file, [&] { loadScene(file); });
 }
 
-TEST(OpenMeshImporter, MalformedPlyHeadersAreRefused)
+TEST(MeshFileImporter, MalformedPlyHeadersAreRefused)
 {
     // Each of these crashed or hung OpenMesh's PLY reader before the header check.
     TempDir dir;
@@ -197,7 +197,7 @@ TEST(OpenMeshImporter, MalformedPlyHeadersAreRefused)
     }
 }
 
-TEST(OpenMeshImporter, AsciiStlCounts)
+TEST(MeshFileImporter, AsciiStlCounts)
 {
     TempDir dir;
     const auto file = writeFile(dir / "two.stl", "solid two\n"
@@ -213,7 +213,7 @@ TEST(OpenMeshImporter, AsciiStlCounts)
     EXPECT_EQ(b.max, glm::vec3(1, 1, 0));
 }
 
-TEST(OpenMeshImporter, BinaryStlCounts)
+TEST(MeshFileImporter, BinaryStlCounts)
 {
     TempDir dir;
     std::string s(80, ' ');
@@ -237,7 +237,7 @@ std::string asciiFacet(const char* a, const char* b, const char* c)
            "\n  endloop\n endfacet\n";
 }
 
-TEST(OpenMeshImporter, StlKeepsDegenerateFacets)
+TEST(MeshFileImporter, StlKeepsDegenerateFacets)
 {
     TempDir dir;
     // A zero-area facet still counts: the file's triangle count is kept exactly.
@@ -246,7 +246,7 @@ TEST(OpenMeshImporter, StlKeepsDegenerateFacets)
     EXPECT_EQ(loadScene(file).triangleCount(), 2u);
 }
 
-TEST(OpenMeshImporter, MalformedStlIsRefused)
+TEST(MeshFileImporter, MalformedStlIsRefused)
 {
     TempDir dir;
     const std::string good = asciiFacet("0 0 0", "1 0 0", "0 1 0");
@@ -264,7 +264,7 @@ TEST(OpenMeshImporter, MalformedStlIsRefused)
     }
 }
 
-TEST(OpenMeshImporter, UppercaseExtensionIsAccepted)
+TEST(MeshFileImporter, UppercaseExtensionIsAccepted)
 {
     TempDir dir;
     const auto file = writeFile(dir / "TRI.OBJ", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
@@ -297,7 +297,7 @@ std::string cubeObj(std::size_t missingFace = 99, std::size_t flippedFace = 99)
 
 } // namespace
 
-TEST(OpenMeshImporter, ClosedOutwardMeshesEarnTheWatertightFlag)
+TEST(MeshFileImporter, ClosedOutwardMeshesEarnTheWatertightFlag)
 {
     TempDir dir;
     const Scene closed = loadScene(writeFile(dir / "cube.obj", cubeObj()));

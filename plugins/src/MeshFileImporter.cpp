@@ -910,7 +910,7 @@ std::string lowerExtension(const std::filesystem::path& file)
     return e;
 }
 
-class OpenMeshImporter final : public SceneImporter {
+class MeshFileImporter final : public SceneImporter {
 public:
     std::string name() const override { return "OBJ/PLY/OFF/STL"; }
     std::vector<std::string> extensions() const override { return {".obj", ".ply", ".off", ".stl"}; }
@@ -946,6 +946,6 @@ private:
 
 } // namespace
 
-std::unique_ptr<SceneImporter> makeOpenMeshImporter() { return std::make_unique<OpenMeshImporter>(); }
+std::unique_ptr<SceneImporter> makeMeshFileImporter() { return std::make_unique<MeshFileImporter>(); }
 
 } // namespace sightline
