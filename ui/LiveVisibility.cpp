@@ -54,6 +54,16 @@ std::string LiveVisibility::chooseBackend(const Patch& source, const Patch& rece
         backend_ = Backend::Cpu;
         return "using " + backendName();
     }
+    // A software rasterizer (llvmpipe, softpipe, swrast) is the CPU running the GL sampler's
+    // fragments, far slower than the CPU sampler; timing it on the GUI thread froze the window
+    // for minutes on a 512x512 receiver. It is not tried.
+    const auto* renderer = reinterpret_cast<const char*>(gl_->GetString(GL_RENDERER));
+    const std::string rendererName = renderer ? renderer : "";
+    for (const char* software : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
+        if (rendererName.find(software) != std::string::npos) {
+            backend_ = Backend::Cpu;
+            return "GL is a software rasterizer (" + rendererName + "): using " + backendName();
+        }
     std::string line;
     try {
         sampleWith(Backend::Gl, source, receiver);   // warm-up: shader compile, upload

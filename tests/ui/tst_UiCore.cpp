@@ -22,6 +22,7 @@
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
+#include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::ui {
 namespace {
@@ -458,6 +459,26 @@ TEST(OffscreenRender, PlacedOccludersAreDrawnAndTheSelectedOneHighlighted)
     const OffscreenResult selected = renderOffscreen(document, camera, style, 320, 240);
     const QRgb c = selected.image.pixel(int(pixel.x), int(pixel.y));
     EXPECT_GT(qRed(c), qBlue(c)) << "the selected occluder is drawn in the selection's orange";
+}
+
+
+// Issue 16 §1: opening demo_floor.json froze the window for minutes while the GL sampler was
+// timed on llvmpipe. A software rasterizer is never tried.
+TEST(LiveVisibility, ASoftwareRasterizerIsNotTimed)
+{
+    const auto context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+    ASSERT_NE(context->renderer().find("llvmpipe"), std::string::npos) << context->renderer();
+    const std::filesystem::path project = test::copyDemoProject(freshFolder("live-software"));
+    EditorDocument document;
+    document.open(project);
+    LiveVisibility live;
+    live.setGl(&context->functions());
+    live.setScene(document.scene());
+    const Project& p = document.project();
+    const std::string line = live.chooseBackend(p.source, p.receiver);
+    EXPECT_NE(line.find("software rasterizer"), std::string::npos) << line;
+    EXPECT_EQ(live.backendName().rfind("CPU", 0), 0u) << live.backendName();
+    EXPECT_TRUE(live.sample(p.source, p.receiver).valid);
 }
 
 } // namespace sightline::ui
