@@ -1,5 +1,7 @@
 #include "EditorDocument.h"
 
+#include "Picking.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -78,6 +80,66 @@ std::pair<Patch, Patch> defaultPatches(const Bounds& level, double side)
     return {source, receiver};
 }
 
+std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double side)
+{
+    const Bounds bounds = level.bounds();
+    auto [source, receiver] = defaultPatches(bounds, side);
+    if (bounds.empty())
+        return {source, receiver};
+    const WorldTriangles triangles = worldTriangles(level);
+    const double needed = std::max(0.5 * side, 0.1) + 0.1;
+    auto isOpen = [&](const glm::dvec3& centre) {
+        static const glm::dvec3 directions[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        for (const glm::dvec3& d : directions)
+            if (const auto hit = pickSurface(triangles, Ray{centre, d}); hit && hit->distance < needed)
+                return false;
+        return true;
+    };
+    auto clearLine = [&](const glm::dvec3& a, const glm::dvec3& b) {
+        const auto hit = pickSurface(triangles, Ray{a, glm::normalize(b - a)});
+        return !hit || hit->distance >= glm::length(b - a);
+    };
+    // Candidates at the default patches' height: the source towards the low end of the longer
+    // horizontal axis (where defaultPatches puts it), the receiver towards the high end.
+    const glm::dvec3 lo(bounds.min), hi(bounds.max);
+    const bool alongX = hi.x - lo.x >= hi.z - lo.z;
+    const double height = source.centre().y;
+    auto at = [&](double along, double across) {
+        glm::dvec3 p(0.0, height, 0.0);
+        (alongX ? p.x : p.z) = (alongX ? lo.x : lo.z) + along * (alongX ? hi.x - lo.x : hi.z - lo.z);
+        (alongX ? p.z : p.x) = (alongX ? lo.z : lo.x) + across * (alongX ? hi.z - lo.z : hi.x - lo.x);
+        return p;
+    };
+    std::vector<glm::dvec3> sources, receivers;
+    for (const double along : {0.08, 0.15, 0.25, 0.35})
+        for (const double side01 : {0.5, 0.35, 0.65, 0.2, 0.8}) {
+            if (const glm::dvec3 p = at(along, side01); isOpen(p))
+                sources.push_back(p);
+            if (const glm::dvec3 p = at(1.0 - along, side01); isOpen(p))
+                receivers.push_back(p);
+        }
+    if (sources.empty() || receivers.empty())
+        return {source, receiver};
+    // The farthest pair with a clear line between centres; else the farthest open pair. Each
+    // line test is a brute-force pick: tested farthest first, stopping at the first clear one.
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> pairs;
+    for (const glm::dvec3& s : sources)
+        for (const glm::dvec3& r : receivers)
+            pairs.emplace_back(s, r);
+    std::stable_sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) {
+        return glm::length(a.second - a.first) > glm::length(b.second - b.first);
+    });
+    std::pair<glm::dvec3, glm::dvec3> best = pairs.front();
+    for (const auto& pair : pairs)
+        if (clearLine(pair.first, pair.second)) {
+            best = pair;
+            break;
+        }
+    source.corner += best.first - source.centre();
+    receiver.corner += best.second - receiver.centre();
+    return {source, receiver};
+}
+
 EditorDocument::EditorDocument(QObject* parent) : QObject(parent)
 {
     connect(&undo_, &QUndoStack::cleanChanged, this, [this](bool clean) { emit modifiedChanged(!clean); });
@@ -129,7 +191,7 @@ void EditorDocument::open(const fs::path& file)
         project.folder = fs::absolute(file).parent_path();
         project.scene = file.filename().string();
         project.allowOutsidePaths = allowOutsidePaths_;
-        std::tie(project.source, project.receiver) = defaultPatches(scene.bounds());
+        std::tie(project.source, project.receiver) = defaultPatchesInOpenSpace(scene);
         reset(std::move(project), std::move(scene), {});
         return;
     }

@@ -481,4 +481,27 @@ TEST(LiveVisibility, ASoftwareRasterizerIsNotTimed)
     EXPECT_TRUE(live.sample(p.source, p.receiver).valid);
 }
 
+
+// Issue 16 §1: the demo level opened without a project put both default patches inside a wall
+// (0.0% visible, no hint why).
+TEST(EditorDocument, ABareLevelGetsPatchesInOpenSpaceThatSeeEachOther)
+{
+    const std::filesystem::path project = test::copyDemoProject(freshFolder("bare-level"));
+    EditorDocument document;
+    document.open(project.parent_path() / "demo_level.glb");
+    const Project& p = document.project();
+    const WorldTriangles triangles = worldTriangles(document.scene());
+    for (const Patch* patch : {&p.source, &p.receiver})
+        for (const glm::dvec3 d : {glm::dvec3(1, 0, 0), glm::dvec3(-1, 0, 0), glm::dvec3(0, 0, 1), glm::dvec3(0, 0, -1)}) {
+            const auto hit = pickSurface(triangles, Ray{patch->centre(), d});
+            EXPECT_TRUE(!hit || hit->distance >= 0.5) << "a patch centre " << (hit ? hit->distance : 0.0) << " m from a wall";
+        }
+    LiveVisibility live;
+    live.setScene(document.scene());
+    const VisibilityResult result = live.sample(p.source, p.receiver);
+    ASSERT_TRUE(result.valid) << result.error;
+    EXPECT_GT(result.visibleFraction(), 0.25);
+    EXPECT_GT(glm::length(p.receiver.centre() - p.source.centre()), 10.0) << "across the level, not side by side";
+}
+
 } // namespace sightline::ui
