@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "visibility/Error.h"
+#include "visibility/SceneLimits.h"
 
 namespace sightline::gltf {
 
@@ -178,6 +179,10 @@ void checkAccessor(const Checker& c, const json& accessor, const std::string& wh
     c.count(accessor, "byteOffset", where);
     c.count(accessor, "count", where);
     c.count(accessor, "componentType", where, kMaxInt);
+    // Without a bufferView the accessor's data is zeros (plus any sparse values) that are not in
+    // the file: its count alone would size the allocation, so it is bounded here.
+    if (!accessor.contains("bufferView"))
+        c.count(accessor, "count", where + " (no bufferView: its data is not in the file)", kMaxUnbackedAccessorElements);
     const json* sparse = c.member(accessor, "sparse", where, false);
     if (!sparse)
         return;

@@ -225,6 +225,17 @@ TEST(BadGltf, MisalignedAccessorsAreRefused)
     expectRefused(g.writeEmbedded(dir / "view_overrun.gltf"), {"bufferView 0", "overruns buffer 0"});
 }
 
+// An accessor with no bufferView is zeros the file does not hold: its count alone sized the
+// allocation (2^28 positions: about 3 GB from a file of a few hundred bytes).
+TEST(BadGltf, AccessorsWithoutDataInTheFileAreBounded)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["accessors"].push_back({{"componentType", kF32}, {"count", 1 << 28}, {"type", "VEC3"}});
+    g.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = g.doc["accessors"].size() - 1;
+    expectRefused(g.writeEmbedded(dir / "unbacked.gltf"), {"no bufferView", "268435456", "4194304"});
+}
+
 TEST(BadGltf, DeepJsonIsRefusedBeforeParsing)
 {
     TempDir dir;
