@@ -91,6 +91,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
         if (changes & DocumentReset) {
             controller_->setCamera(projectView(document_.editorSettings(), document_.project().source, document_.project().receiver));
+            resetSectionCut();
         }
     });
 
@@ -105,6 +106,8 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     autosaveTimer_.start();
 
     controller_->setCamera(shaftView(document_.project().source, document_.project().receiver));
+    controller_->setStyle(&viewport_->style());
+    resetSectionCut();
     updateTitle();
 
     if (options.offerRecovery && QFileInfo::exists(recoveryPath())) {
@@ -146,6 +149,13 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* event)
         }
     }
     return QMainWindow::eventFilter(watched, event);
+}
+
+void MainWindow::resetSectionCut()
+{
+    const Project& project = document_.project();
+    viewport_->style().cutHeight = std::max(project.source.centre().y, project.receiver.centre().y) + 1.5;
+    viewport_->requestUpdate();
 }
 
 void MainWindow::createActions()
@@ -257,6 +267,25 @@ void MainWindow::createActions()
         viewport_->requestUpdate();
     });
     wire->setCheckable(true);
+    // The section cut: its own toggle and height (navigation never moves it).
+    cutAction_ = action(view, tr("Section &Cut"), QKeySequence(Qt::Key_C), [this](bool on) {
+        viewport_->style().cutaway = on;
+        statusBar()->showMessage(on ? tr("Section cut at %1 m").arg(viewport_->style().cutHeight, 0, 'f', 2)
+                                    : tr("Section cut off"), 3000);
+        viewport_->requestUpdate();
+    });
+    cutAction_->setCheckable(true);
+    cutAction_->setChecked(true);
+    auto moveCut = [this](double metres) {
+        ViewStyle& style = viewport_->style();
+        style.cutHeight += metres;
+        style.cutaway = true;
+        cutAction_->setChecked(true);
+        statusBar()->showMessage(tr("Section cut at %1 m").arg(style.cutHeight, 0, 'f', 2), 3000);
+        viewport_->requestUpdate();
+    };
+    action(view, tr("Raise Section Cut"), QKeySequence(Qt::Key_PageUp), [moveCut] { moveCut(0.5); });
+    action(view, tr("Lower Section Cut"), QKeySequence(Qt::Key_PageDown), [moveCut] { moveCut(-0.5); });
     QAction* rays = action(view, tr("Show &Rays"), QKeySequence(Qt::Key_V), [this](bool on) {
         viewport_->style().showRays = on;
         viewport_->requestUpdate();
@@ -291,6 +320,8 @@ void MainWindow::createActions()
                                  tr("Orbit: left drag (or Alt + left drag)\nPan: middle drag or Shift + left drag\n"
                                     "Zoom: wheel\nFly: hold the right button, W A S D Q E, Shift for speed\n"
                                     "Frame selection: F\nMove / Rotate / Scale handles: W / E / R\n"
+                                    "Section cut on / off: C; raise / lower it: Page Up / Page Down\n"
+                                    "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
                                     "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click"));
     });
 }

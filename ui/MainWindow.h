@@ -76,6 +76,8 @@ private:
     void addRecentFile(const QString& file);
     void rebuildRecentMenu();
     void storeView();
+    /// The section cut 1.5 m above the higher patch (on every open; navigation never moves it).
+    void resetSectionCut();
 
     EditorDocument document_;
     std::unique_ptr<ViewportController> controller_;
@@ -87,6 +89,7 @@ private:
     QLabel* raysLabel_ = nullptr;
     QLabel* backendLabel_ = nullptr;
     QMenu* viewMenu_ = nullptr;
+    QAction* cutAction_ = nullptr;
     QToolBar* toolbar_ = nullptr;
     OverlayControls* overlay_ = nullptr;
     QTimer autosaveTimer_;

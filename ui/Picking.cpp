@@ -6,7 +6,8 @@
 
 namespace sightline::ui {
 
-std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray& ray)
+std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray& ray,
+                                      const std::function<bool(std::size_t, const glm::dvec3&)>& visible)
 {
     // Möller-Trumbore in double precision.
     std::optional<SurfaceHit> best;
@@ -30,6 +31,8 @@ std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray
             continue;
         const double dist = glm::dot(e2, q) * inv;
         if (dist <= 1e-9 || dist >= bestT)
+            continue;
+        if (visible && !visible(t, ray.origin + dist * ray.direction))
             continue;
         bestT = dist;
         glm::dvec3 n = glm::cross(e1, e2);

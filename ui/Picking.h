@@ -4,6 +4,7 @@
 // demo on one core, far below a click's budget, and it needs no BVH kept in step with edits.
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "Camera.h"
@@ -19,8 +20,10 @@ struct SurfaceHit {
     std::size_t triangle = 0;     ///< index into the WorldTriangles
 };
 
-/// Nearest triangle the ray hits (both faces), if any.
-std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray& ray);
+/// Nearest triangle the ray hits (both faces), if any; with `visible`, only hits it accepts (the
+/// section cut: a click goes through what is not drawn).
+std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray& ray,
+                                      const std::function<bool(std::size_t triangle, const glm::dvec3& point)>& visible = {});
 
 /// Distance along the ray to the patch's parallelogram, if hit.
 std::optional<double> pickPatch(const Patch& patch, const Ray& ray);

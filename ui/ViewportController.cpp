@@ -82,6 +82,18 @@ double ViewportController::sceneRadius() const
     return std::max(0.5 * double(glm::length(bounds.max - bounds.min)), 1.0);
 }
 
+std::optional<SurfaceHit> ViewportController::visibleSurface(const Ray& ray) const
+{
+    if (!style_ || !style_->cutaway)
+        return pickSurface(triangles(), ray);
+    const Cutaway cut = cutaway(*style_, camera_);
+    const std::size_t fileObjects = document_.sceneFile().instances.size();
+    const WorldTriangles& all = triangles();
+    return pickSurface(all, ray, [&](std::size_t triangle, const glm::dvec3& point) {
+        return all.instanceOf[triangle] >= fileObjects || !hiddenByCut(cut, camera_, point);
+    });
+}
+
 ObjectRef ViewportController::objectAt(QPointF position) const
 {
     const Ray ray = rayAt(position);
@@ -95,7 +107,7 @@ ObjectRef ViewportController::objectAt(QPointF position) const
         bestDistance = *d;
         best = {ObjectKind::Receiver, 0};
     }
-    if (auto hit = pickSurface(triangles(), ray); hit && hit->distance < bestDistance) {
+    if (auto hit = visibleSurface(ray); hit && hit->distance < bestDistance) {
         const std::size_t instance = triangles().instanceOf[hit->triangle];
         const std::size_t fileObjects = document_.sceneFile().instances.size();
         best = instance < fileObjects ? ObjectRef{ObjectKind::SceneObject, instance}
@@ -106,7 +118,7 @@ ObjectRef ViewportController::objectAt(QPointF position) const
 
 bool ViewportController::placePatchAt(ObjectKind which, QPointF position)
 {
-    const auto hit = pickSurface(triangles(), rayAt(position));
+    const auto hit = visibleSurface(rayAt(position));
     if (!hit) {
         emit message(tr("Nothing under the cursor to place the patch on"));
         return false;

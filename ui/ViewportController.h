@@ -14,6 +14,7 @@
 #include "EditorDocument.h"
 #include "Gizmo.h"
 #include "Picking.h"
+#include "ViewportRenderer.h"
 
 namespace sightline::ui {
 
@@ -56,6 +57,12 @@ public:
     /// The scene's extent, for clip planes and fly speed.
     double sceneRadius() const;
 
+    /// The view's style, for the section cut that picking honours (nullptr: nothing is cut).
+    void setStyle(const ViewStyle* style) { style_ = style; }
+
+    /// The surface under `ray` that is drawn: the section cut hides scene-file geometry, never
+    /// placed occluders.
+    std::optional<SurfaceHit> visibleSurface(const Ray& ray) const;
     /// What a click at `position` selects (gizmo handles excepted).
     ObjectRef objectAt(QPointF position) const;
     /// Places the source or receiver on the surface under `position`; false when nothing is hit.
@@ -88,6 +95,7 @@ private:
     glm::dvec3 flyKeys_{0.0};   ///< x right, y up, z forward: -1, 0, 1
     bool flyFast_ = false;
 
+    const ViewStyle* style_ = nullptr;
     mutable std::optional<WorldTriangles> triangles_;
     mutable std::optional<Bounds> sceneBounds_;   ///< of document_.scene(); dropped when it changes
 };

@@ -201,14 +201,22 @@ std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& s, std::uint3
     return {j, i};
 }
 
-Cutaway cutaway(const FrameState& f)
+Cutaway cutaway(const ViewStyle& style, const Camera& camera)
 {
-    if (!f.style.cutaway)
-        return {std::numeric_limits<double>::infinity(), 0.0};
-    // From the camera alone, so that dragging a patch or an occluder never moves the cut (and the
-    // cached background stays valid): 1.5 m above the orbit target, which the default view puts
-    // at the shaft's centre, and the nearer half of the way to the target.
-    return {f.camera.target.y + 1.5, 0.5 * f.camera.distance};
+    if (!style.cutaway)
+        return {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    // Never from what is edited, so that dragging a patch or an occluder never moves the cut (and
+    // the cached background stays valid): the style's own height, and the nearer half of the way
+    // to the orbit target.
+    const double height = std::isnan(style.cutHeight) ? camera.target.y + 1.5 : style.cutHeight;
+    return {height, 0.5 * camera.distance};
+}
+
+Cutaway cutaway(const FrameState& f) { return cutaway(f.style, f.camera); }
+
+bool hiddenByCut(const Cutaway& cut, const Camera& camera, const glm::dvec3& point)
+{
+    return point.y > cut.height || glm::dot(point - camera.eye(), camera.forward()) < cut.depth;
 }
 
 bool RenderTarget::create(const gl::Functions& gl, int w, int h)

@@ -25,6 +25,8 @@
 #include "ObjectEdits.h"
 #include "OverlayTexels.h"
 #include "visibility/HiddenSampleMap.h"
+#include <limits>
+
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
 #include "visibility/gl/GlFunctions.h"
@@ -41,9 +43,12 @@ struct ViewStyle {
     bool showBlocked = false;       ///< blocked rays too, in red
     int rayCap = 4096;              ///< at most this many rays drawn (a hashed subset beyond)
     /// A section cut, so interiors are seen from outside without hiding the roof by hand: scene
-    /// file geometry more than 1.5 m above the orbit target, or nearer to the eye than half the
-    /// way to it, is not drawn. Display only; sampling sees everything.
+    /// file geometry above `cutHeight` (world Y), or nearer to the eye than half the way to the
+    /// orbit target, is not drawn, and picking passes through it. Display only; sampling sees
+    /// everything. The height is the view's own: orbiting, panning and flying never move it (the
+    /// editor sets it when a file opens; NaN, for headless images: 1.5 m above the orbit target).
     bool cutaway = true;
+    double cutHeight = std::numeric_limits<double>::quiet_NaN();
     glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.15f};
     glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.25f};
 };
@@ -94,6 +99,10 @@ struct Cutaway {
     double depth = 0.0;
 };
 Cutaway cutaway(const FrameState& frame);
+/// The same limits from a style and camera (picking uses them to skip what is not drawn).
+Cutaway cutaway(const ViewStyle& style, const Camera& camera);
+/// Whether a point of the scene file is hidden by the cut.
+bool hiddenByCut(const Cutaway& cut, const Camera& camera, const glm::dvec3& point);
 
 class ViewportRenderer {
 public:

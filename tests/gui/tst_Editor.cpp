@@ -125,8 +125,9 @@ private slots:
         // point of the floor halfway along the shaft.
         const glm::dvec3 floorPoint = 0.5 * (before.centre() + document.project().source.centre()) * glm::dvec3(1, 0, 1);
         const QPoint click = pixelOf(controller, floorPoint + glm::dvec3(0, 0.001, 0));
-        const auto hit = pickSurface(worldTriangles(document.scene()),
-                                     pixelRay(controller.camera(), click.x(), click.y(), controller.width(), controller.height()));
+        // What is drawn there: the section cut hides the roof and the near walls from picking too.
+        const auto hit = controller.visibleSurface(
+            pixelRay(controller.camera(), click.x(), click.y(), controller.width(), controller.height()));
         QVERIFY(hit);
         QTest::mouseClick(&window_->viewport(), Qt::LeftButton, {}, click);
         const Patch placed = document.project().receiver;
@@ -504,6 +505,36 @@ private slots:
         result.valid = false;
         result.error = "invalid patch pair: the receiver touches or crosses the source's plane";
         QCOMPARE(visibilitySummary(result), QString("Invalid patch pair: the receiver touches or crosses the source's plane"));
+    }
+
+    // Issue 16 §1: a middle-drag downwards moved the orbit target and with it the section cut, and
+    // the level disappeared. Panning now leaves the cut where it is; C switches it off and on.
+    void panningLeavesTheSectionCutAndCTogglesIt()
+    {
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        const double cut = window_->viewport().style().cutHeight;
+        QVERIFY(std::isfinite(cut));
+        controller.mousePress(Qt::MiddleButton, {}, QPointF(400, 200));
+        for (int y = 210; y <= 500; y += 10)
+            controller.mouseMove(Qt::MiddleButton, {}, QPointF(400, y));
+        controller.mouseRelease(Qt::MiddleButton, QPointF(400, 500));
+        QVERIFY(glm::length(controller.camera().target - before.target) > 0.5);   // it did pan
+        QCOMPARE(window_->viewport().style().cutHeight, cut);
+        waitForUpdate();
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+            window_->screenshotTo(QString::fromUtf8(shots) + "/panned.png");
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_C);
+        QVERIFY(!window_->viewport().style().cutaway);
+        waitForUpdate();
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+            window_->screenshotTo(QString::fromUtf8(shots) + "/cut-off.png");
+        QTest::keyClick(window_.get(), Qt::Key_C);
+        QVERIFY(window_->viewport().style().cutaway);
+        controller.setCamera(before);
+        waitForUpdate();
     }
 
     void cleanupTestCase()

@@ -16,6 +16,7 @@
 #include "Picking.h"
 #include "UiTestScene.h"
 #include "ViewSettings.h"
+#include "ViewportController.h"
 #include "ViewportRenderer.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
@@ -502,6 +503,39 @@ TEST(EditorDocument, ABareLevelGetsPatchesInOpenSpaceThatSeeEachOther)
     ASSERT_TRUE(result.valid) << result.error;
     EXPECT_GT(result.visibleFraction(), 0.25);
     EXPECT_GT(glm::length(p.receiver.centre() - p.source.centre()), 10.0) << "across the level, not side by side";
+}
+
+
+// Issue 16 §1: the section cut followed the orbit target (a pan or a moment of flying hid the
+// level), and picking ignored it: a click on the floor selected the hidden ceiling, and placing a
+// patch on a visible wall put it on the hidden ceiling.
+TEST(SectionCut, HasItsOwnHeightAndPickingGoesThroughWhatItHides)
+{
+    const std::filesystem::path project = test::copyDemoProject(freshFolder("section-cut"));
+    EditorDocument document;
+    document.open(project);
+    ViewportController controller(document);
+    controller.setViewportSize(400, 300);
+    ViewStyle style;
+    style.cutHeight = 1.5;
+    controller.setStyle(&style);
+    Camera camera;
+    camera.target = document.project().receiver.centre() + glm::dvec3(-3.0, 0.0, 0.0);
+    camera.target.y = 0.0;
+    camera.distance = 30.0;
+    camera.pitch = -1.45;   // nearly straight down, from above the roof
+    controller.setCamera(camera);
+
+    const Cutaway before = cutaway(style, controller.camera());
+    Camera panned = camera;
+    panned.target += glm::dvec3(2.0, -1.0, 3.0);
+    EXPECT_EQ(cutaway(style, panned).height, before.height) << "navigation never moves the cut";
+
+    ASSERT_TRUE(controller.placePatchAt(ObjectKind::Source, QPointF(200, 150)));
+    EXPECT_LT(document.project().source.centre().y, 1.5) << "placed on the floor, under the hidden roof";
+    style.cutaway = false;
+    ASSERT_TRUE(controller.placePatchAt(ObjectKind::Source, QPointF(200, 150)));
+    EXPECT_GT(document.project().source.centre().y, 1.5) << "with the cut off, the roof is what is hit";
 }
 
 } // namespace sightline::ui
