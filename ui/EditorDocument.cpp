@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "EditCommands.h"
@@ -46,6 +47,18 @@ Project rebased(Project project, const fs::path& folder, bool absolute)
 }
 
 } // namespace
+
+fs::path nextNumberedFile(const fs::path& folder, const std::string& stem, const std::string& extension)
+{
+    for (int n = 1;; ++n) {
+        char number[16];
+        std::snprintf(number, sizeof number, "-%03d", n);
+        const fs::path candidate = folder / (stem + number + extension);
+        std::error_code ec;
+        if (!fs::exists(fs::symlink_status(candidate, ec)))
+            return candidate;
+    }
+}
 
 bool isMeshFile(const fs::path& file) { return SceneFormatRegistry::builtin().importerFor(file) != nullptr; }
 

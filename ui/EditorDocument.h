@@ -132,4 +132,9 @@ std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double sid
 /// Whether a path names a mesh file the editor opens as a scene.
 bool isMeshFile(const std::filesystem::path& file);
 
+/// The first free "<stem>-001.png", "<stem>-002.png", ... in `folder`: F12 never overwrites an
+/// earlier image.
+std::filesystem::path nextNumberedFile(const std::filesystem::path& folder, const std::string& stem,
+                                       const std::string& extension = ".png");
+
 } // namespace sightline::ui

@@ -151,6 +151,14 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* event)
     return QMainWindow::eventFilter(watched, event);
 }
 
+std::filesystem::path MainWindow::projectFolder() const
+{
+    // Where the open project (or level) lies; the working folder for a new document.
+    if (!document_.filePath().empty())
+        return std::filesystem::absolute(document_.filePath()).parent_path();
+    return std::filesystem::current_path();
+}
+
 void MainWindow::resetSectionCut()
 {
     const Project& project = document_.project();
@@ -180,7 +188,10 @@ void MainWindow::createActions()
     action(file, tr("Save &As..."), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S), [this] { saveAs(); });
     file->addSeparator();
     action(file, tr("Save Screens&hot..."), QKeySequence(Qt::Key_F12), [this] {
-        const QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), "sightline.png", tr("PNG images (*.png)"));
+        // Beside the project, numbered: repeated F12 presses never overwrite an earlier image.
+        const std::string stem = document_.filePath().empty() ? "sightline" : document_.filePath().stem().string();
+        const QString suggested = QString::fromStdString(nextNumberedFile(projectFolder(), stem).string());
+        const QString path = QFileDialog::getSaveFileName(this, tr("Save Screenshot"), suggested, tr("PNG images (*.png)"));
         if (!path.isEmpty())
             screenshotTo(path);
     });
@@ -229,7 +240,7 @@ void MainWindow::createActions()
     action(create, tr("Add &Plane Occluder"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_B), [=] { addBuiltin("plane"); });
     action(create, tr("Add &Mesh Occluder..."), QKeySequence(), [this] {
         const QString filter = tr("Meshes (%1)").arg(QString::fromStdString(SceneFormatRegistry::builtin().importFilter()));
-        const QString path = QFileDialog::getOpenFileName(this, tr("Add Mesh Occluder"), QString(), filter);
+        const QString path = QFileDialog::getOpenFileName(this, tr("Add Mesh Occluder"), QString::fromStdString(projectFolder().string()), filter);
         if (path.isEmpty())
             return;
         OccluderSpec spec;
@@ -407,7 +418,7 @@ void MainWindow::open()
     if (!maybeSave())
         return;
     const QString filter = tr("Projects and meshes (*.json %1)").arg(QString::fromStdString(SceneFormatRegistry::builtin().importFilter()));
-    const QString file = QFileDialog::getOpenFileName(this, tr("Open"), QString(), filter);
+    const QString file = QFileDialog::getOpenFileName(this, tr("Open"), QString::fromStdString(projectFolder().string()), filter);
     if (!file.isEmpty())
         openFile(file);
 }
@@ -421,7 +432,11 @@ bool MainWindow::save()
 
 bool MainWindow::saveAs()
 {
-    const QString file = QFileDialog::getSaveFileName(this, tr("Save Project"), "project.json", tr("Sightline projects (*.json)"));
+    const std::string name = document_.filePath().empty() || isMeshFile(document_.filePath())
+                                 ? "project.json"
+                                 : document_.filePath().filename().string();
+    const QString file = QFileDialog::getSaveFileName(this, tr("Save Project"), QString::fromStdString((projectFolder() / name).string()),
+                                                      tr("Sightline projects (*.json)"));
     return !file.isEmpty() && saveTo(file);
 }
 

@@ -78,6 +78,8 @@ private:
     void storeView();
     /// The section cut 1.5 m above the higher patch (on every open; navigation never moves it).
     void resetSectionCut();
+    /// The folder dialogs start in: the open project's (or level's), else the working folder.
+    std::filesystem::path projectFolder() const;
 
     EditorDocument document_;
     std::unique_ptr<ViewportController> controller_;

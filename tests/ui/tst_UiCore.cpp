@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -536,6 +537,19 @@ TEST(SectionCut, HasItsOwnHeightAndPickingGoesThroughWhatItHides)
     style.cutaway = false;
     ASSERT_TRUE(controller.placePatchAt(ObjectKind::Source, QPointF(200, 150)));
     EXPECT_GT(document.project().source.centre().y, 1.5) << "with the cut off, the roof is what is hit";
+}
+
+
+// Issue 16 §2: F12 images get numbered names beside the project instead of one "sightline.png".
+TEST(EditorDocument, ScreenshotNamesAreNumberedAndNeverReused)
+{
+    const auto folder = freshFolder("numbered");
+    EXPECT_EQ(nextNumberedFile(folder, "demo"), folder / "demo-001.png");
+    std::ofstream(folder / "demo-001.png") << "x";
+    std::ofstream(folder / "demo-002.png") << "x";
+    EXPECT_EQ(nextNumberedFile(folder, "demo"), folder / "demo-003.png");
+    std::filesystem::create_symlink("missing-target", folder / "demo-003.png");   // a dangling link counts too
+    EXPECT_EQ(nextNumberedFile(folder, "demo"), folder / "demo-004.png");
 }
 
 } // namespace sightline::ui
