@@ -577,7 +577,8 @@ void ViewportRenderer::render(const FrameState& f)
     if (f.gizmo) {
         const glm::vec4 axisColours[3] = {{0.95f, 0.25f, 0.25f, 1.0f}, {0.3f, 0.9f, 0.3f, 1.0f}, {0.3f, 0.5f, 1.0f, 1.0f}};
         for (int a = 0; a < 3; ++a) {
-            const glm::vec4 colour = a == f.hoveredAxis ? glm::vec4(1.0f, 1.0f, 0.3f, 1.0f) : axisColours[a];
+            // Hovered: white, unlike the rays' yellow (a yellow handle vanished among them).
+            const glm::vec4 colour = a == f.hoveredAxis ? glm::vec4(1.0f, 1.0f, 1.0f, 1.0f) : axisColours[a];
             const glm::dvec3 tip = f.gizmo->pivot + f.gizmo->length * f.gizmo->axes[std::size_t(a)];
             overlay.push_back({glm::vec3(f.gizmo->pivot), colour});
             overlay.push_back({glm::vec3(tip), colour});
