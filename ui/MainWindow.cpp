@@ -217,7 +217,17 @@ void MainWindow::createActions()
     edit->addAction(redo);
     edit->addSeparator();
     action(edit, tr("&Duplicate"), QKeySequence(Qt::CTRL | Qt::Key_D), [this] { document_.duplicateSelected(); });
-    action(edit, tr("De&lete"), QKeySequence::Delete, [this] { document_.removeSelected(); });
+    action(edit, tr("De&lete"), QKeySequence::Delete, [this] {
+        // Only placed occluders are the project's to delete; say so instead of doing nothing.
+        const ObjectRef selected = document_.selection();
+        if (selected.kind == ObjectKind::SceneObject)
+            statusBar()->showMessage(tr("%1 is part of the level file and cannot be deleted here: move it (W) or edit the level")
+                                         .arg(document_.objectName(selected)), 6000);
+        else if (selected.kind == ObjectKind::Source || selected.kind == ObjectKind::Receiver)
+            statusBar()->showMessage(tr("The source and the receiver cannot be deleted: move them, or place them again (Ctrl+1, Ctrl+2)"), 6000);
+        else
+            document_.removeSelected();
+    });
     action(edit, tr("Select &None"), QKeySequence(Qt::Key_Escape), [this] {
         controller_->setTool(Tool::Select);
         document_.select({});
