@@ -537,6 +537,22 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 16 §2: Delete on an object of the level did nothing, without a word.
+    void deletingALevelObjectSaysWhyNot()
+    {
+        EditorDocument& document = window_->document();
+        const std::size_t occluders = document.project().occluders.size();
+        document.select({ObjectKind::SceneObject, 0});
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_Delete);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("cannot be deleted"),
+                 qPrintable(window_->statusBar()->currentMessage()));
+        QCOMPARE(document.project().occluders.size(), occluders);
+        QCOMPARE(document.selection().kind, ObjectKind::SceneObject);
+        document.select({});
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
