@@ -97,7 +97,9 @@ std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double sid
 {
     const Bounds bounds = level.bounds();
     auto [source, receiver] = defaultPatches(bounds, side);
-    if (bounds.empty())
+    // Every test below is a brute-force pick over all triangles (about 1 ms per 80k): past a few
+    // million triangles the search would stall the opening, and the plain defaults stand.
+    if (bounds.empty() || level.triangleCount() > 2'000'000)
         return {source, receiver};
     const WorldTriangles triangles = worldTriangles(level);
     const double needed = std::max(0.5 * side, 0.1) + 0.1;
@@ -143,9 +145,10 @@ std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double sid
         return glm::length(a.second - a.first) > glm::length(b.second - b.first);
     });
     std::pair<glm::dvec3, glm::dvec3> best = pairs.front();
-    for (const auto& pair : pairs)
-        if (clearLine(pair.first, pair.second)) {
-            best = pair;
+    constexpr std::size_t kMostLineTests = 24;   // each a brute-force pick: opening stays quick
+    for (std::size_t k = 0; k < std::min(pairs.size(), kMostLineTests); ++k)
+        if (clearLine(pairs[k].first, pairs[k].second)) {
+            best = pairs[k];
             break;
         }
     source.corner += best.first - source.centre();

@@ -156,6 +156,8 @@ std::filesystem::path MainWindow::projectFolder() const
     // Where the open project (or level) lies; the working folder for a new document.
     if (!document_.filePath().empty())
         return std::filesystem::absolute(document_.filePath()).parent_path();
+    if (!document_.project().folder.empty())   // a level opened without a project
+        return document_.project().folder;
     return std::filesystem::current_path();
 }
 

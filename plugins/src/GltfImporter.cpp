@@ -382,7 +382,8 @@ std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const s
     std::size_t elementSize = 0;
     const std::vector<unsigned char> bytes = accessorBytes(model, index, elementSize, what);
     std::vector<glm::vec3> out(acc.count);
-    std::memcpy(out.data(), bytes.data(), bytes.size());
+    if (!bytes.empty())   // no copy from an empty accessor's null data
+        std::memcpy(out.data(), bytes.data(), bytes.size());
     return out;
 }
 
@@ -699,9 +700,24 @@ std::string countText(std::uint64_t n)
     return n == std::numeric_limits<std::uint64_t>::max() ? "more than 18 quintillion" : std::to_string(n);
 }
 
+/// The vertices converting every mesh once would copy: each primitive copies its whole POSITION
+/// accessor, however few triangles index it (primitives may share one accessor).
+std::uint64_t meshVertices(const tinygltf::Model& model)
+{
+    std::uint64_t vertices = 0;
+    for (const tinygltf::Mesh& mesh : model.meshes)
+        for (const tinygltf::Primitive& prim : mesh.primitives)
+            if (const auto pos = prim.attributes.find("POSITION"); isTriangleMode(prim.mode) && pos != prim.attributes.end())
+                vertices = addSaturated(vertices, accessorCount(model, pos->second));
+    return vertices;
+}
+
 /// Refuses a file whose nodes would place more than SceneLimits.h allows, before anything is expanded.
 void checkExpansion(const tinygltf::Model& model, const std::vector<int>& roots, const std::string& what)
 {
+    if (const std::uint64_t vertices = meshVertices(model); vertices > kMaxSceneVertices)
+        throw Error(what + ": its meshes hold " + countText(vertices) + " vertices in all, more than the limit of " +
+                    std::to_string(kMaxSceneVertices));
     const Expansion e = countExpansion(model, roots, what);
     if (e.instances > kMaxSceneInstances)
         throw Error(what + ": the node hierarchy places " + countText(e.instances) +

@@ -27,6 +27,7 @@
 //    refused with one line naming the file, the line (text) or element (binary), and the problem.
 
 #include <algorithm>
+#include <new>
 #include <bit>
 #include <cctype>
 #include <cfloat>
@@ -921,10 +922,16 @@ public:
         // The importer interface has no role: these files are scenes or occluder meshes of one.
         const std::string bytes = readInputFile(file, "scene");
         const std::string ext = lowerExtension(file);
-        Mesh mesh = ext == ".stl"   ? readStl(bytes, what)
-                    : ext == ".obj" ? readObj(bytes, what, warnings)
-                    : ext == ".ply" ? readPly(bytes, what)
-                                    : readOff(bytes, what);
+        Mesh mesh;
+        try {
+            mesh = ext == ".stl"   ? readStl(bytes, what)
+                   : ext == ".obj" ? readObj(bytes, what, warnings)
+                   : ext == ".ply" ? readPly(bytes, what)
+                                   : readOff(bytes, what);
+        } catch (const std::bad_alloc&) {
+            // Memory grows with the geometry a file holds (a few times its size): still one line.
+            throw Error(what + ": out of memory while reading " + std::to_string(bytes.size() >> 20) + " MB of geometry");
+        }
         if (mesh.positions.empty())
             warnings.push_back(what + ": no vertices");
         return oneInstance(std::move(mesh), file);

@@ -150,10 +150,13 @@ json vec3Json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 /// A float as the shortest decimal that reads back as it (0.1f as 0.1, not 0.10000000149).
 double shortestDecimal(float x)
 {
+    // Both ways locale-independent: the editor runs under the user's LC_NUMERIC, where strtod
+    // would read "1.25" as 1 in a comma-decimal locale.
     char text[32];
     const auto end = std::to_chars(text, text + sizeof text, x).ptr;
-    *end = '\0';
-    return std::strtod(text, nullptr);
+    double value = 0.0;
+    std::from_chars(text, end, value);
+    return value;
 }
 
 /// A transform as the file wrote it where it is unedited, else its floats as shortest decimals.

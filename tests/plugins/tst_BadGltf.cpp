@@ -236,6 +236,22 @@ TEST(BadGltf, AccessorsWithoutDataInTheFileAreBounded)
     expectRefused(g.writeEmbedded(dir / "unbacked.gltf"), {"no bufferView", "268435456", "4194304"});
 }
 
+// Each primitive copies its whole POSITION accessor: 20 primitives sharing one 4M-vertex accessor
+// (no bytes in the file) counted as 20 triangles and one instance, and took gigabytes.
+TEST(BadGltf, VerticesCopiedPerPrimitiveAreCountedBeforeConverting)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["accessors"].push_back({{"componentType", kF32}, {"count", 1 << 22}, {"type", "VEC3"}});
+    const auto positions = g.doc["accessors"].size() - 1;
+    const json indices = g.doc["meshes"][0]["primitives"][0]["indices"];   // the triangle's 3
+    json primitives = json::array();
+    for (int k = 0; k < 20; ++k)
+        primitives.push_back({{"attributes", {{"POSITION", positions}}}, {"indices", indices}});
+    g.doc["meshes"][0]["primitives"] = primitives;
+    expectRefused(g.writeEmbedded(dir / "shared_positions.gltf"), {"vertices in all", "limit of 50000000"});
+}
+
 TEST(BadGltf, DeepJsonIsRefusedBeforeParsing)
 {
     TempDir dir;

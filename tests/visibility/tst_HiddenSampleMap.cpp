@@ -129,4 +129,7 @@ TEST(NpyWriter, ShapesAreCheckedBeforeAnythingIsAllocated)
     const std::string floats = "{'descr': '<f4', 'fortran_order': False, 'shape': (0, 3), }";
     EXPECT_NE(npyError(npyWith(floats, ""), false).find("empty array"), std::string::npos);
     EXPECT_EQ(npyError(npyWith(with(mask, "2"), std::string(2, '\0')), true), "");   // a good one loads
+    // A long header only fed the (recursive) shape regex: refused by its length.
+    const std::string spaced = "{'descr': '|u1', 'fortran_order': False, 'shape':" + std::string(60000, ' ') + "(2, 1, 1), }";
+    EXPECT_NE(npyError(npyWith(spaced, std::string(2, '\0')), true).find("at most 4096"), std::string::npos);
 }

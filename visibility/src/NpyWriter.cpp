@@ -53,6 +53,10 @@ NpyFile readNpy(const std::filesystem::path& file)
     if (bytes.size() < 10 || bytes.compare(0, 6, kMagic, 6) != 0 || bytes[6] != 1)
         throw Error(file.string() + ": not a NumPy format 1.0 file");
     const std::size_t headerLength = std::size_t(std::uint8_t(bytes[8])) | std::size_t(std::uint8_t(bytes[9])) << 8;
+    // NumPy writes a few dozen bytes of header; a long one would only feed the shape regex
+    // (libstdc++'s is recursive: tens of kilobytes of spaces would overflow the stack).
+    if (headerLength > 4096)
+        throw Error(file.string() + ": .npy header of " + std::to_string(headerLength) + " bytes (at most 4096 are read)");
     if (bytes.size() < 10 + headerLength)
         throw Error(file.string() + ": truncated .npy header");
     npy.header = bytes.substr(10, headerLength);

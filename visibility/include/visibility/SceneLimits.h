@@ -16,6 +16,10 @@ inline constexpr std::uint64_t kMaxSceneInstances = 1'000'000;
 /// The most triangles one scene file may place, counting each instance's mesh in full.
 inline constexpr std::uint64_t kMaxSceneTriangles = 50'000'000;
 
+/// The most vertices one scene file's meshes may hold (each converted once, however often placed):
+/// shared vertex data is copied per primitive, so a small file could otherwise make gigabytes.
+inline constexpr std::uint64_t kMaxSceneVertices = 50'000'000;
+
 /// The most elements a glTF accessor without a bufferView (zeros, perhaps sparse values, none of
 /// them stored in the file) may declare: its memory is not bounded by the file's size otherwise.
 inline constexpr std::uint64_t kMaxUnbackedAccessorElements = std::uint64_t(1) << 22;
