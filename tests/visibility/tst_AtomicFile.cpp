@@ -139,6 +139,21 @@ TEST_F(AtomicSave, RemovesOldTemporariesWithoutAPidOnlyWhenOld)
     EXPECT_TRUE(fs::exists(recent));
 }
 
+// Only names this writer makes are temporaries: a user's own ".p.json.tmp-notes" stays, however old.
+TEST_F(AtomicSave, KeepsFilesThatOnlyLookLikeTemporaries)
+{
+    const fs::path file = dir / "p.json";
+    const fs::path notes = dir / ".p.json.tmp-notes";
+    const fs::path dashed = dir / (".p.json.tmp-" + std::to_string(deadPid()) + "-draft");
+    std::ofstream(notes) << "mine";
+    std::ofstream(dashed) << "mine";
+    age(notes, std::chrono::minutes(600));
+    age(dashed, std::chrono::minutes(600));
+    writeFileAtomically(file, "x");
+    EXPECT_TRUE(fs::exists(notes));
+    EXPECT_TRUE(fs::exists(dashed));
+}
+
 TEST_F(AtomicSave, RefusesToReplaceAFolder)
 {
     fs::create_directories(dir / "out.npy");

@@ -1,5 +1,7 @@
 #include "visibility/AtomicFile.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <charconv>
 #include <cstdio>
@@ -64,9 +66,14 @@ bool isStale(const fs::directory_entry& entry, const std::string& prefix, fs::fi
         return false;
     const auto age = now - modified;
     const std::string_view rest = std::string_view(name).substr(prefix.size());
+    auto allDigits = [](std::string_view text) {
+        return !text.empty() && std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    };
     const std::size_t dash = rest.find('-');
-    if (dash == std::string_view::npos)
-        return age > kUnknownWriterTempAge;
+    if (dash == std::string_view::npos)   // the old form's suffix was a decimal number only
+        return allDigits(rest) && age > kUnknownWriterTempAge;
+    if (!allDigits(rest.substr(dash + 1)))   // not a name this writer makes (".x.tmp-notes-1")
+        return false;
     long pid = 0;
     const auto [end, err] = std::from_chars(rest.data(), rest.data() + dash, pid);
     if (err != std::errc() || end != rest.data() + dash || pid <= 0)
@@ -132,8 +139,13 @@ void writeFileAtomically(const fs::path& path, std::string_view bytes)
 
     bool keepMode = false;
     const mode_t mode = modeFor(target, keepMode);
-    std::random_device rd;
-    const fs::path temp = folder / atomicTempName(target, static_cast<unsigned long>(::getpid()), rd());
+    // A nonce beside the pid; random_device may throw where no entropy source is available.
+    unsigned long nonce = static_cast<unsigned long>(std::chrono::steady_clock::now().time_since_epoch().count());
+    try {
+        nonce = std::random_device{}();
+    } catch (const std::exception&) {
+    }
+    const fs::path temp = folder / atomicTempName(target, static_cast<unsigned long>(::getpid()), nonce);
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, mode);
     if (fd < 0)
         throw Error(path.string() + ": cannot write (" + std::strerror(errno) + ")");
