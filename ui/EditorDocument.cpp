@@ -27,6 +27,9 @@ std::string rebase(const std::string& path, const fs::path& from, const fs::path
 {
     if (path.empty())
         return path;
+    std::error_code ec;
+    if (!absolute && fs::equivalent(from, to, ec))
+        return path;   // saved in place: what the user wrote stays as written
     const fs::path p(path);
     const fs::path full = p.is_absolute() ? p : (from / p).lexically_normal();
     if (absolute)

@@ -276,6 +276,16 @@ TEST(EditorDocument, SaveAndReopenRoundTripsAndRebasesPaths)
     // The CLI's scene is the editor's scene.
     EXPECT_EQ(worldTriangles(buildScene(loadProject(folder / "projects" / "level.json"))).vertices,
               worldTriangles(again.scene()).vertices);
+    // Saved in place, a path stays as the user wrote it (here an allowed "../" one).
+    Project written = again.project();
+    written.scene = "../levels/floor.obj";
+    written.allowOutsidePaths = true;
+    saveProject(written, folder / "projects" / "level.json");
+    EditorDocument inPlace;
+    inPlace.setAllowOutsidePaths(true);
+    inPlace.open(folder / "projects" / "level.json");
+    inPlace.save(folder / "projects" / "level.json");
+    EXPECT_EQ(loadProject(folder / "projects" / "level.json", {.allowOutsidePaths = true}).scene, "../levels/floor.obj");
 }
 
 TEST(EditorDocument, AFileThatFailsToOpenLeavesTheDocumentAsItWas)
