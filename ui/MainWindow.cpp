@@ -25,6 +25,7 @@
 
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
+#include "Picking.h"
 #include "PropertiesPanel.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
@@ -496,12 +497,34 @@ void MainWindow::updateTitle()
     setWindowModified(document_.isModified());
 }
 
+QString MainWindow::enclosedPatchNote()
+{
+    // Only asked when every ray is blocked (the case that otherwise has no explanation), and
+    // remembered for the patches it was asked for: each pick is a brute-force pass.
+    const Project& project = document_.project();
+    const std::array<glm::dvec3, 2> centres{project.source.centre(), project.receiver.centre()};
+    if (enclosedFor_ && *enclosedFor_ == centres)
+        return enclosedNote_;
+    enclosedFor_ = centres;
+    enclosedNote_.clear();
+    const Scene& scene = document_.scene();
+    const WorldTriangles triangles = worldTriangles(scene);
+    const char* names[] = {"source", "receiver"};
+    for (int k = 0; k < 2; ++k)
+        if (const auto instance = enclosingInstance(scene, triangles, centres[std::size_t(k)]))
+            enclosedNote_ += tr(" · the %1 is inside %2").arg(names[k], QString::fromStdString(scene.instances[*instance].name));
+    return enclosedNote_;
+}
+
 void MainWindow::updateStatus()
 {
     const VisibilityResult& result = viewport_->visibility();
+    QString summary = visibilitySummary(result);
+    if (result.valid && result.rays > 0 && result.unblocked() == 0)
+        summary += enclosedPatchNote();
     raysLabel_->setText(viewport_->resultIsStale()
-                            ? visibilitySummary(result) + tr(" · updating when the drag ends (%1 ms an update)").arg(result.ms, 0, 'f', 0)
-                            : visibilitySummary(result));
+                            ? summary + tr(" · updating when the drag ends (%1 ms an update)").arg(result.ms, 0, 'f', 0)
+                            : summary);
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
     const double rate = viewport_->updateRate();

@@ -4,6 +4,8 @@
 // recent files, unsaved-changes prompt, autosave to a recovery file); the behaviour itself lives
 // in EditorDocument, ViewportController and the panels.
 
+#include <array>
+#include <optional>
 #include <filesystem>
 #include <memory>
 
@@ -73,6 +75,8 @@ private:
     void open();
     void updateTitle();
     void updateStatus();
+    /// " · the source is inside wall_middle" when a patch sits inside a closed object, else empty.
+    QString enclosedPatchNote();
     void addRecentFile(const QString& file);
     void rebuildRecentMenu();
     void storeView();
@@ -92,6 +96,8 @@ private:
     QLabel* backendLabel_ = nullptr;
     QMenu* viewMenu_ = nullptr;
     QAction* cutAction_ = nullptr;
+    std::optional<std::array<glm::dvec3, 2>> enclosedFor_;   ///< patch centres enclosedNote_ was found for
+    QString enclosedNote_;
     QToolBar* toolbar_ = nullptr;
     OverlayControls* overlay_ = nullptr;
     QTimer autosaveTimer_;

@@ -73,6 +73,28 @@ std::optional<PatchSampleHit> pickPatchSample(const Patch& patch, const Ray& ray
     return hit;
 }
 
+std::optional<std::size_t> enclosingInstance(const Scene& scene, const WorldTriangles& triangles, const glm::dvec3& point)
+{
+    std::optional<std::size_t> inside;
+    // Skew directions, so a ray does not run along the axis-aligned edges and faces of a level.
+    for (const glm::dvec3 direction : {glm::dvec3(0.36, 0.80, 0.48), glm::dvec3(-0.58, -0.41, 0.70)}) {
+        const glm::dvec3 d = glm::normalize(direction);
+        const auto hit = pickSurface(triangles, Ray{point, d});
+        if (!hit)
+            return std::nullopt;
+        const std::size_t instance = triangles.instanceOf[hit->triangle];
+        if (!scene.meshes[scene.instances[instance].mesh].watertight)
+            return std::nullopt;
+        const glm::dvec3 p0(triangles.vertices[3 * hit->triangle]);
+        const glm::dvec3 outward = glm::cross(glm::dvec3(triangles.vertices[3 * hit->triangle + 1]) - p0,
+                                              glm::dvec3(triangles.vertices[3 * hit->triangle + 2]) - p0);
+        if (glm::dot(outward, d) <= 0.0 || (inside && *inside != instance))
+            return std::nullopt;   // entering a face, or two answers: not inside one solid
+        inside = instance;
+    }
+    return inside;
+}
+
 std::optional<double> pickPatch(const Patch& patch, const Ray& ray)
 {
     if (const auto hit = pickPatchSample(patch, ray))

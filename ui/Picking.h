@@ -25,6 +25,11 @@ struct SurfaceHit {
 std::optional<SurfaceHit> pickSurface(const WorldTriangles& triangles, const Ray& ray,
                                       const std::function<bool(std::size_t triangle, const glm::dvec3& point)>& visible = {});
 
+/// The closed (watertight) instance whose inside holds `point`, if any: rays from the point in two
+/// skew directions first meet one of its outward faces from behind. Open meshes have no inside
+/// and are never named.
+std::optional<std::size_t> enclosingInstance(const Scene& scene, const WorldTriangles& triangles, const glm::dvec3& point);
+
 /// Distance along the ray to the patch's parallelogram, if hit.
 std::optional<double> pickPatch(const Patch& patch, const Ray& ray);
 

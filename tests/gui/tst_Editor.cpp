@@ -553,6 +553,28 @@ private slots:
         document.select({});
     }
 
+    // Issue 16 §1: a patch inside geometry: 0.0% visible and no hint why.
+    void aPatchInsideAnObjectIsNamedInTheStatusBar()
+    {
+        EditorDocument& document = window_->document();
+        OccluderSpec vault;
+        vault.name = "vault";
+        vault.mesh = "box";
+        vault.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(document.project().source.centre())), glm::vec3(3.0f));
+        document.addOccluder(vault);
+        waitForUpdate();
+        QApplication::processEvents();
+        bool named = false;
+        QString texts;
+        for (QLabel* label : window_->statusBar()->findChildren<QLabel*>()) {
+            texts += label->text() + " | ";
+            named = named || label->text().contains("the source is inside vault");
+        }
+        QVERIFY2(named, qPrintable(texts));
+        document.undoStack()->undo();
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();

@@ -562,4 +562,26 @@ TEST(EditorDocument, ScreenshotNamesAreNumberedAndNeverReused)
     EXPECT_EQ(nextNumberedFile(folder, "demo"), folder / "demo-004.png");
 }
 
+
+// Issue 16 §1: a patch inside geometry gave 0.0% visible and no hint why; the editor now names the
+// closed object that holds it.
+TEST(Picking, EnclosingInstanceNamesTheClosedObjectAroundAPoint)
+{
+    const auto folder = freshFolder("enclosing");
+    EditorDocument document;
+    document.open(writeFloorObj(folder));
+    OccluderSpec crate;
+    crate.name = "crate";
+    crate.mesh = "box";
+    crate.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(2.0f, 1.0f, 0.0f)), glm::vec3(2.0f));
+    document.addOccluder(crate);
+    const Scene& scene = document.scene();
+    const WorldTriangles triangles = worldTriangles(scene);
+    const auto inside = enclosingInstance(scene, triangles, glm::dvec3(2.2, 1.1, 0.1));
+    ASSERT_TRUE(inside.has_value());
+    EXPECT_EQ(scene.instances[*inside].name, "crate");
+    EXPECT_FALSE(enclosingInstance(scene, triangles, glm::dvec3(5.0, 1.0, 0.0)).has_value()) << "outside the crate";
+    EXPECT_FALSE(enclosingInstance(scene, triangles, glm::dvec3(2.0, 3.0, 0.0)).has_value()) << "above it";
+}
+
 } // namespace sightline::ui
