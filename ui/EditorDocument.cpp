@@ -45,6 +45,15 @@ Project rebased(Project project, const fs::path& folder, bool absolute)
     for (OccluderSpec& spec : project.occluders)
         if (!isBuiltinMesh(spec.mesh))
             spec.mesh = rebase(spec.mesh, project.folder, folder, absolute);
+    // Paths in the lighting keys the editor keeps as unknown (project/LightingSetup.h).
+    auto rebaseKey = [&](const char* object, const char* key) {
+        const auto it = project.extra.find(object);
+        if (it != project.extra.end() && it->is_object() && it->contains(key) && it->at(key).is_string())
+            (*it)[key] = rebase(it->at(key).get<std::string>(), project.folder, folder, absolute);
+    };
+    rebaseKey("light", "texture");
+    rebaseKey("receiver_heights", "image");
+    rebaseKey("receiver_heights", "npy");
     project.folder = folder;
     return project;
 }

@@ -261,7 +261,19 @@ TEST(EditorDocument, SaveAndReopenRoundTripsAndRebasesPaths)
     settings["camera"] = cameraToJson(Camera{});
     document.setEditorSettings(settings);
 
+    nlohmann::json extra = document.project().extra;   // a light texture beside the level
+    extra["light"] = {{"texture", "glow.png"}};
+    Project withLight = document.project();
+    withLight.extra = extra;
     std::filesystem::create_directories(folder / "projects");
+    saveProject(withLight, folder / "levels" / "lit.json");
+    EditorDocument lit;
+    lit.open(folder / "levels" / "lit.json");
+    lit.save(folder / "projects" / "lit.json");
+    EXPECT_EQ(lit.project().extra["light"]["texture"],
+              std::filesystem::absolute(folder / "levels" / "glow.png").lexically_normal().string())
+        << "Save As into another folder rebases the light's texture too";
+
     document.save(folder / "projects" / "level.json");
     EXPECT_FALSE(document.isModified());
     // The relative form would climb out of the project's folder, which loading refuses
