@@ -1,7 +1,7 @@
 #pragma once
 // "Accumulate Animation": the importance map of the document's project accumulated over the
 // frames of its "animation" key (Eisemann & Décoret §9, accumulation over time; format in
-// app/project/Animation.h), exactly as `sightline-cli importance` computes it (same run, same
+// project/Animation.h), exactly as `sightline-cli importance` computes it (same run, same
 // CPU sampler, the project's receiver_heights included), but on the document as it is now,
 // unsaved edits included, with the meshes the editor already loaded. Also serves
 // `sightline --screenshot --overlay receiver|source`.
