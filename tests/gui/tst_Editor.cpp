@@ -575,6 +575,21 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 16 §1: after an open the viewport stayed black until the first drag. An open alone
+    // (no requestUpdate, no input) must sample and draw.
+    void anOpenDrawsWithoutInput()
+    {
+        QSignalSpy updated(&window_->viewport(), &Viewport::visibilityUpdated);
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        QVERIFY(updated.count() > 0 || updated.wait(5000));
+        const QImage frame = window_->viewport().grabFramebuffer();
+        int lit = 0;
+        for (int y = 0; y < frame.height(); y += 8)
+            for (int x = 0; x < frame.width(); x += 8)
+                lit += qGray(frame.pixel(x, y)) > 90;
+        QVERIFY2(lit > 100, qPrintable(QString("only %1 bright samples").arg(lit)));
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
