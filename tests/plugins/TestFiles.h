@@ -2,6 +2,7 @@
 // Helpers shared by the plugin tests: the shared data folder, a scratch folder, file writers and a
 // check that an import fails with a one-line sightline::Error naming the file.
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -46,6 +47,13 @@ public:
 private:
     std::filesystem::path path_;
 };
+
+/// Little-endian bytes of a value, for building binary files (this machine is little-endian).
+inline std::string binary(const void* data, std::size_t bytes) { return std::string(static_cast<const char*>(data), bytes); }
+inline std::string f32(float v) { return binary(&v, 4); }
+inline std::string i32(std::int32_t v) { return binary(&v, 4); }
+inline std::string u32(std::uint32_t v) { return binary(&v, 4); }
+inline std::string u8(std::uint8_t v) { return binary(&v, 1); }
 
 inline std::filesystem::path writeFile(const std::filesystem::path& path, const std::string& bytes)
 {

@@ -20,14 +20,13 @@ using namespace sightline;
 using sightline::test::expectOneLineError;
 using sightline::test::TempDir;
 using sightline::test::writeFile;
+using sightline::test::f32;
+using sightline::test::i32;
+using sightline::test::u32;
+using sightline::test::u8;
 
 namespace {
 
-std::string binary(const void* data, std::size_t bytes) { return std::string(static_cast<const char*>(data), bytes); }
-std::string f32(float v) { return binary(&v, 4); }
-std::string i32(std::int32_t v) { return binary(&v, 4); }
-std::string u32(std::uint32_t v) { return binary(&v, 4); }
-std::string u8(std::uint8_t v) { return binary(&v, 1); }
 
 /// Loads `file` expecting a one-line error naming it and containing every one of `words`.
 void expectRefused(const std::filesystem::path& file, std::initializer_list<const char*> words)

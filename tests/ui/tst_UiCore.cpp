@@ -401,6 +401,15 @@ TEST(LiveVisibility, UsesTheProjectsReceiverHeightsAndRefusesUnreadableOnes)
     EXPECT_TRUE(live.sample(p.source, p.receiver).valid);
 }
 
+/// The floor level with floorPatches() placed on it.
+void openFloorWithPatches(EditorDocument& document, const std::filesystem::path& folder)
+{
+    document.open(writeFloorObj(folder));
+    const auto [source, receiver] = floorPatches();
+    document.setState({ObjectKind::Source, 0}, source, "place");
+    document.setState({ObjectKind::Receiver, 0}, receiver, "place");
+}
+
 /// Is this pixel the ray colour (yellow) rather than grey floor or dark background?
 bool yellowish(QRgb c) { return qRed(c) > qBlue(c) + 40 && qGreen(c) > qBlue(c) + 30; }
 
@@ -408,10 +417,8 @@ TEST(OffscreenRender, RaysAreDrawnWhereTheShaftIsOpenAndNotWhereItIsCut)
 {
     const auto folder = freshFolder("offscreen");
     EditorDocument document;
-    document.open(writeFloorObj(folder));
+    openFloorWithPatches(document, folder);
     const auto [source, receiver] = floorPatches();
-    document.setState({ObjectKind::Source, 0}, source, "place");
-    document.setState({ObjectKind::Receiver, 0}, receiver, "place");
     const Camera camera = shaftView(source, receiver);
     ViewStyle style;
     style.rayCap = 1 << 20;
@@ -456,10 +463,8 @@ TEST(OffscreenRender, PlacedOccludersAreDrawnAndTheSelectedOneHighlighted)
 {
     const auto folder = freshFolder("offscreen-occluder");
     EditorDocument document;
-    document.open(writeFloorObj(folder));
+    openFloorWithPatches(document, folder);
     const auto [source, receiver] = floorPatches();
-    document.setState({ObjectKind::Source, 0}, source, "place");
-    document.setState({ObjectKind::Receiver, 0}, receiver, "place");
     const Camera camera = shaftView(source, receiver);
     ViewStyle style;
     style.showRays = false;
