@@ -534,6 +534,14 @@ private slots:
         QTest::keyClick(window_.get(), Qt::Key_C);
         QVERIFY(window_->viewport().style().cutaway);
         controller.setCamera(before);
+        // The designer's task: Ctrl+B puts a box in front of the camera, drawn and selected.
+        const std::size_t occluders = window_->document().project().occluders.size();
+        QTest::keyClick(window_.get(), Qt::Key_B, Qt::ControlModifier);
+        QCOMPARE(window_->document().project().occluders.size(), occluders + 1);
+        waitForUpdate();
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+            window_->screenshotTo(QString::fromUtf8(shots) + "/box-added.png");
+        window_->document().undoStack()->undo();
         waitForUpdate();
     }
 
