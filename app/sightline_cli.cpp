@@ -458,7 +458,7 @@ int runDemo(const std::string& folder, int firstSeed, int lastSeed)
 int main(int argc, char** argv)
 {
     CLI::App app{"Sightline: which rays between two patches are blocked, for level designers.\n"
-                 "See README.md; file formats and conventions: DESIGN.md."};
+                 "See docs/cli.md (README.md links every page); file formats and conventions: DESIGN.md."};
     app.name("sightline-cli");
     app.set_version_flag("--version", "sightline-cli 0.1.0");
     app.require_subcommand(1);

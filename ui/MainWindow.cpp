@@ -125,16 +125,16 @@ MainWindow::~MainWindow() = default;
 void MainWindow::createPanels()
 {
     outline_ = new OutlinePanel(document_, this);
-    auto* outlineDock = new QDockWidget(tr("Outline"), this);
-    outlineDock->setObjectName("outline");
-    outlineDock->setWidget(outline_);
-    addDockWidget(Qt::LeftDockWidgetArea, outlineDock);
+    outlineDock_ = new QDockWidget(tr("Outline"), this);
+    outlineDock_->setObjectName("outline");
+    outlineDock_->setWidget(outline_);
+    addDockWidget(Qt::LeftDockWidgetArea, outlineDock_);
 
     properties_ = new PropertiesPanel(document_, this);
-    auto* propertiesDock = new QDockWidget(tr("Properties"), this);
-    propertiesDock->setObjectName("properties");
-    propertiesDock->setWidget(properties_);
-    addDockWidget(Qt::RightDockWidgetArea, propertiesDock);
+    propertiesDock_ = new QDockWidget(tr("Properties"), this);
+    propertiesDock_->setObjectName("properties");
+    propertiesDock_->setWidget(properties_);
+    addDockWidget(Qt::RightDockWidgetArea, propertiesDock_);
 }
 
 bool MainWindow::eventFilter(QObject* watched, QEvent* event)
@@ -285,6 +285,14 @@ void MainWindow::createActions()
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
     viewMenu_ = view;
+    // A closed panel comes back from here (issue 16 §2: once closed, it stayed closed).
+    QMenu* panels = view->addMenu(tr("&Panels"));
+    for (QDockWidget* dock : {outlineDock_, propertiesDock_}) {
+        QAction* toggle = dock->toggleViewAction();
+        toggle->setObjectName("panel-" + dock->objectName());
+        panels->addAction(toggle);
+    }
+    view->addSeparator();
     action(view, tr("&Frame Selection"), QKeySequence(Qt::Key_F), [this] { controller_->frameSelection(); });
     QAction* wire = action(view, tr("&Wireframe"), QKeySequence(Qt::Key_Z), [this](bool on) {
         viewport_->style().wireframe = on;

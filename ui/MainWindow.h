@@ -16,6 +16,7 @@
 #include "ViewportController.h"
 
 class QAction;
+class QDockWidget;
 class QLabel;
 class QMenu;
 class QToolBar;
@@ -89,6 +90,8 @@ private:
     std::unique_ptr<ViewportController> controller_;
     Viewport* viewport_ = nullptr;
     QWidget* container_ = nullptr;
+    QDockWidget* outlineDock_ = nullptr;
+    QDockWidget* propertiesDock_ = nullptr;
     OutlinePanel* outline_ = nullptr;
     PropertiesPanel* properties_ = nullptr;
     QMenu* recentMenu_ = nullptr;

@@ -24,6 +24,9 @@ public:
     /// Shows the pair's problem under the patch fields (empty: valid).
     void setPairError(const QString& error);
 
+    /// One width whatever is selected, so the dock (and the viewport beside it) never jumps.
+    QSize sizeHint() const override;
+
 private:
     using Vec3Fields = std::array<QDoubleSpinBox*, 3>;
     Vec3Fields addVec3(QFormLayout* form, const QString& label, double step, const QString& suffix);
@@ -40,6 +43,7 @@ private:
     Vec3Fields position_{}, rotation_{}, scale_{};
     QLabel* pairError_ = nullptr;
     bool refreshing_ = false;
+    int width_ = 0;   // the widest content's width, measured once with every group shown
 };
 
 } // namespace sightline::ui

@@ -7,12 +7,14 @@
 #include <QComboBox>
 #include <QLabel>
 #include <QMessageBox>
+#include <QPainter>
 #include <QScreen>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QTest>
 #include <QDialog>
+#include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QTimer>
 
@@ -103,6 +105,7 @@ private slots:
         QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
         QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
         waitForUpdate();
+        saveWindowShot("open");
     }
 
     void opensTheDemoProjectAndMatchesTheReference()
@@ -295,6 +298,7 @@ private slots:
                      .arg(hit->b)
                      .arg(100.0 * fraction, 0, 'f', 1));
         QVERIFY(std::abs(hit->a - 12) <= 1 && std::abs(hit->b - 30) <= 1);
+        saveWindowShot("overlay");
         // Off the patch: no read-out.
         QTest::mouseMove(&viewport, QPoint(5, 5));
         QTRY_VERIFY(controls.readOutLabel()->text().isEmpty());
@@ -541,6 +545,7 @@ private slots:
         waitForUpdate();
         if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
             window_->screenshotTo(QString::fromUtf8(shots) + "/box-added.png");
+        saveWindowShot("box-added");
         window_->document().undoStack()->undo();
         waitForUpdate();
     }
@@ -598,6 +603,34 @@ private slots:
         QVERIFY2(lit > 100, qPrintable(QString("only %1 bright samples").arg(lit)));
     }
 
+    // Issue 16 §2: the properties panel's width followed the selection, and the viewport beside it
+    // jumped between 745 and 1040 px; a closed panel could not be brought back.
+    void panelsKeepTheirWidthAndComeBackFromTheViewMenu()
+    {
+        EditorDocument& document = window_->document();
+        auto* properties = window_->findChild<QDockWidget*>("properties");
+        auto* outline = window_->findChild<QDockWidget*>("outline");
+        QVERIFY(properties && outline);
+        QWidget* container = window_->viewportContainer();
+        document.select({});
+        QTest::qWait(100);
+        const int width = properties->width();
+        const int left = container->mapTo(window_.get(), QPoint(0, 0)).x();
+        for (const ObjectRef selection : {ObjectRef{ObjectKind::Source, 0}, ObjectRef{ObjectKind::SceneObject, 0}, ObjectRef{}}) {
+            document.select(selection);
+            QTest::qWait(100);
+            QCOMPARE(properties->width(), width);
+            QCOMPARE(container->mapTo(window_.get(), QPoint(0, 0)).x(), left);
+        }
+        outline->close();
+        QTRY_VERIFY(!outline->isVisible());
+        QAction* bringBack = window_->findChild<QAction*>("panel-outline");
+        QVERIFY(bringBack);
+        QVERIFY(!bringBack->isChecked());
+        bringBack->trigger();
+        QTRY_VERIFY(outline->isVisible());
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
@@ -620,6 +653,26 @@ private:
         waitForUpdate();
         const GizmoFrame frame = *window_->controller().gizmo();
         return frame.pivot + 0.7 * frame.length * glm::dvec3(0, 0, 1);
+    }
+
+    /// With SIGHTLINE_GUI_SHOTS=FOLDER, the whole window as a person sees it, to FOLDER/window-NAME.png (for
+    /// the docs' pictures and for looking at a change). A widget grab leaves the GL viewport black, so the
+    /// viewport's own frame is painted into its place, then the widgets that float over it (the legend).
+    void saveWindowShot(const QString& name)
+    {
+        const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS");
+        if (shots.isEmpty())
+            return;
+        QImage image = window_->grab().toImage();
+        QWidget* container = window_->viewportContainer();
+        QPainter painter(&image);
+        painter.drawImage(QRect(container->mapTo(window_.get(), QPoint(0, 0)), container->size()),
+                          window_->viewport().grabFramebuffer());
+        for (QWidget* child : container->findChildren<QWidget*>(QString(), Qt::FindDirectChildrenOnly))
+            if (child->isVisible())
+                child->render(&painter, child->mapTo(window_.get(), QPoint(0, 0)));
+        painter.end();
+        QVERIFY(image.save(QString::fromUtf8(shots) + "/window-" + name + ".png"));
     }
 
     void waitForUpdate()
