@@ -6,15 +6,25 @@
 
 namespace sightline::ui {
 
+AnimationInput animationInput(const EditorDocument& document)
+{
+    return {document.project(), document.projectMeshes(), document.displayName().toStdString()};
+}
+
 ImportanceRunResult accumulateDocumentAnimation(const EditorDocument& document, const Animation& animation, int frames,
                                                 ImportanceSide side, const std::function<bool(int, int)>& progress)
 {
-    const Project& project = document.project();
-    const std::string what = document.displayName().toStdString();
+    return accumulateAnimation(animationInput(document), animation, frames, side, progress);
+}
+
+ImportanceRunResult accumulateAnimation(const AnimationInput& input, const Animation& animation, int frames,
+                                        ImportanceSide side, const std::function<bool(int, int)>& progress)
+{
+    const Project& project = input.project;
     SamplerSettings settings;
     settings.method = "cpu";
-    settings.heights = projectReceiverHeights(project, project.receiver, what);
-    ProjectSampler sampler(projectAtFrame(project, animation, 0), document.projectMeshes(), settings);
+    settings.heights = projectReceiverHeights(project, project.receiver, input.name);
+    ProjectSampler sampler(projectAtFrame(project, animation, 0), input.meshes, settings);
     int done = 0;
     try {
         return accumulateImportance(sampler, project, animation, frames, side, [&](int d, int total) {

@@ -14,6 +14,20 @@
 
 namespace sightline::ui {
 
+/// What a run reads of the document, copied, so that it can run on another thread while the
+/// document lives on (and autosave writes its editor settings) on the GUI thread.
+struct AnimationInput {
+    Project project;
+    ProjectMeshes meshes;
+    std::string name;   ///< the document's name, for messages
+};
+AnimationInput animationInput(const EditorDocument& document);
+
+/// Accumulates `side`'s importance over `frames` frames of `animation` applied to `input`'s
+/// project. Touches nothing but its arguments: safe on a worker thread.
+ImportanceRunResult accumulateAnimation(const AnimationInput& input, const Animation& animation, int frames,
+                                        ImportanceSide side, const std::function<bool(int, int)>& progress = {});
+
 /// Accumulates `side`'s importance over `frames` frames of `animation` applied to the document's
 /// project. `progress(done, total)` as in accumulateImportance (false cancels). Throws
 /// sightline::Error naming the frame that failed (an invalid pair, a broken light or height key).

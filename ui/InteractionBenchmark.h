@@ -1,7 +1,7 @@
 #pragma once
 // `sightline --benchmark-interaction`: drags the receiver along a scripted path in the real
-// editor window and measures each frame from one swap to the next, sampling and drawing
-// included. A benchmark (figures printed), not a test.
+// editor window (a new position after every frame drawn) and measures the interval between
+// answers shown, sampling and drawing included. A benchmark (figures printed), not a test.
 
 #include <string>
 

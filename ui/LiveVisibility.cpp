@@ -33,6 +33,14 @@ void LiveVisibility::setGl(const gl::Functions* gl)
 {
     gl_ = gl;
     glSampler_.reset();
+    softwareRenderer_.clear();
+    if (gl_) {
+        const auto* renderer = reinterpret_cast<const char*>(gl_->GetString(GL_RENDERER));
+        const std::string name = renderer ? renderer : "";
+        for (const char* software : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
+            if (name.find(software) != std::string::npos)
+                softwareRenderer_ = name;
+    }
     if (!gl_) {
         glScene_.reset();
         backend_ = Backend::Cpu;
@@ -46,24 +54,27 @@ std::string LiveVisibility::backendName() const
     return CpuBitmaskSampler::simdAvailable() ? "CPU bitmask (AVX2)" : "CPU bitmask";
 }
 
+std::string LiveVisibility::softwareRenderer() const { return softwareRenderer_; }
+
+bool LiveVisibility::mayUseGl() const
+{
+    return gl_ && (!chosen_ || backend_ == Backend::Gl) && softwareRenderer().empty();
+}
+
 std::string LiveVisibility::chooseBackend(const Patch& source, const Patch& receiver)
 {
     chosen_ = true;
-    const VisibilityResult cpu = sampleWith(Backend::Cpu, source, receiver);
-    if (!gl_ || !cpu.valid) {
-        backend_ = Backend::Cpu;
+    backend_ = Backend::Cpu;
+    if (!gl_)
         return "using " + backendName();
-    }
     // A software rasterizer (llvmpipe, softpipe, swrast) is the CPU running the GL sampler's
     // fragments, far slower than the CPU sampler; timing it on the GUI thread froze the window
-    // for minutes on a 512x512 receiver. It is not tried.
-    const auto* renderer = reinterpret_cast<const char*>(gl_->GetString(GL_RENDERER));
-    const std::string rendererName = renderer ? renderer : "";
-    for (const char* software : {"llvmpipe", "softpipe", "swrast", "Software Rasterizer"})
-        if (rendererName.find(software) != std::string::npos) {
-            backend_ = Backend::Cpu;
-            return "GL is a software rasterizer (" + rendererName + "): using " + backendName();
-        }
+    // for minutes on a 512x512 receiver. Neither is timed: the CPU sampler answers, off the GUI thread.
+    if (const std::string software = softwareRenderer(); !software.empty())
+        return "GL is a software rasterizer (" + software + "): using " + backendName();
+    const VisibilityResult cpu = sampleWith(Backend::Cpu, source, receiver);
+    if (!cpu.valid)
+        return "using " + backendName();
     std::string line;
     try {
         sampleWith(Backend::Gl, source, receiver);   // warm-up: shader compile, upload
@@ -98,6 +109,8 @@ VisibilityResult LiveVisibility::sample(const Patch& source, const Patch& receiv
 VisibilityResult LiveVisibility::sampleWith(Backend backend, const Patch& source, const Patch& receiver)
 {
     VisibilityResult result;
+    result.source = source;
+    result.receiver = receiver;
     try {
         validatePatchPair(source, receiver);
         if (!heightsError_.empty())

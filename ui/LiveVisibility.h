@@ -33,6 +33,7 @@ struct VisibilityResult {
     std::uint64_t blocked = 0;
     double ms = 0.0;         ///< sampling time
     std::string strategy;    ///< e.g. "bitmask" (CPU), "gl"
+    Patch source, receiver;  ///< the pair this answers (a background answer may be older than the document)
 
     std::uint64_t unblocked() const { return rays - blocked; }
     double visibleFraction() const { return rays ? double(unblocked()) / double(rays) : 0.0; }
@@ -48,12 +49,15 @@ public:
     /// The triangles to sample against (copied into the samplers).
     void setScene(const Scene& scene);
     /// Enables the GL back end with the functions of a context that is current whenever
-    /// sample() or chooseBackend() runs; nullptr disables it.
+    /// sample() or chooseBackend() runs, and now (the renderer's name is read); nullptr disables it.
     void setGl(const gl::Functions* gl);
 
     /// Times one sample with each available back end on this pair and keeps the faster.
-    /// Returns a line for the user ("CPU bitmask 12 ms, GL bitmask 740 ms: using CPU").
+    /// Returns a line for the user ("CPU bitmask 12 ms, GL bitmask 740 ms: using CPU"). Without a
+    /// GL back end worth timing (none, or a software rasterizer) it samples nothing.
     std::string chooseBackend(const Patch& source, const Patch& receiver);
+    /// The GL back end is set, is not a software rasterizer, and may answer (not yet timed, or won).
+    bool mayUseGl() const;
     /// A new level is coming (setScene next): both samplers may answer until chooseBackend() runs
     /// again, since which is faster depends on the level.
     void forgetChoice() { chosen_ = false; }
@@ -72,12 +76,16 @@ public:
     /// (LightingSetup.h); `what` names the project in messages.
     void loadReceiverHeights(const Project& project, const std::string& what);
     const ReceiverHeights& receiverHeights() const { return heights_; }
+    const std::string& receiverHeightsError() const { return heightsError_; }
 
     /// Never throws for an invalid pair or invalid heights: the result says why instead.
     VisibilityResult sample(const Patch& source, const Patch& receiver);
 
 private:
     VisibilityResult sampleWith(Backend backend, const Patch& source, const Patch& receiver);
+
+    /// The renderer's name when GL is a software rasterizer (llvmpipe, softpipe, swrast), else empty.
+    std::string softwareRenderer() const;
 
     Backend backend_ = Backend::Cpu;
     bool chosen_ = false;   ///< chooseBackend() ran
@@ -87,6 +95,7 @@ private:
     std::unique_ptr<GlBitmaskSampler> glSampler_;
     ReceiverHeights heights_;
     std::string heightsError_;
+    std::string softwareRenderer_;
 };
 
 } // namespace sightline::ui

@@ -530,8 +530,10 @@ void MainWindow::updateStatus()
     QString summary = visibilitySummary(result);
     if (result.valid && result.rays > 0 && result.unblocked() == 0)
         summary += enclosedPatchNote();
-    raysLabel_->setText(viewport_->resultIsStale()
-                            ? summary + tr(" · updating when the drag ends (%1 ms an update)").arg(result.ms, 0, 'f', 0)
+    // A slow update (a 512x512 floor: about a second) says that a newer answer is on its way;
+    // a fast one would only flicker.
+    raysLabel_->setText(viewport_->resultIsStale() && result.ms > 150.0
+                            ? summary + tr(" · updating (%1 ms an update)").arg(result.ms, 0, 'f', 0)
                             : summary);
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));

@@ -3,6 +3,7 @@
 #include <QAction>
 #include <QActionGroup>
 #include <QComboBox>
+#include <QEventLoop>
 #include <QLabel>
 #include <QMainWindow>
 #include <QMenu>
@@ -10,7 +11,12 @@
 #include <QProgressDialog>
 #include <QSignalBlocker>
 #include <QStatusBar>
+#include <QTimer>
 #include <QToolBar>
+
+#include <atomic>
+#include <optional>
+#include <thread>
 
 #include "AnimationImportance.h"
 #include "EditorDocument.h"
@@ -222,18 +228,45 @@ bool OverlayControls::accumulateAnimation()
     progress.setWindowModality(Qt::WindowModal);   // no edits while the frames are sampled
     progress.setMinimumDuration(300);
     progress.setValue(0);
-    ImportanceRunResult run;
-    try {
-        run = accumulateDocumentAnimation(document_, animation, frames, side, [&](int done, int) {
-            progress.setValue(done);
-            return !progress.wasCanceled();
-        });
-    } catch (const std::exception& e) {
-        progress.close();
-        QMessageBox::warning(&window_, title, tr("The animation could not be accumulated: %1").arg(QString::fromUtf8(e.what())));
+    // The frames are sampled on a worker thread (a 512x512 floor takes about a second a frame);
+    // the event loop keeps running, so the window repaints and Cancel answers at once (issue 16 §1).
+    std::atomic<int> framesSampled{0};
+    std::atomic<bool> cancel{false};
+    std::optional<ImportanceRunResult> result;
+    std::string failure;
+    QEventLoop loop;
+    std::thread worker([&, input = animationInput(document_)] {
+        try {
+            result = ui::accumulateAnimation(input, animation, frames, side, [&](int d, int) {
+                framesSampled = d;
+                return !cancel;
+            });
+        } catch (const std::bad_alloc&) {
+            failure = "out of memory";
+        } catch (const std::exception& e) {
+            failure = e.what();
+        }
+        QMetaObject::invokeMethod(&loop, &QEventLoop::quit, Qt::QueuedConnection);
+    });
+    QTimer poll;
+    poll.setInterval(50);
+    connect(&poll, &QTimer::timeout, &progress, [&] {
+        if (progress.wasCanceled())
+            cancel = true;
+        else if (framesSampled < frames)   // at the maximum the dialog would close itself before the end
+            progress.setValue(framesSampled);
+    });
+    connect(&progress, &QProgressDialog::canceled, &progress, [&] { cancel = true; });
+    poll.start();
+    loop.exec();
+    worker.join();
+    poll.stop();
+    progress.close();
+    if (!result) {
+        QMessageBox::warning(&window_, title, tr("The animation could not be accumulated: %1").arg(QString::fromStdString(failure)));
         return false;
     }
-    progress.close();
+    ImportanceRunResult run = std::move(*result);
     if (run.framesDone == 0)
         return false;
     const int done = run.framesDone;

@@ -9,6 +9,8 @@
 #include <QOpenGLContext>
 #include <QWheelEvent>
 
+#include "visibility/Error.h"
+
 namespace sightline::ui {
 
 namespace {
@@ -19,6 +21,16 @@ void* resolveInQtContext(const char* name)
 }
 
 constexpr std::size_t kRateWindow = 15;   // frames the update rate is the median over
+
+bool pairIsValid(const Patch& source, const Patch& receiver)
+{
+    try {
+        validatePatchPair(source, receiver);
+        return true;
+    } catch (const Error&) {
+        return false;
+    }
+}
 
 } // namespace
 
@@ -56,6 +68,7 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
 
 Viewport::~Viewport()
 {
+    worker_.reset();   // joins: no answer arrives for a viewport being destroyed
     makeCurrent();
     renderer_.reset();
     visibility_.setGl(nullptr);
@@ -111,8 +124,11 @@ void Viewport::paintGL()
         renderer_->setOccluders(document_.occluderScene(), document_.occluderOfInstance());
     if (!backendChosen_)
         visibility_.forgetChoice();   // before setScene: the GL sampler needs the level for its timing
-    if (sceneChanged)
-        visibility_.setScene(document_.scene());
+    if (sceneChanged) {
+        workerScene_ = std::make_shared<const Scene>(document_.scene());
+        if (visibility_.mayUseGl())
+            visibility_.setScene(*workerScene_);   // the GUI thread's copy serves only the GL sampler
+    }
     sceneFileDirty_ = occludersDirty_ = false;
 
     const Project& project = document_.project();
@@ -126,17 +142,40 @@ void Viewport::paintGL()
     if (const std::pair grid{project.receiver.na, project.receiver.nb}; heightsGrid_ != grid) {
         heightsGrid_ = grid;
         visibility_.loadReceiverHeights(project, document_.displayName().toStdString());
+        workerHeights_ = visibility_.receiverHeights().empty()
+                             ? nullptr
+                             : std::make_shared<const ReceiverHeights>(visibility_.receiverHeights());
         samplesDirty_ = true;
     }
-    const bool deferred = samplesDirty_ && controller_.isDragging() && result_.ms > dragBudgetMs_;
-    const bool resampled = samplesDirty_ && !deferred;
-    if (resampled) {
+    const bool inFrame = visibility_.backend() == LiveVisibility::Backend::Gl && visibility_.receiverHeights().empty();
+    const bool deferred = inFrame && samplesDirty_ && controller_.isDragging() && result_.ms > dragBudgetMs_;
+    bool resampled = false;
+    if (samplesDirty_ && inFrame && !deferred) {
         result_ = visibility_.sample(project.source, project.receiver);
-        renderer_->setHiddenSamples(result_.valid ? &result_.map : nullptr);
         samplesDirty_ = false;
-        overlay_.setLive(result_, project, true);   // returns at once while the overlay is off
+        shownGeneration_ = requestedGeneration_;   // a late background answer is older: dropped
+        arrived_.reset();
+        resampled = true;
+    } else if (samplesDirty_ && !inFrame) {
+        requestSample();
+    }
+    if (arrived_) {
+        result_ = std::move(*arrived_);
+        arrived_.reset();
+        resampled = true;
+    }
+    if (resampled) {
+        renderer_->setHiddenSamples(result_.valid ? &result_.map : nullptr);
+        // The overlay reads the answer's own pair: a background answer may be for an older one.
+        Project answered = project;
+        answered.source = result_.source;
+        answered.receiver = result_.receiver;
+        overlay_.setLive(result_, answered, true);   // returns at once while the overlay is off
     } else if (overlay_.needsLive()) {
-        overlay_.setLive(result_, project, false);
+        Project answered = project;
+        answered.source = result_.source;
+        answered.receiver = result_.receiver;
+        overlay_.setLive(result_, answered, false);
     }
     const bool overlayChanged = overlay_.version() != overlayVersion_;
     if (overlayChanged) {
@@ -152,7 +191,8 @@ void Viewport::paintGL()
     frame.sceneRadius = controller_.sceneRadius();
     frame.source = project.source;
     frame.receiver = project.receiver;
-    frame.pairValid = result_.valid;
+    // Red patches say the pair is invalid now, whatever the last answer was for.
+    frame.pairValid = resultIsStale() ? pairIsValid(project.source, project.receiver) : result_.valid;
     frame.selection = document_.selection();
     frame.gizmo = controller_.gizmo();
     frame.hoveredAxis = controller_.hoveredAxis();
@@ -169,6 +209,37 @@ void Viewport::paintGL()
     }
     if (overlayChanged)
         emit overlayUpdated();
+}
+
+void Viewport::requestSample()
+{
+    if (!worker_)
+        worker_ = std::make_unique<BackgroundSampler>([this](std::uint64_t generation, VisibilityResult result) {
+            // On the worker thread: hand the answer to the GUI thread. The viewport outlives the
+            // worker (its destructor joins it first), and Qt drops events queued for a dead object.
+            QMetaObject::invokeMethod(
+                this, [this, generation, r = std::move(result)]() mutable { takeAnswer(generation, std::move(r)); },
+                Qt::QueuedConnection);
+        });
+    const Project& project = document_.project();
+    BackgroundSampler::Request request;
+    request.generation = ++requestedGeneration_;
+    request.scene = workerScene_;
+    request.source = project.source;
+    request.receiver = project.receiver;
+    request.heights = workerHeights_;
+    request.heightsError = visibility_.receiverHeightsError();
+    worker_->request(std::move(request));
+    samplesDirty_ = false;   // asked; resultIsStale() stays true until the answer is shown
+}
+
+void Viewport::takeAnswer(std::uint64_t generation, VisibilityResult result)
+{
+    if (generation <= shownGeneration_)
+        return;   // an answer older than the one shown
+    shownGeneration_ = generation;
+    arrived_ = std::move(result);
+    update();
 }
 
 bool Viewport::event(QEvent* event)

@@ -2,8 +2,10 @@
 // The 3D view: a QOpenGLWindow (about 6 ms per empty 1280x720 frame on llvmpipe against 19 ms for
 // a QOpenGLWidget, DESIGN.md §6), placed in the main window with QWidget::createWindowContainer.
 // It owns the GL side (ViewportRenderer, the GL back end of LiveVisibility) and forwards input to
-// the ViewportController. Sampling happens at paint time, only when the patches or the scene
-// changed since the last frame, so a drag costs one sample per frame drawn. Each new result also
+// the ViewportController. When the patches or the scene changed since the last frame, a frame asks
+// for a new map: the CPU sampler answers on a worker thread (BackgroundSampler; the latest request
+// wins) while frames keep drawing the last answer, and the answer's arrival draws a frame; only a
+// GL sampler on a real GPU samples in the frame itself (it needs the context). Each new result also
 // goes to the patch overlay (importance or light, PatchOverlay.h), which does nothing while it is
 // off; its colours are uploaded only when they changed.
 
@@ -16,6 +18,7 @@
 #include <optional>
 #include <utility>
 
+#include "BackgroundSampler.h"
 #include "LiveVisibility.h"
 #include "PatchOverlay.h"
 #include "ViewportController.h"
@@ -43,13 +46,13 @@ public:
     PatchOverlay& overlay() { return overlay_; }
     const PatchOverlay& overlay() const { return overlay_; }
 
-    /// While a gizmo drag is under way and the last update took longer than this, frames show the
-    /// last result and sampling waits for the release: a 512x512 floor takes seconds an update,
-    /// and a drag must not freeze. Default 150 ms (the demo's 32x32 pair takes about 20).
+    /// With the GL sampler (sampled in the frame): while a gizmo drag is under way and the last
+    /// update took longer than this, frames show the last result and sampling waits for the
+    /// release, so a drag must not freeze. Default 150 ms. The background CPU sampler needs none.
     void setDragBudgetMs(double ms) { dragBudgetMs_ = ms; }
-    /// The shown result is older than the patches and occluders (a slow update waits for the
-    /// drag to end).
-    bool resultIsStale() const { return samplesDirty_; }
+    /// The shown result is older than the patches and occluders (an answer is on its way, or a
+    /// slow GL update waits for the drag to end).
+    bool resultIsStale() const { return samplesDirty_ || shownGeneration_ != requestedGeneration_; }
 
 signals:
     /// After every frame that re-sampled.
@@ -75,12 +78,22 @@ protected:
     void keyReleaseEvent(QKeyEvent* event) override;
 
 private:
+    /// Posts the document's pair to the background sampler (CPU back end).
+    void requestSample();
+    /// On the GUI thread: a background answer arrived.
+    void takeAnswer(std::uint64_t generation, VisibilityResult result);
+
     EditorDocument& document_;
     ViewportController& controller_;
     std::unique_ptr<gl::Functions> gl_;
     std::unique_ptr<ViewportRenderer> renderer_;
-    LiveVisibility visibility_;
+    LiveVisibility visibility_;   ///< the choice of back end, and the GL sampler
     VisibilityResult result_;
+    std::unique_ptr<BackgroundSampler> worker_;
+    std::shared_ptr<const Scene> workerScene_;            ///< the scene the worker samples against
+    std::shared_ptr<const ReceiverHeights> workerHeights_;
+    std::uint64_t requestedGeneration_ = 0, shownGeneration_ = 0;
+    std::optional<VisibilityResult> arrived_;            ///< taken by the next frame (GL uploads)
     double dragBudgetMs_ = 150.0;
     /// The receiver grid the live sampler's heights were read for (re-read on a new document or
     /// a new grid: "receiver_heights" is resampled to the grid).

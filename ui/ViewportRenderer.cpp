@@ -521,7 +521,11 @@ void ViewportRenderer::render(const FrameState& f)
     gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     gl.DepthMask(GL_FALSE);
     raysDrawn_ = 0;
-    if (f.style.showRays && f.pairValid && d.mapUploaded && d.map) {
+    // The map may answer an older pair (a background answer on its way): rays only while its
+    // sample counts are these patches'.
+    const bool mapFits = d.map && d.map->sourceCount() == f.source.na * f.source.nb &&
+                         d.map->receiverCount() == f.receiver.na * f.receiver.nb;
+    if (f.style.showRays && f.pairValid && d.mapUploaded && mapFits) {
         const RaySubset subset = raySubset(d.map->sourceCount(), d.map->receiverCount(), f.style.rayCap);
         const GLuint p = d.rayProgram;
         auto vec3 = [&](const char* name, const glm::dvec3& v) {

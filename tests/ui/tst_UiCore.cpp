@@ -3,11 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <condition_variable>
 #include <fstream>
+#include <mutex>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "BackgroundSampler.h"
 #include "Camera.h"
 #include "EditorDocument.h"
 #include "Gizmo.h"
@@ -601,4 +604,70 @@ TEST(Picking, EnclosingInstanceNamesTheClosedObjectAroundAPoint)
     EXPECT_FALSE(enclosingInstance(scene, triangles, glm::dvec3(2.0, 3.0, 0.0)).has_value()) << "above it";
 }
 
+// Issue 16 §1: live sampling runs on a worker thread. Every answer is the synchronous sampler's
+// answer for the pair it names, generations only grow, requests queued behind a running one are
+// replaced by the newest, and the newest is always answered.
+TEST(BackgroundSampler, AnswersTheLatestRequestExactlyAndDropsTheOnesItReplaced)
+{
+    const std::filesystem::path project = test::copyDemoProject(freshFolder("background-sampler"));
+    EditorDocument document;
+    document.open(project);
+    const Project& p = document.project();
+    const auto scene = std::make_shared<const Scene>(document.scene());
+
+    std::mutex mutex;
+    std::condition_variable answered;
+    std::vector<std::pair<std::uint64_t, VisibilityResult>> answers;
+    BackgroundSampler worker([&](std::uint64_t generation, VisibilityResult result) {
+        std::lock_guard lock(mutex);
+        answers.emplace_back(generation, std::move(result));
+        answered.notify_one();
+    });
+    constexpr int kRequests = 40;
+    std::vector<Patch> receivers;
+    for (int i = 1; i <= kRequests; ++i) {
+        Patch receiver = p.receiver;
+        receiver.corner += 0.05 * i * glm::normalize(receiver.u);
+        receivers.push_back(receiver);
+        worker.request({std::uint64_t(i), scene, p.source, receiver, nullptr, ""});
+    }
+    {
+        std::unique_lock lock(mutex);
+        ASSERT_TRUE(answered.wait_for(lock, std::chrono::seconds(60), [&] {
+            return !answers.empty() && answers.back().first == kRequests;
+        }));
+    }
+    // 40 requests posted far faster than one sample: most were replaced before they started.
+    EXPECT_LT(answers.size(), std::size_t(kRequests));
+    LiveVisibility reference;
+    reference.setScene(*scene);
+    std::uint64_t previous = 0;
+    for (const auto& [generation, result] : answers) {
+        EXPECT_GT(generation, previous);
+        previous = generation;
+        ASSERT_TRUE(result.valid) << result.error;
+        const Patch& receiver = receivers[generation - 1];
+        EXPECT_EQ(result.receiver.corner, receiver.corner);
+        const VisibilityResult expected = reference.sample(p.source, receiver);
+        EXPECT_EQ(result.blocked, expected.blocked) << "generation " << generation;
+        EXPECT_TRUE(result.map == expected.map) << "generation " << generation;
+    }
+
+    // An invalid pair and unreadable heights are answers too, with the reason.
+    Patch inside = p.receiver;
+    inside.corner = p.source.corner;
+    worker.request({100, scene, p.source, inside, nullptr, ""});
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(answered.wait_for(lock, std::chrono::seconds(60), [&] { return answers.back().first == 100; }));
+    EXPECT_FALSE(answers.back().second.valid);
+    EXPECT_NE(answers.back().second.error.find("invalid patch pair"), std::string::npos) << answers.back().second.error;
+    lock.unlock();
+    worker.request({101, scene, p.source, p.receiver, nullptr, "bumps.png: cannot be read"});
+    lock.lock();
+    ASSERT_TRUE(answered.wait_for(lock, std::chrono::seconds(60), [&] { return answers.back().first == 101; }));
+    EXPECT_FALSE(answers.back().second.valid);
+    EXPECT_EQ(answers.back().second.error, "bumps.png: cannot be read");
+}
+
 } // namespace sightline::ui
+

@@ -1,0 +1,72 @@
+#include "BackgroundSampler.h"
+
+#include <exception>
+#include <new>
+
+namespace sightline::ui {
+
+BackgroundSampler::BackgroundSampler(Deliver deliver) : deliver_(std::move(deliver)), thread_([this] { run(); }) {}
+
+BackgroundSampler::~BackgroundSampler()
+{
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+        next_.reset();
+    }
+    wake_.notify_one();
+    thread_.join();
+}
+
+void BackgroundSampler::request(Request request)
+{
+    {
+        std::lock_guard lock(mutex_);
+        next_ = std::move(request);
+    }
+    wake_.notify_one();
+}
+
+void BackgroundSampler::run()
+{
+    LiveVisibility sampler;   // no GL: the CPU bitmask sampler, the same code as the GUI thread's
+    const Scene* sceneOf = nullptr;
+    std::shared_ptr<const Scene> scene;            // held so sceneOf stays meaningful
+    std::shared_ptr<const ReceiverHeights> heights;
+    for (;;) {
+        Request request;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [this] { return stop_ || next_; });
+            if (stop_)
+                return;
+            request = std::move(*next_);
+            next_.reset();
+        }
+        VisibilityResult result;
+        try {
+            if (request.scene && request.scene.get() != sceneOf) {
+                sampler.setScene(*request.scene);
+                scene = request.scene;
+                sceneOf = scene.get();
+            }
+            if (request.heights != heights) {
+                heights = request.heights;
+                sampler.setReceiverHeights(heights ? *heights : ReceiverHeights{});
+            }
+            sampler.setReceiverHeightsError(request.heightsError);
+            result = sampler.sample(request.source, request.receiver);
+        } catch (const std::bad_alloc&) {
+            result = {};
+            result.error = "out of memory while sampling the patches";
+        } catch (const std::exception& e) {
+            result = {};
+            result.error = e.what();
+        }
+        result.source = request.source;
+        result.receiver = request.receiver;
+        deliver_(request.generation, std::move(result));
+    }
+}
+
+} // namespace sightline::ui
