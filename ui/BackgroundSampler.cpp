@@ -3,6 +3,8 @@
 #include <exception>
 #include <new>
 
+#include "RayEnds.h"
+
 namespace sightline::ui {
 
 BackgroundSampler::BackgroundSampler(Deliver deliver) : deliver_(std::move(deliver)), thread_([this] { run(); }) {}
@@ -33,6 +35,8 @@ void BackgroundSampler::run()
     const Scene* sceneOf = nullptr;
     std::shared_ptr<const Scene> scene;            // held so sceneOf stays meaningful
     std::shared_ptr<const ReceiverHeights> heights;
+    std::unique_ptr<SegmentHitCaster> hits;   // built for a scene the first time ray ends are asked
+    const Scene* hitsOf = nullptr;
     for (;;) {
         Request request;
         {
@@ -56,6 +60,15 @@ void BackgroundSampler::run()
             }
             sampler.setReceiverHeightsError(request.heightsError);
             result = sampler.sample(request.source, request.receiver);
+            if (result.valid && request.rayEndsCap > 0 && scene) {
+                if (!hits || hitsOf != scene.get()) {
+                    hits = std::make_unique<SegmentHitCaster>(worldTriangles(*scene));
+                    hitsOf = scene.get();
+                }
+                const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), request.rayEndsCap);
+                result.rayEnds = drawnRayEnds(*hits, result.map, request.source, request.receiver, subset);
+                result.rayEndsCap = request.rayEndsCap;
+            }
         } catch (const std::bad_alloc&) {
             result = {};
             result.error = "out of memory while sampling the patches";

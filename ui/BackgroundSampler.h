@@ -31,6 +31,9 @@ public:
         std::shared_ptr<const ReceiverHeights> heights;
         /// The project's heights could not be read: the answer is invalid with this message.
         std::string heightsError;
+        /// Above 0: also find where the blocked ones of this many drawn rays are first stopped
+        /// (VisibilityResult::rayEnds), for drawing them up to there.
+        int rayEndsCap = 0;
     };
     /// Called on the worker thread with the request's generation and its answer (never throws
     /// out of the worker: a failure is an invalid result whose error says why).

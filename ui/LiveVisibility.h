@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -34,6 +35,9 @@ struct VisibilityResult {
     double ms = 0.0;         ///< sampling time
     std::string strategy;    ///< e.g. "bitmask" (CPU), "gl"
     Patch source, receiver;  ///< the pair this answers (a background answer may be older than the document)
+    /// Where each drawn ray ends (RayEnds.h) for a subset of `rayEndsCap` rays; empty: drawn whole.
+    std::vector<float> rayEnds;
+    int rayEndsCap = 0;
 
     std::uint64_t unblocked() const { return rays - blocked; }
     double visibleFraction() const { return rays ? double(unblocked()) / double(rays) : 0.0; }

@@ -1,6 +1,7 @@
 #include "OffscreenRender.h"
 
 #include "EditorDocument.h"
+#include "RayEnds.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
@@ -29,6 +30,15 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         visibility.loadReceiverHeights(project, document.displayName().toStdString());
         result.visibility = visibility.sample(project.source, project.receiver);
         renderer.setHiddenSamples(result.visibility.valid ? &result.visibility.map : nullptr);
+        if (result.visibility.valid && style.showBlocked && style.showRays) {
+            // Blocked rays end where they are first stopped, as in the editor.
+            const SegmentHitCaster hits(worldTriangles(document.scene()));
+            const HiddenSampleMap& map = result.visibility.map;
+            result.visibility.rayEnds = drawnRayEnds(hits, map, project.source, project.receiver,
+                                                     raySubset(map.sourceCount(), map.receiverCount(), style.rayCap));
+            result.visibility.rayEndsCap = style.rayCap;
+            renderer.setRayEnds(result.visibility.rayEnds, style.rayCap);
+        }
         if (overlay) {
             overlay->setLive(result.visibility, project, true);
             renderer.setOverlay(overlayPatch(overlay->kind()), &overlay->texels());

@@ -164,8 +164,13 @@ void Viewport::paintGL()
         arrived_.reset();
         resampled = true;
     }
+    // Blocked rays shown, or more of them: the answer needs their ends (the worker finds them).
+    const int wantedEnds = style_.showBlocked && style_.showRays ? style_.rayCap : 0;
+    if (!inFrame && !resultIsStale() && result_.valid && wantedEnds > 0 && result_.rayEndsCap != wantedEnds)
+        requestSample();
     if (resampled) {
         renderer_->setHiddenSamples(result_.valid ? &result_.map : nullptr);
+        renderer_->setRayEnds(result_.rayEnds, result_.rayEndsCap);
         // The overlay reads the answer's own pair: a background answer may be for an older one.
         Project answered = project;
         answered.source = result_.source;
@@ -229,6 +234,7 @@ void Viewport::requestSample()
     request.receiver = project.receiver;
     request.heights = workerHeights_;
     request.heightsError = visibility_.receiverHeightsError();
+    request.rayEndsCap = style_.showBlocked && style_.showRays ? style_.rayCap : 0;
     worker_->request(std::move(request));
     samplesDirty_ = false;   // asked; resultIsStale() stays true until the answer is shown
 }

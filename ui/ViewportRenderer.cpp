@@ -81,8 +81,12 @@ uniform vec3 receiverCorner, receiverU, receiverV;
 uniform ivec2 receiverGrid;
 uniform uint receivers, receiverStride, sourceStride, wordsPerRow;
 uniform int showBlocked;
-uniform vec4 freeColour, blockedColour;
+uniform vec4 freeColour, blockedColour, stopColour;
+// useEnds: a blocked ray ends at its first stop (ends[k], a fraction of the way to the receiver).
+// marks: one vertex per ray, a dot at that stop (clipped for free rays and rays stopped nowhere).
+uniform int useEnds, marks;
 layout(binding = 0) uniform usamplerBuffer hidden;
+layout(binding = 2) uniform samplerBuffer ends;
 out vec4 vColour;
 uint mixBits(uint x) {
     x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
@@ -93,16 +97,21 @@ vec3 samplePoint(vec3 corner, vec3 u, vec3 v, ivec2 grid, uint index) {
     return corner + (float(a) + 0.5) / float(grid.x) * u + (float(b) + 0.5) / float(grid.y) * v;
 }
 void main() {
-    uint k = uint(gl_VertexID) >> 1;
+    uint k = marks != 0 ? uint(gl_VertexID) : uint(gl_VertexID) >> 1;
     uint jk = k % receivers, ik = k / receivers;
     uint j = jk * receiverStride + (receiverStride > 1u ? mixBits(jk) % receiverStride : 0u);
     uint i = ik * sourceStride + (sourceStride > 1u ? mixBits(j ^ 0x5bd1e995u) % sourceStride : 0u);
     uint word = texelFetch(hidden, int(j * wordsPerRow + (i >> 5))).r;
     bool blocked = ((word >> (i & 31u)) & 1u) != 0u;
-    vec3 p = (gl_VertexID & 1) == 0 ? samplePoint(sourceCorner, sourceU, sourceV, sourceGrid, i)
-                                   : samplePoint(receiverCorner, receiverU, receiverV, receiverGrid, j);
-    vColour = blocked ? blockedColour : freeColour;
-    gl_Position = (blocked && showBlocked == 0) ? vec4(2.0, 2.0, 2.0, 1.0) : viewProj * vec4(p, 1.0);
+    vec3 s = samplePoint(sourceCorner, sourceU, sourceV, sourceGrid, i);
+    vec3 r = samplePoint(receiverCorner, receiverU, receiverV, receiverGrid, j);
+    float stop = (blocked && useEnds != 0) ? texelFetch(ends, int(k)).r : 1.0;
+    // The dot sits a hair in front of the surface it marks, so the depth test keeps it.
+    vec3 p = marks != 0 ? mix(s, r, max(stop - 0.002, 0.0)) : (gl_VertexID & 1) != 0 ? mix(s, r, stop) : s;
+    vColour = marks != 0 ? stopColour : blocked ? blockedColour : freeColour;
+    bool clipped = (blocked && showBlocked == 0) || (marks != 0 && !(blocked && stop < 1.0));
+    gl_Position = clipped ? vec4(2.0, 2.0, 2.0, 1.0) : viewProj * vec4(p, 1.0);
+    gl_PointSize = 4.0;
 }
 )";
 
@@ -257,6 +266,8 @@ struct ViewportRenderer::Impl {
     GLuint rayVao = 0, mapBuffer = 0, mapTexture = 0;
     const HiddenSampleMap* map = nullptr;
     bool mapUploaded = false;
+    GLuint endsBuffer = 0, endsTexture = 0;
+    int endsCap = 0;   ///< the subset the uploaded ends are for; 0: none
     GLuint overlayBuffer = 0, overlayTexture = 0;
     ObjectKind overlayPatch = ObjectKind::None;   ///< None: no overlay uploaded
     int overlayNa = 0, overlayNb = 0;
@@ -348,6 +359,8 @@ ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_un
     gl.CreateVertexArrays(1, &d.rayVao);   // attribute-less: the rays come from gl_VertexID
     gl.CreateBuffers(1, &d.mapBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.mapTexture);
+    gl.CreateBuffers(1, &d.endsBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.endsTexture);
     gl.CreateBuffers(1, &d.overlayBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.overlayTexture);
 }
@@ -360,10 +373,10 @@ ViewportRenderer::~ViewportRenderer()
         gl.DeleteProgram(p);
     GLuint vaos[] = {d.sceneFile.vao, d.occluders.vao, d.lineVao, d.rayVao};
     gl.DeleteVertexArrays(4, vaos);
-    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.overlayBuffer};
-    gl.DeleteBuffers(5, buffers);
-    GLuint textures[] = {d.mapTexture, d.overlayTexture};
-    gl.DeleteTextures(2, textures);
+    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer};
+    gl.DeleteBuffers(6, buffers);
+    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture};
+    gl.DeleteTextures(3, textures);
     d.cache.destroy(gl);
 }
 
@@ -383,6 +396,7 @@ void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
     Impl& d = *impl_;
     d.map = map;
     d.mapUploaded = false;
+    d.endsCap = 0;
     if (!map || map->rayCount() == 0)
         return;
     // The map's 64-bit words, little-endian, are the 32-bit words the shader reads, in order.
@@ -390,6 +404,17 @@ void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
     d.gl.NamedBufferData(d.mapBuffer, bytes, map->row(0).data(), GL_STREAM_DRAW);
     d.gl.TextureBuffer(d.mapTexture, GL_R32UI, d.mapBuffer);
     d.mapUploaded = true;
+}
+
+void ViewportRenderer::setRayEnds(const std::vector<float>& ends, int cap)
+{
+    Impl& d = *impl_;
+    d.endsCap = 0;
+    if (ends.empty() || cap <= 0 || !d.map)
+        return;
+    d.gl.NamedBufferData(d.endsBuffer, GLsizeiptr(ends.size() * sizeof(float)), ends.data(), GL_STREAM_DRAW);
+    d.gl.TextureBuffer(d.endsTexture, GL_R32F, d.endsBuffer);
+    d.endsCap = cap;
 }
 
 void ViewportRenderer::setOverlay(ObjectKind patch, const OverlayTexels* texels)
@@ -545,12 +570,30 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniform1ui(p, d.loc(p, "sourceStride"), subset.sourceStride);
         gl.ProgramUniform1ui(p, d.loc(p, "wordsPerRow"), GLuint(d.map->wordsPerRow() * 2));
         gl.ProgramUniform1i(p, d.loc(p, "showBlocked"), f.style.showBlocked ? 1 : 0);
-        gl.ProgramUniform4fv(p, d.loc(p, "freeColour"), 1, glm::value_ptr(f.style.freeColour));
-        gl.ProgramUniform4fv(p, d.loc(p, "blockedColour"), 1, glm::value_ptr(f.style.blockedColour));
+        // Readable from 1k to 1M rays (issue 16 §2: 1M drawn was an opaque slab): the more rays
+        // overlap, the fainter each, as 1/sqrt(count) beyond the first 2,048, down to a floor.
+        const float fade = float(std::clamp(std::sqrt(2048.0 / double(std::max<std::uint64_t>(subset.count(), 1))), 0.12, 1.0));
+        const auto faded = [&](glm::vec4 c) {
+            c.a = c.a >= 1.0f ? c.a : c.a * fade;   // an opaque colour (tests, prints) stays opaque
+            return c;
+        };
+        gl.ProgramUniform4fv(p, d.loc(p, "freeColour"), 1, glm::value_ptr(faded(f.style.freeColour)));
+        gl.ProgramUniform4fv(p, d.loc(p, "blockedColour"), 1, glm::value_ptr(faded(f.style.blockedColour)));
+        gl.ProgramUniform4fv(p, d.loc(p, "stopColour"), 1, glm::value_ptr(f.style.stopColour));
+        const bool useEnds = f.style.showBlocked && d.endsCap == f.style.rayCap;
+        gl.ProgramUniform1i(p, d.loc(p, "useEnds"), useEnds ? 1 : 0);
+        gl.ProgramUniform1i(p, d.loc(p, "marks"), 0);
         gl.UseProgram(p);
         gl.BindTextureUnit(0, d.mapTexture);
+        gl.BindTextureUnit(2, d.endsTexture);
         gl.BindVertexArray(d.rayVao);
         gl.DrawArrays(GL_LINES, 0, GLsizei(2 * subset.count()));
+        if (useEnds) {
+            gl.Enable(GL_PROGRAM_POINT_SIZE);
+            gl.ProgramUniform1i(p, d.loc(p, "marks"), 1);
+            gl.DrawArrays(GL_POINTS, 0, GLsizei(subset.count()));
+            gl.Disable(GL_PROGRAM_POINT_SIZE);
+        }
         raysDrawn_ = subset.count();
     }
 

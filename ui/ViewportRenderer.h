@@ -51,6 +51,8 @@ struct ViewStyle {
     double cutHeight = std::numeric_limits<double>::quiet_NaN();
     glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.15f};
     glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.25f};
+    /// Where a blocked ray is first stopped (when its end is known: setRayEnds), a dot.
+    glm::vec4 stopColour{1.0f, 1.0f, 1.0f, 0.9f};
 };
 
 /// Which rays the renderer draws for a map and a cap: every one of `sourcePerReceiver` source
@@ -116,8 +118,12 @@ public:
     void setSceneFile(const Scene& scene);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
-    /// The map to draw rays from (nullptr: none, e.g. an invalid pair).
+    /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.
     void setHiddenSamples(const HiddenSampleMap* map);
+    /// Where each drawn ray of a `cap`-ray subset ends (RayEnds.h), after setHiddenSamples: blocked
+    /// rays are then drawn up to their first stop, with a dot there, while the style's cap is `cap`.
+    /// Empty: blocked rays are drawn whole.
+    void setRayEnds(const std::vector<float>& ends, int cap);
     /// Colours to draw on the source or receiver patch (nullptr or ObjectKind::None: none).
     /// Copied: a small buffer upload (4 bytes a sample). Drawn only while the patch's grid is
     /// the texels' grid.

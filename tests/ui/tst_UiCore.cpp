@@ -18,6 +18,7 @@
 #include "ObjectEdits.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
+#include "RayEnds.h"
 #include "UiTestScene.h"
 #include "ViewSettings.h"
 #include "ViewportController.h"
@@ -602,6 +603,55 @@ TEST(Picking, EnclosingInstanceNamesTheClosedObjectAroundAPoint)
     EXPECT_EQ(scene.instances[*inside].name, "crate");
     EXPECT_FALSE(enclosingInstance(scene, triangles, glm::dvec3(5.0, 1.0, 0.0)).has_value()) << "outside the crate";
     EXPECT_FALSE(enclosingInstance(scene, triangles, glm::dvec3(2.0, 3.0, 0.0)).has_value()) << "above it";
+}
+
+// Issue 16 §2: a blocked ray is drawn only up to where it is first stopped, with a dot there.
+TEST(OffscreenRender, BlockedRaysStopAtTheirFirstHitWithADot)
+{
+    const auto folder = freshFolder("offscreen-stops");
+    EditorDocument document;
+    openFloorWithPatches(document, folder);
+    const auto [source, receiver] = floorPatches();
+    // A 2 m wall across the shaft halfway (x = 3): every ray is blocked there, at half its length.
+    OccluderSpec wall;
+    wall.mesh = "plane";
+    wall.transform = glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(3, 1.5f, 0)), glm::radians(90.0f), glm::vec3(0, 0, 1)),
+                                glm::vec3(2.0f));
+    document.addOccluder(wall);
+    const SegmentHitCaster hits(worldTriangles(document.scene()));
+    LiveVisibility live;
+    live.setScene(document.scene());
+    const VisibilityResult result = live.sample(source, receiver);
+    ASSERT_EQ(result.blocked, result.rays);
+    const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), 4096);
+    const std::vector<float> ends = drawnRayEnds(hits, result.map, source, receiver, subset);
+    ASSERT_EQ(ends.size(), std::size_t(4096));
+    for (float t : ends)
+        ASSERT_NEAR(t, 0.5f, 1e-4f);
+
+    const Camera camera = shaftView(source, receiver);
+    ViewStyle style;
+    style.showBlocked = true;
+    style.blockedColour = {0.9f, 0.15f, 0.1f, 1.0f};   // opaque, for a crisp check
+    style.stopColour = {0.1f, 1.0f, 1.0f, 1.0f};
+    const OffscreenResult image = renderOffscreen(document, camera, style, 320, 240);
+    EXPECT_EQ(image.visibility.rayEndsCap, 4096);
+    const auto at = [&](const glm::dvec3& p) {
+        const glm::dvec3 q = toPixels(camera, p, 320, 240);
+        return image.image.pixel(int(q.x), int(q.y));
+    };
+    const auto red = [](QRgb c) { return qRed(c) > 150 && qGreen(c) < 90 && qBlue(c) < 90; };
+    const glm::dvec3 along = receiver.centre() - source.centre();
+    EXPECT_TRUE(red(at(source.centre() + 0.25 * along)));    // before the wall: drawn
+    EXPECT_FALSE(red(at(source.centre() + 0.75 * along)));   // past it: not
+    int dots = 0;
+    const glm::dvec3 stop = toPixels(camera, source.centre() + 0.5 * along, 320, 240);
+    for (int y = int(stop.y) - 12; y <= int(stop.y) + 12; ++y)
+        for (int x = int(stop.x) - 12; x <= int(stop.x) + 12; ++x) {
+            const QRgb c = image.image.pixel(x, y);
+            dots += qRed(c) < 80 && qGreen(c) > 200 && qBlue(c) > 200;
+        }
+    EXPECT_GT(dots, 10) << "no dots where the rays stop";
 }
 
 // Issue 16 §1: live sampling runs on a worker thread. Every answer is the synchronous sampler's
