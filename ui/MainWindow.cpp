@@ -102,6 +102,11 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     if (!settings.contains("window/geometry"))
         resize(1600, 900);
 
+    // The update rate falls to "idle" when nothing changes (it kept the last drag's figure).
+    rateTimer_.setInterval(500);
+    connect(&rateTimer_, &QTimer::timeout, this, &MainWindow::updateRateLabel);
+    rateTimer_.start();
+
     autosaveTimer_.setInterval(kAutosaveMs);
     connect(&autosaveTimer_, &QTimer::timeout, this, &MainWindow::autosave);
     autosaveTimer_.start();
@@ -537,8 +542,14 @@ void MainWindow::updateStatus()
                             : summary);
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
+    updateRateLabel();
+}
+
+void MainWindow::updateRateLabel()
+{
     const double rate = viewport_->updateRate();
-    backendLabel_->setText(tr("%1 · %2 Hz").arg(QString::fromStdString(viewport_->backendName())).arg(rate, 0, 'f', 0));
+    const QString backend = QString::fromStdString(viewport_->backendName());
+    backendLabel_->setText(rate > 0.0 ? tr("%1 · %2 Hz").arg(backend).arg(rate, 0, 'f', 0) : tr("%1 · idle").arg(backend));
 }
 
 void MainWindow::addRecentFile(const QString& file)

@@ -76,6 +76,7 @@ private:
     void open();
     void updateTitle();
     void updateStatus();
+    void updateRateLabel();
     /// " · the source is inside wall_middle" when a patch sits inside a closed object, else empty.
     QString enclosedPatchNote();
     void addRecentFile(const QString& file);
@@ -104,6 +105,7 @@ private:
     QToolBar* toolbar_ = nullptr;
     OverlayControls* overlay_ = nullptr;
     QTimer autosaveTimer_;
+    QTimer rateTimer_;
 };
 
 } // namespace sightline::ui

@@ -83,7 +83,8 @@ void Viewport::setStyle(const ViewStyle& style)
 
 double Viewport::updateRate() const
 {
-    if (updateTimes_.size() < 2)
+    // Idle is 0, not the rate of the last drag: nothing updated for a second.
+    if (updateTimes_.size() < 2 || clock_.nsecsElapsed() - updateTimes_.back() > 1'000'000'000)
         return 0.0;
     std::vector<qint64> intervals;
     for (std::size_t i = 1; i < updateTimes_.size(); ++i)

@@ -38,7 +38,8 @@ public:
     /// Which sampler answers, and the measurement behind the choice.
     const QString& backendReport() const { return backendReport_; }
     std::string backendName() const { return visibility_.backendName(); }
-    /// Median interval between the last frames that re-sampled (a live update rate), in Hz.
+    /// Median interval between the last frames that re-sampled (a live update rate), in Hz; 0
+    /// when nothing re-sampled for a second (idle).
     double updateRate() const;
     std::uint64_t raysDrawn() const { return raysDrawn_; }
     /// The overlay painted on a patch. After changing it, call update(): the next frame brings it

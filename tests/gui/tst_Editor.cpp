@@ -638,6 +638,30 @@ private slots:
         QTRY_VERIFY(outline->isVisible());
     }
 
+    // Issue 16 §2: the update rate froze at its last value when nothing changed.
+    void theUpdateRateSaysIdleWhenNothingChanges()
+    {
+        EditorDocument& document = window_->document();
+        const ObjectRef receiver{ObjectKind::Receiver, 0};
+        const Patch start = document.project().receiver;
+        const auto rateLabel = [&]() -> QString {
+            for (const QLabel* label : window_->statusBar()->findChildren<QLabel*>())
+                if (label->text().contains(" Hz") || label->text().contains(" idle"))
+                    return label->text();
+            return {};
+        };
+        for (int step = 1; step <= 3; ++step) {
+            Patch moved = start;
+            moved.corner += 0.02 * step * start.u;
+            document.applyState(receiver, moved);
+            waitForUpdate();
+        }
+        QVERIFY2(rateLabel().endsWith(" Hz"), qPrintable(rateLabel()));
+        QTRY_VERIFY_WITH_TIMEOUT(rateLabel().endsWith(" idle"), 5000);
+        document.applyState(receiver, start);
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
