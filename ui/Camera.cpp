@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -92,6 +93,38 @@ glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, in
     const double ndcX = glm::dot(d, camera.right()) / (safeDepth * tanHalf * aspect);
     const double ndcY = glm::dot(d, camera.up()) / (safeDepth * tanHalf);
     return {(ndcX + 1.0) * 0.5 * width, (1.0 - ndcY) * 0.5 * height, depth};
+}
+
+Camera axisView(AxisView view, const Bounds& bounds)
+{
+    Camera camera;
+    switch (view) {
+    case AxisView::Top: camera.yaw = 0.0, camera.pitch = -0.5 * std::numbers::pi + 1e-3; break;   // pitch stays inside (-pi/2, pi/2)
+    case AxisView::Front: camera.yaw = 0.0, camera.pitch = 0.0; break;
+    case AxisView::Side: camera.yaw = 0.5 * std::numbers::pi, camera.pitch = 0.0; break;
+    }
+    frame(camera, bounds);
+    return camera;
+}
+
+Camera lookThrough(const glm::dvec3& from, const glm::dvec3& fromNormal, const glm::dvec3& to, double toRadius)
+{
+    Camera camera;
+    // On the side the patch faces (towards `to`), so the patch's own surface is not in the way.
+    const double side = glm::dot(to - from, fromNormal) >= 0.0 ? 1.0 : -1.0;
+    const glm::dvec3 eye = from + 0.01 * side * fromNormal;
+    const glm::dvec3 d = to - eye;
+    const double length = glm::length(d);
+    if (!(length > 1e-6))
+        return camera;
+    const glm::dvec3 f = d / length;
+    camera.target = to;
+    camera.distance = length;
+    camera.pitch = std::clamp(std::asin(std::clamp(f.y, -1.0, 1.0)), -0.5 * std::numbers::pi + 1e-3, 0.5 * std::numbers::pi - 1e-3);
+    camera.yaw = std::atan2(-f.x, -f.z);
+    // The other patch fills about a third of the view's height, and never less than 30 degrees.
+    camera.fovY = std::clamp(2.0 * std::atan(3.0 * toRadius / length), 0.5236, 1.5708);
+    return camera;
 }
 
 } // namespace sightline::ui

@@ -50,6 +50,15 @@ void fly(Camera& camera, const glm::dvec3& move);
 /// Looks at the whole box from the current direction.
 void frame(Camera& camera, const Bounds& bounds);
 
+/// The axis views of a level editor (Blender's numpad 7 / 1 / 3): straight down, along -Z, along -X.
+enum class AxisView { Top, Front, Side };
+/// The camera looking along `view` at the whole box (perspective, framed as frame() does).
+Camera axisView(AxisView view, const Bounds& bounds);
+/// The view from `from`'s centre towards `to`'s centre (issue 16 §2: "look through the source",
+/// the sniper's view of the doorway): the eye on the patch, 1 cm in front of it, the target at the
+/// other patch, a field of view that holds the other patch with a margin.
+Camera lookThrough(const glm::dvec3& from, const glm::dvec3& fromNormal, const glm::dvec3& to, double toRadius);
+
 /// The ray through pixel (x, y) of a width x height viewport (origin top left, y down).
 Ray pixelRay(const Camera& camera, double x, double y, int width, int height);
 /// A world point in pixels (origin top left); z is the clip-space w (< 0 behind the eye).

@@ -190,6 +190,7 @@ void MainWindow::createActions()
     });
     action(file, tr("&Open..."), QKeySequence::Open, [this] { open(); });
     recentMenu_ = file->addMenu(tr("Open &Recent"));
+    recentMenu_->setObjectName("recentMenu");
     rebuildRecentMenu();
     action(file, tr("&Save"), QKeySequence::Save, [this] { save(); });
     // QKeySequence::SaveAs has no binding outside KDE and GNOME (e.g. under Xvfb): spelled out.
@@ -299,6 +300,41 @@ void MainWindow::createActions()
     }
     view->addSeparator();
     action(view, tr("&Frame Selection"), QKeySequence(Qt::Key_F), [this] { controller_->frameSelection(); });
+    // Camera presets (issue 16 §2). Looking through a patch puts the eye on it, where the section
+    // cut (which hides the near half of the way) would hide the view: it is switched off.
+    QMenu* cameraMenu = view->addMenu(tr("&Camera"));
+    const auto sceneBounds = [this] {
+        Bounds bounds = document_.scene().bounds();
+        if (bounds.empty())
+            bounds.extend(glm::vec3(0.0f));
+        return bounds;
+    };
+    action(cameraMenu, tr("Frame &All"), QKeySequence(Qt::Key_Home), [this, sceneBounds] {
+        Camera camera = controller_->camera();
+        camera.fovY = Camera{}.fovY;
+        frame(camera, sceneBounds());
+        controller_->setCamera(camera);
+    });
+    const std::pair<QString, std::pair<AxisView, Qt::Key>> axes[] = {
+        {tr("&Top"), {AxisView::Top, Qt::Key_7}}, {tr("&Front"), {AxisView::Front, Qt::Key_1}}, {tr("&Side"), {AxisView::Side, Qt::Key_3}}};
+    for (const auto& [name, axis] : axes) {
+        const AxisView which = axis.first;
+        action(cameraMenu, name, QKeySequence(axis.second), [this, which, sceneBounds] { controller_->setCamera(axisView(which, sceneBounds())); });
+    }
+    cameraMenu->addSeparator();
+    const auto lookFrom = [this](bool fromSource) {
+        const Project& p = document_.project();
+        const Patch& from = fromSource ? p.source : p.receiver;
+        const Patch& to = fromSource ? p.receiver : p.source;
+        controller_->setCamera(lookThrough(from.centre(), from.normal(), to.centre(), 0.5 * glm::length(to.u + to.v)));
+        if (cutAction_->isChecked())
+            cutAction_->trigger();
+        statusBar()->showMessage(fromSource ? tr("Looking through the source at the receiver (section cut off; C brings it back)")
+                                            : tr("Looking from the receiver at the source (section cut off; C brings it back)"),
+                                 5000);
+    };
+    action(cameraMenu, tr("Look Through &Source"), QKeySequence(Qt::Key_L), [lookFrom] { lookFrom(true); });
+    action(cameraMenu, tr("Look From &Receiver"), QKeySequence(Qt::SHIFT | Qt::Key_L), [lookFrom] { lookFrom(false); });
     QAction* wire = action(view, tr("&Wireframe"), QKeySequence(Qt::Key_Z), [this](bool on) {
         viewport_->style().wireframe = on;
         viewport_->requestUpdate();
@@ -356,7 +392,9 @@ void MainWindow::createActions()
         QMessageBox::information(this, tr("Controls"),
                                  tr("Orbit: left drag (or Alt + left drag)\nPan: middle drag or Shift + left drag\n"
                                     "Zoom: wheel\nFly: hold the right button, W A S D Q E, Shift for speed\n"
-                                    "Frame selection: F\nMove / Rotate / Scale handles: W / E / R\n"
+                                    "Frame selection: F; frame all: Home\n"
+                                    "Top / front / side view: 7 / 1 / 3; look through the source / from the receiver: L / Shift+L\n"
+                                    "Move / Rotate / Scale handles: W / E / R\n"
                                     "Section cut on / off: C; raise / lower it: Page Up / Page Down\n"
                                     "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
                                     "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click"));
@@ -568,11 +606,16 @@ void MainWindow::rebuildRecentMenu()
 {
     recentMenu_->clear();
     const QStringList files = QSettings().value("recentFiles").toStringList();
-    for (const QString& file : files)
-        recentMenu_->addAction(QFileInfo(file).fileName(), this, [this, file] {
+    // "1 demo.json — /home/me/levels": the same name in two folders is told apart (issue 16 §2).
+    int number = 0;
+    for (const QString& file : files) {
+        const QFileInfo info(file);
+        const QString label = QString("&%1 %2 — %3").arg(++number % 10).arg(info.fileName(), QDir::toNativeSeparators(info.absolutePath()));
+        recentMenu_->addAction(label, this, [this, file] {
             if (maybeSave())
                 openFile(file);
         })->setToolTip(file);
+    }
     recentMenu_->setEnabled(!files.isEmpty());
 }
 

@@ -14,9 +14,12 @@
 #include <QStatusBar>
 #include <QTest>
 #include <QDialog>
+#include <QDir>
 #include <QDockWidget>
-#include <QElapsedTimer>
 #include <QDoubleSpinBox>
+#include <QElapsedTimer>
+#include <QFileInfo>
+#include <QMenu>
 #include <QTimer>
 
 #include <fstream>
@@ -660,6 +663,64 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(rateLabel().endsWith(" idle"), 5000);
         document.applyState(receiver, start);
         waitForUpdate();
+    }
+
+    // Issue 16 §2: axis views, Frame All and "look through the source" (the sniper's view).
+    void cameraPresetsAndLookingThroughTheSource()
+    {
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        const Project& project = window_->document().project();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_7);
+        QVERIFY(controller.camera().forward().y < -0.99);   // straight down
+        QTest::keyClick(window_.get(), Qt::Key_3);
+        QVERIFY(controller.camera().forward().x < -0.99);   // along -X
+        QTest::keyClick(window_.get(), Qt::Key_1);
+        QVERIFY(controller.camera().forward().z < -0.99);   // along -Z
+        QTest::keyClick(window_.get(), Qt::Key_Home);   // the whole level in view
+        const Bounds bounds = window_->document().scene().bounds();
+        for (const glm::vec3& corner : {bounds.min, bounds.max}) {
+            const glm::dvec3 p = toPixels(controller.camera(), glm::dvec3(corner), controller.width(), controller.height());
+            QVERIFY(p.z > 0 && p.x >= -1 && p.x <= controller.width() + 1 && p.y >= -1 && p.y <= controller.height() + 1);
+        }
+
+        QVERIFY(window_->viewport().style().cutaway);
+        QTest::keyClick(window_.get(), Qt::Key_L);
+        const Camera through = controller.camera();
+        QVERIFY(glm::length(through.eye() - project.source.centre()) < 0.05);
+        QVERIFY(glm::length(through.target - project.receiver.centre()) < 1e-6);
+        QVERIFY(!window_->viewport().style().cutaway);   // it would hide the near half of the way
+        waitForUpdate();
+        saveWindowShot("look-through-source");
+        // The receiver is in the picture, and the rays fan out from the eye towards it.
+        const QImage frame = window_->viewport().grabFramebuffer();
+        const glm::dvec3 centre = toPixels(through, project.receiver.centre(), controller.width(), controller.height());
+        QVERIFY(centre.z > 0 && std::abs(centre.x - 0.5 * controller.width()) < 2 && std::abs(centre.y - 0.5 * controller.height()) < 2);
+        int yellow = 0;
+        for (int y = 0; y < frame.height(); y += 4)
+            for (int x = 0; x < frame.width(); x += 4)
+                yellow += yellowish(frame.pixel(x, y));
+        QVERIFY2(yellow > 200, qPrintable(QString("%1 yellow samples").arg(yellow)));
+        QTest::keyClick(window_.get(), Qt::Key_C);
+        QVERIFY(window_->viewport().style().cutaway);
+        controller.setCamera(before);
+        waitForUpdate();
+    }
+
+    // Issue 16 §2: Open Recent showed bare names; two demo.json in two folders looked alike.
+    void openRecentShowsWhereEachFileIs()
+    {
+        const QString path = QString::fromStdString(project_.string());
+        QVERIFY(window_->openFile(path));
+        waitForUpdate();
+        QMenu* recent = window_->findChild<QMenu*>("recentMenu");
+        QVERIFY(recent);
+        QVERIFY(!recent->actions().isEmpty());
+        const QString label = recent->actions().front()->text();
+        QVERIFY2(label.contains(QFileInfo(path).fileName()) && label.contains(QDir::toNativeSeparators(QFileInfo(path).absolutePath())),
+                 qPrintable(label));
     }
 
     void cleanupTestCase()
