@@ -1,5 +1,7 @@
 #include "EditCommands.h"
 
+#include <QObject>
+
 #include "EditorDocument.h"
 
 namespace sightline::ui {
@@ -33,5 +35,14 @@ void OccluderListCommand::erase()
 
 void OccluderListCommand::undo() { remove_ ? insert() : erase(); }
 void OccluderListCommand::redo() { remove_ ? erase() : insert(); }
+
+RenameOccluderCommand::RenameOccluderCommand(EditorDocument& document, std::size_t index, std::string before, std::string after)
+    : QUndoCommand(QObject::tr("Rename %1").arg(QString::fromStdString(after))), document_(document), index_(index),
+      before_(std::move(before)), after_(std::move(after))
+{
+}
+
+void RenameOccluderCommand::undo() { document_.applyOccluderName(index_, before_); }
+void RenameOccluderCommand::redo() { document_.applyOccluderName(index_, after_); }
 
 } // namespace sightline::ui

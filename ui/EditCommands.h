@@ -42,4 +42,17 @@ private:
     bool remove_;
 };
 
+/// Renames the occluder at `index`.
+class RenameOccluderCommand : public QUndoCommand {
+public:
+    RenameOccluderCommand(EditorDocument& document, std::size_t index, std::string before, std::string after);
+    void undo() override;
+    void redo() override;
+
+private:
+    EditorDocument& document_;
+    std::size_t index_;
+    std::string before_, after_;
+};
+
 } // namespace sightline::ui

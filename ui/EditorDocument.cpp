@@ -343,6 +343,19 @@ void EditorDocument::insertOccluder(std::size_t index, const OccluderSpec& spec)
     invalidate(OccludersChanged);
 }
 
+void EditorDocument::renameOccluder(std::size_t index, const std::string& name)
+{
+    const std::string before = project_.occluders.at(index).name;
+    if (before != name)
+        undo_.push(new RenameOccluderCommand(*this, index, before, name));
+}
+
+void EditorDocument::applyOccluderName(std::size_t index, const std::string& name)
+{
+    project_.occluders.at(index).name = name;
+    invalidate(NamesChanged);
+}
+
 void EditorDocument::eraseOccluder(std::size_t index)
 {
     project_.occluders.erase(project_.occluders.begin() + std::ptrdiff_t(index));

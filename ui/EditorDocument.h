@@ -27,6 +27,7 @@ enum Change : unsigned {
     OccludersChanged = 1u << 1,   ///< placed occluders added, removed or moved
     SceneFileChanged = 1u << 2,   ///< an object of the scene file moved
     DocumentReset = 1u << 3,      ///< new or opened document: everything
+    NamesChanged = 1u << 4,       ///< an occluder renamed: nothing to sample or draw again
 };
 
 class EditorDocument : public QObject {
@@ -82,11 +83,14 @@ public:
     void addOccluder(const OccluderSpec& spec);
     void removeSelected();
     void duplicateSelected();
+    /// Renames placed occluder `index` (the level's own objects keep the file's names).
+    void renameOccluder(std::size_t index, const std::string& name);
 
     // ---- applied by the undo commands only ----
     void applyState(ObjectRef object, const ObjectState& state);
     void insertOccluder(std::size_t index, const OccluderSpec& spec);
     void eraseOccluder(std::size_t index);
+    void applyOccluderName(std::size_t index, const std::string& name);
     const OccluderSpec& occluder(std::size_t index) const { return project_.occluders.at(index); }
 
     // ---- selection ----

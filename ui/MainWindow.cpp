@@ -12,6 +12,7 @@
 #include <QFileInfo>
 #include <QKeyEvent>
 #include <QLabel>
+#include <QLineEdit>
 #include <QLocale>
 #include <QMimeData>
 
@@ -226,6 +227,11 @@ void MainWindow::createActions()
     edit->addAction(redo);
     edit->addSeparator();
     action(edit, tr("&Duplicate"), QKeySequence(Qt::CTRL | Qt::Key_D), [this] { document_.duplicateSelected(); });
+    action(edit, tr("&Find Object..."), QKeySequence::Find, [this] {
+        outlineDock_->show();
+        outline_->searchField()->setFocus();
+        outline_->searchField()->selectAll();
+    });
     action(edit, tr("De&lete"), QKeySequence::Delete, [this] {
         // Only placed occluders are the project's to delete; say so instead of doing nothing.
         const ObjectRef selected = document_.selection();

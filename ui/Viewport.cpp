@@ -39,6 +39,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
 {
     clock_.start();
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
+        if (changes == NamesChanged)
+            return;   // a rename changes no ray and no pixel of the view
         if (changes & (SceneFileChanged | DocumentReset)) {
             sceneFileDirty_ = true;
             // Which sampler is faster depends on the level: timed on an empty document, GL wins
