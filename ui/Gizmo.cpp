@@ -79,19 +79,25 @@ GizmoDrag beginGizmoDrag(GizmoMode mode, int axis, const ObjectState& start, con
     return drag;
 }
 
-ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height)
+ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height,
+                      const GizmoSnap& snap)
 {
     const glm::dvec3& axis = drag.frame.axes[std::size_t(drag.axis)];
+    const auto snapped = [](double value, double step) { return step > 0.0 ? std::round(value / step) * step : value; };
     switch (drag.mode) {
     case GizmoMode::Move: {
         const double s = axisParameter(drag.frame.pivot, axis, pixelRay(camera, x, y, width, height));
-        return translated(drag.start, (s - drag.startParam) * axis);
+        // On the grid: the pivot's own coordinate along the (world) axis, not the distance moved,
+        // so an object placed off the grid lands on it at its first snapped step.
+        const double from = glm::dot(drag.frame.pivot, axis);
+        const double delta = snapped(from + s - drag.startParam, snap.move) - from;
+        return translated(drag.start, delta * axis);
     }
     case GizmoMode::Rotate:
-        return rotated(drag.start, axis, (x - drag.startX) * kRadiansPerPixel);
+        return rotated(drag.start, axis, snapped((x - drag.startX) * kRadiansPerPixel, snap.angle));
     case GizmoMode::Scale: {
         const double s = axisParameter(drag.frame.pivot, axis, pixelRay(camera, x, y, width, height));
-        const double factor = std::max(0.02, 1.0 + (s - drag.startParam) / drag.frame.length);
+        const double factor = std::max(0.02, snapped(1.0 + (s - drag.startParam) / drag.frame.length, snap.scale));
         return scaled(drag.start, drag.axis, factor);
     }
     }

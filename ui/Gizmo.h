@@ -36,8 +36,18 @@ struct GizmoDrag {
     double startX = 0.0;       ///< Rotate: the cursor's start
 };
 
+/// Snapping (issue 16 §2), 0 = off for each: a move puts the pivot's coordinate along the axis
+/// on a multiple of `move` metres (a world grid), a rotation turns by multiples of `angle`
+/// radians, a scale changes the size by multiples of `scale` (0.1 = steps of 10%).
+struct GizmoSnap {
+    double move = 0.0;
+    double angle = 0.0;
+    double scale = 0.0;
+};
+
 GizmoDrag beginGizmoDrag(GizmoMode mode, int axis, const ObjectState& start, const Camera& camera, double x, double y,
                          int width, int height);
-ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height);
+ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height,
+                      const GizmoSnap& snap = {});
 
 } // namespace sightline::ui

@@ -5,24 +5,26 @@
 #include <QApplication>
 #include <QCloseEvent>
 #include <QComboBox>
+#include <QBuffer>
 #include <QDir>
 #include <QDockWidget>
-#include <QBuffer>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QKeyEvent>
 #include <QLabel>
 #include <QLineEdit>
 #include <QLocale>
-#include <QMimeData>
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <QMenuBar>
 #include <QMessageBox>
+#include <QMimeData>
 #include <QSettings>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QToolBar>
+
+#include <numbers>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
@@ -293,6 +295,21 @@ void MainWindow::createActions()
         modes->addAction(a);
         toolbar->addAction(a);
     }
+    // Snapping (issue 16 §2): a world grid for moves ([ and ] halve and double it, as in
+    // TrenchBroom), 15 degree steps for rotations, 10% steps for scaling.
+    transform->addSeparator();
+    snapAction_ = action(transform, tr("S&nap"), QKeySequence(Qt::Key_G), [this](bool) { applySnap(); });
+    snapAction_->setCheckable(true);
+    snapAction_->setObjectName("snap");
+    toolbar->addAction(snapAction_);
+    action(transform, tr("Finer Grid"), QKeySequence(Qt::Key_BracketLeft), [this] {
+        gridStep_ = std::max(gridStep_ / 2.0, 1.0 / 64.0);
+        applySnap();
+    });
+    action(transform, tr("Coarser Grid"), QKeySequence(Qt::Key_BracketRight), [this] {
+        gridStep_ = std::min(gridStep_ * 2.0, 64.0);
+        applySnap();
+    });
     toolbar->addSeparator();
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
@@ -587,6 +604,16 @@ void MainWindow::updateStatus()
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
     updateRateLabel();
+}
+
+void MainWindow::applySnap()
+{
+    const bool on = snapAction_->isChecked();
+    controller_->setSnap(on ? GizmoSnap{gridStep_, std::numbers::pi / 12.0, 0.1} : GizmoSnap{});
+    snapAction_->setText(tr("Snap %1 m").arg(gridStep_, 0, 'g', 4));
+    statusBar()->showMessage(on ? tr("Snapping: moves to a %1 m grid, rotations by 15°, scaling by 10%").arg(gridStep_, 0, 'g', 4)
+                                : tr("Snapping off (G turns it on; [ and ] change the grid)"),
+                             4000);
 }
 
 void MainWindow::updateRateLabel()

@@ -77,6 +77,7 @@ private:
     void updateTitle();
     void updateStatus();
     void updateRateLabel();
+    void applySnap();
     /// " · the source is inside wall_middle" when a patch sits inside a closed object, else empty.
     QString enclosedPatchNote();
     void addRecentFile(const QString& file);
@@ -106,6 +107,8 @@ private:
     OverlayControls* overlay_ = nullptr;
     QTimer autosaveTimer_;
     QTimer rateTimer_;
+    QAction* snapAction_ = nullptr;
+    double gridStep_ = 0.25;   ///< metres
 };
 
 } // namespace sightline::ui

@@ -173,7 +173,7 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
     const QPointF delta = position - last_;
     last_ = position;
     if (drag_) {
-        document_.applyState(document_.selection(), dragGizmo(*drag_, camera_, position.x(), position.y(), width_, height_));
+        document_.applyState(document_.selection(), dragGizmo(*drag_, camera_, position.x(), position.y(), width_, height_, snap_));
         return;
     }
     if (buttons == Qt::NoButton) {

@@ -36,6 +36,9 @@ public:
     void setTool(Tool tool);
     GizmoMode gizmoMode() const { return gizmoMode_; }
     void setGizmoMode(GizmoMode mode);
+    /// Snapping for gizmo drags (all zero: free).
+    const GizmoSnap& snap() const { return snap_; }
+    void setSnap(const GizmoSnap& snap) { snap_ = snap; }
 
     /// The handles of the selected object, if any.
     std::optional<GizmoFrame> gizmo() const;
@@ -83,6 +86,7 @@ private:
     int width_ = 1, height_ = 1;
     Tool tool_ = Tool::Select;
     GizmoMode gizmoMode_ = GizmoMode::Move;
+    GizmoSnap snap_;
     int hoveredAxis_ = -1;
 
     enum class Navigation { None, Orbit, Pan, Fly };

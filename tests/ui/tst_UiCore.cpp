@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <fstream>
 #include <mutex>
+#include <numbers>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -178,6 +179,45 @@ TEST(Gizmo, PicksAndDragsAlongTheAxisUnderTheCursor)
     }
     const glm::dvec3 far = pixelOf(frame.pivot + glm::dvec3(0, -3.0, 0));
     EXPECT_EQ(pickGizmoAxis(frame, camera, far.x, far.y, 1000, 800), -1);
+}
+
+// Issue 16 §2: snapping. A move lands the pivot on the grid along the dragged axis, a rotation
+// turns by whole steps, a scale changes by whole 10% steps.
+TEST(Gizmo, SnapsMovesToTheGridAndRotationsAndScalesToSteps)
+{
+    Camera camera;
+    camera.distance = 10.0;
+    camera.yaw = 0.6;
+    camera.pitch = -0.5;
+    const glm::mat4 box = glm::translate(glm::mat4(1.0f), glm::vec3(0.13f, 0.0f, 0.0f));   // off the grid
+    const GizmoFrame frame = gizmoFrame(box, GizmoMode::Move, camera);
+    auto pixelOf = [&](const glm::dvec3& p) { return toPixels(camera, p, 1000, 800); };
+    const GizmoSnap snap{0.25, std::numbers::pi / 12.0, 0.1};
+    const glm::dvec3 grab = pixelOf(frame.pivot + 0.7 * frame.length * glm::dvec3(1, 0, 0));
+    const GizmoDrag drag = beginGizmoDrag(GizmoMode::Move, 0, box, camera, grab.x, grab.y, 1000, 800);
+    for (double by : {0.05, 0.2, 0.61, 1.37, -0.9}) {
+        const glm::dvec3 to = pixelOf(frame.pivot + (0.7 * frame.length + by) * glm::dvec3(1, 0, 0));
+        const glm::dvec3 free = pivotOf(dragGizmo(drag, camera, to.x, to.y, 1000, 800));
+        const glm::dvec3 snapped = pivotOf(dragGizmo(drag, camera, to.x, to.y, 1000, 800, snap));
+        EXPECT_NEAR(snapped.x, std::round(free.x / 0.25) * 0.25, 1e-5) << by;
+        EXPECT_NEAR(snapped.y, 0.0, 1e-6);
+        EXPECT_NEAR(snapped.z, 0.0, 1e-6);
+    }
+    const GizmoDrag turn = beginGizmoDrag(GizmoMode::Rotate, 1, box, camera, 500, 400, 1000, 800);
+    for (double dx : {7.0, 40.0, 133.0}) {
+        const glm::mat4 m = std::get<glm::mat4>(dragGizmo(turn, camera, 500 + dx, 400, 1000, 800, snap));
+        const double angle = std::atan2(double(m[0][2]), double(m[0][0]));   // about +Y
+        const double steps = angle / snap.angle;
+        EXPECT_NEAR(steps, std::round(steps), 1e-4) << dx;
+    }
+    const GizmoFrame scaleFrame = gizmoFrame(box, GizmoMode::Scale, camera);
+    const glm::dvec3 handle = pixelOf(scaleFrame.pivot + 0.7 * scaleFrame.length * scaleFrame.axes[0]);
+    const GizmoDrag stretch = beginGizmoDrag(GizmoMode::Scale, 0, box, camera, handle.x, handle.y, 1000, 800);
+    const glm::dvec3 to = pixelOf(scaleFrame.pivot + (0.7 + 0.37) * scaleFrame.length * scaleFrame.axes[0]);
+    const glm::mat4 m = std::get<glm::mat4>(dragGizmo(stretch, camera, to.x, to.y, 1000, 800, snap));
+    const double factor = glm::length(glm::dvec3(m[0]));
+    EXPECT_NEAR(factor * 10.0, std::round(factor * 10.0), 1e-4);
+    EXPECT_GT(factor, 1.25);
 }
 
 TEST(RaySubset, AllRaysUnderTheCapAndASpreadSubsetAboveIt)
