@@ -203,6 +203,7 @@ void Viewport::paintGL()
     frame.pairValid = resultIsStale() ? pairIsValid(project.source, project.receiver) : result_.valid;
     frame.selection = document_.selection();
     frame.gizmo = controller_.gizmo();
+    frame.gizmoMode = controller_.gizmoMode();
     frame.hoveredAxis = controller_.hoveredAxis();
     frame.style = style_;
     renderer_->render(frame);

@@ -181,6 +181,69 @@ std::vector<MeshVertex> meshVertices(const WorldTriangles& triangles, const std:
     return vertices;
 }
 
+/// The gizmo's handles as triangles (issue 16 §2: one-pixel lines were hard to see and to grab):
+/// a shaft facing the eye, 4% of the handle's length wide, and a head that says what a drag does:
+/// an arrow (move), a ring about the axis (rotate), a box (scale). The hovered handle is white,
+/// unlike the rays' yellow.
+void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, GizmoMode mode, const glm::dvec3& eye,
+                        int hovered)
+{
+    const glm::vec4 axisColours[3] = {{0.95f, 0.25f, 0.25f, 1.0f}, {0.3f, 0.9f, 0.3f, 1.0f}, {0.3f, 0.5f, 1.0f, 1.0f}};
+    const auto tri = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::vec4& colour) {
+        out.push_back({glm::vec3(a), colour});
+        out.push_back({glm::vec3(b), colour});
+        out.push_back({glm::vec3(c), colour});
+    };
+    const auto strip = [&](const glm::dvec3& from, const glm::dvec3& to, double width, const glm::vec4& colour) {
+        glm::dvec3 side = glm::cross(to - from, eye - 0.5 * (from + to));
+        const double n = glm::length(side);
+        if (!(n > 0.0))
+            return;
+        side *= 0.5 * width / n;
+        tri(from - side, to - side, to + side, colour);
+        tri(from - side, to + side, from + side, colour);
+    };
+    constexpr int kSegments = 16;
+    for (int a = 0; a < 3; ++a) {
+        const glm::vec4 colour = a == hovered ? glm::vec4(1.0f) : axisColours[a];
+        const glm::dvec3 axis = g.axes[std::size_t(a)];
+        const glm::dvec3 u = g.axes[std::size_t((a + 1) % 3)], v = g.axes[std::size_t((a + 2) % 3)];
+        const double L = g.length, w = 0.04 * L;
+        const glm::dvec3 tip = g.pivot + L * axis;
+        const auto circle = [&](int k, double r) {
+            const double t = 2.0 * 3.14159265358979323846 * k / kSegments;
+            return r * (std::cos(t) * u + std::sin(t) * v);
+        };
+        switch (mode) {
+        case GizmoMode::Move: {
+            strip(g.pivot, tip - 0.2 * L * axis, w, colour);
+            const glm::dvec3 base = tip - 0.22 * L * axis;   // a cone
+            for (int k = 0; k < kSegments; ++k)
+                tri(base + circle(k, 0.08 * L), base + circle(k + 1, 0.08 * L), tip, colour);
+            break;
+        }
+        case GizmoMode::Rotate: {
+            strip(g.pivot, tip - 0.15 * L * axis, w, colour);
+            const glm::dvec3 centre = tip - 0.15 * L * axis;   // a ring about the axis
+            for (int k = 0; k < kSegments; ++k)
+                strip(centre + circle(k, 0.15 * L), centre + circle(k + 1, 0.15 * L), w, colour);
+            break;
+        }
+        case GizmoMode::Scale: {
+            strip(g.pivot, tip - 0.08 * L * axis, w, colour);
+            const glm::dvec3 c = tip - 0.08 * L * axis, e = 0.08 * L * axis, p = 0.08 * L * u, q = 0.08 * L * v;
+            const glm::dvec3 faces[6][3] = {{e, p, q}, {-e, q, p}, {p, q, e}, {-p, e, q}, {q, e, p}, {-q, p, e}};
+            for (const auto& face : faces) {   // a box: each face as two triangles
+                const glm::dvec3 m = c + face[0];
+                tri(m - face[1] - face[2], m + face[1] - face[2], m + face[1] + face[2], colour);
+                tri(m - face[1] - face[2], m + face[1] + face[2], m - face[1] + face[2], colour);
+            }
+            break;
+        }
+        }
+    }
+}
+
 } // namespace
 
 RaySubset raySubset(int sourceCount, int receiverCount, int cap)
@@ -621,20 +684,9 @@ void ViewportRenderer::render(const FrameState& f)
         lines.push_back({glm::vec3(s), shaftColour});
         lines.push_back({glm::vec3(r), shaftColour});
     }
-    if (f.gizmo) {
-        const glm::vec4 axisColours[3] = {{0.95f, 0.25f, 0.25f, 1.0f}, {0.3f, 0.9f, 0.3f, 1.0f}, {0.3f, 0.5f, 1.0f, 1.0f}};
-        for (int a = 0; a < 3; ++a) {
-            // Hovered: white, unlike the rays' yellow (a yellow handle vanished among them).
-            const glm::vec4 colour = a == f.hoveredAxis ? glm::vec4(1.0f, 1.0f, 1.0f, 1.0f) : axisColours[a];
-            const glm::dvec3 tip = f.gizmo->pivot + f.gizmo->length * f.gizmo->axes[std::size_t(a)];
-            overlay.push_back({glm::vec3(f.gizmo->pivot), colour});
-            overlay.push_back({glm::vec3(tip), colour});
-            // A small cross at the tip, so the handle reads as a handle.
-            const glm::dvec3 side = 0.06 * f.gizmo->length * f.gizmo->axes[std::size_t((a + 1) % 3)];
-            overlay.push_back({glm::vec3(tip - side), colour});
-            overlay.push_back({glm::vec3(tip + side), colour});
-        }
-    }
+    std::vector<LineVertex> handles;   // triangles, over everything
+    if (f.gizmo)
+        appendGizmoHandles(handles, *f.gizmo, f.gizmoMode, f.camera.eye(), f.hoveredAxis);
     auto drawLines = [&](const std::vector<LineVertex>& vertices, GLenum mode) {
         if (vertices.empty())
             return;
@@ -647,6 +699,7 @@ void ViewportRenderer::render(const FrameState& f)
     drawLines(lines, GL_LINES);
     gl.Disable(GL_DEPTH_TEST);
     drawLines(overlay, GL_LINES);
+    drawLines(handles, GL_TRIANGLES);
     gl.DepthMask(GL_TRUE);
     gl.Disable(GL_BLEND);
     gl.BindVertexArray(0);

@@ -16,6 +16,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -25,7 +26,6 @@
 #include "ObjectEdits.h"
 #include "OverlayTexels.h"
 #include "visibility/HiddenSampleMap.h"
-#include <limits>
 
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
@@ -90,6 +90,7 @@ struct FrameState {
     bool pairValid = true;
     ObjectRef selection;
     std::optional<GizmoFrame> gizmo;
+    GizmoMode gizmoMode = GizmoMode::Move;   ///< the handles' heads: arrows, rings or boxes
     int hoveredAxis = -1;
     ViewStyle style;
 };
