@@ -22,7 +22,7 @@ namespace sightline {
 
 struct AoBinnedOptions {
     int threads = 0;            ///< 0: all cores
-    double cellsPerTriangle = 0.5;   ///< grid cells ~ this times the triangle count
+    double cellsPerTriangle = 1.0;   ///< grid cells ~ this times the triangle count
 
 };
 
