@@ -105,11 +105,24 @@ AoDirectionSet buildSet(const Sphere& sphere, int level)
         set.directions.push_back(glm::vec3(sphere.directions[std::size_t(j)]));
         set.solidAngle.push_back(float(omega[std::size_t(j)]));
         set.moment.push_back(glm::vec3(moment[std::size_t(j)]));
+        set.cellRadius.push_back(float(std::sqrt(omega[std::size_t(j)] / 3.14159265358979323846)));
     }
     return set;
 }
 
 } // namespace
+
+float aoHorizonLobe(float c, float g, float r)
+{
+    if (!(g > 0.0f) || !(r > 0.0f))
+        return std::max(0.0f, c) * 3.14159265f * r * r;
+    // c + g x = g r (x' - t) with x' = x / r: integrate (x' - t) 2 sqrt(1 - x'^2) over x' in [t, 1].
+    const double t = std::clamp(-double(c) / (double(g) * r), -1.0, 1.0);
+    const double root = std::sqrt(1.0 - t * t);
+    const double moment = 2.0 / 3.0 * root * root * root;
+    const double chord = 3.14159265358979323846 / 2.0 - t * root - std::asin(t);
+    return float(double(g) * r * r * r * (moment - t * chord));
+}
 
 int aoLevelOf(int k)
 {

@@ -42,6 +42,7 @@ std::vector<glm::vec3> AoRelighter::shade(const std::vector<glm::vec3>& radiance
     const int words = (k_ + 63) / 64;
     // The weight of a set bit: the cell moment (or direction) dotted with the normal.
     const std::vector<glm::vec3>& axes = weighting_ == AoWeighting::SolidAngle ? set_.moment : set_.directions;
+    const bool plain = weighting_ == AoWeighting::PlainCount;
     tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_.size(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -60,9 +61,17 @@ std::vector<glm::vec3> AoRelighter::shade(const std::vector<glm::vec3>& radiance
                     while (bits) {
                         const int j = w * 64 + std::countr_zero(bits);
                         bits &= bits - 1;
+                        // Set bits face the point (only those are tested); cells the horizon cuts
+                        // take the general weight (aoWeight), the rest the cheap dot product.
                         const glm::vec3& a = axes[std::size_t(j)];
                         float weight = n.x * a.x + n.y * a.y + n.z * a.z;
-                        weight = weight > 0.0f ? weight : 0.0f;   // set bits face the point (tested ones only)
+                        const glm::vec3& dj = set_.directions[std::size_t(j)];
+                        const float c = n.x * dj.x + n.y * dj.y + n.z * dj.z;
+                        if (plain)
+                            weight = c;
+                        else if (c * c < (1.0f - c * c) * set_.cellRadius[std::size_t(j)] * set_.cellRadius[std::size_t(j)])
+                            weight = aoWeight(set_, j, n, weighting_);
+                        weight = weight > 0.0f ? weight : 0.0f;
                         const glm::vec3& l = radiance[std::size_t(j)];
                         cr += weight * l.r;
                         cg += weight * l.g;

@@ -9,12 +9,14 @@
 // we keep its solid angle Omega_j and its first moment m_j = integral over the cell of l dl, so
 // that for a normal n whose hemisphere contains the whole cell,
 //     integral over cell of (n . l) dl = n . m_j        (exactly: the integrand is linear in l).
-// The cosine-weighted AO is then sum_j V_j max(0, n . m_j) / sum_j max(0, n . m_j) over the
-// directions facing n. The paper's plain counting (M_ij = n . l_j, every cell alike) is kept as
+// The cosine-weighted AO is then sum_j V_j w_j / sum_j w_j over the directions facing n, with
+// w_j = n . m_j (cells the point's horizon cuts: the lobe over their upper part, aoWeight). The paper's plain counting (M_ij = n . l_j, every cell alike) is kept as
 // AoWeighting::PlainCount: its cells differ in size by up to ~2x near the octahedron's vertices,
 // which biases the sum.
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -37,21 +39,36 @@ struct AoDirectionSet {
     std::vector<glm::vec3> directions;   ///< unit vectors; the first k_s are level s's
     std::vector<float> solidAngle;       ///< Omega_j of direction j's cell at this level (sums to 4 pi)
     std::vector<glm::vec3> moment;       ///< m_j = integral over the cell of l dl (|m_j| ~ Omega_j)
+    std::vector<float> cellRadius;       ///< sqrt(Omega_j / pi): the cell as a disk, for horizon cells
 };
 
 /// The direction set for `k` (one of kAoDirectionCounts), computed once and cached (thread-safe).
 const AoDirectionSet& aoDirections(int k);
 
+/// Integral of max(0, c + g x) over a disk of radius r (x along the gradient), the cosine lobe
+/// over a cell of solid angle pi r^2 that straddles the horizon; c is n . l_j, g = |n x l_j|.
+float aoHorizonLobe(float c, float g, float r);
+
 /// The weight of direction j for a point with unit normal n (0 for a direction not facing n).
+/// Solid-angle weights: n . m_j for a cell wholly above the point's horizon (exact), and for a
+/// cell the horizon cuts, the cosine lobe over its upper part, the cell taken as a disk
+/// (aoHorizonLobe).
 inline float aoWeight(const AoDirectionSet& set, int j, const glm::vec3& n, AoWeighting weighting)
 {
-    const glm::vec3& a = weighting == AoWeighting::SolidAngle ? set.moment[std::size_t(j)] : set.directions[std::size_t(j)];
-    const float c = n.x * set.directions[std::size_t(j)].x + n.y * set.directions[std::size_t(j)].y +
-                    n.z * set.directions[std::size_t(j)].z;
+    const glm::vec3& l = set.directions[std::size_t(j)];
+    const float c = n.x * l.x + n.y * l.y + n.z * l.z;
     if (c <= 0.0f)
         return 0.0f;   // only directions facing the point are tested (§3.2)
-    const float w = n.x * a.x + n.y * a.y + n.z * a.z;
-    return w > 0.0f ? w : 0.0f;
+    if (weighting == AoWeighting::PlainCount)
+        return c;
+    const float r = set.cellRadius[std::size_t(j)];
+    const float g = std::sqrt(std::max(0.0f, 1.0f - c * c));
+    if (c >= g * r) {
+        const glm::vec3& m = set.moment[std::size_t(j)];
+        const float w = n.x * m.x + n.y * m.y + n.z * m.z;
+        return w > 0.0f ? w : 0.0f;
+    }
+    return aoHorizonLobe(c, g, r);
 }
 
 } // namespace sightline
