@@ -121,12 +121,12 @@ int runAo(const AoArgs& args)
     const Scene scene = isProject(args.input)
                             ? buildScene(loadProject(args.input, {.allowOutsidePaths = args.allowOutsidePaths}), &warnings)
                             : loadScene(args.input, &warnings);
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
     const AoOccluders occluders = aoOccluders(scene);
     const std::string what = std::filesystem::path(args.input).filename().string();
-    if (occluders.triangleCount() == 0)
+    if (occluders.triangleCount() == 0)   // refused before the importer's warnings: one line
         throw Error(what + ": no triangles (an empty mesh has nothing to occlude or shade)");
+    for (const std::string& w : warnings)
+        std::cerr << "sightline-cli: warning: " << w << "\n";
 
     const bool texelMode = args.texel > 0.0;
     AoPoints points;
