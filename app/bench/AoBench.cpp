@@ -8,6 +8,7 @@
 // the paper's plain counting), the GL mode on OSMesa, and the demo level's texel mode.
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -21,7 +22,11 @@
 #include "lighting/ao/AoEmbree.h"
 #include "lighting/ao/AoEnvironment.h"
 #include "lighting/ao/AoShading.h"
+#include "demo/DemoLevel.h"
+#include "lighting/ao/AoGlCaster.h"
+#include "lighting/ao/AoTexels.h"
 #include "plugins/SceneFormats.h"
+#include "visibility/gl/HeadlessContext.h"
 
 using namespace sightline;
 
@@ -64,6 +69,8 @@ int main(int argc, char** argv)
 {
     std::string mesh = std::string(SIGHTLINE_SHARED_DATA) + "/meshes/bun_zipper.ply";
     int mcRays = 4096, threads = 0, repeat = 3;
+    double texel = 4.0;
+    bool gl = true;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
         if (arg == "--mc" && a + 1 < argc)
@@ -72,6 +79,10 @@ int main(int argc, char** argv)
             threads = std::atoi(argv[++a]);
         else if (arg == "--repeat" && a + 1 < argc)
             repeat = std::max(1, std::atoi(argv[++a]));
+        else if (arg == "--texel" && a + 1 < argc)
+            texel = std::atof(argv[++a]);
+        else if (arg == "--no-gl")
+            gl = false;
         else if (arg[0] != '-')
             mesh = arg;
     }
@@ -84,7 +95,7 @@ int main(int argc, char** argv)
                 occluders.triangleCount(), kAoOffsetRelative * occluders.diagonal());
 
     AoEmbreeCaster embree(occluders, threads);
-    AoBinnedCaster binned(occluders, {.threads = threads, .cellsPerTriangle = getenv("CPT") ? atof(getenv("CPT")) : 0.5});
+    AoBinnedCaster binned(occluders, {.threads = threads});
     for (int k : {258, 1026}) {
         VisibilityMatrix me, mb;
         const double te = timeMs(repeat, [&] {
@@ -101,6 +112,93 @@ int main(int argc, char** argv)
                 differ += unsigned(std::popcount(mb.row(i)[w] ^ me.row(i)[w]));
         std::printf("k=%4d  embree single rays %8.1f ms   cpu binned %8.1f ms   ratio %.2fx   bits differing %llu of %llu visible\n",
                     k, te, tb, te / tb, (unsigned long long)differ, (unsigned long long)me.visibleCount(k));
+    }
+
+    // Progressive: time to each level from scratch, each reusing the bits before (§3.4).
+    {
+        AoComputation computation(binned, points, 1026);
+        const auto start = std::chrono::steady_clock::now();
+        std::printf("progressive (cpu binned, from scratch):");
+        for (int k : kAoDirectionCounts) {
+            computation.refineLevel();
+            std::printf("  k=%d %.1f ms", k, msSince(start));
+        }
+        std::printf("\n");
+
+        // Relight: an environment change (new rotation) at k = 258 for every vertex.
+        std::vector<glm::vec3> sky(64 * 32);
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 64; ++x)
+                sky[std::size_t(y * 64 + x)] = y < 16 ? glm::vec3(0.4f, 0.6f, 1.0f) * (1.0f + 4.0f * (x > 28 && x < 34 && y > 8))
+                                                       : glm::vec3(0.2f, 0.15f, 0.1f);
+        const AoEnvironment env = AoEnvironment::fromPixels(64, 32, sky);
+        const auto buildStart = std::chrono::steady_clock::now();
+        const AoRelighter relighter(computation.matrix(), points, 258);
+        const double buildMs = msSince(buildStart);
+        double degrees = 0.0;
+        std::vector<glm::vec3> colours;
+        const double relightMs = timeMs(std::max(repeat, 5), [&] {
+            degrees += 10.0;
+            colours = relighter.shade(env.directionRadiance(aoDirections(258), degrees, 0.0), threads);
+        });
+        std::printf("relight k=258: %.2f ms for %zu points (rotation + shading; relighter set-up once %.1f ms)\n", relightMs,
+                    points.size(), buildMs);
+
+        // Accuracy against the Monte-Carlo reference, every level from the one nested matrix.
+        const AoEmbreeScene reference(occluders);
+        const auto mcStart = std::chrono::steady_clock::now();
+        const std::vector<float> mc = monteCarloAo(reference, points, mcRays, 1, threads);
+        std::printf("MC reference: %d cosine-weighted rays per point, %.0f ms\n", mcRays, msSince(mcStart));
+        std::printf("RMSE vs MC:   k     solid-angle   plain count (the paper's)\n");
+        for (int k : kAoDirectionCounts)
+            std::printf("           %5d   %.4f        %.4f\n", k, rmse(ambientOcclusion(computation.matrix(), points, k), mc),
+                        rmse(ambientOcclusion(computation.matrix(), points, k, AoWeighting::PlainCount), mc));
+
+        if (gl) {
+            try {
+                const auto context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                for (int resolution : {1024, 2048}) {
+                    AoGlCaster caster(context->functions(), occluders, {.resolution = resolution});
+                    VisibilityMatrix m;
+                    const double t = timeMs(1, [&] {
+                        m = VisibilityMatrix(points.size(), 258);
+                        caster.fill(points, aoDirections(258), 0, 258, m);
+                    });
+                    std::uint64_t differ = 0;
+                    for (std::size_t i = 0; i < points.size(); ++i)
+                        for (int w = 0; w < m.words(); ++w)
+                            differ += unsigned(std::popcount((m.row(i)[w] ^ computation.matrix().row(i)[w]) &
+                                                                              (w == 4 ? 0x3ull : ~0ull)));
+                    std::printf("gl k=258 %dx%d (%s): %.0f ms, RMSE vs MC %.4f, bits differing from cpu %llu\n", resolution,
+                                resolution, context->renderer().c_str(), t, rmse(ambientOcclusion(m, points, 258), mc),
+                                (unsigned long long)differ);
+                }
+            } catch (const std::exception& e) {
+                std::printf("gl: skipped (%s)\n", e.what());
+            }
+        }
+    }
+
+    // The demo level in texel mode: time to a first picture (k = 6) and to k = 258.
+    {
+        const auto start = std::chrono::steady_clock::now();
+        const Scene level = demo::makeDemoLevel();
+        const AoOccluders levelOccluders = aoOccluders(level);
+        AoPoints texels;
+        const AoTexelLayout layout = aoTexelPoints(levelOccluders, texel, texels);
+        texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
+        AoBinnedCaster levelCaster(levelOccluders, {.threads = threads});
+        const double setupMs = msSince(start);
+        AoComputation computation(levelCaster, texels, 258);
+        computation.refineLevel();
+        std::vector<float> first = ambientOcclusion(computation.matrix(), texels, 6);
+        const double firstMs = msSince(start);
+        computation.run();
+        std::vector<float> full = ambientOcclusion(computation.matrix(), texels, 258);
+        const double fullMs = msSince(start);
+        std::printf("demo level texel mode: %zu triangles, %zu texels at %.1f/m (atlas %dx%d), set-up %.0f ms, first "
+                    "picture (k=6) %.0f ms, k=258 %.0f ms\n",
+                    levelOccluders.triangleCount(), texels.size(), texel, layout.width, layout.height, setupMs, firstMs, fullMs);
     }
     return 0;
 }

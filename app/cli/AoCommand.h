@@ -17,7 +17,7 @@ struct AoArgs {
     std::string method = "cpu";
     std::string weights = "solid-angle";
     std::string glBackend = "osmesa";
-    int glResolution = 2048;
+    int glResolution = 1024;
     double rotate = 0.0, exposure = 0.0;
     double texel = 0.0;   ///< > 0: texel mode, texels per metre
     int threads = 0;

@@ -24,7 +24,7 @@ namespace sightline {
 inline constexpr float kAoGlMaxBiasTexels = 8.0f;
 
 struct AoGlOptions {
-    int resolution = 2048;   ///< depth map side in pixels
+    int resolution = 1024;   ///< depth map side in pixels (2048: half the differing bits, 1.5x the time on llvmpipe)
 };
 
 class AoGlCaster final : public AoFiller {
