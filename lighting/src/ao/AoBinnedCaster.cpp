@@ -25,6 +25,58 @@ struct Scratch {
     std::vector<std::int32_t> bblocked;
 };
 
+/// Every triangle against the binned points of the cells its projected bounding box overlaps
+/// (AoBinnedCaster.h): on x86-64 with GCC also compiled for AVX2, chosen at run time
+/// (target_clones; measured about 8% faster). FMA is not enabled: the exact negation of a shared
+/// edge's function (file comment) needs the same rounding in both triangles, which it keeps, but
+/// there is no gain worth the doubt.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void testTriangles(Scratch& s, const std::uint32_t* indices, std::size_t nt, int g, float lo, float scale)
+{
+    auto cellOf = [&](float x) { return std::clamp(int((x - lo) * scale), 0, g - 1); };
+        for (std::size_t t = 0; t < nt; ++t) {
+            const std::uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
+            const float x[3] = {s.px[i0], s.px[i1], s.px[i2]}, y[3] = {s.py[i0], s.py[i1], s.py[i2]};
+            const float z[3] = {s.pz[i0], s.pz[i1], s.pz[i2]};
+            const float area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
+            if (!(area != 0.0f))   // seen edge-on (or NaN): blocks no ray but ties
+                continue;
+            const float sign = area > 0.0f ? 1.0f : -1.0f;
+            float ea[3], eb[3], ec[3];
+            for (int e = 0; e < 3; ++e) {
+                // Edge e runs from corner e+1 to corner e+2 (opposite corner e). The coefficients
+                // are exactly negated for the same edge traversed the other way (file comment).
+                const int p0 = e == 2 ? 0 : e + 1, p1 = e == 0 ? 2 : e == 1 ? 0 : 1;
+                ea[e] = sign * (y[p0] - y[p1]);
+                eb[e] = sign * (x[p1] - x[p0]);
+                ec[e] = sign * (x[p0] * y[p1] - x[p1] * y[p0]);
+            }
+            const int cx0 = cellOf(std::min({x[0], x[1], x[2]})), cx1 = cellOf(std::max({x[0], x[1], x[2]}));
+            const int cy0 = cellOf(std::min({y[0], y[1], y[2]})), cy1 = cellOf(std::max({y[0], y[1], y[2]}));
+            for (int cy = cy0; cy <= cy1; ++cy) {
+                const std::size_t row = std::size_t(cy) * std::size_t(g);
+                const std::uint32_t begin = s.cellStart[row + std::size_t(cx0)], end = s.cellStart[row + std::size_t(cx1) + 1];
+                // Branch-free over the points of the row's cells, so the compiler vectorises it.
+                const float* px = s.bx.data();
+                const float* py = s.by.data();
+                const float* pz = s.bz.data();
+                const float* ps = s.bside.data();
+                std::int32_t* blocked = s.bblocked.data();
+                for (std::uint32_t k = begin; k < end; ++k) {
+                    const float e0 = ea[0] * px[k] + eb[0] * py[k] + ec[0];
+                    const float e1 = ea[1] * px[k] + eb[1] * py[k] + ec[1];
+                    const float e2 = ea[2] * px[k] + eb[2] * py[k] + ec[2];
+                    const bool inside = (e0 >= 0.0f) & (e1 >= 0.0f) & (e2 >= 0.0f);
+                    // The triangle's depth at the point, along the point's direction, beyond its origin.
+                    const bool above = ps[k] * (e0 * z[0] + e1 * z[1] + e2 * z[2]) > pz[k] * (e0 + e1 + e2);
+                    blocked[k] |= std::int32_t(inside & above);
+                }
+            }
+        }
+}
+
 void basisOf(const glm::vec3& d, glm::vec3& u, glm::vec3& v)
 {
     const glm::vec3 helper = std::abs(d.x) < 0.6f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
@@ -112,45 +164,7 @@ struct AoBinnedCaster::Impl {
             s.bblocked[k] = 0;
         }
 
-        for (std::size_t t = 0; t < nt; ++t) {
-            const std::uint32_t i0 = indices[3 * t], i1 = indices[3 * t + 1], i2 = indices[3 * t + 2];
-            const float x[3] = {s.px[i0], s.px[i1], s.px[i2]}, y[3] = {s.py[i0], s.py[i1], s.py[i2]};
-            const float z[3] = {s.pz[i0], s.pz[i1], s.pz[i2]};
-            const float area = (x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]);
-            if (!(area != 0.0f))   // seen edge-on (or NaN): blocks no ray but ties
-                continue;
-            const float sign = area > 0.0f ? 1.0f : -1.0f;
-            float ea[3], eb[3], ec[3];
-            for (int e = 0; e < 3; ++e) {
-                // Edge e runs from corner e+1 to corner e+2 (opposite corner e). The coefficients
-                // are exactly negated for the same edge traversed the other way (file comment).
-                const int p0 = e == 2 ? 0 : e + 1, p1 = e == 0 ? 2 : e == 1 ? 0 : 1;
-                ea[e] = sign * (y[p0] - y[p1]);
-                eb[e] = sign * (x[p1] - x[p0]);
-                ec[e] = sign * (x[p0] * y[p1] - x[p1] * y[p0]);
-            }
-            const int cx0 = cellOf(std::min({x[0], x[1], x[2]})), cx1 = cellOf(std::max({x[0], x[1], x[2]}));
-            const int cy0 = cellOf(std::min({y[0], y[1], y[2]})), cy1 = cellOf(std::max({y[0], y[1], y[2]}));
-            for (int cy = cy0; cy <= cy1; ++cy) {
-                const std::size_t row = std::size_t(cy) * std::size_t(g);
-                const std::uint32_t begin = s.cellStart[row + std::size_t(cx0)], end = s.cellStart[row + std::size_t(cx1) + 1];
-                // Branch-free over the points of the row's cells, so the compiler vectorises it.
-                const float* px = s.bx.data();
-                const float* py = s.by.data();
-                const float* pz = s.bz.data();
-                const float* ps = s.bside.data();
-                std::int32_t* blocked = s.bblocked.data();
-                for (std::uint32_t k = begin; k < end; ++k) {
-                    const float e0 = ea[0] * px[k] + eb[0] * py[k] + ec[0];
-                    const float e1 = ea[1] * px[k] + eb[1] * py[k] + ec[1];
-                    const float e2 = ea[2] * px[k] + eb[2] * py[k] + ec[2];
-                    const bool inside = (e0 >= 0.0f) & (e1 >= 0.0f) & (e2 >= 0.0f);
-                    // The triangle's depth at the point, along the point's direction, beyond its origin.
-                    const bool above = ps[k] * (e0 * z[0] + e1 * z[1] + e2 * z[2]) > pz[k] * (e0 + e1 + e2);
-                    blocked[k] |= std::int32_t(inside & above);
-                }
-            }
-        }
+        testTriangles(s, indices.data(), nt, g, lo, scale);
         for (std::size_t k = 0; k < nf; ++k)
             if (!s.bblocked[k]) {
                 const std::uint32_t i = s.bindex[k] & 0x7fffffffu;
