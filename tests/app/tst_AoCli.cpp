@@ -108,6 +108,25 @@ TEST_F(AoCli, NpyAndJsonFollowTheContract)
         EXPECT_NEAR(e.values[std::size_t(i)], npy.values[std::size_t(i)], 0.02f);
 }
 
+TEST_F(AoCli, ProjectsGiveEveryInstanceInOrder)
+{
+    const json project = {{"version", 1},
+                          {"scene", "room.obj"},
+                          {"source", {{"corner", {0, 1, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"samples", {4, 4}}}},
+                          {"receiver", {{"corner", {0, 1, 8}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"samples", {4, 4}}}},
+                          {"occluders", {{{"name", "crate"}, {"mesh", "box"},
+                                          {"transform", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1.2, 0.6, 1.2, 1}}}}}};
+    std::ofstream(folder / "p.json") << project.dump();
+    const CliRun run = runCli("ao " + (folder / "p.json").string() + " --k 18 --json --npy " + (folder / "p.npy").string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_EQ(json::parse(run.out)["vertices"], 13 + 8);   // the scene's vertices, then the crate's
+    const Npy npy = readNpy(folder / "p.npy");
+    ASSERT_EQ(npy.shape, std::vector<std::size_t>{21});
+    EXPECT_TRUE(std::isnan(npy.values[12]));   // the room's vertex of no face keeps its place
+    for (std::size_t i = 13; i < 21; ++i)
+        EXPECT_FALSE(std::isnan(npy.values[i])) << i;
+}
+
 TEST_F(AoCli, BunnyHasNaNForItsVerticesOfNoFace)
 {
     const fs::path bunny = fs::path(SIGHTLINE_SHARED_DATA) / "meshes" / "bun_zipper.ply";

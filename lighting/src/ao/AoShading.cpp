@@ -94,12 +94,26 @@ std::vector<glm::vec3> AoRelighter::shade(const std::vector<glm::vec3>& radiance
 
 std::vector<float> ambientOcclusion(const VisibilityMatrix& matrix, const AoPoints& points, int k, AoWeighting weighting)
 {
-    const AoRelighter relighter(matrix, points, k, weighting);
-    const std::vector<glm::vec3> white(std::size_t(k), glm::vec3(1.0f));
-    const std::vector<glm::vec3> c = relighter.shade(white);
-    std::vector<float> ao(c.size());
-    for (std::size_t i = 0; i < c.size(); ++i)
-        ao[i] = std::isnan(c[i].r) ? kNaN : std::min(1.0f, c[i].r);
+    if (matrix.points() != points.size() || matrix.capacity() < k)
+        throw std::invalid_argument("ambientOcclusion: the matrix does not match the points or k");
+    // Directly, without AoRelighter's per-bit storage (a level's texels at k = 1026 would take
+    // hundreds of MB): the weights are recomputed per point.
+    const AoDirectionSet& set = aoDirections(k);
+    std::vector<float> ao(points.size(), kNaN);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 512), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            if (points.status[i] != AoPointStatus::Ok)
+                continue;
+            double all = 0.0, seen = 0.0;
+            for (int j = 0; j < k; ++j) {
+                const float w = aoWeight(set, j, points.normals[i], weighting);
+                all += w;
+                if (matrix.visible(i, j))
+                    seen += w;
+            }
+            ao[i] = all > 0.0 ? float(std::min(1.0, seen / all)) : kNaN;
+        }
+    });
     return ao;
 }
 
