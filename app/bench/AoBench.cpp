@@ -1,6 +1,7 @@
 // sightline-ao-bench: the ambient-occlusion figures of docs/ao.md, measured in one run.
 //
-//   sightline-ao-bench [MESH] [--mc RAYS] [--threads N] [--repeat N] [--demo DEMO.glb] [--no-gl]
+//   sightline-ao-bench [MESH] [--mc RAYS] [--threads N] [--repeat N] [--texel M] [--cells C] [--no-gl]
+//   (AO_BENCH_CASTERS_ONLY=1 in the environment: only the CPU-vs-Embree rows)
 //
 // Prints, for the mesh (default: the bunny of ../shared/data): the exact CPU (binned) mode against
 // Embree single rays at k = 258 and 1026 (same run, ratio), progressive times to k = 6 and 66,
@@ -71,6 +72,7 @@ int main(int argc, char** argv)
     std::string mesh = std::string(SIGHTLINE_SHARED_DATA) + "/meshes/bun_zipper.ply";
     int mcRays = 4096, threads = 0, repeat = 3;
     double texel = 4.0;
+    double cellsPerTriangle = AoBinnedOptions{}.cellsPerTriangle;
     bool gl = true;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
@@ -82,6 +84,8 @@ int main(int argc, char** argv)
             repeat = std::max(1, std::atoi(argv[++a]));
         else if (arg == "--texel" && a + 1 < argc)
             texel = std::atof(argv[++a]);
+        else if (arg == "--cells" && a + 1 < argc)
+            cellsPerTriangle = std::atof(argv[++a]);
         else if (arg == "--no-gl")
             gl = false;
         else if (arg[0] != '-')
@@ -96,7 +100,7 @@ int main(int argc, char** argv)
                 occluders.triangleCount(), kAoOffsetRelative * occluders.diagonal());
 
     AoEmbreeCaster embree(occluders, threads);
-    AoBinnedCaster binned(occluders, {.threads = threads});
+    AoBinnedCaster binned(occluders, {.threads = threads, .cellsPerTriangle = cellsPerTriangle});
     for (int k : {258, 1026}) {
         VisibilityMatrix me, mb;
         const double te = timeMs(repeat, [&] {

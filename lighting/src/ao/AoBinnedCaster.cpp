@@ -185,7 +185,40 @@ AoBinnedCaster::AoBinnedCaster(const AoOccluders& occluders, AoBinnedOptions opt
         radius = std::max(radius, glm::length(r));
     }
     impl_->radius = float(radius * 1.0001 + 1e-6);
-    impl_->indices = occluders.indices;
+    // Triangles in Morton order of their centroids, vertices renumbered by first use: consecutive
+    // triangles then touch neighbouring grid cells and points in every projection (cache locality).
+    const std::size_t nt = occluders.triangleCount();
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> order(nt);
+    auto spread = [](std::uint64_t x) {   // 21 bits -> every third bit
+        x &= 0x1fffff;
+        x = (x | x << 32) & 0x1f00000000ffffull;
+        x = (x | x << 16) & 0x1f0000ff0000ffull;
+        x = (x | x << 8) & 0x100f00f00f00f00full;
+        x = (x | x << 4) & 0x10c30c30c30c30c3ull;
+        x = (x | x << 2) & 0x1249249249249249ull;
+        return x;
+    };
+    for (std::uint32_t t = 0; t < nt; ++t) {
+        glm::vec3 c(0.0f);
+        for (int k = 0; k < 3; ++k)
+            c += impl_->vertices[occluders.indices[3 * std::size_t(t) + std::size_t(k)]];
+        const glm::vec3 q = glm::clamp((c / 3.0f / impl_->radius + 1.0f) * 0.5f, 0.0f, 1.0f) * 2097151.0f;
+        order[t] = {spread(std::uint64_t(q.x)) | spread(std::uint64_t(q.y)) << 1 | spread(std::uint64_t(q.z)) << 2, t};
+    }
+    std::sort(order.begin(), order.end());
+    std::vector<std::uint32_t> renumber(impl_->vertices.size(), ~0u);
+    std::vector<glm::vec3> vertices;
+    impl_->indices.reserve(3 * nt);
+    for (const auto& [code, t] : order)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = occluders.indices[3 * std::size_t(t) + std::size_t(k)];
+            if (renumber[v] == ~0u) {
+                renumber[v] = std::uint32_t(vertices.size());
+                vertices.push_back(impl_->vertices[v]);
+            }
+            impl_->indices.push_back(renumber[v]);
+        }
+    impl_->vertices = std::move(vertices);
 }
 
 AoBinnedCaster::~AoBinnedCaster() = default;
