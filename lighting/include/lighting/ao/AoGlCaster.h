@@ -10,7 +10,7 @@
 // kAoGlMaxBiasTexels texels), the slope-scaled form of the paper's glPolygonOffset(1, 1): its
 // own surface, sampled up to half a texel diagonal away, must not hide it. So a bit may differ
 // from the exact CPU mode where a blocker lies within that bias above the point, or within a texel
-// of the point's projection (tests/lighting/tst_Ao.cpp checks exactly this).
+// of the point's projection (tests/lighting/tst_AoGl.cpp checks exactly this).
 //
 // Runs on any current OpenGL 4.5 core context (OSMesa, EGL, the editor's Qt context).
 
