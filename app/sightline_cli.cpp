@@ -5,6 +5,7 @@
 //   sightline-cli demo OUTDIR
 //   sightline-cli importance PROJECT.json --out MAP.png [--npy MAP.npy] [--frames N]   (cli/LightingCommands)
 //   sightline-cli shadow PROJECT.json --out SHADOW.png
+//   sightline-cli ao MESH_OR_PROJECT [--k 258] [--npy OUT.npy] [--json] ...             (cli/AoCommand, docs/ao.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
 // returns non-zero.
@@ -25,6 +26,7 @@
 
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
+#include "cli/AoCommand.h"
 #include "cli/LightingCommands.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
@@ -548,6 +550,8 @@ int main(int argc, char** argv)
     CLI::App* importanceCmd = cli::addImportanceCommand(app, importance);
     cli::ShadowArgs shadow;
     CLI::App* shadowCmd = cli::addShadowCommand(app, shadow);
+    cli::AoArgs ao;
+    CLI::App* aoCmd = cli::addAoCommand(app, ao);
 
     std::string demoFolder;
     CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json), the benchmark scenes (few-occluders, dense-mesh) and seeds 1-3 of each generated bench kind (bench/KIND-SEED.glb + .json)");
@@ -596,6 +600,10 @@ int main(int argc, char** argv)
         if (*shadowCmd) {
             cli::checkShadowOptions(*shadowCmd, shadow);
             return cli::runShadow(shadow);
+        }
+        if (*aoCmd) {
+            cli::checkAoOptions(*aoCmd, ao);
+            return cli::runAo(ao);
         }
     } catch (const std::exception& e) {
         const CLI::App* command = app.get_subcommands().front();

@@ -1,0 +1,222 @@
+// sightline-ao-bench: the ambient-occlusion figures of docs/ao.md, measured in one run.
+//
+//   sightline-ao-bench [MESH] [--mc RAYS] [--threads N] [--repeat N] [--texel M] [--cells C] [--no-gl]
+//   (AO_BENCH_CASTERS_ONLY=1 in the environment: only the CPU-vs-Embree rows)
+//
+// Prints, for the mesh (default: the bunny of ../shared/data): the exact CPU (binned) mode against
+// Embree single rays at k = 258 and 1026 (same run, ratio), progressive times to k = 6 and 66,
+// relight time at k = 258, RMSE against a Monte-Carlo reference per k (solid-angle weights and
+// the paper's plain counting), the GL mode on OSMesa, and the demo level's texel mode.
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "lighting/ao/AoBinnedCaster.h"
+#include "lighting/ao/AoComputation.h"
+#include "lighting/ao/AoEmbree.h"
+#include "lighting/ao/AoEnvironment.h"
+#include "lighting/ao/AoShading.h"
+#include "demo/DemoLevel.h"
+#include "lighting/ao/AoGlCaster.h"
+#include "lighting/ao/AoTexels.h"
+#include "plugins/SceneFormats.h"
+#include "visibility/gl/HeadlessContext.h"
+
+using namespace sightline;
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+/// Lower median of `repeat` timed runs of `f` (after none: the first run is cold on purpose only
+/// when repeat is 1).
+double timeMs(int repeat, const std::function<void()>& f)
+{
+    std::vector<double> t;
+    for (int r = 0; r < repeat; ++r) {
+        const auto start = std::chrono::steady_clock::now();
+        f();
+        t.push_back(msSince(start));
+    }
+    std::sort(t.begin(), t.end());
+    return t[(t.size() - 1) / 2];
+}
+
+double rmse(const std::vector<float>& a, const std::vector<float>& b)
+{
+    double sum = 0.0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        if (!std::isnan(a[i]) && !std::isnan(b[i])) {
+            sum += (double(a[i]) - b[i]) * (double(a[i]) - b[i]);
+            ++n;
+        }
+    return n ? std::sqrt(sum / double(n)) : 0.0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    std::string mesh = std::string(SIGHTLINE_SHARED_DATA) + "/meshes/bun_zipper.ply";
+    int mcRays = 4096, threads = 0, repeat = 3;
+    double texel = 4.0;
+    double cellsPerTriangle = AoBinnedOptions{}.cellsPerTriangle;
+    bool gl = true;
+    for (int a = 1; a < argc; ++a) {
+        const std::string arg = argv[a];
+        if (arg == "--mc" && a + 1 < argc)
+            mcRays = std::atoi(argv[++a]);
+        else if (arg == "--threads" && a + 1 < argc)
+            threads = std::atoi(argv[++a]);
+        else if (arg == "--repeat" && a + 1 < argc)
+            repeat = std::max(1, std::atoi(argv[++a]));
+        else if (arg == "--texel" && a + 1 < argc)
+            texel = std::atof(argv[++a]);
+        else if (arg == "--cells" && a + 1 < argc)
+            cellsPerTriangle = std::atof(argv[++a]);
+        else if (arg == "--no-gl")
+            gl = false;
+        else if (arg[0] != '-')
+            mesh = arg;
+    }
+    const Scene scene = loadScene(mesh);
+    const AoOccluders occluders = aoOccluders(scene);
+    AoPoints points = aoVertexPoints(scene);
+    points.offsetOrigins(kAoOffsetRelative * occluders.diagonal());
+    std::printf("mesh %s: %zu points (%zu of no face, %zu zero normals), %zu triangles, offset %.3g m\n", mesh.c_str(),
+                points.size(), points.count(AoPointStatus::NoFace), points.count(AoPointStatus::ZeroNormal),
+                occluders.triangleCount(), kAoOffsetRelative * occluders.diagonal());
+
+    AoEmbreeCaster embree(occluders, threads);
+    AoBinnedCaster binned(occluders, {.threads = threads, .cellsPerTriangle = cellsPerTriangle});
+    for (int k : {258, 1026}) {
+        VisibilityMatrix me, mb;
+        const double te = timeMs(repeat, [&] {
+            me = VisibilityMatrix(points.size(), k);
+            embree.fill(points, aoDirections(k), 0, k, me);
+        });
+        const double tb = timeMs(repeat, [&] {
+            mb = VisibilityMatrix(points.size(), k);
+            binned.fill(points, aoDirections(k), 0, k, mb);
+        });
+        std::uint64_t differ = 0;
+        for (std::size_t i = 0; i < points.size(); ++i)
+            for (int w = 0; w < mb.words(); ++w)
+                differ += unsigned(std::popcount(mb.row(i)[w] ^ me.row(i)[w]));
+        std::printf("k=%4d  embree single rays %8.1f ms   cpu binned %8.1f ms   ratio %.2fx   bits differing %llu of %llu visible\n",
+                    k, te, tb, te / tb, (unsigned long long)differ, (unsigned long long)me.visibleCount(k));
+        // Processor time of the whole process (all threads) for one more run of each: less
+        // sensitive than wall time to other work on a shared machine.
+        const std::clock_t c0 = std::clock();
+        embree.fill(points, aoDirections(k), 0, k, me);
+        const std::clock_t c1 = std::clock();
+        binned.fill(points, aoDirections(k), 0, k, mb);
+        const std::clock_t c2 = std::clock();
+        std::printf("        processor time: embree %.0f ms, cpu binned %.0f ms, ratio %.2fx\n", 1e3 * double(c1 - c0) / CLOCKS_PER_SEC,
+                    1e3 * double(c2 - c1) / CLOCKS_PER_SEC, double(c1 - c0) / double(c2 - c1));
+        if (std::getenv("AO_BENCH_CASTERS_ONLY"))
+            continue;
+    }
+
+    if (std::getenv("AO_BENCH_CASTERS_ONLY"))
+        return 0;
+    // Progressive: time to each level from scratch, each reusing the bits before (§3.4).
+    {
+        AoComputation computation(binned, points, 1026);
+        const auto start = std::chrono::steady_clock::now();
+        std::printf("progressive (cpu binned, from scratch):");
+        for (int k : kAoDirectionCounts) {
+            computation.refineLevel();
+            std::printf("  k=%d %.1f ms", k, msSince(start));
+        }
+        std::printf("\n");
+
+        // Relight: an environment change (new rotation) at k = 258 for every vertex.
+        std::vector<glm::vec3> sky(64 * 32);
+        for (int y = 0; y < 32; ++y)
+            for (int x = 0; x < 64; ++x)
+                sky[std::size_t(y * 64 + x)] = y < 16 ? glm::vec3(0.4f, 0.6f, 1.0f) * (1.0f + 4.0f * (x > 28 && x < 34 && y > 8))
+                                                       : glm::vec3(0.2f, 0.15f, 0.1f);
+        const AoEnvironment env = AoEnvironment::fromPixels(64, 32, sky);
+        const auto buildStart = std::chrono::steady_clock::now();
+        const AoRelighter relighter(computation.matrix(), points, 258);
+        const double buildMs = msSince(buildStart);
+        double degrees = 0.0;
+        std::vector<glm::vec3> colours;
+        const double relightMs = timeMs(std::max(repeat, 5), [&] {
+            degrees += 10.0;
+            colours = relighter.shade(env.directionRadiance(aoDirections(258), degrees, 0.0), threads);
+        });
+        std::printf("relight k=258: %.2f ms for %zu points (rotation + shading; relighter set-up once %.1f ms)\n", relightMs,
+                    points.size(), buildMs);
+
+        // Accuracy against the Monte-Carlo reference, every level from the one nested matrix.
+        const AoEmbreeScene reference(occluders);
+        const auto mcStart = std::chrono::steady_clock::now();
+        const std::vector<float> mc = monteCarloAo(reference, points, mcRays, 1, threads);
+        std::printf("MC reference: %d cosine-weighted rays per point, %.0f ms\n", mcRays, msSince(mcStart));
+        std::printf("RMSE vs MC:   k     solid-angle   plain count (the paper's)\n");
+        for (int k : kAoDirectionCounts)
+            std::printf("           %5d   %.4f        %.4f\n", k, rmse(ambientOcclusion(computation.matrix(), points, k), mc),
+                        rmse(ambientOcclusion(computation.matrix(), points, k, AoWeighting::PlainCount), mc));
+
+        if (gl) {
+            try {
+                const auto context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                for (int resolution : {1024, 2048}) {
+                    AoGlCaster caster(context->functions(), occluders, {.resolution = resolution});
+                    VisibilityMatrix m;
+                    const double t = timeMs(1, [&] {
+                        m = VisibilityMatrix(points.size(), 258);
+                        caster.fill(points, aoDirections(258), 0, 258, m);
+                    });
+                    std::uint64_t differ = 0;
+                    for (std::size_t i = 0; i < points.size(); ++i)
+                        for (int w = 0; w < m.words(); ++w)
+                            differ += unsigned(std::popcount((m.row(i)[w] ^ computation.matrix().row(i)[w]) &
+                                                                              (w == 4 ? 0x3ull : ~0ull)));
+                    std::printf("gl k=258 %dx%d (%s): %.0f ms, RMSE vs MC %.4f, bits differing from cpu %llu\n", resolution,
+                                resolution, context->renderer().c_str(), t, rmse(ambientOcclusion(m, points, 258), mc),
+                                (unsigned long long)differ);
+                }
+            } catch (const std::exception& e) {
+                std::printf("gl: skipped (%s)\n", e.what());
+            }
+        }
+    }
+
+    // The demo level in texel mode: time to a first picture (k = 6) and to k = 258.
+    {
+        const auto start = std::chrono::steady_clock::now();
+        const Scene level = demo::makeDemoLevel();
+        const AoOccluders levelOccluders = aoOccluders(level);
+        AoPoints texels;
+        const AoTexelLayout layout = aoTexelPoints(levelOccluders, texel, texels);
+        texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
+        AoBinnedCaster levelCaster(levelOccluders, {.threads = threads});
+        const double setupMs = msSince(start);
+        AoComputation computation(levelCaster, texels, 258);
+        computation.refineLevel();
+        std::vector<float> first = ambientOcclusion(computation.matrix(), texels, 6);
+        const double firstMs = msSince(start);
+        computation.run();
+        std::vector<float> full = ambientOcclusion(computation.matrix(), texels, 258);
+        const double fullMs = msSince(start);
+        std::printf("demo level texel mode: %zu triangles, %zu texels at %.1f/m (atlas %dx%d), set-up %.0f ms, first "
+                    "picture (k=6) %.0f ms, k=258 %.0f ms\n",
+                    levelOccluders.triangleCount(), texels.size(), texel, layout.width, layout.height, setupMs, firstMs, fullMs);
+    }
+    return 0;
+}

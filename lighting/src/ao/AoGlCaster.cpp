@@ -1,0 +1,238 @@
+#include "lighting/ao/AoGlCaster.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "visibility/Error.h"
+#include "visibility/gl/GlShaders.h"
+
+namespace sightline {
+
+namespace {
+
+const char* const kDepthVertex = R"(#version 450 core
+layout(location = 0) in vec3 position;
+uniform vec3 centre, axisU, axisV, axisD;
+uniform float invRadius;
+void main()
+{
+    vec3 p = position - centre;
+    // Orthographic, looking down -d: the surface nearest the light gets depth 0.
+    gl_Position = vec4(dot(p, axisU) * invRadius, dot(p, axisV) * invRadius, -dot(p, axisD) * invRadius, 1.0);
+}
+)";
+
+const char* const kDepthFragment = R"(#version 450 core
+void main() {}
+)";
+
+const char* const kCompare = R"(#version 450 core
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) readonly buffer Origins { vec4 origins[]; };
+layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
+layout(std430, binding = 2) buffer Bits { uint bits[]; };
+layout(binding = 0) uniform sampler2D depthMap;
+uniform vec3 centre, axisU, axisV, axisD;
+uniform float invRadius, texelWorld, maxBiasTexels;
+uniform int resolution, pointCount, wordsPerPoint, direction;
+void main()
+{
+    int i = int(gl_GlobalInvocationID.x);
+    if (i >= pointCount)
+        return;
+    vec3 n = normals[i].xyz;
+    float c = dot(n, axisD);
+    if (c <= 0.0)
+        return;   // facing directions only (zero normals face none)
+    vec3 p = origins[i].xyz - centre;
+    vec2 ndc = vec2(dot(p, axisU), dot(p, axisV)) * invRadius;
+    ivec2 texel = clamp(ivec2((ndc * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));
+    float mapDepth = texelFetch(depthMap, texel, 0).r;
+    float depth = (1.0 - dot(p, axisD) * invRadius) * 0.5;
+    float tanTheta = sqrt(max(0.0, 1.0 - c * c)) / c;
+    float bias = texelWorld * min(1.0 + tanTheta, maxBiasTexels) * invRadius * 0.5;
+    if (depth <= mapDepth + bias)
+        atomicOr(bits[i * wordsPerPoint + direction / 32], 1u << uint(direction % 32));
+}
+)";
+
+void basisOf(const glm::vec3& d, glm::vec3& u, glm::vec3& v)
+{
+    const glm::vec3 helper = std::abs(d.x) < 0.6f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    u = glm::normalize(glm::cross(helper, d));
+    v = glm::cross(d, u);
+}
+
+} // namespace
+
+struct AoGlCaster::Impl {
+    const gl::Functions& gl;
+    AoGlOptions options;
+    glm::vec3 centre{0.0f};
+    float radius = 1.0f;
+    GLsizei indexCount = 0;
+    GLuint vao = 0, vertexBuffer = 0, indexBuffer = 0, depthTexture = 0, framebuffer = 0;
+    GLuint depthProgram = 0, compareProgram = 0;
+    GLuint originBuffer = 0, normalBuffer = 0, bitBuffer = 0;
+
+    explicit Impl(const gl::Functions& functions) : gl(functions) {}
+    ~Impl()
+    {
+        GLuint buffers[] = {vertexBuffer, indexBuffer, originBuffer, normalBuffer, bitBuffer};
+        for (GLuint b : buffers)
+            if (b)
+                gl.DeleteBuffers(1, &b);
+        if (vao)
+            gl.DeleteVertexArrays(1, &vao);
+        if (framebuffer)
+            gl.DeleteFramebuffers(1, &framebuffer);
+        if (depthTexture)
+            gl.DeleteTextures(1, &depthTexture);
+        if (depthProgram)
+            gl.DeleteProgram(depthProgram);
+        if (compareProgram)
+            gl.DeleteProgram(compareProgram);
+    }
+
+    void setFrame(GLuint program, const glm::vec3& u, const glm::vec3& v, const glm::vec3& d) const
+    {
+        gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "centre"), 1, &centre.x);
+        gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "axisU"), 1, &u.x);
+        gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "axisV"), 1, &v.x);
+        gl.ProgramUniform3fv(program, gl.GetUniformLocation(program, "axisD"), 1, &d.x);
+        gl.ProgramUniform1f(program, gl.GetUniformLocation(program, "invRadius"), 1.0f / radius);
+    }
+};
+
+AoGlCaster::AoGlCaster(const gl::Functions& gl, const AoOccluders& occluders, AoGlOptions options)
+    : impl_(std::make_unique<Impl>(gl))
+{
+    Impl& m = *impl_;
+    m.options = options;
+    if (!occluders.bounds.empty())
+        m.centre = (occluders.bounds.min + occluders.bounds.max) * 0.5f;
+    double radius = 0.0;
+    for (const glm::vec3& p : occluders.vertices)
+        radius = std::max(radius, double(glm::length(p - m.centre)));
+    m.radius = float(radius * 1.01 + 1e-6);
+    m.depthProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kDepthVertex}, {GL_FRAGMENT_SHADER, kDepthFragment}}, "GL AO depth map");
+    m.compareProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, kCompare}}, "GL AO depth compare");
+
+    gl.CreateBuffers(1, &m.vertexBuffer);
+    gl.NamedBufferData(m.vertexBuffer, GLsizeiptr(occluders.vertices.size() * sizeof(glm::vec3)), occluders.vertices.data(),
+                       GL_STATIC_DRAW);
+    gl.CreateBuffers(1, &m.indexBuffer);
+    gl.NamedBufferData(m.indexBuffer, GLsizeiptr(occluders.indices.size() * sizeof(std::uint32_t)), occluders.indices.data(),
+                       GL_STATIC_DRAW);
+    m.indexCount = GLsizei(occluders.indices.size());
+    gl.CreateVertexArrays(1, &m.vao);
+    gl.VertexArrayVertexBuffer(m.vao, 0, m.vertexBuffer, 0, sizeof(glm::vec3));
+    gl.VertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl.VertexArrayAttribBinding(m.vao, 0, 0);
+    gl.EnableVertexArrayAttrib(m.vao, 0);
+    gl.VertexArrayElementBuffer(m.vao, m.indexBuffer);
+
+    gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depthTexture);
+    gl.TextureStorage2D(m.depthTexture, 1, GL_DEPTH_COMPONENT32F, options.resolution, options.resolution);
+    gl.CreateFramebuffers(1, &m.framebuffer);
+    gl.NamedFramebufferTexture(m.framebuffer, GL_DEPTH_ATTACHMENT, m.depthTexture, 0);
+    const GLenum none = GL_NONE;
+    gl.NamedFramebufferDrawBuffers(m.framebuffer, 1, &none);
+    if (gl.CheckNamedFramebufferStatus(m.framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("GL AO: the " + std::to_string(options.resolution) + "^2 depth framebuffer is incomplete");
+}
+
+AoGlCaster::~AoGlCaster() = default;
+
+double AoGlCaster::texelSize() const { return 2.0 * impl_->radius / impl_->options.resolution; }
+
+double AoGlCaster::bias(double cosTheta) const
+{
+    const double tanTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta)) / cosTheta;
+    return texelSize() * std::min(1.0 + tanTheta, double(kAoGlMaxBiasTexels));
+}
+
+bool AoGlCaster::fill(const AoPoints& points, const AoDirectionSet& set, int first, int last, VisibilityMatrix& matrix,
+                      const AoFillControl& control)
+{
+    Impl& m = *impl_;
+    const gl::Functions& gl = m.gl;
+    if (first >= last || points.size() == 0)
+        return true;
+    const int words32 = matrix.words() * 2;
+    std::vector<glm::vec4> origins(points.size()), normals(points.size());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        origins[i] = glm::vec4(points.origins[i], 1.0f);
+        normals[i] = glm::vec4(points.normals[i], 0.0f);
+    }
+    auto upload = [&](GLuint& buffer, const void* data, std::size_t bytes) {
+        if (!buffer)
+            gl.CreateBuffers(1, &buffer);
+        gl.NamedBufferData(buffer, GLsizeiptr(bytes), data, GL_DYNAMIC_DRAW);
+    };
+    upload(m.originBuffer, origins.data(), origins.size() * sizeof(glm::vec4));
+    upload(m.normalBuffer, normals.data(), normals.size() * sizeof(glm::vec4));
+    std::vector<std::uint32_t> bits(points.size() * std::size_t(words32), 0u);
+    upload(m.bitBuffer, bits.data(), bits.size() * sizeof(std::uint32_t));
+
+    const GLuint cp = m.compareProgram;
+    gl.ProgramUniform1f(cp, gl.GetUniformLocation(cp, "texelWorld"), float(texelSize()));
+    gl.ProgramUniform1f(cp, gl.GetUniformLocation(cp, "maxBiasTexels"), kAoGlMaxBiasTexels);
+    gl.ProgramUniform1i(cp, gl.GetUniformLocation(cp, "resolution"), m.options.resolution);
+    gl.ProgramUniform1i(cp, gl.GetUniformLocation(cp, "pointCount"), GLint(points.size()));
+    gl.ProgramUniform1i(cp, gl.GetUniformLocation(cp, "wordsPerPoint"), words32);
+    const GLint directionLocation = gl.GetUniformLocation(cp, "direction");
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.originBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m.normalBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m.bitBuffer);
+
+    bool cancelled = false;
+    const float one = 1.0f;
+    for (int j = first; j < last; ++j) {
+        if (control.cancelled()) {
+            cancelled = true;
+            break;
+        }
+        glm::vec3 u, v;
+        const glm::vec3 d = set.directions[std::size_t(j)];
+        basisOf(d, u, v);
+        // Pass 1 (§3.2): the scene into the depth buffer, orthographic from direction j.
+        gl.BindFramebuffer(GL_FRAMEBUFFER, m.framebuffer);
+        gl.Viewport(0, 0, m.options.resolution, m.options.resolution);
+        gl.Enable(GL_DEPTH_TEST);
+        gl.DepthFunc(GL_LESS);
+        gl.DepthMask(GL_TRUE);
+        gl.Disable(GL_CULL_FACE);   // both faces of a triangle block
+        gl.ClearNamedFramebufferfv(m.framebuffer, GL_DEPTH, 0, &one);
+        gl.UseProgram(m.depthProgram);
+        m.setFrame(m.depthProgram, u, v, d);
+        gl.BindVertexArray(m.vao);
+        gl.DrawElements(GL_TRIANGLES, m.indexCount, GL_UNSIGNED_INT, nullptr);
+        // Pass 2: every point's depth against the map, bits set in the shader.
+        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        gl.UseProgram(cp);
+        m.setFrame(cp, u, v, d);
+        gl.ProgramUniform1i(cp, directionLocation, j);
+        gl.BindTextureUnit(0, m.depthTexture);
+        gl.DispatchCompute(GLuint((points.size() + 63) / 64), 1, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        control.finishedOne();
+    }
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    gl.GetNamedBufferSubData(m.bitBuffer, 0, GLsizeiptr(bits.size() * sizeof(std::uint32_t)), bits.data());
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        std::uint64_t* row = matrix.row(i);
+        for (int w = 0; w < matrix.words(); ++w)
+            row[w] |= std::uint64_t(bits[i * std::size_t(words32) + std::size_t(2 * w)]) |
+                      (std::uint64_t(bits[i * std::size_t(words32) + std::size_t(2 * w + 1)]) << 32);
+    }
+    if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
+        throw Error("GL AO: OpenGL error " + std::to_string(error) + " while filling the visibility matrix");
+    return !cancelled;
+}
+
+} // namespace sightline

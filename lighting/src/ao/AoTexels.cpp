@@ -1,0 +1,138 @@
+#include "lighting/ao/AoTexels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "visibility/Error.h"
+
+namespace sightline {
+
+namespace {
+
+/// The point of triangle (a, b, c) nearest p (Ericson, Real-Time Collision Detection §5.1.5).
+glm::dvec3 nearestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+{
+    const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0)
+        return a;
+    const glm::dvec3 bp = p - b;
+    const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3)
+        return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return a + ab * (d1 / (d1 - d3));
+    const glm::dvec3 cp = p - c;
+    const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6)
+        return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        return a + ac * (d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const double denom = 1.0 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+} // namespace
+
+glm::vec2 AoTexelLayout::uv(const AoOccluders& occluders, std::uint32_t t, int c) const
+{
+    const AoTexelTile& tile = tiles[t];
+    const glm::dvec3 p = glm::dvec3(occluders.vertices[occluders.indices[3 * std::size_t(t) + std::size_t(c)]]);
+    const glm::dvec3 r = p - glm::dvec3(tile.origin);
+    const double s = glm::dot(r, glm::dvec3(tile.axisU)) * density, q = glm::dot(r, glm::dvec3(tile.axisV)) * density;
+    return {float((tile.x + s) / width), float((tile.y + q) / height)};
+}
+
+AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoints& points, std::uint64_t maxPixels)
+{
+    if (!(density > 0.0) || !std::isfinite(density))
+        throw Error("--texel " + std::to_string(density) + ": the light-map density must be a positive number of texels per metre");
+    AoTexelLayout layout;
+    layout.density = density;
+    const std::size_t nt = occluders.triangleCount();
+    layout.tiles.resize(nt);
+    std::uint64_t texels = 0;
+    for (std::uint32_t t = 0; t < nt; ++t) {
+        AoTexelTile& tile = layout.tiles[t];
+        tile.triangle = t;
+        const glm::dvec3 a(occluders.vertices[occluders.indices[3 * t]]), b(occluders.vertices[occluders.indices[3 * t + 1]]),
+            c(occluders.vertices[occluders.indices[3 * t + 2]]);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        const double length = glm::length(b - a), area2 = glm::length(n);
+        if (!(length > 0.0) || !(area2 > 1e-12 * length * length))
+            continue;   // degenerate: no texels
+        const glm::dvec3 u = (b - a) / length, v = glm::cross(n / area2, u);
+        const double cu = glm::dot(c - a, u), cv = glm::dot(c - a, v);
+        const double u0 = std::min(0.0, cu), u1 = std::max(length, cu);
+        tile.origin = glm::vec3(a + u0 * u);
+        tile.axisU = glm::vec3(u);
+        tile.axisV = glm::vec3(v);
+        tile.width = std::max(1, int(std::ceil((u1 - u0) * density)));
+        tile.height = std::max(1, int(std::ceil(cv * density)));
+        texels += std::uint64_t(tile.width) * std::uint64_t(tile.height);
+        if (texels > maxPixels)
+            break;
+    }
+    // Shelf packing, tallest first, one-texel gutter.
+    std::vector<std::uint32_t> order(nt);
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t l, std::uint32_t r) {
+        return layout.tiles[l].height != layout.tiles[r].height ? layout.tiles[l].height > layout.tiles[r].height : l < r;
+    });
+    int widest = 1;
+    for (const AoTexelTile& tile : layout.tiles)
+        widest = std::max(widest, tile.width + 1);
+    const int atlasWidth = std::max(widest, int(std::ceil(std::sqrt(double(texels) * 1.3))) + 1);
+    int x = 0, y = 0, shelf = 0;
+    for (std::uint32_t t : order) {
+        AoTexelTile& tile = layout.tiles[t];
+        if (tile.width == 0)
+            continue;
+        if (x + tile.width + 1 > atlasWidth) {
+            x = 0;
+            y += shelf + 1;
+            shelf = 0;
+        }
+        tile.x = x;
+        tile.y = y;
+        x += tile.width + 1;
+        shelf = std::max(shelf, tile.height);
+    }
+    layout.width = atlasWidth;
+    layout.height = std::max(1, y + shelf);
+    const std::uint64_t pixels = std::uint64_t(layout.width) * std::uint64_t(layout.height);
+    if (texels > maxPixels || pixels > maxPixels) {
+        const double fit = density * std::sqrt(double(maxPixels) / double(std::max(texels, pixels)) * 0.7);
+        throw Error("--texel " + std::to_string(density) + ": the light map would need more than " +
+                    std::to_string(maxPixels >> 20) + " Mpixels; try --texel " + std::to_string(fit) + " or less");
+    }
+    for (AoTexelTile& tile : layout.tiles) {
+        tile.firstPoint = points.size();
+        if (tile.width == 0)
+            continue;
+        const std::uint32_t t = tile.triangle;
+        const glm::dvec3 a(occluders.vertices[occluders.indices[3 * t]]), b(occluders.vertices[occluders.indices[3 * t + 1]]),
+            c(occluders.vertices[occluders.indices[3 * t + 2]]);
+        const glm::vec3 normal = glm::vec3(glm::normalize(glm::cross(b - a, c - a)));
+        for (int q = 0; q < tile.height; ++q)
+            for (int s = 0; s < tile.width; ++s) {
+                const glm::dvec3 centre = glm::dvec3(tile.origin) + ((s + 0.5) / density) * glm::dvec3(tile.axisU) +
+                                          ((q + 0.5) / density) * glm::dvec3(tile.axisV);
+                points.positions.push_back(glm::vec3(nearestOnTriangle(centre, a, b, c)));
+                points.normals.push_back(normal);
+                points.status.push_back(AoPointStatus::Ok);
+            }
+    }
+    return layout;
+}
+
+} // namespace sightline
