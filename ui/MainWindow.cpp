@@ -363,6 +363,23 @@ void MainWindow::createActions()
         viewport_->requestUpdate();
     });
     wire->setCheckable(true);
+    // Ambient occlusion of the level (issue 18 §5): computed in the background, coarse at once
+    // (k = 6), refined to k = 258; the status bar follows it.
+    QAction* ao = action(view, tr("&Ambient Occlusion"), QKeySequence(Qt::Key_O), [this](bool on) {
+        viewport_->setAmbientOcclusion(on);
+        if (!on)
+            statusBar()->showMessage(tr("Ambient occlusion off"), 3000);
+    });
+    ao->setCheckable(true);
+    ao->setObjectName("ambientOcclusion");
+    connect(viewport_, &Viewport::aoUpdated, this, [this](int k, int target, double ms, const QString& error) {
+        if (!error.isEmpty())
+            statusBar()->showMessage(tr("Ambient occlusion failed: %1").arg(error), 10000);
+        else
+            statusBar()->showMessage(k < target ? tr("Ambient occlusion: %1 of %2 directions (%3 s), refining...").arg(k).arg(target).arg(ms / 1000.0, 0, 'f', 1)
+                                                : tr("Ambient occlusion: %1 directions (%2 s)").arg(k).arg(ms / 1000.0, 0, 'f', 1),
+                                     k < target ? 0 : 8000);
+    });
     // The section cut: its own toggle and height (navigation never moves it).
     cutAction_ = action(view, tr("Section &Cut"), QKeySequence(Qt::Key_C), [this](bool on) {
         viewport_->style().cutaway = on;

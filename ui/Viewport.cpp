@@ -43,6 +43,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             return;   // a rename changes no ray and no pixel of the view
         if (changes & (SceneFileChanged | DocumentReset)) {
             sceneFileDirty_ = true;
+            aoStale_ = style_.ambientOcclusion;
+            aoShownK_ = 0;   // the map was for the old level
             // Which sampler is faster depends on the level: timed on an empty document, GL wins
             // (0.6 against 3.4 ms) and would then cost 700 ms an update on the demo (llvmpipe).
             backendChosen_ = false;
@@ -70,6 +72,7 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
 
 Viewport::~Viewport()
 {
+    ao_.reset();       // joins, as the sampler below
     worker_.reset();   // joins: no answer arrives for a viewport being destroyed
     makeCurrent();
     renderer_.reset();
@@ -185,6 +188,33 @@ void Viewport::paintGL()
         answered.receiver = result_.receiver;
         overlay_.setLive(result_, answered, false);
     }
+    if (aoStale_) {
+        aoStale_ = false;
+        aoShownK_ = 0;
+        auto scene = std::make_shared<const Scene>(document_.sceneFile());
+        const double density = previewTexelDensity(*scene);
+        if (!ao_)
+            ao_ = std::make_unique<AoPreview>([this](AoPreviewLevel level) {
+                QMetaObject::invokeMethod(
+                    this, [this, l = std::move(level)]() mutable {
+                        if (l.generation != aoGeneration_)
+                            return;   // for a level or a setting since replaced
+                        aoArrived_ = std::move(l);
+                        update();
+                    },
+                    Qt::QueuedConnection);
+            });
+        ao_->start(++aoGeneration_, std::move(scene), density, 258);
+    }
+    if (aoArrived_) {
+        AoPreviewLevel level = std::move(*aoArrived_);
+        aoArrived_.reset();
+        if (level.error.empty()) {
+            renderer_->setAmbientOcclusion(level.uvs, level.width, level.height, level.map);
+            aoShownK_ = level.k;
+        }
+        emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error));
+    }
     const bool overlayChanged = overlay_.version() != overlayVersion_;
     if (overlayChanged) {
         overlayVersion_ = overlay_.version();
@@ -218,6 +248,20 @@ void Viewport::paintGL()
     }
     if (overlayChanged)
         emit overlayUpdated();
+}
+
+void Viewport::setAmbientOcclusion(bool on)
+{
+    style_.ambientOcclusion = on;
+    if (!on) {
+        if (ao_)
+            ao_->stop();
+        ++aoGeneration_;   // an answer on its way is dropped
+        aoStale_ = false;
+    } else if (aoShownK_ < 258) {
+        aoStale_ = true;   // never computed, or stopped part way: again from the start
+    }
+    update();
 }
 
 void Viewport::requestSample()

@@ -18,6 +18,7 @@
 #include <optional>
 #include <utility>
 
+#include "AoPreview.h"
 #include "BackgroundSampler.h"
 #include "LiveVisibility.h"
 #include "PatchOverlay.h"
@@ -55,7 +56,15 @@ public:
     /// slow GL update waits for the drag to end).
     bool resultIsStale() const { return samplesDirty_ || shownGeneration_ != requestedGeneration_; }
 
+    /// Shades the level with its ambient occlusion, computed progressively in the background
+    /// (AoPreview.h); recomputed when the level changes while it is on.
+    void setAmbientOcclusion(bool on);
+    /// The finest AO level shown (0: none yet), and its target.
+    int aoLevel() const { return aoShownK_; }
+
 signals:
+    /// An AO level arrived and is shown (k directions of `target`), or the computation failed.
+    void aoUpdated(int k, int target, double ms, const QString& error);
     /// After every frame that re-sampled.
     void visibilityUpdated();
     /// After every frame whose overlay colours changed.
@@ -95,6 +104,11 @@ private:
     std::shared_ptr<const ReceiverHeights> workerHeights_;
     std::uint64_t requestedGeneration_ = 0, shownGeneration_ = 0;
     std::optional<VisibilityResult> arrived_;            ///< taken by the next frame (GL uploads)
+    std::unique_ptr<AoPreview> ao_;
+    std::uint64_t aoGeneration_ = 0;
+    std::optional<AoPreviewLevel> aoArrived_;
+    int aoShownK_ = 0;
+    bool aoStale_ = false;   ///< the level changed while AO is on: restart at the next frame
     double dragBudgetMs_ = 150.0;
     /// The receiver grid the live sampler's heights were read for (re-read on a new document or
     /// a new grid: "receiver_heights" is resampled to the grid).

@@ -19,6 +19,7 @@ const char* kMeshVertex = R"(#version 450 core
 layout(location = 0) in vec3 position;
 layout(location = 1) in vec3 normal;
 layout(location = 2) in uint object;
+layout(location = 3) in vec2 aoUv;   // where the vertex lies in the AO light map; x < 0: none
 uniform mat4 viewProj;
 uniform vec3 eye;
 uniform vec3 viewForward;
@@ -26,8 +27,10 @@ uniform float cutDepth;      // cutaway: nearer than this along viewForward is c
 uniform float cutHeight;     // and above this height (clip distances keep early depth tests)
 out vec3 vPosition;
 out vec3 vNormal;
+out vec2 vAoUv;
 flat out uint vObject;
 void main() {
+    vAoUv = aoUv;
     vPosition = position;
     vNormal = normal;
     vObject = object;
@@ -40,8 +43,11 @@ void main() {
 const char* kMeshFragment = R"(#version 450 core
 in vec3 vPosition;
 in vec3 vNormal;
+in vec2 vAoUv;
 flat in uint vObject;
 uniform vec3 eye;
+uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
+layout(binding = 3) uniform sampler2D aoMap;
 uniform vec3 baseColour;
 uniform int selected;        // object id, -1 for none
 uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
@@ -52,6 +58,8 @@ void main() {
     vec3 n = normalize(vNormal);
     if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
     float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
+    if (aoOn != 0 && vAoUv.x >= 0.0)
+        light *= 0.3 + 0.7 * texture(aoMap, vAoUv).r;   // a floor, so the darkest corner still reads
     vec3 c = baseColour;
     if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
     colour = vec4(c * light, 1.0);
@@ -158,6 +166,7 @@ struct MeshVertex {
     glm::vec3 position;
     glm::vec3 normal;
     std::uint32_t object;
+    glm::vec2 aoUv{-1.0f, -1.0f};
 };
 
 struct LineVertex {
@@ -176,7 +185,7 @@ std::vector<MeshVertex> meshVertices(const WorldTriangles& triangles, const std:
         const std::uint32_t instance = triangles.instanceOf[t];
         const auto object = std::uint32_t(objectOf ? (*objectOf)[instance] : instance);
         for (int k = 0; k < 3; ++k)
-            vertices[3 * t + std::size_t(k)] = {p[k], unit, object};
+            vertices[3 * t + std::size_t(k)] = {p[k], unit, object, {-1.0f, -1.0f}};
     }
     return vertices;
 }
@@ -346,12 +355,16 @@ struct ViewportRenderer::Impl {
         float cutHeight = 0.0f, cutDepth = 0.0f;
         int selected = -1;
         std::uint64_t sceneVersion = 0;
+        bool ao = false;
         bool operator==(const BackgroundKey&) const = default;
     };
     RenderTarget cache;
     std::optional<BackgroundKey> cacheKey;
     bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
     std::uint64_t sceneVersion = 0;
+    std::vector<MeshVertex> sceneFileVertices;   ///< kept to add the AO map's uvs later
+    GLuint aoTexture = 0;
+    bool aoReady = false;   ///< a map and the scene file's uvs are uploaded
 
     void resizeCache(int width, int height)
     {
@@ -379,6 +392,9 @@ struct ViewportRenderer::Impl {
         gl.EnableVertexArrayAttrib(buffer.vao, 2);
         gl.VertexArrayAttribIFormat(buffer.vao, 2, 1, GL_UNSIGNED_INT, offsetof(MeshVertex, object));
         gl.VertexArrayAttribBinding(buffer.vao, 2, 0);
+        gl.EnableVertexArrayAttrib(buffer.vao, 3);
+        gl.VertexArrayAttribFormat(buffer.vao, 3, 2, GL_FLOAT, GL_FALSE, offsetof(MeshVertex, aoUv));
+        gl.VertexArrayAttribBinding(buffer.vao, 3, 0);
     }
 
     void upload(MeshBuffer& buffer, const std::vector<MeshVertex>& vertices)
@@ -438,15 +454,43 @@ ViewportRenderer::~ViewportRenderer()
     gl.DeleteVertexArrays(4, vaos);
     GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer};
     gl.DeleteBuffers(6, buffers);
-    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture};
-    gl.DeleteTextures(3, textures);
+    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture};
+    gl.DeleteTextures(4, textures);
     d.cache.destroy(gl);
 }
 
 void ViewportRenderer::setSceneFile(const Scene& scene)
 {
-    impl_->upload(impl_->sceneFile, meshVertices(worldTriangles(scene), nullptr));
+    impl_->sceneFileVertices = meshVertices(worldTriangles(scene), nullptr);
+    impl_->upload(impl_->sceneFile, impl_->sceneFileVertices);
+    impl_->aoReady = false;   // its uvs were for the old triangles
     ++impl_->sceneVersion;
+}
+
+void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<float>& map)
+{
+    Impl& d = *impl_;
+    d.aoReady = false;
+    ++d.sceneVersion;
+    if (uvs.size() != d.sceneFileVertices.size() || width < 1 || height < 1 || map.size() != std::size_t(width) * std::size_t(height))
+        return;   // not this scene file's answer (the level changed meanwhile)
+    if (d.sceneFileVertices.empty() || d.sceneFileVertices.front().aoUv != uvs.front() ||
+        d.sceneFileVertices.back().aoUv != uvs.back()) {
+        for (std::size_t k = 0; k < uvs.size(); ++k)
+            d.sceneFileVertices[k].aoUv = uvs[k];
+        d.upload(d.sceneFile, d.sceneFileVertices);
+    }
+    if (d.aoTexture)
+        d.gl.DeleteTextures(1, &d.aoTexture);
+    d.gl.CreateTextures(GL_TEXTURE_2D, 1, &d.aoTexture);
+    d.gl.TextureStorage2D(d.aoTexture, 1, GL_R32F, width, height);
+    d.gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    d.gl.TextureSubImage2D(d.aoTexture, 0, 0, 0, width, height, GL_RED, GL_FLOAT, map.data());
+    d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    d.aoReady = true;
 }
 
 void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf)
@@ -542,7 +586,11 @@ void ViewportRenderer::render(const FrameState& f)
         gl.Disable(GL_CLIP_DISTANCE0);
         gl.Disable(GL_CLIP_DISTANCE1);
     };
-    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion};
+    const bool ao = f.style.ambientOcclusion && d.aoReady;
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), ao ? 1 : 0);
+    if (ao)
+        gl.BindTextureUnit(3, d.aoTexture);
+    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao};
     bool drawn = false;
     d.resizeCache(f.width, f.height);
     if (!d.cacheBroken) {

@@ -21,6 +21,8 @@
 #include <optional>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "Camera.h"
 #include "Gizmo.h"
 #include "ObjectEdits.h"
@@ -53,6 +55,8 @@ struct ViewStyle {
     glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.25f};
     /// Where a blocked ray is first stopped (when its end is known: setRayEnds), a dot.
     glm::vec4 stopColour{1.0f, 1.0f, 1.0f, 0.9f};
+    /// Shade the scene file with its ambient occlusion (setAmbientOcclusion), once there is one.
+    bool ambientOcclusion = false;
 };
 
 /// Which rays the renderer draws for a map and a cap: every one of `sourcePerReceiver` source
@@ -117,6 +121,10 @@ public:
 
     /// The scene file's objects (object id = instance index).
     void setSceneFile(const Scene& scene);
+    /// The scene file's ambient occlusion as a light map (AoPreview.h): `uvs` per world triangle
+    /// corner of the scene file (worldTriangles order), a width x height map of AO in [0, 1].
+    /// Ignored when the uvs are not for the current scene file. Drawn while the style asks.
+    void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<float>& map);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.

@@ -770,6 +770,49 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 18 §5: the level shaded with its ambient occlusion, coarse at once and refined in
+    // the background while the window keeps answering.
+    void ambientOcclusionShadesTheLevelProgressively()
+    {
+        Viewport& viewport = window_->viewport();
+        waitForUpdate();
+        const QImage plain = viewport.grabFramebuffer();
+        QSignalSpy levels(&viewport, &Viewport::aoUpdated);
+        QElapsedTimer clock;
+        clock.start();
+        qint64 last = 0, longest = 0;
+        QTimer tick;
+        tick.setInterval(5);
+        connect(&tick, &QTimer::timeout, [&] {
+            longest = std::max(longest, clock.elapsed() - last);
+            last = clock.elapsed();
+        });
+        tick.start();
+        window_->findChild<QAction*>("ambientOcclusion")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.aoLevel() == 258, 180000);
+        tick.stop();
+        QList<int> ks;
+        for (const QList<QVariant>& level : levels) {
+            QVERIFY2(level.at(3).toString().isEmpty(), qPrintable(level.at(3).toString()));
+            ks << level.at(0).toInt();
+        }
+        QCOMPARE(ks, (QList<int>{6, 18, 66, 258}));   // every level shown, coarse first
+        QVERIFY2(longest < 400, qPrintable(QString("the event loop stalled for %1 ms").arg(longest)));
+        QTest::qWait(100);
+        const QImage shaded = viewport.grabFramebuffer();
+        saveWindowShot("ambient-occlusion");
+        // Occlusion only darkens: no pixel of the level gets brighter, and many get darker.
+        double sumPlain = 0.0, sumShaded = 0.0;
+        for (int y = 0; y < plain.height(); y += 4)
+            for (int x = 0; x < plain.width(); x += 4) {
+                sumPlain += qGray(plain.pixel(x, y));
+                sumShaded += qGray(shaded.pixel(x, y));
+            }
+        QVERIFY2(sumShaded < 0.97 * sumPlain, qPrintable(QString("%1 against %2").arg(sumShaded).arg(sumPlain)));
+        window_->findChild<QAction*>("ambientOcclusion")->trigger();   // off
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();

@@ -6,9 +6,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <numbers>
 
 #include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "TestScenes.h"
 #include "lighting/ao/AoBinnedCaster.h"
@@ -431,4 +434,31 @@ TEST(AoTexels, GridsCoverEachTriangleAndMapToTheAtlas)
     EXPECT_LT(lowest, 0.7f);
     EXPECT_THROW(aoTexelPoints(occluders, 1e6, points), Error);   // far too many texels: refused
     EXPECT_THROW(aoTexelPoints(occluders, -1.0, points), Error);
+}
+
+// The editor's preview counts only occluders within reach (AoBinnedOptions::maxDistance). Under an
+// infinite ceiling at height h, a ray at angle theta from the normal meets it at h / cos(theta), so
+// the cosine-weighted visible fraction within reach R > h is P(cos(theta) < h / R) = (h / R)^2,
+// and 1 for R <= h.
+TEST(AoClosedForm, UnderACeilingWithinReach)
+{
+    // Turned off the light sphere's axes (the AO does not change): about +Y the cut-off cone
+    // cos(theta) = h / R would run along a ring of directions (ties, as for the wall above).
+    const glm::mat3 turn = glm::mat3(glm::rotate(glm::mat4(1.0f), 0.4f, glm::normalize(glm::vec3(1.0f, 0.0f, 1.0f))));
+    const auto quadTurned = [&](glm::vec3 corner, glm::vec3 u, glm::vec3 v, const char* name) {
+        return test::quad(turn * corner, turn * u, turn * v, name);
+    };
+    const Scene scene = test::sceneOf({quadTurned({-1000.0f, 0.0f, -1000.0f}, {0.0f, 0.0f, 2000.0f}, {2000.0f, 0.0f, 0.0f}, "floor"),
+                                       quadTurned({-1000.0f, 1.0f, -1000.0f}, {2000.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 2000.0f}, "ceiling")});
+    const AoOccluders occluders = aoOccluders(scene);
+    for (const double reach : {0.9, 1.25, 2.0, 4.0, std::numeric_limits<double>::infinity()}) {
+        AoPoints points = onePoint(turn * glm::vec3(0.2f, 0.0f, -0.1f), turn * glm::vec3(0, 1, 0), 1e-3);
+        AoBinnedCaster caster(occluders, AoBinnedOptions{.maxDistance = reach});
+        AoComputation computation(caster, points, 1026);
+        ASSERT_TRUE(computation.run());
+        const double expected = reach <= 1.0 ? 1.0 : std::pow(1.0 / reach, 2);
+        // The cut-off cone crosses a ring of direction cells, each all in or all out (a cell's
+        // weight is about 1/500 of the cosine lobe): 6.5e-3 off at most, measured.
+        EXPECT_NEAR(ambientOcclusion(computation.matrix(), points, 1026)[0], expected, 1e-2) << "reach " << reach;
+    }
 }

@@ -33,7 +33,7 @@ struct Scratch {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void testTriangles(Scratch& s, const std::uint32_t* indices, std::size_t nt, int g, float lo, float scale)
+void testTriangles(Scratch& s, const std::uint32_t* indices, std::size_t nt, int g, float lo, float scale, float reach)
 {
     auto cellOf = [&](float x) { return std::clamp(int((x - lo) * scale), 0, g - 1); };
         for (std::size_t t = 0; t < nt; ++t) {
@@ -70,8 +70,11 @@ void testTriangles(Scratch& s, const std::uint32_t* indices, std::size_t nt, int
                     const float e2 = ea[2] * px[k] + eb[2] * py[k] + ec[2];
                     const bool inside = (e0 >= 0.0f) & (e1 >= 0.0f) & (e2 >= 0.0f);
                     // The triangle's depth at the point, along the point's direction, beyond its origin.
-                    const bool above = ps[k] * (e0 * z[0] + e1 * z[1] + e2 * z[2]) > pz[k] * (e0 + e1 + e2);
-                    blocked[k] |= std::int32_t(inside & above);
+                    const float depth = ps[k] * (e0 * z[0] + e1 * z[1] + e2 * z[2]), sum = e0 + e1 + e2;
+                    const bool above = depth > pz[k] * sum;
+                    // Within reach (AoBinnedOptions::maxDistance; infinite: always). sum > 0 inside.
+                    const bool near = depth < (pz[k] + reach) * sum;
+                    blocked[k] |= std::int32_t(inside & above & near);
                 }
             }
         }
@@ -164,7 +167,7 @@ struct AoBinnedCaster::Impl {
             s.bblocked[k] = 0;
         }
 
-        testTriangles(s, indices.data(), nt, g, lo, scale);
+        testTriangles(s, indices.data(), nt, g, lo, scale, float(options.maxDistance));
         for (std::size_t k = 0; k < nf; ++k)
             if (!s.bblocked[k]) {
                 const std::uint32_t i = s.bindex[k] & 0x7fffffffu;

@@ -101,7 +101,9 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                     \
     X(PFNGLGETNAMEDBUFFERSUBDATAPROC, GetNamedBufferSubData)                                       \
     X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                       \
-    X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)
+    X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                                                   \
+    X(PFNGLTEXTURESUBIMAGE2DPROC, TextureSubImage2D)                                               \
+    X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)
 
 using GetProcAddress = void* (*)(const char* name);
 

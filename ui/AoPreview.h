@@ -1,0 +1,63 @@
+#pragma once
+// The editor's ambient-occlusion preview (issue 18 §5): the level's AO in light-map texels
+// (Sattler et al. 2004's visibility matrix over texel points, lighting/ao/AoTexels.h, so a room
+// gets contact shadows in its corners, which per-vertex AO on large wall faces would miss),
+// computed progressively on a worker thread: k = 6 arrives at once, then 18, 66 and 258, each
+// level reusing the bits of the one before (AoComputation). A new start() cancels the running
+// one. Plain C++ (no Qt): the caller decides how an answer reaches its thread.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <glm/vec2.hpp>
+
+#include "visibility/Scene.h"
+
+namespace sightline::ui {
+
+/// The preview's default reach: occluders within 2 m darken (corners, under furniture).
+inline constexpr double kAoPreviewReach = 2.0;
+
+struct AoPreviewLevel {
+    std::uint64_t generation = 0;
+    int k = 0, targetK = 0;
+    /// Per world-triangle corner of the scene (worldTriangles order), its place in the map.
+    std::vector<glm::vec2> uvs;
+    int width = 0, height = 0;
+    std::vector<float> map;   ///< width x height AO in [0, 1], row 0 at the top (uv origin)
+    double ms = 0.0;          ///< since start()
+    std::string error;        ///< non-empty: nothing else is set
+};
+
+class AoPreview {
+public:
+    using Deliver = std::function<void(AoPreviewLevel level)>;   ///< called on the worker thread
+    explicit AoPreview(Deliver deliver);
+    ~AoPreview();
+    AoPreview(const AoPreview&) = delete;
+    AoPreview& operator=(const AoPreview&) = delete;
+
+    /// Cancels any running computation and starts one over `scene` at `texelsPerMetre`, to
+    /// `targetK` directions (6, 18, 66, 258 or 1026), counting occluders within `reach` metres
+    /// (under a uniform sky a closed room is dark everywhere; engines' AO has a radius too).
+    void start(std::uint64_t generation, std::shared_ptr<const Scene> scene, double texelsPerMetre, int targetK,
+               double reach = kAoPreviewReach);
+    /// Cancels and waits for the worker.
+    void stop();
+
+private:
+    Deliver deliver_;
+    std::shared_ptr<std::atomic<bool>> cancel_;
+    std::thread thread_;
+};
+
+/// The light-map texel density the preview uses for a scene: 4 texels a metre, lowered so the
+/// atlas stays under about 400,000 texels (a k = 258 answer in a few seconds on 2 cores).
+double previewTexelDensity(const Scene& scene);
+
+} // namespace sightline::ui
