@@ -234,6 +234,7 @@ void Viewport::paintGL()
     frame.selection = document_.selection();
     frame.gizmo = controller_.gizmo();
     frame.gizmoMode = controller_.gizmoMode();
+    frame.placementGhost = controller_.placementGhost();
     frame.hoveredAxis = controller_.hoveredAxis();
     frame.style = style_;
     renderer_->render(frame);

@@ -40,6 +40,10 @@ void ViewportController::setTool(Tool tool)
     if (tool == tool_)
         return;
     tool_ = tool;
+    if (ghost_) {
+        ghost_.reset();
+        emit viewChanged();
+    }
     emit toolChanged(tool);
     if (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver)
         emit message(tr("Click a surface to place the %1 patch (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver")));
@@ -116,18 +120,37 @@ ObjectRef ViewportController::objectAt(QPointF position) const
     return best;
 }
 
-bool ViewportController::placePatchAt(ObjectKind which, QPointF position)
+std::optional<Patch> ViewportController::placementAt(ObjectKind which, QPointF position) const
 {
     const auto hit = visibleSurface(rayAt(position));
-    if (!hit) {
+    if (!hit)
+        return std::nullopt;
+    const Patch old = std::get<Patch>(document_.state({which, 0}));
+    Patch placed = patchOnSurface(*hit, glm::length(old.u), glm::length(old.v), old.na, old.nb);
+    // Fitted to the surface: a patch on a wall stands on the floor below rather than going through
+    // it (a click near a doorway's foot put half the patch under the floor).
+    const glm::dvec3 n = glm::normalize(hit->normal);
+    if (std::abs(n.y) < 0.5) {
+        const double lowest = std::min({placed.corner.y, (placed.corner + placed.v).y, (placed.corner + placed.u).y,
+                                        (placed.corner + placed.u + placed.v).y});
+        const glm::dvec3 start = hit->point + 0.05 * n;
+        if (const auto floor = visibleSurface(Ray{start, glm::dvec3(0.0, -1.0, 0.0)}); floor && floor->point.y > lowest)
+            placed.corner.y += floor->point.y - lowest + 0.01;
+    }
+    return placed;
+}
+
+bool ViewportController::placePatchAt(ObjectKind which, QPointF position)
+{
+    const std::optional<Patch> placed = placementAt(which, position);
+    if (!placed) {
         emit message(tr("Nothing under the cursor to place the patch on"));
         return false;
     }
     const ObjectRef object{which, 0};
-    const Patch old = std::get<Patch>(document_.state(object));
-    const Patch placed = patchOnSurface(*hit, glm::length(old.u), glm::length(old.v), old.na, old.nb);
-    document_.setState(object, placed, which == ObjectKind::Source ? tr("Place source") : tr("Place receiver"));
+    document_.setState(object, *placed, which == ObjectKind::Source ? tr("Place source") : tr("Place receiver"));
     document_.select(object);
+    emit message(which == ObjectKind::Source ? tr("Source placed (Ctrl+Z undoes)") : tr("Receiver placed (Ctrl+Z undoes)"));
     return true;
 }
 
@@ -174,6 +197,11 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
     last_ = position;
     if (drag_) {
         document_.applyState(document_.selection(), dragGizmo(*drag_, camera_, position.x(), position.y(), width_, height_, snap_));
+        return;
+    }
+    if (buttons == Qt::NoButton && (tool_ == Tool::PlaceSource || tool_ == Tool::PlaceReceiver)) {
+        ghost_ = placementAt(tool_ == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver, position);
+        emit viewChanged();
         return;
     }
     if (buttons == Qt::NoButton) {

@@ -43,6 +43,11 @@ public:
     /// The handles of the selected object, if any.
     std::optional<GizmoFrame> gizmo() const;
     int hoveredAxis() const { return hoveredAxis_; }
+    /// While placing a patch: where a click at the cursor would put it (issue 16 §2).
+    const std::optional<Patch>& placementGhost() const { return ghost_; }
+    /// Where a click at `position` would place patch `which` (fitted: on a wall, its bottom edge
+    /// never goes through the floor below), or nothing when no visible surface is there.
+    std::optional<Patch> placementAt(ObjectKind which, QPointF position) const;
     bool isFlying() const { return flying_; }
     bool isDragging() const { return drag_.has_value(); }
 
@@ -88,6 +93,7 @@ private:
     GizmoMode gizmoMode_ = GizmoMode::Move;
     GizmoSnap snap_;
     int hoveredAxis_ = -1;
+    std::optional<Patch> ghost_;
 
     enum class Navigation { None, Orbit, Pan, Fly };
     Navigation navigation_ = Navigation::None;

@@ -724,6 +724,8 @@ void ViewportRenderer::render(const FrameState& f)
     const bool sourceSelected = f.selection.kind == ObjectKind::Source, receiverSelected = f.selection.kind == ObjectKind::Receiver;
     quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
     quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
+    if (f.placementGhost)
+        quad(*f.placementGhost, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
     // The shaft: corresponding corners joined; red when the pair cannot be sampled.
     const glm::vec4 shaftColour = f.pairValid ? glm::vec4(0.9f, 0.9f, 0.9f, 0.5f) : glm::vec4(1.0f, 0.2f, 0.2f, 0.9f);
     for (int k = 0; k < 4; ++k) {

@@ -95,6 +95,7 @@ struct FrameState {
     ObjectRef selection;
     std::optional<GizmoFrame> gizmo;
     GizmoMode gizmoMode = GizmoMode::Move;   ///< the handles' heads: arrows, rings or boxes
+    std::optional<Patch> placementGhost;     ///< where a click would place a patch: drawn faint
     int hoveredAxis = -1;
     ViewStyle style;
 };

@@ -813,6 +813,38 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 16 §2: a ghost of the patch under the cursor before the click, the patch fitted to the
+    // wall (its bottom edge on the floor, not centred through it), and the prompt replaced once placed.
+    void placementShowsAGhostAndStandsThePatchOnTheFloor()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        const Camera view = controller.camera();
+        const Patch before = document.project().receiver;
+        controller.setCamera(facing(before, 5.0));
+        waitForUpdate();
+        controller.setTool(Tool::PlaceReceiver);
+        const glm::dvec3 low(before.centre().x, 0.3, before.centre().z);   // on the wall behind, 30 cm up
+        const QPoint at = pixelOf(controller, low - 0.02 * before.normal());
+        QTest::mouseMove(&window_->viewport(), at);
+        QTRY_VERIFY(controller.placementGhost().has_value());
+        waitForUpdate();
+        saveWindowShot("placement-ghost");
+        const Patch ghost = *controller.placementGhost();
+        const auto floor = controller.visibleSurface(Ray{ghost.centre(), glm::dvec3(0, -1, 0)});
+        QVERIFY(floor);
+        const double bottom = std::min(ghost.corner.y, (ghost.corner + ghost.v).y);
+        QVERIFY2(bottom >= floor->point.y && bottom < floor->point.y + 0.05,
+                 qPrintable(QString("bottom %1, floor %2").arg(bottom).arg(floor->point.y)));
+        QTest::mouseClick(&window_->viewport(), Qt::LeftButton, {}, at);
+        QVERIFY(glm::length(document.project().receiver.centre() - ghost.centre()) < 1e-9);
+        QVERIFY(!controller.placementGhost());
+        QTRY_VERIFY(window_->statusBar()->currentMessage().contains("Receiver placed"));
+        document.undoStack()->undo();
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
