@@ -84,6 +84,12 @@ int screenshot(const Arguments& args, int width, int height)
     OffscreenResult result = renderOffscreen(document, camera, style, width, height, gl::parseBackend(args.glBackend), &overlay);
     if (overlay.kind() == OverlayKind::LightOnReceiver && !overlay.error().empty())
         throw sightline::Error(overlay.error());
+    if (overlay.kind() == OverlayKind::LightOnReceiver && overlay.light()) {
+        const QString caption = QObject::tr("light from the source, of full (its colour scaled)");   // as in the editor
+        const QSize size = legendPanelSize(caption, height - 16);
+        QPainter painter(&result.image);
+        paintLegendPanel(painter, QRect(QPoint(width - size.width() - 8, 8), size), caption, LegendScale::Light);
+    }
     if (const ImportanceMap* map = overlay.importance()) {
         // The legend in the top-right corner, as in the editor.
         const QString caption = overlay.legendCaption();
@@ -185,9 +191,9 @@ int main(int argc, char** argv)
     QCoreApplication::setApplicationName("Sightline");
     try {
         if (!args.screenshot.empty()) {
-            // No display needed: OSMesa renders. The importance legend's text needs a
+            // No display needed: OSMesa renders. An overlay legend's text needs a
             // QGuiApplication, on the offscreen platform when there is no display.
-            if (args.overlay == "receiver" || args.overlay == "source") {
+            if (args.overlay == "receiver" || args.overlay == "source" || args.overlay == "light") {
                 const auto application = ensureApplication();
                 return screenshot(args, width, height);
             }

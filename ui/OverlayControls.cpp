@@ -301,6 +301,10 @@ void OverlayControls::updateWidgets()
     if (isImportance(overlay.kind()) && overlay.importance()) {
         legend_->setCaption(overlay.legendCaption());
         legend_->show();
+    } else if (overlay.kind() == OverlayKind::LightOnReceiver && overlay.light()) {
+        // Issue 16 §2: the light overlay had no legend.
+        legend_->setCaption(tr("light from the source, of full (its colour scaled)"), LegendScale::Light);
+        legend_->show();
     } else {
         legend_->hide();
     }

@@ -1,6 +1,7 @@
 #include "OverlayLegend.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include <QEvent>
 #include <QFontMetrics>
@@ -37,7 +38,7 @@ QSize legendPanelSize(const QString& caption, int maxHeight)
     return {kMargin + kBarWidth + kLabels + kMargin, std::max(std::min(bar + 2 * kMargin, maxHeight), 60)};
 }
 
-void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& caption)
+void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& caption, LegendScale scale)
 {
     painter.save();
     painter.fillRect(panel, kPanel);
@@ -45,7 +46,13 @@ void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& capt
     painter.drawRect(panel.adjusted(0, 0, -1, -1));
     painter.setBackground(kPanel);   // paintLegend picks light ink on a dark background
     painter.setFont(captionFont());
-    paintLegend(painter, barIn(panel), caption);
+    if (scale == LegendScale::Light)
+        paintLegend(painter, barIn(panel), caption, [](float t) {
+            const int v = int(std::lround(std::clamp(t, 0.0f, 1.0f) * 255.0f));
+            return qRgb(v, v, v);
+        });
+    else
+        paintLegend(painter, barIn(panel), caption);
     painter.restore();
 }
 
@@ -58,9 +65,10 @@ OverlayLegend::OverlayLegend(QWidget* host) : QWidget(host), host_(host)
     hide();
 }
 
-void OverlayLegend::setCaption(const QString& caption)
+void OverlayLegend::setCaption(const QString& caption, LegendScale scale)
 {
     caption_ = caption;
+    scale_ = scale;
     setToolTip(caption);
     place();
     update();
@@ -71,7 +79,7 @@ QRect OverlayLegend::colourBar() const { return barIn(rect()); }
 void OverlayLegend::paintEvent(QPaintEvent*)
 {
     QPainter painter(this);
-    paintLegendPanel(painter, rect(), caption_);
+    paintLegendPanel(painter, rect(), caption_, scale_);
 }
 
 bool OverlayLegend::eventFilter(QObject* watched, QEvent* event)

@@ -17,8 +17,11 @@ namespace sightline::ui {
 /// The panel's size for `caption` (the rotated caption sets the bar's height), at most
 /// `maxHeight` tall.
 QSize legendPanelSize(const QString& caption, int maxHeight);
+/// What the bar shows: viridis (importance) or the light's linear grey ramp (0 dark, 1 full light;
+/// a coloured light scales its own colour the same way).
+enum class LegendScale { Viridis, Light };
 /// Paints the panel into `panel` (background, colour bar, ticks, caption).
-void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& caption);
+void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& caption, LegendScale scale = LegendScale::Viridis);
 
 class OverlayLegend : public QWidget {
     Q_OBJECT
@@ -26,7 +29,8 @@ public:
     /// Lives in `host`'s top-right corner (host: the viewport's container); hidden until shown.
     explicit OverlayLegend(QWidget* host);
 
-    void setCaption(const QString& caption);
+    void setCaption(const QString& caption, LegendScale scale = LegendScale::Viridis);
+    LegendScale scale() const { return scale_; }
     const QString& caption() const { return caption_; }
     /// Where the colour bar is, in widget coordinates (value 1 at its top row, 0 at its bottom).
     QRect colourBar() const;
@@ -42,6 +46,7 @@ private:
 
     QWidget* host_;
     QString caption_;
+    LegendScale scale_ = LegendScale::Viridis;
 };
 
 } // namespace sightline::ui

@@ -40,9 +40,14 @@ MapImageLayout mapImageLayout(int na, int nb)
 
 void paintLegend(QPainter& painter, const QRect& bar, const QString& caption)
 {
+    paintLegend(painter, bar, caption, [](float t) { return viridisRgb(t); });
+}
+
+void paintLegend(QPainter& painter, const QRect& bar, const QString& caption, QRgb (*colour)(float))
+{
     for (int y = 0; y < bar.height(); ++y) {
         const float t = bar.height() > 1 ? 1.0f - float(y) / float(bar.height() - 1) : 1.0f;
-        painter.setPen(QColor(viridisRgb(t)));
+        painter.setPen(QColor(colour(t)));
         painter.drawLine(bar.left(), bar.top() + y, bar.right(), bar.top() + y);
     }
     const QColor ink = painter.background().color().lightness() < 128 ? Qt::white : Qt::black;

@@ -316,12 +316,14 @@ private slots:
         QTest::mouseMove(&viewport, QPoint(5, 5));
         QTRY_VERIFY(controls.readOutLabel()->text().isEmpty());
 
-        // The toolbar's combo and the menu stay in step; the light has no legend but a read-out.
+        // The toolbar's combo and the menu stay in step; the light has its own legend (a grey ramp,
+        // issue 16 §2: it had none) and a read-out.
         controls.kindCombo()->setCurrentIndex(3);
         waitForOverlay();
         QVERIFY(window_->findChild<QAction*>("overlayLight")->isChecked());
         QVERIFY(viewport.overlay().light());
-        QVERIFY(!controls.legend()->isVisible());
+        QVERIFY(controls.legend()->isVisible());
+        QVERIFY(controls.legend()->scale() == LegendScale::Light);
         QTest::mouseMove(&viewport, pixelOf(controller, point));
         QTRY_VERIFY(controls.readOutLabel()->text().contains("light R "));
         controls.kindCombo()->setCurrentIndex(2);

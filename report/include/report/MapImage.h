@@ -34,6 +34,8 @@ QImage renderMapImage(const ImportanceMap& map, const QString& title, const QStr
 
 /// Draws the colour bar with ticks and caption into `rect` (shared with the editor's legend).
 void paintLegend(QPainter& painter, const QRect& bar, const QString& caption);
+/// The same with the bar in `colour(t)` for t from 0 (bottom) to 1 (top): e.g. a light's grey ramp.
+void paintLegend(QPainter& painter, const QRect& bar, const QString& caption, QRgb (*colour)(float));
 
 /// The light image: one pixel per receiver sample, scaled by `scale` (nearest). With
 /// `intensity` the shadow intensity 1 - L (grey, mean over channels) instead of the light.
