@@ -798,8 +798,13 @@ private slots:
             QVERIFY2(level.at(3).toString().isEmpty(), qPrintable(level.at(3).toString()));
             ks << level.at(0).toInt();
         }
-        QCOMPARE(ks, (QList<int>{6, 18, 66, 258}));   // every level shown, coarse first
-        QVERIFY2(longest < 400, qPrintable(QString("the event loop stalled for %1 ms").arg(longest)));
+        // Coarse first, finer after, the full answer last; a level may be skipped when the next one
+        // arrives before a frame could show it (the latest wins).
+        QVERIFY2(!ks.isEmpty() && ks.front() < 258 && ks.back() == 258 && std::is_sorted(ks.begin(), ks.end()),
+                 qPrintable(QString("levels shown: %1").arg([&] { QStringList l; for (int k : ks) l << QString::number(k); return l.join(", "); }())));
+        // Generous (2 shared cores, other tests running): computed in the frame, the 2 s of k = 258
+        // would stall it whole.
+        QVERIFY2(longest < 1000, qPrintable(QString("the event loop stalled for %1 ms").arg(longest)));
         QTest::qWait(100);
         const QImage shaded = viewport.grabFramebuffer();
         saveWindowShot("ambient-occlusion");
