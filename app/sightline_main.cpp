@@ -205,8 +205,12 @@ int main(int argc, char** argv)
                  "the editor's File menu keeps this as a setting)");
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // One line, as sightline-cli does (CLI11's default adds a second "Run with --help").
+        std::fprintf(stderr, "sightline: error: %s (see --help)\n", e.what());
+        return 2;
     }
     args.framesGiven = frames->count() > 0;
     int width = 0, height = 0;

@@ -63,6 +63,8 @@ VideoFormat videoFormatFor(const fs::path& file)
             format = {"webm", "vp8", vp8->name};
         else
             throw Error("video '" + file.string() + "': this libavcodec has no VP9 or VP8 encoder; record to .mp4 instead");
+    } else if (ext.empty()) {
+        throw Error("video '" + file.string() + "': no extension; use .mp4 (H.264) or .webm (VP9)");
     } else {
         throw Error("video '" + file.string() + "': unknown extension '" + ext + "'; use .mp4 (H.264) or .webm (VP9)");
     }
@@ -164,7 +166,7 @@ VideoEncoder::VideoEncoder(const fs::path& file, const VideoSettings& settings) 
     if (!fs::is_directory(folder, ec))
         throw Error("video '" + file.string() + "': the folder '" + folder.string() + "' does not exist");
     // Beside the target, so the final rename stays on one file system.
-    m.temp = atomicTempName(file, static_cast<unsigned long>(getpid()), static_cast<unsigned long>(std::random_device{}()));
+    m.temp = folder / atomicTempName(file, static_cast<unsigned long>(getpid()), static_cast<unsigned long>(std::random_device{}()));
 
     // libav's own log lines would break the one-line error rule; its errors reach the user through
     // av_strerror in our messages instead.
