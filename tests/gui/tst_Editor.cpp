@@ -32,11 +32,14 @@
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
+#include "RecordingControls.h"
 #include "UiTestScene.h"
+#include "VideoDecoder.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "project/Animation.h"
 #include "project/Project.h"
+#include "project/RecordedPath.h"
 #include "visibility/ColourMap.h"
 #include "visibility/RayCastSampler.h"
 
@@ -123,6 +126,91 @@ private slots:
         const std::uint64_t reference = referenceBlocked(project_);
         QVERIFY2(std::max(result.blocked, reference) - std::min(result.blocked, reference) <= result.rays / 10000,
                  qPrintable(QString("editor %1, reference %2").arg(result.blocked).arg(reference)));
+    }
+
+    // Issue 16 §3: Ctrl+R records the camera and the edits at a fixed rate, Stop keeps them as the
+    // project's recorded path (undoable) and renders the video off the GUI thread; the video
+    // decodes to one frame per captured frame at the viewport's size, and the path plays back.
+    void recordsTheCameraAndEditsThenRendersTheVideo()
+    {
+        RecordingControls& recorder = window_->recorder();
+        QCOMPARE(recorder.recordAction()->shortcut(), QKeySequence(Qt::CTRL | Qt::Key_R));
+        QCOMPARE(recorder.playAction()->shortcut(), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_R));
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        const Patch receiver = document.project().receiver;
+        const QString video = QString::fromStdString((folder_ / "recorded.mp4").string());
+        QVERIFY(!recorder.startRecording(QString::fromStdString((folder_ / "recorded.avi").string())));
+        QVERIFY(window_->statusBar()->currentMessage().contains("unknown extension '.avi'"));
+
+        QVERIFY(recorder.startRecording(video, 20.0));
+        QVERIFY(recorder.isRecording());
+        QVERIFY(recorder.recordAction()->isChecked());
+        // The designer orbits, then drags the receiver 1.5 m (as a gizmo drag shows it, live).
+        for (int step = 1; step <= 4; ++step) {
+            Camera c = controller.camera();
+            orbit(c, 25.0, 0.0);
+            controller.setCamera(c);
+            QTest::qWait(120);
+        }
+        Patch moved = receiver;
+        moved.corner.z -= 1.5;
+        document.setState({ObjectKind::Receiver, 0}, moved, "move");
+        waitForUpdate();
+        QTest::qWait(300);
+        QVERIFY2(recorder.statusLabel()->text().contains("REC"), qPrintable(recorder.statusLabel()->text()));
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())   // the real window, viewport included
+            window_->screen()->grabWindow(0, window_->x(), window_->y(), window_->frameGeometry().width(), window_->frameGeometry().height())
+                .save(QString::fromUtf8(shots) + "/recording.png");
+
+        QSignalSpy finished(&recorder, &RecordingControls::videoFinished);
+        recorder.stopRecording();
+        QVERIFY(!recorder.isRecording());
+        QVERIFY(recorder.isRendering());
+        const RecordedPath path = parseRecordedPath(document.project(), "gui");
+        QVERIFY2(path.frames >= 10, qPrintable(QString::number(path.frames)));   // about a second at 20 fps
+        QCOMPARE(path.fps, 20.0);
+        QVERIFY(path.camera.size() >= 4);   // the first view and each orbit step
+        int receiverKeys = 0;
+        for (const PathEdit& e : path.edits)
+            receiverKeys += e.object == PathEdit::Object::Receiver;
+        QCOMPARE(receiverKeys, 2);   // where it started (frame 0) and where it was moved
+        QCOMPARE(projectAtPathFrame(document.project(), path, 0).receiver.corner, receiver.corner);
+        QCOMPARE(projectAtPathFrame(document.project(), path, path.frames - 1).receiver.corner, moved.corner);
+
+        // The editor stays live while the video renders on the worker thread.
+        QVERIFY(finished.wait(120000));
+        QVERIFY2(finished.front().at(0).toBool(), qPrintable(finished.front().at(1).toString()));
+        const test::DecodedVideo decoded = test::decodeVideo(video.toStdString());
+        QCOMPARE(int(decoded.frames.size()), path.frames);
+        QCOMPARE(decoded.codec, std::string("h264"));
+        QCOMPARE(decoded.width, window_->viewport().width() & ~1);
+        QCOMPARE(decoded.height, window_->viewport().height() & ~1);
+        QCOMPARE(decoded.fps, 20.0);
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())   // the video's last frame
+            QImage(decoded.frames.back().data(), decoded.width, decoded.height, decoded.width * 3, QImage::Format_RGB888)
+                .save(QString::fromUtf8(shots) + "/recorded-last-frame.png");
+
+        // Playback moves the camera through the recorded views, then puts everything back.
+        document.setState({ObjectKind::Receiver, 0}, receiver, "move back");
+        controller.setCamera(before);
+        QSignalSpy played(&recorder, &RecordingControls::playbackFinished);
+        QVERIFY(recorder.playPath());
+        QTest::qWait(200);
+        QVERIFY(recorder.isPlaying());
+        QVERIFY(played.wait(10000));
+        QVERIFY(std::abs(controller.camera().yaw - before.yaw) > 0.01);   // the path's last view
+        QCOMPARE(document.project().receiver.corner, receiver.corner);
+
+        // The path is one undoable edit.
+        document.undoStack()->undo();   // "move back"
+        document.undoStack()->undo();   // "Record Path"
+        QVERIFY(!document.project().extra.contains(kRecordedPathKey));
+        document.undoStack()->undo();   // "move"
+        QCOMPARE(document.project().receiver.corner, receiver.corner);
+        controller.setCamera(before);
+        waitForUpdate();
     }
 
     void placesTheReceiverWithAClick()
