@@ -123,6 +123,9 @@ int record(const Arguments& args, int width, int height)
     style.rayCap = args.rays;
     style.showBlocked = args.showBlocked;
     const Project& project = document.project();
+    // The section cut where the editor puts it on open (1.5 m above the higher patch), so that it
+    // stays put while a recorded camera moves its target.
+    style.cutHeight = std::max(project.source.centre().y, project.receiver.centre().y) + 1.5;
     RecordingScene scene = recordingScene(document, projectView(document.editorSettings(), project.source, project.receiver), style);
     scene.overlay = parseOverlayKind(args.overlay);
     scene.statistic = parseImportanceStatistic(args.statistic);
@@ -186,9 +189,9 @@ int main(int argc, char** argv)
                                          "Benchmark frames; recording frames (default: the recorded path's length, "
                                          "else the animation's frames)")
                               ->check(CLI::Range(1, 100000));
-    app.add_option("--size", args.size, "Screenshot or benchmark viewport size, WxH");
-    app.add_option("--rays", args.rays, "Most rays drawn (screenshot and benchmark)")->check(CLI::Range(1, 1 << 30));
-    app.add_flag("--show-blocked", args.showBlocked, "Draw blocked rays too, in red (screenshot and benchmark)");
+    app.add_option("--size", args.size, "Screenshot, recording or benchmark viewport size, WxH (a recording needs even sides)");
+    app.add_option("--rays", args.rays, "Most rays drawn (screenshot, recording and benchmark)")->check(CLI::Range(1, 1 << 30));
+    app.add_flag("--show-blocked", args.showBlocked, "Draw blocked rays too, in red (screenshot, recording and benchmark)");
     app.add_option("--overlay", args.overlay, "Paint receiver or source importance, or the source's light on the "
                                               "receiver. Screenshot: importance accumulated over the project's animation "
                                               "when it has one (else this frame), with its legend; benchmark: shown while "
@@ -198,8 +201,8 @@ int main(int argc, char** argv)
                    "How accumulated frames combine (screenshot: the animation's; benchmark: with --accumulate): "
                    "mean, max or ever")
         ->check(CLI::IsMember({"mean", "max", "ever"}));
-    app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging");
-    app.add_option("--gl-backend", args.glBackend, "Screenshot: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
+    app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging; recording: over the video's frames");
+    app.add_option("--gl-backend", args.glBackend, "Screenshot and recording: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_flag("--allow-outside-paths", args.allowOutsidePaths,
                  "Read files the project names by a relative path that leaves its folder (refused otherwise; "
                  "the editor's File menu keeps this as a setting)");

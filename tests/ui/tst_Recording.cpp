@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -263,6 +264,17 @@ TEST(RecordCommand, BadArgumentsGiveOneLineErrorsAndNoFile)
         EXPECT_NE(run.err.find(says), std::string::npos) << arguments << ": " << run.err;
         EXPECT_TRUE(test::oneLine(run.err)) << arguments << ": " << run.err;
     }
+    // A malformed recorded path in the project: named, in one line.
+    json document = json::parse(std::ifstream(project));
+    document[kRecordedPathKey] = {{"fps", 30}, {"frames", 10}, {"camera", json::array({{{"frame", 12}}})}};
+    std::ofstream(folder / "bad-path.json") << document.dump();
+    const test::CliRun bad = test::runProgram(SIGHTLINE_EDITOR, "--record " + (folder / "a.mp4").string() + " " +
+                                                                    (folder / "bad-path.json").string(), 120);
+    EXPECT_NE(bad.code, 0);
+    EXPECT_NE(bad.err.find("'recorded_path.camera[0].frame' must be in [0, frames)"), std::string::npos) << bad.err;
+    EXPECT_TRUE(test::oneLine(bad.err)) << bad.err;
+    fs::remove(folder / "bad-path.json");
+
     EXPECT_FALSE(fs::exists(folder / "a.mp4"));
     EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 2);   // demo.json, demo_level.glb
 }
