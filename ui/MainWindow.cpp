@@ -440,7 +440,7 @@ void MainWindow::createActions()
                                     "Section cut on / off: C; raise / lower it: Page Up / Page Down\n"
                                     "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
                                     "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click\n"
-                                    "Record video (camera and edits) / stop: Ctrl+R; play the recorded path: Ctrl+Shift+R"));
+                                    "Record video (camera and edits) / stop: F9; play the recorded path: Shift+F9"));
     });
 }
 

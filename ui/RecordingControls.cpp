@@ -65,8 +65,8 @@ RecordingControls::RecordingControls(QMainWindow& window, EditorDocument& docume
 
     record_ = menu->addAction(tr("&Record Video..."));
     record_->setCheckable(true);
-    record_->setShortcut(QKeySequence(Qt::CTRL | Qt::Key_R));
-    record_->setToolTip(tr("Record the camera and your edits, then render them to a video (Ctrl+R starts and stops)"));
+    record_->setShortcut(QKeySequence(Qt::Key_F9));   // Ctrl+R is Reset Accumulation
+    record_->setToolTip(tr("Record the camera and your edits, then render them to a video (F9 starts and stops)"));
     connect(record_, &QAction::triggered, this, [this](bool on) {
         if (!on) {
             stopRecording();
@@ -79,7 +79,7 @@ RecordingControls::RecordingControls(QMainWindow& window, EditorDocument& docume
             startRecording(file);
     });
     play_ = menu->addAction(tr("&Play Recorded Path"));
-    play_->setShortcut(QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_R));
+    play_->setShortcut(QKeySequence(Qt::SHIFT | Qt::Key_F9));
     connect(play_, &QAction::triggered, this, [this] { isPlaying() ? stopPlayback() : void(playPath()); });
     render_ = menu->addAction(tr("Render Recorded Path to &Video..."));
     connect(render_, &QAction::triggered, this, [this] {
@@ -336,7 +336,7 @@ bool RecordingControls::playPath()
         return false;
     }
     if (playing_.empty()) {
-        window_.statusBar()->showMessage(tr("The project has no recorded path: record one with Ctrl+R"), 5000);
+        window_.statusBar()->showMessage(tr("The project has no recorded path: record one with F9"), 5000);
         return false;
     }
     playStart_ = document_.project();

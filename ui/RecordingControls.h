@@ -1,11 +1,11 @@
 #pragma once
-// The editor's recorder (issue 16 §3): Record (Ctrl+R) captures the camera and the edits to the
-// patches and placed occluders at a fixed rate while the designer works, Stop (Ctrl+R again) keeps
+// The editor's recorder (issue 16 §3): Record (F9) captures the camera and the edits to the
+// patches and placed occluders at a fixed rate while the designer works, Stop (F9 again) keeps
 // them in the project as its recorded path (project/RecordedPath.h; one undoable edit) and renders
 // the video chosen at the start. The video is rendered frame by frame, headless, on a worker
 // thread (ui/VideoRecording.h), from a snapshot of the document: its frame rate is the capture's,
 // whatever rate the viewport updated at while recording, and the editor stays responsive.
-// "Play Recorded Path" (Ctrl+Shift+R) plays the path in the viewport; "Render Recorded Path to
+// "Play Recorded Path" (Shift+F9) plays the path in the viewport; "Render Recorded Path to
 // Video..." renders the project's path (else its animation) again. The status bar shows the
 // elapsed time while recording, then the rendering's progress. Kept out of MainWindow so it stays
 // a wiring class.
