@@ -6,6 +6,7 @@
 
 #include "EditorDocument.h"
 #include "LiveVisibility.h"
+#include "RayEnds.h"
 #include "plugins/VideoEncoder.h"
 #include "visibility/Error.h"
 
@@ -129,6 +130,8 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
 
         std::optional<Project> previous;   // what the scene and the receiver heights were built for
         std::vector<std::size_t> occluderOf;
+        std::optional<SegmentHitCaster> hits;   // blocked rays' first stops, when they are drawn
+        const bool drawStops = scene.style.showBlocked && scene.style.showRays;
         double sceneRadius = 10.0;
         for (int k = 0; k < options.frames; ++k) {
             const RecordingFrame frame = recordingFrame(scene, k, options.fps);
@@ -144,11 +147,18 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
                 const Bounds bounds = all.bounds();
                 sceneRadius = bounds.empty() ? 10.0 : 0.5 * glm::length(bounds.max - bounds.min);
                 visibility.setScene(all);
+                if (drawStops)
+                    hits.emplace(worldTriangles(all));
             }
             if (!previous || previous->receiver.na != project.receiver.na || previous->receiver.nb != project.receiver.nb)
                 visibility.loadReceiverHeights(project, scene.what);
             const VisibilityResult result = visibility.sample(project.source, project.receiver);
             renderer.setHiddenSamples(result.valid ? &result.map : nullptr);
+            if (result.valid && drawStops) {
+                // Blocked rays end where they are first stopped, as in the editor.
+                const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), scene.style.rayCap);
+                renderer.setRayEnds(drawnRayEnds(*hits, result.map, project.source, project.receiver, subset), scene.style.rayCap);
+            }
             if (scene.overlay != OverlayKind::None) {
                 overlay.setLive(result, project, true);
                 renderer.setOverlay(overlayPatch(overlay.kind()), &overlay.texels());
