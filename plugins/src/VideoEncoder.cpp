@@ -96,7 +96,8 @@ std::pair<int, int> evenVideoSize(int width, int height)
 }
 
 struct VideoEncoder::Impl {
-    fs::path target;
+    fs::path target;        ///< the name the user gave (messages)
+    fs::path replaced;      ///< the file the rename replaces: a symlink's target, so the link stays
     fs::path temp;
     VideoFormat format;
     VideoSettings settings;
@@ -162,11 +163,18 @@ VideoEncoder::VideoEncoder(const fs::path& file, const VideoSettings& settings) 
     std::error_code ec;
     if (fs::is_directory(file, ec))
         throw Error("video '" + file.string() + "': is a folder");
-    const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    // Saving through a symlink replaces the file it names and keeps the link (as every save does,
+    // visibility/AtomicFile.h).
+    std::error_code linkError;
+    const bool link = fs::is_symlink(fs::symlink_status(file, ec));   // ec set for a file not there yet
+    m.replaced = link ? fs::weakly_canonical(file, linkError) : file;
+    if (linkError)
+        throw Error("video '" + file.string() + "': cannot follow the symlink (" + linkError.message() + ")");
+    const fs::path folder = m.replaced.has_parent_path() ? m.replaced.parent_path() : fs::path(".");
     if (!fs::is_directory(folder, ec))
         throw Error("video '" + file.string() + "': the folder '" + folder.string() + "' does not exist");
     // Beside the target, so the final rename stays on one file system.
-    m.temp = folder / atomicTempName(file, static_cast<unsigned long>(getpid()), static_cast<unsigned long>(std::random_device{}()));
+    m.temp = folder / atomicTempName(m.replaced, static_cast<unsigned long>(getpid()), static_cast<unsigned long>(std::random_device{}()));
 
     // libav's own log lines would break the one-line error rule; its errors reach the user through
     // av_strerror in our messages instead.
@@ -288,7 +296,7 @@ void VideoEncoder::finish()
     if (rc < 0)
         m.fail("closing", rc);
     std::error_code ec;
-    fs::rename(m.temp, m.target, ec);
+    fs::rename(m.temp, m.replaced, ec);
     if (ec)
         throw Error("video '" + m.target.string() + "': cannot replace it: " + ec.message());
     m.finished = true;

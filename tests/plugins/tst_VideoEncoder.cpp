@@ -184,5 +184,22 @@ TEST(VideoEncoder, AnUnfinishedRecordingLeavesTheOldFileAndNoTemporary)
     EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 1);
 }
 
+TEST(VideoEncoder, SavingThroughASymlinkReplacesItsTargetAndKeepsTheLink)
+{
+    const fs::path folder = freshFolder("symlink");
+    fs::create_directories(folder / "videos");
+    std::ofstream(folder / "videos" / "take.mp4") << "old";
+    fs::create_symlink("videos/take.mp4", folder / "latest.mp4");
+    VideoSettings settings;
+    settings.width = 32;
+    settings.height = 32;
+    VideoEncoder encoder(folder / "latest.mp4", settings);
+    for (int k = 0; k < 2; ++k)
+        encoder.addFrame(squareFrame(32, 32, k, false).data(), 32 * 4);
+    encoder.finish();
+    EXPECT_TRUE(fs::is_symlink(folder / "latest.mp4"));
+    EXPECT_EQ(test::decodeVideo((folder / "videos" / "take.mp4").string()).frames.size(), 2u);
+}
+
 } // namespace
 } // namespace sightline

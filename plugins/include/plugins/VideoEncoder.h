@@ -6,7 +6,8 @@
 // Saving never leaves a half file under the user's name: frames go to a temporary beside the
 // target (the ".NAME.tmp-PID-NONCE" of visibility/AtomicFile.h), and finish() renames it over the
 // target once the trailer is written. An encoder destroyed before finish() (an error, a cancelled
-// recording) removes its temporary and leaves the target as it was.
+// recording) removes its temporary and leaves the target as it was. A target that is a symlink keeps
+// the link: the file it names is replaced.
 //
 // Frame sizes are checked before anything is written: the 4:2:0 chroma of H.264 and VP9 halves
 // both sides, so width and height must be even (callers that take a window's size round down, see
