@@ -1,5 +1,6 @@
 // sightline: the editor. Also renders a project's view headlessly (--screenshot, optionally with
-// an importance or light overlay and its legend) and measures the live update rate
+// an importance or light overlay and its legend), records it over the project's recorded path or
+// animation to a video (--record, DESIGN.md §4) and measures the live update rate
 // (--benchmark-interaction, optionally with an overlay on).
 
 #include <algorithm>
@@ -19,9 +20,11 @@
 #include "OffscreenRender.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
+#include "VideoRecording.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "cli/OutputLimits.h"
+#include "plugins/VideoEncoder.h"
 #include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
@@ -34,8 +37,11 @@ using namespace sightline::ui;
 struct Arguments {
     std::string file;
     std::string screenshot;
+    std::string record;
     bool benchmark = false;
     int frames = 300;
+    bool framesGiven = false;
+    double fps = 0.0;   ///< 0: the recorded path's, else 30
     std::string size = "1280x720";
     int rays = 4096;
     bool showBlocked = false;
@@ -113,6 +119,38 @@ int screenshot(const Arguments& args, int width, int height)
     return 0;
 }
 
+/// `--record`: the project's recorded path (else its animation) rendered headless to a video.
+int record(const Arguments& args, int width, int height)
+{
+    EditorDocument document;
+    document.setAllowOutsidePaths(args.allowOutsidePaths);
+    document.open(args.file);
+    ViewStyle style;
+    style.rayCap = args.rays;
+    style.showBlocked = args.showBlocked;
+    const Project& project = document.project();
+    // The section cut where the editor puts it on open (1.5 m above the higher patch), so that it
+    // stays put while a recorded camera moves its target.
+    style.cutHeight = std::max(project.source.centre().y, project.receiver.centre().y) + 1.5;
+    RecordingScene scene = recordingScene(document, projectView(document.editorSettings(), project.source, project.receiver), style);
+    scene.overlay = parseOverlayKind(args.overlay);
+    scene.statistic = parseImportanceStatistic(args.statistic);
+    scene.accumulate = args.accumulate;
+    RecordingOptions options;
+    options.output = args.record;
+    options.width = width;
+    options.height = height;
+    options.fps = args.fps > 0.0 ? args.fps : defaultRecordingFps(scene);
+    options.frames = args.framesGiven ? args.frames : defaultRecordingFrames(scene, options.fps);
+    options.backend = gl::parseBackend(args.glBackend);
+    const RecordingFigures f = recordVideo(scene, options);
+    std::printf("wrote %s: %d frames at %dx%d, %.4g fps (%s, %s)\n", args.record.c_str(), f.frames, f.width, f.height, f.fps,
+                f.encoder.c_str(), f.source.c_str());
+    std::printf("recorded in %.2f s: %.1f frames per second (per frame: sampling %.1f ms, rendering %.1f ms, encoding %.1f ms)\n",
+                f.seconds, f.framesPerSecond(), f.sampleMs / f.frames, f.renderMs / f.frames, f.encodeMs / f.frames);
+    return 0;
+}
+
 int benchmark(const Arguments& args, int width, int height)
 {
     MainWindow window(EditorOptions{.offerRecovery = false, .allowOutsidePaths = args.allowOutsidePaths});
@@ -146,12 +184,20 @@ int main(int argc, char** argv)
     app.add_option("file", args.file, "Project (.json) or level (.glb .gltf .obj .ply .off .stl) to open");
     app.add_option("--screenshot", args.screenshot, "Render FILE's view (its saved camera, else across the shaft) to this PNG "
                                                     "without a display, then exit");
+    app.add_option("--record", args.record,
+                   "Render FILE's view over its recorded path (else its animation) to this video without a display, "
+                   "then exit: .mp4 (H.264) or .webm (VP9)");
+    app.add_option("--fps", args.fps, "Recording frame rate (default: the recorded path's, else 30)")
+        ->check(CLI::Range(0.001, 240.0));
     app.add_flag("--benchmark-interaction", args.benchmark,
                  "Drag FILE's receiver along a scripted path in the editor and print the median update rate");
-    app.add_option("--frames", args.frames, "Benchmark frames")->check(CLI::Range(1, 100000));
-    app.add_option("--size", args.size, "Screenshot or benchmark viewport size, WxH");
-    app.add_option("--rays", args.rays, "Most rays drawn (screenshot and benchmark)")->check(CLI::Range(1, 1 << 30));
-    app.add_flag("--show-blocked", args.showBlocked, "Draw blocked rays too, in red (screenshot and benchmark)");
+    CLI::Option* frames = app.add_option("--frames", args.frames,
+                                         "Benchmark frames; recording frames (default: the recorded path's length, "
+                                         "else the animation's frames)")
+                              ->check(CLI::Range(1, 100000));
+    app.add_option("--size", args.size, "Screenshot, recording or benchmark viewport size, WxH (a recording needs even sides)");
+    app.add_option("--rays", args.rays, "Most rays drawn (screenshot, recording and benchmark)")->check(CLI::Range(1, 1 << 30));
+    app.add_flag("--show-blocked", args.showBlocked, "Draw blocked rays too, in red (screenshot, recording and benchmark)");
     app.add_option("--overlay", args.overlay, "Paint receiver or source importance, or the source's light on the "
                                               "receiver. Screenshot: importance accumulated over the project's animation "
                                               "when it has one (else this frame), with its legend; benchmark: shown while "
@@ -161,16 +207,21 @@ int main(int argc, char** argv)
                    "How accumulated frames combine (screenshot: the animation's; benchmark: with --accumulate): "
                    "mean, max or ever")
         ->check(CLI::IsMember({"mean", "max", "ever"}));
-    app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging");
-    app.add_option("--gl-backend", args.glBackend, "Screenshot: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
+    app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging; recording: over the video's frames");
+    app.add_option("--gl-backend", args.glBackend, "Screenshot and recording: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_flag("--allow-outside-paths", args.allowOutsidePaths,
                  "Read files the project names by a relative path that leaves its folder (refused otherwise; "
                  "the editor's File menu keeps this as a setting)");
     try {
         app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // One line, as sightline-cli does (CLI11's default adds a second "Run with --help").
+        std::fprintf(stderr, "sightline: error: %s (see --help)\n", e.what());
+        return 2;
     }
+    args.framesGiven = frames->count() > 0;
     int width = 0, height = 0;
     if (!parseSize(args.size, width, height)) {
         std::fprintf(stderr, "sightline: --size must be WxH with positive sides, got '%s'\n", args.size.c_str());
@@ -183,13 +234,32 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "sightline: %s\n", e.what());
         return 2;
     }
-    if ((!args.screenshot.empty() || args.benchmark) && args.file.empty()) {
-        std::fprintf(stderr, "sightline: --screenshot and --benchmark-interaction need a project file\n");
+    if ((!args.screenshot.empty() || !args.record.empty() || args.benchmark) && args.file.empty()) {
+        std::fprintf(stderr, "sightline: --screenshot, --record and --benchmark-interaction need a project file\n");
         return 2;
+    }
+    if (!args.record.empty()) {
+        // Checked before the project loads: a bad name or size costs nothing.
+        try {
+            videoFormatFor(args.record);
+            VideoSettings video;
+            video.width = width;
+            video.height = height;
+            video.fps = args.fps > 0.0 ? args.fps : 30.0;
+            checkVideoSettings(video);
+        } catch (const sightline::Error& e) {
+            std::fprintf(stderr, "sightline: --record: %s\n", e.what());
+            return 2;
+        }
     }
     QCoreApplication::setOrganizationName("Sightline");
     QCoreApplication::setApplicationName("Sightline");
     try {
+        if (!args.record.empty()) {
+            // No display needed, as for --screenshot (the legend is not drawn in videos).
+            QCoreApplication core(argc, argv);
+            return record(args, width, height);
+        }
         if (!args.screenshot.empty()) {
             // No display needed: OSMesa renders. An overlay legend's text needs a
             // QGuiApplication, on the offscreen platform when there is no display.
@@ -216,7 +286,8 @@ int main(int argc, char** argv)
             window.openFile(QString::fromStdString(args.file));
         return application.exec();
     } catch (const std::exception& e) {
-        const std::string doing = !args.screenshot.empty() ? "rendering the screenshot of " + args.file
+        const std::string doing = !args.record.empty()       ? "recording " + args.file + " to " + args.record
+                                  : !args.screenshot.empty() ? "rendering the screenshot of " + args.file
                                   : args.benchmark          ? "benchmarking " + args.file
                                                             : std::string("running the editor");
         std::fprintf(stderr, "sightline: %s\n", describeFailure(e, doing).c_str());

@@ -310,6 +310,14 @@ void EditorDocument::applyState(ObjectRef object, const ObjectState& state)
     }
 }
 
+void EditorDocument::applyProjectKey(const std::string& key, const nlohmann::json& value)
+{
+    if (value.is_null())
+        project_.extra.erase(key);
+    else
+        project_.extra[key] = value;
+}
+
 void EditorDocument::addOccluder(const OccluderSpec& spec)
 {
     occluderMesh(spec);   // throws here, before the command, for a mesh file that does not load

@@ -92,6 +92,9 @@ public:
     void eraseOccluder(std::size_t index);
     void applyOccluderName(std::size_t index, const std::string& name);
     const OccluderSpec& occluder(std::size_t index) const { return project_.occluders.at(index); }
+    /// Sets (or, with a null value, removes) a top-level key of the project kept for other tools,
+    /// such as "recorded_path" (RecordingControls.h). Changes nothing the views draw.
+    void applyProjectKey(const std::string& key, const nlohmann::json& value);
 
     // ---- selection ----
     ObjectRef selection() const { return selection_; }

@@ -30,6 +30,7 @@
 #include "OverlayControls.h"
 #include "Picking.h"
 #include "PropertiesPanel.h"
+#include "RecordingControls.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
@@ -80,6 +81,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     statusBar()->addWidget(raysLabel_, 1);
     statusBar()->addPermanentWidget(backendLabel_);
     overlay_ = new OverlayControls(*this, document_, *viewport_, *controller_, container_, viewMenu_, toolbar_);
+    recorder_ = new RecordingControls(*this, document_, *viewport_, *controller_, toolbar_);
     connect(viewport_, &Viewport::visibilityUpdated, this, &MainWindow::updateStatus);
     connect(viewport_, &Viewport::backendChosen, this, [this](const QString& report) {
         backendLabel_->setToolTip(report);
@@ -437,7 +439,8 @@ void MainWindow::createActions()
                                     "Move / Rotate / Scale handles: W / E / R\n"
                                     "Section cut on / off: C; raise / lower it: Page Up / Page Down\n"
                                     "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
-                                    "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click"));
+                                    "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click\n"
+                                    "Record video (camera and edits) / stop: F9; play the recorded path: Shift+F9"));
     });
 }
 

@@ -26,6 +26,7 @@ namespace sightline::ui {
 class OutlinePanel;
 class OverlayControls;
 class PropertiesPanel;
+class RecordingControls;
 class Viewport;
 
 struct VisibilityResult;
@@ -49,6 +50,7 @@ public:
     Viewport& viewport() { return *viewport_; }
     QWidget* viewportContainer() { return container_; }
     OverlayControls& overlayControls() { return *overlay_; }
+    RecordingControls& recorder() { return *recorder_; }
 
     /// Opens a project or mesh file; on failure shows the one-line error and returns false.
     bool openFile(const QString& file);
@@ -105,6 +107,7 @@ private:
     QString enclosedNote_;
     QToolBar* toolbar_ = nullptr;
     OverlayControls* overlay_ = nullptr;
+    RecordingControls* recorder_ = nullptr;
     QTimer autosaveTimer_;
     QTimer rateTimer_;
     QAction* snapAction_ = nullptr;

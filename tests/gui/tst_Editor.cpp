@@ -32,11 +32,14 @@
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
+#include "RecordingControls.h"
 #include "UiTestScene.h"
+#include "VideoDecoder.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "project/Animation.h"
 #include "project/Project.h"
+#include "project/RecordedPath.h"
 #include "visibility/ColourMap.h"
 #include "visibility/RayCastSampler.h"
 
@@ -123,6 +126,95 @@ private slots:
         const std::uint64_t reference = referenceBlocked(project_);
         QVERIFY2(std::max(result.blocked, reference) - std::min(result.blocked, reference) <= result.rays / 10000,
                  qPrintable(QString("editor %1, reference %2").arg(result.blocked).arg(reference)));
+    }
+
+    // Issue 16 §3: F9 records the camera and the edits at a fixed rate, Stop keeps them as the
+    // project's recorded path (undoable) and renders the video off the GUI thread; the video
+    // decodes to one frame per captured frame at the viewport's size, and the path plays back.
+    void recordsTheCameraAndEditsThenRendersTheVideo()
+    {
+        RecordingControls& recorder = window_->recorder();
+        QCOMPARE(recorder.recordAction()->shortcut(), QKeySequence(Qt::Key_F9));
+        QCOMPARE(recorder.playAction()->shortcut(), QKeySequence(Qt::SHIFT | Qt::Key_F9));
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        const Patch receiver = document.project().receiver;
+        // The editor's default density (an earlier test draws all 1M rays, 1-2 s a frame on llvmpipe).
+        const int rayCap = window_->viewport().style().rayCap;
+        window_->viewport().style().rayCap = 4096;
+        const QString video = QString::fromStdString((folder_ / "recorded.mp4").string());
+        QVERIFY(!recorder.startRecording(QString::fromStdString((folder_ / "recorded.avi").string())));
+        QVERIFY(window_->statusBar()->currentMessage().contains("unknown extension '.avi'"));
+
+        QVERIFY(recorder.startRecording(video, 20.0));
+        QVERIFY(recorder.isRecording());
+        QVERIFY(recorder.recordAction()->isChecked());
+        // The designer orbits, then drags the receiver 1.5 m (as a gizmo drag shows it, live).
+        for (int step = 1; step <= 4; ++step) {
+            Camera c = controller.camera();
+            orbit(c, 25.0, 0.0);
+            controller.setCamera(c);
+            QTest::qWait(120);
+        }
+        Patch moved = receiver;
+        moved.corner.z -= 1.5;
+        document.setState({ObjectKind::Receiver, 0}, moved, "move");
+        waitForUpdate();
+        QTest::qWait(300);
+        QVERIFY2(recorder.statusLabel()->text().contains("REC"), qPrintable(recorder.statusLabel()->text()));
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())   // the real window, viewport included
+            window_->screen()->grabWindow(0, window_->x(), window_->y(), window_->frameGeometry().width(), window_->frameGeometry().height())
+                .save(QString::fromUtf8(shots) + "/recording.png");
+
+        QSignalSpy finished(&recorder, &RecordingControls::videoFinished);
+        recorder.stopRecording();
+        QVERIFY(!recorder.isRecording());
+        QVERIFY(recorder.isRendering());
+        const RecordedPath path = parseRecordedPath(document.project(), "gui");
+        QVERIFY2(path.frames >= 10, qPrintable(QString::number(path.frames)));   // about a second at 20 fps
+        QCOMPARE(path.fps, 20.0);
+        QVERIFY(path.camera.size() >= 4);   // the first view and each orbit step
+        int receiverKeys = 0;
+        for (const PathEdit& e : path.edits)
+            receiverKeys += e.object == PathEdit::Object::Receiver;
+        QCOMPARE(receiverKeys, 2);   // where it started (frame 0) and where it was moved
+        QCOMPARE(projectAtPathFrame(document.project(), path, 0).receiver.corner, receiver.corner);
+        QCOMPARE(projectAtPathFrame(document.project(), path, path.frames - 1).receiver.corner, moved.corner);
+
+        // The editor stays live while the video renders on the worker thread.
+        QVERIFY2(finished.count() > 0 || finished.wait(120000), qPrintable(recorder.statusLabel()->text()));
+        QVERIFY2(finished.front().at(0).toBool(), qPrintable(finished.front().at(1).toString()));
+        const test::DecodedVideo decoded = test::decodeVideo(video.toStdString());
+        QCOMPARE(int(decoded.frames.size()), path.frames);
+        QCOMPARE(decoded.codec, std::string("h264"));
+        QCOMPARE(decoded.width, window_->viewport().width() & ~1);
+        QCOMPARE(decoded.height, window_->viewport().height() & ~1);
+        QCOMPARE(decoded.fps, 20.0);
+        if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())   // the video's last frame
+            QImage(decoded.frames.back().data(), decoded.width, decoded.height, decoded.width * 3, QImage::Format_RGB888)
+                .save(QString::fromUtf8(shots) + "/recorded-last-frame.png");
+
+        // Playback moves the camera through the recorded views, then puts everything back.
+        document.setState({ObjectKind::Receiver, 0}, receiver, "move back");
+        controller.setCamera(before);
+        QSignalSpy played(&recorder, &RecordingControls::playbackFinished);
+        QVERIFY(recorder.playPath());
+        QTest::qWait(200);
+        QVERIFY(recorder.isPlaying());
+        QVERIFY(played.wait(10000));
+        QVERIFY(std::abs(controller.camera().yaw - before.yaw) > 0.01);   // the path's last view
+        QCOMPARE(document.project().receiver.corner, receiver.corner);
+
+        // The path is one undoable edit.
+        document.undoStack()->undo();   // "move back"
+        document.undoStack()->undo();   // "Record Path"
+        QVERIFY(!document.project().extra.contains(kRecordedPathKey));
+        document.undoStack()->undo();   // "move"
+        QCOMPARE(document.project().receiver.corner, receiver.corner);
+        controller.setCamera(before);
+        window_->viewport().style().rayCap = rayCap;
+        waitForUpdate();
     }
 
     void placesTheReceiverWithAClick()
@@ -247,6 +339,7 @@ private slots:
         const Project& project = window_->document().project();
         ViewportController& controller = window_->controller();
         controller.setCamera(shaftView(project.source, project.receiver));
+        const ViewStyle style = window_->viewport().style();   // restored after: 1M rays drawn take 1-2 s a frame
         window_->viewport().style().freeColour = {1.0f, 0.85f, 0.15f, 1.0f};
         window_->viewport().style().rayCap = 1 << 20;
         window_->viewport().requestUpdate();
@@ -262,6 +355,8 @@ private slots:
         const QPoint above = pixelOf(controller, nearSource + glm::dvec3(0, 3.0, 0));
         QVERIFY(yellowish(image.pixel(inside)));
         QVERIFY(!yellowish(image.pixel(above)));
+        window_->viewport().style() = style;
+        waitForUpdate();
     }
 
     void overlayShowsTheLegendAndReadsOutTheSampleUnderTheCursor()

@@ -1,0 +1,236 @@
+#include "project/RecordedPath.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "visibility/Error.h"
+
+namespace sightline {
+
+using nlohmann::json;
+
+namespace {
+
+[[noreturn]] void fail(const std::string& what, const std::string& key, const std::string& problem)
+{
+    throw Error(what + ": '" + key + "' " + problem);
+}
+
+double number(const json& object, const char* field, const std::string& what, const std::string& key)
+{
+    if (!object.contains(field) || !object.at(field).is_number())
+        fail(what, key + "." + field, "must be a number");
+    const double x = object.at(field).get<double>();
+    if (!std::isfinite(x))
+        fail(what, key + "." + field, "must be finite");
+    return x;
+}
+
+glm::dvec3 vec3(const json& object, const char* field, const std::string& what, const std::string& key)
+{
+    const std::string name = key + "." + field;
+    if (!object.contains(field))
+        fail(what, name, "is missing");
+    const json& a = object.at(field);
+    if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+        fail(what, name, "must be an array of 3 numbers");
+    const glm::dvec3 v{a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        fail(what, name, "must be finite");
+    return v;
+}
+
+int frameOf(const json& object, const std::string& what, const std::string& key, int frames)
+{
+    if (!object.contains("frame") || !object.at("frame").is_number_integer())
+        fail(what, key + ".frame", "must be an integer");
+    const long long f = object.at("frame").get<long long>();
+    if (f < 0 || f >= frames)
+        fail(what, key + ".frame", "must be in [0, frames) = [0, " + std::to_string(frames) + ")");
+    return int(f);
+}
+
+json vec3Json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+
+/// Which object an edit moves, for "its last key": patches by kind, occluders by index.
+std::pair<int, std::size_t> objectId(const PathEdit& e) { return {int(e.object), e.index}; }
+
+} // namespace
+
+std::optional<PathCamera> RecordedPath::cameraAt(int frame) const
+{
+    if (camera.empty())
+        return std::nullopt;
+    const auto next = std::upper_bound(camera.begin(), camera.end(), frame,
+                                       [](int f, const PathCameraKey& key) { return f < key.frame; });
+    return next == camera.begin() ? camera.front().camera : (next - 1)->camera;
+}
+
+int RecordedPath::frameAtTime(double seconds) const
+{
+    if (frames <= 0)
+        return 0;
+    // A small slack so that k / fps maps back to k despite rounding.
+    const double f = std::floor(seconds * fps + 1e-6);
+    return int(std::clamp(f, 0.0, double(frames - 1)));
+}
+
+RecordedPath parseRecordedPath(const Project& project, const std::string& what)
+{
+    RecordedPath path;
+    const auto it = project.extra.find(kRecordedPathKey);
+    if (it == project.extra.end())
+        return path;
+    const json& object = *it;
+    const std::string root = kRecordedPathKey;
+    if (!object.is_object())
+        fail(what, root, "must be an object with fps, frames, camera and edits");
+    path.fps = number(object, "fps", what, root);
+    if (!(path.fps > 0.0) || path.fps > 1000.0)
+        fail(what, root + ".fps", "must be in (0, 1000]");
+    if (!object.contains("frames") || !object.at("frames").is_number_integer())
+        fail(what, root + ".frames", "must be an integer");
+    const long long frames = object.at("frames").get<long long>();
+    if (frames < 1 || frames > kMaxRecordedFrames)
+        fail(what, root + ".frames", "must be in [1, " + std::to_string(kMaxRecordedFrames) + "]");
+    path.frames = int(frames);
+
+    if (object.contains("camera")) {
+        const json& keys = object.at("camera");
+        if (!keys.is_array())
+            fail(what, root + ".camera", "must be an array of camera keys");
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            const std::string key = root + ".camera[" + std::to_string(k) + "]";
+            if (!keys[k].is_object())
+                fail(what, key, "must be an object with frame, target, distance, yaw, pitch and fov_y");
+            PathCameraKey cam;
+            cam.frame = frameOf(keys[k], what, key, path.frames);
+            cam.camera.target = vec3(keys[k], "target", what, key);
+            cam.camera.distance = number(keys[k], "distance", what, key);
+            cam.camera.yaw = number(keys[k], "yaw", what, key);
+            cam.camera.pitch = number(keys[k], "pitch", what, key);
+            cam.camera.fovY = number(keys[k], "fov_y", what, key);
+            if (!(cam.camera.distance > 0.0))
+                fail(what, key + ".distance", "must be positive");
+            if (!(std::abs(cam.camera.pitch) < 1.5708))
+                fail(what, key + ".pitch", "must be in (-pi/2, pi/2)");
+            if (!(cam.camera.fovY > 0.05 && cam.camera.fovY < 3.0))
+                fail(what, key + ".fov_y", "must be in (0.05, 3) radians");
+            if (!path.camera.empty() && cam.frame <= path.camera.back().frame)
+                fail(what, key + ".frame", "must be greater than the previous key's frame");
+            path.camera.push_back(cam);
+        }
+    }
+
+    if (object.contains("edits")) {
+        const json& keys = object.at("edits");
+        if (!keys.is_array())
+            fail(what, root + ".edits", "must be an array of edit keys");
+        for (std::size_t k = 0; k < keys.size(); ++k) {
+            const std::string key = root + ".edits[" + std::to_string(k) + "]";
+            if (!keys[k].is_object())
+                fail(what, key, "must be an object with frame and object");
+            PathEdit edit;
+            edit.frame = frameOf(keys[k], what, key, path.frames);
+            const std::string kind = keys[k].value("object", std::string());
+            if (kind == "source" || kind == "receiver") {
+                edit.object = kind == "source" ? PathEdit::Object::Source : PathEdit::Object::Receiver;
+                edit.patch.corner = vec3(keys[k], "corner", what, key);
+                edit.patch.u = vec3(keys[k], "u", what, key);
+                edit.patch.v = vec3(keys[k], "v", what, key);
+            } else if (kind == "occluder") {
+                edit.object = PathEdit::Object::Occluder;
+                const json& index = keys[k].value("index", json());
+                if (!index.is_number_unsigned())
+                    fail(what, key + ".index", "must be an occluder's index (an integer >= 0)");
+                edit.index = index.get<std::size_t>();
+                if (!keys[k].contains("name") || !keys[k].at("name").is_string())
+                    fail(what, key + ".name", "must be the occluder's name");
+                edit.name = keys[k].at("name").get<std::string>();
+                const json& m = keys[k].value("transform", json());
+                if (!m.is_array() || m.size() != 16)
+                    fail(what, key + ".transform", "must be an array of 16 numbers (column-major)");
+                for (int i = 0; i < 16; ++i) {
+                    if (!m[std::size_t(i)].is_number() || !std::isfinite(m[std::size_t(i)].get<double>()))
+                        fail(what, key + ".transform", "must be an array of 16 finite numbers");
+                    edit.transform[i / 4][i % 4] = m[std::size_t(i)].get<float>();
+                }
+            } else {
+                fail(what, key + ".object", "must be \"source\", \"receiver\" or \"occluder\"");
+            }
+            if (!path.edits.empty() && edit.frame < path.edits.back().frame)
+                fail(what, key + ".frame", "must not be less than the previous edit's frame");
+            path.edits.push_back(edit);
+        }
+    }
+    return path;
+}
+
+json toJson(const RecordedPath& path)
+{
+    json camera = json::array();
+    for (const PathCameraKey& key : path.camera)
+        camera.push_back({{"frame", key.frame}, {"target", vec3Json(key.camera.target)}, {"distance", key.camera.distance},
+                          {"yaw", key.camera.yaw}, {"pitch", key.camera.pitch}, {"fov_y", key.camera.fovY}});
+    json edits = json::array();
+    for (const PathEdit& e : path.edits) {
+        json key = {{"frame", e.frame}};
+        if (e.object == PathEdit::Object::Occluder) {
+            key["object"] = "occluder";
+            key["index"] = e.index;
+            key["name"] = e.name;
+            json m = json::array();
+            for (int i = 0; i < 16; ++i)
+                m.push_back(double(e.transform[i / 4][i % 4]));
+            key["transform"] = std::move(m);
+        } else {
+            key["object"] = e.object == PathEdit::Object::Source ? "source" : "receiver";
+            key["corner"] = vec3Json(e.patch.corner);
+            key["u"] = vec3Json(e.patch.u);
+            key["v"] = vec3Json(e.patch.v);
+        }
+        edits.push_back(std::move(key));
+    }
+    return {{"fps", path.fps}, {"frames", path.frames}, {"camera", std::move(camera)}, {"edits", std::move(edits)}};
+}
+
+void setRecordedPath(Project& project, const RecordedPath& path)
+{
+    if (path.empty())
+        project.extra.erase(kRecordedPathKey);
+    else
+        project.extra[kRecordedPathKey] = toJson(path);
+}
+
+Project projectAtPathFrame(const Project& project, const RecordedPath& path, int frame)
+{
+    // Per object, its last edit at or before `frame`, else its first one.
+    std::map<std::pair<int, std::size_t>, const PathEdit*> state;
+    for (const PathEdit& e : path.edits) {
+        auto [it, inserted] = state.try_emplace(objectId(e), &e);
+        if (!inserted && e.frame <= frame)
+            it->second = &e;
+    }
+    Project moved = project;
+    for (const auto& [id, edit] : state) {
+        switch (edit->object) {
+        case PathEdit::Object::Source:
+        case PathEdit::Object::Receiver: {
+            Patch& patch = edit->object == PathEdit::Object::Source ? moved.source : moved.receiver;
+            patch.corner = edit->patch.corner;
+            patch.u = edit->patch.u;
+            patch.v = edit->patch.v;
+            break;
+        }
+        case PathEdit::Object::Occluder:
+            if (edit->index < moved.occluders.size() && moved.occluders[edit->index].name == edit->name)
+                moved.occluders[edit->index].transform = edit->transform;
+            break;
+        }
+    }
+    return moved;
+}
+
+} // namespace sightline
