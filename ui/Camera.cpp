@@ -95,6 +95,20 @@ glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, in
     return {(ndcX + 1.0) * 0.5 * width, (1.0 - ndcY) * 0.5 * height, depth};
 }
 
+void keepAbove(Camera& camera, double floorY, bool orbiting)
+{
+    const double below = floorY - camera.eye().y;
+    if (!(below > 0.0))
+        return;
+    // eye.y = target.y - distance * sin(pitch): the largest pitch that keeps the eye up.
+    const double maxSin = (camera.target.y - floorY) / camera.distance;
+    if (orbiting && maxSin > -0.99) {
+        camera.pitch = std::min(camera.pitch, std::asin(std::min(maxSin, 0.99)));
+        return;
+    }
+    camera.target.y += below;
+}
+
 Camera axisView(AxisView view, const Bounds& bounds)
 {
     Camera camera;

@@ -47,6 +47,9 @@ void dolly(Camera& camera, double steps);
 void look(Camera& camera, double dxPixels, double dyPixels);
 /// Fly mode: moves eye and target by `move` in camera axes (x right, y up, z forward), metres.
 void fly(Camera& camera, const glm::dvec3& move);
+/// Keeps the eye at or above `floorY` (issue 16 §2: navigation took the camera under the floor).
+/// Orbiting (and dollying) tilts the view up just enough; panning and flying lift eye and target.
+void keepAbove(Camera& camera, double floorY, bool orbiting);
 /// Looks at the whole box from the current direction.
 void frame(Camera& camera, const Bounds& bounds);
 

@@ -73,6 +73,13 @@ const WorldTriangles& ViewportController::triangles() const
 
 Ray ViewportController::rayAt(QPointF position) const { return pixelRay(camera_, position.x(), position.y(), width_, height_); }
 
+double ViewportController::floorLimit() const
+{
+    if (!sceneBounds_)
+        sceneBounds_ = document_.scene().bounds();
+    return sceneBounds_->empty() ? -std::numeric_limits<double>::infinity() : double(sceneBounds_->min.y) + 0.1;
+}
+
 double ViewportController::sceneRadius() const
 {
     // Called every frame: the scene's bounds (every vertex of every instance) are kept.
@@ -221,6 +228,7 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
     case Navigation::Fly: look(camera_, delta.x(), delta.y()); break;
     case Navigation::None: return;
     }
+    keepAbove(camera_, floorLimit(), navigation_ == Navigation::Orbit);
     pressedOnEmpty_ = false;
     emit viewChanged();
 }
@@ -249,6 +257,7 @@ void ViewportController::mouseRelease(Qt::MouseButton button, QPointF position)
 void ViewportController::wheel(double steps)
 {
     dolly(camera_, steps);
+    keepAbove(camera_, floorLimit(), true);
     emit viewChanged();
 }
 
@@ -279,6 +288,7 @@ void ViewportController::advanceFly(double seconds)
         return;
     const double speed = 0.4 * sceneRadius() * (flyFast_ ? 3.0 : 1.0);   // metres per second
     fly(camera_, flyKeys_ * (speed * seconds));
+    keepAbove(camera_, floorLimit(), false);
     emit viewChanged();
 }
 

@@ -64,6 +64,8 @@ public:
     void frameSelection();
     /// The scene's extent, for clip planes and fly speed.
     double sceneRadius() const;
+    /// The lowest the eye may go while navigating: 10 cm above the scene's lowest point.
+    double floorLimit() const;
 
     /// The view's style, for the section cut that picking honours (nullptr: nothing is cut).
     void setStyle(const ViewStyle* style) { style_ = style; }

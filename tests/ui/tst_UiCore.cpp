@@ -84,6 +84,31 @@ TEST(Camera, FramedBoxIsInView)
     }
 }
 
+// Issue 16 §2: navigation took the camera under the floor.
+TEST(Camera, NavigationKeepsTheEyeAboveTheFloor)
+{
+    Camera camera;
+    camera.target = {0, 0.5, 0};
+    camera.distance = 10.0;
+    camera.pitch = -0.3;
+    for (int k = 0; k < 50; ++k) {
+        orbit(camera, 0.0, -40.0);   // tilting the view up swings the eye down
+        keepAbove(camera, 0.0, true);
+        EXPECT_GE(camera.eye().y, -1e-9) << k;
+    }
+    EXPECT_NEAR(camera.eye().y, 0.0, 1e-6);   // it stopped at the floor, not before
+    EXPECT_NEAR(camera.target.y, 0.5, 1e-12);   // orbiting leaves the target
+    Camera flying = camera;
+    fly(flying, {0.0, -5.0, 0.0});
+    keepAbove(flying, 0.0, false);
+    EXPECT_NEAR(flying.eye().y, 0.0, 1e-9);
+    const Camera high = camera;
+    Camera same = high;
+    keepAbove(same, -100.0, true);   // far above the floor: untouched
+    EXPECT_EQ(same.pitch, high.pitch);
+    EXPECT_EQ(same.target, high.target);
+}
+
 TEST(Camera, OrbitKeepsTargetAndDistance)
 {
     Camera camera;
