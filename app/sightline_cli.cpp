@@ -5,6 +5,7 @@
 //   sightline-cli demo OUTDIR
 //   sightline-cli importance PROJECT.json --out MAP.png [--npy MAP.npy] [--frames N]   (cli/LightingCommands)
 //   sightline-cli shadow PROJECT.json --out SHADOW.png
+//   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
 // returns non-zero.
@@ -28,6 +29,7 @@
 #include "cli/LightingCommands.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
+#include "cli/PvsCommands.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
@@ -549,6 +551,9 @@ int main(int argc, char** argv)
     cli::ShadowArgs shadow;
     CLI::App* shadowCmd = cli::addShadowCommand(app, shadow);
 
+    cli::PvsArgs pvsArgs;
+    CLI::App* pvsCmd = cli::addPvsCommand(app, pvsArgs);
+
     std::string demoFolder;
     CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json), the benchmark scenes (few-occluders, dense-mesh) and seeds 1-3 of each generated bench kind (bench/KIND-SEED.glb + .json)");
     demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
@@ -597,6 +602,8 @@ int main(int argc, char** argv)
             cli::checkShadowOptions(*shadowCmd, shadow);
             return cli::runShadow(shadow);
         }
+        if (*pvsCmd)
+            return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {
         const CLI::App* command = app.get_subcommands().front();
         std::cerr << "sightline-cli: error: " << describeFailure(e, "running '" + command->get_name() + "'") << "\n";

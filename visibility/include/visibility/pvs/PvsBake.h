@@ -1,0 +1,149 @@
+#pragma once
+// The PVS bake (issue 17 §2): which objects each view cell may see.
+//
+// An object is visible from a cell when some segment from a point of the cell's box to a point of
+// the object's triangles meets no other triangle (DESIGN.md §4). The bake samples that question
+// and proves every "visible" it writes with a witness ray: a first-hit cast (FirstHitCaster.h)
+// from a point of the cell whose first triangle is the object's. Sampling can therefore only miss
+// visibility, never invent it (except for boxes that overlap the cell, which are visible by
+// definition of a box and written so). Per (cell, object), in order, stopping at the first witness:
+//
+//  1. Overlap: the object's bounds meet the cell's box -> visible.
+//  2. Direct rays: a few stratified points of the cell (seeded from the scene hash and the cell id)
+//     towards a few points on the object's triangles (area-stratified, seeded from the object).
+//  3. Shafts (Eisemann & Décoret 2007, the exact bitmask sampler, CpuBitmaskSampler.h, as §11's
+//     from-region future work): between each cell face and each face of the object's bounds that
+//     can see each other. A pair of box faces is not always a valid patch pair (DESIGN.md §2:
+//     each must lie strictly on one side of the other's plane), so each face is clipped to the part
+//     strictly in front of the other's plane (1 mm margin); every segment from the cell to the box
+//     leaves the cell through some face F and enters the box through some face G, and its exit
+//     and entry points lie in F clipped by G's plane and G clipped by F's, so these clipped pairs
+//     cover every segment between the boxes (less the margins). The sampler gives every blocked
+//     ray of the pair at once; an unblocked ray reaches the object's *bounds*, which is only a
+//     proxy: it is continued into the box with a first-hit cast, and only a first hit on the
+//     object counts. A few unblocked rays per pair are tried (spread over the pair's samples).
+//
+// Passes: the coarse pass runs every cell at the coarse sample counts, so the editor has an
+// answer for every cell soon; the refine pass reruns only the pairs the coarse pass left hidden,
+// with more samples (adaptive: visible pairs are done, hidden ones are where sampling can miss).
+// Safe mode adds a verification pass over what is still hidden: dense direct rays (the density of
+// the accuracy reference, with the bake's own seeds). It is an empirical check, not a proof;
+// docs/pvs.md reports what it reaches.
+//
+// Determinism: each cell's row depends only on the scene, the settings and the cell (no shared
+// state between cells, fixed sampler strategy, seeds from the scene hash and cell id), so the
+// output is byte-identical whatever the thread count or the split of cells over shards or ranks.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "visibility/Scene.h"
+#include "visibility/pvs/PvsData.h"
+
+namespace sightline {
+class CpuBitmaskSampler;
+}
+
+namespace sightline::pvs {
+
+class FirstHitCaster;
+
+struct PvsSettings {
+    int coarseSamples = 3;     ///< shaft samples per face side, coarse pass (n x n on each face)
+    int fineSamples = 8;       ///< shaft samples per face side, refine pass (at most 32)
+    int directCellPoints = 8;  ///< direct rays: points of the cell (coarse pass; refine uses 4x)
+    int directObjectPoints = 8;///< direct rays: points on the object (coarse; refine uses 4x)
+    int witnessTries = 4;      ///< unblocked shaft rays continued per face pair
+    bool refine = true;        ///< run the refine pass
+    bool safe = false;         ///< verification pass of dense direct rays over what stays hidden
+    int safeCellPoints = 64;   ///< safe mode: points per cell ...
+    int safeObjectPoints = 64; ///< ... and per object
+    int threads = 0;           ///< 0 = all cores (the answer never depends on it)
+
+    /// Canonical text of the settings that change the answer (not `threads`): part manifests and
+    /// the .pvs header's settings hash are built from it.
+    std::string canonical() const;
+    /// Throws sightline::Error for counts out of range.
+    void validate() const;
+};
+
+enum class PvsPass { Coarse, Refine, Safe };
+
+/// Bake progress for a caller that shows it (the editor's debugger) or logs it. Called from
+/// worker threads, possibly concurrently: keep it cheap and thread-safe.
+struct PvsProgress {
+    /// A cell's row after a pass (bits over objects, VisibilityRows layout).
+    std::function<void(PvsPass pass, std::size_t cell, const std::vector<std::uint8_t>& row)> onCell;
+    /// Checked between cells; true stops the bake (bake() then throws PvsCancelled).
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+struct PvsCancelled : std::exception {
+    const char* what() const noexcept override { return "PVS bake cancelled"; }
+};
+
+struct PvsStats {
+    double coarseMs = 0.0, refineMs = 0.0, safeMs = 0.0;
+    std::uint64_t overlapPairs = 0, directWitnesses = 0, shaftWitnesses = 0, safeWitnesses = 0;
+    std::uint64_t shaftPairs = 0;     ///< face pairs sampled with the bitmask sampler
+    std::uint64_t shaftRays = 0;      ///< rays those pairs answered
+    std::uint64_t witnessCasts = 0;   ///< first-hit casts
+};
+
+class PvsBaker {
+public:
+    /// `sceneSha256` seeds the sampling (with each cell's index). Cells are validated
+    /// (validateCells) and settings too; both throw sightline::Error.
+    PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<PvsObject> objects, std::string sceneSha256,
+             PvsSettings settings);
+    ~PvsBaker();
+
+    const std::vector<Bounds>& cells() const { return cells_; }
+    const std::vector<PvsObject>& objects() const { return objects_; }
+
+    /// Bakes the listed cells (indices into cells(); all when empty): the coarse pass over all of
+    /// them first, then refinement, then the safe pass. Returns rows for every cell (cells not
+    /// listed stay all zero). Throws PvsCancelled when progress.cancel is set.
+    VisibilityRows bake(const std::vector<std::size_t>& cellIndices = {}, const PvsProgress& progress = {},
+                        PvsStats* stats = nullptr) const;
+
+    /// One cell, one pass, in the calling thread: `row` holds the previous passes' answer
+    /// (empty for the coarse pass) and is updated.
+    void bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t>& row, PvsStats* stats = nullptr) const;
+
+private:
+    bool visibleByOverlap(std::size_t cell, std::size_t object) const;
+    bool visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPoints,
+                             std::uint32_t salt) const;
+    bool visibleThroughShafts(std::size_t cell, std::size_t object, int samples, PvsStats* stats) const;
+    bool hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const;
+
+    std::vector<Bounds> cells_;
+    std::vector<PvsObject> objects_;
+    std::vector<std::int32_t> objectOfInstance_;
+    std::uint64_t seed_ = 0;
+    PvsSettings settings_;
+    std::unique_ptr<FirstHitCaster> caster_;
+    std::unique_ptr<CpuBitmaskSampler> sampler_;
+    /// Per object: points on its triangles, area-stratified (the direct rays' targets).
+    std::vector<std::vector<glm::vec3>> objectPoints_;
+};
+
+/// Stratified points: `count` points of a box (a jittered k x k x k grid, k^3 >= count, the first
+/// `count` in a fixed order) from `seed`. Shared by the bake and the reference, with different seeds.
+std::vector<glm::vec3> boxPoints(const Bounds& box, int count, std::uint64_t seed);
+
+/// `count` points on a triangle soup (3 vertices per triangle), stratified by area, from `seed`.
+/// Empty for a soup of zero area.
+std::vector<glm::vec3> surfacePoints(const std::vector<glm::vec3>& triangleVertices, int count, std::uint64_t seed);
+
+/// splitmix64, the seeds' mixer.
+std::uint64_t mixSeed(std::uint64_t a, std::uint64_t b);
+/// The first 16 hex digits of a SHA-256 as a number (0 for an empty string).
+std::uint64_t seedFromSha(const std::string& sha256Hex);
+
+} // namespace sightline::pvs

@@ -1,0 +1,428 @@
+#include "visibility/pvs/PvsBake.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <sstream>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Error.h"
+#include "visibility/Patch.h"
+#include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/ViewCells.h"
+
+namespace sightline::pvs {
+
+std::uint64_t mixSeed(std::uint64_t a, std::uint64_t b)
+{
+    std::uint64_t z = a + 0x9e3779b97f4a7c15ull * (b + 1);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+std::uint64_t seedFromSha(const std::string& sha256Hex)
+{
+    std::uint64_t seed = 0;
+    for (std::size_t k = 0; k < std::min<std::size_t>(16, sha256Hex.size()); ++k) {
+        const char c = sha256Hex[k];
+        const int digit = c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : 0;
+        seed = seed * 16 + std::uint64_t(digit);
+    }
+    return seed;
+}
+
+namespace {
+
+/// A uniform number in [0, 1) from a counter-based stream: the same on every machine.
+struct Stream {
+    std::uint64_t state;
+    double next()
+    {
+        state = mixSeed(state, 0x5851f42d4c957f2dull);
+        return double(state >> 11) * (1.0 / 9007199254740992.0);
+    }
+};
+
+double millisecondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// An axis-aligned rectangle: a box that is flat on `axis`.
+struct Rect {
+    Bounds box;
+    int axis = 0;
+};
+
+/// The face of `box` on `axis`, on its max side when `positive`.
+Rect face(const Bounds& box, int axis, bool positive)
+{
+    Rect r{box, axis};
+    r.box.min[axis] = r.box.max[axis] = positive ? box.max[axis] : box.min[axis];
+    return r;
+}
+
+/// The patch of a rectangle with `n` x `n` samples (DESIGN.md §2 layout).
+Patch patchOf(const Rect& r, int n)
+{
+    const int b = (r.axis + 1) % 3, c = (r.axis + 2) % 3;
+    Patch p;
+    p.corner = glm::dvec3(r.box.min);
+    p.u = glm::dvec3(0.0);
+    p.v = glm::dvec3(0.0);
+    p.u[b] = double(r.box.max[b]) - r.box.min[b];
+    p.v[c] = double(r.box.max[c]) - r.box.min[c];
+    p.na = p.nb = n;
+    return p;
+}
+
+/// Clips `r` (not flat on `axis` ... or flat) to the side of the plane x[axis] = plane given by
+/// `sign` (+1: x > plane + margin). False when nothing of positive extent is left.
+bool clipToSide(Rect& r, int axis, float plane, int sign, float margin)
+{
+    if (r.axis == axis) {
+        const float x = r.box.min[axis];
+        return sign > 0 ? x > plane + margin : x < plane - margin;
+    }
+    if (sign > 0)
+        r.box.min[axis] = std::max(r.box.min[axis], plane + margin);
+    else
+        r.box.max[axis] = std::min(r.box.max[axis], plane - margin);
+    return r.box.max[axis] - r.box.min[axis] > margin;
+}
+
+bool overlaps(const Bounds& a, const Bounds& b)
+{
+    for (int k = 0; k < 3; ++k)
+        if (a.max[k] < b.min[k] || b.max[k] < a.min[k])
+            return false;
+    return true;
+}
+
+/// Exit parameter of the ray origin + t d from `box` (t in units of d), or 0 if it misses.
+float exitParameter(const Bounds& box, const glm::vec3& origin, const glm::vec3& d)
+{
+    float t0 = 0.0f, t1 = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        if (d[k] == 0.0f) {
+            if (origin[k] < box.min[k] || origin[k] > box.max[k])
+                return 0.0f;
+            continue;
+        }
+        float a = (box.min[k] - origin[k]) / d[k], b = (box.max[k] - origin[k]) / d[k];
+        if (a > b)
+            std::swap(a, b);
+        t0 = std::max(t0, a);
+        t1 = std::min(t1, b);
+    }
+    return t1 >= t0 ? t1 : 0.0f;
+}
+
+constexpr float kFaceMargin = 1e-3f;   // metres: keeps clipped pairs strictly valid (DESIGN.md §2)
+
+} // namespace
+
+std::string PvsSettings::canonical() const
+{
+    std::ostringstream s;
+    s << "pvs-bake-v1 coarse=" << coarseSamples << " fine=" << fineSamples << " direct=" << directCellPoints << "x"
+      << directObjectPoints << " witness=" << witnessTries << " refine=" << refine << " safe=" << safe;
+    if (safe)
+        s << " safe_points=" << safeCellPoints << "x" << safeObjectPoints;
+    return s.str();
+}
+
+void PvsSettings::validate() const
+{
+    auto range = [](const char* name, int value, int lo, int hi) {
+        if (value < lo || value > hi)
+            throw Error(std::string("pvs: ") + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                        "], got " + std::to_string(value));
+    };
+    range("coarse samples", coarseSamples, 1, 32);
+    range("fine samples", fineSamples, 1, 32);
+    range("direct cell points", directCellPoints, 1, 4096);
+    range("direct object points", directObjectPoints, 1, 4096);
+    range("witness tries", witnessTries, 1, 1024);
+    range("safe cell points", safeCellPoints, 1, 65536);
+    range("safe object points", safeObjectPoints, 1, 65536);
+    range("threads", threads, 0, 1024);
+}
+
+std::vector<glm::vec3> boxPoints(const Bounds& box, int count, std::uint64_t seed)
+{
+    int k = 1;
+    while (k * k * k < count)
+        ++k;
+    const int total = k * k * k;
+    std::vector<glm::vec3> out;
+    out.reserve(std::size_t(count));
+    Stream random{seed};
+    for (int i = 0; i < count; ++i) {
+        const int cellIndex = int((std::int64_t(i) * total) / count);
+        const int ix = cellIndex % k, iy = (cellIndex / k) % k, iz = cellIndex / (k * k);
+        const glm::dvec3 f{(ix + random.next()) / k, (iy + random.next()) / k, (iz + random.next()) / k};
+        const glm::dvec3 lo(box.min), hi(box.max);
+        out.push_back(glm::vec3(lo + f * (hi - lo)));
+    }
+    return out;
+}
+
+std::vector<glm::vec3> surfacePoints(const std::vector<glm::vec3>& v, int count, std::uint64_t seed)
+{
+    std::vector<double> cumulative;
+    double total = 0.0;
+    for (std::size_t t = 0; t + 2 < v.size(); t += 3) {
+        total += 0.5 * glm::length(glm::cross(glm::dvec3(v[t + 1] - v[t]), glm::dvec3(v[t + 2] - v[t])));
+        cumulative.push_back(total);
+    }
+    std::vector<glm::vec3> out;
+    if (!(total > 0.0))
+        return out;
+    Stream random{seed};
+    for (int i = 0; i < count; ++i) {
+        const double u = (i + random.next()) / count * total;
+        const std::size_t t = std::min<std::size_t>(
+            std::size_t(std::lower_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()), cumulative.size() - 1);
+        double r1 = std::sqrt(random.next()), r2 = random.next();
+        const glm::dvec3 a(v[3 * t]), b(v[3 * t + 1]), c(v[3 * t + 2]);
+        out.push_back(glm::vec3((1.0 - r1) * a + r1 * (1.0 - r2) * b + r1 * r2 * c));
+    }
+    return out;
+}
+
+PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<PvsObject> objects, std::string sceneSha256,
+                   PvsSettings settings)
+    : cells_(std::move(cells)), objects_(std::move(objects)), seed_(seedFromSha(sceneSha256)), settings_(settings)
+{
+    settings_.validate();
+    validateCells(cells_, "pvs cells");
+    caster_ = std::make_unique<FirstHitCaster>(scene);
+    sampler_ = std::make_unique<CpuBitmaskSampler>(scene);
+    objectOfInstance_.assign(scene.instances.size(), -1);
+    for (std::size_t o = 0; o < objects_.size(); ++o)
+        for (std::uint32_t i : objects_[o].instances) {
+            if (i >= objectOfInstance_.size())
+                throw Error("pvs: object '" + objects_[o].name + "' names instance " + std::to_string(i) + ", the scene has " +
+                            std::to_string(scene.instances.size()));
+            objectOfInstance_[i] = std::int32_t(o);
+        }
+    // Per object, its world triangles; then the direct rays' targets for each pass.
+    const WorldTriangles world = worldTriangles(scene);
+    std::vector<std::vector<glm::vec3>> soup(objects_.size());
+    for (std::size_t t = 0; t < world.size(); ++t) {
+        const std::int32_t o = objectOfInstance_[world.instanceOf[t]];
+        if (o >= 0)
+            soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
+    }
+    const int counts[3] = {settings_.directObjectPoints, 4 * settings_.directObjectPoints, settings_.safeObjectPoints};
+    objectPoints_.resize(3 * objects_.size());
+    for (std::size_t o = 0; o < objects_.size(); ++o)
+        for (int pass = 0; pass < 3; ++pass)
+            if (pass < 2 || settings_.safe)
+                objectPoints_[3 * o + std::size_t(pass)] =
+                    surfacePoints(soup[o], counts[pass], mixSeed(seed_ ^ 0x6f626a656374ull, o * 3 + std::size_t(pass)));
+}
+
+PvsBaker::~PvsBaker() = default;
+
+bool PvsBaker::hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const
+{
+    const RayHit hit = caster_->cast(from, towards, tfar);
+    return hit.instance >= 0 && objectOfInstance_[std::size_t(hit.instance)] == std::int32_t(object);
+}
+
+bool PvsBaker::visibleByOverlap(std::size_t cell, std::size_t object) const
+{
+    return !objects_[object].bounds.empty() && overlaps(cells_[cell], objects_[object].bounds);
+}
+
+bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPointsIndex,
+                                   std::uint32_t salt) const
+{
+    const std::vector<glm::vec3>& targets = objectPoints_[3 * object + std::size_t(objectPointsIndex)];
+    if (targets.empty())
+        return false;
+    const std::vector<glm::vec3> from = boxPoints(cells_[cell], cellPoints, mixSeed(mixSeed(seed_, cell), salt));
+    // Targets outer, origins inner: consecutive rays spread over the object first.
+    for (std::size_t q = 0; q < targets.size(); ++q)
+        for (const glm::vec3& p : from)
+            if (hitsObject(p, targets[q] - p, 1.0f + 1e-3f, object))
+                return true;
+    return false;
+}
+
+bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int samples, PvsStats* stats) const
+{
+    const Bounds& cellBox = cells_[cell];
+    const Bounds& objectBox = objects_[object].bounds;
+    if (objectBox.empty())
+        return false;
+    BitmaskOptions options;
+    options.threads = 1;                          // cells run in parallel; one call, one thread
+    // Fixed, never Auto: its timed choice could differ between runs and flip ties.
+    options.strategy = std::getenv("PVS_BITMASK") ? CpuStrategy::Bitmask : CpuStrategy::RayCast;
+    for (int fa = 0; fa < 3; ++fa)
+        for (int fs = 0; fs < 2; ++fs)
+            for (int ga = 0; ga < 3; ++ga)
+                for (int gs = 0; gs < 2; ++gs) {
+                    const int cellSign = fs ? 1 : -1, objectSign = gs ? 1 : -1;
+                    Rect cellFace = face(cellBox, fa, fs != 0);
+                    Rect objectFace = face(objectBox, ga, gs != 0);
+                    if (objectBox.max[(ga + 1) % 3] - objectBox.min[(ga + 1) % 3] <= kFaceMargin ||
+                        objectBox.max[(ga + 2) % 3] - objectBox.min[(ga + 2) % 3] <= kFaceMargin)
+                        continue;   // a degenerate face of a flat box
+                    // The object's face beyond the cell face's plane, the cell face beyond the
+                    // object face's plane (on its outer side).
+                    if (!clipToSide(objectFace, fa, cellFace.box.min[fa], cellSign, kFaceMargin))
+                        continue;
+                    if (!clipToSide(cellFace, ga, objectFace.box.min[ga], objectSign, kFaceMargin))
+                        continue;
+                    const Patch source = patchOf(cellFace, samples), receiver = patchOf(objectFace, samples);
+                    HiddenSampleMap map;
+                    try {
+                        map = sampler_->sample(source, receiver, options);
+                    } catch (const Error&) {
+                        continue;   // a sliver pair the sampler refuses: the direct rays cover it
+                    }
+                    if (stats) {
+                        ++stats->shaftPairs;
+                        stats->shaftRays += map.rayCount();
+                    }
+                    const std::uint64_t rays = map.rayCount();
+                    const std::uint64_t unblocked = rays - map.blockedCount();
+                    if (unblocked == 0)
+                        continue;
+                    // Continue a few unblocked rays, spread evenly over the unblocked ones.
+                    const std::uint64_t tries = std::min<std::uint64_t>(unblocked, std::uint64_t(settings_.witnessTries));
+                    std::uint64_t rank = 0, nextPick = 0, picked = 0;
+                    for (int j = 0; j < map.receiverCount() && picked < tries; ++j)
+                        for (int i = 0; i < map.sourceCount() && picked < tries; ++i) {
+                            if (map.blocked(j, i))
+                                continue;
+                            if (rank++ != nextPick)
+                                continue;
+                            ++picked;
+                            nextPick = (picked * unblocked) / tries;
+                            const glm::vec3 from(source.sample(i)), to(receiver.sample(j));
+                            const glm::vec3 d = to - from;
+                            const float tfar = exitParameter(objectBox, from, d);
+                            if (stats)
+                                ++stats->witnessCasts;
+                            if (tfar > 0.0f && hitsObject(from, d, tfar * (1.0f + 1e-5f), object))
+                                return true;
+                        }
+                }
+    return false;
+}
+
+void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t>& row, PvsStats* stats) const
+{
+    const std::size_t bytes = (objects_.size() + 7) / 8;
+    if (row.size() != bytes)
+        row.assign(bytes, 0);
+    PvsStats local;
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
+        if ((row[o / 8] >> (o % 8)) & 1u)
+            continue;   // proven visible by an earlier pass
+        bool visible = false;
+        if (pass == PvsPass::Coarse) {
+            if (visibleByOverlap(cell, o)) {
+                visible = true;
+                ++local.overlapPairs;
+            } else if (visibleByDirectRays(cell, o, settings_.directCellPoints, 0, 1)) {
+                visible = true;
+                ++local.directWitnesses;
+            } else if (visibleThroughShafts(cell, o, settings_.coarseSamples, &local)) {
+                visible = true;
+                ++local.shaftWitnesses;
+            }
+        } else if (pass == PvsPass::Refine) {
+            if (visibleByDirectRays(cell, o, 4 * settings_.directCellPoints, 1, 2)) {
+                visible = true;
+                ++local.directWitnesses;
+            } else if (visibleThroughShafts(cell, o, settings_.fineSamples, &local)) {
+                visible = true;
+                ++local.shaftWitnesses;
+            }
+        } else if (visibleByDirectRays(cell, o, settings_.safeCellPoints, 2, 3)) {
+            visible = true;
+            ++local.safeWitnesses;
+        }
+        if (visible)
+            row[o / 8] = std::uint8_t(row[o / 8] | (1u << (o % 8)));
+    }
+    if (stats) {
+        stats->overlapPairs += local.overlapPairs;
+        stats->directWitnesses += local.directWitnesses;
+        stats->shaftWitnesses += local.shaftWitnesses;
+        stats->safeWitnesses += local.safeWitnesses;
+        stats->shaftPairs += local.shaftPairs;
+        stats->shaftRays += local.shaftRays;
+        stats->witnessCasts += local.witnessCasts;
+    }
+}
+
+VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const PvsProgress& progress, PvsStats* stats) const
+{
+    std::vector<std::size_t> todo = cellIndices;
+    if (todo.empty())
+        for (std::size_t c = 0; c < cells_.size(); ++c)
+            todo.push_back(c);
+    for (std::size_t c : todo)
+        if (c >= cells_.size())
+            throw Error("pvs: cell " + std::to_string(c) + " out of range (" + std::to_string(cells_.size()) + " cells)");
+    std::vector<std::vector<std::uint8_t>> rows(cells_.size());
+    std::mutex statsMutex;
+    PvsStats total;
+    const int threads = settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    auto runPass = [&](PvsPass pass) {
+        const auto start = std::chrono::steady_clock::now();
+        arena.execute([&] {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
+                for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                    if (progress.cancel && progress.cancel->load())
+                        return;
+                    PvsStats local;
+                    bakeCell(todo[k], pass, rows[todo[k]], &local);
+                    if (progress.onCell)
+                        progress.onCell(pass, todo[k], rows[todo[k]]);
+                    const std::lock_guard lock(statsMutex);
+                    total.overlapPairs += local.overlapPairs;
+                    total.directWitnesses += local.directWitnesses;
+                    total.shaftWitnesses += local.shaftWitnesses;
+                    total.safeWitnesses += local.safeWitnesses;
+                    total.shaftPairs += local.shaftPairs;
+                    total.shaftRays += local.shaftRays;
+                    total.witnessCasts += local.witnessCasts;
+                }
+            });
+        });
+        if (progress.cancel && progress.cancel->load())
+            throw PvsCancelled();
+        const double ms = millisecondsSince(start);
+        (pass == PvsPass::Coarse ? total.coarseMs : pass == PvsPass::Refine ? total.refineMs : total.safeMs) = ms;
+    };
+    runPass(PvsPass::Coarse);
+    if (settings_.refine)
+        runPass(PvsPass::Refine);
+    if (settings_.safe)
+        runPass(PvsPass::Safe);
+    VisibilityRows out(cells_.size(), objects_.size());
+    for (std::size_t c = 0; c < cells_.size(); ++c)
+        if (!rows[c].empty())
+            std::copy(rows[c].begin(), rows[c].end(), out.row(c));
+    if (stats)
+        *stats = total;
+    return out;
+}
+
+} // namespace sightline::pvs
