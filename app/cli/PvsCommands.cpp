@@ -347,7 +347,7 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
                     {"load_ms", job.loadMs},
                     {"coarse_ms", stats.coarseMs},
                     {"refine_ms", stats.refineMs},
-                    {"safe_ms", stats.safeMs},
+                    {"safe_kept", stats.safeWitnesses},
                     {"ranks", ranks},
                     {"threads", args.threads},
                     {"triangles", job.scene.triangleCount()},
@@ -368,8 +368,8 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
     }
     std::printf("scene      %zu triangles, %zu cells x %zu objects (load %.1f ms)\n", job.scene.triangleCount(),
                 data.cells.size(), data.objects.size(), job.loadMs);
-    std::printf("bake       %.1f ms (coarse %.1f, refine %.1f, safe %.1f)%s\n", bakeMs, stats.coarseMs, stats.refineMs,
-                stats.safeMs, ranks > 1 ? (" over " + std::to_string(ranks) + " ranks").c_str() : "");
+    std::printf("bake       %.1f ms (coarse %.1f, refine %.1f; safe mode kept %llu pairs for their bounds)%s\n", bakeMs,
+                stats.coarseMs, stats.refineMs, (unsigned long long)stats.safeWitnesses, ranks > 1 ? (" over " + std::to_string(ranks) + " ranks").c_str() : "");
     std::printf("visible    %zu of %zu pairs (%.2f%%)\n", data.rows.visibleCount(), pairs,
                 pairs ? 100.0 * double(data.rows.visibleCount()) / double(pairs) : 0.0);
     std::printf("rows       %llu bytes raw, %llu zero-run-length; .pvs %llu bytes\n",
@@ -395,7 +395,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     bake->add_flag("--mpi", b.mpi, "Under mpirun: the ranks share the cells, rank 0 writes the outputs");
     bake->add_option("--threads", b.threads, "Worker threads (0 = all cores; the output never depends on it)")
         ->check(CLI::Range(0, 1024));
-    bake->add_flag("--safe", b.safe, "Verification pass: dense direct rays over every pair left hidden");
+    bake->add_flag("--safe", b.safe, "Safe mode: keep a pair whose fine shaft reaches the object's bounds unblocked, even without a witness on its triangles");
     bake->add_option("--coarse", b.coarse, "Shaft samples per face side, coarse pass (1-32)")->check(CLI::Range(1, 32));
     bake->add_option("--fine", b.fine, "Shaft samples per face side, refine pass (1-32)")->check(CLI::Range(1, 32));
     bake->add_flag("--no-refine", b.noRefine, "Coarse pass only");

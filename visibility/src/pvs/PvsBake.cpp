@@ -134,8 +134,6 @@ std::string PvsSettings::canonical() const
     std::ostringstream s;
     s << "pvs-bake-v1 coarse=" << coarseSamples << " fine=" << fineSamples << " direct=" << directCellPoints << "x"
       << directObjectPoints << " witness=" << witnessTries << " refine=" << refine << " safe=" << safe;
-    if (safe)
-        s << " safe_points=" << safeCellPoints << "x" << safeObjectPoints;
     return s.str();
 }
 
@@ -151,8 +149,8 @@ void PvsSettings::validate() const
     range("direct cell points", directCellPoints, 1, 4096);
     range("direct object points", directObjectPoints, 1, 4096);
     range("witness tries", witnessTries, 1, 1024);
-    range("safe cell points", safeCellPoints, 1, 65536);
-    range("safe object points", safeObjectPoints, 1, 65536);
+    if (safe && !refine)
+        throw Error("pvs: safe mode works in the refine pass; it cannot go with --no-refine");
     range("threads", threads, 0, 1024);
 }
 
@@ -222,13 +220,12 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
         if (o >= 0)
             soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
     }
-    const int counts[3] = {settings_.directObjectPoints, 4 * settings_.directObjectPoints, settings_.safeObjectPoints};
-    objectPoints_.resize(3 * objects_.size());
+    const int counts[2] = {settings_.directObjectPoints, 4 * settings_.directObjectPoints};
+    objectPoints_.resize(2 * objects_.size());
     for (std::size_t o = 0; o < objects_.size(); ++o)
-        for (int pass = 0; pass < 3; ++pass)
-            if (pass < 2 || settings_.safe)
-                objectPoints_[3 * o + std::size_t(pass)] =
-                    surfacePoints(soup[o], counts[pass], mixSeed(seed_ ^ 0x6f626a656374ull, o * 3 + std::size_t(pass)));
+        for (int pass = 0; pass < 2; ++pass)
+            objectPoints_[2 * o + std::size_t(pass)] =
+                surfacePoints(soup[o], counts[pass], mixSeed(seed_ ^ 0x6f626a656374ull, o * 2 + std::size_t(pass)));
 }
 
 PvsBaker::~PvsBaker() = default;
@@ -247,7 +244,7 @@ bool PvsBaker::visibleByOverlap(std::size_t cell, std::size_t object) const
 bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPointsIndex,
                                    std::uint32_t salt) const
 {
-    const std::vector<glm::vec3>& targets = objectPoints_[3 * object + std::size_t(objectPointsIndex)];
+    const std::vector<glm::vec3>& targets = objectPoints_[2 * object + std::size_t(objectPointsIndex)];
     if (targets.empty())
         return false;
     const std::vector<glm::vec3> from = boxPoints(cells_[cell], cellPoints, mixSeed(mixSeed(seed_, cell), salt));
@@ -259,7 +256,8 @@ bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cel
     return false;
 }
 
-bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int samples, PvsStats* stats) const
+bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
+                                    bool* boxSeen) const
 {
     const Bounds& cellBox = cells_[cell];
     const Bounds& objectBox = objects_[object].bounds;
@@ -300,8 +298,10 @@ bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int sa
                     const std::uint64_t unblocked = rays - map.blockedCount();
                     if (unblocked == 0)
                         continue;
+                    if (boxSeen)
+                        *boxSeen = true;
                     // Continue a few unblocked rays, spread evenly over the unblocked ones.
-                    const std::uint64_t tries = std::min<std::uint64_t>(unblocked, std::uint64_t(settings_.witnessTries));
+                    const std::uint64_t tries = std::min<std::uint64_t>(unblocked, std::uint64_t(witnessTries));
                     std::uint64_t rank = 0, nextPick = 0, picked = 0;
                     for (int j = 0; j < map.receiverCount() && picked < tries; ++j)
                         for (int i = 0; i < map.sourceCount() && picked < tries; ++i) {
@@ -340,7 +340,7 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t
             } else if (visibleByDirectRays(cell, o, settings_.directCellPoints, 0, 1)) {
                 visible = true;
                 ++local.directWitnesses;
-            } else if (visibleThroughShafts(cell, o, settings_.coarseSamples, &local)) {
+            } else if (visibleThroughShafts(cell, o, settings_.coarseSamples, settings_.witnessTries, &local, nullptr)) {
                 visible = true;
                 ++local.shaftWitnesses;
             }
@@ -348,13 +348,18 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t
             if (visibleByDirectRays(cell, o, 4 * settings_.directCellPoints, 1, 2)) {
                 visible = true;
                 ++local.directWitnesses;
-            } else if (visibleThroughShafts(cell, o, settings_.fineSamples, &local)) {
-                visible = true;
-                ++local.shaftWitnesses;
+            } else {
+                bool boxSeen = false;
+                if (visibleThroughShafts(cell, o, settings_.fineSamples, 8 * settings_.witnessTries, &local, &boxSeen)) {
+                    visible = true;
+                    ++local.shaftWitnesses;
+                } else if (settings_.safe && boxSeen) {
+                    // Safe: an unblocked ray reached the object's bounds, and no continuation of
+                    // it was seen to hit the object; kept anyway (a conservative box answer).
+                    visible = true;
+                    ++local.safeWitnesses;
+                }
             }
-        } else if (visibleByDirectRays(cell, o, settings_.safeCellPoints, 2, 3)) {
-            visible = true;
-            ++local.safeWitnesses;
         }
         if (visible)
             row[o / 8] = std::uint8_t(row[o / 8] | (1u << (o % 8)));
@@ -409,13 +414,11 @@ VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const
         if (progress.cancel && progress.cancel->load())
             throw PvsCancelled();
         const double ms = millisecondsSince(start);
-        (pass == PvsPass::Coarse ? total.coarseMs : pass == PvsPass::Refine ? total.refineMs : total.safeMs) = ms;
+        (pass == PvsPass::Coarse ? total.coarseMs : total.refineMs) = ms;
     };
     runPass(PvsPass::Coarse);
     if (settings_.refine)
         runPass(PvsPass::Refine);
-    if (settings_.safe)
-        runPass(PvsPass::Safe);
     VisibilityRows out(cells_.size(), objects_.size());
     for (std::size_t c = 0; c < cells_.size(); ++c)
         if (!rows[c].empty())

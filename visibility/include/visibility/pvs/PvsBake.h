@@ -26,9 +26,11 @@
 // Passes: the coarse pass runs every cell at the coarse sample counts, so the editor has an
 // answer for every cell soon; the refine pass reruns only the pairs the coarse pass left hidden,
 // with more samples (adaptive: visible pairs are done, hidden ones are where sampling can miss).
-// Safe mode adds a verification pass over what is still hidden: dense direct rays (the density of
-// the accuracy reference, with the bake's own seeds). It is an empirical check, not a proof;
-// docs/pvs.md reports what it reaches.
+// Safe mode gives up the witness for the refine pass's shafts: a pair whose fine shaft reached the
+// object's bounds by an unblocked ray is kept even when no continuation met the object (foliage:
+// a box of thin leaves is mostly air). It is conservative with respect to the bounds at the fine
+// sample spacing, not a proof of invisibility for what it culls; docs/pvs.md reports what it
+// reaches against the reference.
 //
 // Determinism: each cell's row depends only on the scene, the settings and the cell (no shared
 // state between cells, fixed sampler strategy, seeds from the scene hash and cell id), so the
@@ -54,14 +56,14 @@ class FirstHitCaster;
 
 struct PvsSettings {
     int coarseSamples = 3;     ///< shaft samples per face side, coarse pass (n x n on each face)
-    int fineSamples = 8;       ///< shaft samples per face side, refine pass (at most 32)
+    int fineSamples = 6;       ///< shaft samples per face side, refine pass (at most 32)
     int directCellPoints = 8;  ///< direct rays: points of the cell (coarse pass; refine uses 4x)
     int directObjectPoints = 8;///< direct rays: points on the object (coarse; refine uses 4x)
-    int witnessTries = 4;      ///< unblocked shaft rays continued per face pair
+    int witnessTries = 4;      ///< unblocked shaft rays continued per face pair (coarse; refine 8x)
     bool refine = true;        ///< run the refine pass
-    bool safe = false;         ///< verification pass of dense direct rays over what stays hidden
-    int safeCellPoints = 64;   ///< safe mode: points per cell ...
-    int safeObjectPoints = 64; ///< ... and per object
+    /// Safe mode (refine pass): a pair stays visible when a fine shaft ray reached the object's
+    /// bounds unblocked even though no continuation was seen to hit its triangles.
+    bool safe = false;
     int threads = 0;           ///< 0 = all cores (the answer never depends on it)
 
     /// Canonical text of the settings that change the answer (not `threads`): part manifests and
@@ -71,7 +73,7 @@ struct PvsSettings {
     void validate() const;
 };
 
-enum class PvsPass { Coarse, Refine, Safe };
+enum class PvsPass { Coarse, Refine };
 
 /// Bake progress for a caller that shows it (the editor's debugger) or logs it. Called from
 /// worker threads, possibly concurrently: keep it cheap and thread-safe.
@@ -87,8 +89,9 @@ struct PvsCancelled : std::exception {
 };
 
 struct PvsStats {
-    double coarseMs = 0.0, refineMs = 0.0, safeMs = 0.0;
-    std::uint64_t overlapPairs = 0, directWitnesses = 0, shaftWitnesses = 0, safeWitnesses = 0;
+    double coarseMs = 0.0, refineMs = 0.0;
+    std::uint64_t overlapPairs = 0, directWitnesses = 0, shaftWitnesses = 0;
+    std::uint64_t safeWitnesses = 0;   ///< safe mode: pairs kept for an unblocked ray to the bounds alone
     std::uint64_t shaftPairs = 0;     ///< face pairs sampled with the bitmask sampler
     std::uint64_t shaftRays = 0;      ///< rays those pairs answered
     std::uint64_t witnessCasts = 0;   ///< first-hit casts
@@ -106,7 +109,7 @@ public:
     const std::vector<PvsObject>& objects() const { return objects_; }
 
     /// Bakes the listed cells (indices into cells(); all when empty): the coarse pass over all of
-    /// them first, then refinement, then the safe pass. Returns rows for every cell (cells not
+    /// them first, then refinement. Returns rows for every cell (cells not
     /// listed stay all zero). Throws PvsCancelled when progress.cancel is set.
     VisibilityRows bake(const std::vector<std::size_t>& cellIndices = {}, const PvsProgress& progress = {},
                         PvsStats* stats = nullptr) const;
@@ -119,7 +122,8 @@ private:
     bool visibleByOverlap(std::size_t cell, std::size_t object) const;
     bool visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPoints,
                              std::uint32_t salt) const;
-    bool visibleThroughShafts(std::size_t cell, std::size_t object, int samples, PvsStats* stats) const;
+    bool visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
+                              bool* boxSeen) const;
     bool hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const;
 
     std::vector<Bounds> cells_;
