@@ -358,6 +358,8 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
                     {"shaft_pairs", stats.shaftPairs},
                     {"shaft_rays", stats.shaftRays},
                     {"witness_casts", stats.witnessCasts},
+                    {"node_tests", stats.nodeTests},
+                    {"nodes_culled", stats.nodesCulled},
                     {"scene_sha256", data.sceneSha256},
                     {"settings_sha256", data.settingsSha256},
                     {"sizes", sizes}};

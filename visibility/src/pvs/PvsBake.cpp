@@ -220,6 +220,7 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
         if (o >= 0)
             soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
     }
+    buildObjectTree();
     const int counts[2] = {settings_.directObjectPoints, 4 * settings_.directObjectPoints};
     objectPoints_.resize(2 * objects_.size());
     for (std::size_t o = 0; o < objects_.size(); ++o)
@@ -256,26 +257,32 @@ bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cel
     return false;
 }
 
-bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
-                                    bool* boxSeen) const
+namespace {
+
+/// A receiver grid side for a face `extent` long: `n`, or more up to 32 so that its spacing is
+/// no coarser than `spacing` (node boxes are larger than cells), at most 16 (or n).
+int sideFor(double extent, double spacing, int n, bool dense)
 {
-    const Bounds& cellBox = cells_[cell];
-    const Bounds& objectBox = objects_[object].bounds;
-    if (objectBox.empty())
-        return false;
-    BitmaskOptions options;
-    options.threads = 1;                          // cells run in parallel; one call, one thread
-    // Fixed, never Auto: its timed choice could differ between runs and flip ties.
-    options.strategy = std::getenv("PVS_BITMASK") ? CpuStrategy::Bitmask : CpuStrategy::RayCast;
+    if (!dense || spacing <= 0.0)
+        return n;
+    return std::clamp(int(std::ceil(extent / spacing)), n, std::max(n, 16));
+}
+
+} // namespace
+
+std::vector<std::pair<Patch, Patch>> PvsBaker::facePairs(const Bounds& cellBox, const Bounds& targetBox, int samples,
+                                                         bool denseTarget) const
+{
+    std::vector<std::pair<Patch, Patch>> out;
     for (int fa = 0; fa < 3; ++fa)
         for (int fs = 0; fs < 2; ++fs)
             for (int ga = 0; ga < 3; ++ga)
                 for (int gs = 0; gs < 2; ++gs) {
                     const int cellSign = fs ? 1 : -1, objectSign = gs ? 1 : -1;
                     Rect cellFace = face(cellBox, fa, fs != 0);
-                    Rect objectFace = face(objectBox, ga, gs != 0);
-                    if (objectBox.max[(ga + 1) % 3] - objectBox.min[(ga + 1) % 3] <= kFaceMargin ||
-                        objectBox.max[(ga + 2) % 3] - objectBox.min[(ga + 2) % 3] <= kFaceMargin)
+                    Rect objectFace = face(targetBox, ga, gs != 0);
+                    if (targetBox.max[(ga + 1) % 3] - targetBox.min[(ga + 1) % 3] <= kFaceMargin ||
+                        targetBox.max[(ga + 2) % 3] - targetBox.min[(ga + 2) % 3] <= kFaceMargin)
                         continue;   // a degenerate face of a flat box
                     // The object's face beyond the cell face's plane, the cell face beyond the
                     // object face's plane (on its outer side).
@@ -283,43 +290,85 @@ bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int sa
                         continue;
                     if (!clipToSide(cellFace, ga, objectFace.box.min[ga], objectSign, kFaceMargin))
                         continue;
-                    const Patch source = patchOf(cellFace, samples), receiver = patchOf(objectFace, samples);
-                    HiddenSampleMap map;
-                    try {
-                        map = sampler_->sample(source, receiver, options);
-                    } catch (const Error&) {
-                        continue;   // a sliver pair the sampler refuses: the direct rays cover it
-                    }
-                    if (stats) {
-                        ++stats->shaftPairs;
-                        stats->shaftRays += map.rayCount();
-                    }
-                    const std::uint64_t rays = map.rayCount();
-                    const std::uint64_t unblocked = rays - map.blockedCount();
-                    if (unblocked == 0)
-                        continue;
-                    if (boxSeen)
-                        *boxSeen = true;
-                    // Continue a few unblocked rays, spread evenly over the unblocked ones.
-                    const std::uint64_t tries = std::min<std::uint64_t>(unblocked, std::uint64_t(witnessTries));
-                    std::uint64_t rank = 0, nextPick = 0, picked = 0;
-                    for (int j = 0; j < map.receiverCount() && picked < tries; ++j)
-                        for (int i = 0; i < map.sourceCount() && picked < tries; ++i) {
-                            if (map.blocked(j, i))
-                                continue;
-                            if (rank++ != nextPick)
-                                continue;
-                            ++picked;
-                            nextPick = (picked * unblocked) / tries;
-                            const glm::vec3 from(source.sample(i)), to(receiver.sample(j));
-                            const glm::vec3 d = to - from;
-                            const float tfar = exitParameter(objectBox, from, d);
-                            if (stats)
-                                ++stats->witnessCasts;
-                            if (tfar > 0.0f && hitsObject(from, d, tfar * (1.0f + 1e-5f), object))
-                                return true;
-                        }
+                    const Patch source = patchOf(cellFace, samples);
+                    Patch receiver = patchOf(objectFace, samples);
+                    const double spacing = std::max(glm::length(source.u), glm::length(source.v)) / samples;
+                    receiver.na = sideFor(glm::length(receiver.u), spacing, samples, denseTarget);
+                    receiver.nb = sideFor(glm::length(receiver.v), spacing, samples, denseTarget);
+                    out.emplace_back(source, receiver);
                 }
+    return out;
+}
+
+HiddenSampleMap PvsBaker::sampleShaft(const Patch& source, const Patch& receiver, PvsStats* stats) const
+{
+    BitmaskOptions options;
+    options.threads = 1;   // cells run in parallel; one call, one thread
+    // Fixed, never Auto: its timed choice could differ between runs and flip ties. The sampler's
+    // exact ray-cast strategy: for grids this small the bitmask's per-call shaft set-up dominates
+    // (demo coarse pass: 56 s with CpuStrategy::Bitmask, 2.3 s with RayCast, identical rows).
+    options.strategy = CpuStrategy::RayCast;
+    HiddenSampleMap map;
+    try {
+        map = sampler_->sample(source, receiver, options);
+    } catch (const Error&) {
+        return map;   // a sliver pair the sampler refuses: the direct rays cover it
+    }
+    if (stats) {
+        ++stats->shaftPairs;
+        stats->shaftRays += map.rayCount();
+    }
+    return map;
+}
+
+bool PvsBaker::boxReachable(std::size_t cell, const Bounds& box, int samples, PvsStats* stats) const
+{
+    if (overlaps(cells_[cell], box))
+        return true;
+    for (const auto& [source, receiver] : facePairs(cells_[cell], box, samples, true)) {
+        const HiddenSampleMap map = sampleShaft(source, receiver, stats);
+        if (map.receiverCount() && map.blockedCount() < map.rayCount())
+            return true;
+    }
+    return false;
+}
+
+bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
+                                    bool* boxSeen) const
+{
+    const Bounds& objectBox = objects_[object].bounds;
+    if (objectBox.empty())
+        return false;
+    for (const auto& [source, receiver] : facePairs(cells_[cell], objectBox, samples, false)) {
+        const HiddenSampleMap map = sampleShaft(source, receiver, stats);
+        const std::uint64_t rays = map.rayCount();
+        if (rays == 0)
+            continue;
+        const std::uint64_t unblocked = rays - map.blockedCount();
+        if (unblocked == 0)
+            continue;
+        if (boxSeen)
+            *boxSeen = true;
+        // Continue a few unblocked rays, spread evenly over the unblocked ones.
+        const std::uint64_t tries = std::min<std::uint64_t>(unblocked, std::uint64_t(witnessTries));
+        std::uint64_t rank = 0, nextPick = 0, picked = 0;
+        for (int j = 0; j < map.receiverCount() && picked < tries; ++j)
+            for (int i = 0; i < map.sourceCount() && picked < tries; ++i) {
+                if (map.blocked(j, i))
+                    continue;
+                if (rank++ != nextPick)
+                    continue;
+                ++picked;
+                nextPick = (picked * unblocked) / tries;
+                const glm::vec3 from(source.sample(i)), to(receiver.sample(j));
+                const glm::vec3 d = to - from;
+                const float tfar = exitParameter(objectBox, from, d);
+                if (stats)
+                    ++stats->witnessCasts;
+                if (tfar > 0.0f && hitsObject(from, d, tfar * (1.0f + 1e-5f), object))
+                    return true;
+            }
+    }
     return false;
 }
 
@@ -329,9 +378,10 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t
     if (row.size() != bytes)
         row.assign(bytes, 0);
     PvsStats local;
-    for (std::size_t o = 0; o < objects_.size(); ++o) {
-        if ((row[o / 8] >> (o % 8)) & 1u)
-            continue;   // proven visible by an earlier pass
+    auto isVisible = [&](std::size_t o) { return (row[o / 8] >> (o % 8)) & 1u; };
+    auto testObject = [&](std::size_t o) {
+        if (isVisible(o))
+            return;   // proven visible by an earlier pass
         bool visible = false;
         if (pass == PvsPass::Coarse) {
             if (visibleByOverlap(cell, o)) {
@@ -344,7 +394,7 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t
                 visible = true;
                 ++local.shaftWitnesses;
             }
-        } else if (pass == PvsPass::Refine) {
+        } else {
             if (visibleByDirectRays(cell, o, 4 * settings_.directCellPoints, 1, 2)) {
                 visible = true;
                 ++local.directWitnesses;
@@ -363,6 +413,33 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t
         }
         if (visible)
             row[o / 8] = std::uint8_t(row[o / 8] | (1u << (o % 8)));
+    };
+    // Objects grouped by bounds (a BVH over their boxes): a node no unblocked shaft ray reaches
+    // hides all of its objects (at this pass's sample spacing, node faces sampled as densely as
+    // the cell's), so rooms behind walls cost one test instead of one per object.
+    const int samples = pass == PvsPass::Coarse ? settings_.coarseSamples : settings_.fineSamples;
+    std::vector<std::uint32_t> stack;
+    if (!nodes_.empty())
+        stack.push_back(0);
+    while (!stack.empty()) {
+        const ObjectNode& node = nodes_[stack.back()];
+        stack.pop_back();
+        if (node.object >= 0) {
+            testObject(std::size_t(node.object));
+            continue;
+        }
+        bool allKnown = true;   // every object below already proven visible: nothing to learn
+        for (std::uint32_t k = node.begin; k < node.end && allKnown; ++k)
+            allKnown = isVisible(treeObjects_[k]);
+        if (allKnown)
+            continue;
+        ++local.nodeTests;
+        if (!boxReachable(cell, node.bounds, samples, &local)) {
+            ++local.nodesCulled;
+            continue;
+        }
+        stack.push_back(node.second);
+        stack.push_back(node.first);
     }
     if (stats) {
         stats->overlapPairs += local.overlapPairs;
@@ -372,7 +449,57 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t
         stats->shaftPairs += local.shaftPairs;
         stats->shaftRays += local.shaftRays;
         stats->witnessCasts += local.witnessCasts;
+        stats->nodeTests += local.nodeTests;
+        stats->nodesCulled += local.nodesCulled;
     }
+}
+
+void PvsBaker::buildObjectTree()
+{
+    std::vector<std::uint32_t> ids;
+    for (std::size_t o = 0; o < objects_.size(); ++o)
+        if (!objects_[o].bounds.empty())
+            ids.push_back(std::uint32_t(o));
+    if (ids.empty())
+        return;
+    // Median splits on the longest axis of the centres; ties by index: deterministic.
+    struct Job {
+        std::uint32_t node, begin, end;
+    };
+    nodes_.push_back({});
+    std::vector<Job> jobs{{0, 0, std::uint32_t(ids.size())}};
+    while (!jobs.empty()) {
+        const Job job = jobs.back();
+        jobs.pop_back();
+        Bounds box, centres;
+        for (std::uint32_t k = job.begin; k < job.end; ++k) {
+            box.extend(objects_[ids[k]].bounds);
+            centres.extend(0.5f * (objects_[ids[k]].bounds.min + objects_[ids[k]].bounds.max));
+        }
+        nodes_[job.node].bounds = box;
+        nodes_[job.node].begin = job.begin;
+        nodes_[job.node].end = job.end;
+        if (job.end - job.begin == 1) {
+            nodes_[job.node].object = std::int32_t(ids[job.begin]);
+            continue;
+        }
+        const glm::vec3 extent = centres.max - centres.min;
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+        const std::uint32_t mid = (job.begin + job.end) / 2;
+        std::nth_element(ids.begin() + job.begin, ids.begin() + mid, ids.begin() + job.end, [&](std::uint32_t a, std::uint32_t b) {
+            const float ca = objects_[a].bounds.min[axis] + objects_[a].bounds.max[axis];
+            const float cb = objects_[b].bounds.min[axis] + objects_[b].bounds.max[axis];
+            return ca != cb ? ca < cb : a < b;
+        });
+        const std::uint32_t first = std::uint32_t(nodes_.size());
+        nodes_.push_back({});
+        nodes_.push_back({});
+        nodes_[job.node].first = first;
+        nodes_[job.node].second = first + 1;
+        jobs.push_back({first + 1, mid, job.end});
+        jobs.push_back({first, job.begin, mid});
+    }
+    treeObjects_ = std::move(ids);
 }
 
 VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const PvsProgress& progress, PvsStats* stats) const
@@ -408,6 +535,8 @@ VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const
                     total.shaftPairs += local.shaftPairs;
                     total.shaftRays += local.shaftRays;
                     total.witnessCasts += local.witnessCasts;
+                    total.nodeTests += local.nodeTests;
+                    total.nodesCulled += local.nodesCulled;
                 }
             });
         });

@@ -8,6 +8,9 @@
 // visibility, never invent it (except for boxes that overlap the cell, which are visible by
 // definition of a box and written so). Per (cell, object), in order, stopping at the first witness:
 //
+//  0. Groups: objects are grouped by bounds (a BVH); a group no unblocked shaft ray of the pass
+//     reaches (step 3 against the group's box, its faces sampled at least as densely as the
+//     cell's) hides all its objects at once.
 //  1. Overlap: the object's bounds meet the cell's box -> visible.
 //  2. Direct rays: a few stratified points of the cell (seeded from the scene hash and the cell id)
 //     towards a few points on the object's triangles (area-stratified, seeded from the object).
@@ -43,6 +46,8 @@
 #include <string>
 #include <vector>
 
+#include "visibility/HiddenSampleMap.h"
+#include "visibility/Patch.h"
 #include "visibility/Scene.h"
 #include "visibility/pvs/PvsData.h"
 
@@ -95,6 +100,8 @@ struct PvsStats {
     std::uint64_t shaftPairs = 0;     ///< face pairs sampled with the bitmask sampler
     std::uint64_t shaftRays = 0;      ///< rays those pairs answered
     std::uint64_t witnessCasts = 0;   ///< first-hit casts
+    std::uint64_t nodeTests = 0;      ///< object groups (BVH nodes) tested
+    std::uint64_t nodesCulled = 0;    ///< of those, hidden with all their objects
 };
 
 class PvsBaker {
@@ -124,6 +131,11 @@ private:
                              std::uint32_t salt) const;
     bool visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
                               bool* boxSeen) const;
+    std::vector<std::pair<Patch, Patch>> facePairs(const Bounds& cellBox, const Bounds& targetBox, int samples,
+                                                   bool denseTarget) const;
+    HiddenSampleMap sampleShaft(const Patch& source, const Patch& receiver, PvsStats* stats) const;
+    bool boxReachable(std::size_t cell, const Bounds& box, int samples, PvsStats* stats) const;
+    void buildObjectTree();
     bool hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const;
 
     std::vector<Bounds> cells_;
@@ -133,6 +145,15 @@ private:
     PvsSettings settings_;
     std::unique_ptr<FirstHitCaster> caster_;
     std::unique_ptr<CpuBitmaskSampler> sampler_;
+    /// Objects grouped by bounds: a binary tree, node 0 the root; a leaf holds one object.
+    struct ObjectNode {
+        Bounds bounds;
+        std::int32_t object = -1;
+        std::uint32_t first = 0, second = 0;
+        std::uint32_t begin = 0, end = 0;   ///< its objects: treeObjects_[begin, end)
+    };
+    std::vector<ObjectNode> nodes_;
+    std::vector<std::uint32_t> treeObjects_;
     /// Per object: points on its triangles, area-stratified (the direct rays' targets).
     std::vector<std::vector<glm::vec3>> objectPoints_;
 };
