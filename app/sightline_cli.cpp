@@ -425,7 +425,9 @@ int runDemo(const std::string& folder, int firstSeed, int lastSeed)
                                               {{"frame", 39}, {"translate", {0, 0, 0}}}}}}}}};
     writeDemoProject(folder, "demo_level", "demo", &level, view.source, view.receiver,
                      "Sightline demo: two patches looking through a doorway past plants and furniture",
-                     {{"animation", walk}});
+                     {{"animation", walk},
+                      // 1.5 m view cells over the floors: 255 cells x 175 objects (docs/pvs.md)
+                      {"pvs", {{"cell_size", 1.5}}}});
     // Which parts of the conservatory floor the gallery's guard post overlooks (an importance map
     // over a large receiver, paper §9).
     Patch floor;

@@ -395,9 +395,9 @@ std::string prt1(const std::vector<Bounds>& cells, double scale)
         corner[2][u] = p.shared.max[u];
         corner[2][v] = p.shared.max[v];
         corner[3][v] = p.shared.max[v];
-        out += "4 " + std::to_string(p.a) + " " + std::to_string(p.b);
+        out.append("4 ").append(std::to_string(p.a)).append(" ").append(std::to_string(p.b));
         for (const glm::vec3& c : corner)
-            out += " " + point(c);
+            out.append(" ").append(point(c));
         out += "\n";
     }
     return out;
