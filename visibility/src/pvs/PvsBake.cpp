@@ -125,6 +125,38 @@ float exitParameter(const Bounds& box, const glm::vec3& origin, const glm::vec3&
     return t1 >= t0 ? t1 : 0.0f;
 }
 
+constexpr std::size_t kSmallObjectTriangles = 64;   // nearest-point targets for objects this small
+
+/// The point of triangle abc nearest p (Ericson, Real-Time Collision Detection §5.1.5).
+glm::vec3 closestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c)
+{
+    const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0.0f && d2 <= 0.0f)
+        return a;
+    const glm::vec3 bp = p - b;
+    const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0.0f && d4 <= d3)
+        return b;
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f)
+        return a + (d1 / (d1 - d3)) * ab;
+    const glm::vec3 cp = p - c;
+    const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0.0f && d5 <= d6)
+        return c;
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f)
+        return a + (d2 / (d2 - d6)) * ac;
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f)
+        return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+    const float denom = 1.0f / (va + vb + vc);
+    if (!std::isfinite(denom))
+        return a;   // a degenerate triangle
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
 constexpr float kFaceMargin = 1e-3f;   // metres: keeps clipped pairs strictly valid (DESIGN.md §2)
 
 } // namespace
@@ -223,6 +255,10 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
     buildObjectTree();
     const int counts[2] = {settings_.directObjectPoints, 4 * settings_.directObjectPoints};
     objectPoints_.resize(2 * objects_.size());
+    smallSoups_.resize(objects_.size());
+    for (std::size_t o = 0; o < objects_.size(); ++o)
+        if (soup[o].size() <= 3 * kSmallObjectTriangles)
+            smallSoups_[o] = soup[o];
     for (std::size_t o = 0; o < objects_.size(); ++o)
         for (int pass = 0; pass < 2; ++pass)
             objectPoints_[2 * o + std::size_t(pass)] =
@@ -245,10 +281,20 @@ bool PvsBaker::visibleByOverlap(std::size_t cell, std::size_t object) const
 bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPointsIndex,
                                    std::uint32_t salt) const
 {
-    const std::vector<glm::vec3>& targets = objectPoints_[2 * object + std::size_t(objectPointsIndex)];
-    if (targets.empty())
+    const std::vector<glm::vec3>& stratified = objectPoints_[2 * object + std::size_t(objectPointsIndex)];
+    if (stratified.empty())
         return false;
     const std::vector<glm::vec3> from = boxPoints(cells_[cell], cellPoints, mixSeed(mixSeed(seed_, cell), salt));
+    // Large objects (a floor, a long wall) are sampled coarsely by area: their points are mostly
+    // in other rooms. The point of each of their triangles nearest the cell's centre is aimed at
+    // first (objects of few triangles only).
+    std::vector<glm::vec3> targets;
+    const Bounds& box = cells_[cell];
+    const glm::vec3 centre = 0.5f * (box.min + box.max);
+    for (std::size_t t = 0; t + 2 < smallSoups_[object].size(); t += 3)
+        targets.push_back(closestPointOnTriangle(centre, smallSoups_[object][t], smallSoups_[object][t + 1],
+                                                 smallSoups_[object][t + 2]));
+    targets.insert(targets.end(), stratified.begin(), stratified.end());
     // Targets outer, origins inner: consecutive rays spread over the object first.
     for (std::size_t q = 0; q < targets.size(); ++q)
         for (const glm::vec3& p : from)

@@ -13,7 +13,9 @@
 //     cell's) hides all its objects at once.
 //  1. Overlap: the object's bounds meet the cell's box -> visible.
 //  2. Direct rays: a few stratified points of the cell (seeded from the scene hash and the cell id)
-//     towards a few points on the object's triangles (area-stratified, seeded from the object).
+//     towards, for objects of at most 64 triangles, the point of each triangle nearest the cell's
+//     centre (a floor or a long wall is mostly in other rooms), then a few area-stratified points
+//     on the object's triangles (seeded from the object).
 //  3. Shafts (Eisemann & Décoret 2007, the exact bitmask sampler, CpuBitmaskSampler.h, as §11's
 //     from-region future work): between each cell face and each face of the object's bounds that
 //     can see each other. A pair of box faces is not always a valid patch pair (DESIGN.md §2:
@@ -156,6 +158,8 @@ private:
     std::vector<std::uint32_t> treeObjects_;
     /// Per object: points on its triangles, area-stratified (the direct rays' targets).
     std::vector<std::vector<glm::vec3>> objectPoints_;
+    /// Per object of few triangles, its triangles (3 vertices each): nearest-point targets.
+    std::vector<std::vector<glm::vec3>> smallSoups_;
 };
 
 /// Stratified points: `count` points of a box (a jittered k x k x k grid, k^3 >= count, the first
