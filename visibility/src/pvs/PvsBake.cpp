@@ -306,12 +306,12 @@ bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cel
 namespace {
 
 /// A receiver grid side for a face `extent` long: `n`, or more up to 32 so that its spacing is
-/// no coarser than `spacing` (node boxes are larger than cells), at most 16 (or n).
+/// no coarser than `spacing` (node boxes are larger than cells), at most 32.
 int sideFor(double extent, double spacing, int n, bool dense)
 {
     if (!dense || spacing <= 0.0)
         return n;
-    return std::clamp(int(std::ceil(extent / spacing)), n, std::max(n, 16));
+    return std::clamp(int(std::ceil(extent / spacing)), n, 32);
 }
 
 } // namespace
