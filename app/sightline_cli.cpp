@@ -6,6 +6,7 @@
 //   sightline-cli importance PROJECT.json --out MAP.png [--npy MAP.npy] [--frames N]   (cli/LightingCommands)
 //   sightline-cli shadow PROJECT.json --out SHADOW.png
 //   sightline-cli ao MESH_OR_PROJECT [--k 258] [--npy OUT.npy] [--json] ...             (cli/AoCommand, docs/ao.md)
+//   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
 // returns non-zero.
@@ -30,6 +31,7 @@
 #include "cli/LightingCommands.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
+#include "cli/PvsCommands.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
@@ -425,7 +427,9 @@ int runDemo(const std::string& folder, int firstSeed, int lastSeed)
                                               {{"frame", 39}, {"translate", {0, 0, 0}}}}}}}}};
     writeDemoProject(folder, "demo_level", "demo", &level, view.source, view.receiver,
                      "Sightline demo: two patches looking through a doorway past plants and furniture",
-                     {{"animation", walk}});
+                     {{"animation", walk},
+                      // 1.5 m view cells over the floors: 255 cells x 175 objects (docs/pvs.md)
+                      {"pvs", {{"cell_size", 1.5}}}});
     // Which parts of the conservatory floor the gallery's guard post overlooks (an importance map
     // over a large receiver, paper §9).
     Patch floor;
@@ -553,6 +557,9 @@ int main(int argc, char** argv)
     cli::AoArgs ao;
     CLI::App* aoCmd = cli::addAoCommand(app, ao);
 
+    cli::PvsArgs pvsArgs;
+    CLI::App* pvsCmd = cli::addPvsCommand(app, pvsArgs);
+
     std::string demoFolder;
     CLI::App* demoCmd = app.add_subcommand("demo", "Write the built-in demo level and project (demo_level.glb, demo.json), the benchmark scenes (few-occluders, dense-mesh) and seeds 1-3 of each generated bench kind (bench/KIND-SEED.glb + .json)");
     demoCmd->add_option("folder", demoFolder, "Output folder (created if missing)")->required();
@@ -605,6 +612,8 @@ int main(int argc, char** argv)
             cli::checkAoOptions(*aoCmd, ao);
             return cli::runAo(ao);
         }
+        if (*pvsCmd)
+            return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {
         const CLI::App* command = app.get_subcommands().front();
         std::cerr << "sightline-cli: error: " << describeFailure(e, "running '" + command->get_name() + "'") << "\n";

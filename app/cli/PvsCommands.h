@@ -1,0 +1,75 @@
+#pragma once
+// sightline-cli pvs bake / merge / check / level (issue 17; DESIGN.md §4's contract for bake and
+// merge). The core is visibility/pvs (no MPI there); the MPI bake lives in PvsMpi.cpp, built only
+// where CMake found MPI.
+
+#include <string>
+#include <vector>
+
+namespace CLI {
+class App;
+}
+
+namespace sightline::cli {
+
+struct PvsOutputs {
+    std::string out, json, quake1, quake2, prt;
+    double prtScale = 1.0;
+    bool raw = false;
+};
+
+struct PvsBakeArgs {
+    std::string project;
+    PvsOutputs outputs;
+    std::string shard;          ///< "I/N", empty for all cells
+    bool mpi = false;
+    bool resume = false;        ///< --shard: keep an existing part of the same scene and settings
+    int threads = 0;
+    bool safe = false;
+    int coarse = 0, fine = 0;   ///< 0: the project's (or the defaults)
+    bool noRefine = false;
+    bool check = false;         ///< measure accuracy in the same run
+    std::string gaps;           ///< --check: write the gap list as JSON
+    bool printJson = false;
+    bool allowOutsidePaths = false;
+};
+
+struct PvsMergeArgs {
+    std::vector<std::string> parts;
+    PvsOutputs outputs;
+    bool printJson = false;
+};
+
+struct PvsCheckArgs {
+    std::string project, pvs, gaps;
+    int cells = 64, cellPoints = 64, objectPoints = 64, views = 4;
+    int threads = 0;
+    bool printJson = false;
+    bool allowOutsidePaths = false;
+};
+
+struct PvsLevelArgs {
+    std::string folder;
+    int roomsX = 16, roomsZ = 16, objects = 2000;
+    int seed = 1;
+};
+
+struct PvsArgs {
+    PvsBakeArgs bake;
+    PvsMergeArgs merge;
+    PvsCheckArgs check;
+    PvsLevelArgs level;
+    CLI::App* bakeCmd = nullptr;
+    CLI::App* mergeCmd = nullptr;
+    CLI::App* checkCmd = nullptr;
+    CLI::App* levelCmd = nullptr;
+};
+
+CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args);
+/// Runs the chosen pvs subcommand. `argc`/`argv` reach MPI_Init under --mpi.
+int runPvs(PvsArgs& args, int argc, char** argv);
+
+/// Whether this build has the MPI bake (CMake found MPI).
+bool pvsHasMpi();
+
+} // namespace sightline::cli

@@ -1,0 +1,249 @@
+// sightline-cli pvs (issue 17, DESIGN.md §4): one-process, threaded, sharded, resumed and MPI
+// bakes give byte-identical files; merge and bake refuse what does not fit, in one line.
+
+#include <cstdlib>
+#include <filesystem>
+#include <algorithm>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "CliRunner.h"
+#include "visibility/pvs/Sha256.h"
+
+namespace sightline::test {
+namespace {
+
+std::string slurp(const fs::path& file)
+{
+    std::ifstream in(file, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string sha(const fs::path& file) { return pvs::sha256Hex(slurp(file)); }
+
+class PvsCli : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        dir = uniqueFolder();
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        const CliRun made = runCli("pvs level " + (dir / "level").string() + " --rooms 2 --objects 24");
+        ASSERT_EQ(made.code, 0) << made.err;
+        project = (dir / "level" / "pvs_level.json").string();
+    }
+    void TearDown() override { fs::remove_all(dir); }
+
+    /// Bakes with `extra` options into `name`; asserts success.
+    fs::path bake(const std::string& name, const std::string& extra = "", const std::string& of = "")
+    {
+        const fs::path out = dir / name;
+        const CliRun run = runCli("pvs bake " + (of.empty() ? project : of) + " --out " + out.string() + " " + extra, 300);
+        EXPECT_EQ(run.code, 0) << run.err;
+        return out;
+    }
+    /// The project with its "pvs" key changed by `edit`, saved as `name`.
+    std::string editedProject(const std::string& name, const std::function<void(nlohmann::json&)>& edit)
+    {
+        nlohmann::json p = nlohmann::json::parse(slurp(project));
+        edit(p["pvs"]);
+        const fs::path file = dir / "level" / name;
+        std::ofstream(file) << p.dump();
+        return file.string();
+    }
+    void expectOneLineError(const CliRun& run, const std::string& words)
+    {
+        EXPECT_NE(run.code, 0);
+        EXPECT_TRUE(oneLine(run.err)) << run.err;
+        EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
+    }
+
+    fs::path dir;
+    std::string project;
+};
+
+TEST_F(PvsCli, ShardedAndThreadedBakesAreByteIdenticalToOneProcess)
+{
+    const fs::path whole = bake("whole.pvs", "--json " + (dir / "whole.pvs.json").string());
+    const std::string reference = sha(whole);
+    EXPECT_EQ(sha(bake("t1.pvs", "--threads 1")), reference);
+    EXPECT_EQ(sha(bake("t2.pvs", "--threads 2")), reference);
+    for (int n : {1, 2, 3, 7}) {
+        std::string parts;
+        for (int i = 0; i < n; ++i) {
+            // Built by appending (GCC 12 warns falsely, -Wrestrict, on "literal" + std::string here).
+            std::string name = "part", shard = "--shard ";
+            name.append(std::to_string(i)).append("of").append(std::to_string(n));
+            shard.append(std::to_string(i)).append("/").append(std::to_string(n)).append(" --threads ");
+            shard.append(std::to_string(1 + i % 2));
+            parts.append(" ").append(bake(name, shard).string());
+        }
+        const fs::path merged = dir / ("merged" + std::to_string(n) + ".pvs");
+        const fs::path mergedJson = dir / ("merged" + std::to_string(n) + ".pvs.json");
+        const CliRun run = runCli("pvs merge" + parts + " --out " + merged.string() + " --json " + mergedJson.string());
+        ASSERT_EQ(run.code, 0) << run.err;
+        EXPECT_EQ(sha(merged), reference) << n << " shards";
+        EXPECT_EQ(slurp(mergedJson), slurp(dir / "whole.pvs.json")) << n << " shards";
+    }
+    // The manifest beside a part names its scene, settings and shard.
+    const auto manifest = nlohmann::json::parse(slurp(dir / "part1of3.manifest.json"));
+    EXPECT_EQ(manifest["shard"], 1);
+    EXPECT_EQ(manifest["shards"], 3);
+    EXPECT_EQ(manifest["part_sha256"], sha(dir / "part1of3"));
+    EXPECT_EQ(manifest["scene_sha256"], sha(dir / "level" / "pvs_level.glb"));
+}
+
+TEST_F(PvsCli, AShardKilledAndRerunGivesTheSameOutput)
+{
+    const std::string reference = sha(bake("whole.pvs"));
+    std::string parts;
+    for (int i = 0; i < 3; ++i)
+        parts += " " + bake("p" + std::to_string(i), "--shard " + std::to_string(i) + "/3").string();
+    // A part cut short (as a killed copy would leave it) is refused by merge...
+    const std::string good = slurp(dir / "p1");
+    std::ofstream(dir / "p1", std::ios::binary | std::ios::trunc) << good.substr(0, good.size() / 2);
+    expectOneLineError(runCli("pvs merge" + parts + " --out " + (dir / "m.pvs").string()), "truncated");
+    // ... and --resume bakes it again, while it keeps a complete one.
+    const CliRun kept = runCli("pvs bake " + project + " --shard 0/3 --resume --out " + (dir / "p0").string());
+    EXPECT_EQ(kept.code, 0) << kept.err;
+    EXPECT_NE(kept.out.find("kept"), std::string::npos) << kept.out;
+    const CliRun rerun = runCli("pvs bake " + project + " --shard 1/3 --resume --out " + (dir / "p1").string());
+    EXPECT_EQ(rerun.code, 0) << rerun.err;
+    EXPECT_EQ(rerun.out.find("kept"), std::string::npos) << rerun.out;
+    ASSERT_EQ(runCli("pvs merge" + parts + " --out " + (dir / "m.pvs").string()).code, 0);
+    EXPECT_EQ(sha(dir / "m.pvs"), reference);
+}
+
+TEST_F(PvsCli, MpiBakeOverThreeRanksIsByteIdentical)
+{
+    if (std::system("command -v mpirun > /dev/null 2>&1") != 0)
+        GTEST_SKIP() << "mpirun not installed (Debian: openmpi-bin)";
+    const std::string reference = sha(bake("whole.pvs", "--json " + (dir / "whole.pvs.json").string()));
+    const fs::path out = dir / "mpi.pvs";
+    const CliRun run = runProgram("env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm=isolated "
+                                  "OMPI_MCA_btl_vader_single_copy_mechanism=none mpirun --oversubscribe -np 3",
+                                  std::string(SIGHTLINE_CLI) + " pvs bake " + project + " --mpi --threads 1 --out " +
+                                      out.string() + " --json " + (dir / "mpi.pvs.json").string() + " --print-json",
+                                  300);
+    ASSERT_EQ(run.code, 0) << run.err << run.out;
+    EXPECT_EQ(sha(out), reference);
+    EXPECT_EQ(slurp(dir / "mpi.pvs.json"), slurp(dir / "whole.pvs.json"));
+    EXPECT_NE(run.out.find("\"ranks\":3"), std::string::npos) << run.out;
+}
+
+TEST_F(PvsCli, PartsFromAnotherSceneOrOtherSettingsAreRefused)
+{
+    const fs::path p0 = bake("p0", "--shard 0/2");
+    const fs::path p1 = bake("p1", "--shard 1/2");
+    // Other settings: a finer refine pass.
+    const fs::path fine = bake("fine1", "--shard 1/2 --fine 4");
+    expectOneLineError(runCli("pvs merge " + p0.string() + " " + fine.string() + " --out " + (dir / "m.pvs").string()),
+                       "baked with other settings");
+    // Another scene: a level of another seed.
+    ASSERT_EQ(runCli("pvs level " + (dir / "other").string() + " --rooms 2 --objects 24 --seed 2").code, 0);
+    const fs::path foreign = bake("foreign1", "--shard 1/2", (dir / "other" / "pvs_level.json").string());
+    expectOneLineError(runCli("pvs merge " + p0.string() + " " + foreign.string() + " --out " + (dir / "m.pvs").string()),
+                       "is of another scene");
+    expectOneLineError(runCli("pvs merge " + p0.string() + " --out " + (dir / "m.pvs").string()), "shard 1/2 is missing");
+    expectOneLineError(runCli("pvs merge " + p0.string() + " " + p0.string() + " " + p1.string() + " --out " +
+                              (dir / "m.pvs").string()),
+                       "given twice");
+    expectOneLineError(runCli("pvs merge " + project + " --out " + (dir / "m.pvs").string()), "not a PVS part file");
+    expectOneLineError(runCli("pvs bake " + project + " --shard 2/2 --out x"), "--shard: expected I/N");
+    expectOneLineError(runCli("pvs bake " + project + " --shard 0/2 --mpi --out x"), "--mpi and --shard");
+    expectOneLineError(runCli("pvs bake " + project + " --shard 0/2 --json x.json --out x"), "part file only");
+}
+
+TEST_F(PvsCli, OverridesAreAppliedAndBadOnesRefused)
+{
+    const fs::path plain = bake("plain.pvs", "--json " + (dir / "plain.pvs.json").string());
+    const auto before = nlohmann::json::parse(slurp(dir / "plain.pvs.json"));
+    // Instance 23 is a prop in one room: from some cell it is hidden. Always and never override it.
+    const std::string always = editedProject("always.json", [](nlohmann::json& p) {
+        p["overrides"] = {{{"instance", 23}, {"visible", "always"}}, {{"object", "floor"}, {"visible", "never"}, {"cells", {0}}}};
+    });
+    bake("always.pvs", "--json " + (dir / "always.pvs.json").string(), always);
+    const auto after = nlohmann::json::parse(slurp(dir / "always.pvs.json"));
+    std::size_t hiddenBefore = 0;
+    for (std::size_t c = 0; c < after["visible"].size(); ++c) {
+        const auto& row = after["visible"][c];
+        EXPECT_NE(std::find(row.begin(), row.end(), 23), row.end()) << "cell " << c;
+        const auto& old = before["visible"][c];
+        hiddenBefore += std::find(old.begin(), old.end(), 23) == old.end();
+    }
+    EXPECT_GT(hiddenBefore, 0u);   // the override changed something
+    const auto& cell0 = after["visible"][0];
+    EXPECT_EQ(std::find(cell0.begin(), cell0.end(), 0), cell0.end());   // the floor is object 0
+    const auto& before0 = before["visible"][0];
+    EXPECT_NE(std::find(before0.begin(), before0.end(), 0), before0.end());
+
+    expectOneLineError(runCli("pvs bake " + editedProject("bad1.json", [](nlohmann::json& p) {
+                                  p["overrides"] = {{{"object", "no_such_thing"}, {"visible", "always"}}};
+                              }) + " --out x"),
+                       "no object is named 'no_such_thing'");
+    expectOneLineError(runCli("pvs bake " + editedProject("bad2.json", [](nlohmann::json& p) {
+                                  p["overrides"] = {{{"instance", 5}, {"visible", "sometimes"}}};
+                              }) + " --out x"),
+                       "must be \"always\" or \"never\"");
+    expectOneLineError(runCli("pvs bake " + editedProject("bad3.json", [](nlohmann::json& p) {
+                                  p["overrides"] = {{{"instance", 5000}, {"visible", "never"}}};
+                              }) + " --out x"),
+                       "instance 5000 is not in the scene");
+    expectOneLineError(runCli("pvs bake " + editedProject("bad4.json", [](nlohmann::json& p) {
+                                  p["overrides"] = {{{"instance", 5}, {"visible", "never"}, {"cells", {64}}}};
+                              }) + " --out x"),
+                       "is not a cell index");
+}
+
+TEST_F(PvsCli, BadCellsAreRefusedInOneLine)
+{
+    auto withCell = [&](const std::string& name, nlohmann::json cell) {
+        return editedProject(name, [cell](nlohmann::json& p) { p["cells"] = {cell}; });
+    };
+    expectOneLineError(runCli("pvs bake " + withCell("inv.json", {{"min", {0, 2, 0}}, {"max", {1, 1, 1}}}) + " --out x"),
+                       "pvs.cells[0]: inverted box");
+    expectOneLineError(runCli("pvs bake " + withCell("flat.json", {{"min", {0, 1, 0}}, {"max", {1, 1, 1}}}) + " --out x"),
+                       "pvs.cells[0]: empty box");
+    expectOneLineError(runCli("pvs bake " + withCell("nan.json", {{"min", {0, nullptr, 0}}, {"max", {1, 1, 1}}}) + " --out x"),
+                       "must be three finite numbers");
+    expectOneLineError(runCli("pvs bake " + editedProject("none.json", [](nlohmann::json& p) { p["cells"] = nlohmann::json::array(); }) +
+                              " --out x"),
+                       "no view cells");
+    expectOneLineError(runCli("pvs bake " + editedProject("size.json", [](nlohmann::json& p) {
+                                  p.erase("cells");
+                                  p["cell_size"] = -1;
+                              }) + " --out x"),
+                       "pvs.cell_size must be a positive number");
+}
+
+TEST_F(PvsCli, EngineFormatsAndCheckAreWritten)
+{
+    const fs::path out = bake("a.pvs", "--quake1 " + (dir / "a.q1").string() + " --quake2 " + (dir / "a.q2").string() +
+                                           " --prt " + (dir / "a.prt").string() + " --prt-scale 39.37");
+    const std::string prt = slurp(dir / "a.prt");
+    EXPECT_EQ(prt.substr(0, 8), "PRT1\n64\n");
+    const std::string q2 = slurp(dir / "a.q2");
+    ASSERT_GE(q2.size(), 4u);
+    EXPECT_EQ(std::uint8_t(q2[0]), 64);   // numclusters, little-endian
+    const CliRun check = runCli("pvs check " + project + " " + out.string() + " --cells 8 --cell-points 8 --object-points 8 "
+                                "--views 1 --print-json --gaps " + (dir / "gaps.json").string());
+    ASSERT_EQ(check.code, 0) << check.err;
+    const auto report = nlohmann::json::parse(check.out);
+    EXPECT_EQ(report["reference_cells"], 8);
+    EXPECT_LE(report["missed_pairs"].get<int>(), report["reference_visible_pairs"].get<int>());
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "gaps.json"))["gaps"].size(), report["gaps"].get<std::size_t>());
+    // A .pvs checked against another scene's project is refused.
+    ASSERT_EQ(runCli("pvs level " + (dir / "other").string() + " --rooms 2 --objects 24 --seed 3").code, 0);
+    expectOneLineError(runCli("pvs check " + (dir / "other" / "pvs_level.json").string() + " " + out.string()),
+                       "baked from another scene");
+}
+
+} // namespace
+} // namespace sightline::test

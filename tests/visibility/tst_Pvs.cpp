@@ -1,0 +1,486 @@
+// The PVS core (issue 17): closed-form levels, determinism, the file formats (with an
+// independent Quake row decoder), part merging and bad cells.
+
+#include <algorithm>
+#include <cmath>
+#include <atomic>
+#include <cstring>
+#include <mutex>
+#include <limits>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "TestScenes.h"
+#include "visibility/Error.h"
+#include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/PvsBake.h"
+#include "visibility/pvs/PvsFile.h"
+#include "visibility/pvs/PvsObjects.h"
+#include "visibility/pvs/PvsReference.h"
+#include "visibility/pvs/ViewCells.h"
+
+namespace sightline::pvs {
+namespace {
+
+using test::closedBox;
+
+/// A closed box mesh spanning [lo, hi], placed as an instance named `name`.
+void addBox(Scene& scene, const std::string& name, glm::vec3 lo, glm::vec3 hi)
+{
+    Mesh m = closedBox();
+    m.name = name;
+    const glm::mat4 xf = glm::scale(glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi)), hi - lo);
+    const std::size_t i = scene.addMeshInstance(m, xf);
+    scene.instances[i].name = name;
+}
+
+Bounds box(glm::vec3 lo, glm::vec3 hi)
+{
+    Bounds b;
+    b.min = lo;
+    b.max = hi;
+    return b;
+}
+
+/// Two 4 x 4 m rooms side by side along x (x in [0, 4] and [4.2, 8.2]), 3 m high under one ceiling, joined
+/// (or not) by a 1 m wide, 2 m high doorway at z in [1.5, 2.5] in the shared wall; a crate in
+/// the middle of each room.
+Scene twoRooms(bool door)
+{
+    Scene s;
+    addBox(s, "floor", {-0.2f, -0.2f, -0.2f}, {8.4f, 0.0f, 4.2f});
+    addBox(s, "ceiling", {-0.2f, 3.0f, -0.2f}, {8.4f, 3.2f, 4.2f});
+    addBox(s, "wall_south", {-0.2f, 0.0f, -0.2f}, {8.4f, 3.0f, 0.0f});
+    addBox(s, "wall_north", {-0.2f, 0.0f, 4.0f}, {8.4f, 3.0f, 4.2f});
+    addBox(s, "wall_west", {-0.2f, 0.0f, 0.0f}, {0.0f, 3.0f, 4.0f});
+    addBox(s, "wall_east", {8.2f, 0.0f, 0.0f}, {8.4f, 3.0f, 4.0f});
+    if (door) {
+        addBox(s, "wall_mid_a", {4.0f, 0.0f, 0.0f}, {4.2f, 3.0f, 1.5f});
+        addBox(s, "wall_mid_b", {4.0f, 0.0f, 2.5f}, {4.2f, 3.0f, 4.0f});
+        addBox(s, "wall_mid_top", {4.0f, 2.0f, 1.5f}, {4.2f, 3.0f, 2.5f});
+    } else {
+        addBox(s, "wall_mid", {4.0f, 0.0f, 0.0f}, {4.2f, 3.0f, 4.0f});
+    }
+    addBox(s, "crate_a", {1.6f, 0.0f, 1.6f}, {2.4f, 0.8f, 2.4f});
+    addBox(s, "crate_b", {5.8f, 0.0f, 1.6f}, {6.6f, 0.8f, 2.4f});
+    return s;
+}
+
+std::size_t objectNamed(const std::vector<PvsObject>& objects, const std::string& name)
+{
+    for (std::size_t o = 0; o < objects.size(); ++o)
+        if (objects[o].name == name)
+            return o;
+    ADD_FAILURE() << "no object " << name;
+    return 0;
+}
+
+VisibilityRows bakeOf(const Scene& scene, const std::vector<Bounds>& cells, PvsSettings settings = {})
+{
+    const PvsBaker baker(scene, cells, sceneObjects(scene, false), "00ab", settings);
+    return baker.bake();
+}
+
+const std::vector<Bounds> kRoomCells = {box({0.5f, 0.1f, 0.5f}, {2.0f, 1.9f, 3.5f}),    // room A, west half
+                                        box({6.2f, 0.1f, 0.5f}, {7.7f, 1.9f, 3.5f})};   // room B, east half
+
+TEST(Pvs, TwoRoomsJoinedByADoorSeeEachOther)
+{
+    const Scene scene = twoRooms(true);
+    const auto objects = sceneObjects(scene, false);
+    const VisibilityRows rows = bakeOf(scene, kRoomCells);
+    EXPECT_TRUE(rows.visible(0, objectNamed(objects, "crate_a")));
+    EXPECT_TRUE(rows.visible(0, objectNamed(objects, "crate_b")));   // through the doorway
+    EXPECT_TRUE(rows.visible(1, objectNamed(objects, "crate_a")));
+    EXPECT_TRUE(rows.visible(1, objectNamed(objects, "crate_b")));
+    // Room B's east wall, seen through the door from room A.
+    EXPECT_TRUE(rows.visible(0, objectNamed(objects, "wall_east")));
+}
+
+TEST(Pvs, ASealedWallHidesEverythingBehindIt)
+{
+    const Scene scene = twoRooms(false);
+    const auto objects = sceneObjects(scene, false);
+    PvsSettings settings;
+    settings.safe = true;   // even the conservative mode: nothing reaches room B
+    const VisibilityRows rows = bakeOf(scene, kRoomCells, settings);
+    EXPECT_TRUE(rows.visible(0, objectNamed(objects, "crate_a")));
+    EXPECT_FALSE(rows.visible(0, objectNamed(objects, "crate_b")));
+    EXPECT_FALSE(rows.visible(0, objectNamed(objects, "wall_east")));
+    EXPECT_FALSE(rows.visible(1, objectNamed(objects, "crate_a")));
+    EXPECT_FALSE(rows.visible(1, objectNamed(objects, "wall_west")));
+    EXPECT_TRUE(rows.visible(1, objectNamed(objects, "crate_b")));
+    // Both see the shared wall, the floor and the long walls.
+    for (const char* shared : {"wall_mid", "floor", "ceiling", "wall_south", "wall_north"}) {
+        EXPECT_TRUE(rows.visible(0, objectNamed(objects, shared))) << shared;
+        EXPECT_TRUE(rows.visible(1, objectNamed(objects, shared))) << shared;
+    }
+}
+
+TEST(Pvs, AnObjectBehindAPillarFromEveryPointOfTheCellIsCulled)
+{
+    // Cell [0, 0.2]^3; pillar z in [1, 1.2] covering x, y in [-1, 1.2]; target in [0, 0.2]^2 at
+    // z in [2, 2.2]. Every segment from the cell to the target keeps x, y in [0, 0.2] (convex),
+    // so it crosses the pillar: culled. A second target beside the pillar is seen.
+    Scene s;
+    addBox(s, "pillar", {-1.0f, -1.0f, 1.0f}, {1.2f, 1.2f, 1.2f});
+    addBox(s, "hidden", {0.0f, 0.0f, 2.0f}, {0.2f, 0.2f, 2.2f});
+    addBox(s, "beside", {3.0f, 0.0f, 2.0f}, {3.2f, 0.2f, 2.2f});
+    PvsSettings settings;
+    settings.safe = true;
+    const VisibilityRows rows = bakeOf(s, {box({0.0f, 0.0f, 0.0f}, {0.2f, 0.2f, 0.2f})}, settings);
+    EXPECT_TRUE(rows.visible(0, 0));
+    EXPECT_FALSE(rows.visible(0, 1));
+    EXPECT_TRUE(rows.visible(0, 2));
+}
+
+TEST(Pvs, AnObjectSeenOnlyThroughANarrowSlotIsFoundByTheShafts)
+{
+    // A wall with a 5 cm slot; the target behind it is seen only through the slot. The direct
+    // rays (few, random) rarely find it; the shafts (every cell-face sample to every box-face
+    // sample) and their continuation must.
+    Scene s;
+    addBox(s, "wall_left", {-3.0f, -1.0f, 1.0f}, {0.075f, 2.0f, 1.1f});
+    addBox(s, "wall_right", {0.125f, -1.0f, 1.0f}, {3.0f, 2.0f, 1.1f});
+    addBox(s, "target", {-0.5f, 0.0f, 3.0f}, {0.7f, 1.0f, 3.2f});
+    PvsSettings settings;
+    settings.fineSamples = 8;
+    const VisibilityRows rows = bakeOf(s, {box({-0.5f, 0.0f, -1.0f}, {0.7f, 1.0f, 0.0f})}, settings);
+    EXPECT_TRUE(rows.visible(0, 2));
+}
+
+TEST(Pvs, TheRowsDoNotDependOnThreadsOrOnWhichCellsAreBakedTogether)
+{
+    const Scene scene = twoRooms(true);
+    std::vector<Bounds> cells;
+    for (int i = 0; i < 6; ++i)
+        cells.push_back(box({0.3f + 1.3f * float(i), 0.1f, 0.4f}, {1.2f + 1.3f * float(i), 1.9f, 1.4f}));
+    auto objects = sceneObjects(scene, false);
+    PvsSettings one, two;
+    one.threads = 1;
+    two.threads = 2;
+    const VisibilityRows a = PvsBaker(scene, cells, objects, "beef", one).bake();
+    const VisibilityRows b = PvsBaker(scene, cells, objects, "beef", two).bake();
+    EXPECT_EQ(a, b);
+    // Baking cells one by one (as shards do) gives the same rows.
+    const PvsBaker baker(scene, cells, objects, "beef", one);
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        const VisibilityRows single = baker.bake({c});
+        EXPECT_TRUE(std::equal(single.row(c), single.row(c) + single.rowBytes(), a.row(c))) << "cell " << c;
+    }
+}
+
+TEST(Pvs, ProgressReportsEveryCellForTheCoarsePassBeforeAnyRefinement)
+{
+    const Scene scene = twoRooms(true);
+    std::vector<PvsPass> passes;
+    std::mutex m;
+    PvsProgress progress;
+    progress.onCell = [&](PvsPass pass, std::size_t, const std::vector<std::uint8_t>&) {
+        const std::lock_guard lock(m);
+        passes.push_back(pass);
+    };
+    const PvsBaker baker(scene, kRoomCells, sceneObjects(scene, false), "00", {});
+    baker.bake({}, progress);
+    ASSERT_EQ(passes.size(), 4u);
+    EXPECT_EQ(passes[0], PvsPass::Coarse);
+    EXPECT_EQ(passes[1], PvsPass::Coarse);
+    EXPECT_EQ(passes[2], PvsPass::Refine);
+    EXPECT_EQ(passes[3], PvsPass::Refine);
+    std::atomic<bool> cancel{true};
+    progress.cancel = &cancel;
+    EXPECT_THROW(baker.bake({}, progress), PvsCancelled);
+}
+
+TEST(Pvs, BadCellsAreRefusedInOneLine)
+{
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const std::vector<std::pair<Bounds, std::string>> bad = {
+        {box({0, 0, 0}, {1, 0, 1}), "empty box"},
+        {box({0, 2, 0}, {1, 1, 1}), "inverted box"},
+        {box({0, nan, 0}, {1, 1, 1}), "not finite"},
+        {box({0, 0, 0}, {2e6f, 1, 1}), "beyond 1e6"},
+    };
+    for (const auto& [cell, words] : bad) {
+        try {
+            validateCells({box({0, 0, 0}, {1, 1, 1}), cell}, "level.json: pvs.cells");
+            ADD_FAILURE() << words << " accepted";
+        } catch (const Error& e) {
+            const std::string what = e.what();
+            EXPECT_NE(what.find(words), std::string::npos) << what;
+            EXPECT_NE(what.find("pvs.cells[1]"), std::string::npos) << what;
+            EXPECT_EQ(what.find('\n'), std::string::npos);
+        }
+    }
+    EXPECT_THROW(validateCells({}, "x"), Error);
+}
+
+TEST(Pvs, GridCellsStandOnFloorsWithRoomAboveThem)
+{
+    // A 4 x 4 m floor at y = 0 and a 2 x 4 m mezzanine at y = 1 over half of it (x in [0, 2]):
+    // with 1.5 m cells that need 0.1 + 0.8 m of room, columns under the mezzanine get a cell on
+    // the floor (1 m of room) and one on the mezzanine (up to the scene's top at y = 3).
+    Scene s;
+    addBox(s, "floor", {0.0f, -0.1f, 0.0f}, {4.0f, 0.0f, 4.0f});
+    addBox(s, "mezzanine", {0.0f, 0.95f, 0.0f}, {2.0f, 1.0f, 4.0f});
+    addBox(s, "mast", {3.9f, 0.0f, 3.9f}, {4.0f, 3.0f, 4.0f});
+    const FirstHitCaster caster(s);
+    GridCellSettings g;
+    g.cellSize = 2.0f;
+    g.height = 0.8f;
+    g.lift = 0.1f;
+    const auto cells = gridCells(s, caster, g);
+    // 2 x 2 columns; the two at x < 2 have two floors.
+    ASSERT_EQ(cells.size(), 6u);
+    int onMezzanine = 0;
+    for (const Bounds& c : cells) {
+        EXPECT_FLOAT_EQ(c.max.y - c.min.y, 0.8f);
+        if (std::abs(c.min.y - 1.1f) < 1e-4f)
+            ++onMezzanine;
+        else
+            EXPECT_NEAR(c.min.y, 0.1f, 1e-4f);
+    }
+    EXPECT_EQ(onMezzanine, 2);
+}
+
+TEST(Pvs, ObjectsGroupedByNameShareOneRow)
+{
+    Scene s;
+    addBox(s, "lamp", {0, 0, 0}, {1, 1, 1});
+    addBox(s, "crate", {2, 0, 0}, {3, 1, 1});
+    addBox(s, "lamp", {4, 0, 0}, {5, 1, 1});
+    const auto grouped = sceneObjects(s, true);
+    ASSERT_EQ(grouped.size(), 2u);
+    EXPECT_EQ(grouped[0].name, "lamp");
+    EXPECT_EQ(grouped[0].instances, (std::vector<std::uint32_t>{0, 2}));
+    EXPECT_FLOAT_EQ(grouped[0].bounds.max.x, 5.0f);
+    EXPECT_EQ(sceneObjects(s, false).size(), 3u);
+}
+
+// ---------------------------------------------------------------- formats
+
+PvsData sampleData()
+{
+    PvsData d;
+    d.sceneSha256 = std::string(64, 'a');
+    d.settingsSha256 = std::string(64, 'b');
+    for (int c = 0; c < 5; ++c)
+        d.cells.push_back(box({float(c), 0, 0}, {float(c + 1), 1, 1}));
+    for (int o = 0; o < 700; ++o)
+        d.objects.push_back({"obj" + std::to_string(o), std::uint32_t(o), {std::uint32_t(o)}, box({0, 0, 0}, {1, 1, 1})});
+    d.objects[3].name = "naïve \"quoted\"";
+    d.rows = VisibilityRows(5, 700);
+    for (int c = 0; c < 5; ++c)
+        for (int o = 0; o < 700; ++o)
+            if ((o * 7 + c * 13) % 97 == 0 || (c == 2 && o > 600))
+                d.rows.set(std::size_t(c), std::size_t(o), true);
+    return d;
+}
+
+std::uint32_t le32(const std::string& s, std::size_t at)
+{
+    std::uint32_t v = 0;
+    for (int k = 0; k < 4; ++k)
+        v |= std::uint32_t(std::uint8_t(s[at + std::size_t(k)])) << (8 * k);
+    return v;
+}
+
+/// Quake's DecompressVis, written again from the engine's description (not the library's code):
+/// a non-zero byte is copied; a zero byte is followed by a count of zero bytes.
+std::vector<std::uint8_t> quakeDecompress(const std::string& data, std::size_t at, std::size_t rowBytes)
+{
+    std::vector<std::uint8_t> out;
+    while (out.size() < rowBytes) {
+        const std::uint8_t b = std::uint8_t(data.at(at++));
+        if (b) {
+            out.push_back(b);
+        } else {
+            const int c = std::uint8_t(data.at(at++));
+            out.insert(out.end(), std::size_t(c), 0);
+        }
+    }
+    EXPECT_EQ(out.size(), rowBytes);
+    return out;
+}
+
+TEST(PvsFiles, PvsBinaryRoundTripsRawAndCompressed)
+{
+    const PvsData d = sampleData();
+    for (RowEncoding e : {RowEncoding::Raw, RowEncoding::ZeroRuns}) {
+        const std::string bytes = encodePvs(d, e);
+        EXPECT_EQ(bytes.substr(0, 5), "SLPVS");
+        EXPECT_EQ(le32(bytes, 8), kPvsFileVersion);
+        EXPECT_EQ(le32(bytes, 16), 5u);
+        EXPECT_EQ(le32(bytes, 20), 700u);
+        const PvsData back = decodePvs(bytes, "x.pvs");
+        EXPECT_EQ(back.rows, d.rows);
+        EXPECT_EQ(back.objects[3].name, d.objects[3].name);
+        EXPECT_EQ(back.sceneSha256, d.sceneSha256);
+        EXPECT_EQ(encodePvs(back, e), bytes);
+    }
+    // The compressed rows are smaller here: mostly zeros.
+    EXPECT_LT(encodePvs(d, RowEncoding::ZeroRuns).size(), encodePvs(d, RowEncoding::Raw).size());
+}
+
+TEST(PvsFiles, DamagedPvsFilesAreRefusedNotRead)
+{
+    const std::string bytes = encodePvs(sampleData());
+    EXPECT_THROW(decodePvs(bytes.substr(0, bytes.size() - 1), "x.pvs"), Error);
+    EXPECT_THROW(decodePvs(bytes.substr(0, 40), "x.pvs"), Error);
+    std::string other = bytes;
+    other[8] = 9;   // version
+    try {
+        decodePvs(other, "x.pvs");
+        ADD_FAILURE();
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("version 9"), std::string::npos);
+    }
+    EXPECT_THROW(decodePvs("not a pvs file at all", "x.pvs"), Error);
+}
+
+TEST(PvsFiles, QuakeOneRowsDecodeWithAnIndependentDecoder)
+{
+    const PvsData d = sampleData();
+    const std::string q = quake1Vis(d.rows);
+    const std::size_t leafs = le32(q, 0);
+    ASSERT_EQ(leafs, 5u);
+    const std::size_t visdata = 4 + 4 * leafs;
+    for (std::size_t c = 0; c < leafs; ++c) {
+        const auto row = quakeDecompress(q, visdata + le32(q, 4 + 4 * c), d.rows.rowBytes());
+        for (std::size_t o = 0; o < 700; ++o)
+            ASSERT_EQ(bool(row[o >> 3] & (1 << (o & 7))), d.rows.visible(c, o)) << c << " " << o;
+    }
+}
+
+TEST(PvsFiles, QuakeTwoVisLumpDecodesWithAnIndependentDecoder)
+{
+    const PvsData d = sampleData();
+    const std::string q = quake2Vis(d.rows);
+    const std::size_t clusters = le32(q, 0);
+    ASSERT_EQ(clusters, 5u);
+    for (std::size_t c = 0; c < clusters; ++c) {
+        const std::size_t pvsOffset = le32(q, 4 + 8 * c), phsOffset = le32(q, 8 + 8 * c);
+        EXPECT_GE(pvsOffset, 4 + 8 * clusters);   // offsets count from the lump's start
+        EXPECT_EQ(phsOffset, pvsOffset);
+        const auto row = quakeDecompress(q, pvsOffset, d.rows.rowBytes());
+        for (std::size_t o = 0; o < 700; ++o)
+            ASSERT_EQ(bool(row[o >> 3] & (1 << (o & 7))), d.rows.visible(c, o));
+    }
+}
+
+TEST(PvsFiles, ZeroRunsSplitLongRunsAt255AndRefuseOverflows)
+{
+    std::vector<std::uint8_t> row(600, 0);
+    row[599] = 0x80;
+    const auto packed = compressZeroRuns(row.data(), row.size());
+    // 599 zeros: runs of 255, 255 and 89, then the byte.
+    EXPECT_EQ(packed, (std::vector<std::uint8_t>{0, 255, 0, 255, 0, 89, 0x80}));
+    const std::string text(packed.begin(), packed.end());
+    EXPECT_EQ(decompressZeroRuns(text, 0, 600), row);
+    EXPECT_THROW(decompressZeroRuns(text, 0, 500), Error);          // the run overflows the row
+    EXPECT_THROW(decompressZeroRuns(text.substr(0, 3), 0, 600), Error);   // data ends
+}
+
+TEST(PvsFiles, JsonFollowsDesignSection4)
+{
+    PvsData d = sampleData();
+    const std::string j = pvsJson(d);
+    EXPECT_NE(j.find("\"version\": 1"), std::string::npos);
+    EXPECT_NE(j.find("\"scene_sha256\": \"" + std::string(64, 'a') + "\""), std::string::npos);
+    EXPECT_NE(j.find("{\"min\": [2, 0, 0], \"max\": [3, 1, 1]}"), std::string::npos);
+    EXPECT_NE(j.find("{\"name\": \"obj5\", \"instance\": 5,"), std::string::npos);
+    EXPECT_NE(j.find("\"naïve \\\"quoted\\\"\""), std::string::npos);
+    // Row 0: o * 7 % 97 == 0 -> 0, 97, 194, ...
+    EXPECT_NE(j.find("\"visible\": [\n  [0, 97, 194, 291, 388, 485, 582, 679]"), std::string::npos);
+}
+
+TEST(PvsFiles, PrtOneListsOnePortalPerSharedFace)
+{
+    // Three cells in a row along x, and one above the first: 3 shared faces.
+    const std::vector<Bounds> cells = {box({0, 0, 0}, {1, 1, 1}), box({1, 0, 0}, {2, 1, 1}), box({2, 0, 0}, {3, 1, 1}),
+                                       box({0, 1, 0}, {1, 2, 1}), box({5, 0, 0}, {6, 1, 1})};
+    const std::string prt = prt1(cells);
+    EXPECT_EQ(prt.substr(0, prt.find('\n', prt.find('\n', 5) + 1) + 1), "PRT1\n5\n3\n");
+    EXPECT_NE(prt.find("4 0 1 (1 -0 0) (1 -0 1) (1 -1 1) (1 -1 0)"), std::string::npos) << prt;   // x = 1, Quake Z up
+    EXPECT_NE(prt.find("4 0 3 "), std::string::npos);
+    EXPECT_NE(prt.find("4 1 2 "), std::string::npos);
+}
+
+TEST(PvsFiles, PartsMergeToTheWholeAndRefuseMismatches)
+{
+    const PvsData whole = sampleData();
+    std::vector<PvsPart> parts;
+    std::vector<std::string> names;
+    for (std::uint32_t s = 0; s < 3; ++s) {
+        PvsPart p;
+        p.data = whole;
+        p.shard = s;
+        p.shardCount = 3;
+        for (std::size_t c = 0; c < whole.cells.size(); ++c)
+            if (c % 3 == s)
+                p.cellIndices.push_back(std::uint32_t(c));
+            else
+                std::fill(p.data.rows.row(c), p.data.rows.row(c) + p.data.rows.rowBytes(), std::uint8_t(0));
+        parts.push_back(decodePart(encodePart(p), "p" + std::to_string(s)));
+        names.push_back("p" + std::to_string(s));
+    }
+    EXPECT_EQ(encodePvs(mergeParts(parts, names)), encodePvs(whole));
+    auto expectRefused = [&](std::vector<PvsPart> ps, const std::string& words) {
+        try {
+            mergeParts(ps, names);
+            ADD_FAILURE() << words;
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+        }
+    };
+    auto otherScene = parts;
+    otherScene[1].data.sceneSha256 = std::string(64, 'c');
+    expectRefused(otherScene, "p1 is of another scene");
+    auto otherSettings = parts;
+    otherSettings[2].data.settingsSha256 = std::string(64, 'd');
+    expectRefused(otherSettings, "p2 was baked with other settings");
+    expectRefused({parts[0], parts[2]}, "shard 1/3 is missing");
+    expectRefused({parts[0], parts[0], parts[1]}, "shard 0 given twice");
+    const std::string bytes = encodePart(parts[0]);
+    EXPECT_THROW(decodePart(bytes.substr(0, bytes.size() - 3), "p0"), Error);
+}
+
+// ---------------------------------------------------------------- accuracy
+
+TEST(PvsAccuracy, TheReferenceFindsWhatAnEmptyPvsMissesAndNothingInAFullOne)
+{
+    const Scene scene = twoRooms(true);
+    PvsData d;
+    d.sceneSha256 = "12";
+    d.cells = kRoomCells;
+    d.objects = sceneObjects(scene, false);
+    d.rows = VisibilityRows(d.cells.size(), d.objects.size());
+    ReferenceSettings r;
+    r.cellPoints = 27;
+    r.objectPoints = 27;
+    r.views = 2;
+    r.width = 32;
+    r.height = 16;
+    const AccuracyReport empty = measureAccuracy(scene, d, r);
+    EXPECT_GT(empty.referenceVisible, 0u);
+    EXPECT_EQ(empty.missed, empty.referenceVisible);
+    EXPECT_DOUBLE_EQ(empty.objectMissRate(), 1.0);
+    EXPECT_EQ(empty.gaps.size(), empty.missed);
+    // Inside closed rooms every pixel shows an object, and all are culled.
+    EXPECT_EQ(empty.wrongPixels, empty.pixels);
+    for (std::size_t c = 0; c < d.cells.size(); ++c)
+        for (std::size_t o = 0; o < d.objects.size(); ++o)
+            d.rows.set(c, o, true);
+    const AccuracyReport full = measureAccuracy(scene, d, r);
+    EXPECT_EQ(full.missed, 0u);
+    EXPECT_EQ(full.wrongPixels, 0u);
+    EXPECT_EQ(full.referenceVisible, empty.referenceVisible);
+    // The baked PVS of the door scene: nothing the reference sees is culled.
+    d.rows = bakeOf(scene, kRoomCells);
+    EXPECT_EQ(measureAccuracy(scene, d, r).missed, 0u);
+}
+
+} // namespace
+} // namespace sightline::pvs

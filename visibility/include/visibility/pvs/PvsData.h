@@ -1,0 +1,67 @@
+#pragma once
+// A potentially visible set (issue 17): view cells, the objects they may see, one bit row per cell.
+//
+// Rows are bitsets over objects, least significant bit first (object o is bit o % 8 of byte o / 8),
+// the layout of the Quake-family visibility rows (PvsFile.h). Everything here is plain data, so
+// the bake, the file formats, the merge of shards and the editor's debugger all share it.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "visibility/Scene.h"
+
+namespace sightline::pvs {
+
+/// What the level's instances are to a PVS: an object is one instance or, grouped by name, every
+/// instance of one name. `instance` is the first (lowest) instance index, the number DESIGN.md §4's
+/// .pvs.json writes; `instances` lists all of them, sorted.
+struct PvsObject {
+    std::string name;
+    std::uint32_t instance = 0;
+    std::vector<std::uint32_t> instances;
+    Bounds bounds;
+};
+
+/// One bit row per cell over `objectCount` objects.
+class VisibilityRows {
+public:
+    VisibilityRows() = default;
+    VisibilityRows(std::size_t cellCount, std::size_t objectCount);
+
+    std::size_t cellCount() const { return cells_; }
+    std::size_t objectCount() const { return objects_; }
+    std::size_t rowBytes() const { return (objects_ + 7) / 8; }
+
+    bool visible(std::size_t cell, std::size_t object) const
+    {
+        return (bytes_[cell * rowBytes() + object / 8] >> (object % 8)) & 1u;
+    }
+    void set(std::size_t cell, std::size_t object, bool value);
+    const std::uint8_t* row(std::size_t cell) const { return bytes_.data() + cell * rowBytes(); }
+    std::uint8_t* row(std::size_t cell) { return bytes_.data() + cell * rowBytes(); }
+    /// Sorted object indices visible from `cell` (the editor's "what does this cell see").
+    std::vector<std::uint32_t> visibleObjects(std::size_t cell) const;
+    std::size_t visibleCount(std::size_t cell) const;
+    std::size_t visibleCount() const;
+
+    bool operator==(const VisibilityRows&) const = default;
+
+private:
+    std::size_t cells_ = 0, objects_ = 0;
+    std::vector<std::uint8_t> bytes_;
+};
+
+/// A baked (or merged) PVS with what identifies its inputs: `sceneSha256` is the SHA-256 of the
+/// scene file's bytes (hex), `settingsSha256` that of the canonical settings text
+/// (PvsSettings.h: sample counts, mode, the assembled world geometry, the cells and objects), so a
+/// part file of another scene or other settings is refused by comparing two strings.
+struct PvsData {
+    std::string sceneSha256;
+    std::string settingsSha256;
+    std::vector<Bounds> cells;
+    std::vector<PvsObject> objects;
+    VisibilityRows rows;
+};
+
+} // namespace sightline::pvs

@@ -1,0 +1,62 @@
+#pragma once
+// How wrong a baked PVS is (issue 17 §3), against a dense reference.
+//
+// Sampling can only miss visibility (every "visible" the bake writes has a witness ray), so the
+// error measured is false invisibility:
+//  - reference: in `cells` random cells (seeded), exact-as-Embree first-hit rays from
+//    `cellPoints` stratified points of the cell towards `objectPoints` area-stratified points on
+//    every object, with seeds of its own (never the bake's): the object is visible when some ray's
+//    first hit is the object;
+//  - object miss rate: reference-visible (cell, object) pairs the PVS culls / reference-visible pairs;
+//  - pixel error rate: from `views` random points in each of those cells, a `width` x `height`
+//    panorama (equirectangular, every direction) "rendered" by first-hit rays; a pixel is wrong when
+//    the object it shows is culled by the cell's row; rate = wrong pixels / all pixels;
+//  - PVS size: the bake's visible pairs over the reference's, in those cells (>= 1 can be the
+//    bake's conservative boxes or the reference's own sampling misses);
+//  - gap list: each missed pair with the reference's witness ray (from a point of the cell to a
+//    point of the object): an opening the bake's samples stepped over.
+
+#include <cstdint>
+#include <vector>
+
+#include "visibility/Scene.h"
+#include "visibility/pvs/PvsData.h"
+
+namespace sightline::pvs {
+
+struct ReferenceSettings {
+    int cells = 64;          ///< random cells (all when the PVS has fewer)
+    int cellPoints = 64;
+    int objectPoints = 64;
+    int views = 4;           ///< panoramas per cell
+    int width = 64, height = 32;
+    std::uint64_t seed = 0x5eed;   ///< mixed with the scene hash
+    int threads = 0;
+};
+
+struct Gap {
+    std::uint32_t cell = 0, object = 0;
+    glm::vec3 from{0.0f}, to{0.0f};   ///< the reference's witness: a point of the cell, where it meets the object
+};
+
+struct AccuracyReport {
+    std::vector<std::uint32_t> cells;       ///< the reference cells, sorted
+    std::uint64_t referenceVisible = 0;     ///< (cell, object) pairs the reference sees
+    std::uint64_t bakedVisible = 0;         ///< pairs the PVS keeps, in those cells
+    std::uint64_t missed = 0;               ///< reference-visible, culled by the PVS
+    std::uint64_t extra = 0;                ///< kept by the PVS, not seen by the reference
+    std::uint64_t pixels = 0, wrongPixels = 0;
+    std::uint64_t rays = 0;
+    double ms = 0.0;
+    std::vector<Gap> gaps;
+
+    double objectMissRate() const { return referenceVisible ? double(missed) / double(referenceVisible) : 0.0; }
+    double pixelErrorRate() const { return pixels ? double(wrongPixels) / double(pixels) : 0.0; }
+    double sizeRatio() const { return referenceVisible ? double(bakedVisible) / double(referenceVisible) : 0.0; }
+};
+
+/// Measures `pvs` (baked from `scene`, whose instances its objects name) against the dense
+/// reference. Throws sightline::Error when the PVS names an instance the scene lacks.
+AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const ReferenceSettings& settings);
+
+} // namespace sightline::pvs

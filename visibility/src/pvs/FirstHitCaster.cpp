@@ -1,0 +1,104 @@
+#include "visibility/pvs/FirstHitCaster.h"
+
+#include <limits>
+#include <string>
+
+#include <embree3/rtcore.h>
+
+#include "visibility/Error.h"
+
+namespace sightline::pvs {
+
+namespace {
+void onEmbreeError(void* user, RTCError code, const char* message)
+{
+    auto* text = static_cast<std::string*>(user);
+    if (text->empty())
+        *text = std::to_string(int(code)) + ": " + (message ? message : "");
+}
+} // namespace
+
+struct FirstHitCaster::Embree {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::string error;
+    std::vector<std::uint32_t> instanceOf;
+    std::vector<glm::vec3> vertices;
+    ~Embree()
+    {
+        if (scene)
+            rtcReleaseScene(scene);
+        if (device)
+            rtcReleaseDevice(device);
+    }
+};
+
+FirstHitCaster::FirstHitCaster(const Scene& scene) : embree_(std::make_unique<Embree>())
+{
+    WorldTriangles world = worldTriangles(scene);
+    validateCoordinates(world, "scene");
+    Embree& e = *embree_;
+    e.device = rtcNewDevice(nullptr);
+    if (!e.device)
+        throw Error("Embree: cannot create a device");
+    rtcSetDeviceErrorFunction(e.device, onEmbreeError, &e.error);
+    e.scene = rtcNewScene(e.device);
+    rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
+    e.instanceOf = std::move(world.instanceOf);
+    e.vertices = std::move(world.vertices);
+    if (!e.instanceOf.empty()) {
+        RTCGeometry g = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), e.vertices.size()));
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(unsigned), e.instanceOf.size()));
+        if (!v || !idx)
+            throw Error("Embree: out of memory for " + std::to_string(e.instanceOf.size()) + " triangles");
+        for (std::size_t k = 0; k < e.vertices.size(); ++k) {
+            v[3 * k] = e.vertices[k].x;
+            v[3 * k + 1] = e.vertices[k].y;
+            v[3 * k + 2] = e.vertices[k].z;
+        }
+        for (std::size_t k = 0; k < e.vertices.size(); ++k)
+            idx[k] = unsigned(k);
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(e.scene, g);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(e.scene);
+    if (!e.error.empty())
+        throw Error("Embree: " + e.error);
+}
+
+FirstHitCaster::~FirstHitCaster() = default;
+
+std::size_t FirstHitCaster::triangleCount() const { return embree_->instanceOf.size(); }
+
+RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction, float tfar) const
+{
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh{};
+    rh.ray.org_x = origin.x;
+    rh.ray.org_y = origin.y;
+    rh.ray.org_z = origin.z;
+    rh.ray.dir_x = direction.x;
+    rh.ray.dir_y = direction.y;
+    rh.ray.dir_z = direction.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(embree_->scene, &context, &rh);
+    RayHit out;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        return out;
+    out.instance = embree_->instanceOf[rh.hit.primID];
+    out.t = rh.ray.tfar;
+    out.normal = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+    return out;
+}
+
+} // namespace sightline::pvs

@@ -1,0 +1,44 @@
+#include "visibility/pvs/PvsData.h"
+
+#include <bit>
+
+namespace sightline::pvs {
+
+VisibilityRows::VisibilityRows(std::size_t cellCount, std::size_t objectCount)
+    : cells_(cellCount), objects_(objectCount), bytes_(cellCount * ((objectCount + 7) / 8), 0)
+{
+}
+
+void VisibilityRows::set(std::size_t cell, std::size_t object, bool value)
+{
+    std::uint8_t& byte = bytes_[cell * rowBytes() + object / 8];
+    const std::uint8_t bit = std::uint8_t(1u << (object % 8));
+    byte = value ? std::uint8_t(byte | bit) : std::uint8_t(byte & ~bit);
+}
+
+std::vector<std::uint32_t> VisibilityRows::visibleObjects(std::size_t cell) const
+{
+    std::vector<std::uint32_t> out;
+    for (std::size_t o = 0; o < objects_; ++o)
+        if (visible(cell, o))
+            out.push_back(std::uint32_t(o));
+    return out;
+}
+
+std::size_t VisibilityRows::visibleCount(std::size_t cell) const
+{
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < rowBytes(); ++k)
+        n += std::size_t(std::popcount(row(cell)[k]));
+    return n;
+}
+
+std::size_t VisibilityRows::visibleCount() const
+{
+    std::size_t n = 0;
+    for (std::uint8_t b : bytes_)
+        n += std::size_t(std::popcount(b));
+    return n;
+}
+
+} // namespace sightline::pvs

@@ -1,0 +1,509 @@
+#include "visibility/pvs/PvsFile.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "visibility/Error.h"
+
+namespace sightline::pvs {
+
+namespace {
+
+constexpr char kPvsMagic[8] = {'S', 'L', 'P', 'V', 'S', 0, 0, 0};
+constexpr char kPartMagic[8] = {'S', 'L', 'P', 'V', 'S', 'P', 'R', 'T'};
+constexpr std::size_t kHashChars = 64;
+
+void put32(std::string& out, std::uint32_t v)
+{
+    for (int k = 0; k < 4; ++k)
+        out += char((v >> (8 * k)) & 0xff);
+}
+void put64(std::string& out, std::uint64_t v)
+{
+    for (int k = 0; k < 8; ++k)
+        out += char((v >> (8 * k)) & 0xff);
+}
+void putFloat(std::string& out, float f)
+{
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, 4);
+    put32(out, bits);
+}
+void putHash(std::string& out, const std::string& hex)
+{
+    std::string h = hex.substr(0, kHashChars);
+    h.resize(kHashChars, '\0');
+    out += h;
+}
+
+/// Bounds-checked little-endian reader: every read names the file on failure.
+struct Reader {
+    std::string_view bytes;
+    std::string what;
+    std::size_t at = 0;
+
+    void need(std::size_t n, const char* field) const
+    {
+        if (n > bytes.size() || at > bytes.size() - n)
+            throw Error(what + ": truncated (" + field + " at byte " + std::to_string(at) + " of " +
+                        std::to_string(bytes.size()) + ")");
+    }
+    std::uint32_t u32(const char* field)
+    {
+        need(4, field);
+        std::uint32_t v = 0;
+        for (int k = 0; k < 4; ++k)
+            v |= std::uint32_t(std::uint8_t(bytes[at + std::size_t(k)])) << (8 * k);
+        at += 4;
+        return v;
+    }
+    std::uint64_t u64(const char* field)
+    {
+        need(8, field);
+        std::uint64_t v = 0;
+        for (int k = 0; k < 8; ++k)
+            v |= std::uint64_t(std::uint8_t(bytes[at + std::size_t(k)])) << (8 * k);
+        at += 8;
+        return v;
+    }
+    float f32(const char* field)
+    {
+        const std::uint32_t bits = u32(field);
+        float f;
+        std::memcpy(&f, &bits, 4);
+        return f;
+    }
+    std::string_view take(std::size_t n, const char* field)
+    {
+        need(n, field);
+        const std::string_view s = bytes.substr(at, n);
+        at += n;
+        return s;
+    }
+    std::string hash(const char* field)
+    {
+        std::string s(take(kHashChars, field));
+        s.resize(std::strlen(s.c_str()));
+        return s;
+    }
+};
+
+void putBounds(std::string& out, const Bounds& b)
+{
+    for (int k = 0; k < 3; ++k)
+        putFloat(out, b.min[k]);
+    for (int k = 0; k < 3; ++k)
+        putFloat(out, b.max[k]);
+}
+Bounds readBounds(Reader& r, const char* field)
+{
+    Bounds b;
+    for (int k = 0; k < 3; ++k)
+        b.min[k] = r.f32(field);
+    for (int k = 0; k < 3; ++k)
+        b.max[k] = r.f32(field);
+    return b;
+}
+
+std::string number(float f)
+{
+    if (!std::isfinite(f))
+        return "null";   // an empty object's box
+    char buffer[32];
+    const auto result = std::to_chars(buffer, buffer + sizeof buffer, f);
+    return std::string(buffer, result.ptr);
+}
+std::string vec3(const glm::vec3& v)
+{
+    return "[" + number(v.x) + ", " + number(v.y) + ", " + number(v.z) + "]";
+}
+
+} // namespace
+
+std::vector<std::uint8_t> compressZeroRuns(const std::uint8_t* row, std::size_t rowBytes)
+{
+    std::vector<std::uint8_t> out;
+    for (std::size_t k = 0; k < rowBytes;) {
+        if (row[k] != 0) {
+            out.push_back(row[k++]);
+            continue;
+        }
+        std::size_t run = 0;
+        while (k < rowBytes && row[k] == 0 && run < 255) {
+            ++run;
+            ++k;
+        }
+        out.push_back(0);
+        out.push_back(std::uint8_t(run));
+    }
+    return out;
+}
+
+std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t offset, std::size_t rowBytes)
+{
+    std::vector<std::uint8_t> row;
+    row.reserve(rowBytes);
+    std::size_t k = offset;
+    while (row.size() < rowBytes) {
+        if (k >= data.size())
+            throw Error("zero-run-length row: data ends after " + std::to_string(row.size()) + " of " +
+                        std::to_string(rowBytes) + " bytes");
+        const std::uint8_t b = std::uint8_t(data[k++]);
+        if (b != 0) {
+            row.push_back(b);
+            continue;
+        }
+        if (k >= data.size())
+            throw Error("zero-run-length row: a zero byte without its count");
+        const std::size_t run = std::uint8_t(data[k++]);
+        if (run == 0 || row.size() + run > rowBytes)
+            throw Error("zero-run-length row: a run of " + std::to_string(run) + " zeros does not fit the row");
+        row.insert(row.end(), run, 0);
+    }
+    return row;
+}
+
+std::string encodePvs(const PvsData& data, RowEncoding encoding)
+{
+    const VisibilityRows& rows = data.rows;
+    if (rows.cellCount() != data.cells.size() || rows.objectCount() != data.objects.size())
+        throw Error("pvs: rows do not match the cell and object tables");
+    std::string out(kPvsMagic, 8);
+    put32(out, kPvsFileVersion);
+    put32(out, std::uint32_t(encoding));
+    put32(out, std::uint32_t(data.cells.size()));
+    put32(out, std::uint32_t(data.objects.size()));
+    put32(out, std::uint32_t(rows.rowBytes()));
+    put32(out, 0);
+    putHash(out, data.sceneSha256);
+    putHash(out, data.settingsSha256);
+    for (const Bounds& b : data.cells)
+        putBounds(out, b);
+    for (const PvsObject& o : data.objects) {
+        put32(out, o.instance);
+        put32(out, std::uint32_t(o.instances.size()));
+        for (std::uint32_t i : o.instances)
+            put32(out, i);
+        putBounds(out, o.bounds);
+        put32(out, std::uint32_t(o.name.size()));
+        out += o.name;
+    }
+    std::string rowData;
+    std::vector<std::uint64_t> offsets;
+    for (std::size_t c = 0; c < rows.cellCount(); ++c) {
+        offsets.push_back(rowData.size());
+        if (encoding == RowEncoding::Raw)
+            rowData.append(reinterpret_cast<const char*>(rows.row(c)), rows.rowBytes());
+        else {
+            const auto packed = compressZeroRuns(rows.row(c), rows.rowBytes());
+            rowData.append(packed.begin(), packed.end());
+        }
+    }
+    offsets.push_back(rowData.size());
+    for (std::uint64_t o : offsets)
+        put64(out, o);
+    out += rowData;
+    return out;
+}
+
+PvsData decodePvs(std::string_view bytes, const std::string& what)
+{
+    Reader r{bytes, what};
+    if (r.take(8, "magic") != std::string_view(kPvsMagic, 8))
+        throw Error(what + ": not a Sightline .pvs file (bad magic)");
+    const std::uint32_t version = r.u32("version");
+    if (version != kPvsFileVersion)
+        throw Error(what + ": .pvs version " + std::to_string(version) + ", this build reads version " +
+                    std::to_string(kPvsFileVersion));
+    const std::uint32_t encoding = r.u32("encoding");
+    if (encoding > 1)
+        throw Error(what + ": unknown row encoding " + std::to_string(encoding));
+    const std::uint32_t cells = r.u32("cell count"), objects = r.u32("object count"), rowBytes = r.u32("row bytes");
+    r.u32("reserved");
+    if (rowBytes != (std::uint64_t(objects) + 7) / 8)
+        throw Error(what + ": row size " + std::to_string(rowBytes) + " does not fit " + std::to_string(objects) + " objects");
+    PvsData data;
+    data.sceneSha256 = r.hash("scene hash");
+    data.settingsSha256 = r.hash("settings hash");
+    r.need(std::size_t(cells) * 24, "cell table");
+    for (std::uint32_t c = 0; c < cells; ++c)
+        data.cells.push_back(readBounds(r, "cell table"));
+    for (std::uint32_t o = 0; o < objects; ++o) {
+        PvsObject object;
+        object.instance = r.u32("object instance");
+        const std::uint32_t n = r.u32("object instance count");
+        r.need(std::size_t(n) * 4, "object instances");
+        for (std::uint32_t k = 0; k < n; ++k)
+            object.instances.push_back(r.u32("object instances"));
+        object.bounds = readBounds(r, "object bounds");
+        const std::uint32_t length = r.u32("object name length");
+        object.name = std::string(r.take(length, "object name"));
+        data.objects.push_back(std::move(object));
+    }
+    std::vector<std::uint64_t> offsets;
+    r.need((std::size_t(cells) + 1) * 8, "row offsets");
+    for (std::uint32_t c = 0; c <= cells; ++c)
+        offsets.push_back(r.u64("row offsets"));
+    const std::string_view rowData = bytes.substr(r.at);
+    if (offsets.back() != rowData.size())
+        throw Error(what + ": row data is " + std::to_string(rowData.size()) + " bytes, the offsets say " +
+                    std::to_string(offsets.back()));
+    data.rows = VisibilityRows(cells, objects);
+    for (std::uint32_t c = 0; c < cells; ++c) {
+        if (offsets[c] > offsets[c + 1])
+            throw Error(what + ": row offsets decrease at cell " + std::to_string(c));
+        const std::string_view one = rowData.substr(offsets[c], offsets[c + 1] - offsets[c]);
+        std::vector<std::uint8_t> row;
+        if (encoding == 0) {
+            if (one.size() != rowBytes)
+                throw Error(what + ": raw row " + std::to_string(c) + " has " + std::to_string(one.size()) + " bytes");
+            row.assign(one.begin(), one.end());
+        } else {
+            try {
+                row = decompressZeroRuns(one, 0, rowBytes);
+            } catch (const Error& e) {
+                throw Error(what + ": cell " + std::to_string(c) + ": " + e.what());
+            }
+        }
+        std::copy(row.begin(), row.end(), data.rows.row(c));
+    }
+    return data;
+}
+
+std::string pvsJson(const PvsData& data)
+{
+    std::string out = "{\"version\": 1,\n \"scene_sha256\": \"" + data.sceneSha256 + "\",\n \"settings_sha256\": \"" +
+                      data.settingsSha256 + "\",\n \"cells\": [";
+    for (std::size_t c = 0; c < data.cells.size(); ++c)
+        out += std::string(c ? ",\n  " : "\n  ") + "{\"min\": " + vec3(data.cells[c].min) + ", \"max\": " + vec3(data.cells[c].max) + "}";
+    out += "],\n \"objects\": [";
+    for (std::size_t o = 0; o < data.objects.size(); ++o) {
+        const PvsObject& object = data.objects[o];
+        out += std::string(o ? ",\n  " : "\n  ") + "{\"name\": " + nlohmann::json(object.name).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) +
+               ", \"instance\": " + std::to_string(object.instance);
+        if (object.instances.size() > 1) {
+            out += ", \"instances\": [";
+            for (std::size_t k = 0; k < object.instances.size(); ++k)
+                out += (k ? ", " : "") + std::to_string(object.instances[k]);
+            out += "]";
+        }
+        out += ", \"min\": " + vec3(object.bounds.min) + ", \"max\": " + vec3(object.bounds.max) + "}";
+    }
+    out += "],\n \"visible\": [";
+    for (std::size_t c = 0; c < data.rows.cellCount(); ++c) {
+        out += c ? ",\n  [" : "\n  [";
+        const auto list = data.rows.visibleObjects(c);
+        for (std::size_t k = 0; k < list.size(); ++k)
+            out += (k ? ", " : "") + std::to_string(list[k]);
+        out += "]";
+    }
+    out += "]}\n";
+    return out;
+}
+
+EncodedSizes encodedSizes(const VisibilityRows& rows)
+{
+    EncodedSizes s;
+    s.raw = rows.cellCount() * rows.rowBytes();
+    for (std::size_t c = 0; c < rows.cellCount(); ++c)
+        s.compressed += compressZeroRuns(rows.row(c), rows.rowBytes()).size();
+    return s;
+}
+
+std::string quake1Vis(const VisibilityRows& rows)
+{
+    std::string out;
+    put32(out, std::uint32_t(rows.cellCount()));
+    std::string visdata;
+    std::vector<std::uint32_t> offsets;
+    for (std::size_t c = 0; c < rows.cellCount(); ++c) {
+        offsets.push_back(std::uint32_t(visdata.size()));
+        const auto packed = compressZeroRuns(rows.row(c), rows.rowBytes());
+        visdata.append(packed.begin(), packed.end());
+    }
+    for (std::uint32_t o : offsets)
+        put32(out, o);
+    return out + visdata;
+}
+
+std::string quake2Vis(const VisibilityRows& rows)
+{
+    const std::size_t n = rows.cellCount();
+    std::string out;
+    put32(out, std::uint32_t(n));
+    const std::size_t header = 4 + 8 * n;
+    std::string visdata;
+    std::vector<std::uint32_t> offsets;
+    for (std::size_t c = 0; c < n; ++c) {
+        offsets.push_back(std::uint32_t(header + visdata.size()));
+        const auto packed = compressZeroRuns(rows.row(c), rows.rowBytes());
+        visdata.append(packed.begin(), packed.end());
+    }
+    for (std::uint32_t o : offsets) {
+        put32(out, o);   // PVS
+        put32(out, o);   // PHS: no hearing set is baked; the visible set stands in
+    }
+    return out + visdata;
+}
+
+std::string prt1(const std::vector<Bounds>& cells, double scale)
+{
+    struct Portal {
+        std::size_t a, b;
+        Bounds shared;
+        int axis;
+    };
+    std::vector<Portal> portals;
+    for (std::size_t a = 0; a < cells.size(); ++a)
+        for (std::size_t b = a + 1; b < cells.size(); ++b)
+            for (int axis = 0; axis < 3; ++axis) {
+                const Bounds& A = cells[a];
+                const Bounds& B = cells[b];
+                if (A.max[axis] != B.min[axis] && B.max[axis] != A.min[axis])
+                    continue;
+                Bounds s;
+                bool area = true;
+                for (int k = 0; k < 3; ++k) {
+                    s.min[k] = std::max(A.min[k], B.min[k]);
+                    s.max[k] = std::min(A.max[k], B.max[k]);
+                    if (k != axis && !(s.max[k] > s.min[k]))
+                        area = false;
+                }
+                if (area)
+                    portals.push_back({a, b, s, axis});
+            }
+    auto point = [&](const glm::vec3& p) {
+        char buffer[128];
+        std::snprintf(buffer, sizeof buffer, "(%.6g %.6g %.6g)", double(p.x) * scale, -double(p.z) * scale, double(p.y) * scale);
+        return std::string(buffer);
+    };
+    std::string out = "PRT1\n" + std::to_string(cells.size()) + "\n" + std::to_string(portals.size()) + "\n";
+    for (const Portal& p : portals) {
+        const int u = (p.axis + 1) % 3, v = (p.axis + 2) % 3;
+        glm::vec3 corner[4];
+        for (int k = 0; k < 4; ++k) {
+            corner[k] = p.shared.min;
+            corner[k][p.axis] = p.shared.min[p.axis];
+        }
+        corner[1][u] = p.shared.max[u];
+        corner[2][u] = p.shared.max[u];
+        corner[2][v] = p.shared.max[v];
+        corner[3][v] = p.shared.max[v];
+        out.append("4 ").append(std::to_string(p.a)).append(" ").append(std::to_string(p.b));
+        for (const glm::vec3& c : corner)
+            out.append(" ").append(point(c));
+        out += "\n";
+    }
+    return out;
+}
+
+std::vector<std::size_t> shardCells(std::size_t cellCount, std::uint32_t shard, std::uint32_t shardCount)
+{
+    std::vector<std::size_t> out;
+    for (std::size_t c = shard; c < cellCount; c += shardCount)
+        out.push_back(c);
+    return out;
+}
+
+std::string encodePart(const PvsPart& part)
+{
+    std::string out(kPartMagic, 8);
+    put32(out, kPvsFileVersion);
+    put32(out, part.shard);
+    put32(out, part.shardCount);
+    put32(out, std::uint32_t(part.cellIndices.size()));
+    for (std::uint32_t c : part.cellIndices)
+        put32(out, c);
+    const std::string body = encodePvs(part.data);
+    put64(out, body.size());
+    return out + body;
+}
+
+PvsPart decodePart(std::string_view bytes, const std::string& what)
+{
+    Reader r{bytes, what};
+    if (r.take(8, "magic") != std::string_view(kPartMagic, 8))
+        throw Error(what + ": not a PVS part file (bad magic)");
+    const std::uint32_t version = r.u32("version");
+    if (version != kPvsFileVersion)
+        throw Error(what + ": part version " + std::to_string(version) + ", this build reads " + std::to_string(kPvsFileVersion));
+    PvsPart part;
+    part.shard = r.u32("shard");
+    part.shardCount = r.u32("shard count");
+    if (part.shardCount == 0 || part.shard >= part.shardCount)
+        throw Error(what + ": shard " + std::to_string(part.shard) + "/" + std::to_string(part.shardCount) + " is not valid");
+    const std::uint32_t n = r.u32("cell count");
+    r.need(std::size_t(n) * 4, "cell list");
+    for (std::uint32_t k = 0; k < n; ++k)
+        part.cellIndices.push_back(r.u32("cell list"));
+    const std::uint64_t bodySize = r.u64("body size");
+    if (bodySize != bytes.size() - r.at)
+        throw Error(what + ": truncated or padded (body of " + std::to_string(bytes.size() - r.at) + " bytes, header says " +
+                    std::to_string(bodySize) + ")");
+    part.data = decodePvs(bytes.substr(r.at), what);
+    const auto expected = shardCells(part.data.cells.size(), part.shard, part.shardCount);
+    if (!std::equal(expected.begin(), expected.end(), part.cellIndices.begin(), part.cellIndices.end()))
+        throw Error(what + ": its cell list is not shard " + std::to_string(part.shard) + "/" + std::to_string(part.shardCount) +
+                    "'s");
+    return part;
+}
+
+std::string partManifest(const PvsPart& part, const std::string& partSha256, const std::string& settingsText)
+{
+    nlohmann::json m = {{"version", 1},
+                        {"scene_sha256", part.data.sceneSha256},
+                        {"settings_sha256", part.data.settingsSha256},
+                        {"settings", settingsText},
+                        {"shard", part.shard},
+                        {"shards", part.shardCount},
+                        {"cells", part.data.cells.size()},
+                        {"objects", part.data.objects.size()},
+                        {"cells_in_part", part.cellIndices.size()},
+                        {"part_sha256", partSha256}};
+    return m.dump(1) + "\n";
+}
+
+PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::string>& names)
+{
+    if (parts.empty())
+        throw Error("pvs merge: no part files");
+    const PvsPart& first = parts.front();
+    std::vector<int> seen(first.shardCount, -1);
+    PvsData out = first.data;
+    out.rows = VisibilityRows(first.data.cells.size(), first.data.objects.size());
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+        const PvsPart& p = parts[k];
+        const std::string& name = names[k];
+        if (p.data.sceneSha256 != first.data.sceneSha256)
+            throw Error("pvs merge: " + name + " is of another scene (scene sha256 " + p.data.sceneSha256.substr(0, 12) +
+                        "..., " + names[0] + " has " + first.data.sceneSha256.substr(0, 12) + "...)");
+        if (p.data.settingsSha256 != first.data.settingsSha256)
+            throw Error("pvs merge: " + name + " was baked with other settings or cells (settings sha256 " +
+                        p.data.settingsSha256.substr(0, 12) + "..., " + names[0] + " has " +
+                        first.data.settingsSha256.substr(0, 12) + "...)");
+        if (p.shardCount != first.shardCount)
+            throw Error("pvs merge: " + name + " is shard " + std::to_string(p.shard) + "/" + std::to_string(p.shardCount) +
+                        ", " + names[0] + " is one of " + std::to_string(first.shardCount));
+        if (p.data.cells.size() != first.data.cells.size() || p.data.objects.size() != first.data.objects.size())
+            throw Error("pvs merge: " + name + " has another cell or object count");
+        if (seen[p.shard] >= 0)
+            throw Error("pvs merge: shard " + std::to_string(p.shard) + " given twice (" + names[std::size_t(seen[p.shard])] +
+                        " and " + name + ")");
+        seen[p.shard] = int(k);
+        for (std::uint32_t c : p.cellIndices)
+            std::copy(p.data.rows.row(c), p.data.rows.row(c) + p.data.rows.rowBytes(), out.rows.row(c));
+    }
+    for (std::uint32_t s = 0; s < first.shardCount; ++s)
+        if (seen[s] < 0)
+            throw Error("pvs merge: shard " + std::to_string(s) + "/" + std::to_string(first.shardCount) +
+                        " is missing (bake it with --shard " + std::to_string(s) + "/" + std::to_string(first.shardCount) + ")");
+    return out;
+}
+
+} // namespace sightline::pvs

@@ -1,0 +1,126 @@
+#include "visibility/pvs/PvsReference.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "visibility/Error.h"
+#include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/PvsBake.h"
+
+namespace sightline::pvs {
+
+namespace {
+struct CellResult {
+    std::uint64_t referenceVisible = 0, bakedVisible = 0, missed = 0, extra = 0, pixels = 0, wrongPixels = 0, rays = 0;
+    std::vector<Gap> gaps;
+};
+} // namespace
+
+AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const ReferenceSettings& settings)
+{
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t cellCount = pvs.cells.size(), objectCount = pvs.objects.size();
+    std::vector<std::int32_t> objectOf(scene.instances.size(), -1);
+    for (std::size_t o = 0; o < objectCount; ++o)
+        for (std::uint32_t i : pvs.objects[o].instances) {
+            if (i >= objectOf.size())
+                throw Error("pvs check: object '" + pvs.objects[o].name + "' names instance " + std::to_string(i) +
+                            ", the scene has " + std::to_string(objectOf.size()) + " (another scene?)");
+            objectOf[i] = std::int32_t(o);
+        }
+    const std::uint64_t seed = mixSeed(seedFromSha(pvs.sceneSha256), settings.seed);
+
+    // Random cells without repeats: a seeded shuffle's first ones, then sorted.
+    std::vector<std::uint32_t> order(cellCount);
+    for (std::size_t c = 0; c < cellCount; ++c)
+        order[c] = std::uint32_t(c);
+    for (std::size_t k = cellCount; k > 1; --k)
+        std::swap(order[k - 1], order[mixSeed(seed, k) % k]);
+    order.resize(std::min<std::size_t>(cellCount, std::size_t(std::max(settings.cells, 1))));
+    std::sort(order.begin(), order.end());
+
+    // Targets on every object, from the reference's own seeds.
+    const WorldTriangles world = worldTriangles(scene);
+    std::vector<std::vector<glm::vec3>> soup(objectCount), targets(objectCount);
+    for (std::size_t t = 0; t < world.size(); ++t) {
+        const std::int32_t o = objectOf[world.instanceOf[t]];
+        if (o >= 0)
+            soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
+    }
+    for (std::size_t o = 0; o < objectCount; ++o)
+        targets[o] = surfacePoints(soup[o], settings.objectPoints, mixSeed(seed ^ 0x726566ull, o));
+    const FirstHitCaster caster(scene);
+
+    std::vector<CellResult> results(order.size());
+    const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t k) {
+            const std::uint32_t c = order[k];
+            CellResult& r = results[k];
+            const std::vector<glm::vec3> from = boxPoints(pvs.cells[c], settings.cellPoints, mixSeed(seed, c));
+            for (std::size_t o = 0; o < objectCount; ++o) {
+                bool seen = false;
+                Gap witness;
+                for (std::size_t q = 0; q < targets[o].size() && !seen; ++q)
+                    for (const glm::vec3& p : from) {
+                        ++r.rays;
+                        const RayHit hit = caster.cast(p, targets[o][q] - p, 1.0f + 1e-3f);
+                        if (hit.instance >= 0 && objectOf[std::size_t(hit.instance)] == std::int32_t(o)) {
+                            seen = true;
+                            witness = {c, std::uint32_t(o), p, p + hit.t * (targets[o][q] - p)};
+                            break;
+                        }
+                    }
+                const bool kept = pvs.rows.visible(c, o);
+                r.referenceVisible += seen;
+                r.bakedVisible += kept;
+                if (seen && !kept) {
+                    ++r.missed;
+                    r.gaps.push_back(witness);
+                }
+                if (kept && !seen)
+                    ++r.extra;
+            }
+            // Panoramas from random points of the cell.
+            const std::vector<glm::vec3> eyes = boxPoints(pvs.cells[c], settings.views, mixSeed(seed ^ 0x657965ull, c));
+            for (const glm::vec3& eye : eyes)
+                for (int y = 0; y < settings.height; ++y)
+                    for (int x = 0; x < settings.width; ++x) {
+                        const double theta = std::numbers::pi * (y + 0.5) / settings.height;
+                        const double phi = 2.0 * std::numbers::pi * (x + 0.5) / settings.width;
+                        const glm::vec3 d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                                          float(std::sin(theta) * std::sin(phi)));
+                        ++r.pixels;
+                        ++r.rays;
+                        const RayHit hit = caster.cast(eye, d, 1e7f);
+                        if (hit.instance < 0)
+                            continue;
+                        const std::int32_t o = objectOf[std::size_t(hit.instance)];
+                        if (o >= 0 && !pvs.rows.visible(c, std::size_t(o)))
+                            ++r.wrongPixels;
+                    }
+        });
+    });
+    AccuracyReport report;
+    report.cells = order;
+    for (CellResult& r : results) {
+        report.referenceVisible += r.referenceVisible;
+        report.bakedVisible += r.bakedVisible;
+        report.missed += r.missed;
+        report.extra += r.extra;
+        report.pixels += r.pixels;
+        report.wrongPixels += r.wrongPixels;
+        report.rays += r.rays;
+        report.gaps.insert(report.gaps.end(), r.gaps.begin(), r.gaps.end());
+    }
+    report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+} // namespace sightline::pvs
