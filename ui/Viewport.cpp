@@ -174,19 +174,19 @@ void Viewport::paintGL()
     const int wantedEnds = style_.showBlocked && style_.showRays ? style_.rayCap : 0;
     if (!inFrame && !resultIsStale() && result_.valid && wantedEnds > 0 && result_.rayEndsCap != wantedEnds)
         requestSample();
+    // The overlay reads the answer's own pair: a background answer may be for an older one.
+    const auto answeredProject = [&] {
+        Project answered = project;
+        answered.source = result_.source;
+        answered.receiver = result_.receiver;
+        return answered;
+    };
     if (resampled) {
         renderer_->setHiddenSamples(result_.valid ? &result_.map : nullptr);
         renderer_->setRayEnds(result_.rayEnds, result_.rayEndsCap);
-        // The overlay reads the answer's own pair: a background answer may be for an older one.
-        Project answered = project;
-        answered.source = result_.source;
-        answered.receiver = result_.receiver;
-        overlay_.setLive(result_, answered, true);   // returns at once while the overlay is off
+        overlay_.setLive(result_, answeredProject(), true);   // returns at once while the overlay is off
     } else if (overlay_.needsLive()) {
-        Project answered = project;
-        answered.source = result_.source;
-        answered.receiver = result_.receiver;
-        overlay_.setLive(result_, answered, false);
+        overlay_.setLive(result_, answeredProject(), false);
     }
     if (aoStale_) {
         aoStale_ = false;
