@@ -69,11 +69,24 @@ AoPreview::~AoPreview() { stop(); }
 
 void AoPreview::stop()
 {
-    if (cancel_)
+    if (cancel_) {
+        std::lock_guard lock(mutex_);
         cancel_->store(true);
+    }
+    wake_.notify_all();
     if (thread_.joinable())
         thread_.join();
     cancel_.reset();
+}
+
+void AoPreview::setLighting(AoLighting lighting)
+{
+    {
+        std::lock_guard lock(mutex_);
+        lighting_ = std::move(lighting);
+        ++lightingVersion_;
+    }
+    wake_.notify_all();
 }
 
 void AoPreview::start(std::uint64_t generation, std::shared_ptr<const Scene> scene, double texelsPerMetre, int targetK,
@@ -96,23 +109,41 @@ void AoPreview::start(std::uint64_t generation, std::shared_ptr<const Scene> sce
             AoBinnedCaster filler(occluders, AoBinnedOptions{.threads = 1, .maxDistance = reach});
             AoComputation computation(filler, points, targetK);
             const AoFillControl control{.cancel = cancel.get()};
-            while (!computation.finished()) {
-                if (!computation.refineLevel(control) || cancel->load())
-                    return;
-                const int k = computation.completedK();
-                const std::vector<float> ao = ambientOcclusion(computation.matrix(), points, k);
+            // One level lit as asked: plain AO for the uniform sky, else the environment's light
+            // through the visible directions (AoRelighter: set up once per level, then one
+            // multiply-add per visible bit for every change of environment, turn or exposure).
+            std::unique_ptr<AoRelighter> relighter;
+            const auto lit = [&](int k, const AoLighting& lighting) {
+                std::vector<glm::vec3> colour(points.size());
+                if (!lighting.environment) {
+                    const std::vector<float> ao = ambientOcclusion(computation.matrix(), points, k);
+                    for (std::size_t i = 0; i < ao.size(); ++i)
+                        colour[i] = glm::vec3(ao[i]);
+                    return colour;
+                }
+                if (!relighter || relighter->k() != k)
+                    relighter = std::make_unique<AoRelighter>(computation.matrix(), points, k);
+                return relighter->shade(lighting.environment->directionRadiance(aoDirections(k), lighting.rotationDegrees,
+                                                                               lighting.exposureEv),
+                                        1);
+            };
+            const auto deliverLevel = [&](int k, const AoLighting& lighting, bool relit) {
+                const auto begun = std::chrono::steady_clock::now();
+                const std::vector<glm::vec3> colour = lit(k, lighting);
                 AoPreviewLevel level;
                 level.generation = generation;
                 level.k = k;
                 level.targetK = targetK;
+                level.relit = relit;
                 level.width = layout.width;
                 level.height = layout.height;
-                level.map.assign(std::size_t(layout.width) * std::size_t(layout.height), 1.0f);
+                level.map.assign(std::size_t(layout.width) * std::size_t(layout.height), glm::vec3(1.0f));
+                const auto at = [&](int x, int y) -> glm::vec3& { return level.map[std::size_t(y) * std::size_t(layout.width) + std::size_t(x)]; };
                 for (const AoTexelTile& tile : layout.tiles)
                     for (int t = 0; t < tile.height; ++t)
                         for (int s = 0; s < tile.width; ++s) {
-                            const float v = ao[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
-                            level.map[std::size_t(tile.y + t) * std::size_t(layout.width) + std::size_t(tile.x + s)] = std::isfinite(v) ? v : 1.0f;
+                            const glm::vec3 v = colour[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
+                            at(tile.x + s, tile.y + t) = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::vec3(1.0f);
                         }
                 // The one-texel gutter around each tile takes its nearest texel: filtering at a
                 // triangle's edge would otherwise mix in the gutter's 1 (bright lines along edges).
@@ -126,14 +157,34 @@ void AoPreview::start(std::uint64_t generation, std::shared_ptr<const Scene> sce
                             const int gx = tile.x + s, gy = tile.y + t;
                             if (gx < 0 || gy < 0 || gx >= layout.width || gy >= layout.height)
                                 continue;
-                            const int sx = tile.x + std::clamp(s, 0, tile.width - 1), sy = tile.y + std::clamp(t, 0, tile.height - 1);
-                            level.map[std::size_t(gy) * std::size_t(layout.width) + std::size_t(gx)] =
-                                level.map[std::size_t(sy) * std::size_t(layout.width) + std::size_t(sx)];
+                            at(gx, gy) = at(tile.x + std::clamp(s, 0, tile.width - 1), tile.y + std::clamp(t, 0, tile.height - 1));
                         }
                 }
                 level.uvs = uvs;   // every level carries them: the first one seen may be any
-                level.ms = ms();
+                // A level: time since the start; a relighting: its own time.
+                level.ms = relit ? std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begun).count() : ms();
                 deliver_(std::move(level));
+            };
+            const auto currentLighting = [&](std::uint64_t& version) {
+                std::lock_guard lock(mutex_);
+                version = lightingVersion_;
+                return lighting_;
+            };
+            std::uint64_t version = 0;
+            while (!computation.finished()) {
+                if (!computation.refineLevel(control) || cancel->load())
+                    return;
+                deliverLevel(computation.completedK(), currentLighting(version), false);
+            }
+            // Finished: wait for a new lighting (relit from the matrix) or the end.
+            for (;;) {
+                {
+                    std::unique_lock lock(mutex_);
+                    wake_.wait(lock, [&] { return cancel->load() || lightingVersion_ != version; });
+                    if (cancel->load())
+                        return;
+                }
+                deliverLevel(computation.completedK(), currentLighting(version), true);
             }
         } catch (const std::bad_alloc&) {
             deliver_(failed(generation, "out of memory computing ambient occlusion"));

@@ -7,15 +7,19 @@
 // one. Plain C++ (no Qt): the caller decides how an answer reaches its thread.
 
 #include <atomic>
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
 
+#include "lighting/ao/AoEnvironment.h"
 #include "visibility/Scene.h"
 
 namespace sightline::ui {
@@ -23,14 +27,25 @@ namespace sightline::ui {
 /// The preview's default reach: occluders within 2 m darken (corners, under furniture).
 inline constexpr double kAoPreviewReach = 2.0;
 
+/// How the AO is lit (Sattler et al. §4: lighting from the matrix without tracing again): a
+/// uniform white sky (plain AO) or an HDR lat-long environment, turned about +Y and exposed.
+struct AoLighting {
+    std::shared_ptr<const AoEnvironment> environment;   ///< null: the uniform sky
+    double rotationDegrees = 0.0;
+    double exposureEv = 0.0;
+};
+
 struct AoPreviewLevel {
     std::uint64_t generation = 0;
     int k = 0, targetK = 0;
     /// Per world-triangle corner of the scene (worldTriangles order), its place in the map.
     std::vector<glm::vec2> uvs;
     int width = 0, height = 0;
-    std::vector<float> map;   ///< width x height AO in [0, 1], row 0 at the top (uv origin)
-    double ms = 0.0;          ///< since start()
+    /// width x height lit colours, row 0 at the top (uv origin): AO in [0, 1] under the uniform
+    /// sky, the environment's light reaching each texel otherwise.
+    std::vector<glm::vec3> map;
+    bool relit = false;       ///< a new lighting of the last level (no new directions traced)
+    double ms = 0.0;          ///< since start(); for a relit level, the relighting's own time
     std::string error;        ///< non-empty: nothing else is set
 };
 
@@ -49,10 +64,17 @@ public:
                double reach = kAoPreviewReach);
     /// Cancels and waits for the worker.
     void stop();
+    /// Lights the AO anew: levels from now on use it, and a finished computation is relit from
+    /// its matrix at once (delivered with `relit`), without tracing.
+    void setLighting(AoLighting lighting);
 
 private:
     Deliver deliver_;
     std::shared_ptr<std::atomic<bool>> cancel_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    AoLighting lighting_;
+    std::uint64_t lightingVersion_ = 0;
     std::thread thread_;
 };
 

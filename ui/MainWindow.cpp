@@ -22,6 +22,7 @@
 #include <QStatusBar>
 #include <QToolBar>
 
+#include <cmath>
 #include <numbers>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -374,7 +375,31 @@ void MainWindow::createActions()
     });
     ao->setCheckable(true);
     ao->setObjectName("ambientOcclusion");
-    connect(viewport_, &Viewport::aoUpdated, this, [this](int k, int target, double ms, const QString& error) {
+    // The light around the level (Sattler et al. §4): an HDR environment relights the AO from the
+    // visibility matrix, without tracing; its turn about +Y in 15 degree steps.
+    action(view, tr("AO &Environment..."), QKeySequence(), [this] {
+        const QString chosen = QFileDialog::getOpenFileName(this, tr("Light the AO with an Environment"),
+                                                            QString::fromStdString(projectFolder().string()),
+                                                            tr("Radiance HDR (*.hdr);;All files (*)"));
+        if (!chosen.isEmpty())
+            setAoEnvironment(chosen);
+    })->setObjectName("aoEnvironment");
+    action(view, tr("AO Uniform Sky"), QKeySequence(), [this] {
+        AoLighting lighting = viewport_->aoLighting();
+        lighting.environment.reset();
+        viewport_->setAoLighting(lighting);
+    })->setObjectName("aoUniformSky");
+    action(view, tr("Turn AO Environment"), QKeySequence(Qt::SHIFT | Qt::Key_O), [this] {
+        AoLighting lighting = viewport_->aoLighting();
+        lighting.rotationDegrees = std::fmod(lighting.rotationDegrees + 15.0, 360.0);
+        viewport_->setAoLighting(lighting);
+        statusBar()->showMessage(tr("AO environment turned to %1°").arg(lighting.rotationDegrees), 3000);
+    })->setObjectName("aoTurn");
+    connect(viewport_, &Viewport::aoUpdated, this, [this](int k, int target, double ms, const QString& error, bool relit) {
+        if (relit && error.isEmpty()) {
+            statusBar()->showMessage(tr("Ambient occlusion relit in %1 ms (no rays traced)").arg(ms, 0, 'f', 0), 5000);
+            return;
+        }
         if (!error.isEmpty())
             statusBar()->showMessage(tr("Ambient occlusion failed: %1").arg(error), 10000);
         else
@@ -624,6 +649,20 @@ void MainWindow::updateStatus()
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
     updateRateLabel();
+}
+
+bool MainWindow::setAoEnvironment(const QString& file)
+{
+    try {
+        AoLighting lighting = viewport_->aoLighting();
+        lighting.environment = std::make_shared<const AoEnvironment>(AoEnvironment::load(file.toStdString()));
+        viewport_->setAoLighting(lighting);
+        statusBar()->showMessage(tr("AO lit by %1").arg(QFileInfo(file).fileName()), 5000);
+        return true;
+    } catch (const std::exception& e) {
+        QMessageBox::warning(this, tr("AO Environment"), QString::fromUtf8(e.what()));
+        return false;
+    }
 }
 
 void MainWindow::applySnap()

@@ -55,6 +55,8 @@ public:
     /// Opens a project or mesh file; on failure shows the one-line error and returns false.
     bool openFile(const QString& file);
     bool saveTo(const QString& file);
+    /// Lights the AO preview with a Radiance .hdr environment; an unreadable file is a message.
+    bool setAoEnvironment(const QString& file);
     /// The viewport as it is now, to a PNG.
     bool screenshotTo(const QString& file);
     /// Where autosave writes (QStandardPaths::AppDataLocation/recovery.json).

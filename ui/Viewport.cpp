@@ -204,6 +204,7 @@ void Viewport::paintGL()
                     },
                     Qt::QueuedConnection);
             });
+        ao_->setLighting(aoLighting_);
         ao_->start(++aoGeneration_, std::move(scene), density, 258);
     }
     if (aoArrived_) {
@@ -213,7 +214,7 @@ void Viewport::paintGL()
             renderer_->setAmbientOcclusion(level.uvs, level.width, level.height, level.map);
             aoShownK_ = level.k;
         }
-        emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error));
+        emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error), level.relit);
     }
     const bool overlayChanged = overlay_.version() != overlayVersion_;
     if (overlayChanged) {
@@ -263,6 +264,13 @@ void Viewport::setAmbientOcclusion(bool on)
         aoStale_ = true;   // never computed, or stopped part way: again from the start
     }
     update();
+}
+
+void Viewport::setAoLighting(const AoLighting& lighting)
+{
+    aoLighting_ = lighting;
+    if (ao_)
+        ao_->setLighting(lighting);   // a finished computation is relit at once
 }
 
 void Viewport::requestSample()

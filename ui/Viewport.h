@@ -61,10 +61,15 @@ public:
     void setAmbientOcclusion(bool on);
     /// The finest AO level shown (0: none yet), and its target.
     int aoLevel() const { return aoShownK_; }
+    /// How the AO is lit (a uniform sky or an HDR environment, turned and exposed): relit from the
+    /// matrix, never traced again.
+    void setAoLighting(const AoLighting& lighting);
+    const AoLighting& aoLighting() const { return aoLighting_; }
 
 signals:
-    /// An AO level arrived and is shown (k directions of `target`), or the computation failed.
-    void aoUpdated(int k, int target, double ms, const QString& error);
+    /// An AO level arrived and is shown (k directions of `target`; `relit`: the same level lit
+    /// anew), or the computation failed.
+    void aoUpdated(int k, int target, double ms, const QString& error, bool relit);
     /// After every frame that re-sampled.
     void visibilityUpdated();
     /// After every frame whose overlay colours changed.
@@ -105,6 +110,7 @@ private:
     std::uint64_t requestedGeneration_ = 0, shownGeneration_ = 0;
     std::optional<VisibilityResult> arrived_;            ///< taken by the next frame (GL uploads)
     std::unique_ptr<AoPreview> ao_;
+    AoLighting aoLighting_;
     std::uint64_t aoGeneration_ = 0;
     std::optional<AoPreviewLevel> aoArrived_;
     int aoShownK_ = 0;

@@ -58,11 +58,12 @@ void main() {
     vec3 n = normalize(vNormal);
     if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
     float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
-    if (aoOn != 0 && vAoUv.x >= 0.0)
-        light *= 0.3 + 0.7 * texture(aoMap, vAoUv).r;   // a floor, so the darkest corner still reads
+    vec3 ambient = vec3(1.0);
+    if (aoOn != 0 && vAoUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
+        ambient = 0.3 + 0.7 * min(texture(aoMap, vAoUv).rgb, vec3(1.5));
     vec3 c = baseColour;
     if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
-    colour = vec4(c * light, 1.0);
+    colour = vec4(c * light * ambient, 1.0);
 }
 )";
 
@@ -467,7 +468,7 @@ void ViewportRenderer::setSceneFile(const Scene& scene)
     ++impl_->sceneVersion;
 }
 
-void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<float>& map)
+void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map)
 {
     Impl& d = *impl_;
     d.aoReady = false;
@@ -483,9 +484,9 @@ void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, in
     if (d.aoTexture)
         d.gl.DeleteTextures(1, &d.aoTexture);
     d.gl.CreateTextures(GL_TEXTURE_2D, 1, &d.aoTexture);
-    d.gl.TextureStorage2D(d.aoTexture, 1, GL_R32F, width, height);
+    d.gl.TextureStorage2D(d.aoTexture, 1, GL_RGB32F, width, height);
     d.gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    d.gl.TextureSubImage2D(d.aoTexture, 0, 0, 0, width, height, GL_RED, GL_FLOAT, map.data());
+    d.gl.TextureSubImage2D(d.aoTexture, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, map.data());
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);

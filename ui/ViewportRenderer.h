@@ -123,9 +123,10 @@ public:
     /// The scene file's objects (object id = instance index).
     void setSceneFile(const Scene& scene);
     /// The scene file's ambient occlusion as a light map (AoPreview.h): `uvs` per world triangle
-    /// corner of the scene file (worldTriangles order), a width x height map of AO in [0, 1].
+    /// corner of the scene file (worldTriangles order), a width x height map of the light reaching
+    /// each texel (AO in [0, 1] under a uniform sky, an environment's colour otherwise).
     /// Ignored when the uvs are not for the current scene file. Drawn while the style asks.
-    void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<float>& map);
+    void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.

@@ -911,6 +911,37 @@ private slots:
                 sumShaded += qGray(shaded.pixel(x, y));
             }
         QVERIFY2(sumShaded < 0.97 * sumPlain, qPrintable(QString("%1 against %2").arg(sumShaded).arg(sumPlain)));
+
+        // An environment relights from the matrix, without tracing again: a blue sky above, black
+        // ground below (Radiance RGBE, 16 x 8, top row up) tints the level blue.
+        const auto sky = folder_ / "blue-sky.hdr";
+        {
+            std::ofstream f(sky, std::ios::binary);
+            f << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 16\n";
+            for (int i = 0; i < 128; ++i)
+                f.write(i < 64 ? "\x10\x20\x80\x81" : "\x00\x00\x00\x00", 4);   // (0.125, 0.25, 1) above, 0 below
+        }
+        QSignalSpy relit(&viewport, &Viewport::aoUpdated);
+        QVERIFY(window_->setAoEnvironment(QString::fromStdString(sky.string())));
+        QTRY_VERIFY_WITH_TIMEOUT(!relit.isEmpty() && relit.back().at(4).toBool(), 60000);
+        QCOMPARE(relit.back().at(0).toInt(), 258);   // the same level, relit
+        QTest::qWait(100);
+        const QImage blue = viewport.grabFramebuffer();
+        double redShaded = 0, blueShaded = 0, redBlue = 0, blueBlue = 0;
+        for (int y = 0; y < blue.height(); y += 4)
+            for (int x = 0; x < blue.width(); x += 4) {
+                redShaded += qRed(shaded.pixel(x, y)), blueShaded += qBlue(shaded.pixel(x, y));
+                redBlue += qRed(blue.pixel(x, y)), blueBlue += qBlue(blue.pixel(x, y));
+            }
+        QVERIFY2(blueBlue / redBlue > 1.2 * blueShaded / redShaded,
+                 qPrintable(QString("blue/red %1 lit by the sky, %2 before").arg(blueBlue / redBlue).arg(blueShaded / redShaded)));
+        saveWindowShot("ambient-occlusion-sky");
+        // A file that is not an environment: one message, the lighting kept.
+        std::ofstream(folder_ / "not-a-sky.hdr") << "P3\n1 1\n255\n0 0 0\n";
+        const QString refused = modalTextDuring([&] { QVERIFY(!window_->setAoEnvironment(QString::fromStdString((folder_ / "not-a-sky.hdr").string()))); });
+        QVERIFY2(refused.contains("not a Radiance HDR"), qPrintable(refused));
+        QVERIFY(viewport.aoLighting().environment);
+        window_->findChild<QAction*>("aoUniformSky")->trigger();
         window_->findChild<QAction*>("ambientOcclusion")->trigger();   // off
         waitForUpdate();
     }
