@@ -375,6 +375,23 @@ void MainWindow::createActions()
     });
     ao->setCheckable(true);
     ao->setObjectName("ambientOcclusion");
+    // The PVS debugger (issue 17 §5): the project's PVS baked in the background, coarse for every
+    // cell first; the level's objects the camera's view cell cannot see are tinted magenta.
+    QAction* pvsView = action(view, tr("&PVS Debugger"), QKeySequence(Qt::Key_P), [this](bool on) {
+        viewport_->setPvsDebugger(on);
+        if (!on)
+            statusBar()->showMessage(tr("PVS debugger off"), 3000);
+    });
+    pvsView->setCheckable(true);
+    pvsView->setObjectName("pvsDebugger");
+    QAction* freeze = action(view, tr("&Freeze PVS Cell"), QKeySequence(Qt::SHIFT | Qt::Key_P),
+                             [this](bool on) { viewport_->setPvsFrozen(on); });
+    freeze->setCheckable(true);
+    freeze->setObjectName("pvsFreeze");
+    connect(viewport_, &Viewport::pvsUpdated, this, [this, pvsView](const QString& status) {
+        if (pvsView->isChecked())
+            statusBar()->showMessage(status);
+    });
     // The light around the level (Sattler et al. §4): an HDR environment relights the AO from the
     // visibility matrix, without tracing; its turn about +Y in 15 degree steps.
     action(view, tr("AO &Environment..."), QKeySequence(), [this] {

@@ -51,6 +51,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
         if (changes & (OccludersChanged | DocumentReset))
             occludersDirty_ = true;
+        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
+            pvsStale_ = style_.pvsDebugger;   // baked for the old scene
         // An animation's accumulation described the document before this change.
         if (changes & DocumentReset) {
             overlay_.clear();
@@ -72,6 +74,7 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
 
 Viewport::~Viewport()
 {
+    pvs_.reset();      // joins, as the ones below
     ao_.reset();       // joins, as the sampler below
     worker_.reset();   // joins: no answer arrives for a viewport being destroyed
     makeCurrent();
@@ -216,6 +219,38 @@ void Viewport::paintGL()
         }
         emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error), level.relit);
     }
+    if (pvsStale_) {
+        pvsStale_ = false;
+        pvsCells_.clear();
+        pvsObjects_.clear();
+        pvsRows_ = {};
+        pvsCoarse_ = pvsRefined_ = 0;
+        pvsFinished_ = false;
+        pvsFrozenCell_.reset();
+        pvsRowsChanged_ = true;
+        if (!pvs_)
+            pvs_ = std::make_unique<PvsDebugger>([this](PvsDebugEvent event) {
+                QMetaObject::invokeMethod(
+                    this, [this, e = std::move(event)]() mutable { takePvsEvent(std::move(e)); }, Qt::QueuedConnection);
+            });
+        pvs_->start(++pvsGeneration_, std::make_shared<const Scene>(document_.scene()), project,
+                    document_.displayName().toStdString());
+    }
+    if (style_.pvsDebugger) {
+        // The cell the eye is in (or the frozen one); the level's objects it cannot see are tinted.
+        std::optional<std::size_t> cell = pvsFrozen_ ? pvsFrozenCell_ : cellAt(pvsCells_, controller_.camera().eye());
+        if (pvsFrozen_ && !pvsFrozenCell_)
+            cell = pvsFrozenCell_ = cellAt(pvsCells_, controller_.camera().eye());
+        if (cell != pvsShownCell_ || pvsRowsChanged_ || !pvsUploaded_) {
+            pvsShownCell_ = cell;
+            pvsRowsChanged_ = false;
+            pvsUploaded_ = true;
+            renderer_->setPvsCulled(cell && *cell < pvsRows_.cellCount()
+                                        ? culledInstances(pvsObjects_, pvsRows_.row(*cell), document_.sceneFile().instances.size())
+                                        : std::vector<std::uint8_t>{});
+            emit pvsUpdated(pvsStatus());
+        }
+    }
     const bool overlayChanged = overlay_.version() != overlayVersion_;
     if (overlayChanged) {
         overlayVersion_ = overlay_.version();
@@ -263,6 +298,70 @@ void Viewport::setAmbientOcclusion(bool on)
     } else if (aoShownK_ < 258) {
         aoStale_ = true;   // never computed, or stopped part way: again from the start
     }
+    update();
+}
+
+void Viewport::setPvsDebugger(bool on)
+{
+    style_.pvsDebugger = on;
+    if (on && pvsCells_.empty() && !pvsFinished_)
+        pvsStale_ = true;
+    pvsUploaded_ = false;
+    update();
+}
+
+void Viewport::setPvsFrozen(bool frozen)
+{
+    pvsFrozen_ = frozen;
+    pvsFrozenCell_ = frozen ? pvsShownCell_ : std::nullopt;
+    pvsUploaded_ = false;
+    update();
+}
+
+QString Viewport::pvsStatus() const
+{
+    if (!pvsError_.isEmpty())
+        return tr("PVS: %1").arg(pvsError_);
+    if (pvsCells_.empty())
+        return tr("PVS: finding view cells and objects...");
+    QString progress = pvsFinished_ ? tr("baked") : pvsCoarse_ < pvsCells_.size()
+                                                     ? tr("coarse %1 of %2 cells").arg(pvsCoarse_).arg(pvsCells_.size())
+                                                     : tr("refining %1 of %2 cells").arg(pvsRefined_).arg(pvsCells_.size());
+    if (!pvsShownCell_)
+        return tr("PVS %1 · the camera is in no view cell").arg(progress);
+    return tr("PVS %1 · cell %2%3 sees %4 of %5 objects (culled ones tinted)")
+        .arg(progress)
+        .arg(*pvsShownCell_)
+        .arg(pvsFrozen_ ? tr(" (frozen)") : QString())
+        .arg(pvsRows_.visibleCount(*pvsShownCell_))
+        .arg(pvsObjects_.size());
+}
+
+void Viewport::takePvsEvent(PvsDebugEvent event)
+{
+    if (event.generation != pvsGeneration_)
+        return;   // a bake since replaced
+    if (!event.error.empty()) {
+        pvsError_ = QString::fromStdString(event.error);
+        pvsFinished_ = true;
+        emit pvsUpdated(pvsStatus());
+        return;
+    }
+    pvsError_.clear();
+    if (event.started) {
+        pvsCells_ = std::move(event.cells);
+        pvsObjects_ = std::move(event.objects);
+        pvsRows_ = pvs::VisibilityRows(pvsCells_.size(), pvsObjects_.size());
+    }
+    if (event.cell && *event.cell < pvsRows_.cellCount() && event.row.size() == pvsRows_.rowBytes()) {
+        std::copy(event.row.begin(), event.row.end(), pvsRows_.row(*event.cell));
+        ++(event.pass == pvs::PvsPass::Coarse ? pvsCoarse_ : pvsRefined_);
+        pvsRowsChanged_ = pvsRowsChanged_ || event.cell == pvsShownCell_;
+    }
+    if (event.finished)
+        pvsFinished_ = true;
+    pvsUploaded_ = pvsUploaded_ && !event.started;
+    emit pvsUpdated(pvsStatus());
     update();
 }
 

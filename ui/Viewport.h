@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "AoPreview.h"
+#include "PvsDebugger.h"
 #include "BackgroundSampler.h"
 #include "LiveVisibility.h"
 #include "PatchOverlay.h"
@@ -66,7 +67,24 @@ public:
     void setAoLighting(const AoLighting& lighting);
     const AoLighting& aoLighting() const { return aoLighting_; }
 
+    /// The PVS debugger (issue 17 §5): bakes the project's PVS in the background and tints the
+    /// level's objects the camera's cell cannot see. Restarted when the scene changes while on.
+    void setPvsDebugger(bool on);
+    /// Keeps the current cell while the camera moves (fly around it and look at what it culls).
+    void setPvsFrozen(bool frozen);
+    bool pvsFrozen() const { return pvsFrozen_; }
+    /// The cell whose answer is shown, if the camera is in one (or the frozen one).
+    std::optional<std::size_t> pvsCell() const { return pvsShownCell_; }
+    const std::vector<Bounds>& pvsCells() const { return pvsCells_; }
+    const pvs::VisibilityRows& pvsRows() const { return pvsRows_; }
+    /// Cells with a coarse answer, and with a refined one; whether the bake is over.
+    std::size_t pvsCoarseDone() const { return pvsCoarse_; }
+    std::size_t pvsRefinedDone() const { return pvsRefined_; }
+    bool pvsFinished() const { return pvsFinished_; }
+
 signals:
+    /// The PVS debugger's state for the status bar.
+    void pvsUpdated(const QString& status);
     /// An AO level arrived and is shown (k directions of `target`; `relit`: the same level lit
     /// anew), or the computation failed.
     void aoUpdated(int k, int target, double ms, const QString& error, bool relit);
@@ -109,6 +127,18 @@ private:
     std::shared_ptr<const ReceiverHeights> workerHeights_;
     std::uint64_t requestedGeneration_ = 0, shownGeneration_ = 0;
     std::optional<VisibilityResult> arrived_;            ///< taken by the next frame (GL uploads)
+    std::unique_ptr<PvsDebugger> pvs_;
+    std::uint64_t pvsGeneration_ = 0;
+    bool pvsStale_ = false, pvsFrozen_ = false, pvsFinished_ = false, pvsRowsChanged_ = false;
+    std::vector<Bounds> pvsCells_;
+    std::vector<pvs::PvsObject> pvsObjects_;
+    pvs::VisibilityRows pvsRows_;
+    std::size_t pvsCoarse_ = 0, pvsRefined_ = 0;
+    std::optional<std::size_t> pvsShownCell_, pvsFrozenCell_;
+    bool pvsUploaded_ = false;
+    void takePvsEvent(PvsDebugEvent event);
+    QString pvsStatus() const;
+    QString pvsError_;
     std::unique_ptr<AoPreview> ao_;
     AoLighting aoLighting_;
     std::uint64_t aoGeneration_ = 0;

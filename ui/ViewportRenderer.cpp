@@ -48,6 +48,8 @@ flat in uint vObject;
 uniform vec3 eye;
 uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
 layout(binding = 3) uniform sampler2D aoMap;
+uniform int pvsOn;           // the PVS debugger: scene-file objects the current cell cannot see
+layout(binding = 4) uniform usamplerBuffer pvsCulled;
 uniform vec3 baseColour;
 uniform int selected;        // object id, -1 for none
 uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
@@ -62,6 +64,7 @@ void main() {
     if (aoOn != 0 && vAoUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
         ambient = 0.3 + 0.7 * min(texture(aoMap, vAoUv).rgb, vec3(1.5));
     vec3 c = baseColour;
+    if (pvsOn != 0 && texelFetch(pvsCulled, int(vObject)).r != 0u) c = mix(c, vec3(0.85, 0.1, 0.45), 0.7);
     if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
     colour = vec4(c * light * ambient, 1.0);
 }
@@ -357,6 +360,7 @@ struct ViewportRenderer::Impl {
         int selected = -1;
         std::uint64_t sceneVersion = 0;
         bool ao = false;
+        bool pvs = false;
         bool operator==(const BackgroundKey&) const = default;
     };
     RenderTarget cache;
@@ -366,6 +370,8 @@ struct ViewportRenderer::Impl {
     std::vector<MeshVertex> sceneFileVertices;   ///< kept to add the AO map's uvs later
     GLuint aoTexture = 0;
     bool aoReady = false;   ///< a map and the scene file's uvs are uploaded
+    GLuint pvsBuffer = 0, pvsTexture = 0;
+    bool pvsReady = false;   ///< culled flags of the scene file's instances are uploaded
 
     void resizeCache(int width, int height)
     {
@@ -455,8 +461,9 @@ ViewportRenderer::~ViewportRenderer()
     gl.DeleteVertexArrays(4, vaos);
     GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer};
     gl.DeleteBuffers(6, buffers);
-    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture};
-    gl.DeleteTextures(4, textures);
+    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture};
+    gl.DeleteTextures(5, textures);
+    gl.DeleteBuffers(1, &d.pvsBuffer);
     d.cache.destroy(gl);
 }
 
@@ -492,6 +499,22 @@ void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, in
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     d.aoReady = true;
+}
+
+void ViewportRenderer::setPvsCulled(const std::vector<std::uint8_t>& culled)
+{
+    Impl& d = *impl_;
+    ++d.sceneVersion;   // the cached level image is stale
+    d.pvsReady = false;
+    if (culled.empty())
+        return;
+    if (!d.pvsBuffer) {
+        d.gl.CreateBuffers(1, &d.pvsBuffer);
+        d.gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.pvsTexture);
+    }
+    d.gl.NamedBufferData(d.pvsBuffer, GLsizeiptr(culled.size()), culled.data(), GL_STREAM_DRAW);
+    d.gl.TextureBuffer(d.pvsTexture, GL_R8UI, d.pvsBuffer);
+    d.pvsReady = true;
 }
 
 void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf)
@@ -591,7 +614,11 @@ void ViewportRenderer::render(const FrameState& f)
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), ao ? 1 : 0);
     if (ao)
         gl.BindTextureUnit(3, d.aoTexture);
-    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao};
+    const bool pvs = f.style.pvsDebugger && d.pvsReady;
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "pvsOn"), pvs ? 1 : 0);
+    if (pvs)
+        gl.BindTextureUnit(4, d.pvsTexture);
+    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao, pvs};
     bool drawn = false;
     d.resizeCache(f.width, f.height);
     if (!d.cacheBroken) {

@@ -57,6 +57,8 @@ struct ViewStyle {
     glm::vec4 stopColour{1.0f, 1.0f, 1.0f, 0.9f};
     /// Shade the scene file with its ambient occlusion (setAmbientOcclusion), once there is one.
     bool ambientOcclusion = false;
+    /// Tint the scene file's objects the PVS debugger says are culled (setPvsCulled).
+    bool pvsDebugger = false;
 };
 
 /// Which rays the renderer draws for a map and a cap: every one of `sourcePerReceiver` source
@@ -127,6 +129,8 @@ public:
     /// each texel (AO in [0, 1] under a uniform sky, an environment's colour otherwise).
     /// Ignored when the uvs are not for the current scene file. Drawn while the style asks.
     void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
+    /// The PVS debugger's answer: per instance of the scene file, 1 when culled. Empty: none.
+    void setPvsCulled(const std::vector<std::uint8_t>& culled);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.

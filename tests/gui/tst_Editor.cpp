@@ -39,6 +39,8 @@
 #include "Viewport.h"
 #include "project/Animation.h"
 #include "project/Project.h"
+#include "project/PvsSetup.h"
+#include "visibility/pvs/PvsObjects.h"
 #include "project/RecordedPath.h"
 #include "visibility/ColourMap.h"
 #include "visibility/RayCastSampler.h"
@@ -974,6 +976,68 @@ private slots:
         QVERIFY(!controller.placementGhost());
         QTRY_VERIFY(window_->statusBar()->currentMessage().contains("Receiver placed"));
         document.undoStack()->undo();
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
+    // Issue 17 §5: stand in a view cell and see what it culls. The bake runs in the background; the
+    // cell's row is the one a bake of that cell alone gives (rows depend on the cell only), and the
+    // culled objects are tinted in the real window.
+    void pvsDebuggerShowsWhatTheCameraCellCannotSee()
+    {
+        Viewport& viewport = window_->viewport();
+        ViewportController& controller = window_->controller();
+        const Camera view = controller.camera();
+        window_->findChild<QAction*>("pvsDebugger")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("PVS"), qPrintable(window_->statusBar()->currentMessage()));
+        const std::vector<Bounds>& cells = viewport.pvsCells();
+        QVERIFY(!cells.empty());
+        QCOMPARE(viewport.pvsCoarseDone(), cells.size());
+        // The cell that sees the fewest objects: most to tint.
+        std::size_t cell = 0;
+        for (std::size_t c = 1; c < cells.size(); ++c)
+            if (viewport.pvsRows().visibleCount(c) < viewport.pvsRows().visibleCount(cell))
+                cell = c;
+        Camera inside;
+        inside.distance = 4.0;
+        inside.pitch = -0.35;
+        const glm::dvec3 centre = 0.5 * (glm::dvec3(cells[cell].min) + glm::dvec3(cells[cell].max));
+        inside.target = centre + inside.distance * inside.forward();   // the eye at the cell's centre
+        controller.setCamera(inside);
+        QTRY_VERIFY(viewport.pvsCell() == cell);
+        // The same answer from a bake of that cell alone.
+        const EditorDocument& document = window_->document();
+        PvsSetup setup = parsePvsSetup(document.project(), "test");
+        const std::vector<pvs::PvsObject> objects = pvs::sceneObjects(document.scene(), setup.groupByName);
+        const pvs::PvsBaker baker(document.scene(), cells, objects, editorPvsSeed(document.scene()), setup.settings);
+        const pvs::VisibilityRows alone = baker.bake({cell});
+        QVERIFY(alone.visibleObjects(cell) == viewport.pvsRows().visibleObjects(cell));
+        QVERIFY(alone.visibleCount(cell) < objects.size());
+        // Freeze the cell and fly out to look at what it culls: tinted in the window, magenta pixels
+        // with the debugger on, none with it off.
+        window_->findChild<QAction*>("pvsFreeze")->trigger();
+        QVERIFY(viewport.pvsFrozen());
+        controller.setCamera(view);
+        waitForUpdate();
+        QTRY_VERIFY(viewport.pvsCell() == cell);   // still the frozen cell, though the eye left it
+        QTest::qWait(200);
+        saveWindowShot("pvs-debugger");
+        const auto magenta = [](const QImage& image) {
+            int n = 0;
+            for (int y = 0; y < image.height(); y += 3)
+                for (int x = 0; x < image.width(); x += 3) {
+                    const QRgb c = image.pixel(x, y);
+                    n += qRed(c) > qGreen(c) + 40 && qBlue(c) > qGreen(c) + 20;
+                }
+            return n;
+        };
+        const int tinted = magenta(viewport.grabFramebuffer());
+        window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
+        window_->findChild<QAction*>("pvsFreeze")->trigger();
+        QTest::qWait(200);
+        const int plain = magenta(viewport.grabFramebuffer());
+        QVERIFY2(tinted > 50 && plain < tinted / 10, qPrintable(QString("%1 tinted samples on, %2 off").arg(tinted).arg(plain)));
         controller.setCamera(view);
         waitForUpdate();
     }

@@ -1,0 +1,122 @@
+#include "PvsDebugger.h"
+
+#include <chrono>
+#include <exception>
+#include <new>
+
+#include "project/PvsSetup.h"
+#include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/PvsObjects.h"
+#include "visibility/pvs/Sha256.h"
+#include "visibility/pvs/ViewCells.h"
+
+namespace sightline::ui {
+
+std::string editorPvsSeed(const Scene& scene)
+{
+    const WorldTriangles world = worldTriangles(scene);
+    return pvs::sha256Hex(std::string_view(reinterpret_cast<const char*>(world.vertices.data()),
+                                           world.vertices.size() * sizeof(glm::vec3)));
+}
+
+std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point)
+{
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        const Bounds& b = cells[c];
+        if (point.x >= b.min.x && point.y >= b.min.y && point.z >= b.min.z && point.x <= b.max.x && point.y <= b.max.y &&
+            point.z <= b.max.z)
+            return c;
+    }
+    return std::nullopt;
+}
+
+std::vector<std::uint8_t> culledInstances(const std::vector<pvs::PvsObject>& objects, const std::uint8_t* row,
+                                          std::size_t instanceCount)
+{
+    std::vector<std::uint8_t> culled(instanceCount, 0);
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+        if ((row[o / 8] >> (o % 8)) & 1u)
+            continue;
+        const pvs::PvsObject& object = objects[o];
+        if (object.instances.empty()) {
+            if (object.instance < instanceCount)
+                culled[object.instance] = 1;
+        } else {
+            for (std::uint32_t i : object.instances)
+                if (i < instanceCount)
+                    culled[i] = 1;
+        }
+    }
+    return culled;
+}
+
+PvsDebugger::PvsDebugger(Deliver deliver) : deliver_(std::move(deliver)) {}
+
+PvsDebugger::~PvsDebugger() { stop(); }
+
+void PvsDebugger::stop()
+{
+    if (cancel_)
+        cancel_->store(true);
+    if (thread_.joinable())
+        thread_.join();
+    cancel_.reset();
+}
+
+void PvsDebugger::start(std::uint64_t generation, std::shared_ptr<const Scene> scene, Project project, std::string what)
+{
+    stop();
+    cancel_ = std::make_shared<std::atomic<bool>>(false);
+    thread_ = std::thread([this, generation, scene = std::move(scene), project = std::move(project), what = std::move(what),
+                           cancel = cancel_] {
+        const auto start = std::chrono::steady_clock::now();
+        const auto ms = [&] { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(); };
+        const auto fail = [&](std::string error) {
+            PvsDebugEvent event;
+            event.generation = generation;
+            event.finished = true;
+            event.error = std::move(error);
+            deliver_(std::move(event));
+        };
+        try {
+            PvsSetup setup = parsePvsSetup(project, what);
+            if (setup.gridCells) {
+                const pvs::FirstHitCaster caster(*scene);
+                setup.cells = pvs::gridCells(*scene, caster, setup.grid);
+            }
+            pvs::validateCells(setup.cells, what + ": pvs cells");
+            PvsDebugEvent begun;
+            begun.generation = generation;
+            begun.started = true;
+            begun.cells = setup.cells;
+            begun.objects = pvs::sceneObjects(*scene, setup.groupByName);
+            const pvs::PvsBaker baker(*scene, begun.cells, begun.objects, editorPvsSeed(*scene), setup.settings);
+            begun.ms = ms();
+            deliver_(begun);
+            pvs::PvsProgress progress;
+            progress.cancel = cancel.get();
+            progress.onCell = [&](pvs::PvsPass pass, std::size_t cell, const std::vector<std::uint8_t>& row) {
+                PvsDebugEvent event;
+                event.generation = generation;
+                event.cell = cell;
+                event.pass = pass;
+                event.row = row;
+                event.ms = ms();
+                deliver_(std::move(event));
+            };
+            baker.bake({}, progress);
+            PvsDebugEvent done;
+            done.generation = generation;
+            done.finished = true;
+            done.ms = ms();
+            deliver_(std::move(done));
+        } catch (const pvs::PvsCancelled&) {
+        } catch (const std::bad_alloc&) {
+            fail("out of memory baking the PVS");
+        } catch (const std::exception& e) {
+            fail(e.what());
+        }
+    });
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,71 @@
+#pragma once
+// The editor's PVS debugger (issue 17 §5): the project's PVS baked in the background (the coarse
+// pass over every cell first, then refinement, PvsBake.h), and, for the view cell the camera is
+// in, which objects of the level it may see. The viewport tints the culled ones; freezing keeps
+// the cell while the camera flies around it. Plain C++ (no Qt): the caller decides how an answer
+// reaches its thread.
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "project/Project.h"
+#include "visibility/Scene.h"
+#include "visibility/pvs/PvsBake.h"
+#include "visibility/pvs/PvsData.h"
+
+namespace sightline::ui {
+
+/// What the bake has said so far: set once (`cells`, `objects` with `started`), then one row per
+/// cell and pass as the cells are done.
+struct PvsDebugEvent {
+    std::uint64_t generation = 0;
+    bool started = false;                 ///< cells and objects are set
+    std::vector<Bounds> cells;
+    std::vector<pvs::PvsObject> objects;
+    std::optional<std::size_t> cell;      ///< a row for this cell
+    pvs::PvsPass pass = pvs::PvsPass::Coarse;
+    std::vector<std::uint8_t> row;
+    bool finished = false;                ///< the bake is over (or failed: `error`)
+    double ms = 0.0;
+    std::string error;
+};
+
+class PvsDebugger {
+public:
+    using Deliver = std::function<void(PvsDebugEvent event)>;   ///< called on worker threads
+    explicit PvsDebugger(Deliver deliver);
+    ~PvsDebugger();
+    PvsDebugger(const PvsDebugger&) = delete;
+    PvsDebugger& operator=(const PvsDebugger&) = delete;
+
+    /// Cancels a running bake and starts one of `scene` (the level and the placed occluders) with
+    /// the project's "pvs" settings (PvsSetup.h); `what` names the project in messages.
+    void start(std::uint64_t generation, std::shared_ptr<const Scene> scene, Project project, std::string what);
+    void stop();
+
+private:
+    Deliver deliver_;
+    std::shared_ptr<std::atomic<bool>> cancel_;
+    std::thread thread_;
+};
+
+/// The bake's seed in the editor: the hash of the scene's world triangles (unsaved edits included),
+/// not of the file's bytes as `pvs bake` uses, so the two can differ by sampling alone.
+std::string editorPvsSeed(const Scene& scene);
+
+/// The cell holding `point` (the first, for overlapping listed boxes), if any.
+std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point);
+
+/// Per instance of the scene: 1 where the instance belongs to an object `row` does not see.
+std::vector<std::uint8_t> culledInstances(const std::vector<pvs::PvsObject>& objects, const std::uint8_t* row,
+                                          std::size_t instanceCount);
+
+} // namespace sightline::ui
