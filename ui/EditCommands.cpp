@@ -36,6 +36,15 @@ void OccluderListCommand::erase()
 void OccluderListCommand::undo() { remove_ ? insert() : erase(); }
 void OccluderListCommand::redo() { remove_ ? erase() : insert(); }
 
+SetProjectKeyCommand::SetProjectKeyCommand(EditorDocument& document, std::string key, nlohmann::json before, nlohmann::json after,
+                                           const QString& text)
+    : QUndoCommand(text), document_(document), key_(std::move(key)), before_(std::move(before)), after_(std::move(after))
+{
+}
+
+void SetProjectKeyCommand::undo() { document_.applyProjectKey(key_, before_); }
+void SetProjectKeyCommand::redo() { document_.applyProjectKey(key_, after_); }
+
 RenameOccluderCommand::RenameOccluderCommand(EditorDocument& document, std::size_t index, std::string before, std::string after)
     : QUndoCommand(QObject::tr("Rename %1").arg(QString::fromStdString(after))), document_(document), index_(index),
       before_(std::move(before)), after_(std::move(after))

@@ -42,6 +42,19 @@ private:
     bool remove_;
 };
 
+/// Sets or removes (null) one top-level project key ("recorded_path", "pvs"), undoably.
+class SetProjectKeyCommand : public QUndoCommand {
+public:
+    SetProjectKeyCommand(EditorDocument& document, std::string key, nlohmann::json before, nlohmann::json after, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    EditorDocument& document_;
+    std::string key_;
+    nlohmann::json before_, after_;
+};
+
 /// Renames the occluder at `index`.
 class RenameOccluderCommand : public QUndoCommand {
 public:

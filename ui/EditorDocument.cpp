@@ -316,6 +316,7 @@ void EditorDocument::applyProjectKey(const std::string& key, const nlohmann::jso
         project_.extra.erase(key);
     else
         project_.extra[key] = value;
+    invalidate(ProjectKeysChanged);
 }
 
 void EditorDocument::addOccluder(const OccluderSpec& spec)

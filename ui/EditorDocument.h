@@ -28,6 +28,7 @@ enum Change : unsigned {
     SceneFileChanged = 1u << 2,   ///< an object of the scene file moved
     DocumentReset = 1u << 3,      ///< new or opened document: everything
     NamesChanged = 1u << 4,       ///< an occluder renamed: nothing to sample or draw again
+    ProjectKeysChanged = 1u << 5, ///< a top-level key ("recorded_path", "pvs" overrides): no geometry
 };
 
 class EditorDocument : public QObject {

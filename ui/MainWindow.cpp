@@ -27,6 +27,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "EditCommands.h"
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "Picking.h"
@@ -388,6 +389,36 @@ void MainWindow::createActions()
                              [this](bool on) { viewport_->setPvsFrozen(on); });
     freeze->setCheckable(true);
     freeze->setObjectName("pvsFreeze");
+    // Overrides (issue 17 §5): the designer's word over the bake for the selected level object in
+    // the shown cell, kept in the project's pvs.overrides (undoable), applied as `pvs bake` does.
+    const auto overrideSelected = [this](const char* visible) {
+        const ObjectRef selection = document_.selection();
+        const std::optional<std::size_t> cell = viewport_->pvsCell();
+        if (selection.kind != ObjectKind::SceneObject || !cell) {
+            statusBar()->showMessage(tr("Select an object of the level, with the PVS debugger on and the camera in a cell "
+                                        "(or the cell frozen)"),
+                                     5000);
+            return;
+        }
+        const auto it = document_.project().extra.find("pvs");
+        const nlohmann::json before = it != document_.project().extra.end() ? *it : nlohmann::json();
+        nlohmann::json after = before.is_object() ? before : nlohmann::json::object();
+        nlohmann::json overrides = nlohmann::json::array();
+        for (const nlohmann::json& o : after.value("overrides", nlohmann::json::array()))
+            if (!(o.value("instance", -1) == int(selection.index) && o.value("cells", nlohmann::json::array()) == nlohmann::json::array({*cell})))
+                overrides.push_back(o);   // an earlier word on this object and cell is replaced
+        if (visible)
+            overrides.push_back({{"instance", selection.index}, {"visible", visible}, {"cells", {*cell}}});
+        after["overrides"] = overrides;
+        document_.undoStack()->push(new SetProjectKeyCommand(document_, "pvs", before, after,
+                                                             visible ? tr("PVS override: %1").arg(visible) : tr("Clear PVS override")));
+    };
+    action(view, tr("PVS: Always Visible From This Cell"), QKeySequence(), [overrideSelected] { overrideSelected("always"); })
+        ->setObjectName("pvsAlways");
+    action(view, tr("PVS: Never Visible From This Cell"), QKeySequence(), [overrideSelected] { overrideSelected("never"); })
+        ->setObjectName("pvsNever");
+    action(view, tr("PVS: Clear Override Here"), QKeySequence(), [overrideSelected] { overrideSelected(nullptr); })
+        ->setObjectName("pvsClear");
     connect(viewport_, &Viewport::pvsUpdated, this, [this, pvsView](const QString& status) {
         if (pvsView->isChecked())
             statusBar()->showMessage(status);

@@ -17,28 +17,13 @@
 #include "VideoRecording.h"
 #include "Viewport.h"
 #include "ViewportController.h"
+#include "EditCommands.h"
 #include "plugins/VideoEncoder.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
 
 namespace {
-
-/// Sets or removes one top-level project key ("recorded_path"), undoably.
-class SetProjectKeyCommand : public QUndoCommand {
-public:
-    SetProjectKeyCommand(EditorDocument& document, std::string key, nlohmann::json before, nlohmann::json after, const QString& text)
-        : QUndoCommand(text), document_(document), key_(std::move(key)), before_(std::move(before)), after_(std::move(after))
-    {
-    }
-    void undo() override { document_.applyProjectKey(key_, before_); }
-    void redo() override { document_.applyProjectKey(key_, after_); }
-
-private:
-    EditorDocument& document_;
-    std::string key_;
-    nlohmann::json before_, after_;
-};
 
 QString clock(double seconds)
 {

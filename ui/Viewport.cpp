@@ -9,6 +9,7 @@
 #include <QOpenGLContext>
 #include <QWheelEvent>
 
+#include "project/PvsSetup.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
@@ -41,6 +42,11 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
         if (changes == NamesChanged)
             return;   // a rename changes no ray and no pixel of the view
+        if (changes == ProjectKeysChanged) {
+            pvsRowsChanged_ = true;   // the PVS overrides may have changed: shown anew, not baked again
+            update();
+            return;
+        }
         if (changes & (SceneFileChanged | DocumentReset)) {
             sceneFileDirty_ = true;
             aoStale_ = style_.ambientOcclusion;
@@ -245,8 +251,9 @@ void Viewport::paintGL()
             pvsShownCell_ = cell;
             pvsRowsChanged_ = false;
             pvsUploaded_ = true;
-            renderer_->setPvsCulled(cell && *cell < pvsRows_.cellCount()
-                                        ? culledInstances(pvsObjects_, pvsRows_.row(*cell), document_.sceneFile().instances.size())
+            const pvs::VisibilityRows& rows = pvsShownRows();
+            renderer_->setPvsCulled(cell && *cell < rows.cellCount()
+                                        ? culledInstances(pvsObjects_, rows.row(*cell), document_.sceneFile().instances.size())
                                         : std::vector<std::uint8_t>{});
             emit pvsUpdated(pvsStatus());
         }
@@ -310,6 +317,24 @@ void Viewport::setPvsDebugger(bool on)
     update();
 }
 
+const pvs::VisibilityRows& Viewport::pvsShownRows()
+{
+    // The designer's overrides (the project's pvs.overrides) over the bake, as `pvs bake` applies them.
+    pvsShown_ = pvsRows_;
+    pvsOverrideError_.clear();
+    if (pvsRows_.cellCount() > 0) {
+        try {
+            const PvsSetup setup = parsePvsSetup(document_.project(), document_.displayName().toStdString());
+            applyPvsOverrides(resolvePvsOverrides(setup.overridesJson, pvsObjects_, pvsCells_.size(),
+                                                  document_.displayName().toStdString()),
+                              pvsShown_);
+        } catch (const std::exception& e) {
+            pvsOverrideError_ = QString::fromUtf8(e.what());
+        }
+    }
+    return pvsShown_;
+}
+
 void Viewport::setPvsFrozen(bool frozen)
 {
     pvsFrozen_ = frozen;
@@ -327,13 +352,15 @@ QString Viewport::pvsStatus() const
     QString progress = pvsFinished_ ? tr("baked") : pvsCoarse_ < pvsCells_.size()
                                                      ? tr("coarse %1 of %2 cells").arg(pvsCoarse_).arg(pvsCells_.size())
                                                      : tr("refining %1 of %2 cells").arg(pvsRefined_).arg(pvsCells_.size());
+    if (!pvsOverrideError_.isEmpty())
+        return tr("PVS %1 · overrides ignored: %2").arg(progress, pvsOverrideError_);
     if (!pvsShownCell_)
         return tr("PVS %1 · the camera is in no view cell").arg(progress);
     return tr("PVS %1 · cell %2%3 sees %4 of %5 objects (culled ones tinted)")
         .arg(progress)
         .arg(*pvsShownCell_)
         .arg(pvsFrozen_ ? tr(" (frozen)") : QString())
-        .arg(pvsRows_.visibleCount(*pvsShownCell_))
+        .arg(pvsShown_.cellCount() > *pvsShownCell_ ? pvsShown_.visibleCount(*pvsShownCell_) : 0)
         .arg(pvsObjects_.size());
 }
 

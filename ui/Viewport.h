@@ -77,6 +77,8 @@ public:
     std::optional<std::size_t> pvsCell() const { return pvsShownCell_; }
     const std::vector<Bounds>& pvsCells() const { return pvsCells_; }
     const pvs::VisibilityRows& pvsRows() const { return pvsRows_; }
+    /// What is shown: the rows with the project's overrides applied.
+    const pvs::VisibilityRows& pvsShown() const { return pvsShown_; }
     /// Cells with a coarse answer, and with a refined one; whether the bake is over.
     std::size_t pvsCoarseDone() const { return pvsCoarse_; }
     std::size_t pvsRefinedDone() const { return pvsRefined_; }
@@ -138,7 +140,10 @@ private:
     bool pvsUploaded_ = false;
     void takePvsEvent(PvsDebugEvent event);
     QString pvsStatus() const;
-    QString pvsError_;
+    /// The bake's rows with the project's overrides applied (kept in pvsShown_).
+    const pvs::VisibilityRows& pvsShownRows();
+    QString pvsError_, pvsOverrideError_;
+    pvs::VisibilityRows pvsShown_;
     std::unique_ptr<AoPreview> ao_;
     AoLighting aoLighting_;
     std::uint64_t aoGeneration_ = 0;

@@ -1033,6 +1033,23 @@ private slots:
             return n;
         };
         const int tinted = magenta(viewport.grabFramebuffer());
+        // Overrides: an object the cell culls made always visible from it, kept in the project,
+        // shown at once (no new bake), undone.
+        std::size_t culledObject = objects.size();
+        for (std::size_t o = 0; o < objects.size() && culledObject == objects.size(); ++o)
+            if (!viewport.pvsShown().visible(cell, o) && objects[o].instance < document.sceneFile().instances.size())
+                culledObject = o;
+        QVERIFY(culledObject < objects.size());
+        EditorDocument& editable = window_->document();
+        editable.select({ObjectKind::SceneObject, objects[culledObject].instance});
+        window_->findChild<QAction*>("pvsAlways")->trigger();
+        QTRY_VERIFY(viewport.pvsShown().visible(cell, culledObject));
+        QCOMPARE(editable.project().extra.at("pvs").at("overrides").back().at("visible").get<std::string>(), std::string("always"));
+        QVERIFY(viewport.pvsFinished());   // not baked again
+        editable.undoStack()->undo();
+        QTRY_VERIFY(!viewport.pvsShown().visible(cell, culledObject));
+        editable.select({});
+
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
         window_->findChild<QAction*>("pvsFreeze")->trigger();
         QTest::qWait(200);
