@@ -57,8 +57,20 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
         if (changes & (OccludersChanged | DocumentReset))
             occludersDirty_ = true;
-        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
-            pvsStale_ = style_.pvsDebugger;   // baked for the old scene
+        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset)) {
+            // Baked for the old scene: again now while the debugger is on, else when it is next.
+            pvsStale_ = style_.pvsDebugger;
+            if (!style_.pvsDebugger) {
+                if (pvs_)
+                    pvs_->stop();
+                ++pvsGeneration_;   // an answer on its way is dropped
+                pvsCells_.clear();
+                pvsRows_ = {};
+                pvsShown_ = {};
+                pvsCoarse_ = pvsRefined_ = 0;
+                pvsFinished_ = false;
+            }
+        }
         // An animation's accumulation described the document before this change.
         if (changes & DocumentReset) {
             overlay_.clear();
@@ -311,7 +323,7 @@ void Viewport::setAmbientOcclusion(bool on)
 void Viewport::setPvsDebugger(bool on)
 {
     style_.pvsDebugger = on;
-    if (on && pvsCells_.empty() && !pvsFinished_)
+    if (on && pvsCells_.empty())   // never baked, baked for an older scene, or failed: (again) now
         pvsStale_ = true;
     pvsUploaded_ = false;
     update();

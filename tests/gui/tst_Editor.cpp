@@ -1055,6 +1055,16 @@ private slots:
         QTest::qWait(200);
         const int plain = magenta(viewport.grabFramebuffer());
         QVERIFY2(tinted > 50 && plain < tinted / 10, qPrintable(QString("%1 tinted samples on, %2 off").arg(tinted).arg(plain)));
+        // A scene edited while the debugger is off is baked again when it comes back on, never shown stale.
+        OccluderSpec crate;
+        crate.mesh = "box";
+        crate.transform = glm::translate(glm::mat4(1.0f), glm::vec3(0, -40, 0));
+        editable.addOccluder(crate);
+        QVERIFY(viewport.pvsCells().empty() && !viewport.pvsFinished());
+        window_->findChild<QAction*>("pvsDebugger")->trigger();   // on: a new bake
+        QVERIFY(viewport.pvsCoarseDone() == 0);
+        window_->findChild<QAction*>("pvsDebugger")->trigger();   // off again
+        editable.undoStack()->undo();
         controller.setCamera(view);
         waitForUpdate();
     }
