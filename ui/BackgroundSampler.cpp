@@ -35,7 +35,7 @@ void BackgroundSampler::run()
     const Scene* sceneOf = nullptr;
     std::shared_ptr<const Scene> scene;            // held so sceneOf stays meaningful
     std::shared_ptr<const ReceiverHeights> heights;
-    std::unique_ptr<SegmentHitCaster> hits;   // built for a scene the first time ray ends are asked
+    std::unique_ptr<pvs::FirstHitCaster> hits;   // built for a scene the first time ray ends are asked
     const Scene* hitsOf = nullptr;
     for (;;) {
         Request request;
@@ -62,7 +62,7 @@ void BackgroundSampler::run()
             result = sampler.sample(request.source, request.receiver);
             if (result.valid && request.rayEndsCap > 0 && scene) {
                 if (!hits || hitsOf != scene.get()) {
-                    hits = std::make_unique<SegmentHitCaster>(worldTriangles(*scene));
+                    hits = std::make_unique<pvs::FirstHitCaster>(*scene);
                     hitsOf = scene.get();
                 }
                 const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), request.rayEndsCap);

@@ -32,7 +32,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         renderer.setHiddenSamples(result.visibility.valid ? &result.visibility.map : nullptr);
         if (result.visibility.valid && style.showBlocked && style.showRays) {
             // Blocked rays end where they are first stopped, as in the editor.
-            const SegmentHitCaster hits(worldTriangles(document.scene()));
+            const pvs::FirstHitCaster hits(document.scene());
             const HiddenSampleMap& map = result.visibility.map;
             result.visibility.rayEnds = drawnRayEnds(hits, map, project.source, project.receiver,
                                                      raySubset(map.sourceCount(), map.receiverCount(), style.rayCap));

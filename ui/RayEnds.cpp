@@ -2,14 +2,14 @@
 
 namespace sightline::ui {
 
-std::vector<float> drawnRayEnds(const SegmentHitCaster& caster, const HiddenSampleMap& map, const Patch& source,
+std::vector<float> drawnRayEnds(const pvs::FirstHitCaster& caster, const HiddenSampleMap& map, const Patch& source,
                                 const Patch& receiver, const RaySubset& subset)
 {
     std::vector<float> ends(std::size_t(subset.count()), 1.0f);
     for (std::uint32_t k = 0; k < std::uint32_t(ends.size()); ++k) {
         const auto [j, i] = subsetRay(subset, k);
         if (map.blocked(int(j), int(i)))
-            ends[k] = caster.firstHit(source.sample(int(i)), receiver.sample(int(j)));
+            ends[k] = segmentFirstHit(caster, source.sample(int(i)), receiver.sample(int(j)));
     }
     return ends;
 }

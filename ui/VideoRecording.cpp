@@ -130,7 +130,7 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
 
         std::optional<Project> previous;   // what the scene and the receiver heights were built for
         std::vector<std::size_t> occluderOf;
-        std::optional<SegmentHitCaster> hits;   // blocked rays' first stops, when they are drawn
+        std::optional<pvs::FirstHitCaster> hits;   // blocked rays' first stops, when they are drawn
         const bool drawStops = scene.style.showBlocked && scene.style.showRays;
         double sceneRadius = 10.0;
         for (int k = 0; k < options.frames; ++k) {
@@ -148,7 +148,7 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
                 sceneRadius = bounds.empty() ? 10.0 : 0.5 * glm::length(bounds.max - bounds.min);
                 visibility.setScene(all);
                 if (drawStops)
-                    hits.emplace(worldTriangles(all));
+                    hits.emplace(all);
             }
             if (!previous || previous->receiver.na != project.receiver.na || previous->receiver.nb != project.receiver.nb)
                 visibility.loadReceiverHeights(project, scene.what);

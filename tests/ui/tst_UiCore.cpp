@@ -683,7 +683,7 @@ TEST(OffscreenRender, BlockedRaysStopAtTheirFirstHitWithADot)
     wall.transform = glm::scale(glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(3, 1.5f, 0)), glm::radians(90.0f), glm::vec3(0, 0, 1)),
                                 glm::vec3(2.0f));
     document.addOccluder(wall);
-    const SegmentHitCaster hits(worldTriangles(document.scene()));
+    const pvs::FirstHitCaster hits(document.scene());
     LiveVisibility live;
     live.setScene(document.scene());
     const VisibilityResult result = live.sample(source, receiver);

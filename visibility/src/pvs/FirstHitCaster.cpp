@@ -75,6 +75,16 @@ FirstHitCaster::~FirstHitCaster() = default;
 
 std::size_t FirstHitCaster::triangleCount() const { return embree_->instanceOf.size(); }
 
+float segmentFirstHit(const FirstHitCaster& caster, const glm::dvec3& from, const glm::dvec3& to)
+{
+    const glm::dvec3 d = to - from;
+    if (!(glm::dot(d, d) > 0.0))
+        return 1.0f;
+    constexpr double kEnds = 1e-4;
+    const RayHit hit = caster.cast(glm::vec3(from + kEnds * d), glm::vec3(d), float(1.0 - 2.0 * kEnds));
+    return hit.instance < 0 ? 1.0f : float(kEnds + double(hit.t));
+}
+
 RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction, float tfar) const
 {
     RTCIntersectContext context;
