@@ -95,6 +95,23 @@ TEST(AoDirections, LevelsNestAndCellsTileTheSphere)
     }
 }
 
+TEST(AoDirections, EveryDirectionHasItsAntipodeInItsLevel)
+{
+    // The casters answer d and -d in one pass; the table must pair every direction exactly.
+    for (int k : kAoDirectionCounts) {
+        const AoDirectionSet& set = aoDirections(k);
+        ASSERT_EQ(int(set.antipode.size()), k);
+        for (int j = 0; j < k; ++j) {
+            const int a = set.antipode[std::size_t(j)];
+            ASSERT_GE(a, 0) << "k = " << k << ", j = " << j;
+            ASSERT_LT(a, k);
+            EXPECT_NE(a, j);
+            EXPECT_EQ(set.antipode[std::size_t(a)], j);
+            EXPECT_NEAR(glm::length(set.directions[std::size_t(a)] + set.directions[std::size_t(j)]), 0.0f, 1e-6f);
+        }
+    }
+}
+
 TEST(AoDirections, KOutsideTheSetIsRefused)
 {
     for (int k : {0, 5, 7, 100, 257, 4098})

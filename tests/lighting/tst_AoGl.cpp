@@ -93,3 +93,23 @@ TEST_F(AoGl, AgreesWithTheExactCpuModeWithinDepthMapResolutionAndBias)
         sum += std::abs(aoGl[i] - aoCpu[i]);
     EXPECT_LT(sum / double(aoGl.size()), 0.01);
 }
+
+TEST_F(AoGl, ChunksGiveTheSameBitsAsOneCall)
+{
+    // d and -d share one render; a chunk boundary between them must not change either's bits.
+    const Scene scene = clutter();
+    const AoOccluders occluders = aoOccluders(scene);
+    AoPoints points = aoVertexPoints(scene);
+    points.offsetOrigins(kAoOffsetRelative * occluders.diagonal());
+    const int k = 66;
+    const AoDirectionSet& set = aoDirections(k);
+    AoGlCaster gl(context->functions(), occluders, {.resolution = 256});
+    VisibilityMatrix whole(points.size(), k), chunked(points.size(), k);
+    ASSERT_TRUE(gl.fill(points, set, 0, k, whole));
+    for (int first = 0; first < k; first += 7)
+        ASSERT_TRUE(gl.fill(points, set, first, std::min(k, first + 7), chunked));
+    ASSERT_GT(whole.visibleCount(k), 0u);
+    for (std::size_t i = 0; i < points.size(); ++i)
+        for (int j = 0; j < k; ++j)
+            ASSERT_EQ(whole.visible(i, j), chunked.visible(i, j)) << "point " << i << " direction " << j;
+}

@@ -236,12 +236,6 @@ bool AoBinnedCaster::fill(const AoPoints& points, const AoDirectionSet& set, int
     for (std::size_t i = 0; i < np; ++i)
         origins[i] = glm::vec3(glm::dvec3(points.origins[i]) - impl_->centre);
     std::vector<std::uint64_t> rows(std::size_t(last - first) * pointWords, 0);
-    // The light sphere is centrally symmetric: every direction's antipode is in the same level.
-    std::vector<int> antipode(set.directions.size(), -1);
-    for (std::size_t j = 0; j < set.directions.size(); ++j)
-        for (std::size_t a = 0; a < set.directions.size(); ++a)
-            if (glm::dot(set.directions[j], set.directions[a]) < -0.99999f)
-                antipode[j] = int(a);
     std::atomic<bool> stopped{false};
     tbb::task_arena arena(impl_->options.threads > 0 ? impl_->options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
@@ -251,7 +245,7 @@ bool AoBinnedCaster::fill(const AoPoints& points, const AoDirectionSet& set, int
                     stopped = true;
                     return;
                 }
-                const int a = antipode[std::size_t(j)];
+                const int a = set.antipode[std::size_t(j)];
                 const bool pair = a >= first && a < last;
                 if (pair && a < j)
                     continue;   // answered with its antipode

@@ -107,6 +107,11 @@ AoDirectionSet buildSet(const Sphere& sphere, int level)
         set.moment.push_back(glm::vec3(moment[std::size_t(j)]));
         set.cellRadius.push_back(float(std::sqrt(omega[std::size_t(j)] / 3.14159265358979323846)));
     }
+    set.antipode.assign(std::size_t(set.k), -1);
+    for (int j = 0; j < set.k; ++j)
+        for (int a = 0; a < set.k; ++a)
+            if (glm::dot(sphere.directions[std::size_t(j)], sphere.directions[std::size_t(a)]) < -1.0 + 1e-9)
+                set.antipode[std::size_t(j)] = a;
     return set;
 }
 

@@ -40,6 +40,10 @@ struct AoDirectionSet {
     std::vector<float> solidAngle;       ///< Omega_j of direction j's cell at this level (sums to 4 pi)
     std::vector<glm::vec3> moment;       ///< m_j = integral over the cell of l dl (|m_j| ~ Omega_j)
     std::vector<float> cellRadius;       ///< sqrt(Omega_j / pi): the cell as a disk, for horizon cells
+    /// The index of -l_j. The octahedron and its midpoint subdivision are centrally symmetric, so
+    /// every direction's antipode is in the same level: casters answer d and -d in one pass
+    /// (one projection, one depth map).
+    std::vector<int> antipode;
 };
 
 /// The direction set for `k` (one of kAoDirectionCounts), computed once and cached (thread-safe).

@@ -103,7 +103,8 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                       \
     X(PFNGLDISPATCHCOMPUTEPROC, DispatchCompute)                                                   \
     X(PFNGLTEXTURESUBIMAGE2DPROC, TextureSubImage2D)                                               \
-    X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)
+    X(PFNGLTEXTUREPARAMETERIPROC, TextureParameteri)                                               \
+    X(PFNGLBLENDEQUATIONPROC, BlendEquation)
 
 using GetProcAddress = void* (*)(const char* name);
 
