@@ -8,6 +8,12 @@
 
 #include <glm/geometric.hpp>
 
+#ifdef __linux__
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+#endif
+
 #include "lighting/ao/AoBinnedCaster.h"
 #include "lighting/ao/AoComputation.h"
 #include "lighting/ao/AoShading.h"
@@ -27,16 +33,46 @@ AoPreviewLevel failed(std::uint64_t generation, std::string error)
     return level;
 }
 
-/// Each corner's uv in the atlas, from its position in its triangle's tile frame (AoTexels.h),
-/// so the mapping does not depend on the corner order of a mirrored instance.
-std::vector<glm::vec2> cornerUvs(const Scene& scene, const AoTexelLayout& layout)
+/// The surfaces that get texels: the world triangles of the instances asked for (all when none
+/// is named), as occluders of their own for aoTexelPoints, with each one's world-triangle index.
+struct TexelSurfaces {
+    AoOccluders surfaces;
+    std::vector<std::uint32_t> worldTriangle;
+};
+
+TexelSurfaces texelSurfaces(const WorldTriangles& triangles, const std::vector<std::uint32_t>& instances)
 {
-    const WorldTriangles triangles = worldTriangles(scene);
+    std::vector<std::uint8_t> wanted;
+    for (std::uint32_t i : instances) {
+        if (i >= wanted.size())
+            wanted.resize(std::size_t(i) + 1, 0);
+        wanted[i] = 1;
+    }
+    TexelSurfaces out;
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const std::uint32_t instance = triangles.instanceOf[t];
+        if (!instances.empty() && (instance >= wanted.size() || !wanted[instance]))
+            continue;
+        for (std::size_t c = 0; c < 3; ++c) {
+            out.surfaces.indices.push_back(std::uint32_t(out.surfaces.vertices.size()));
+            out.surfaces.vertices.push_back(triangles.vertices[3 * t + c]);
+            out.surfaces.bounds.extend(triangles.vertices[3 * t + c]);
+        }
+        out.worldTriangle.push_back(std::uint32_t(t));
+    }
+    return out;
+}
+
+/// Each corner's uv in the atlas, from its position in its triangle's tile frame (AoTexels.h),
+/// so the mapping does not depend on the corner order of a mirrored instance; -1 for triangles
+/// without texels.
+std::vector<glm::vec2> cornerUvs(const WorldTriangles& triangles, const TexelSurfaces& sampled, const AoTexelLayout& layout)
+{
     std::vector<glm::vec2> uvs(triangles.vertices.size(), glm::vec2(-1.0f));
     for (const AoTexelTile& tile : layout.tiles) {
-        const std::size_t t = tile.triangle;   // AoOccluders order: worldTriangles' order, instance by instance
-        if (tile.width == 0 || t >= triangles.size())
+        if (tile.width == 0 || tile.triangle >= sampled.worldTriangle.size())
             continue;
+        const std::size_t t = sampled.worldTriangle[tile.triangle];
         for (std::size_t c = 0; c < 3; ++c) {
             const glm::vec3 d = triangles.vertices[3 * t + c] - tile.origin;
             const double s = double(tile.x) + double(glm::dot(d, tile.axisU)) * layout.density;
@@ -47,12 +83,20 @@ std::vector<glm::vec2> cornerUvs(const Scene& scene, const AoTexelLayout& layout
     return uvs;
 }
 
+/// The worker yields to the GUI thread and the sampler's worker (issue 18: the editor stays live
+/// while k = 258 completes); Linux gives each thread its own nice value.
+void lowerThisThreadsPriority()
+{
+#ifdef __linux__
+    setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
+#endif
+}
+
 } // namespace
 
-double previewTexelDensity(const Scene& scene)
+double previewTexelDensity(const WorldTriangles& triangles, double maxDensity)
 {
     double area = 0.0;
-    const WorldTriangles triangles = worldTriangles(scene);
     for (std::size_t t = 0; t < triangles.size(); ++t) {
         const glm::vec3* p = &triangles.vertices[3 * t];
         area += 0.5 * double(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
@@ -60,7 +104,7 @@ double previewTexelDensity(const Scene& scene)
     // Texels ~ area * density^2 plus a tile's rounding per triangle.
     const double perTriangle = 2.0 * double(triangles.size());
     const double room = std::max(kMaxTexels - perTriangle, 0.25 * kMaxTexels);
-    return std::clamp(std::sqrt(room / std::max(area, 1e-6)), 0.25, 4.0);
+    return std::clamp(std::sqrt(room / std::max(area, 1e-6)), 0.25, maxDensity);
 }
 
 AoPreview::AoPreview(Deliver deliver) : deliver_(std::move(deliver)) {}
@@ -89,24 +133,33 @@ void AoPreview::setLighting(AoLighting lighting)
     wake_.notify_all();
 }
 
-void AoPreview::start(std::uint64_t generation, std::shared_ptr<const Scene> scene, double texelsPerMetre, int targetK,
-                      double reach)
+void AoPreview::start(std::uint64_t generation, AoPreviewRequest request)
 {
     stop();
     cancel_ = std::make_shared<std::atomic<bool>>(false);
-    thread_ = std::thread([this, generation, scene = std::move(scene), texelsPerMetre, targetK, reach, cancel = cancel_] {
+    thread_ = std::thread([this, generation, request = std::move(request), cancel = cancel_] {
+        lowerThisThreadsPriority();
         const auto start = std::chrono::steady_clock::now();
         const auto ms = [&] { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(); };
+        const int targetK = request.targetK;
         try {
-            const AoOccluders occluders = aoOccluders(*scene);
+            const AoOccluders occluders = aoOccluders(*request.scene);
             if (occluders.triangleCount() == 0)
                 return;
+            const WorldTriangles triangles = worldTriangles(*request.scene);
+            const TexelSurfaces sampled = texelSurfaces(triangles, request.instances);
+            if (sampled.worldTriangle.empty())
+                return;
+            WorldTriangles sampledTriangles;
+            sampledTriangles.vertices = sampled.surfaces.vertices;
+            sampledTriangles.instanceOf.assign(sampled.worldTriangle.size(), 0);
+            const double density = previewTexelDensity(sampledTriangles, request.instances.empty() ? 4.0 : 16.0);
             AoPoints points;
-            const AoTexelLayout layout = aoTexelPoints(occluders, texelsPerMetre, points);
+            const AoTexelLayout layout = aoTexelPoints(sampled.surfaces, density, points);
             points.offsetOrigins(kAoOffsetRelative * occluders.diagonal());
-            std::vector<glm::vec2> uvs = cornerUvs(*scene, layout);
+            std::vector<glm::vec2> uvs = cornerUvs(triangles, sampled, layout);
             // One thread: the other core keeps the live rays and the frames going.
-            AoBinnedCaster filler(occluders, AoBinnedOptions{.threads = 1, .maxDistance = reach});
+            AoBinnedCaster filler(occluders, AoBinnedOptions{.threads = 1, .maxDistance = request.reach});
             AoComputation computation(filler, points, targetK);
             const AoFillControl control{.cancel = cancel.get()};
             // One level lit as asked: plain AO for the uniform sky, else the environment's light
@@ -137,6 +190,8 @@ void AoPreview::start(std::uint64_t generation, std::shared_ptr<const Scene> sce
                 level.relit = relit;
                 level.width = layout.width;
                 level.height = layout.height;
+                level.texels = points.size();
+                level.density = density;
                 level.map.assign(std::size_t(layout.width) * std::size_t(layout.height), glm::vec3(1.0f));
                 const auto at = [&](int x, int y) -> glm::vec3& { return level.map[std::size_t(y) * std::size_t(layout.width) + std::size_t(x)]; };
                 for (const AoTexelTile& tile : layout.tiles)

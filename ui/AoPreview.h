@@ -38,15 +38,30 @@ struct AoLighting {
 struct AoPreviewLevel {
     std::uint64_t generation = 0;
     int k = 0, targetK = 0;
-    /// Per world-triangle corner of the scene (worldTriangles order), its place in the map.
+    /// Per world-triangle corner of the scene (worldTriangles order), its place in the map; -1
+    /// for the triangles of instances that were not asked for (AoPreviewRequest::instances).
     std::vector<glm::vec2> uvs;
     int width = 0, height = 0;
     /// width x height lit colours, row 0 at the top (uv origin): AO in [0, 1] under the uniform
     /// sky, the environment's light reaching each texel otherwise.
     std::vector<glm::vec3> map;
+    std::size_t texels = 0;   ///< sample points (texels inside tiles; the atlas has gutters too)
+    double density = 0.0;     ///< texels per metre
     bool relit = false;       ///< a new lighting of the last level (no new directions traced)
     double ms = 0.0;          ///< since start(); for a relit level, the relighting's own time
     std::string error;        ///< non-empty: nothing else is set
+};
+
+/// What to compute: the AO of `scene`'s surfaces, every triangle of it occluding.
+struct AoPreviewRequest {
+    std::shared_ptr<const Scene> scene;
+    /// Which instances get texels (AO of chosen objects, issue 18 §5); empty: all of them. The
+    /// texel density is chosen for the surfaces asked for, so a chosen object gets finer texels.
+    std::vector<std::uint32_t> instances;
+    int targetK = 258;   ///< 6, 18, 66, 258 or 1026
+    /// Occluders within this many metres darken (under a uniform sky a closed room is dark
+    /// everywhere; engines' AO has a radius too).
+    double reach = kAoPreviewReach;
 };
 
 class AoPreview {
@@ -57,11 +72,9 @@ public:
     AoPreview(const AoPreview&) = delete;
     AoPreview& operator=(const AoPreview&) = delete;
 
-    /// Cancels any running computation and starts one over `scene` at `texelsPerMetre`, to
-    /// `targetK` directions (6, 18, 66, 258 or 1026), counting occluders within `reach` metres
-    /// (under a uniform sky a closed room is dark everywhere; engines' AO has a radius too).
-    void start(std::uint64_t generation, std::shared_ptr<const Scene> scene, double texelsPerMetre, int targetK,
-               double reach = kAoPreviewReach);
+    /// Cancels any running computation and starts `request` on the worker thread, which runs at
+    /// a low scheduling priority so that the live rays and the frames keep their core.
+    void start(std::uint64_t generation, AoPreviewRequest request);
     /// Cancels and waits for the worker.
     void stop();
     /// Lights the AO anew: levels from now on use it, and a finished computation is relit from
@@ -78,8 +91,9 @@ private:
     std::thread thread_;
 };
 
-/// The light-map texel density the preview uses for a scene: 4 texels a metre, lowered so the
-/// atlas stays under about 400,000 texels (a k = 258 answer in a few seconds on 2 cores).
-double previewTexelDensity(const Scene& scene);
+/// The light-map texel density the preview uses for `triangles`' surfaces: 4 texels a metre for
+/// a level (16 for chosen objects, `maxDensity`), lowered so the atlas stays under about 400,000
+/// texels (a k = 258 answer in a few seconds on 2 cores).
+double previewTexelDensity(const WorldTriangles& triangles, double maxDensity = 4.0);
 
 } // namespace sightline::ui

@@ -45,7 +45,7 @@ Patch scriptedReceiver(const Patch& start, int frame, int frames)
     return p;
 }
 
-InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int width, int height)
+InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int width, int height, bool withAo)
 {
     InteractionFigures figures;
     figures.width = width;
@@ -69,17 +69,28 @@ InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int w
         document.applyState(receiver, scriptedReceiver(start, ++step, frames));
     });
     constexpr int kWarmUp = 10;
-    std::vector<double> frameMs, sampleMs;
+    std::vector<double> frameMs, sampleMs, aoFrameMs;
     double visible = 0.0;
-    QElapsedTimer clock;
+    QElapsedTimer clock, aoClock;
     document.applyState(receiver, scriptedReceiver(start, step, frames));
     for (int f = -kWarmUp; f < frames; ++f) {
-        if (f == 0)
+        if (f == 0) {
             clock.start();
+            if (withAo) {
+                viewport.setAmbientOcclusion(true);
+                aoClock.start();
+            }
+        }
+        const bool aoComputing = withAo && f >= 0 && figures.aoDoneMs == 0.0;
         waitForAnswer(viewport);
         if (f < 0)
             continue;
         frameMs.push_back(double(clock.nsecsElapsed()) * 1e-6);
+        if (aoComputing) {
+            aoFrameMs.push_back(frameMs.back());
+            if (viewport.aoLevel() >= 258)
+                figures.aoDoneMs = double(aoClock.nsecsElapsed()) * 1e-6;
+        }
         clock.restart();
         sampleMs.push_back(viewport.visibility().ms);
         visible += viewport.visibility().visibleFraction();
@@ -93,6 +104,12 @@ InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int w
     figures.p90FrameMs = percentile(frameMs, 0.9);
     figures.medianHz = figures.medianFrameMs > 0.0 ? 1000.0 / figures.medianFrameMs : 0.0;
     figures.medianSampleMs = percentile(sampleMs, 0.5);
+    figures.aoFrames = int(aoFrameMs.size());
+    figures.aoP90FrameMs = percentile(aoFrameMs, 0.9);
+    const double aoMedian = percentile(aoFrameMs, 0.5);
+    figures.aoMedianHz = aoMedian > 0.0 ? 1000.0 / aoMedian : 0.0;
+    if (withAo)
+        viewport.setAmbientOcclusion(false);
     figures.meanVisibleFraction = frames > 0 ? visible / frames : 0.0;
     figures.rays = viewport.visibility().rays;
     figures.raysDrawn = viewport.raysDrawn();

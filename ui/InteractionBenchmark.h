@@ -22,6 +22,13 @@ struct InteractionFigures {
     std::uint64_t rays = 0;
     std::uint64_t raysDrawn = 0;
     std::string backend;
+    /// With the AO preview started at the first counted frame (issue 18: the editor stays live
+    /// while k = 258 completes): the frames shown while it was computing, their median rate and
+    /// 90th percentile, and when k = 258 was shown (0: not within the run).
+    int aoFrames = 0;
+    double aoMedianHz = 0.0;
+    double aoP90FrameMs = 0.0;
+    double aoDoneMs = 0.0;
 };
 
 /// Frame `frame` of `frames` of the scripted drag: the receiver slides within its own plane
@@ -29,7 +36,8 @@ struct InteractionFigures {
 Patch scriptedReceiver(const Patch& start, int frame, int frames);
 
 /// Shows the window with a width x height viewport, runs `frames` frames (after 10 of warm-up)
-/// and restores the receiver.
-InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int width = 1280, int height = 720);
+/// and restores the receiver. `withAo`: the level's AO preview starts at the first counted frame.
+InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int width = 1280, int height = 720,
+                                           bool withAo = false);
 
 } // namespace sightline::ui

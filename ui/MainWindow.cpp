@@ -376,6 +376,17 @@ void MainWindow::createActions()
     });
     ao->setCheckable(true);
     ao->setObjectName("ambientOcclusion");
+    // AO of chosen objects: the selected object only, at finer texels, the level still occluding.
+    QAction* aoSelection = action(view, tr("AO of Selected &Object Only"), QKeySequence(Qt::ALT | Qt::Key_O), [this, ao](bool on) {
+        viewport_->setAoOfSelection(on);
+        if (on && !ao->isChecked())
+            ao->trigger();   // asking for the selection's AO means wanting to see it
+        statusBar()->showMessage(on ? tr("Ambient occlusion of the selected object only (the whole level when none is)")
+                                    : tr("Ambient occlusion of the whole level"),
+                                 3000);
+    });
+    aoSelection->setCheckable(true);
+    aoSelection->setObjectName("aoOfSelection");
     // The PVS debugger (issue 17 §5): the project's PVS baked in the background, coarse for every
     // cell first; the level's objects the camera's view cell cannot see are tinted magenta.
     QAction* pvsView = action(view, tr("&PVS Debugger"), QKeySequence(Qt::Key_P), [this](bool on) {
@@ -450,10 +461,12 @@ void MainWindow::createActions()
         }
         if (!error.isEmpty())
             statusBar()->showMessage(tr("Ambient occlusion failed: %1").arg(error), 10000);
-        else
-            statusBar()->showMessage(k < target ? tr("Ambient occlusion: %1 of %2 directions (%3 s), refining...").arg(k).arg(target).arg(ms / 1000.0, 0, 'f', 1)
-                                                : tr("Ambient occlusion: %1 directions (%2 s)").arg(k).arg(ms / 1000.0, 0, 'f', 1),
+        else {
+            const QString what = viewport_->aoInstances().empty() ? tr("Ambient occlusion") : tr("Ambient occlusion of the selection");
+            statusBar()->showMessage(k < target ? tr("%1: %2 of %3 directions (%4 s), refining...").arg(what).arg(k).arg(target).arg(ms / 1000.0, 0, 'f', 1)
+                                                : tr("%1: %2 directions (%3 s)").arg(what).arg(k).arg(ms / 1000.0, 0, 'f', 1),
                                      k < target ? 0 : 8000);
+        }
     });
     // The section cut: its own toggle and height (navigation never moves it).
     cutAction_ = action(view, tr("Section &Cut"), QKeySequence(Qt::Key_C), [this](bool on) {

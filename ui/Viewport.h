@@ -60,8 +60,14 @@ public:
     /// Shades the level with its ambient occlusion, computed progressively in the background
     /// (AoPreview.h); recomputed when the level changes while it is on.
     void setAmbientOcclusion(bool on);
+    /// AO of the selected object only (issue 18 §5: AO of chosen objects), at a finer texel
+    /// density, the whole level still occluding; with nothing (or a patch) selected, the level's.
+    void setAoOfSelection(bool on);
+    bool aoOfSelection() const { return aoOfSelection_; }
     /// The finest AO level shown (0: none yet), and its target.
     int aoLevel() const { return aoShownK_; }
+    /// The instances of document().scene() the AO shown or on its way is for (empty: all).
+    const std::vector<std::uint32_t>& aoInstances() const { return aoInstances_; }
     /// How the AO is lit (a uniform sky or an HDR environment, turned and exposed): relit from the
     /// matrix, never traced again.
     void setAoLighting(const AoLighting& lighting);
@@ -89,6 +95,7 @@ signals:
     void pvsUpdated(const QString& status);
     /// An AO level arrived and is shown (k directions of `target`; `relit`: the same level lit
     /// anew), or the computation failed.
+    /// A level of AO arrived (k of `target` directions; aoInstances() says for what), or failed.
     void aoUpdated(int k, int target, double ms, const QString& error, bool relit);
     /// After every frame that re-sampled.
     void visibilityUpdated();
@@ -150,6 +157,10 @@ private:
     std::optional<AoPreviewLevel> aoArrived_;
     int aoShownK_ = 0;
     bool aoStale_ = false;   ///< the level changed while AO is on: restart at the next frame
+    bool aoOfSelection_ = false;
+    std::vector<std::uint32_t> aoInstances_;
+    /// The instances of document().scene() the selection stands for (none for a patch).
+    std::vector<std::uint32_t> selectedInstances() const;
     double dragBudgetMs_ = 150.0;
     /// The receiver grid the live sampler's heights were read for (re-read on a new document or
     /// a new grid: "receiver_heights" is resampled to the grid).

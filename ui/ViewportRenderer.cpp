@@ -368,6 +368,7 @@ struct ViewportRenderer::Impl {
     bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
     std::uint64_t sceneVersion = 0;
     std::vector<MeshVertex> sceneFileVertices;   ///< kept to add the AO map's uvs later
+    std::vector<MeshVertex> occluderVertices;    ///< likewise
     GLuint aoTexture = 0;
     bool aoReady = false;   ///< a map and the scene file's uvs are uploaded
     GLuint pvsBuffer = 0, pvsTexture = 0;
@@ -480,14 +481,22 @@ void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, in
     Impl& d = *impl_;
     d.aoReady = false;
     ++d.sceneVersion;
-    if (uvs.size() != d.sceneFileVertices.size() || width < 1 || height < 1 || map.size() != std::size_t(width) * std::size_t(height))
-        return;   // not this scene file's answer (the level changed meanwhile)
-    if (d.sceneFileVertices.empty() || d.sceneFileVertices.front().aoUv != uvs.front() ||
-        d.sceneFileVertices.back().aoUv != uvs.back()) {
-        for (std::size_t k = 0; k < uvs.size(); ++k)
-            d.sceneFileVertices[k].aoUv = uvs[k];
-        d.upload(d.sceneFile, d.sceneFileVertices);
-    }
+    // The uvs cover the whole scene: the scene file's triangles, then the placed occluders'.
+    const std::size_t fileCorners = d.sceneFileVertices.size();
+    if (uvs.size() != fileCorners + d.occluderVertices.size() || width < 1 || height < 1 ||
+        map.size() != std::size_t(width) * std::size_t(height))
+        return;   // not this scene's answer (the level or the occluders changed meanwhile)
+    const auto take = [&](std::vector<MeshVertex>& vertices, std::size_t first, MeshBuffer& buffer) {
+        bool changed = false;
+        for (std::size_t k = 0; k < vertices.size(); ++k) {
+            changed = changed || vertices[k].aoUv != uvs[first + k];
+            vertices[k].aoUv = uvs[first + k];
+        }
+        if (changed)
+            d.upload(buffer, vertices);
+    };
+    take(d.sceneFileVertices, 0, d.sceneFile);
+    take(d.occluderVertices, fileCorners, d.occluders);
     if (d.aoTexture)
         d.gl.DeleteTextures(1, &d.aoTexture);
     d.gl.CreateTextures(GL_TEXTURE_2D, 1, &d.aoTexture);
@@ -519,7 +528,8 @@ void ViewportRenderer::setPvsCulled(const std::vector<std::uint8_t>& culled)
 
 void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf)
 {
-    impl_->upload(impl_->occluders, meshVertices(worldTriangles(occluders), &occluderOf));
+    impl_->occluderVertices = meshVertices(worldTriangles(occluders), &occluderOf);
+    impl_->upload(impl_->occluders, impl_->occluderVertices);
 }
 
 void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)

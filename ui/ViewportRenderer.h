@@ -124,10 +124,11 @@ public:
 
     /// The scene file's objects (object id = instance index).
     void setSceneFile(const Scene& scene);
-    /// The scene file's ambient occlusion as a light map (AoPreview.h): `uvs` per world triangle
-    /// corner of the scene file (worldTriangles order), a width x height map of the light reaching
-    /// each texel (AO in [0, 1] under a uniform sky, an environment's colour otherwise).
-    /// Ignored when the uvs are not for the current scene file. Drawn while the style asks.
+    /// The level's ambient occlusion as a light map (AoPreview.h): `uvs` per world triangle
+    /// corner of the whole scene, the scene file's triangles then the placed occluders'
+    /// (worldTriangles order; -1 where a triangle has none), a width x height map of the light
+    /// reaching each texel (AO in [0, 1] under a uniform sky, an environment's colour otherwise).
+    /// Ignored when the uvs are not for the current scene. Drawn while the style asks.
     void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
     /// The PVS debugger's answer: per instance of the scene file, 1 when culled. Empty: none.
     void setPvsCulled(const std::vector<std::uint8_t>& culled);

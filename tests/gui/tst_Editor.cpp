@@ -948,6 +948,118 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 18 §5: a placed box takes part in the level's AO (it is shaded and darkens the floor
+    // around it), and View > AO of Selected Object Only shades the chosen object alone, finer, the
+    // level still occluding it and left unshaded itself.
+    void ambientOcclusionOfPlacedObjectsAndOfTheSelection()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        QAction* ao = window_->findChild<QAction*>("ambientOcclusion");
+        QAction* ofSelection = window_->findChild<QAction*>("aoOfSelection");
+        QVERIFY(ao && ofSelection && !ao->isChecked());
+        const Camera view = controller.camera();
+        const bool rays = viewport.style().showRays;
+        viewport.style().showRays = false;   // only the level and the box in the pictures
+        // A 1 m crate standing on the gallery's floor (y = 0), seen from 4 m away and above.
+        const glm::dvec3 spot(5.0, 0.5, 6.5);
+        Camera camera;
+        camera.target = spot;
+        camera.distance = 4.0;
+        camera.yaw = 0.6;
+        camera.pitch = -0.6;
+        controller.setCamera(camera);
+        waitForUpdate();
+        const auto aoDone = [&] { QTRY_VERIFY_WITH_TIMEOUT(viewport.aoLevel() == 258, 180000); QTest::qWait(100); };
+        const QImage emptyPlain = viewport.grabFramebuffer();
+        ao->trigger();
+        aoDone();
+        const QImage emptyAo = viewport.grabFramebuffer();
+        ao->trigger();   // off
+
+        OccluderSpec crate;
+        crate.name = "crate";
+        crate.mesh = "box";
+        crate.transform = glm::translate(glm::mat4(1.0f), glm::vec3(spot));
+        document.addOccluder(crate);
+        document.select({ObjectKind::Occluder, document.project().occluders.size() - 1});
+        waitForUpdate();
+        const QImage boxPlain = viewport.grabFramebuffer();
+        // The crate's pixels, and a ring of floor around them.
+        const int w = boxPlain.width(), h = boxPlain.height();
+        std::vector<std::uint8_t> box(std::size_t(w * h), 0), ring(std::size_t(w * h), 0);
+        int boxPixels = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                if (std::abs(qGray(boxPlain.pixel(x, y)) - qGray(emptyPlain.pixel(x, y))) > 25 ||
+                    std::abs(qBlue(boxPlain.pixel(x, y)) - qBlue(emptyPlain.pixel(x, y))) > 25)
+                    box[std::size_t(y * w + x)] = 1, ++boxPixels;
+        QVERIFY2(boxPixels > 2000, qPrintable(QString("the crate covers %1 pixels").arg(boxPixels)));
+        const auto near = [&](int x, int y, int r) {
+            for (int dy = -r; dy <= r; ++dy)
+                for (int dx = -r; dx <= r; ++dx)
+                    if (x + dx >= 0 && y + dy >= 0 && x + dx < w && y + dy < h && box[std::size_t((y + dy) * w + x + dx)])
+                        return true;
+            return false;
+        };
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                ring[std::size_t(y * w + x)] = !box[std::size_t(y * w + x)] && near(x, y, 12) ? 1 : 2 * !near(x, y, 24);
+        // ring: 1 beside the crate, 2 far from it (more than 24 pixels), 0 otherwise.
+        const auto mean = [&](const QImage& image, int which, const std::vector<std::uint8_t>& mask) {
+            double sum = 0.0;
+            int n = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if (mask[std::size_t(y * w + x)] == which)
+                        sum += qGray(image.pixel(x, y)), ++n;
+            return n ? sum / n : 0.0;
+        };
+        const auto meanDiff = [&](const QImage& a, const QImage& b) {   // far from the crate
+            double sum = 0.0;
+            int n = 0;
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    if (ring[std::size_t(y * w + x)] == 2)
+                        sum += std::abs(qGray(a.pixel(x, y)) - qGray(b.pixel(x, y))), ++n;
+            return n ? sum / n : 0.0;
+        };
+
+        ao->trigger();
+        aoDone();
+        const QImage boxAo = viewport.grabFramebuffer();
+        saveWindowShot("ambient-occlusion-crate");
+        // The crate is shaded, and darkens the floor beside it.
+        QVERIFY2(mean(boxAo, 1, box) < 0.95 * mean(boxPlain, 1, box),
+                 qPrintable(QString("crate %1 with AO, %2 without").arg(mean(boxAo, 1, box)).arg(mean(boxPlain, 1, box))));
+        QVERIFY2(mean(boxAo, 1, ring) < mean(emptyAo, 1, ring) - 3.0,
+                 qPrintable(QString("floor beside the crate %1, without the crate %2").arg(mean(boxAo, 1, ring)).arg(mean(emptyAo, 1, ring))));
+
+        // Only the selected crate: finer texels on it, the rest of the level as without AO.
+        ofSelection->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.aoInstances().size() == 1 && viewport.aoLevel() == 258, 180000);
+        QTest::qWait(100);
+        const QImage selectionAo = viewport.grabFramebuffer();
+        saveWindowShot("ambient-occlusion-selection");
+        QVERIFY2(window_->statusBar()->currentMessage().contains("of the selection"), qPrintable(window_->statusBar()->currentMessage()));
+        QVERIFY2(mean(selectionAo, 1, box) < 0.95 * mean(boxPlain, 1, box),
+                 qPrintable(QString("crate %1 with its AO, %2 without").arg(mean(selectionAo, 1, box)).arg(mean(boxPlain, 1, box))));
+        QVERIFY2(meanDiff(boxAo, boxPlain) > 4.0, qPrintable(QString("the level's AO changes it by %1").arg(meanDiff(boxAo, boxPlain))));
+        QVERIFY2(meanDiff(selectionAo, boxPlain) < 1.0,
+                 qPrintable(QString("the crate's AO alone changes the level by %1").arg(meanDiff(selectionAo, boxPlain))));
+        // Selecting nothing shows the whole level's again.
+        document.select({});
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.aoInstances().empty() && viewport.aoLevel() == 258, 180000);
+
+        ofSelection->trigger();
+        ao->trigger();   // off
+        document.undoStack()->undo();   // the crate
+        viewport.style().showRays = rays;
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
     // Issue 16 §2: a ghost of the patch under the cursor before the click, the patch fitted to the
     // wall (its bottom edge on the floor, not centred through it), and the prompt replaced once placed.
     void placementShowsAGhostAndStandsThePatchOnTheFloor()
