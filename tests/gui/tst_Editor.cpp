@@ -1051,9 +1051,40 @@ private slots:
         // Selecting nothing shows the whole level's again.
         document.select({});
         QTRY_VERIFY_WITH_TIMEOUT(viewport.aoInstances().empty() && viewport.aoLevel() == 258, 180000);
-
         ofSelection->trigger();
+
+        // With an overlay: the level keeps its AO around the patch, while the overlay's colours
+        // stay those of its legend (AO never darkens them).
+        OverlayControls& controls = window_->overlayControls();
+        controls.setKind(OverlayKind::ReceiverImportance);
+        const Patch receiver = document.project().receiver;
+        controller.setCamera(facing(receiver, 4.0));
+        waitForOverlay();
+        QTest::qWait(100);
+        const QImage overlayAo = viewport.grabFramebuffer();
+        saveWindowShot("ambient-occlusion-overlay");
         ao->trigger();   // off
+        waitForOverlay();
+        QTest::qWait(100);
+        const QImage overlayPlain = viewport.grabFramebuffer();
+        const QPoint centre = pixelOf(controller, receiver.centre());
+        double patchDiff = 0.0, levelAo = 0.0, levelPlain = 0.0;
+        int patchN = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                if (std::abs(x - centre.x()) < 15 && std::abs(y - centre.y()) < 15) {
+                    patchDiff += std::abs(qRed(overlayAo.pixel(x, y)) - qRed(overlayPlain.pixel(x, y))) +
+                                 std::abs(qGreen(overlayAo.pixel(x, y)) - qGreen(overlayPlain.pixel(x, y))) +
+                                 std::abs(qBlue(overlayAo.pixel(x, y)) - qBlue(overlayPlain.pixel(x, y)));
+                    ++patchN;
+                } else {
+                    levelAo += qGray(overlayAo.pixel(x, y));
+                    levelPlain += qGray(overlayPlain.pixel(x, y));
+                }
+            }
+        QVERIFY2(patchDiff / patchN < 3.0, qPrintable(QString("the overlay's colours moved by %1 with AO").arg(patchDiff / patchN)));
+        QVERIFY2(levelAo < 0.98 * levelPlain, qPrintable(QString("level %1 with AO, %2 without").arg(levelAo).arg(levelPlain)));
+        controls.setKind(OverlayKind::None);
         document.undoStack()->undo();   // the crate
         viewport.style().showRays = rays;
         controller.setCamera(view);
