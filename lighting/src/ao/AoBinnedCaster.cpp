@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
@@ -24,6 +26,24 @@ struct Scratch {
     std::vector<std::uint32_t> bindex;   ///< point index, top bit set when facing -d
     std::vector<std::int32_t> bblocked;
 };
+
+/// Eight lanes (GCC/Clang vector extensions: AVX registers in the AVX2 clone, two SSE halves
+/// otherwise).
+using V8 = float __attribute__((vector_size(32)));
+using M8 = std::int32_t __attribute__((vector_size(32)));
+constexpr std::size_t kLanes = 8;
+
+// Vectors are passed only between functions inlined into testTriangles' clones, so GCC's note
+// that an AVX vector return changes the ABI without AVX enabled does not apply (-Wpsabi, until
+// the end of testTriangles).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+[[gnu::always_inline]] inline V8 load(const float* p)
+{
+    V8 v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+}
 
 /// Every triangle against the binned points of the cells its projected bounding box overlaps
 /// (AoBinnedCaster.h): on x86-64 with GCC also compiled for AVX2, chosen at run time
@@ -55,30 +75,39 @@ void testTriangles(Scratch& s, const std::uint32_t* indices, std::size_t nt, int
             }
             const int cx0 = cellOf(std::min({x[0], x[1], x[2]})), cx1 = cellOf(std::max({x[0], x[1], x[2]}));
             const int cy0 = cellOf(std::min({y[0], y[1], y[2]})), cy1 = cellOf(std::max({y[0], y[1], y[2]}));
+            // The points of each row of cells, eight at a time: a row holds only a few points (about
+            // 20 in a triangle's box over 2 or 3 rows), so a loop with a scalar tail ran mostly
+            // scalar. A block may run past the row into the next cells' points (the arrays are
+            // padded with NaN points, never inside): testing a point the triangle's box does not
+            // cover changes nothing, since the test is exact per point and a point inside the
+            // triangle lies in its box's cells anyway.
+            const V8 a0 = V8{} + ea[0], b0 = V8{} + eb[0], c0 = V8{} + ec[0];
+            const V8 a1 = V8{} + ea[1], b1 = V8{} + eb[1], c1 = V8{} + ec[1];
+            const V8 a2 = V8{} + ea[2], b2 = V8{} + eb[2], c2 = V8{} + ec[2];
+            const V8 z0 = V8{} + z[0], z1 = V8{} + z[1], z2 = V8{} + z[2], zero{}, far = V8{} + reach;
             for (int cy = cy0; cy <= cy1; ++cy) {
                 const std::size_t row = std::size_t(cy) * std::size_t(g);
                 const std::uint32_t begin = s.cellStart[row + std::size_t(cx0)], end = s.cellStart[row + std::size_t(cx1) + 1];
-                // Branch-free over the points of the row's cells, so the compiler vectorises it.
-                const float* px = s.bx.data();
-                const float* py = s.by.data();
-                const float* pz = s.bz.data();
-                const float* ps = s.bside.data();
-                std::int32_t* blocked = s.bblocked.data();
-                for (std::uint32_t k = begin; k < end; ++k) {
-                    const float e0 = ea[0] * px[k] + eb[0] * py[k] + ec[0];
-                    const float e1 = ea[1] * px[k] + eb[1] * py[k] + ec[1];
-                    const float e2 = ea[2] * px[k] + eb[2] * py[k] + ec[2];
-                    const bool inside = (e0 >= 0.0f) & (e1 >= 0.0f) & (e2 >= 0.0f);
+                for (std::uint32_t k = begin; k < end; k += 8) {
+                    const V8 px = load(s.bx.data() + k), py = load(s.by.data() + k), pz = load(s.bz.data() + k);
+                    const V8 e0 = a0 * px + b0 * py + c0;
+                    const V8 e1 = a1 * px + b1 * py + c1;
+                    const V8 e2 = a2 * px + b2 * py + c2;
+                    const M8 inside = (e0 >= zero) & (e1 >= zero) & (e2 >= zero);
                     // The triangle's depth at the point, along the point's direction, beyond its origin.
-                    const float depth = ps[k] * (e0 * z[0] + e1 * z[1] + e2 * z[2]), sum = e0 + e1 + e2;
-                    const bool above = depth > pz[k] * sum;
+                    const V8 depth = load(s.bside.data() + k) * (e0 * z0 + e1 * z1 + e2 * z2), sum = e0 + e1 + e2;
+                    const M8 above = depth > pz * sum;
                     // Within reach (AoBinnedOptions::maxDistance; infinite: always). sum > 0 inside.
-                    const bool near = depth < (pz[k] + reach) * sum;
-                    blocked[k] |= std::int32_t(inside & above & near);
+                    const M8 near = depth < (pz + far) * sum;
+                    M8 blocked;
+                    std::memcpy(&blocked, s.bblocked.data() + k, sizeof blocked);
+                    blocked |= inside & above & near;
+                    std::memcpy(s.bblocked.data() + k, &blocked, sizeof blocked);
                 }
             }
         }
 }
+#pragma GCC diagnostic pop
 
 void basisOf(const glm::vec3& d, glm::vec3& u, glm::vec3& v)
 {
@@ -146,13 +175,15 @@ struct AoBinnedCaster::Impl {
         }
         for (std::size_t c = 1; c < s.cellStart.size(); ++c)
             s.cellStart[c] += s.cellStart[c - 1];
+        // Padded by a block of NaN points (never inside a triangle) for the eight-lane loop.
         const std::size_t nf = s.facing.size();
-        s.bx.resize(nf);
-        s.by.resize(nf);
-        s.bz.resize(nf);
+        const float nan = std::numeric_limits<float>::quiet_NaN();
+        s.bx.assign(nf + kLanes, nan);
+        s.by.assign(nf + kLanes, nan);
+        s.bz.assign(nf + kLanes, nan);
+        s.bside.assign(nf + kLanes, 1.0f);
+        s.bblocked.assign(nf + kLanes, 0);
         s.bindex.resize(nf);
-        s.bside.resize(nf);
-        s.bblocked.resize(nf);
         s.cellFill.assign(s.cellStart.begin(), s.cellStart.end() - 1);
         for (std::size_t f = 0; f < s.facing.size(); ++f) {
             const std::uint32_t i = s.facing[f] & 0x7fffffffu;

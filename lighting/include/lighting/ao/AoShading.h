@@ -34,6 +34,8 @@ public:
     int k() const { return k_; }
     /// `radiance` holds k colours (direction j's cell). NaN colours for unusable points.
     std::vector<glm::vec3> shade(const std::vector<glm::vec3>& radiance, int threads = 0) const;
+    /// The memory the set-up keeps (6 bytes per visible bit, 4 per point).
+    std::size_t bytes() const { return start_.size() * 4 + direction_.size() * 2 + weight_.size() * 4; }
 
 private:
     const AoPoints& points_;
