@@ -34,7 +34,8 @@ AoPreviewLevel failed(std::uint64_t generation, std::string error)
 }
 
 /// The surfaces that get texels: the world triangles of the instances asked for (all when none
-/// is named), as occluders of their own for aoTexelPoints, with each one's world-triangle index.
+/// is named), as occluders of their own for aoTexelPoints (three vertices a triangle), with each
+/// one's world-triangle index.
 struct TexelSurfaces {
     AoOccluders surfaces;
     std::vector<std::uint32_t> worldTriangle;
@@ -94,15 +95,16 @@ void lowerThisThreadsPriority()
 
 } // namespace
 
-double previewTexelDensity(const WorldTriangles& triangles, double maxDensity)
+double previewTexelDensity(const std::vector<glm::vec3>& corners, double maxDensity)
 {
     double area = 0.0;
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const glm::vec3* p = &triangles.vertices[3 * t];
+    const std::size_t triangles = corners.size() / 3;
+    for (std::size_t t = 0; t < triangles; ++t) {
+        const glm::vec3* p = &corners[3 * t];
         area += 0.5 * double(glm::length(glm::cross(p[1] - p[0], p[2] - p[0])));
     }
     // Texels ~ area * density^2 plus a tile's rounding per triangle.
-    const double perTriangle = 2.0 * double(triangles.size());
+    const double perTriangle = 2.0 * double(triangles);
     const double room = std::max(kMaxTexels - perTriangle, 0.25 * kMaxTexels);
     return std::clamp(std::sqrt(room / std::max(area, 1e-6)), 0.25, maxDensity);
 }
@@ -111,16 +113,34 @@ AoPreview::AoPreview(Deliver deliver) : deliver_(std::move(deliver)) {}
 
 AoPreview::~AoPreview() { stop(); }
 
+void AoPreview::cancel()
+{
+    if (current_.cancel) {
+        {
+            std::lock_guard lock(mutex_);   // a finished worker waits for a new lighting under it
+            current_.cancel->store(true);
+        }
+        wake_.notify_all();
+        retired_.push_back(std::move(current_));
+        current_ = {};
+    }
+    reap(false);
+}
+
+void AoPreview::reap(bool wait)
+{
+    std::erase_if(retired_, [wait](Worker& worker) {
+        if (!wait && !worker.done->load())
+            return false;
+        worker.thread.join();
+        return true;
+    });
+}
+
 void AoPreview::stop()
 {
-    if (cancel_) {
-        std::lock_guard lock(mutex_);
-        cancel_->store(true);
-    }
-    wake_.notify_all();
-    if (thread_.joinable())
-        thread_.join();
-    cancel_.reset();
+    cancel();
+    reap(true);
 }
 
 void AoPreview::setLighting(AoLighting lighting)
@@ -135,9 +155,14 @@ void AoPreview::setLighting(AoLighting lighting)
 
 void AoPreview::start(std::uint64_t generation, AoPreviewRequest request)
 {
-    stop();
-    cancel_ = std::make_shared<std::atomic<bool>>(false);
-    thread_ = std::thread([this, generation, request = std::move(request), cancel = cancel_] {
+    cancel();
+    current_.cancel = std::make_shared<std::atomic<bool>>(false);
+    current_.done = std::make_shared<std::atomic<bool>>(false);
+    current_.thread = std::thread([this, generation, request = std::move(request), cancel = current_.cancel, done = current_.done] {
+        struct Ended {
+            std::atomic<bool>& done;
+            ~Ended() { done.store(true); }
+        } ended{*done};
         lowerThisThreadsPriority();
         const auto start = std::chrono::steady_clock::now();
         const auto ms = [&] { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(); };
@@ -148,18 +173,19 @@ void AoPreview::start(std::uint64_t generation, AoPreviewRequest request)
                 return;
             const WorldTriangles triangles = worldTriangles(*request.scene);
             const TexelSurfaces sampled = texelSurfaces(triangles, request.instances);
-            if (sampled.worldTriangle.empty())
+            if (sampled.worldTriangle.empty() || cancel->load())
                 return;
-            WorldTriangles sampledTriangles;
-            sampledTriangles.vertices = sampled.surfaces.vertices;
-            sampledTriangles.instanceOf.assign(sampled.worldTriangle.size(), 0);
-            const double density = previewTexelDensity(sampledTriangles, request.instances.empty() ? 4.0 : 16.0);
+            const double density = previewTexelDensity(sampled.surfaces.vertices, request.instances.empty() ? 4.0 : 16.0);
             AoPoints points;
             const AoTexelLayout layout = aoTexelPoints(sampled.surfaces, density, points);
             points.offsetOrigins(kAoOffsetRelative * occluders.diagonal());
+            if (cancel->load())
+                return;
             std::vector<glm::vec2> uvs = cornerUvs(triangles, sampled, layout);
             // One thread: the other core keeps the live rays and the frames going.
             AoBinnedCaster filler(occluders, AoBinnedOptions{.threads = 1, .maxDistance = request.reach});
+            if (cancel->load())
+                return;
             AoComputation computation(filler, points, targetK);
             const AoFillControl control{.cancel = cancel.get()};
             // One level lit as asked: plain AO for the uniform sky, else the environment's light

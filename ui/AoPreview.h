@@ -72,28 +72,41 @@ public:
     AoPreview(const AoPreview&) = delete;
     AoPreview& operator=(const AoPreview&) = delete;
 
-    /// Cancels any running computation and starts `request` on the worker thread, which runs at
-    /// a low scheduling priority so that the live rays and the frames keep their core.
+    /// Cancels any running computation (without waiting for it) and starts `request` on a worker
+    /// thread, which runs at a low scheduling priority so that the live rays and the frames keep
+    /// their core.
     void start(std::uint64_t generation, AoPreviewRequest request);
-    /// Cancels and waits for the worker.
+    /// Cancels the running computation without waiting: a worker in its set-up (texel layout,
+    /// binning; a few hundred milliseconds on a big level) notices between steps and ends on its
+    /// own, so the GUI thread never blocks on it while a drag restarts the AO every frame. An
+    /// answer already on its way may still arrive; callers drop it by its generation.
+    void cancel();
+    /// Cancels and waits for every worker.
     void stop();
     /// Lights the AO anew: levels from now on use it, and a finished computation is relit from
     /// its matrix at once (delivered with `relit`), without tracing.
     void setLighting(AoLighting lighting);
 
 private:
+    struct Worker {
+        std::thread thread;
+        std::shared_ptr<std::atomic<bool>> cancel, done;
+    };
+    /// Joins the retired workers that have ended (all of them when `wait`).
+    void reap(bool wait);
+
     Deliver deliver_;
-    std::shared_ptr<std::atomic<bool>> cancel_;
     std::mutex mutex_;
     std::condition_variable wake_;
     AoLighting lighting_;
     std::uint64_t lightingVersion_ = 0;
-    std::thread thread_;
+    Worker current_;
+    std::vector<Worker> retired_;   ///< cancelled, ending on their own
 };
 
-/// The light-map texel density the preview uses for `triangles`' surfaces: 4 texels a metre for
-/// a level (16 for chosen objects, `maxDensity`), lowered so the atlas stays under about 400,000
-/// texels (a k = 258 answer in a few seconds on 2 cores).
-double previewTexelDensity(const WorldTriangles& triangles, double maxDensity = 4.0);
+/// The light-map texel density the preview uses for the triangles with these `corners` (three a
+/// triangle): 4 texels a metre for a level (16 for chosen objects, `maxDensity`), lowered so the
+/// atlas stays under about 400,000 texels (a k = 258 answer in a few seconds on 2 cores).
+double previewTexelDensity(const std::vector<glm::vec3>& corners, double maxDensity = 4.0);
 
 } // namespace sightline::ui

@@ -319,7 +319,7 @@ void Viewport::setAmbientOcclusion(bool on)
     style_.ambientOcclusion = on;
     if (!on) {
         if (ao_)
-            ao_->stop();
+            ao_->cancel();   // never waits: a worker in its set-up ends on its own
         ++aoGeneration_;   // an answer on its way is dropped
         aoStale_ = false;
     } else if (aoShownK_ < 258) {

@@ -131,3 +131,33 @@ TEST(AoPreview, AChosenObjectGetsFinerTexelsAndTheLevelStillOccludesIt)
     const float topAo = aoAt(level, triangles, triangleAt(triangles, 1, top), top);
     EXPECT_LT(bottomAo, topAo - 0.1f) << "bottom " << bottomAo << ", top " << topAo;
 }
+
+TEST(AoPreview, ANewStartCancelsTheRunningOneWithoutWaitingAndOnlyItsAnswersFollow)
+{
+    const auto scene = boxOnAFloor();
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::vector<AoPreviewLevel> levels;
+    AoPreview preview([&](AoPreviewLevel level) {
+        std::lock_guard lock(mutex);
+        levels.push_back(std::move(level));
+        arrived.notify_all();
+    });
+    // Ten restarts in a row, as a drag gives: each cancels the one before.
+    for (std::uint64_t generation = 1; generation <= 10; ++generation)
+        preview.start(generation, {.scene = scene, .instances = {}, .targetK = generation == 10 ? 66 : 1026});
+    {
+        std::unique_lock lock(mutex);
+        ASSERT_TRUE(arrived.wait_for(lock, std::chrono::seconds(60), [&] {
+            return !levels.empty() && levels.back().generation == 10 && levels.back().k == 66;
+        }));
+    }
+    preview.cancel();
+    preview.stop();   // joins every worker, the cancelled ones too
+    std::lock_guard lock(mutex);
+    for (const AoPreviewLevel& level : levels) {
+        EXPECT_TRUE(level.error.empty()) << level.error;
+        // A cancelled run delivers nothing past its cancel: a k = 1026 level never completes.
+        EXPECT_LT(level.k, 1026);
+    }
+}
