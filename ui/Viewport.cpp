@@ -51,6 +51,10 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             // Placed occluders darken the level around them and get AO of their own.
             aoStale_ = style_.ambientOcclusion;
             aoShownK_ = 0;   // the map was for the old level
+            if (!aoStale_ && ao_) {
+                ao_->cancel();     // a finished worker kept while AO is off would relight the old level
+                ++aoGeneration_;
+            }
         }
         if (changes & (SceneFileChanged | DocumentReset)) {
             sceneFileDirty_ = true;
@@ -318,10 +322,15 @@ void Viewport::setAmbientOcclusion(bool on)
 {
     style_.ambientOcclusion = on;
     if (!on) {
-        if (ao_)
-            ao_->cancel();   // never waits: a worker in its set-up ends on its own
-        ++aoGeneration_;   // an answer on its way is dropped
         aoStale_ = false;
+        if (aoShownK_ < 258) {
+            if (ao_)
+                ao_->cancel();   // never waits: a worker in its set-up ends on its own
+            ++aoGeneration_;     // an answer on its way is dropped
+            aoShownK_ = 0;
+        }
+        // A finished one stays: it costs nothing while it waits, and relights (for when AO is
+        // shown again) if the environment changes meanwhile.
     } else if (aoShownK_ < 258) {
         aoStale_ = true;   // never computed, or stopped part way: again from the start
     }

@@ -943,7 +943,22 @@ private slots:
         const QString refused = modalTextDuring([&] { QVERIFY(!window_->setAoEnvironment(QString::fromStdString((folder_ / "not-a-sky.hdr").string()))); });
         QVERIFY2(refused.contains("not a Radiance HDR"), qPrintable(refused));
         QVERIFY(viewport.aoLighting().environment);
+        // Off, the uniform sky chosen while off, on again: the finished matrix is relit (not traced
+        // again) and the level is grey, not the blue of the last environment shown.
+        window_->findChild<QAction*>("ambientOcclusion")->trigger();   // off
+        QSignalSpy uniform(&viewport, &Viewport::aoUpdated);
         window_->findChild<QAction*>("aoUniformSky")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(!uniform.isEmpty() && uniform.back().at(4).toBool(), 60000);
+        window_->findChild<QAction*>("ambientOcclusion")->trigger();   // on
+        QCOMPARE(viewport.aoLevel(), 258);
+        QTest::qWait(200);
+        const QImage grey = viewport.grabFramebuffer();
+        double redGrey = 0, blueGrey = 0;
+        for (int y = 0; y < grey.height(); y += 4)
+            for (int x = 0; x < grey.width(); x += 4)
+                redGrey += qRed(grey.pixel(x, y)), blueGrey += qBlue(grey.pixel(x, y));
+        QVERIFY2(std::abs(blueGrey / redGrey - blueShaded / redShaded) < 0.05,
+                 qPrintable(QString("blue/red %1 after the uniform sky, %2 at first").arg(blueGrey / redGrey).arg(blueShaded / redShaded)));
         window_->findChild<QAction*>("ambientOcclusion")->trigger();   // off
         waitForUpdate();
     }
@@ -976,6 +991,7 @@ private slots:
         ao->trigger();
         aoDone();
         const QImage emptyAo = viewport.grabFramebuffer();
+        saveWindowShot("ambient-occlusion-no-crate");
         ao->trigger();   // off
 
         OccluderSpec crate;
