@@ -26,25 +26,40 @@ std::shared_ptr<const Scene> boxOnAFloor()
     return std::make_shared<const Scene>(std::move(scene));
 }
 
-/// Runs the preview to `request.targetK` and returns every level delivered.
-std::vector<AoPreviewLevel> run(AoPreviewRequest request)
-{
+/// The levels a preview delivers (on its worker thread), and a wait for one.
+struct Delivered {
     std::mutex mutex;
     std::condition_variable arrived;
     std::vector<AoPreviewLevel> levels;
-    AoPreview preview([&](AoPreviewLevel level) {
-        std::lock_guard lock(mutex);
-        levels.push_back(std::move(level));
-        arrived.notify_all();
-    });
+
+    AoPreview::Deliver callback()
+    {
+        return [this](AoPreviewLevel level) {
+            std::lock_guard lock(mutex);
+            levels.push_back(std::move(level));
+            arrived.notify_all();
+        };
+    }
+    /// Until the last level delivered is generation `generation` at k = `k`, or an error (60 s at most).
+    bool waitFor(std::uint64_t generation, int k)
+    {
+        std::unique_lock lock(mutex);
+        return arrived.wait_for(lock, std::chrono::seconds(60), [&] {
+            return !levels.empty() && (!levels.back().error.empty() || (levels.back().generation == generation && levels.back().k == k));
+        });
+    }
+};
+
+/// Runs the preview to `request.targetK` and returns every level delivered.
+std::vector<AoPreviewLevel> run(AoPreviewRequest request)
+{
+    Delivered delivered;
+    AoPreview preview(delivered.callback());
     const int target = request.targetK;
     preview.start(1, std::move(request));
-    std::unique_lock lock(mutex);
-    const bool done = arrived.wait_for(lock, std::chrono::seconds(60), [&] {
-        return !levels.empty() && (!levels.back().error.empty() || levels.back().k == target);
-    });
-    EXPECT_TRUE(done) << "the preview did not reach k = " << target;
-    return levels;
+    EXPECT_TRUE(delivered.waitFor(1, target)) << "the preview did not reach k = " << target;
+    preview.stop();
+    return delivered.levels;
 }
 
 /// The map's value at `point` of world triangle `t` (its uv interpolated from the corners').
@@ -135,27 +150,15 @@ TEST(AoPreview, AChosenObjectGetsFinerTexelsAndTheLevelStillOccludesIt)
 TEST(AoPreview, ANewStartCancelsTheRunningOneWithoutWaitingAndOnlyItsAnswersFollow)
 {
     const auto scene = boxOnAFloor();
-    std::mutex mutex;
-    std::condition_variable arrived;
-    std::vector<AoPreviewLevel> levels;
-    AoPreview preview([&](AoPreviewLevel level) {
-        std::lock_guard lock(mutex);
-        levels.push_back(std::move(level));
-        arrived.notify_all();
-    });
+    Delivered delivered;
+    AoPreview preview(delivered.callback());
     // Ten restarts in a row, as a drag gives: each cancels the one before.
     for (std::uint64_t generation = 1; generation <= 10; ++generation)
         preview.start(generation, {.scene = scene, .instances = {}, .targetK = generation == 10 ? 66 : 1026});
-    {
-        std::unique_lock lock(mutex);
-        ASSERT_TRUE(arrived.wait_for(lock, std::chrono::seconds(60), [&] {
-            return !levels.empty() && levels.back().generation == 10 && levels.back().k == 66;
-        }));
-    }
+    ASSERT_TRUE(delivered.waitFor(10, 66));
     preview.cancel();
     preview.stop();   // joins every worker, the cancelled ones too
-    std::lock_guard lock(mutex);
-    for (const AoPreviewLevel& level : levels) {
+    for (const AoPreviewLevel& level : delivered.levels) {
         EXPECT_TRUE(level.error.empty()) << level.error;
         // A cancelled run delivers nothing past its cancel: a k = 1026 level never completes.
         EXPECT_LT(level.k, 1026);
