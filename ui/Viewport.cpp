@@ -303,6 +303,9 @@ void Viewport::paintGL()
     frame.gizmoMode = controller_.gizmoMode();
     frame.placementGhost = controller_.placementGhost();
     frame.hoveredAxis = controller_.hoveredAxis();
+    frame.cutHandle = controller_.cutHandle();
+    frame.cutHandleHovered = controller_.cutHandleHovered() || controller_.isDraggingCut();
+    frame.levelBounds = controller_.levelBounds();
     frame.style = style_;
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();

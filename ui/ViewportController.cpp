@@ -26,6 +26,22 @@ ViewportController::ViewportController(EditorDocument& document, QObject* parent
 void ViewportController::setCamera(const Camera& camera)
 {
     camera_ = camera;
+    autoOrthographic_ = false;
+    emit viewChanged();
+}
+
+void ViewportController::showAxisView(const Camera& camera)
+{
+    setCamera(camera);
+    autoOrthographic_ = camera.orthographic;
+}
+
+void ViewportController::setOrthographic(bool on)
+{
+    autoOrthographic_ = false;
+    if (camera_.orthographic == on)
+        return;
+    camera_.orthographic = on;
     emit viewChanged();
 }
 
@@ -56,12 +72,26 @@ void ViewportController::setGizmoMode(GizmoMode mode)
     emit viewChanged();
 }
 
+void ViewportController::setGizmoSpace(GizmoSpace space)
+{
+    gizmoSpace_ = space;
+    emit gizmoSpaceChanged(space);
+    emit viewChanged();
+}
+
 std::optional<GizmoFrame> ViewportController::gizmo() const
 {
     const ObjectRef selection = document_.selection();
     if (!selection || tool_ != Tool::Select)
         return std::nullopt;
-    return gizmoFrame(document_.state(selection), gizmoMode_, camera_);
+    return gizmoFrame(document_.state(selection), gizmoMode_, camera_, gizmoSpace_);
+}
+
+std::optional<CutHandle> ViewportController::cutHandle() const
+{
+    if (!style_ || !style_->cutaway || tool_ != Tool::Select)
+        return std::nullopt;
+    return sightline::ui::cutHandle(camera_, cutaway(*style_, camera_).height, width_, height_);
 }
 
 const WorldTriangles& ViewportController::triangles() const
@@ -75,17 +105,21 @@ Ray ViewportController::rayAt(QPointF position) const { return pixelRay(camera_,
 
 double ViewportController::floorLimit() const
 {
-    if (!sceneBounds_)
-        sceneBounds_ = document_.scene().bounds();
-    return sceneBounds_->empty() ? -std::numeric_limits<double>::infinity() : double(sceneBounds_->min.y) + 0.1;
+    const Bounds& bounds = levelBounds();
+    return bounds.empty() ? -std::numeric_limits<double>::infinity() : double(bounds.min.y) + 0.1;
 }
 
-double ViewportController::sceneRadius() const
+const Bounds& ViewportController::levelBounds() const
 {
     // Called every frame: the scene's bounds (every vertex of every instance) are kept.
     if (!sceneBounds_)
         sceneBounds_ = document_.scene().bounds();
-    Bounds bounds = *sceneBounds_;
+    return *sceneBounds_;
+}
+
+double ViewportController::sceneRadius() const
+{
+    Bounds bounds = levelBounds();
     for (const Patch* p : {&document_.project().source, &document_.project().receiver}) {
         bounds.extend(glm::vec3(p->corner));
         bounds.extend(glm::vec3(p->corner + p->u + p->v));
@@ -189,9 +223,14 @@ void ViewportController::mousePress(Qt::MouseButton button, Qt::KeyboardModifier
         const int axis = pickGizmoAxis(*frame, camera_, position.x(), position.y(), width_, height_);
         if (axis >= 0) {
             drag_ = beginGizmoDrag(gizmoMode_, axis, document_.state(document_.selection()), camera_, position.x(),
-                                   position.y(), width_, height_);
+                                   position.y(), width_, height_, gizmoSpace_);
             return;
         }
+    }
+    if (const auto handle = cutHandle();
+        handle && pickCutHandle(*handle, camera_, position.x(), position.y(), width_, height_)) {
+        cutDrag_ = beginCutDrag(*handle, camera_, position.x(), position.y(), width_, height_);
+        return;
     }
     // Left press elsewhere: a click selects (on release), a drag orbits.
     pressedOnEmpty_ = true;
@@ -206,6 +245,13 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
         document_.applyState(document_.selection(), dragGizmo(*drag_, camera_, position.x(), position.y(), width_, height_, snap_));
         return;
     }
+    if (cutDrag_) {
+        // A view setting, not an edit: no undo step; picking follows it at once.
+        style_->cutHeight = dragCut(*cutDrag_, camera_, position.x(), position.y(), width_, height_, snap_.move);
+        emit cutMoved(style_->cutHeight);
+        emit viewChanged();
+        return;
+    }
     if (buttons == Qt::NoButton && (tool_ == Tool::PlaceSource || tool_ == Tool::PlaceReceiver)) {
         ghost_ = placementAt(tool_ == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver, position);
         emit viewChanged();
@@ -214,18 +260,25 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
     if (buttons == Qt::NoButton) {
         const auto frame = gizmo();
         const int axis = frame ? pickGizmoAxis(*frame, camera_, position.x(), position.y(), width_, height_) : -1;
-        if (axis != hoveredAxis_) {
+        const auto handle = axis < 0 ? cutHandle() : std::nullopt;
+        const bool onCut = handle && pickCutHandle(*handle, camera_, position.x(), position.y(), width_, height_);
+        if (axis != hoveredAxis_ || onCut != cutHovered_) {
             hoveredAxis_ = axis;
+            cutHovered_ = onCut;
             emit viewChanged();
         }
         return;
     }
     if (pressedOnEmpty_ && std::hypot(position.x() - pressPosition_.x(), position.y() - pressPosition_.y()) <= kClickSlop)
         return;   // still a click
+    if (navigation_ == Navigation::Orbit && autoOrthographic_) {
+        camera_.orthographic = false;   // leaving the axis view
+        autoOrthographic_ = false;
+    }
     switch (navigation_) {
-    case Navigation::Orbit: orbit(camera_, delta.x(), delta.y()); break;
+    case Navigation::Orbit: orbit(camera_, delta.x(), delta.y(), kOrbitRadiansPerPixel * speeds_.orbit); break;
     case Navigation::Pan: pan(camera_, delta.x(), delta.y(), height_); break;
-    case Navigation::Fly: look(camera_, delta.x(), delta.y()); break;
+    case Navigation::Fly: look(camera_, delta.x(), delta.y(), kOrbitRadiansPerPixel * speeds_.orbit); break;
     case Navigation::None: return;
     }
     keepAbove(camera_, floorLimit(), navigation_ == Navigation::Orbit);
@@ -235,6 +288,10 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
 
 void ViewportController::mouseRelease(Qt::MouseButton button, QPointF position)
 {
+    if (cutDrag_ && button == Qt::LeftButton) {
+        cutDrag_.reset();
+        return;
+    }
     if (drag_ && button == Qt::LeftButton) {
         const ObjectRef object = document_.selection();
         const ObjectState after = document_.state(object);
@@ -286,7 +343,7 @@ void ViewportController::advanceFly(double seconds)
 {
     if (!flying_ || flyKeys_ == glm::dvec3(0.0))
         return;
-    const double speed = 0.4 * sceneRadius() * (flyFast_ ? 3.0 : 1.0);   // metres per second
+    const double speed = 0.4 * sceneRadius() * speeds_.fly * (flyFast_ ? 3.0 : 1.0);   // metres per second
     fly(camera_, flyKeys_ * (speed * seconds));
     keepAbove(camera_, floorLimit(), false);
     emit viewChanged();

@@ -14,11 +14,18 @@
 #include "EditorDocument.h"
 #include "Gizmo.h"
 #include "Picking.h"
+#include "SectionCutHandle.h"
 #include "ViewportRenderer.h"
 
 namespace sightline::ui {
 
 enum class Tool { Select, PlaceSource, PlaceReceiver };
+
+/// The designer's navigation speeds, as multiples of the defaults (Edit > Preferences).
+struct NavigationSpeeds {
+    double orbit = 1.0;   ///< 1x: kOrbitRadiansPerPixel (also fly mode's mouse look)
+    double fly = 1.0;     ///< 1x: 40% of the scene's radius a second (Shift: 3x that)
+};
 
 class ViewportController : public QObject {
     Q_OBJECT
@@ -28,6 +35,11 @@ public:
     Camera& camera() { return camera_; }
     const Camera& camera() const { return camera_; }
     void setCamera(const Camera& camera);
+    /// An axis view (7 / 1 / 3): orthographic until the designer orbits away from it, which
+    /// returns to perspective (Blender's "auto perspective", Unity's axis clicks).
+    void showAxisView(const Camera& camera);
+    /// Perspective or orthographic by the designer's choice (numpad 5): kept while orbiting.
+    void setOrthographic(bool on);
     void setViewportSize(int width, int height);
     int width() const { return width_; }
     int height() const { return height_; }
@@ -36,6 +48,11 @@ public:
     void setTool(Tool tool);
     GizmoMode gizmoMode() const { return gizmoMode_; }
     void setGizmoMode(GizmoMode mode);
+    /// World or local axes for moving and rotating (X).
+    GizmoSpace gizmoSpace() const { return gizmoSpace_; }
+    void setGizmoSpace(GizmoSpace space);
+    const NavigationSpeeds& speeds() const { return speeds_; }
+    void setSpeeds(const NavigationSpeeds& speeds) { speeds_ = speeds; }
     /// Snapping for gizmo drags (all zero: free).
     const GizmoSnap& snap() const { return snap_; }
     void setSnap(const GizmoSnap& snap) { snap_ = snap; }
@@ -64,11 +81,18 @@ public:
     void frameSelection();
     /// The scene's extent, for clip planes and fly speed.
     double sceneRadius() const;
+    /// The box around everything that blocks rays (the section cut's outline spans it).
+    const Bounds& levelBounds() const;
     /// The lowest the eye may go while navigating: 10 cm above the scene's lowest point.
     double floorLimit() const;
 
-    /// The view's style, for the section cut that picking honours (nullptr: nothing is cut).
-    void setStyle(const ViewStyle* style) { style_ = style; }
+    /// The view's style: the section cut that picking honours and its handle sets (nullptr:
+    /// nothing is cut).
+    void setStyle(ViewStyle* style) { style_ = style; }
+    /// The section cut's handle where it is drawn now (none while the cut is off, or off screen).
+    std::optional<CutHandle> cutHandle() const;
+    bool cutHandleHovered() const { return cutHovered_; }
+    bool isDraggingCut() const { return cutDrag_.has_value(); }
 
     /// The surface under `ray` that is drawn: the section cut hides scene-file geometry, never
     /// placed occluders.
@@ -82,7 +106,10 @@ signals:
     void viewChanged();   ///< camera, hover or gizmo: repaint
     void toolChanged(sightline::ui::Tool tool);
     void gizmoModeChanged(sightline::ui::GizmoMode mode);
+    void gizmoSpaceChanged(sightline::ui::GizmoSpace space);
     void message(const QString& text);
+    /// The section cut's handle was dragged to `height` (metres).
+    void cutMoved(double height);
 
 private:
     const WorldTriangles& triangles() const;
@@ -93,7 +120,9 @@ private:
     int width_ = 1, height_ = 1;
     Tool tool_ = Tool::Select;
     GizmoMode gizmoMode_ = GizmoMode::Move;
+    GizmoSpace gizmoSpace_ = GizmoSpace::World;
     GizmoSnap snap_;
+    NavigationSpeeds speeds_;
     int hoveredAxis_ = -1;
     std::optional<Patch> ghost_;
 
@@ -104,10 +133,13 @@ private:
     QPointF pressPosition_;
     bool pressedOnEmpty_ = false;
     std::optional<GizmoDrag> drag_;
+    std::optional<CutDrag> cutDrag_;
+    bool cutHovered_ = false;
     glm::dvec3 flyKeys_{0.0};   ///< x right, y up, z forward: -1, 0, 1
     bool flyFast_ = false;
+    bool autoOrthographic_ = false;   ///< orthographic because of an axis view, not by choice
 
-    const ViewStyle* style_ = nullptr;
+    ViewStyle* style_ = nullptr;
     mutable std::optional<WorldTriangles> triangles_;
     mutable std::optional<Bounds> sceneBounds_;   ///< of document_.scene(); dropped when it changes
 };

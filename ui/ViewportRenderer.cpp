@@ -46,6 +46,8 @@ in vec3 vNormal;
 in vec2 vAoUv;
 flat in uint vObject;
 uniform vec3 eye;
+uniform vec3 viewForward;
+uniform int orthographic;    // the headlight is the view direction, the same over the whole view
 uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
 layout(binding = 3) uniform sampler2D aoMap;
 uniform int pvsOn;           // the PVS debugger: scene-file objects the current cell cannot see
@@ -56,7 +58,7 @@ uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
 layout(location = 0) out vec4 colour;
 void main() {
     if (flatColour.a > 0.0) { colour = flatColour; return; }
-    vec3 toEye = normalize(eye - vPosition);
+    vec3 toEye = orthographic != 0 ? -viewForward : normalize(eye - vPosition);
     vec3 n = normalize(vNormal);
     if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
     float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
@@ -198,7 +200,7 @@ std::vector<MeshVertex> meshVertices(const WorldTriangles& triangles, const std:
 /// a shaft facing the eye, 4% of the handle's length wide, and a head that says what a drag does:
 /// an arrow (move), a ring about the axis (rotate), a box (scale). The hovered handle is white,
 /// unlike the rays' yellow.
-void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, GizmoMode mode, const glm::dvec3& eye,
+void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, GizmoMode mode, const Camera& camera,
                         int hovered)
 {
     const glm::vec4 axisColours[3] = {{0.95f, 0.25f, 0.25f, 1.0f}, {0.3f, 0.9f, 0.3f, 1.0f}, {0.3f, 0.5f, 1.0f, 1.0f}};
@@ -208,7 +210,9 @@ void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, Gizmo
         out.push_back({glm::vec3(c), colour});
     };
     const auto strip = [&](const glm::dvec3& from, const glm::dvec3& to, double width, const glm::vec4& colour) {
-        glm::dvec3 side = glm::cross(to - from, eye - 0.5 * (from + to));
+        // Broadside to the viewer: towards the eye, or against the view in orthographic views.
+        const glm::dvec3 toViewer = camera.orthographic ? -camera.forward() : camera.eye() - 0.5 * (from + to);
+        glm::dvec3 side = glm::cross(to - from, toViewer);
         const double n = glm::length(side);
         if (!(n > 0.0))
             return;
@@ -254,6 +258,43 @@ void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, Gizmo
             break;
         }
         }
+    }
+}
+
+/// The section cut's handle: a flat grip on the cut plane with an arrow up and an arrow down,
+/// white while hovered.
+void appendCutHandle(std::vector<LineVertex>& out, const CutHandle& h, const Camera& camera, bool hovered)
+{
+    const glm::vec4 colour = hovered ? glm::vec4(1.0f) : glm::vec4(kCutColour, 1.0f);
+    const auto tri = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        out.push_back({glm::vec3(a), colour});
+        out.push_back({glm::vec3(b), colour});
+        out.push_back({glm::vec3(c), colour});
+    };
+    const glm::dvec3 up(0.0, 1.0, 0.0);
+    const double s = h.size;
+    // Across the view: the arrows' shafts and heads face the viewer whatever the orbit.
+    glm::dvec3 across = glm::cross(up, camera.orthographic ? -camera.forward() : camera.eye() - h.point);
+    across = glm::length(across) > 1e-12 ? glm::normalize(across) : camera.right();
+    const glm::dvec3 depth = glm::cross(across, up);
+    constexpr int kSegments = 16;
+    for (double sign : {1.0, -1.0}) {
+        const glm::dvec3 base = h.point + sign * 0.55 * s * up, tip = h.point + sign * s * up;
+        const glm::dvec3 w = 0.035 * s * across;
+        tri(h.point - w, base - w, base + w);   // the shaft
+        tri(h.point - w, base + w, h.point + w);
+        for (int k = 0; k < kSegments; ++k) {   // a cone
+            const double a0 = 2.0 * 3.14159265358979323846 * k / kSegments, a1 = 2.0 * 3.14159265358979323846 * (k + 1) / kSegments;
+            const glm::dvec3 r0 = 0.16 * s * (std::cos(a0) * across + std::sin(a0) * depth);
+            const glm::dvec3 r1 = 0.16 * s * (std::cos(a1) * across + std::sin(a1) * depth);
+            tri(base + r0, base + r1, tip);
+        }
+    }
+    // The grip: a flat disc lying in the cut plane.
+    for (int k = 0; k < kSegments; ++k) {
+        const double a0 = 2.0 * 3.14159265358979323846 * k / kSegments, a1 = 2.0 * 3.14159265358979323846 * (k + 1) / kSegments;
+        tri(h.point, h.point + 0.3 * s * (std::cos(a0) * across + std::sin(a0) * depth),
+            h.point + 0.3 * s * (std::cos(a1) * across + std::sin(a1) * depth));
     }
 }
 
@@ -583,6 +624,7 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "orthographic"), f.camera.orthographic ? 1 : 0);
     // Finite values only: "no cut" as an infinite distance reached the clip distances as infinite
     // (or NaN) and llvmpipe dropped every triangle of the placed occluders, which are drawn uncut.
     auto setCut = [&](double height, double depth) {
@@ -772,9 +814,23 @@ void ViewportRenderer::render(const FrameState& f)
         lines.push_back({glm::vec3(s), shaftColour});
         lines.push_back({glm::vec3(r), shaftColour});
     }
+    // The cut plane's outline over the level's box, where the cut walls end.
+    if (std::isfinite(cut.height) && !f.levelBounds.empty() && f.cutHandle && cut.height > f.levelBounds.min.y &&
+        cut.height < f.levelBounds.max.y) {
+        const glm::vec4 outline(kCutColour, f.cutHandleHovered ? 0.9f : 0.6f);
+        const float y = float(cut.height);
+        const glm::vec3 corners[4] = {{f.levelBounds.min.x, y, f.levelBounds.min.z}, {f.levelBounds.max.x, y, f.levelBounds.min.z},
+                                      {f.levelBounds.max.x, y, f.levelBounds.max.z}, {f.levelBounds.min.x, y, f.levelBounds.max.z}};
+        for (int k = 0; k < 4; ++k) {
+            lines.push_back({corners[k], outline});
+            lines.push_back({corners[(k + 1) % 4], outline});
+        }
+    }
     std::vector<LineVertex> handles;   // triangles, over everything
+    if (f.cutHandle)
+        appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);
     if (f.gizmo)
-        appendGizmoHandles(handles, *f.gizmo, f.gizmoMode, f.camera.eye(), f.hoveredAxis);
+        appendGizmoHandles(handles, *f.gizmo, f.gizmoMode, f.camera, f.hoveredAxis);
     auto drawLines = [&](const std::vector<LineVertex>& vertices, GLenum mode) {
         if (vertices.empty())
             return;
