@@ -257,9 +257,60 @@ void MainWindow::createActions()
                                          .arg(document_.objectName(selected)), 6000);
         else if (selected.kind == ObjectKind::Source || selected.kind == ObjectKind::Receiver)
             statusBar()->showMessage(tr("The source and the receiver cannot be deleted: move them, or place them again (Ctrl+1, Ctrl+2)"), 6000);
+        else if (selected && document_.flags(selected).locked)
+            statusBar()->showMessage(tr("%1 is locked: Ctrl+L unlocks it").arg(document_.objectName(selected)), 6000);
         else
             document_.removeSelected();
     });
+    // Hide, isolate, lock (ObjectFlags.h): Blender's and Unity's H and Shift+H; Ctrl+Shift+H shows
+    // all, Ctrl+L locks.
+    edit->addSeparator();
+    const auto flagSelection = [this](bool hide) {
+        const ObjectRef selected = document_.selection();
+        if (!selected) {
+            statusBar()->showMessage(tr("Select an object first (in the view or the outline)"), 4000);
+            return;
+        }
+        ObjectFlags flags = document_.flags(selected);
+        const QString name = document_.objectName(selected);
+        if (hide) {
+            flags.hidden = !flags.hidden;
+            document_.setFlags(selected, flags, (flags.hidden ? tr("Hide %1") : tr("Show %1")).arg(name));
+            statusBar()->showMessage(flags.hidden ? tr("%1 hidden: not drawn, not picked; it still blocks rays (H shows it, Ctrl+Shift+H shows all)").arg(name)
+                                                  : tr("%1 shown").arg(name),
+                                     5000);
+        } else {
+            flags.locked = !flags.locked;
+            document_.setFlags(selected, flags, (flags.locked ? tr("Lock %1") : tr("Unlock %1")).arg(name));
+            statusBar()->showMessage(flags.locked ? tr("%1 locked: clicks pass through it, it cannot be moved (Ctrl+L unlocks)").arg(name)
+                                                  : tr("%1 unlocked").arg(name),
+                                     5000);
+        }
+    };
+    QAction* hide = action(edit, tr("&Hide / Show Selected"), QKeySequence(Qt::Key_H), [flagSelection] { flagSelection(true); });
+    hide->setObjectName("hideSelected");
+    QAction* isolate = action(edit, tr("&Isolate Selected"), QKeySequence(Qt::SHIFT | Qt::Key_H), [this] {
+        if (document_.isolated()) {
+            document_.setIsolated({});
+            statusBar()->showMessage(tr("Isolation ended"), 3000);
+        } else if (const ObjectRef selected = document_.selection()) {
+            document_.setIsolated(selected);
+            statusBar()->showMessage(tr("Isolating %1: only it and the patches are drawn and picked (Shift+H ends it)")
+                                         .arg(document_.objectName(selected)), 5000);
+        } else {
+            statusBar()->showMessage(tr("Select the object to isolate first"), 4000);
+        }
+    });
+    isolate->setObjectName("isolateSelected");
+    // Not Blender's Alt+H: that opens the Help menu here.
+    QAction* showAll = action(edit, tr("Show &All"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_H), [this] {
+        document_.showAll();
+        statusBar()->showMessage(tr("Every object shown"), 3000);
+    });
+    showAll->setObjectName("showAll");
+    QAction* lock = action(edit, tr("&Lock / Unlock Selected"), QKeySequence(Qt::CTRL | Qt::Key_L), [flagSelection] { flagSelection(false); });
+    lock->setObjectName("lockSelected");
+    outline_->setContextActions({hide, isolate, showAll, lock});
     edit->addSeparator();
     // The designer's own settings (QSettings, not the project): orbit and fly speeds.
     action(edit, tr("&Preferences..."), QKeySequence(Qt::CTRL | Qt::Key_Comma), [this] {
@@ -578,6 +629,7 @@ void MainWindow::createActions()
                                     "Snapping: G; finer / coarser grid: [ / ]\n"
                                     "Section cut on / off: C; raise / lower it: Page Up / Page Down, or drag its cyan handle\n"
                                     "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
+                                    "Hide / show the selection: H; isolate it: Shift+H; show all: Ctrl+Shift+H; lock it: Ctrl+L\n"
                                     "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click\n"
                                     "Record video (camera and edits) / stop: F9; play the recorded path: Shift+F9"));
     });

@@ -96,7 +96,12 @@ void PropertiesPanel::refresh()
 {
     refreshing_ = true;
     const ObjectRef selection = document_.selection();
-    title_->setText(selection ? document_.objectName(selection) : tr("Nothing selected"));
+    // A locked object is shown, not edited (ObjectFlags.h).
+    const bool locked = selection && document_.flags(selection).locked;
+    title_->setText(selection ? (locked ? tr("%1 (locked)").arg(document_.objectName(selection)) : document_.objectName(selection))
+                              : tr("Nothing selected"));
+    patchBox_->setEnabled(!locked);
+    transformBox_->setEnabled(!locked);
     patchBox_->setVisible(selection.isPatch());
     transformBox_->setVisible(selection.kind == ObjectKind::Occluder || selection.kind == ObjectKind::SceneObject);
     auto set = [](const Vec3Fields& fields, const glm::dvec3& value) {
@@ -125,7 +130,7 @@ void PropertiesPanel::refresh()
 void PropertiesPanel::commit()
 {
     const ObjectRef selection = document_.selection();
-    if (refreshing_ || !selection)
+    if (refreshing_ || !selection || document_.flags(selection).locked)
         return;
     auto get = [](const Vec3Fields& fields) {
         return glm::dvec3(fields[0]->value(), fields[1]->value(), fields[2]->value());

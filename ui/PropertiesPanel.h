@@ -1,6 +1,7 @@
 #pragma once
 // Numeric editing of the selected object: a patch's centre, edge vectors and sample grid, or an
-// object's position, rotation (degrees) and scale. Each finished field is one undo command.
+// object's position, rotation (degrees) and scale. Each finished field is one undo command. A
+// locked object's fields are greyed.
 
 #include <array>
 

@@ -55,6 +55,12 @@ void ViewportController::setTool(Tool tool)
 {
     if (tool == tool_)
         return;
+    if (const ObjectKind patch = tool == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver;
+        tool != Tool::Select && document_.flags({patch, 0}).locked) {
+        emit message(tr("The %1 is locked (Ctrl+L unlocks the selection, or untick Lock in the outline)")
+                         .arg(patch == ObjectKind::Source ? tr("source") : tr("receiver")));
+        return;
+    }
     tool_ = tool;
     if (ghost_) {
         ghost_.reset();
@@ -82,7 +88,8 @@ void ViewportController::setGizmoSpace(GizmoSpace space)
 std::optional<GizmoFrame> ViewportController::gizmo() const
 {
     const ObjectRef selection = document_.selection();
-    if (!selection || tool_ != Tool::Select)
+    // A hidden object has nothing to hold a handle; a locked one is not to be moved.
+    if (!selection || tool_ != Tool::Select || !document_.isPickable(selection))
         return std::nullopt;
     return gizmoFrame(document_.state(selection), gizmoMode_, camera_, gizmoSpace_);
 }
@@ -127,37 +134,46 @@ double ViewportController::sceneRadius() const
     return std::max(0.5 * double(glm::length(bounds.max - bounds.min)), 1.0);
 }
 
-std::optional<SurfaceHit> ViewportController::visibleSurface(const Ray& ray) const
+ObjectRef ViewportController::objectOfTriangle(std::size_t triangle) const
 {
-    if (!style_ || !style_->cutaway)
-        return pickSurface(triangles(), ray);
-    const Cutaway cut = cutaway(*style_, camera_);
+    const std::size_t instance = triangles().instanceOf[triangle];
+    const std::size_t fileObjects = document_.sceneFile().instances.size();
+    return instance < fileObjects ? ObjectRef{ObjectKind::SceneObject, instance}
+                                  : ObjectRef{ObjectKind::Occluder, document_.occluderOfInstance().at(instance - fileObjects)};
+}
+
+std::optional<SurfaceHit> ViewportController::surfaceHit(const Ray& ray, bool pickableOnly) const
+{
+    const std::optional<Cutaway> cut = style_ && style_->cutaway ? std::optional(cutaway(*style_, camera_)) : std::nullopt;
     const std::size_t fileObjects = document_.sceneFile().instances.size();
     const WorldTriangles& all = triangles();
     return pickSurface(all, ray, [&](std::size_t triangle, const glm::dvec3& point) {
-        return all.instanceOf[triangle] >= fileObjects || !hiddenByCut(cut, camera_, point);
+        const ObjectRef object = objectOfTriangle(triangle);
+        if (!(pickableOnly ? document_.isPickable(object) : document_.isShown(object)))
+            return false;
+        return !cut || all.instanceOf[triangle] >= fileObjects || !hiddenByCut(*cut, camera_, point);
     });
 }
+
+std::optional<SurfaceHit> ViewportController::visibleSurface(const Ray& ray) const { return surfaceHit(ray, false); }
 
 ObjectRef ViewportController::objectAt(QPointF position) const
 {
     const Ray ray = rayAt(position);
     ObjectRef best;
     double bestDistance = std::numeric_limits<double>::infinity();
-    if (auto d = pickPatch(document_.project().source, ray); d && *d < bestDistance) {
-        bestDistance = *d;
-        best = {ObjectKind::Source, 0};
+    for (const ObjectKind kind : {ObjectKind::Source, ObjectKind::Receiver}) {
+        if (!document_.isPickable({kind, 0}))
+            continue;
+        const Patch& patch = kind == ObjectKind::Source ? document_.project().source : document_.project().receiver;
+        if (auto d = pickPatch(patch, ray); d && *d < bestDistance) {
+            bestDistance = *d;
+            best = {kind, 0};
+        }
     }
-    if (auto d = pickPatch(document_.project().receiver, ray); d && *d < bestDistance) {
-        bestDistance = *d;
-        best = {ObjectKind::Receiver, 0};
-    }
-    if (auto hit = visibleSurface(ray); hit && hit->distance < bestDistance) {
-        const std::size_t instance = triangles().instanceOf[hit->triangle];
-        const std::size_t fileObjects = document_.sceneFile().instances.size();
-        best = instance < fileObjects ? ObjectRef{ObjectKind::SceneObject, instance}
-                                      : ObjectRef{ObjectKind::Occluder, document_.occluderOfInstance().at(instance - fileObjects)};
-    }
+    // Locked objects let the click through to what is behind them (and hidden ones are not there).
+    if (auto hit = surfaceHit(ray, true); hit && hit->distance < bestDistance)
+        best = objectOfTriangle(hit->triangle);
     return best;
 }
 

@@ -95,7 +95,8 @@ public:
     bool isDraggingCut() const { return cutDrag_.has_value(); }
 
     /// The surface under `ray` that is drawn: the section cut hides scene-file geometry, never
-    /// placed occluders.
+    /// placed occluders; hidden objects (and those isolation hides) are not drawn. Placement puts
+    /// patches on it, locked objects included.
     std::optional<SurfaceHit> visibleSurface(const Ray& ray) const;
     /// What a click at `position` selects (gizmo handles excepted).
     ObjectRef objectAt(QPointF position) const;
@@ -113,6 +114,10 @@ signals:
 
 private:
     const WorldTriangles& triangles() const;
+    /// The object a triangle of document_.scene() belongs to.
+    ObjectRef objectOfTriangle(std::size_t triangle) const;
+    /// visibleSurface, passing through locked objects too when `pickableOnly` (a click selects).
+    std::optional<SurfaceHit> surfaceHit(const Ray& ray, bool pickableOnly) const;
     Ray rayAt(QPointF position) const;
 
     EditorDocument& document_;

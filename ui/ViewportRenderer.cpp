@@ -25,6 +25,8 @@ uniform vec3 eye;
 uniform vec3 viewForward;
 uniform float cutDepth;      // cutaway: nearer than this along viewForward is clipped,
 uniform float cutHeight;     // and above this height (clip distances keep early depth tests)
+uniform int hideOn;          // objects the designer hid (ObjectFlags.h): clipped whole
+layout(binding = 5) uniform usamplerBuffer hiddenObjects;
 out vec3 vPosition;
 out vec3 vNormal;
 out vec2 vAoUv;
@@ -36,6 +38,7 @@ void main() {
     vObject = object;
     gl_ClipDistance[0] = cutHeight - position.y;
     gl_ClipDistance[1] = dot(position - eye, viewForward) - cutDepth;
+    gl_ClipDistance[2] = hideOn != 0 && texelFetch(hiddenObjects, int(object)).r != 0u ? -1.0 : 1.0;
     gl_Position = viewProj * vec4(position, 1.0);
 }
 )";
@@ -373,6 +376,8 @@ void RenderTarget::destroy(const gl::Functions& gl)
 struct ViewportRenderer::MeshBuffer {
     GLuint vao = 0, vbo = 0;
     GLsizei vertices = 0;
+    GLuint hiddenBuffer = 0, hiddenTexture = 0;   ///< per object id, 1 where hidden
+    bool anyHidden = false;
 };
 
 struct ViewportRenderer::Impl {
@@ -414,6 +419,7 @@ struct ViewportRenderer::Impl {
     bool aoReady = false;   ///< a map and the scene file's uvs are uploaded
     GLuint pvsBuffer = 0, pvsTexture = 0;
     bool pvsReady = false;   ///< culled flags of the scene file's instances are uploaded
+    std::vector<std::uint8_t> sceneFileHidden;   ///< the scene file's hidden objects, as uploaded
 
     void resizeCache(int width, int height)
     {
@@ -452,10 +458,26 @@ struct ViewportRenderer::Impl {
         buffer.vertices = GLsizei(vertices.size());
     }
 
+    void setHidden(MeshBuffer& buffer, const std::vector<std::uint8_t>& hidden)
+    {
+        buffer.anyHidden = std::find(hidden.begin(), hidden.end(), std::uint8_t(1)) != hidden.end();
+        if (!buffer.anyHidden)
+            return;
+        if (!buffer.hiddenBuffer) {
+            gl.CreateBuffers(1, &buffer.hiddenBuffer);
+            gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &buffer.hiddenTexture);
+        }
+        gl.NamedBufferData(buffer.hiddenBuffer, GLsizeiptr(hidden.size()), hidden.data(), GL_STATIC_DRAW);
+        gl.TextureBuffer(buffer.hiddenTexture, GL_R8UI, buffer.hiddenBuffer);
+    }
+
     void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selected, const glm::vec4& flat)
     {
         if (buffer.vertices == 0)
             return;
+        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "hideOn"), buffer.anyHidden ? 1 : 0);
+        if (buffer.anyHidden)
+            gl.BindTextureUnit(5, buffer.hiddenTexture);
         gl.ProgramUniform3fv(meshProgram, loc(meshProgram, "baseColour"), 1, glm::value_ptr(colour));
         gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), selected);
         gl.ProgramUniform4fv(meshProgram, loc(meshProgram, "flatColour"), 1, glm::value_ptr(flat));
@@ -503,9 +525,11 @@ ViewportRenderer::~ViewportRenderer()
     gl.DeleteVertexArrays(4, vaos);
     GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer};
     gl.DeleteBuffers(6, buffers);
-    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture};
-    gl.DeleteTextures(5, textures);
-    gl.DeleteBuffers(1, &d.pvsBuffer);
+    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
+                         d.sceneFile.hiddenTexture, d.occluders.hiddenTexture};
+    gl.DeleteTextures(7, textures);
+    GLuint more[] = {d.pvsBuffer, d.sceneFile.hiddenBuffer, d.occluders.hiddenBuffer};
+    gl.DeleteBuffers(3, more);
     d.cache.destroy(gl);
 }
 
@@ -565,6 +589,17 @@ void ViewportRenderer::setPvsCulled(const std::vector<std::uint8_t>& culled)
     d.gl.NamedBufferData(d.pvsBuffer, GLsizeiptr(culled.size()), culled.data(), GL_STREAM_DRAW);
     d.gl.TextureBuffer(d.pvsTexture, GL_R8UI, d.pvsBuffer);
     d.pvsReady = true;
+}
+
+void ViewportRenderer::setHiddenObjects(const std::vector<std::uint8_t>& sceneFile, const std::vector<std::uint8_t>& occluders)
+{
+    Impl& d = *impl_;
+    if (sceneFile != d.sceneFileHidden) {
+        ++d.sceneVersion;   // the cached level image is stale (not while only occluders move)
+        d.sceneFileHidden = sceneFile;
+        d.setHidden(d.sceneFile, sceneFile);
+    }
+    d.setHidden(d.occluders, occluders);
 }
 
 void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf)
@@ -650,6 +685,7 @@ void ViewportRenderer::render(const FrameState& f)
         setCut(cut.height, cut.depth);
         gl.Enable(GL_CLIP_DISTANCE0);
         gl.Enable(GL_CLIP_DISTANCE1);
+        gl.Enable(GL_CLIP_DISTANCE2);
         gl.Enable(GL_POLYGON_OFFSET_FILL);
         gl.PolygonOffset(1.0f, 1.0f);   // the wireframe overlay wins the depth test
         d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, selectedFile, glm::vec4(0.0f));
@@ -661,6 +697,7 @@ void ViewportRenderer::render(const FrameState& f)
         }
         gl.Disable(GL_CLIP_DISTANCE0);
         gl.Disable(GL_CLIP_DISTANCE1);
+        gl.Disable(GL_CLIP_DISTANCE2);
     };
     const bool ao = f.style.ambientOcclusion && d.aoReady;
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), ao ? 1 : 0);
@@ -693,17 +730,19 @@ void ViewportRenderer::render(const FrameState& f)
     // Placed occluders: always drawn (they move), never cut away.
     gl.UseProgram(d.meshProgram);
     setCut(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    gl.Enable(GL_CLIP_DISTANCE2);   // hidden ones
     d.drawMesh(d.occluders, kOccluderColour, selectedOccluder, glm::vec4(0.0f));
     if (f.style.wireframe) {
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         d.drawMesh(d.occluders, {}, -1, {0.1f, 0.1f, 0.3f, 1.0f});
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     }
+    gl.Disable(GL_CLIP_DISTANCE2);
 
     // The overlay, opaque (depth written, so translucent things behind it stay behind it).
-    const Patch* overlaid = d.overlayPatch == ObjectKind::Source     ? &f.source
-                            : d.overlayPatch == ObjectKind::Receiver ? &f.receiver
-                                                                     : nullptr;
+    const Patch* overlaid = d.overlayPatch == ObjectKind::Source && !f.sourceHidden       ? &f.source
+                            : d.overlayPatch == ObjectKind::Receiver && !f.receiverHidden ? &f.receiver
+                                                                                         : nullptr;
     if (overlaid && (overlaid->na != d.overlayNa || overlaid->nb != d.overlayNb))
         overlaid = nullptr;   // the grid changed since the upload: the colours belong to another grid
     if (overlaid) {
@@ -802,8 +841,10 @@ void ViewportRenderer::render(const FrameState& f)
         }
     };
     const bool sourceSelected = f.selection.kind == ObjectKind::Source, receiverSelected = f.selection.kind == ObjectKind::Receiver;
-    quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
-    quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
+    if (!f.sourceHidden)
+        quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
+    if (!f.receiverHidden)
+        quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
     if (f.placementGhost)
         quad(*f.placementGhost, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
     // The shaft: corresponding corners joined; red when the pair cannot be sampled.

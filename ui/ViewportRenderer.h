@@ -95,6 +95,7 @@ struct FrameState {
     double sceneRadius = 10.0;
     Patch source;
     Patch receiver;
+    bool sourceHidden = false, receiverHidden = false;   ///< not drawn (their rays still are)
     bool pairValid = true;
     ObjectRef selection;
     std::optional<GizmoFrame> gizmo;
@@ -141,6 +142,9 @@ public:
     void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
     /// The PVS debugger's answer: per instance of the scene file, 1 when culled. Empty: none.
     void setPvsCulled(const std::vector<std::uint8_t>& culled);
+    /// Objects the designer hid (ObjectFlags.h): per scene-file instance and per placed occluder,
+    /// 1 where not drawn (shorter or empty: the rest drawn).
+    void setHiddenObjects(const std::vector<std::uint8_t>& sceneFile, const std::vector<std::uint8_t>& occluders);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.

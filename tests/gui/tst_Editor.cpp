@@ -1639,6 +1639,171 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 16 §2: hide, isolate and lock in the outline (and H, Shift+H, Ctrl+Shift+H, Ctrl+L) for the
+    // level's objects, placed occluders and patches. Hidden: not drawn, not picked, still blocking
+    // rays, kept in the project; isolated: only the selection and the patches; locked: drawn, but
+    // clicks pass through and nothing moves it.
+    void outlineHidesIsolatesAndLocks()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        auto* outline = window_->findChild<OutlinePanel*>();
+        QVERIFY(outline);
+        const Camera view = controller.camera();
+        document.select({});
+        controller.setCamera(shaftView(document.project().source, document.project().receiver));
+        viewport.style().showRays = false;   // plain pixels of the objects
+        waitForUpdate();
+        const auto device = [&](QPoint p) { return QPoint(int(p.x() * viewport.devicePixelRatio()), int(p.y() * viewport.devicePixelRatio())); };
+        // A level object under a pixel near the middle of the view.
+        QPoint at;
+        ObjectRef object;
+        for (int y = 200; y < 420 && !object; y += 17)
+            for (int x = 250; x < 560 && !object; x += 23)
+                if (const ObjectRef o = controller.objectAt(QPointF(x, y)); o.kind == ObjectKind::SceneObject) {
+                    object = o;
+                    at = QPoint(x, y);
+                }
+        QVERIFY(object);
+        const std::uint64_t blocked = viewport.visibility().blocked;
+        const int commands = document.undoStack()->index();
+        const QImage shown = viewport.grabFramebuffer();
+
+        // Hidden from the outline's Show box: one undo step, not drawn, not picked, rays unchanged.
+        QTreeWidgetItem* row = outline->itemFor(object);
+        QVERIFY(row);
+        QCOMPARE(row->checkState(OutlinePanel::ShowColumn), Qt::Checked);
+        row->setCheckState(OutlinePanel::ShowColumn, Qt::Unchecked);
+        QVERIFY(document.flags(object).hidden);
+        QCOMPARE(document.undoStack()->index(), commands + 1);
+        QVERIFY(row->font(OutlinePanel::NameColumn).italic());
+        QVERIFY(row->toolTip(OutlinePanel::ShowColumn).contains("still blocks rays"));
+        waitForFrame();
+        QVERIFY(!viewport.resultIsStale());
+        QCOMPARE(viewport.visibility().blocked, blocked);   // hiding changes the view, not the level
+        const QImage hidden = viewport.grabFramebuffer();
+        QVERIFY2(hidden.pixel(device(at)) != shown.pixel(device(at)), "the hidden object is still drawn");
+        QVERIFY(controller.objectAt(at) != object);
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, at);
+        QVERIFY(document.selection() != object);
+        saveWindowShot("outline-hidden");
+        // Kept in the project, under the editor's settings the CLI keeps and ignores.
+        const auto saved = folder_ / "hidden.json";
+        QVERIFY(window_->saveTo(QString::fromStdString(saved.string())));
+        const nlohmann::json file = nlohmann::json::parse(std::ifstream(saved));
+        QVERIFY(file.at("editor").at("hidden").at("instances") == nlohmann::json::array({object.index}));
+        EditorDocument reopened;
+        reopened.open(saved);
+        QVERIFY(reopened.flags(object).hidden);
+        const std::uint64_t cli = referenceBlocked(saved);   // the CLI's answer: hidden objects block too
+        QVERIFY2(std::max(cli, blocked) - std::min(cli, blocked) <= viewport.visibility().rays / 10000,
+                 qPrintable(QString("CLI %1, editor %2").arg(cli).arg(blocked)));
+        document.undoStack()->undo();
+        QVERIFY(!document.flags(object).hidden);
+        QCOMPARE(row->checkState(OutlinePanel::ShowColumn), Qt::Checked);
+
+        // H hides the selection and shows it again; Ctrl+Shift+H shows everything in one step.
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        document.select(object);
+        QTest::keyClick(window_.get(), Qt::Key_H);
+        QVERIFY(document.flags(object).hidden);
+        QVERIFY(!controller.gizmo());   // nothing to hold a handle
+        QTest::keyClick(window_.get(), Qt::Key_H);
+        QVERIFY(!document.flags(object).hidden);
+        document.setFlags({ObjectKind::SceneObject, 0}, {true, false}, "hide");
+        document.setFlags(object, {true, false}, "hide");
+        const int beforeShowAll = document.undoStack()->index();
+        QTest::keyClick(window_.get(), Qt::Key_H, Qt::ControlModifier | Qt::ShiftModifier);
+        QVERIFY(!document.flags(object).hidden && !document.flags({ObjectKind::SceneObject, 0}).hidden);
+        QCOMPARE(document.undoStack()->index(), beforeShowAll + 1);
+
+        // Isolate a crate (Shift+H): the level is not drawn or picked, the crate and the patches are.
+        const Project& project = document.project();
+        const glm::dvec3 crateAt = project.source.centre() + 0.5 * (project.receiver.centre() - project.source.centre());   // in the open shaft
+        OccluderSpec crate;
+        crate.name = "isolated crate";
+        crate.mesh = "box";
+        crate.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(crateAt)), glm::vec3(0.4f));
+        document.addOccluder(crate);
+        const ObjectRef crateRef{ObjectKind::Occluder, document.project().occluders.size() - 1};
+        waitForUpdate();
+        const int beforeIsolate = document.undoStack()->index();
+        QTest::keyClick(window_.get(), Qt::Key_H, Qt::ShiftModifier);
+        QCOMPARE(document.isolated(), crateRef);
+        document.select({});   // its gizmo would cover it
+        QCOMPARE(document.undoStack()->index(), beforeIsolate);   // view state: no undo step
+        QVERIFY(!document.isShown(object) && document.isShown(crateRef) && document.isShown({ObjectKind::Receiver, 0}));
+        QVERIFY(outline->itemFor(object)->foreground(OutlinePanel::NameColumn).color() != outline->itemFor(crateRef)->foreground(OutlinePanel::NameColumn).color());
+        viewport.style().showRays = true;   // for the picture: the rays stay with the patches
+        waitForFrame();
+        saveWindowShot("outline-isolated");
+        viewport.style().showRays = false;
+        waitForFrame();
+        const QImage isolated = viewport.grabFramebuffer();
+        const auto levelGrey = [](const QImage& image) {
+            int n = 0;
+            for (int y = 0; y < image.height(); y += 6)
+                for (int x = 0; x < image.width(); x += 6) {
+                    const QRgb c = image.pixel(x, y);
+                    n += qGray(c) > 80 && std::abs(qRed(c) - qBlue(c)) < 20 && std::abs(qGreen(c) - qBlue(c)) < 20;
+                }
+            return n;
+        };
+        QVERIFY2(levelGrey(isolated) < levelGrey(shown) / 5, qPrintable(QString("%1 grey samples isolated, %2 before").arg(levelGrey(isolated)).arg(levelGrey(shown))));
+        const QPoint crateCentre = pixelOf(controller, crateAt);
+        const QRgb violet = isolated.pixel(device(crateCentre));
+        QVERIFY2(qBlue(violet) > qGreen(violet) + 30 && qRed(violet) > qGreen(violet), qPrintable(QString::number(violet, 16)));
+        QVERIFY(controller.objectAt(at).kind != ObjectKind::SceneObject);   // the level is not there to click
+        QCOMPARE(controller.objectAt(crateCentre), crateRef);
+        QTest::keyClick(window_.get(), Qt::Key_H, Qt::ShiftModifier);
+        QVERIFY(!document.isolated());
+        QVERIFY(document.isShown(object));
+
+        // Lock the crate (Ctrl+L): drawn, no gizmo, no edit, a click passes through it, placement still lands on it.
+        document.select(crateRef);
+        QVERIFY(controller.gizmo());
+        QTest::keyClick(window_.get(), Qt::Key_L, Qt::ControlModifier);
+        QVERIFY(document.flags(crateRef).locked);
+        QCOMPARE(outline->itemFor(crateRef)->checkState(OutlinePanel::LockColumn), Qt::Checked);
+        QVERIFY(!controller.gizmo());
+        QTest::keyClick(window_.get(), Qt::Key_Delete);
+        QCOMPARE(document.project().occluders.size(), crateRef.index + 1);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("locked"), qPrintable(window_->statusBar()->currentMessage()));
+        QDoubleSpinBox* field = nullptr;
+        for (QDoubleSpinBox* box : window_->findChildren<QDoubleSpinBox*>())
+            if (box->isVisible() && !field)
+                field = box;
+        QVERIFY(field && !field->isEnabled());
+        QVERIFY(controller.objectAt(crateCentre) != crateRef);
+        const auto surface = controller.visibleSurface(pixelRay(controller.camera(), crateCentre.x(), crateCentre.y(), controller.width(), controller.height()));
+        QVERIFY(surface && glm::length(surface->point - crateAt) <= 0.35);   // on the 0.4 m crate
+        waitForFrame();
+        QVERIFY(viewport.grabFramebuffer().pixel(device(crateCentre)) != shown.pixel(device(crateCentre)));   // still drawn
+
+        // A locked patch is not placed again; a hidden one is not drawn, its rays still are.
+        viewport.style().showRays = true;
+        document.setFlags({ObjectKind::Receiver, 0}, {false, true}, "lock receiver");
+        QTest::keyClick(window_.get(), Qt::Key_2, Qt::ControlModifier);
+        QCOMPARE(controller.tool(), Tool::Select);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("receiver is locked"), qPrintable(window_->statusBar()->currentMessage()));
+        document.undoStack()->undo();
+        const QPoint receiverCentre = pixelOf(controller, document.project().receiver.centre());
+        document.setFlags({ObjectKind::Receiver, 0}, {true, false}, "hide receiver");
+        QVERIFY((controller.objectAt(receiverCentre) != ObjectRef{ObjectKind::Receiver, 0}));
+        waitForFrame();
+        QVERIFY(viewport.raysDrawn() > 0);
+        const QRgb where = viewport.grabFramebuffer().pixel(device(receiverCentre));
+        QVERIFY2(!(qBlue(where) > qRed(where) + 60), qPrintable(QString::number(where, 16)));   // no blue patch there
+        document.undoStack()->undo();   // the receiver shown
+        document.undoStack()->undo();   // the crate unlocked
+        document.undoStack()->undo();   // the crate
+        document.select({});
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();

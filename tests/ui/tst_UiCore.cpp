@@ -18,6 +18,7 @@
 #include "Gizmo.h"
 #include "LiveVisibility.h"
 #include "ObjectEdits.h"
+#include "ObjectFlags.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
 #include "RayEnds.h"
@@ -386,6 +387,65 @@ TEST(Gizmo, LocalSpaceMovesAndTurnsAlongTheObjectsOwnAxes)
     const glm::mat4 turned = std::get<glm::mat4>(dragGizmo(turn, camera, 540, 400, 1000, 800));
     expectNear(glm::normalize(glm::dvec3(turned[2])), glm::normalize(glm::dvec3(box[2])), 1e-6);
     EXPECT_GT(glm::length(glm::dvec3(turned[0]) - glm::dvec3(box[0])), 0.1);
+}
+
+// Issue 16 §2: hide and lock are kept in the project (DESIGN.md §3: keys the CLI keeps), each
+// undoable; an occluder's flags live in its own entry and move with it; other shapes read as none.
+TEST(ObjectFlags, AreKeptInTheProjectAndFollowTheirObjects)
+{
+    const std::filesystem::path folder = freshFolder("object-flags");
+    const std::filesystem::path project = test::copyDemoProject(folder);
+    EditorDocument document;
+    document.open(project);
+    const ObjectRef wall{ObjectKind::SceneObject, 2}, receiver{ObjectKind::Receiver, 0};
+    document.setFlags(wall, {true, false}, "hide");
+    document.setFlags(receiver, {false, true}, "lock");
+    OccluderSpec crate;
+    crate.name = "crate";
+    crate.mesh = "box";
+    document.addOccluder(crate);
+    document.addOccluder(crate);
+    document.setFlags({ObjectKind::Occluder, 1}, {true, true}, "hide and lock");
+    EXPECT_TRUE(document.flags(wall).hidden);
+    EXPECT_FALSE(document.isShown(wall));
+    EXPECT_TRUE(document.isShown(receiver));
+    EXPECT_FALSE(document.isPickable(receiver));
+    EXPECT_EQ(document.hiddenMask(ObjectKind::Occluder), (std::vector<std::uint8_t>{0, 1}));
+    // The first crate deleted: the second's flags go with it.
+    document.select({ObjectKind::Occluder, 0});
+    document.removeSelected();
+    EXPECT_EQ(document.flags({ObjectKind::Occluder, 0}), (ObjectFlags{true, true}));
+    document.save(folder / "flags.json");
+    const nlohmann::json file = nlohmann::json::parse(std::ifstream(folder / "flags.json"));
+    EXPECT_EQ(file.at("editor").at("hidden").at("instances"), nlohmann::json::array({2}));
+    EXPECT_EQ(file.at("editor").at("locked").at("patches"), nlohmann::json::array({"receiver"}));
+    EXPECT_FALSE(file.at("editor").contains("hidden") && file.at("editor").at("hidden").contains("patches"));
+    EXPECT_EQ(file.at("occluders").at(0).at("editor"), (nlohmann::json{{"hidden", true}, {"locked", true}}));
+    EditorDocument reopened;
+    reopened.open(folder / "flags.json");
+    EXPECT_EQ(reopened.flags(wall), (ObjectFlags{true, false}));
+    EXPECT_EQ(reopened.flags(receiver), (ObjectFlags{false, true}));
+    EXPECT_EQ(reopened.flags({ObjectKind::Occluder, 0}), (ObjectFlags{true, true}));
+    // Undo takes each back; nothing left, the keys go.
+    while (document.undoStack()->canUndo())
+        document.undoStack()->undo();
+    EXPECT_EQ(document.flags(wall), ObjectFlags{});
+    EXPECT_FALSE(document.editorSettings().contains("hidden"));
+    EXPECT_FALSE(document.editorSettings().contains("locked"));
+    // Isolation: view state, ended by a change of the occluder list.
+    document.setIsolated(receiver);
+    EXPECT_FALSE(document.isShown(wall));
+    EXPECT_EQ(document.hiddenMask(ObjectKind::SceneObject), std::vector<std::uint8_t>(document.sceneFile().instances.size(), 1));
+    document.addOccluder(crate);
+    document.setIsolated({ObjectKind::Occluder, 0});
+    document.undoStack()->undo();
+    EXPECT_FALSE(document.isolated());
+    // Values of another shape read as no flag and are replaced when written.
+    nlohmann::json odd = {{"hidden", 3}, {"locked", {{"instances", "all"}}}, {"camera", 1}};
+    EXPECT_EQ(settingsFlags(odd, wall), ObjectFlags{});
+    setSettingsFlags(odd, wall, {true, true});
+    EXPECT_EQ(settingsFlags(odd, wall), (ObjectFlags{true, true}));
+    EXPECT_EQ(odd.at("camera"), 1);
 }
 
 TEST(RaySubset, AllRaysUnderTheCapAndASpreadSubsetAboveIt)
