@@ -29,6 +29,7 @@
 
 #include "EditCommands.h"
 #include "OutlinePanel.h"
+#include "PatchPresets.h"
 #include "OverlayControls.h"
 #include "Picking.h"
 #include "PreferencesDialog.h"
@@ -328,6 +329,22 @@ void MainWindow::createActions()
     QMenu* create = menuBar()->addMenu(tr("&Create"));
     action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
     action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
+    // The size placing gives a patch: its own, or a preset (issue 16 §2), checked in the menu.
+    QMenu* placingSize = create->addMenu(tr("Placing Si&ze"));
+    placingSize->setObjectName("placingSize");
+    auto* sizes = new QActionGroup(this);
+    QAction* keep = placingSize->addAction(tr("The Patch's Own Size"), this, [this] { controller_->setPlacementSize(std::nullopt); });
+    keep->setCheckable(true);
+    keep->setChecked(true);
+    sizes->addAction(keep);
+    for (const PatchPreset& preset : patchPresets()) {
+        const QString name = QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size()));
+        QAction* a = placingSize->addAction(tr("%1 %2 × %3 m").arg(name).arg(preset.width, 0, 'g', 3).arg(preset.height, 0, 'g', 3), this,
+                                            [this, preset] { controller_->setPlacementSize(std::pair(preset.width, preset.height)); });
+        a->setCheckable(true);
+        a->setObjectName("placingSize-" + name);
+        sizes->addAction(a);
+    }
     create->addSeparator();
     auto addBuiltin = [this](const std::string& mesh) {
         OccluderSpec spec;

@@ -67,8 +67,10 @@ void ViewportController::setTool(Tool tool)
         emit viewChanged();
     }
     emit toolChanged(tool);
-    if (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver)
-        emit message(tr("Click a surface to place the %1 patch (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver")));
+    if (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver) {
+        const QString size = placementSize_ ? tr(", %1 × %2 m").arg(placementSize_->first, 0, 'g', 3).arg(placementSize_->second, 0, 'g', 3) : QString();
+        emit message(tr("Click a surface to place the %1 patch%2 (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver"), size));
+    }
 }
 
 void ViewportController::setGizmoMode(GizmoMode mode)
@@ -183,7 +185,8 @@ std::optional<Patch> ViewportController::placementAt(ObjectKind which, QPointF p
     if (!hit)
         return std::nullopt;
     const Patch old = std::get<Patch>(document_.state({which, 0}));
-    Patch placed = patchOnSurface(*hit, glm::length(old.u), glm::length(old.v), old.na, old.nb);
+    const auto [width, height] = placementSize_.value_or(std::pair(glm::length(old.u), glm::length(old.v)));
+    Patch placed = patchOnSurface(*hit, width, height, old.na, old.nb);
     // Fitted to the surface: a patch on a wall stands on the floor below rather than going through
     // it (a click near a doorway's foot put half the patch under the floor).
     const glm::dvec3 n = glm::normalize(hit->normal);

@@ -60,6 +60,10 @@ public:
     /// The handles of the selected object, if any.
     std::optional<GizmoFrame> gizmo() const;
     int hoveredAxis() const { return hoveredAxis_; }
+    /// The size a placed patch gets (width, height in metres: a preset, PatchPresets.h), or none
+    /// to keep the patch's own size.
+    void setPlacementSize(std::optional<std::pair<double, double>> size) { placementSize_ = size; }
+    const std::optional<std::pair<double, double>>& placementSize() const { return placementSize_; }
     /// While placing a patch: where a click at the cursor would put it (issue 16 §2).
     const std::optional<Patch>& placementGhost() const { return ghost_; }
     /// Where a click at `position` would place patch `which` (fitted: on a wall, its bottom edge
@@ -130,6 +134,7 @@ private:
     NavigationSpeeds speeds_;
     int hoveredAxis_ = -1;
     std::optional<Patch> ghost_;
+    std::optional<std::pair<double, double>> placementSize_;
 
     enum class Navigation { None, Orbit, Pan, Fly };
     Navigation navigation_ = Navigation::None;

@@ -34,6 +34,7 @@
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
+#include "PatchPresets.h"
 #include "PreferencesDialog.h"
 #include "RecordingControls.h"
 #include "UiTestScene.h"
@@ -1799,6 +1800,81 @@ private slots:
         document.undoStack()->undo();   // the receiver shown
         document.undoStack()->undo();   // the crate unlocked
         document.undoStack()->undo();   // the crate
+        document.select({});
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
+    // Issue 16 §2: patch size presets, in the properties panel (one undoable resize; a wall's patch
+    // keeps its bottom edge) and when placing (Create > Placing Size, the ghost shows it).
+    void patchSizePresetsResizeAndPlace()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        const Camera view = controller.camera();
+        const ObjectRef receiver{ObjectKind::Receiver, 0};
+        const Patch before = document.project().receiver;
+        QVERIFY(std::abs(before.normal().y) < 0.5);   // the demo's receiver stands on a wall
+        document.select(receiver);
+        auto* size = window_->findChild<QComboBox*>("patchSize");
+        QVERIFY(size && size->isVisible());
+        QCOMPARE(size->currentText(), QString("Custom"));
+        QCOMPARE(size->itemText(1), QString::fromUtf8("Doorway 0.9 × 2.1 m"));
+        viewport.style().showRays = false;
+        controller.setCamera(facing(before, 6.0));
+        waitForUpdate();
+        const QImage small = viewport.grabFramebuffer();
+        const int commands = document.undoStack()->index();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        size->setFocus();
+        QTest::keyClick(size, Qt::Key_Down);   // the next item: Doorway
+        const Patch door = document.project().receiver;
+        QVERIFY(std::abs(glm::length(door.u) - 0.9) < 1e-12 && std::abs(glm::length(door.v) - 2.1) < 1e-12);
+        const auto bottom = [](const Patch& p) {
+            return std::min({p.corner.y, (p.corner + p.u).y, (p.corner + p.v).y, (p.corner + p.u + p.v).y});
+        };
+        QVERIFY(std::abs(bottom(door) - bottom(before)) < 1e-12);
+        QVERIFY(glm::length(glm::normalize(door.u) - glm::normalize(before.u)) < 1e-12);
+        QCOMPARE(document.undoStack()->index(), commands + 1);
+        QCOMPARE(size->currentIndex(), 1);
+        waitForUpdate();
+        saveWindowShot("patch-size-doorway");
+        // Drawn as narrow as a door: no longer blue near the old patch's side edge (the demo's receiver is 2 x 2 m).
+        const QPoint side = pixelOf(controller, before.corner + 0.08 * before.u + 0.5 * before.v);
+        const auto device = [&](QPoint p) { return QPoint(int(p.x() * viewport.devicePixelRatio()), int(p.y() * viewport.devicePixelRatio())); };
+        const QRgb was = small.pixel(device(side)), now = viewport.grabFramebuffer().pixel(device(side));
+        QVERIFY2(qBlue(was) > qBlue(now) + 30 && qBlue(was) > qRed(was) + 40, qPrintable(QString("%1 -> %2").arg(was, 0, 16).arg(now, 0, 16)));
+        document.undoStack()->undo();
+        QCOMPARE(document.project().receiver.corner, before.corner);
+        QCOMPARE(document.project().receiver.u, before.u);
+        QCOMPARE(size->currentText(), QString("Custom"));
+
+        // Placing with a preset: the ghost and the placed patch are a standing player, on the floor.
+        QAction* player = window_->findChild<QAction*>("placingSize-Player standing");
+        QVERIFY(player);
+        player->trigger();
+        controller.setTool(Tool::PlaceReceiver);
+        QVERIFY(window_->statusBar()->currentMessage().contains(QString::fromUtf8("0.6 × 1.8 m")));
+        const glm::dvec3 low(before.centre().x, 0.3, before.centre().z);
+        const QPoint at = pixelOf(controller, low - 0.02 * before.normal());
+        QTest::mouseMove(&viewport, at);
+        QTRY_VERIFY(controller.placementGhost().has_value());
+        const Patch ghost = *controller.placementGhost();
+        QVERIFY(std::abs(glm::length(ghost.u) - 0.6) < 1e-9 && std::abs(glm::length(ghost.v) - 1.8) < 1e-9);
+        waitForFrame();
+        saveWindowShot("placing-player");
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, at);
+        const Patch placed = document.project().receiver;
+        QVERIFY(glm::length(placed.centre() - ghost.centre()) < 1e-9);
+        const auto floor = controller.visibleSurface(Ray{placed.centre(), glm::dvec3(0, -1, 0)});
+        QVERIFY(floor && bottom(placed) >= floor->point.y && bottom(placed) < floor->point.y + 0.05);
+        QCOMPARE(presetOf(placed), std::optional<std::size_t>(2));
+        document.undoStack()->undo();
+        window_->findChild<QMenu*>("placingSize")->actions().front()->trigger();   // the patch's own size again
+        QVERIFY(!controller.placementSize());
+        viewport.style().showRays = true;
         document.select({});
         controller.setCamera(view);
         waitForUpdate();

@@ -19,6 +19,7 @@
 #include "LiveVisibility.h"
 #include "ObjectEdits.h"
 #include "ObjectFlags.h"
+#include "PatchPresets.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
 #include "RayEnds.h"
@@ -387,6 +388,48 @@ TEST(Gizmo, LocalSpaceMovesAndTurnsAlongTheObjectsOwnAxes)
     const glm::mat4 turned = std::get<glm::mat4>(dragGizmo(turn, camera, 540, 400, 1000, 800));
     expectNear(glm::normalize(glm::dvec3(turned[2])), glm::normalize(glm::dvec3(box[2])), 1e-6);
     EXPECT_GT(glm::length(glm::dvec3(turned[0]) - glm::dvec3(box[0])), 0.1);
+}
+
+// Issue 16 §2: size presets. A wall's patch keeps its bottom edge (it stands on the floor), whichever
+// way its edges point; a floor's keeps its centre.
+TEST(PatchPresets, ResizeKeepsAWallPatchsBottomEdge)
+{
+    const auto bottomMiddle = [](const Patch& p) {
+        glm::dvec3 corners[4] = {p.corner, p.corner + p.u, p.corner + p.v, p.corner + p.u + p.v};
+        std::sort(std::begin(corners), std::end(corners), [](const glm::dvec3& a, const glm::dvec3& b) { return a.y < b.y; });
+        return 0.5 * (corners[0] + corners[1]);
+    };
+    Patch up;   // a wall's patch: u across, v up
+    up.corner = {1.0, 0.02, -3.0};
+    up.u = {0.0, 0.0, 1.0};
+    up.v = {0.0, 1.0, 0.0};
+    Patch down = up;   // v pointing down, from the top corner
+    down.corner = up.corner + up.v;
+    down.v = -up.v;
+    down.u = -up.u;
+    down.corner += up.u;
+    Patch sideways = up;   // u up, v across
+    sideways.u = up.v;
+    sideways.v = up.u;
+    sideways.corner = up.corner;
+    for (const Patch& wall : {up, down, sideways}) {
+        const Patch door = resizedPatch(wall, 0.9, 2.1);
+        expectNear(bottomMiddle(door), bottomMiddle(wall), 1e-12);
+        const glm::dvec3 vertical = std::abs(door.u.y) > std::abs(door.v.y) ? door.u : door.v;
+        EXPECT_NEAR(glm::length(vertical), 2.1, 1e-12);
+        expectNear(door.normal(), wall.normal(), 1e-12);
+        EXPECT_EQ(door.na, wall.na);
+        EXPECT_EQ(presetOf(door), std::optional<std::size_t>(0));
+    }
+    EXPECT_FALSE(presetOf(up)) << "1 x 1 m is custom";
+    Patch floor;
+    floor.corner = {0.0, 0.0, 0.0};
+    floor.u = {2.0, 0.0, 0.0};
+    floor.v = {0.0, 0.0, -2.0};
+    const Patch player = resizedPatch(floor, 0.6, 1.8);
+    expectNear(player.centre(), floor.centre(), 1e-12);
+    EXPECT_NEAR(glm::length(player.u), 0.6, 1e-12);
+    EXPECT_NEAR(glm::length(player.v), 1.8, 1e-12);
 }
 
 // Issue 16 §2: hide and lock are kept in the project (DESIGN.md §3: keys the CLI keeps), each
