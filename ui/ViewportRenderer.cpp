@@ -65,6 +65,9 @@ void main() {
     vec3 n = normalize(vNormal);
     if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
     float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
+    // The inside of a solid, seen where the section cut opened it, reads as the cut's section
+    // (darker), so walls stand out from floors in a plan view, where every face would be as bright.
+    if (!gl_FrontFacing) light *= 0.55;
     vec3 ambient = vec3(1.0);
     if (aoOn != 0 && vAoUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
         ambient = 0.3 + 0.7 * min(texture(aoMap, vAoUv).rgb, vec3(1.5));
