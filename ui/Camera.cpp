@@ -9,7 +9,6 @@
 namespace sightline::ui {
 
 namespace {
-constexpr double kOrbitRadiansPerPixel = 0.008;
 constexpr double kMaxPitch = 1.55;   // just short of straight up/down, where yaw loses meaning
 constexpr double kDollyPerStep = 0.85;
 } // namespace
@@ -25,18 +24,29 @@ glm::dvec3 Camera::up() const { return glm::cross(right(), forward()); }
 
 glm::mat4 Camera::view() const { return glm::mat4(glm::lookAt(eye(), target, up())); }
 
+double Camera::halfHeight() const { return distance * std::tan(fovY / 2.0); }
+
+double Camera::screenDepth(const glm::dvec3& point) const
+{
+    return orthographic ? distance : glm::length(eye() - point);
+}
+
 glm::mat4 Camera::projection(double aspect, double sceneRadius) const
 {
     const double radius = std::max(sceneRadius, 1.0);
     const double nearPlane = std::clamp(distance * 0.01, 0.005, radius * 0.01);
     const double farPlane = distance + 4.0 * radius;
+    if (orthographic) {
+        const double h = halfHeight(), w = h * std::max(aspect, 1e-3);
+        return glm::mat4(glm::ortho(-w, w, -h, h, nearPlane, farPlane));
+    }
     return glm::mat4(glm::perspective(fovY, std::max(aspect, 1e-3), nearPlane, farPlane));
 }
 
-void orbit(Camera& camera, double dxPixels, double dyPixels)
+void orbit(Camera& camera, double dxPixels, double dyPixels, double radiansPerPixel)
 {
-    camera.yaw -= dxPixels * kOrbitRadiansPerPixel;
-    camera.pitch = std::clamp(camera.pitch - dyPixels * kOrbitRadiansPerPixel, -kMaxPitch, kMaxPitch);
+    camera.yaw -= dxPixels * radiansPerPixel;
+    camera.pitch = std::clamp(camera.pitch - dyPixels * radiansPerPixel, -kMaxPitch, kMaxPitch);
 }
 
 void pan(Camera& camera, double dxPixels, double dyPixels, int viewportHeight)
@@ -51,10 +61,10 @@ void dolly(Camera& camera, double steps)
     camera.distance = std::clamp(camera.distance * std::pow(kDollyPerStep, steps), 0.05, 1e5);
 }
 
-void look(Camera& camera, double dxPixels, double dyPixels)
+void look(Camera& camera, double dxPixels, double dyPixels, double radiansPerPixel)
 {
     const glm::dvec3 eye = camera.eye();
-    orbit(camera, -dxPixels, -dyPixels);
+    orbit(camera, -dxPixels, -dyPixels, radiansPerPixel);
     camera.target = eye + camera.distance * camera.forward();
 }
 
@@ -79,6 +89,10 @@ Ray pixelRay(const Camera& camera, double x, double y, int width, int height)
     const double tanHalf = std::tan(camera.fovY / 2.0);
     const double ndcX = 2.0 * x / std::max(width, 1) - 1.0;
     const double ndcY = 1.0 - 2.0 * y / std::max(height, 1);
+    if (camera.orthographic) {
+        const double h = camera.halfHeight();
+        return {camera.eye() + ndcX * h * aspect * camera.right() + ndcY * h * camera.up(), camera.forward()};
+    }
     const glm::dvec3 direction = camera.forward() + ndcX * tanHalf * aspect * camera.right() + ndcY * tanHalf * camera.up();
     return {camera.eye(), glm::normalize(direction)};
 }
@@ -89,7 +103,9 @@ glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, in
     const double depth = glm::dot(d, camera.forward());
     const double tanHalf = std::tan(camera.fovY / 2.0);
     const double aspect = double(width) / std::max(height, 1);
-    const double safeDepth = std::abs(depth) < 1e-12 ? 1e-12 : depth;
+    // Orthographic: every depth is drawn at the target's scale.
+    const double scaleDepth = camera.orthographic ? camera.distance : depth;
+    const double safeDepth = std::abs(scaleDepth) < 1e-12 ? 1e-12 : scaleDepth;
     const double ndcX = glm::dot(d, camera.right()) / (safeDepth * tanHalf * aspect);
     const double ndcY = glm::dot(d, camera.up()) / (safeDepth * tanHalf);
     return {(ndcX + 1.0) * 0.5 * width, (1.0 - ndcY) * 0.5 * height, depth};
@@ -118,6 +134,7 @@ Camera axisView(AxisView view, const Bounds& bounds)
     case AxisView::Side: camera.yaw = 0.5 * std::numbers::pi, camera.pitch = 0.0; break;
     }
     frame(camera, bounds);
+    camera.orthographic = true;   // as Blender's numpad views and Unity's axis clicks: no perspective
     return camera;
 }
 

@@ -19,6 +19,11 @@ struct Camera {
     double yaw = 0.0;         ///< radians
     double pitch = -0.3;      ///< radians, in (-pi/2, pi/2)
     double fovY = 0.8727;     ///< radians (50 degrees)
+    /// Orthographic projection (the axis views, numpad 5): parallel rays, and a view
+    /// 2 * distance * tan(fovY / 2) high, so switching keeps the scale at the target. The eye
+    /// stays `distance` behind the target, as in perspective: the near plane and the section cut's
+    /// depth are where they were, and what is behind the eye is neither drawn nor picked.
+    bool orthographic = false;
 
     glm::dvec3 forward() const;   ///< unit, eye -> target
     glm::dvec3 right() const;     ///< unit, horizontal
@@ -26,6 +31,12 @@ struct Camera {
     glm::dvec3 eye() const { return target - distance * forward(); }
 
     glm::mat4 view() const;
+    /// Half the view's height at the target's depth, in metres (in orthographic views, everywhere).
+    double halfHeight() const;
+    /// The depth that sets a point's size on screen: its distance from the eye in perspective,
+    /// the target's distance in orthographic views (where depth does not shrink anything). Handles
+    /// drawn a constant size on screen scale with it.
+    double screenDepth(const glm::dvec3& point) const;
     /// Near and far planes follow the distance and the scene's size, so depth precision holds
     /// from a close-up of a patch to a whole level.
     glm::mat4 projection(double aspect, double sceneRadius) const;
@@ -37,14 +48,16 @@ struct Ray {
     glm::dvec3 direction{0.0, 0.0, -1.0};
 };
 
+/// How far an orbit turns for a pixel of mouse motion by default (the Preferences' 1x).
+inline constexpr double kOrbitRadiansPerPixel = 0.008;
 /// Turns the camera about its target by a mouse motion in pixels.
-void orbit(Camera& camera, double dxPixels, double dyPixels);
+void orbit(Camera& camera, double dxPixels, double dyPixels, double radiansPerPixel = kOrbitRadiansPerPixel);
 /// Moves target and eye in the view plane so the point under the cursor follows it.
 void pan(Camera& camera, double dxPixels, double dyPixels, int viewportHeight);
 /// Wheel steps (positive = closer); the distance changes by a constant factor per step.
 void dolly(Camera& camera, double steps);
 /// Fly mode: turns the view about the eye (not the target).
-void look(Camera& camera, double dxPixels, double dyPixels);
+void look(Camera& camera, double dxPixels, double dyPixels, double radiansPerPixel = kOrbitRadiansPerPixel);
 /// Fly mode: moves eye and target by `move` in camera axes (x right, y up, z forward), metres.
 void fly(Camera& camera, const glm::dvec3& move);
 /// Keeps the eye at or above `floorY` (issue 16 §2: navigation took the camera under the floor).
@@ -55,16 +68,19 @@ void frame(Camera& camera, const Bounds& bounds);
 
 /// The axis views of a level editor (Blender's numpad 7 / 1 / 3): straight down, along -Z, along -X.
 enum class AxisView { Top, Front, Side };
-/// The camera looking along `view` at the whole box (perspective, framed as frame() does).
+/// The camera looking along `view` at the whole box, orthographic, framed as frame() does.
 Camera axisView(AxisView view, const Bounds& bounds);
 /// The view from `from`'s centre towards `to`'s centre (issue 16 §2: "look through the source",
 /// the sniper's view of the doorway): the eye on the patch, 1 cm in front of it, the target at the
 /// other patch, a field of view that holds the other patch with a margin.
 Camera lookThrough(const glm::dvec3& from, const glm::dvec3& fromNormal, const glm::dvec3& to, double toRadius);
 
-/// The ray through pixel (x, y) of a width x height viewport (origin top left, y down).
+/// The ray through pixel (x, y) of a width x height viewport (origin top left, y down): from the
+/// eye in perspective; in orthographic views from the pixel's point on the eye's plane, along the
+/// view direction.
 Ray pixelRay(const Camera& camera, double x, double y, int width, int height);
-/// A world point in pixels (origin top left); z is the clip-space w (< 0 behind the eye).
+/// A world point in pixels (origin top left); z is its depth along the view direction from the
+/// eye (< 0 behind it).
 glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, int height);
 
 } // namespace sightline::ui

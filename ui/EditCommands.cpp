@@ -54,4 +54,13 @@ RenameOccluderCommand::RenameOccluderCommand(EditorDocument& document, std::size
 void RenameOccluderCommand::undo() { document_.applyOccluderName(index_, before_); }
 void RenameOccluderCommand::redo() { document_.applyOccluderName(index_, after_); }
 
+SetFlagsCommand::SetFlagsCommand(EditorDocument& document, ObjectRef object, ObjectFlags before, ObjectFlags after,
+                                 const QString& text)
+    : QUndoCommand(text), document_(document), object_(object), before_(before), after_(after)
+{
+}
+
+void SetFlagsCommand::undo() { document_.applyFlags(object_, before_); }
+void SetFlagsCommand::redo() { document_.applyFlags(object_, after_); }
+
 } // namespace sightline::ui

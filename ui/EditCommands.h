@@ -6,6 +6,7 @@
 #include <QUndoCommand>
 
 #include "ObjectEdits.h"
+#include "ObjectFlags.h"
 #include "project/Project.h"
 
 namespace sightline::ui {
@@ -66,6 +67,19 @@ private:
     EditorDocument& document_;
     std::size_t index_;
     std::string before_, after_;
+};
+
+/// Hides, shows, locks or unlocks one object.
+class SetFlagsCommand : public QUndoCommand {
+public:
+    SetFlagsCommand(EditorDocument& document, ObjectRef object, ObjectFlags before, ObjectFlags after, const QString& text);
+    void undo() override;
+    void redo() override;
+
+private:
+    EditorDocument& document_;
+    ObjectRef object_;
+    ObjectFlags before_, after_;
 };
 
 } // namespace sightline::ui

@@ -191,6 +191,11 @@ void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std:
     occluderMeshes_ = std::move(occluderMeshes);
     file_ = std::move(file);
     selection_ = {};
+    isolated_ = {};
+    instanceFlags_.assign(sceneFile_.instances.size(), {});
+    const nlohmann::json editor = editorSettings();
+    for (std::size_t i = 0; i < instanceFlags_.size(); ++i)
+        instanceFlags_[i] = settingsFlags(editor, {ObjectKind::SceneObject, i});
     invalidate(DocumentReset | PatchesChanged | OccludersChanged | SceneFileChanged);
     emit selectionChanged(selection_);
     emit fileChanged();
@@ -341,6 +346,7 @@ void EditorDocument::duplicateSelected()
         return;
     OccluderSpec copy = project_.occluders.at(selection_.index);
     copy.name += " copy";
+    setOccluderFlags(copy, {});   // a copy starts shown and free to move
     // Offset by half the object's first axis, so the copy is visible beside the original.
     copy.transform[3] += 0.5f * copy.transform[0];
     addOccluder(copy);
@@ -349,7 +355,12 @@ void EditorDocument::duplicateSelected()
 void EditorDocument::insertOccluder(std::size_t index, const OccluderSpec& spec)
 {
     project_.occluders.insert(project_.occluders.begin() + std::ptrdiff_t(std::min(index, project_.occluders.size())), spec);
-    invalidate(OccludersChanged);
+    unsigned changes = OccludersChanged;
+    if (isolated_.kind == ObjectKind::Occluder) {   // its index may now name another occluder
+        isolated_ = {};
+        changes |= FlagsChanged;
+    }
+    invalidate(changes);
 }
 
 void EditorDocument::renameOccluder(std::size_t index, const std::string& name)
@@ -368,7 +379,95 @@ void EditorDocument::applyOccluderName(std::size_t index, const std::string& nam
 void EditorDocument::eraseOccluder(std::size_t index)
 {
     project_.occluders.erase(project_.occluders.begin() + std::ptrdiff_t(index));
-    invalidate(OccludersChanged);
+    unsigned changes = OccludersChanged;
+    if (isolated_.kind == ObjectKind::Occluder) {   // its index may now name another occluder
+        isolated_ = {};
+        changes |= FlagsChanged;
+    }
+    invalidate(changes);
+}
+
+ObjectFlags EditorDocument::flags(ObjectRef object) const
+{
+    switch (object.kind) {
+    case ObjectKind::Occluder: return object.index < project_.occluders.size() ? occluderFlags(project_.occluders[object.index]) : ObjectFlags{};
+    case ObjectKind::SceneObject: return object.index < instanceFlags_.size() ? instanceFlags_[object.index] : ObjectFlags{};
+    case ObjectKind::Source:
+    case ObjectKind::Receiver: return settingsFlags(editorSettings(), object);
+    case ObjectKind::None: break;
+    }
+    return {};
+}
+
+void EditorDocument::setFlags(ObjectRef object, ObjectFlags after, const QString& text)
+{
+    const ObjectFlags before = flags(object);
+    if (object && before != after)
+        undo_.push(new SetFlagsCommand(*this, object, before, after, text));
+}
+
+void EditorDocument::applyFlags(ObjectRef object, ObjectFlags flags)
+{
+    if (object.kind == ObjectKind::Occluder) {
+        setOccluderFlags(project_.occluders.at(object.index), flags);
+    } else {
+        nlohmann::json editor = editorSettings();
+        setSettingsFlags(editor, object, flags);
+        setEditorSettings(editor);
+        if (object.kind == ObjectKind::SceneObject)
+            instanceFlags_.at(object.index) = flags;
+    }
+    invalidate(FlagsChanged);
+}
+
+void EditorDocument::showAll()
+{
+    std::vector<ObjectRef> hidden;
+    for (ObjectKind kind : {ObjectKind::Source, ObjectKind::Receiver})
+        if (flags({kind, 0}).hidden)
+            hidden.push_back({kind, 0});
+    for (std::size_t i = 0; i < project_.occluders.size(); ++i)
+        if (flags({ObjectKind::Occluder, i}).hidden)
+            hidden.push_back({ObjectKind::Occluder, i});
+    for (std::size_t i = 0; i < instanceFlags_.size(); ++i)
+        if (instanceFlags_[i].hidden)
+            hidden.push_back({ObjectKind::SceneObject, i});
+    setIsolated({});
+    if (hidden.empty())
+        return;
+    undo_.beginMacro(tr("Show all"));
+    for (ObjectRef object : hidden) {
+        ObjectFlags shown = flags(object);
+        shown.hidden = false;
+        undo_.push(new SetFlagsCommand(*this, object, flags(object), shown, {}));
+    }
+    undo_.endMacro();
+}
+
+void EditorDocument::setIsolated(ObjectRef object)
+{
+    if (object == isolated_)
+        return;
+    isolated_ = object;
+    invalidate(FlagsChanged);
+}
+
+bool EditorDocument::isShown(ObjectRef object) const
+{
+    if (flags(object).hidden)
+        return false;
+    return !isolated_ || object == isolated_ || object.isPatch();
+}
+
+std::vector<std::uint8_t> EditorDocument::hiddenMask(ObjectKind kind) const
+{
+    const std::size_t count = kind == ObjectKind::SceneObject ? sceneFile_.instances.size()
+                              : kind == ObjectKind::Occluder  ? project_.occluders.size()
+                                                              : 0;
+    std::vector<std::uint8_t> mask(count);
+    for (std::size_t i = 0; i < count; ++i)
+        mask[i] = isShown({kind, i}) ? 0 : 1;
+    return mask;
 }
 
 void EditorDocument::select(ObjectRef object)

@@ -17,6 +17,7 @@
 #include <QUndoStack>
 
 #include "ObjectEdits.h"
+#include "ObjectFlags.h"
 #include "project/Project.h"
 
 namespace sightline::ui {
@@ -29,6 +30,7 @@ enum Change : unsigned {
     DocumentReset = 1u << 3,      ///< new or opened document: everything
     NamesChanged = 1u << 4,       ///< an occluder renamed: nothing to sample or draw again
     ProjectKeysChanged = 1u << 5, ///< a top-level key ("recorded_path", "pvs" overrides): no geometry
+    FlagsChanged = 1u << 6,       ///< hidden, locked or isolated: what is drawn and picked, no ray
 };
 
 class EditorDocument : public QObject {
@@ -87,11 +89,29 @@ public:
     /// Renames placed occluder `index` (the level's own objects keep the file's names).
     void renameOccluder(std::size_t index, const std::string& name);
 
+    // ---- hide, isolate, lock (ObjectFlags.h says what each means) ----
+    ObjectFlags flags(ObjectRef object) const;
+    /// One undoable step (hidden and locked are kept in the project).
+    void setFlags(ObjectRef object, ObjectFlags flags, const QString& text);
+    /// Shows every hidden object (one undoable step) and ends isolation.
+    void showAll();
+    /// Isolation: only `object` (and the patches) drawn and picked; None ends it. View state:
+    /// neither undone nor saved; a new document or a change of the occluder list ends it.
+    void setIsolated(ObjectRef object);
+    ObjectRef isolated() const { return isolated_; }
+    /// Drawn: not hidden, and not isolated away.
+    bool isShown(ObjectRef object) const;
+    /// Picked by a click in the view: shown and not locked.
+    bool isPickable(ObjectRef object) const { return isShown(object) && !flags(object).locked; }
+    /// Per level instance (SceneObject) or placed occluder (Occluder), 1 where it is not shown.
+    std::vector<std::uint8_t> hiddenMask(ObjectKind kind) const;
+
     // ---- applied by the undo commands only ----
     void applyState(ObjectRef object, const ObjectState& state);
     void insertOccluder(std::size_t index, const OccluderSpec& spec);
     void eraseOccluder(std::size_t index);
     void applyOccluderName(std::size_t index, const std::string& name);
+    void applyFlags(ObjectRef object, ObjectFlags flags);
     const OccluderSpec& occluder(std::size_t index) const { return project_.occluders.at(index); }
     /// Sets (or, with a null value, removes) a top-level key of the project kept for other tools,
     /// such as "recorded_path" (RecordingControls.h). Changes nothing the views draw.
@@ -125,6 +145,8 @@ private:
     mutable std::vector<std::size_t> occluderOfInstance_;
     mutable std::optional<Scene> scene_;
     bool allowOutsidePaths_ = false;
+    ObjectRef isolated_;
+    std::vector<ObjectFlags> instanceFlags_;   ///< of the level's instances, read from the settings
 };
 
 /// Patches across a level: a source and a receiver of `side` metres, 1.5 m above the floor,

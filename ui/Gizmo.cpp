@@ -7,7 +7,7 @@ namespace sightline::ui {
 
 namespace {
 
-constexpr double kScreenFraction = 0.15;     // handle length relative to the eye distance
+constexpr double kScreenFraction = 0.15;     // handle length relative to the eye distance (Camera::screenDepth)
 constexpr double kRadiansPerPixel = 0.01;
 
 /// Parameter s of the point pivot + s * axis closest to the pixel's ray.
@@ -31,15 +31,15 @@ double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dv
 
 } // namespace
 
-GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera)
+GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera, GizmoSpace space)
 {
     GizmoFrame frame;
     frame.pivot = pivotOf(state);
-    if (mode == GizmoMode::Scale)
+    if (mode == GizmoMode::Scale || space == GizmoSpace::Local)
         frame.axes = localAxesOf(state);
     else
         frame.axes = {glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1)};
-    frame.length = std::max(kScreenFraction * glm::length(camera.eye() - frame.pivot), 1e-3);
+    frame.length = std::max(kScreenFraction * camera.screenDepth(frame.pivot), 1e-3);
     return frame;
 }
 
@@ -67,13 +67,14 @@ int pickGizmoAxis(const GizmoFrame& frame, const Camera& camera, double x, doubl
 }
 
 GizmoDrag beginGizmoDrag(GizmoMode mode, int axis, const ObjectState& start, const Camera& camera, double x, double y,
-                         int width, int height)
+                         int width, int height, GizmoSpace space)
 {
     GizmoDrag drag;
     drag.mode = mode;
+    drag.space = space;
     drag.axis = axis;
     drag.start = start;
-    drag.frame = gizmoFrame(start, mode, camera);
+    drag.frame = gizmoFrame(start, mode, camera, space);
     drag.startParam = axisParameter(drag.frame.pivot, drag.frame.axes[std::size_t(axis)], pixelRay(camera, x, y, width, height));
     drag.startX = x;
     return drag;
@@ -88,8 +89,9 @@ ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, dou
     case GizmoMode::Move: {
         const double s = axisParameter(drag.frame.pivot, axis, pixelRay(camera, x, y, width, height));
         // On the grid: the pivot's own coordinate along the (world) axis, not the distance moved,
-        // so an object placed off the grid lands on it at its first snapped step.
-        const double from = glm::dot(drag.frame.pivot, axis);
+        // so an object placed off the grid lands on it at its first snapped step. A local axis
+        // need not meet the grid: there the distance moved is snapped.
+        const double from = drag.space == GizmoSpace::World ? glm::dot(drag.frame.pivot, axis) : 0.0;
         const double delta = snapped(from + s - drag.startParam, snap.move) - from;
         return translated(drag.start, delta * axis);
     }

@@ -1,8 +1,11 @@
 #pragma once
 // The transform gizmo: three axis handles at the selected object's pivot, drawn at a constant
-// size on screen. Move drags along a world axis, Rotate turns about one, Scale stretches along
-// the object's own axis (a patch's u or v). Pure geometry on a Camera, so it is tested without
-// a window; the viewport only draws the handles and forwards the mouse.
+// size on screen. Move drags along an axis, Rotate turns about one, Scale stretches along the
+// object's own axis (a patch's u or v). In world space (the default) move and rotate use the world
+// axes; in local space (X, as in Unity) the object's own axes, so a turned crate slides along its
+// own length. Scaling always uses the object's own axes: along a world axis it would shear a
+// turned object. Pure geometry on a Camera, so it is tested without a window; the viewport only
+// draws the handles and forwards the mouse.
 
 #include <array>
 
@@ -12,6 +15,7 @@
 namespace sightline::ui {
 
 enum class GizmoMode { Move, Rotate, Scale };
+enum class GizmoSpace { World, Local };
 
 struct GizmoFrame {
     glm::dvec3 pivot{0.0};
@@ -19,7 +23,7 @@ struct GizmoFrame {
     double length = 1.0;                ///< handle length in metres (constant on screen)
 };
 
-GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera);
+GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera, GizmoSpace space = GizmoSpace::World);
 
 /// The handle under pixel (x, y): 0, 1, 2, or -1 for none (within `tolerance` pixels).
 int pickGizmoAxis(const GizmoFrame& frame, const Camera& camera, double x, double y, int width, int height,
@@ -29,6 +33,7 @@ int pickGizmoAxis(const GizmoFrame& frame, const Camera& camera, double x, doubl
 /// (no drift) and the undo command gets one before/after pair.
 struct GizmoDrag {
     GizmoMode mode = GizmoMode::Move;
+    GizmoSpace space = GizmoSpace::World;
     int axis = 0;
     ObjectState start;
     GizmoFrame frame;
@@ -37,8 +42,9 @@ struct GizmoDrag {
 };
 
 /// Snapping (issue 16 §2), 0 = off for each: a move puts the pivot's coordinate along the axis
-/// on a multiple of `move` metres (a world grid), a rotation turns by multiples of `angle`
-/// radians, a scale changes the size by multiples of `scale` (0.1 = steps of 10%).
+/// on a multiple of `move` metres (a world grid; in local space, whose axes need not meet the grid,
+/// the distance moved is the multiple), a rotation turns by multiples of `angle` radians, a scale
+/// changes the size by multiples of `scale` (0.1 = steps of 10%).
 struct GizmoSnap {
     double move = 0.0;
     double angle = 0.0;
@@ -46,7 +52,7 @@ struct GizmoSnap {
 };
 
 GizmoDrag beginGizmoDrag(GizmoMode mode, int axis, const ObjectState& start, const Camera& camera, double x, double y,
-                         int width, int height);
+                         int width, int height, GizmoSpace space = GizmoSpace::World);
 ObjectState dragGizmo(const GizmoDrag& drag, const Camera& camera, double x, double y, int width, int height,
                       const GizmoSnap& snap = {});
 

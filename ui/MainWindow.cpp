@@ -29,8 +29,10 @@
 
 #include "EditCommands.h"
 #include "OutlinePanel.h"
+#include "PatchPresets.h"
 #include "OverlayControls.h"
 #include "Picking.h"
+#include "PreferencesDialog.h"
 #include "PropertiesPanel.h"
 #include "RecordingControls.h"
 #include "ViewSettings.h"
@@ -66,6 +68,7 @@ QString visibilitySummary(const VisibilityResult& result)
 MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWindow(parent)
 {
     controller_ = std::make_unique<ViewportController>(document_);
+    controller_->setSpeeds(loadNavigationSpeeds());
     viewport_ = new Viewport(document_, *controller_);
     container_ = QWidget::createWindowContainer(viewport_, this);
     container_->setMinimumSize(320, 240);
@@ -80,8 +83,17 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
 
     raysLabel_ = new QLabel(this);
     backendLabel_ = new QLabel(this);
+    viewLabel_ = new QLabel(this);
+    viewLabel_->setObjectName("viewLabel");
+    viewLabel_->setToolTip(tr("The projection (5 switches it)"));
     statusBar()->addWidget(raysLabel_, 1);
+    spaceLabel_ = new QLabel(this);
+    spaceLabel_->setObjectName("spaceLabel");
+    spaceLabel_->setToolTip(tr("The gizmo's axes for moving and rotating (X switches world / local)"));
+    statusBar()->addPermanentWidget(spaceLabel_);
+    statusBar()->addPermanentWidget(viewLabel_);
     statusBar()->addPermanentWidget(backendLabel_);
+    updateViewLabel();
     overlay_ = new OverlayControls(*this, document_, *viewport_, *controller_, container_, viewMenu_, toolbar_);
     recorder_ = new RecordingControls(*this, document_, *viewport_, *controller_, toolbar_);
     connect(viewport_, &Viewport::visibilityUpdated, this, &MainWindow::updateStatus);
@@ -246,9 +258,69 @@ void MainWindow::createActions()
                                          .arg(document_.objectName(selected)), 6000);
         else if (selected.kind == ObjectKind::Source || selected.kind == ObjectKind::Receiver)
             statusBar()->showMessage(tr("The source and the receiver cannot be deleted: move them, or place them again (Ctrl+1, Ctrl+2)"), 6000);
+        else if (selected && document_.flags(selected).locked)
+            statusBar()->showMessage(tr("%1 is locked: Ctrl+L unlocks it").arg(document_.objectName(selected)), 6000);
         else
             document_.removeSelected();
     });
+    // Hide, isolate, lock (ObjectFlags.h): Blender's and Unity's H and Shift+H; Ctrl+Shift+H shows
+    // all, Ctrl+L locks.
+    edit->addSeparator();
+    const auto flagSelection = [this](bool hide) {
+        const ObjectRef selected = document_.selection();
+        if (!selected) {
+            statusBar()->showMessage(tr("Select an object first (in the view or the outline)"), 4000);
+            return;
+        }
+        ObjectFlags flags = document_.flags(selected);
+        const QString name = document_.objectName(selected);
+        if (hide) {
+            flags.hidden = !flags.hidden;
+            document_.setFlags(selected, flags, (flags.hidden ? tr("Hide %1") : tr("Show %1")).arg(name));
+            statusBar()->showMessage(flags.hidden ? tr("%1 hidden: not drawn, not picked; it still blocks rays (H shows it, Ctrl+Shift+H shows all)").arg(name)
+                                                  : tr("%1 shown").arg(name),
+                                     5000);
+        } else {
+            flags.locked = !flags.locked;
+            document_.setFlags(selected, flags, (flags.locked ? tr("Lock %1") : tr("Unlock %1")).arg(name));
+            statusBar()->showMessage(flags.locked ? tr("%1 locked: clicks pass through it, it cannot be moved (Ctrl+L unlocks)").arg(name)
+                                                  : tr("%1 unlocked").arg(name),
+                                     5000);
+        }
+    };
+    QAction* hide = action(edit, tr("&Hide / Show Selected"), QKeySequence(Qt::Key_H), [flagSelection] { flagSelection(true); });
+    hide->setObjectName("hideSelected");
+    QAction* isolate = action(edit, tr("&Isolate Selected"), QKeySequence(Qt::SHIFT | Qt::Key_H), [this] {
+        if (document_.isolated()) {
+            document_.setIsolated({});
+            statusBar()->showMessage(tr("Isolation ended"), 3000);
+        } else if (const ObjectRef selected = document_.selection()) {
+            document_.setIsolated(selected);
+            statusBar()->showMessage(tr("Isolating %1: only it and the patches are drawn and picked (Shift+H ends it)")
+                                         .arg(document_.objectName(selected)), 5000);
+        } else {
+            statusBar()->showMessage(tr("Select the object to isolate first"), 4000);
+        }
+    });
+    isolate->setObjectName("isolateSelected");
+    // Not Blender's Alt+H: that opens the Help menu here.
+    QAction* showAll = action(edit, tr("Show &All"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_H), [this] {
+        document_.showAll();
+        statusBar()->showMessage(tr("Every object shown"), 3000);
+    });
+    showAll->setObjectName("showAll");
+    QAction* lock = action(edit, tr("&Lock / Unlock Selected"), QKeySequence(Qt::CTRL | Qt::Key_L), [flagSelection] { flagSelection(false); });
+    lock->setObjectName("lockSelected");
+    outline_->setContextActions({hide, isolate, showAll, lock});
+    edit->addSeparator();
+    // The designer's own settings (QSettings, not the project): orbit and fly speeds.
+    action(edit, tr("&Preferences..."), QKeySequence(Qt::CTRL | Qt::Key_Comma), [this] {
+        PreferencesDialog dialog(controller_->speeds(), this);
+        if (dialog.exec() != QDialog::Accepted)
+            return;
+        controller_->setSpeeds(dialog.speeds());
+        saveNavigationSpeeds(dialog.speeds());
+    })->setObjectName("preferences");
     action(edit, tr("Select &None"), QKeySequence(Qt::Key_Escape), [this] {
         controller_->setTool(Tool::Select);
         document_.select({});
@@ -257,6 +329,22 @@ void MainWindow::createActions()
     QMenu* create = menuBar()->addMenu(tr("&Create"));
     action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
     action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
+    // The size placing gives a patch: its own, or a preset (issue 16 §2), checked in the menu.
+    QMenu* placingSize = create->addMenu(tr("Placing Si&ze"));
+    placingSize->setObjectName("placingSize");
+    auto* sizes = new QActionGroup(this);
+    QAction* keep = placingSize->addAction(tr("The Patch's Own Size"), this, [this] { controller_->setPlacementSize(std::nullopt); });
+    keep->setCheckable(true);
+    keep->setChecked(true);
+    sizes->addAction(keep);
+    for (const PatchPreset& preset : patchPresets()) {
+        const QString name = QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size()));
+        QAction* a = placingSize->addAction(tr("%1 %2 × %3 m").arg(name).arg(preset.width, 0, 'g', 3).arg(preset.height, 0, 'g', 3), this,
+                                            [this, preset] { controller_->setPlacementSize(std::pair(preset.width, preset.height)); });
+        a->setCheckable(true);
+        a->setObjectName("placingSize-" + name);
+        sizes->addAction(a);
+    }
     create->addSeparator();
     auto addBuiltin = [this](const std::string& mesh) {
         OccluderSpec spec;
@@ -299,6 +387,23 @@ void MainWindow::createActions()
         modes->addAction(a);
         toolbar->addAction(a);
     }
+    // World or local axes for moving and rotating (issue 16 §2; X, as Unity's pivot rotation toggle).
+    transform->addSeparator();
+    spaceAction_ = action(transform, tr("&Local Axes"), QKeySequence(Qt::Key_X), [this](bool local) {
+        controller_->setGizmoSpace(local ? GizmoSpace::Local : GizmoSpace::World);
+        statusBar()->showMessage(local ? tr("Local axes: moves and turns follow the object's own axes (X: world)")
+                                       : tr("World axes: moves and turns follow the world's X, Y, Z (X: local)"),
+                                 3000);
+    });
+    spaceAction_->setCheckable(true);
+    spaceAction_->setObjectName("localAxes");
+    spaceAction_->setToolTip(tr("Move and rotate along the object's own axes (X)"));
+    toolbar->addAction(spaceAction_);
+    connect(controller_.get(), &ViewportController::gizmoSpaceChanged, this, [this](GizmoSpace space) {
+        const QSignalBlocker quiet(spaceAction_);
+        spaceAction_->setChecked(space == GizmoSpace::Local);
+        updateViewLabel();
+    });
     // Snapping (issue 16 §2): a world grid for moves ([ and ] halve and double it, as in
     // TrenchBroom), 15 degree steps for rotations, 10% steps for scaling.
     transform->addSeparator();
@@ -346,8 +451,17 @@ void MainWindow::createActions()
         {tr("&Top"), {AxisView::Top, Qt::Key_7}}, {tr("&Front"), {AxisView::Front, Qt::Key_1}}, {tr("&Side"), {AxisView::Side, Qt::Key_3}}};
     for (const auto& [name, axis] : axes) {
         const AxisView which = axis.first;
-        action(cameraMenu, name, QKeySequence(axis.second), [this, which, sceneBounds] { controller_->setCamera(axisView(which, sceneBounds())); });
+        action(cameraMenu, name, QKeySequence(axis.second), [this, which, sceneBounds] { controller_->showAxisView(axisView(which, sceneBounds())); });
     }
+    // Perspective / orthographic (Blender's numpad 5; Qt matches Key_5 on the keypad too). The axis
+    // views are orthographic until an orbit leaves them; the designer's choice here stays.
+    orthoAction_ = action(cameraMenu, tr("&Orthographic"), QKeySequence(Qt::Key_5), [this](bool on) {
+        controller_->setOrthographic(on);
+        statusBar()->showMessage(on ? tr("Orthographic view (5: perspective)") : tr("Perspective view (5: orthographic)"), 3000);
+    });
+    orthoAction_->setCheckable(true);
+    orthoAction_->setObjectName("orthographic");
+    connect(controller_.get(), &ViewportController::viewChanged, this, &MainWindow::updateViewLabel);
     cameraMenu->addSeparator();
     const auto lookFrom = [this](bool fromSource) {
         const Project& p = document_.project();
@@ -485,6 +599,10 @@ void MainWindow::createActions()
         statusBar()->showMessage(tr("Section cut at %1 m").arg(style.cutHeight, 0, 'f', 2), 3000);
         viewport_->requestUpdate();
     };
+    // Its handle in the view (a cyan grip with arrows on the cut plane) drags it: a view setting, no undo.
+    connect(controller_.get(), &ViewportController::cutMoved, this, [this](double height) {
+        statusBar()->showMessage(tr("Section cut at %1 m").arg(height, 0, 'f', 2), 3000);
+    });
     action(view, tr("Raise Section Cut"), QKeySequence(Qt::Key_PageUp), [moveCut] { moveCut(0.5); });
     action(view, tr("Lower Section Cut"), QKeySequence(Qt::Key_PageDown), [moveCut] { moveCut(-0.5); });
     QAction* rays = action(view, tr("Show &Rays"), QKeySequence(Qt::Key_V), [this](bool on) {
@@ -520,11 +638,15 @@ void MainWindow::createActions()
         QMessageBox::information(this, tr("Controls"),
                                  tr("Orbit: left drag (or Alt + left drag)\nPan: middle drag or Shift + left drag\n"
                                     "Zoom: wheel\nFly: hold the right button, W A S D Q E, Shift for speed\n"
+                                    "Orbit and fly speeds: Edit > Preferences (Ctrl+,)\n"
                                     "Frame selection: F; frame all: Home\n"
-                                    "Top / front / side view: 7 / 1 / 3; look through the source / from the receiver: L / Shift+L\n"
-                                    "Move / Rotate / Scale handles: W / E / R\n"
-                                    "Section cut on / off: C; raise / lower it: Page Up / Page Down\n"
+                                    "Top / front / side view (orthographic): 7 / 1 / 3; perspective / orthographic: 5\n"
+                                    "Look through the source / from the receiver: L / Shift+L\n"
+                                    "Move / Rotate / Scale handles: W / E / R; world / local axes: X\n"
+                                    "Snapping: G; finer / coarser grid: [ / ]\n"
+                                    "Section cut on / off: C; raise / lower it: Page Up / Page Down, or drag its cyan handle\n"
                                     "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
+                                    "Hide / show the selection: H; isolate it: Shift+H; show all: Ctrl+Shift+H; lock it: Ctrl+L\n"
                                     "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click\n"
                                     "Record video (camera and edits) / stop: F9; play the recorded path: Shift+F9"));
     });
@@ -734,6 +856,19 @@ void MainWindow::applySnap()
     statusBar()->showMessage(on ? tr("Snapping: moves to a %1 m grid, rotations by 15°, scaling by 10%").arg(gridStep_, 0, 'g', 4)
                                 : tr("Snapping off (G turns it on; [ and ] change the grid)"),
                              4000);
+}
+
+void MainWindow::updateViewLabel()
+{
+    if (!viewLabel_ || !spaceLabel_ || !orthoAction_)
+        return;
+    const bool ortho = controller_->camera().orthographic;
+    if (orthoAction_->isChecked() != ortho) {
+        const QSignalBlocker quiet(orthoAction_);   // showing the state, not choosing it
+        orthoAction_->setChecked(ortho);
+    }
+    viewLabel_->setText(ortho ? tr("Orthographic") : tr("Perspective"));
+    spaceLabel_->setText(controller_->gizmoSpace() == GizmoSpace::Local ? tr("Local axes") : tr("World axes"));
 }
 
 void MainWindow::updateRateLabel()

@@ -81,6 +81,8 @@ private:
     void updateTitle();
     void updateStatus();
     void updateRateLabel();
+    /// The status bar's projection and gizmo-axes labels, and the View menu's Orthographic check.
+    void updateViewLabel();
     void applySnap();
     /// " · the source is inside wall_middle" when a patch sits inside a closed object, else empty.
     QString enclosedPatchNote();
@@ -103,6 +105,10 @@ private:
     QMenu* recentMenu_ = nullptr;
     QLabel* raysLabel_ = nullptr;
     QLabel* backendLabel_ = nullptr;
+    QLabel* viewLabel_ = nullptr;
+    QLabel* spaceLabel_ = nullptr;
+    QAction* spaceAction_ = nullptr;
+    QAction* orthoAction_ = nullptr;
     QMenu* viewMenu_ = nullptr;
     QAction* cutAction_ = nullptr;
     std::optional<std::array<glm::dvec3, 2>> enclosedFor_;   ///< patch centres enclosedNote_ was found for

@@ -1,6 +1,9 @@
 #include "OutlinePanel.h"
 
+#include <QAction>
+#include <QHeaderView>
 #include <QLineEdit>
+#include <QStyledItemDelegate>
 #include <QTreeWidget>
 #include <QVBoxLayout>
 
@@ -13,6 +16,13 @@ namespace sightline::ui {
 namespace {
 constexpr int kKindRole = Qt::UserRole;
 constexpr int kIndexRole = Qt::UserRole + 1;
+
+/// The check-box columns are not text to edit (an occluder's row is editable for its name).
+class NoEditor : public QStyledItemDelegate {
+public:
+    using QStyledItemDelegate::QStyledItemDelegate;
+    QWidget* createEditor(QWidget*, const QStyleOptionViewItem&, const QModelIndex&) const override { return nullptr; }
+};
 } // namespace
 
 std::vector<QString> distinctNames(const std::vector<QString>& names)
@@ -39,13 +49,24 @@ OutlinePanel::OutlinePanel(EditorDocument& document, QWidget* parent) : QWidget(
     layout->addWidget(search_);
     tree_ = new QTreeWidget(this);
     layout->addWidget(tree_);
-    tree_->setHeaderHidden(true);
+    tree_->setColumnCount(3);
+    tree_->setHeaderLabels({tr("Object"), tr("Show"), tr("Lock")});
+    tree_->header()->setStretchLastSection(false);
+    tree_->header()->setSectionResizeMode(NameColumn, QHeaderView::Stretch);
+    tree_->header()->setSectionResizeMode(ShowColumn, QHeaderView::ResizeToContents);
+    tree_->header()->setSectionResizeMode(LockColumn, QHeaderView::ResizeToContents);
+    tree_->setItemDelegateForColumn(ShowColumn, new NoEditor(tree_));
+    tree_->setItemDelegateForColumn(LockColumn, new NoEditor(tree_));
+    tree_->headerItem()->setToolTip(ShowColumn, tr("Shown in the view (hidden objects still block rays)"));
+    tree_->headerItem()->setToolTip(LockColumn, tr("Locked: clicks pass through it, and it cannot be moved"));
     tree_->setSelectionMode(QAbstractItemView::SingleSelection);
     tree_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
     connect(search_, &QLineEdit::textChanged, this, &OutlinePanel::setFilter);
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
         if (changes & (OccludersChanged | DocumentReset | NamesChanged))
             rebuild();
+        else if (changes & FlagsChanged)
+            refreshFlags();
     });
     connect(&document_, &EditorDocument::selectionChanged, this, &OutlinePanel::showSelection);
     connect(tree_, &QTreeWidget::itemSelectionChanged, this, [this] {
@@ -60,8 +81,24 @@ OutlinePanel::OutlinePanel(EditorDocument& document, QWidget* parent) : QWidget(
                           std::size_t(items.front()->data(0, kIndexRole).toULongLong())});
     });
     // An occluder's name edited in place: one undoable rename (the rebuild shows the result).
-    connect(tree_, &QTreeWidget::itemChanged, this, [this](QTreeWidgetItem* item, int) {
-        if (updating_ || item->data(0, kKindRole).toInt() != int(ObjectKind::Occluder))
+    connect(tree_, &QTreeWidget::itemChanged, this, [this](QTreeWidgetItem* item, int column) {
+        if (updating_ || item->data(0, kKindRole).toInt() == int(ObjectKind::None))
+            return;
+        const ObjectRef object{ObjectKind(item->data(0, kKindRole).toInt()), std::size_t(item->data(0, kIndexRole).toULongLong())};
+        if (column == ShowColumn || column == LockColumn) {
+            ObjectFlags flags = document_.flags(object);
+            const bool checked = item->checkState(column) == Qt::Checked;
+            if (column == ShowColumn)
+                flags.hidden = !checked;
+            else
+                flags.locked = checked;
+            const QString name = document_.objectName(object);
+            document_.setFlags(object, flags,
+                               column == ShowColumn ? (checked ? tr("Show %1") : tr("Hide %1")).arg(name)
+                                                    : (checked ? tr("Lock %1") : tr("Unlock %1")).arg(name));
+            return;
+        }
+        if (object.kind != ObjectKind::Occluder)
             return;
         const std::size_t index = std::size_t(item->data(0, kIndexRole).toULongLong());
         const QString name = item->text(0).trimmed();
@@ -85,7 +122,12 @@ void OutlinePanel::rebuild()
         item->setExpanded(true);
         return item;
     };
-    auto addAll = [this](QTreeWidgetItem* parent, ObjectKind kind, std::size_t count) {
+    const auto checkable = [](QTreeWidgetItem* item) {
+        item->setFlags(item->flags() | Qt::ItemIsUserCheckable);
+        item->setCheckState(ShowColumn, Qt::Checked);
+        item->setCheckState(LockColumn, Qt::Unchecked);
+    };
+    auto addAll = [this, checkable](QTreeWidgetItem* parent, ObjectKind kind, std::size_t count) {
         std::vector<QString> names;
         for (std::size_t i = 0; i < count; ++i)
             names.push_back(document_.objectName({kind, i}));
@@ -94,6 +136,7 @@ void OutlinePanel::rebuild()
             auto* item = new QTreeWidgetItem(parent, {shown[i]});
             item->setData(0, kKindRole, int(kind));
             item->setData(0, kIndexRole, qulonglong(i));
+            checkable(item);
             if (kind == ObjectKind::Occluder) {
                 item->setText(0, names[i]);   // edited as the name itself; numbered in the tooltip
                 item->setFlags(item->flags() | Qt::ItemIsEditable);
@@ -108,6 +151,7 @@ void OutlinePanel::rebuild()
         auto* item = new QTreeWidgetItem(patches_, {document_.objectName({kind, 0})});
         item->setData(0, kKindRole, int(kind));
         item->setData(0, kIndexRole, qulonglong(0));
+        checkable(item);
     }
     occluders_ = group(tr("Occluders (%1)").arg(document_.project().occluders.size()));
     addAll(occluders_, ObjectKind::Occluder, document_.project().occluders.size());
@@ -116,8 +160,53 @@ void OutlinePanel::rebuild()
     sceneFile_->setExpanded(objects <= 200);
     addAll(sceneFile_, ObjectKind::SceneObject, objects);
     updating_ = false;
+    refreshFlags();
     setFilter(search_->text());
     showSelection(document_.selection());
+}
+
+void OutlinePanel::refreshFlags()
+{
+    updating_ = true;
+    const ObjectRef isolated = document_.isolated();
+    for (QTreeWidgetItem* group : {patches_, occluders_, sceneFile_}) {
+        if (!group)
+            continue;
+        for (int i = 0; i < group->childCount(); ++i) {
+            QTreeWidgetItem* item = group->child(i);
+            const ObjectRef object{ObjectKind(item->data(0, kKindRole).toInt()), std::size_t(item->data(0, kIndexRole).toULongLong())};
+            const ObjectFlags flags = document_.flags(object);
+            const Qt::CheckState show = flags.hidden ? Qt::Unchecked : Qt::Checked, lock = flags.locked ? Qt::Checked : Qt::Unchecked;
+            if (item->checkState(ShowColumn) != show)
+                item->setCheckState(ShowColumn, show);
+            if (item->checkState(LockColumn) != lock)
+                item->setCheckState(LockColumn, lock);
+            const bool shown = document_.isShown(object);
+            QFont font = item->font(NameColumn);
+            font.setItalic(flags.hidden);
+            item->setFont(NameColumn, font);
+            item->setForeground(NameColumn, shown ? tree_->palette().brush(QPalette::Text) : tree_->palette().brush(QPalette::Disabled, QPalette::Text));
+            QString note;
+            if (flags.hidden)
+                note = tr("hidden: not drawn, not picked; it still blocks rays");
+            else if (!shown)
+                note = tr("hidden while another object is isolated (Shift+H ends it)");
+            if (flags.locked)
+                note += (note.isEmpty() ? QString() : QString("; ")) + tr("locked: clicks pass through it, it cannot be moved");
+            item->setToolTip(ShowColumn, note.isEmpty() ? tr("Shown") : note);
+            item->setToolTip(LockColumn, flags.locked ? tr("Locked") : tr("Not locked"));
+            item->setData(NameColumn, Qt::StatusTipRole, note);
+        }
+    }
+    if (patches_)
+        patches_->setText(NameColumn, isolated ? tr("Patches (isolating %1)").arg(document_.objectName(isolated)) : tr("Patches"));
+    updating_ = false;
+}
+
+void OutlinePanel::setContextActions(const QList<QAction*>& actions)
+{
+    tree_->setContextMenuPolicy(Qt::ActionsContextMenu);
+    tree_->addActions(actions);
 }
 
 void OutlinePanel::setFilter(const QString& text)

@@ -1,5 +1,6 @@
 #include "PropertiesPanel.h"
 
+#include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGroupBox>
@@ -9,6 +10,7 @@
 #include <QVBoxLayout>
 
 #include "EditorDocument.h"
+#include "PatchPresets.h"
 
 namespace sightline::ui {
 
@@ -21,6 +23,27 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
 
     patchBox_ = new QGroupBox(tr("Patch"), this);
     auto* patchForm = new QFormLayout(patchBox_);
+    // Size presets: doorway, window, player... (one undoable resize; "Custom" is what the fields say).
+    size_ = new QComboBox(patchBox_);
+    size_->setObjectName("patchSize");
+    size_->addItem(tr("Custom"));
+    for (const PatchPreset& preset : patchPresets())
+        size_->addItem(tr("%1 %2 × %3 m").arg(QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size())))
+                           .arg(preset.width, 0, 'g', 3)
+                           .arg(preset.height, 0, 'g', 3));
+    size_->setToolTip(tr("Width × height (height upwards on a wall, whose patch keeps its bottom edge)"));
+    connect(size_, &QComboBox::activated, this, [this](int index) {
+        const ObjectRef selection = document_.selection();
+        if (refreshing_ || index < 1 || !selection.isPatch() || document_.flags(selection).locked)
+            return;
+        const PatchPreset& preset = patchPresets()[std::size_t(index - 1)];
+        const Patch before = std::get<Patch>(document_.state(selection));
+        const Patch after = resizedPatch(before, preset.width, preset.height);
+        if (after.u != before.u || after.v != before.v || after.corner != before.corner)
+            document_.editState(selection, before, after,
+                                tr("Resize %1 to %2").arg(document_.objectName(selection), QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size())).toLower()));
+    });
+    patchForm->addRow(tr("Size"), size_);
     centre_ = addVec3(patchForm, tr("Centre"), 0.05, " m");
     u_ = addVec3(patchForm, tr("Edge u"), 0.05, " m");
     v_ = addVec3(patchForm, tr("Edge v"), 0.05, " m");
@@ -96,7 +119,12 @@ void PropertiesPanel::refresh()
 {
     refreshing_ = true;
     const ObjectRef selection = document_.selection();
-    title_->setText(selection ? document_.objectName(selection) : tr("Nothing selected"));
+    // A locked object is shown, not edited (ObjectFlags.h).
+    const bool locked = selection && document_.flags(selection).locked;
+    title_->setText(selection ? (locked ? tr("%1 (locked)").arg(document_.objectName(selection)) : document_.objectName(selection))
+                              : tr("Nothing selected"));
+    patchBox_->setEnabled(!locked);
+    transformBox_->setEnabled(!locked);
     patchBox_->setVisible(selection.isPatch());
     transformBox_->setVisible(selection.kind == ObjectKind::Occluder || selection.kind == ObjectKind::SceneObject);
     auto set = [](const Vec3Fields& fields, const glm::dvec3& value) {
@@ -113,6 +141,8 @@ void PropertiesPanel::refresh()
         nb_->setRange(1, limit);
         na_->setValue(p.na);
         nb_->setValue(p.nb);
+        const std::optional<std::size_t> preset = presetOf(p);
+        size_->setCurrentIndex(preset ? int(*preset) + 1 : 0);
     } else if (selection) {
         const Decomposed parts = decompose(std::get<glm::mat4>(document_.state(selection)));
         set(position_, parts.position);
@@ -125,7 +155,7 @@ void PropertiesPanel::refresh()
 void PropertiesPanel::commit()
 {
     const ObjectRef selection = document_.selection();
-    if (refreshing_ || !selection)
+    if (refreshing_ || !selection || document_.flags(selection).locked)
         return;
     auto get = [](const Vec3Fields& fields) {
         return glm::dvec3(fields[0]->value(), fields[1]->value(), fields[2]->value());

@@ -1,11 +1,13 @@
 #pragma once
-// Numeric editing of the selected object: a patch's centre, edge vectors and sample grid, or an
-// object's position, rotation (degrees) and scale. Each finished field is one undo command.
+// Numeric editing of the selected object: a patch's size preset (PatchPresets.h), centre, edge
+// vectors and sample grid, or an object's position, rotation (degrees) and scale. Each finished
+// field, and each preset chosen, is one undo command. A locked object's fields are greyed.
 
 #include <array>
 
 #include <QWidget>
 
+class QComboBox;
 class QDoubleSpinBox;
 class QFormLayout;
 class QGroupBox;
@@ -24,6 +26,9 @@ public:
     /// Shows the pair's problem under the patch fields (empty: valid).
     void setPairError(const QString& error);
 
+    /// The patch's size: "Custom" (0) or a preset (1 + its index in patchPresets()).
+    QComboBox* sizeCombo() const { return size_; }
+
     /// One width whatever is selected, so the dock (and the viewport beside it) never jumps.
     QSize sizeHint() const override;
 
@@ -37,6 +42,7 @@ private:
     QLabel* title_ = nullptr;
     QGroupBox* patchBox_ = nullptr;
     QGroupBox* transformBox_ = nullptr;
+    QComboBox* size_ = nullptr;
     Vec3Fields centre_{}, u_{}, v_{};
     QSpinBox* na_ = nullptr;
     QSpinBox* nb_ = nullptr;

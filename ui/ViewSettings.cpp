@@ -8,8 +8,11 @@ using nlohmann::json;
 
 json cameraToJson(const Camera& c)
 {
-    return {{"target", {c.target.x, c.target.y, c.target.z}}, {"distance", c.distance}, {"yaw", c.yaw},
-            {"pitch", c.pitch}, {"fov_y", c.fovY}};
+    json out = {{"target", {c.target.x, c.target.y, c.target.z}}, {"distance", c.distance}, {"yaw", c.yaw},
+                {"pitch", c.pitch}, {"fov_y", c.fovY}};
+    if (c.orthographic)
+        out["orthographic"] = true;   // absent: perspective (files saved before the key read as they did)
+    return out;
 }
 
 std::optional<Camera> cameraFromJson(const json& value)
@@ -38,6 +41,8 @@ std::optional<Camera> cameraFromJson(const json& value)
     double fov = c.fovY;
     if (number("fov_y", fov) && fov > 0.05 && fov < 3.0)
         c.fovY = fov;
+    if (const auto it = value.find("orthographic"); it != value.end() && it->is_boolean())
+        c.orthographic = it->get<bool>();
     return c;
 }
 

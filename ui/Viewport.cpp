@@ -42,6 +42,11 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
         if (changes == NamesChanged)
             return;   // a rename changes no ray and no pixel of the view
+        if (changes == FlagsChanged) {
+            flagsDirty_ = true;   // hidden, locked or isolated: drawn anew, not sampled (hidden objects block rays)
+            update();
+            return;
+        }
         if (changes == ProjectKeysChanged) {
             pvsRowsChanged_ = true;   // the PVS overrides may have changed: shown anew, not baked again
             update();
@@ -64,6 +69,7 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
         if (changes & (OccludersChanged | DocumentReset))
             occludersDirty_ = true;
+        flagsDirty_ = flagsDirty_ || (changes & FlagsChanged);
         if (changes & (OccludersChanged | SceneFileChanged | DocumentReset)) {
             // Baked for the old scene: again now while the debugger is on, else when it is next.
             pvsStale_ = style_.pvsDebugger;
@@ -162,6 +168,9 @@ void Viewport::paintGL()
         renderer_->setSceneFile(document_.sceneFile());
     if (occludersDirty_)
         renderer_->setOccluders(document_.occluderScene(), document_.occluderOfInstance());
+    if (flagsDirty_ || sceneChanged)
+        renderer_->setHiddenObjects(document_.hiddenMask(ObjectKind::SceneObject), document_.hiddenMask(ObjectKind::Occluder));
+    flagsDirty_ = false;
     if (!backendChosen_)
         visibility_.forgetChoice();   // before setScene: the GL sampler needs the level for its timing
     if (sceneChanged) {
@@ -296,6 +305,8 @@ void Viewport::paintGL()
     frame.sceneRadius = controller_.sceneRadius();
     frame.source = project.source;
     frame.receiver = project.receiver;
+    frame.sourceHidden = !document_.isShown({ObjectKind::Source, 0});
+    frame.receiverHidden = !document_.isShown({ObjectKind::Receiver, 0});
     // Red patches say the pair is invalid now, whatever the last answer was for.
     frame.pairValid = resultIsStale() ? pairIsValid(project.source, project.receiver) : result_.valid;
     frame.selection = document_.selection();
@@ -303,6 +314,9 @@ void Viewport::paintGL()
     frame.gizmoMode = controller_.gizmoMode();
     frame.placementGhost = controller_.placementGhost();
     frame.hoveredAxis = controller_.hoveredAxis();
+    frame.cutHandle = controller_.cutHandle();
+    frame.cutHandleHovered = controller_.cutHandleHovered() || controller_.isDraggingCut();
+    frame.levelBounds = controller_.levelBounds();
     frame.style = style_;
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();

@@ -169,7 +169,7 @@ private:
     std::uint64_t overlayVersion_ = 0;   ///< the overlay version the renderer has
     ViewStyle style_;
     QString backendReport_;
-    bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true;
+    bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true, flagsDirty_ = true;
     bool backendChosen_ = false;
     std::uint64_t raysDrawn_ = 0;
     QElapsedTimer clock_;

@@ -26,6 +26,22 @@ ViewportController::ViewportController(EditorDocument& document, QObject* parent
 void ViewportController::setCamera(const Camera& camera)
 {
     camera_ = camera;
+    autoOrthographic_ = false;
+    emit viewChanged();
+}
+
+void ViewportController::showAxisView(const Camera& camera)
+{
+    setCamera(camera);
+    autoOrthographic_ = camera.orthographic;
+}
+
+void ViewportController::setOrthographic(bool on)
+{
+    autoOrthographic_ = false;
+    if (camera_.orthographic == on)
+        return;
+    camera_.orthographic = on;
     emit viewChanged();
 }
 
@@ -39,14 +55,22 @@ void ViewportController::setTool(Tool tool)
 {
     if (tool == tool_)
         return;
+    if (const ObjectKind patch = tool == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver;
+        tool != Tool::Select && document_.flags({patch, 0}).locked) {
+        emit message(tr("The %1 is locked (Ctrl+L unlocks the selection, or untick Lock in the outline)")
+                         .arg(patch == ObjectKind::Source ? tr("source") : tr("receiver")));
+        return;
+    }
     tool_ = tool;
     if (ghost_) {
         ghost_.reset();
         emit viewChanged();
     }
     emit toolChanged(tool);
-    if (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver)
-        emit message(tr("Click a surface to place the %1 patch (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver")));
+    if (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver) {
+        const QString size = placementSize_ ? tr(", %1 × %2 m").arg(placementSize_->first, 0, 'g', 3).arg(placementSize_->second, 0, 'g', 3) : QString();
+        emit message(tr("Click a surface to place the %1 patch%2 (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver"), size));
+    }
 }
 
 void ViewportController::setGizmoMode(GizmoMode mode)
@@ -56,12 +80,27 @@ void ViewportController::setGizmoMode(GizmoMode mode)
     emit viewChanged();
 }
 
+void ViewportController::setGizmoSpace(GizmoSpace space)
+{
+    gizmoSpace_ = space;
+    emit gizmoSpaceChanged(space);
+    emit viewChanged();
+}
+
 std::optional<GizmoFrame> ViewportController::gizmo() const
 {
     const ObjectRef selection = document_.selection();
-    if (!selection || tool_ != Tool::Select)
+    // A hidden object has nothing to hold a handle; a locked one is not to be moved.
+    if (!selection || tool_ != Tool::Select || !document_.isPickable(selection))
         return std::nullopt;
-    return gizmoFrame(document_.state(selection), gizmoMode_, camera_);
+    return gizmoFrame(document_.state(selection), gizmoMode_, camera_, gizmoSpace_);
+}
+
+std::optional<CutHandle> ViewportController::cutHandle() const
+{
+    if (!style_ || !style_->cutaway || tool_ != Tool::Select)
+        return std::nullopt;
+    return sightline::ui::cutHandle(camera_, cutaway(*style_, camera_).height, width_, height_);
 }
 
 const WorldTriangles& ViewportController::triangles() const
@@ -75,17 +114,21 @@ Ray ViewportController::rayAt(QPointF position) const { return pixelRay(camera_,
 
 double ViewportController::floorLimit() const
 {
-    if (!sceneBounds_)
-        sceneBounds_ = document_.scene().bounds();
-    return sceneBounds_->empty() ? -std::numeric_limits<double>::infinity() : double(sceneBounds_->min.y) + 0.1;
+    const Bounds& bounds = levelBounds();
+    return bounds.empty() ? -std::numeric_limits<double>::infinity() : double(bounds.min.y) + 0.1;
 }
 
-double ViewportController::sceneRadius() const
+const Bounds& ViewportController::levelBounds() const
 {
     // Called every frame: the scene's bounds (every vertex of every instance) are kept.
     if (!sceneBounds_)
         sceneBounds_ = document_.scene().bounds();
-    Bounds bounds = *sceneBounds_;
+    return *sceneBounds_;
+}
+
+double ViewportController::sceneRadius() const
+{
+    Bounds bounds = levelBounds();
     for (const Patch* p : {&document_.project().source, &document_.project().receiver}) {
         bounds.extend(glm::vec3(p->corner));
         bounds.extend(glm::vec3(p->corner + p->u + p->v));
@@ -93,37 +136,46 @@ double ViewportController::sceneRadius() const
     return std::max(0.5 * double(glm::length(bounds.max - bounds.min)), 1.0);
 }
 
-std::optional<SurfaceHit> ViewportController::visibleSurface(const Ray& ray) const
+ObjectRef ViewportController::objectOfTriangle(std::size_t triangle) const
 {
-    if (!style_ || !style_->cutaway)
-        return pickSurface(triangles(), ray);
-    const Cutaway cut = cutaway(*style_, camera_);
+    const std::size_t instance = triangles().instanceOf[triangle];
+    const std::size_t fileObjects = document_.sceneFile().instances.size();
+    return instance < fileObjects ? ObjectRef{ObjectKind::SceneObject, instance}
+                                  : ObjectRef{ObjectKind::Occluder, document_.occluderOfInstance().at(instance - fileObjects)};
+}
+
+std::optional<SurfaceHit> ViewportController::surfaceHit(const Ray& ray, bool pickableOnly) const
+{
+    const std::optional<Cutaway> cut = style_ && style_->cutaway ? std::optional(cutaway(*style_, camera_)) : std::nullopt;
     const std::size_t fileObjects = document_.sceneFile().instances.size();
     const WorldTriangles& all = triangles();
     return pickSurface(all, ray, [&](std::size_t triangle, const glm::dvec3& point) {
-        return all.instanceOf[triangle] >= fileObjects || !hiddenByCut(cut, camera_, point);
+        const ObjectRef object = objectOfTriangle(triangle);
+        if (!(pickableOnly ? document_.isPickable(object) : document_.isShown(object)))
+            return false;
+        return !cut || all.instanceOf[triangle] >= fileObjects || !hiddenByCut(*cut, camera_, point);
     });
 }
+
+std::optional<SurfaceHit> ViewportController::visibleSurface(const Ray& ray) const { return surfaceHit(ray, false); }
 
 ObjectRef ViewportController::objectAt(QPointF position) const
 {
     const Ray ray = rayAt(position);
     ObjectRef best;
     double bestDistance = std::numeric_limits<double>::infinity();
-    if (auto d = pickPatch(document_.project().source, ray); d && *d < bestDistance) {
-        bestDistance = *d;
-        best = {ObjectKind::Source, 0};
+    for (const ObjectKind kind : {ObjectKind::Source, ObjectKind::Receiver}) {
+        if (!document_.isPickable({kind, 0}))
+            continue;
+        const Patch& patch = kind == ObjectKind::Source ? document_.project().source : document_.project().receiver;
+        if (auto d = pickPatch(patch, ray); d && *d < bestDistance) {
+            bestDistance = *d;
+            best = {kind, 0};
+        }
     }
-    if (auto d = pickPatch(document_.project().receiver, ray); d && *d < bestDistance) {
-        bestDistance = *d;
-        best = {ObjectKind::Receiver, 0};
-    }
-    if (auto hit = visibleSurface(ray); hit && hit->distance < bestDistance) {
-        const std::size_t instance = triangles().instanceOf[hit->triangle];
-        const std::size_t fileObjects = document_.sceneFile().instances.size();
-        best = instance < fileObjects ? ObjectRef{ObjectKind::SceneObject, instance}
-                                      : ObjectRef{ObjectKind::Occluder, document_.occluderOfInstance().at(instance - fileObjects)};
-    }
+    // Locked objects let the click through to what is behind them (and hidden ones are not there).
+    if (auto hit = surfaceHit(ray, true); hit && hit->distance < bestDistance)
+        best = objectOfTriangle(hit->triangle);
     return best;
 }
 
@@ -133,7 +185,8 @@ std::optional<Patch> ViewportController::placementAt(ObjectKind which, QPointF p
     if (!hit)
         return std::nullopt;
     const Patch old = std::get<Patch>(document_.state({which, 0}));
-    Patch placed = patchOnSurface(*hit, glm::length(old.u), glm::length(old.v), old.na, old.nb);
+    const auto [width, height] = placementSize_.value_or(std::pair(glm::length(old.u), glm::length(old.v)));
+    Patch placed = patchOnSurface(*hit, width, height, old.na, old.nb);
     // Fitted to the surface: a patch on a wall stands on the floor below rather than going through
     // it (a click near a doorway's foot put half the patch under the floor).
     const glm::dvec3 n = glm::normalize(hit->normal);
@@ -189,9 +242,14 @@ void ViewportController::mousePress(Qt::MouseButton button, Qt::KeyboardModifier
         const int axis = pickGizmoAxis(*frame, camera_, position.x(), position.y(), width_, height_);
         if (axis >= 0) {
             drag_ = beginGizmoDrag(gizmoMode_, axis, document_.state(document_.selection()), camera_, position.x(),
-                                   position.y(), width_, height_);
+                                   position.y(), width_, height_, gizmoSpace_);
             return;
         }
+    }
+    if (const auto handle = cutHandle();
+        handle && pickCutHandle(*handle, camera_, position.x(), position.y(), width_, height_)) {
+        cutDrag_ = beginCutDrag(*handle, camera_, position.x(), position.y(), width_, height_);
+        return;
     }
     // Left press elsewhere: a click selects (on release), a drag orbits.
     pressedOnEmpty_ = true;
@@ -206,6 +264,13 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
         document_.applyState(document_.selection(), dragGizmo(*drag_, camera_, position.x(), position.y(), width_, height_, snap_));
         return;
     }
+    if (cutDrag_) {
+        // A view setting, not an edit: no undo step; picking follows it at once.
+        style_->cutHeight = dragCut(*cutDrag_, camera_, position.x(), position.y(), width_, height_, snap_.move);
+        emit cutMoved(style_->cutHeight);
+        emit viewChanged();
+        return;
+    }
     if (buttons == Qt::NoButton && (tool_ == Tool::PlaceSource || tool_ == Tool::PlaceReceiver)) {
         ghost_ = placementAt(tool_ == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver, position);
         emit viewChanged();
@@ -214,18 +279,25 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
     if (buttons == Qt::NoButton) {
         const auto frame = gizmo();
         const int axis = frame ? pickGizmoAxis(*frame, camera_, position.x(), position.y(), width_, height_) : -1;
-        if (axis != hoveredAxis_) {
+        const auto handle = axis < 0 ? cutHandle() : std::nullopt;
+        const bool onCut = handle && pickCutHandle(*handle, camera_, position.x(), position.y(), width_, height_);
+        if (axis != hoveredAxis_ || onCut != cutHovered_) {
             hoveredAxis_ = axis;
+            cutHovered_ = onCut;
             emit viewChanged();
         }
         return;
     }
     if (pressedOnEmpty_ && std::hypot(position.x() - pressPosition_.x(), position.y() - pressPosition_.y()) <= kClickSlop)
         return;   // still a click
+    if (navigation_ == Navigation::Orbit && autoOrthographic_) {
+        camera_.orthographic = false;   // leaving the axis view
+        autoOrthographic_ = false;
+    }
     switch (navigation_) {
-    case Navigation::Orbit: orbit(camera_, delta.x(), delta.y()); break;
+    case Navigation::Orbit: orbit(camera_, delta.x(), delta.y(), kOrbitRadiansPerPixel * speeds_.orbit); break;
     case Navigation::Pan: pan(camera_, delta.x(), delta.y(), height_); break;
-    case Navigation::Fly: look(camera_, delta.x(), delta.y()); break;
+    case Navigation::Fly: look(camera_, delta.x(), delta.y(), kOrbitRadiansPerPixel * speeds_.orbit); break;
     case Navigation::None: return;
     }
     keepAbove(camera_, floorLimit(), navigation_ == Navigation::Orbit);
@@ -235,6 +307,10 @@ void ViewportController::mouseMove(Qt::MouseButtons buttons, Qt::KeyboardModifie
 
 void ViewportController::mouseRelease(Qt::MouseButton button, QPointF position)
 {
+    if (cutDrag_ && button == Qt::LeftButton) {
+        cutDrag_.reset();
+        return;
+    }
     if (drag_ && button == Qt::LeftButton) {
         const ObjectRef object = document_.selection();
         const ObjectState after = document_.state(object);
@@ -286,7 +362,7 @@ void ViewportController::advanceFly(double seconds)
 {
     if (!flying_ || flyKeys_ == glm::dvec3(0.0))
         return;
-    const double speed = 0.4 * sceneRadius() * (flyFast_ ? 3.0 : 1.0);   // metres per second
+    const double speed = 0.4 * sceneRadius() * speeds_.fly * (flyFast_ ? 3.0 : 1.0);   // metres per second
     fly(camera_, flyKeys_ * (speed * seconds));
     keepAbove(camera_, floorLimit(), false);
     emit viewChanged();

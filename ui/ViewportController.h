@@ -14,11 +14,18 @@
 #include "EditorDocument.h"
 #include "Gizmo.h"
 #include "Picking.h"
+#include "SectionCutHandle.h"
 #include "ViewportRenderer.h"
 
 namespace sightline::ui {
 
 enum class Tool { Select, PlaceSource, PlaceReceiver };
+
+/// The designer's navigation speeds, as multiples of the defaults (Edit > Preferences).
+struct NavigationSpeeds {
+    double orbit = 1.0;   ///< 1x: kOrbitRadiansPerPixel (also fly mode's mouse look)
+    double fly = 1.0;     ///< 1x: 40% of the scene's radius a second (Shift: 3x that)
+};
 
 class ViewportController : public QObject {
     Q_OBJECT
@@ -28,6 +35,11 @@ public:
     Camera& camera() { return camera_; }
     const Camera& camera() const { return camera_; }
     void setCamera(const Camera& camera);
+    /// An axis view (7 / 1 / 3): orthographic until the designer orbits away from it, which
+    /// returns to perspective (Blender's "auto perspective", Unity's axis clicks).
+    void showAxisView(const Camera& camera);
+    /// Perspective or orthographic by the designer's choice (numpad 5): kept while orbiting.
+    void setOrthographic(bool on);
     void setViewportSize(int width, int height);
     int width() const { return width_; }
     int height() const { return height_; }
@@ -36,6 +48,11 @@ public:
     void setTool(Tool tool);
     GizmoMode gizmoMode() const { return gizmoMode_; }
     void setGizmoMode(GizmoMode mode);
+    /// World or local axes for moving and rotating (X).
+    GizmoSpace gizmoSpace() const { return gizmoSpace_; }
+    void setGizmoSpace(GizmoSpace space);
+    const NavigationSpeeds& speeds() const { return speeds_; }
+    void setSpeeds(const NavigationSpeeds& speeds) { speeds_ = speeds; }
     /// Snapping for gizmo drags (all zero: free).
     const GizmoSnap& snap() const { return snap_; }
     void setSnap(const GizmoSnap& snap) { snap_ = snap; }
@@ -43,6 +60,10 @@ public:
     /// The handles of the selected object, if any.
     std::optional<GizmoFrame> gizmo() const;
     int hoveredAxis() const { return hoveredAxis_; }
+    /// The size a placed patch gets (width, height in metres: a preset, PatchPresets.h), or none
+    /// to keep the patch's own size.
+    void setPlacementSize(std::optional<std::pair<double, double>> size) { placementSize_ = size; }
+    const std::optional<std::pair<double, double>>& placementSize() const { return placementSize_; }
     /// While placing a patch: where a click at the cursor would put it (issue 16 §2).
     const std::optional<Patch>& placementGhost() const { return ghost_; }
     /// Where a click at `position` would place patch `which` (fitted: on a wall, its bottom edge
@@ -64,14 +85,22 @@ public:
     void frameSelection();
     /// The scene's extent, for clip planes and fly speed.
     double sceneRadius() const;
+    /// The box around everything that blocks rays (the section cut's outline spans it).
+    const Bounds& levelBounds() const;
     /// The lowest the eye may go while navigating: 10 cm above the scene's lowest point.
     double floorLimit() const;
 
-    /// The view's style, for the section cut that picking honours (nullptr: nothing is cut).
-    void setStyle(const ViewStyle* style) { style_ = style; }
+    /// The view's style: the section cut that picking honours and its handle sets (nullptr:
+    /// nothing is cut).
+    void setStyle(ViewStyle* style) { style_ = style; }
+    /// The section cut's handle where it is drawn now (none while the cut is off, or off screen).
+    std::optional<CutHandle> cutHandle() const;
+    bool cutHandleHovered() const { return cutHovered_; }
+    bool isDraggingCut() const { return cutDrag_.has_value(); }
 
     /// The surface under `ray` that is drawn: the section cut hides scene-file geometry, never
-    /// placed occluders.
+    /// placed occluders; hidden objects (and those isolation hides) are not drawn. Placement puts
+    /// patches on it, locked objects included.
     std::optional<SurfaceHit> visibleSurface(const Ray& ray) const;
     /// What a click at `position` selects (gizmo handles excepted).
     ObjectRef objectAt(QPointF position) const;
@@ -82,10 +111,17 @@ signals:
     void viewChanged();   ///< camera, hover or gizmo: repaint
     void toolChanged(sightline::ui::Tool tool);
     void gizmoModeChanged(sightline::ui::GizmoMode mode);
+    void gizmoSpaceChanged(sightline::ui::GizmoSpace space);
     void message(const QString& text);
+    /// The section cut's handle was dragged to `height` (metres).
+    void cutMoved(double height);
 
 private:
     const WorldTriangles& triangles() const;
+    /// The object a triangle of document_.scene() belongs to.
+    ObjectRef objectOfTriangle(std::size_t triangle) const;
+    /// visibleSurface, passing through locked objects too when `pickableOnly` (a click selects).
+    std::optional<SurfaceHit> surfaceHit(const Ray& ray, bool pickableOnly) const;
     Ray rayAt(QPointF position) const;
 
     EditorDocument& document_;
@@ -93,9 +129,12 @@ private:
     int width_ = 1, height_ = 1;
     Tool tool_ = Tool::Select;
     GizmoMode gizmoMode_ = GizmoMode::Move;
+    GizmoSpace gizmoSpace_ = GizmoSpace::World;
     GizmoSnap snap_;
+    NavigationSpeeds speeds_;
     int hoveredAxis_ = -1;
     std::optional<Patch> ghost_;
+    std::optional<std::pair<double, double>> placementSize_;
 
     enum class Navigation { None, Orbit, Pan, Fly };
     Navigation navigation_ = Navigation::None;
@@ -104,10 +143,13 @@ private:
     QPointF pressPosition_;
     bool pressedOnEmpty_ = false;
     std::optional<GizmoDrag> drag_;
+    std::optional<CutDrag> cutDrag_;
+    bool cutHovered_ = false;
     glm::dvec3 flyKeys_{0.0};   ///< x right, y up, z forward: -1, 0, 1
     bool flyFast_ = false;
+    bool autoOrthographic_ = false;   ///< orthographic because of an axis view, not by choice
 
-    const ViewStyle* style_ = nullptr;
+    ViewStyle* style_ = nullptr;
     mutable std::optional<WorldTriangles> triangles_;
     mutable std::optional<Bounds> sceneBounds_;   ///< of document_.scene(); dropped when it changes
 };

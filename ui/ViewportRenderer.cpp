@@ -25,6 +25,8 @@ uniform vec3 eye;
 uniform vec3 viewForward;
 uniform float cutDepth;      // cutaway: nearer than this along viewForward is clipped,
 uniform float cutHeight;     // and above this height (clip distances keep early depth tests)
+uniform int hideOn;          // objects the designer hid (ObjectFlags.h): clipped whole
+layout(binding = 5) uniform usamplerBuffer hiddenObjects;
 out vec3 vPosition;
 out vec3 vNormal;
 out vec2 vAoUv;
@@ -36,6 +38,7 @@ void main() {
     vObject = object;
     gl_ClipDistance[0] = cutHeight - position.y;
     gl_ClipDistance[1] = dot(position - eye, viewForward) - cutDepth;
+    gl_ClipDistance[2] = hideOn != 0 && texelFetch(hiddenObjects, int(object)).r != 0u ? -1.0 : 1.0;
     gl_Position = viewProj * vec4(position, 1.0);
 }
 )";
@@ -46,6 +49,8 @@ in vec3 vNormal;
 in vec2 vAoUv;
 flat in uint vObject;
 uniform vec3 eye;
+uniform vec3 viewForward;
+uniform int orthographic;    // the headlight is the view direction, the same over the whole view
 uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
 layout(binding = 3) uniform sampler2D aoMap;
 uniform int pvsOn;           // the PVS debugger: scene-file objects the current cell cannot see
@@ -56,10 +61,13 @@ uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
 layout(location = 0) out vec4 colour;
 void main() {
     if (flatColour.a > 0.0) { colour = flatColour; return; }
-    vec3 toEye = normalize(eye - vPosition);
+    vec3 toEye = orthographic != 0 ? -viewForward : normalize(eye - vPosition);
     vec3 n = normalize(vNormal);
     if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
     float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
+    // The inside of a solid, seen where the section cut opened it, reads as the cut's section
+    // (darker), so walls stand out from floors in a plan view, where every face would be as bright.
+    if (!gl_FrontFacing) light *= 0.55;
     vec3 ambient = vec3(1.0);
     if (aoOn != 0 && vAoUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
         ambient = 0.3 + 0.7 * min(texture(aoMap, vAoUv).rgb, vec3(1.5));
@@ -198,7 +206,7 @@ std::vector<MeshVertex> meshVertices(const WorldTriangles& triangles, const std:
 /// a shaft facing the eye, 4% of the handle's length wide, and a head that says what a drag does:
 /// an arrow (move), a ring about the axis (rotate), a box (scale). The hovered handle is white,
 /// unlike the rays' yellow.
-void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, GizmoMode mode, const glm::dvec3& eye,
+void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, GizmoMode mode, const Camera& camera,
                         int hovered)
 {
     const glm::vec4 axisColours[3] = {{0.95f, 0.25f, 0.25f, 1.0f}, {0.3f, 0.9f, 0.3f, 1.0f}, {0.3f, 0.5f, 1.0f, 1.0f}};
@@ -208,7 +216,9 @@ void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, Gizmo
         out.push_back({glm::vec3(c), colour});
     };
     const auto strip = [&](const glm::dvec3& from, const glm::dvec3& to, double width, const glm::vec4& colour) {
-        glm::dvec3 side = glm::cross(to - from, eye - 0.5 * (from + to));
+        // Broadside to the viewer: towards the eye, or against the view in orthographic views.
+        const glm::dvec3 toViewer = camera.orthographic ? -camera.forward() : camera.eye() - 0.5 * (from + to);
+        glm::dvec3 side = glm::cross(to - from, toViewer);
         const double n = glm::length(side);
         if (!(n > 0.0))
             return;
@@ -254,6 +264,43 @@ void appendGizmoHandles(std::vector<LineVertex>& out, const GizmoFrame& g, Gizmo
             break;
         }
         }
+    }
+}
+
+/// The section cut's handle: a flat grip on the cut plane with an arrow up and an arrow down,
+/// white while hovered.
+void appendCutHandle(std::vector<LineVertex>& out, const CutHandle& h, const Camera& camera, bool hovered)
+{
+    const glm::vec4 colour = hovered ? glm::vec4(1.0f) : glm::vec4(kCutColour, 1.0f);
+    const auto tri = [&](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+        out.push_back({glm::vec3(a), colour});
+        out.push_back({glm::vec3(b), colour});
+        out.push_back({glm::vec3(c), colour});
+    };
+    const glm::dvec3 up(0.0, 1.0, 0.0);
+    const double s = h.size;
+    // Across the view: the arrows' shafts and heads face the viewer whatever the orbit.
+    glm::dvec3 across = glm::cross(up, camera.orthographic ? -camera.forward() : camera.eye() - h.point);
+    across = glm::length(across) > 1e-12 ? glm::normalize(across) : camera.right();
+    const glm::dvec3 depth = glm::cross(across, up);
+    constexpr int kSegments = 16;
+    for (double sign : {1.0, -1.0}) {
+        const glm::dvec3 base = h.point + sign * 0.55 * s * up, tip = h.point + sign * s * up;
+        const glm::dvec3 w = 0.035 * s * across;
+        tri(h.point - w, base - w, base + w);   // the shaft
+        tri(h.point - w, base + w, h.point + w);
+        for (int k = 0; k < kSegments; ++k) {   // a cone
+            const double a0 = 2.0 * 3.14159265358979323846 * k / kSegments, a1 = 2.0 * 3.14159265358979323846 * (k + 1) / kSegments;
+            const glm::dvec3 r0 = 0.16 * s * (std::cos(a0) * across + std::sin(a0) * depth);
+            const glm::dvec3 r1 = 0.16 * s * (std::cos(a1) * across + std::sin(a1) * depth);
+            tri(base + r0, base + r1, tip);
+        }
+    }
+    // The grip: a flat disc lying in the cut plane.
+    for (int k = 0; k < kSegments; ++k) {
+        const double a0 = 2.0 * 3.14159265358979323846 * k / kSegments, a1 = 2.0 * 3.14159265358979323846 * (k + 1) / kSegments;
+        tri(h.point, h.point + 0.3 * s * (std::cos(a0) * across + std::sin(a0) * depth),
+            h.point + 0.3 * s * (std::cos(a1) * across + std::sin(a1) * depth));
     }
 }
 
@@ -332,6 +379,8 @@ void RenderTarget::destroy(const gl::Functions& gl)
 struct ViewportRenderer::MeshBuffer {
     GLuint vao = 0, vbo = 0;
     GLsizei vertices = 0;
+    GLuint hiddenBuffer = 0, hiddenTexture = 0;   ///< per object id, 1 where hidden
+    bool anyHidden = false;
 };
 
 struct ViewportRenderer::Impl {
@@ -373,6 +422,7 @@ struct ViewportRenderer::Impl {
     bool aoReady = false;   ///< a map and the scene file's uvs are uploaded
     GLuint pvsBuffer = 0, pvsTexture = 0;
     bool pvsReady = false;   ///< culled flags of the scene file's instances are uploaded
+    std::vector<std::uint8_t> sceneFileHidden;   ///< the scene file's hidden objects, as uploaded
 
     void resizeCache(int width, int height)
     {
@@ -411,10 +461,26 @@ struct ViewportRenderer::Impl {
         buffer.vertices = GLsizei(vertices.size());
     }
 
+    void setHidden(MeshBuffer& buffer, const std::vector<std::uint8_t>& hidden)
+    {
+        buffer.anyHidden = std::find(hidden.begin(), hidden.end(), std::uint8_t(1)) != hidden.end();
+        if (!buffer.anyHidden)
+            return;
+        if (!buffer.hiddenBuffer) {
+            gl.CreateBuffers(1, &buffer.hiddenBuffer);
+            gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &buffer.hiddenTexture);
+        }
+        gl.NamedBufferData(buffer.hiddenBuffer, GLsizeiptr(hidden.size()), hidden.data(), GL_STATIC_DRAW);
+        gl.TextureBuffer(buffer.hiddenTexture, GL_R8UI, buffer.hiddenBuffer);
+    }
+
     void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selected, const glm::vec4& flat)
     {
         if (buffer.vertices == 0)
             return;
+        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "hideOn"), buffer.anyHidden ? 1 : 0);
+        if (buffer.anyHidden)
+            gl.BindTextureUnit(5, buffer.hiddenTexture);
         gl.ProgramUniform3fv(meshProgram, loc(meshProgram, "baseColour"), 1, glm::value_ptr(colour));
         gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), selected);
         gl.ProgramUniform4fv(meshProgram, loc(meshProgram, "flatColour"), 1, glm::value_ptr(flat));
@@ -462,9 +528,11 @@ ViewportRenderer::~ViewportRenderer()
     gl.DeleteVertexArrays(4, vaos);
     GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer};
     gl.DeleteBuffers(6, buffers);
-    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture};
-    gl.DeleteTextures(5, textures);
-    gl.DeleteBuffers(1, &d.pvsBuffer);
+    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
+                         d.sceneFile.hiddenTexture, d.occluders.hiddenTexture};
+    gl.DeleteTextures(7, textures);
+    GLuint more[] = {d.pvsBuffer, d.sceneFile.hiddenBuffer, d.occluders.hiddenBuffer};
+    gl.DeleteBuffers(3, more);
     d.cache.destroy(gl);
 }
 
@@ -526,6 +594,17 @@ void ViewportRenderer::setPvsCulled(const std::vector<std::uint8_t>& culled)
     d.pvsReady = true;
 }
 
+void ViewportRenderer::setHiddenObjects(const std::vector<std::uint8_t>& sceneFile, const std::vector<std::uint8_t>& occluders)
+{
+    Impl& d = *impl_;
+    if (sceneFile != d.sceneFileHidden) {
+        ++d.sceneVersion;   // the cached level image is stale (not while only occluders move)
+        d.sceneFileHidden = sceneFile;
+        d.setHidden(d.sceneFile, sceneFile);
+    }
+    d.setHidden(d.occluders, occluders);
+}
+
 void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf)
 {
     impl_->occluderVertices = meshVertices(worldTriangles(occluders), &occluderOf);
@@ -583,6 +662,7 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
     gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "orthographic"), f.camera.orthographic ? 1 : 0);
     // Finite values only: "no cut" as an infinite distance reached the clip distances as infinite
     // (or NaN) and llvmpipe dropped every triangle of the placed occluders, which are drawn uncut.
     auto setCut = [&](double height, double depth) {
@@ -608,6 +688,7 @@ void ViewportRenderer::render(const FrameState& f)
         setCut(cut.height, cut.depth);
         gl.Enable(GL_CLIP_DISTANCE0);
         gl.Enable(GL_CLIP_DISTANCE1);
+        gl.Enable(GL_CLIP_DISTANCE2);
         gl.Enable(GL_POLYGON_OFFSET_FILL);
         gl.PolygonOffset(1.0f, 1.0f);   // the wireframe overlay wins the depth test
         d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, selectedFile, glm::vec4(0.0f));
@@ -619,6 +700,7 @@ void ViewportRenderer::render(const FrameState& f)
         }
         gl.Disable(GL_CLIP_DISTANCE0);
         gl.Disable(GL_CLIP_DISTANCE1);
+        gl.Disable(GL_CLIP_DISTANCE2);
     };
     const bool ao = f.style.ambientOcclusion && d.aoReady;
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), ao ? 1 : 0);
@@ -651,17 +733,19 @@ void ViewportRenderer::render(const FrameState& f)
     // Placed occluders: always drawn (they move), never cut away.
     gl.UseProgram(d.meshProgram);
     setCut(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    gl.Enable(GL_CLIP_DISTANCE2);   // hidden ones
     d.drawMesh(d.occluders, kOccluderColour, selectedOccluder, glm::vec4(0.0f));
     if (f.style.wireframe) {
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
         d.drawMesh(d.occluders, {}, -1, {0.1f, 0.1f, 0.3f, 1.0f});
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     }
+    gl.Disable(GL_CLIP_DISTANCE2);
 
     // The overlay, opaque (depth written, so translucent things behind it stay behind it).
-    const Patch* overlaid = d.overlayPatch == ObjectKind::Source     ? &f.source
-                            : d.overlayPatch == ObjectKind::Receiver ? &f.receiver
-                                                                     : nullptr;
+    const Patch* overlaid = d.overlayPatch == ObjectKind::Source && !f.sourceHidden       ? &f.source
+                            : d.overlayPatch == ObjectKind::Receiver && !f.receiverHidden ? &f.receiver
+                                                                                         : nullptr;
     if (overlaid && (overlaid->na != d.overlayNa || overlaid->nb != d.overlayNb))
         overlaid = nullptr;   // the grid changed since the upload: the colours belong to another grid
     if (overlaid) {
@@ -760,8 +844,10 @@ void ViewportRenderer::render(const FrameState& f)
         }
     };
     const bool sourceSelected = f.selection.kind == ObjectKind::Source, receiverSelected = f.selection.kind == ObjectKind::Receiver;
-    quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
-    quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
+    if (!f.sourceHidden)
+        quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
+    if (!f.receiverHidden)
+        quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
     if (f.placementGhost)
         quad(*f.placementGhost, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
     // The shaft: corresponding corners joined; red when the pair cannot be sampled.
@@ -772,9 +858,23 @@ void ViewportRenderer::render(const FrameState& f)
         lines.push_back({glm::vec3(s), shaftColour});
         lines.push_back({glm::vec3(r), shaftColour});
     }
+    // The cut plane's outline over the level's box, where the cut walls end.
+    if (std::isfinite(cut.height) && !f.levelBounds.empty() && f.cutHandle && cut.height > f.levelBounds.min.y &&
+        cut.height < f.levelBounds.max.y) {
+        const glm::vec4 outline(kCutColour, f.cutHandleHovered ? 0.9f : 0.6f);
+        const float y = float(cut.height);
+        const glm::vec3 corners[4] = {{f.levelBounds.min.x, y, f.levelBounds.min.z}, {f.levelBounds.max.x, y, f.levelBounds.min.z},
+                                      {f.levelBounds.max.x, y, f.levelBounds.max.z}, {f.levelBounds.min.x, y, f.levelBounds.max.z}};
+        for (int k = 0; k < 4; ++k) {
+            lines.push_back({corners[k], outline});
+            lines.push_back({corners[(k + 1) % 4], outline});
+        }
+    }
     std::vector<LineVertex> handles;   // triangles, over everything
+    if (f.cutHandle)
+        appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);
     if (f.gizmo)
-        appendGizmoHandles(handles, *f.gizmo, f.gizmoMode, f.camera.eye(), f.hoveredAxis);
+        appendGizmoHandles(handles, *f.gizmo, f.gizmoMode, f.camera, f.hoveredAxis);
     auto drawLines = [&](const std::vector<LineVertex>& vertices, GLenum mode) {
         if (vertices.empty())
             return;

@@ -12,6 +12,7 @@
 //     source sample), reads the ray's bit from the map in a buffer texture and moves blocked rays
 //     out of the clip volume: no per-ray CPU work. A cap draws a hashed subset, evenly spread
 //     over the receiver samples, so up to 1M rays stay readable and fast;
+//   - the section cut's outline (where the cut plane meets the level's box) and its handle;
 //   - the gizmo handles, over everything.
 
 #include <array>
@@ -27,6 +28,7 @@
 #include "Gizmo.h"
 #include "ObjectEdits.h"
 #include "OverlayTexels.h"
+#include "SectionCutHandle.h"
 #include "visibility/HiddenSampleMap.h"
 
 #include "visibility/Patch.h"
@@ -93,14 +95,22 @@ struct FrameState {
     double sceneRadius = 10.0;
     Patch source;
     Patch receiver;
+    bool sourceHidden = false, receiverHidden = false;   ///< not drawn (their rays still are)
     bool pairValid = true;
     ObjectRef selection;
     std::optional<GizmoFrame> gizmo;
     GizmoMode gizmoMode = GizmoMode::Move;   ///< the handles' heads: arrows, rings or boxes
     std::optional<Patch> placementGhost;     ///< where a click would place a patch: drawn faint
     int hoveredAxis = -1;
+    /// The section cut's handle (interactive views only) and the level's box its outline spans.
+    std::optional<CutHandle> cutHandle;
+    bool cutHandleHovered = false;
+    Bounds levelBounds;
     ViewStyle style;
 };
+
+/// The section cut's colour: cyan, apart from the patches, the rays, the selection and the axes.
+inline constexpr glm::vec3 kCutColour{0.2f, 0.85f, 0.95f};
 
 /// The cutaway's limits: geometry above `height` or nearer than `depth` along the view direction
 /// is hidden (infinite height and zero depth when the cutaway is off).
@@ -132,6 +142,9 @@ public:
     void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
     /// The PVS debugger's answer: per instance of the scene file, 1 when culled. Empty: none.
     void setPvsCulled(const std::vector<std::uint8_t>& culled);
+    /// Objects the designer hid (ObjectFlags.h): per scene-file instance and per placed occluder,
+    /// 1 where not drawn (shorter or empty: the rest drawn).
+    void setHiddenObjects(const std::vector<std::uint8_t>& sceneFile, const std::vector<std::uint8_t>& occluders);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.

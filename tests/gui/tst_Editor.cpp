@@ -10,6 +10,7 @@
 #include <QMessageBox>
 #include <QPainter>
 #include <QScreen>
+#include <QSettings>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -25,6 +26,7 @@
 #include <QTreeWidget>
 
 #include <fstream>
+#include <numbers>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -32,6 +34,8 @@
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
+#include "PatchPresets.h"
+#include "PreferencesDialog.h"
 #include "RecordingControls.h"
 #include "UiTestScene.h"
 #include "VideoDecoder.h"
@@ -1228,6 +1232,654 @@ private slots:
         waitForUpdate();
     }
 
+    // Issue 16 §1: the section cut gets a handle in the view: a cyan grip on the cut plane the
+    // designer drags up and down; the cut (drawing and picking) follows the drag.
+    void theSectionCutHasAHandleToDrag()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        const Camera view = controller.camera();
+        const double cut = viewport.style().cutHeight;
+        document.select({});
+        controller.setCamera(shaftView(document.project().source, document.project().receiver));
+        waitForUpdate();
+        const auto handle = controller.cutHandle();
+        QVERIFY(handle);
+        QCOMPARE(handle->point.y, cut);
+        // Seen in the real window: cyan at the grip, white while the cursor is over it.
+        const QPoint grip = pixelOf(controller, handle->point);
+        const auto device = [&](QPoint p) { return QPoint(int(p.x() * viewport.devicePixelRatio()), int(p.y() * viewport.devicePixelRatio())); };
+        const auto cyan = [](QRgb c) { return qBlue(c) > 200 && qGreen(c) > 170 && qRed(c) < 120; };
+        QImage image = viewport.grabFramebuffer();
+        QVERIFY2(cyan(image.pixel(device(grip))), qPrintable(QString::number(image.pixel(device(grip)), 16)));
+        QTest::mouseMove(&viewport, grip);
+        QTRY_VERIFY(controller.cutHandleHovered());
+        waitForFrame();
+        image = viewport.grabFramebuffer();
+        QVERIFY(qRed(image.pixel(device(grip))) > 230 && qGreen(image.pixel(device(grip))) > 230);
+        saveWindowShot("section-cut-handle");
+
+        // Dragged 1.2 m down: the cut follows the cursor, and picking goes through what it now hides.
+        const Bounds level = document.scene().bounds();
+        const auto highestPick = [&] {
+            double highest = -1e9;
+            for (int i = 1; i < 12; ++i)
+                for (int k = 1; k < 12; ++k) {
+                    const double x = level.min.x + (level.max.x - level.min.x) * i / 12.0, z = level.min.z + (level.max.z - level.min.z) * k / 12.0;
+                    if (const auto hit = controller.visibleSurface(Ray{glm::dvec3(x, 1000.0, z), glm::dvec3(0, -1, 0)}))
+                        highest = std::max(highest, hit->point.y);
+                }
+            return highest;
+        };
+        QVERIFY(highestPick() > cut - 1.2 + 0.05);   // something stands between the two heights
+        const QImage high = viewport.grabFramebuffer();
+        const int commands = document.undoStack()->index();
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, grip);
+        QVERIFY(controller.isDraggingCut());
+        QTest::mouseMove(&viewport, pixelOf(controller, handle->point - glm::dvec3(0, 0.6, 0)));
+        QTest::mouseMove(&viewport, pixelOf(controller, handle->point - glm::dvec3(0, 1.2, 0)));
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, pixelOf(controller, handle->point - glm::dvec3(0, 1.2, 0)));
+        QVERIFY(!controller.isDraggingCut());
+        const double lowered = viewport.style().cutHeight;
+        QVERIFY2(std::abs(lowered - (cut - 1.2)) < 0.03, qPrintable(QString("cut at %1, wanted %2").arg(lowered).arg(cut - 1.2)));
+        QVERIFY(window_->statusBar()->currentMessage().startsWith("Section cut at"));
+        QCOMPARE(document.undoStack()->index(), commands);   // a view setting: no undo step
+        QVERIFY2(highestPick() <= lowered + 1e-6, qPrintable(QString("picked at %1 above the cut at %2").arg(highestPick()).arg(lowered)));
+        QCOMPARE(controller.cutHandle()->point.y, lowered);   // the handle went with it
+        waitForUpdate();
+        const QImage low = viewport.grabFramebuffer();
+        int changed = 0;
+        for (int y = 0; y < low.height(); y += 4)
+            for (int x = 0; x < low.width(); x += 4)
+                changed += qGray(low.pixel(x, y)) != qGray(high.pixel(x, y));
+        QVERIFY2(changed > 500, qPrintable(QString("%1 samples changed").arg(changed)));
+        saveWindowShot("section-cut-lowered");
+
+        // In the top view (looking along Y) the cursor's vertical motion raises it.
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_7);
+        const auto topHandle = controller.cutHandle();
+        QVERIFY(topHandle);
+        const QPoint topGrip = pixelOf(controller, topHandle->point);
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, topGrip);
+        QTest::mouseMove(&viewport, topGrip - QPoint(0, 20));
+        QTest::mouseMove(&viewport, topGrip - QPoint(0, 40));
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, topGrip - QPoint(0, 40));
+        const double metresPerPixel = 2.0 * controller.camera().halfHeight() / controller.height();
+        QVERIFY(std::abs(viewport.style().cutHeight - (lowered + 40 * metresPerPixel)) < 1e-6);
+
+        // No handle while the cut is off.
+        QTest::keyClick(window_.get(), Qt::Key_C);
+        QVERIFY(!controller.cutHandle());
+        QTest::keyClick(window_.get(), Qt::Key_C);
+        viewport.style().cutHeight = cut;
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
+    // Issue 16 §2: top / front / side as orthographic views, 5 switching perspective and
+    // orthographic (View > Camera > Orthographic), and every tool working in orthographic views:
+    // picking, placement, gizmo drags, orbit, pan, zoom and the rays.
+    void orthographicViewsPickPlaceDragAndNavigate()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        const Camera before = controller.camera();
+        QAction* ortho = window_->findChild<QAction*>("orthographic");
+        QVERIFY(ortho);
+        QCOMPARE(ortho->shortcut(), QKeySequence(Qt::Key_5));
+        auto* viewLabel = window_->findChild<QLabel*>("viewLabel");
+        QVERIFY(viewLabel);
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QVERIFY(!controller.camera().orthographic);
+        QTest::mouseMove(&viewport, QPoint(5, 5));   // nothing hovered
+        QTest::keyClick(window_.get(), Qt::Key_7);
+        QVERIFY(controller.camera().orthographic);
+        QVERIFY(ortho->isChecked());
+        QCOMPARE(viewLabel->text(), QString("Orthographic"));
+        waitForUpdate();
+        saveWindowShot("ortho-top");
+
+        // Picking: a point of the level seen from straight above, near the view's edge (where a
+        // perspective ray would slant), is what a click there selects, and it is drawn selected there.
+        const Camera top = controller.camera();
+        const std::size_t fileObjects = document.sceneFile().instances.size();
+        const WorldTriangles triangles = worldTriangles(document.scene());
+        std::optional<std::pair<std::size_t, glm::dvec3>> target;
+        double farthest = 0.0;
+        const auto seenFromAbove = [&](double x, double z) -> std::optional<std::size_t> {
+            const auto hit = controller.visibleSurface(Ray{glm::dvec3(x, 1000.0, z), glm::dvec3(0, -1, 0)});
+            return hit ? std::optional(triangles.instanceOf[hit->triangle]) : std::nullopt;
+        };
+        const double metre = controller.height() / (2.0 * top.halfHeight());   // pixels
+        for (std::size_t i = 0; i < fileObjects; ++i) {
+            const Bounds b = document.sceneFile().instanceBounds(document.sceneFile().instances[i]);
+            const glm::dvec3 centre = 0.5 * (glm::dvec3(b.min) + glm::dvec3(b.max));
+            const auto hit = controller.visibleSurface(Ray{glm::dvec3(centre.x, 1000.0, centre.z), glm::dvec3(0, -1, 0)});
+            if (!hit || triangles.instanceOf[hit->triangle] != i)
+                continue;
+            // Seen whole for 5 pixels around, not a sliver under the cut's outline.
+            bool wide = true;
+            for (const glm::dvec2 d : {glm::dvec2(1, 0), glm::dvec2(-1, 0), glm::dvec2(0, 1), glm::dvec2(0, -1)})
+                wide = wide && seenFromAbove(centre.x + 5.0 / metre * d.x, centre.z + 5.0 / metre * d.y) == i;
+            const glm::dvec3 p = toPixels(top, hit->point, controller.width(), controller.height());
+            const double off = std::max(std::abs(p.x - 0.5 * controller.width()), std::abs(p.y - 0.5 * controller.height()));
+            if (wide && p.x > 10 && p.x < controller.width() - 10 && p.y > 10 && p.y < controller.height() - 10 && off > farthest) {
+                farthest = off;
+                target = {i, hit->point};
+            }
+        }
+        QVERIFY(target);
+        QVERIFY2(farthest > 100, qPrintable(QString("%1 px from the centre").arg(farthest)));
+        const QPoint at = pixelOf(controller, target->second);
+        const auto seen = controller.visibleSurface(pixelRay(top, at.x(), at.y(), controller.width(), controller.height()));
+        QVERIFY(seen);
+        QVERIFY2(glm::length(glm::dvec2(seen->point.x - target->second.x, seen->point.z - target->second.z)) < 0.05,
+                 qPrintable(QString("the click's ray met the level %1 m away").arg(glm::length(seen->point - target->second))));
+        const QImage unselected = viewport.grabFramebuffer();
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, at);
+        QCOMPARE(document.selection(), (ObjectRef{ObjectKind::SceneObject, target->first}));
+        waitForUpdate();
+        const QImage selected = viewport.grabFramebuffer();
+        const auto orange = [&](const QImage& image) {   // around the click (the gizmo covers its centre)
+            int n = 0;
+            for (int dy = -8; dy <= 8; ++dy)
+                for (int dx = -8; dx <= 8; ++dx) {
+                    const QRgb c = image.pixel(int((at.x() + dx) * viewport.devicePixelRatio()), int((at.y() + dy) * viewport.devicePixelRatio()));
+                    n += qRed(c) > 120 && qRed(c) > qBlue(c) + 40 && qGreen(c) > qBlue(c) + 10;
+                }
+            return n;
+        };
+        QVERIFY2(orange(unselected) < 5 && orange(selected) > 20,
+                 qPrintable(QString("%1 orange pixels around the click, %2 before: not drawn selected where it was clicked")
+                                .arg(orange(selected)).arg(orange(unselected))));
+        document.select({});
+
+        // The rays are drawn between the patches, seen from above.
+        const Project& project = document.project();
+        int yellow = 0;
+        const QImage frame = viewport.grabFramebuffer();
+        for (double t = 0.1; t <= 0.9; t += 0.05) {
+            const QPoint p = pixelOf(controller, project.source.centre() + t * (project.receiver.centre() - project.source.centre()));
+            yellow += yellowish(frame.pixel(int(p.x() * viewport.devicePixelRatio()), int(p.y() * viewport.devicePixelRatio())));
+        }
+        QVERIFY2(yellow >= 10, qPrintable(QString("%1 of 17 points along the shaft yellow").arg(yellow)));
+
+        // Placement: Ctrl+2 and a click on a floor point off the centre puts the receiver there.
+        const Patch receiver = project.receiver;
+        glm::dvec3 floorPoint(0.0);
+        for (double s : {0.35, -0.35, 0.25, -0.25}) {
+            const glm::dvec3 xz = top.target + s * top.halfHeight() * top.right();
+            const auto hit = controller.visibleSurface(Ray{glm::dvec3(xz.x, 1000.0, xz.z), glm::dvec3(0, -1, 0)});
+            if (hit && hit->normal.y > 0.9) {
+                floorPoint = hit->point;
+                break;
+            }
+        }
+        QVERIFY(floorPoint != glm::dvec3(0.0));
+        QTest::keyClick(window_.get(), Qt::Key_2, Qt::ControlModifier);
+        QCOMPARE(controller.tool(), Tool::PlaceReceiver);
+        QTest::mouseMove(&viewport, pixelOf(controller, floorPoint));
+        QTRY_VERIFY(controller.placementGhost().has_value());
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, pixelOf(controller, floorPoint));
+        const glm::dvec3 placed = document.project().receiver.centre();
+        QVERIFY2(glm::length(glm::dvec2(placed.x - floorPoint.x, placed.z - floorPoint.z)) < 0.05 && std::abs(placed.y - floorPoint.y - 0.02) < 0.01,
+                 qPrintable(QString("placed at (%1, %2, %3)").arg(placed.x).arg(placed.y).arg(placed.z)));
+        document.undoStack()->undo();
+        QCOMPARE(document.project().receiver.corner, receiver.corner);
+
+        // A gizmo drag in the front view: the grabbed point follows the cursor along X.
+        QTest::keyClick(window_.get(), Qt::Key_1);
+        QVERIFY(controller.camera().orthographic);
+        OccluderSpec box;
+        box.name = "ortho crate";
+        box.mesh = "box";
+        box.transform = glm::translate(glm::mat4(1.0f), glm::vec3(controller.camera().target));
+        document.addOccluder(box);
+        controller.setGizmoMode(GizmoMode::Move);
+        const GizmoFrame gizmo = *controller.gizmo();
+        const glm::dvec3 grab = gizmo.pivot + 0.7 * gizmo.length * glm::dvec3(1, 0, 0);
+        QCOMPARE(pickGizmoAxis(gizmo, controller.camera(), pixelOf(controller, grab).x(), pixelOf(controller, grab).y(),
+                               controller.width(), controller.height()), 0);
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, pixelOf(controller, grab));
+        QTest::mouseMove(&viewport, pixelOf(controller, grab + glm::dvec3(0.6, 0, 0)));
+        QTest::mouseMove(&viewport, pixelOf(controller, grab + glm::dvec3(1.2, 0, 0)));
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, pixelOf(controller, grab + glm::dvec3(1.2, 0, 0)));
+        const double metresPerPixel = 2.0 * controller.camera().halfHeight() / controller.height();
+        QVERIFY2(std::abs(pivotOf(document.state(document.selection())).x - (gizmo.pivot.x + 1.2)) < 2.0 * metresPerPixel,
+                 qPrintable(QString("moved to x = %1, wanted %2").arg(pivotOf(document.state(document.selection())).x).arg(gizmo.pivot.x + 1.2)));
+        document.undoStack()->undo();
+        document.undoStack()->undo();
+        waitForUpdate();
+
+        // Pan: the point under the cursor follows it. Zoom: the view shrinks by the wheel's factor.
+        const Camera front = controller.camera();
+        const glm::dvec3 anchor = front.target + 0.3 * front.halfHeight() * (front.right() + front.up());
+        const QPoint from = pixelOf(controller, anchor);
+        controller.mousePress(Qt::MiddleButton, {}, from);
+        controller.mouseMove(Qt::MiddleButton, {}, from + QPointF(40, 25));
+        controller.mouseRelease(Qt::MiddleButton, from + QPointF(40, 25));
+        const glm::dvec3 moved = toPixels(controller.camera(), anchor, controller.width(), controller.height());
+        QVERIFY(std::abs(moved.x - (from.x() + 40)) < 1.0 && std::abs(moved.y - (from.y() + 25)) < 1.0);
+        const double height = controller.camera().halfHeight();
+        controller.wheel(1.0);
+        QVERIFY(std::abs(controller.camera().halfHeight() - 0.85 * height) < 1e-9);
+        QVERIFY(controller.camera().orthographic);
+
+        // Orbiting out of an axis view returns to perspective; orthographic chosen with 5 stays.
+        controller.mousePress(Qt::LeftButton, Qt::AltModifier, QPointF(400, 300));
+        controller.mouseMove(Qt::LeftButton, Qt::AltModifier, QPointF(440, 300));
+        controller.mouseRelease(Qt::LeftButton, QPointF(440, 300));
+        QVERIFY(!controller.camera().orthographic);
+        QVERIFY(!ortho->isChecked());
+        QCOMPARE(viewLabel->text(), QString("Perspective"));
+        QTest::keyClick(window_.get(), Qt::Key_5);
+        QVERIFY(controller.camera().orthographic);
+        const double yaw = controller.camera().yaw;
+        controller.mousePress(Qt::LeftButton, Qt::AltModifier, QPointF(400, 300));
+        controller.mouseMove(Qt::LeftButton, Qt::AltModifier, QPointF(450, 280));
+        controller.mouseRelease(Qt::LeftButton, QPointF(450, 280));
+        QVERIFY(controller.camera().orthographic);
+        QVERIFY(std::abs(controller.camera().yaw - yaw) > 0.1);
+        waitForUpdate();
+        saveWindowShot("ortho-orbited");
+        QTest::keyClick(window_.get(), Qt::Key_5, Qt::KeypadModifier);   // the keypad's 5 too
+        QVERIFY(!controller.camera().orthographic);
+        controller.setCamera(before);
+        waitForUpdate();
+    }
+
+    // Issue 16 §2: orbit speed (and fly speed) as a setting, from Edit > Preferences, kept with
+    // QSettings for the next start.
+    void navigationSpeedsAreKeptPreferences()
+    {
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        QAction* preferences = window_->findChild<QAction*>("preferences");
+        QVERIFY(preferences);
+        QCOMPARE(preferences->shortcut(), QKeySequence(Qt::CTRL | Qt::Key_Comma));
+        const auto answerDialog = [&](double orbitSpeed, double flySpeed, bool accept) {
+            bool shown = false;
+            QTimer timer;
+            timer.setInterval(50);
+            QObject::connect(&timer, &QTimer::timeout, [&] {
+                if (auto* dialog = qobject_cast<PreferencesDialog*>(QApplication::activeModalWidget())) {
+                    shown = true;
+                    if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+                        dialog->grab().save(QString::fromUtf8(shots) + "/window-preferences.png");
+                    dialog->orbitField()->setValue(orbitSpeed);
+                    dialog->flyField()->setValue(flySpeed);
+                    accept ? dialog->accept() : dialog->reject();
+                }
+            });
+            timer.start();
+            preferences->trigger();
+            QVERIFY(shown);
+        };
+        answerDialog(2.5, 0.5, true);
+        QCOMPARE(controller.speeds().orbit, 2.5);
+        QCOMPARE(controller.speeds().fly, 0.5);
+        QCOMPARE(QSettings().value("navigation/orbitSpeed").toDouble(), 2.5);
+        QCOMPARE(loadNavigationSpeeds().fly, 0.5);   // what the next start reads
+        answerDialog(7.0, 7.0, false);                // Cancel changes nothing
+        QCOMPARE(controller.speeds().orbit, 2.5);
+        QCOMPARE(loadNavigationSpeeds().orbit, 2.5);
+
+        // A 40-pixel orbit turns 2.5 times the default; flying moves at half the default speed.
+        Camera level = before;
+        level.pitch = 0.0;
+        level.target.y += 5.0;   // clear of the floor, so nothing lifts the eye
+        controller.setCamera(level);
+        controller.mousePress(Qt::LeftButton, Qt::AltModifier, QPointF(400, 300));
+        controller.mouseMove(Qt::LeftButton, Qt::AltModifier, QPointF(440, 300));
+        controller.mouseRelease(Qt::LeftButton, QPointF(440, 300));
+        QVERIFY(std::abs((level.yaw - controller.camera().yaw) - 40.0 * kOrbitRadiansPerPixel * 2.5) < 1e-12);
+        controller.setCamera(level);
+        controller.mousePress(Qt::RightButton, {}, QPointF(400, 300));
+        controller.key(Qt::Key_W, true);
+        controller.advanceFly(0.5);
+        controller.key(Qt::Key_W, false);
+        controller.mouseRelease(Qt::RightButton, QPointF(400, 300));
+        const double flown = glm::length(controller.camera().target - level.target);
+        QVERIFY2(std::abs(flown - 0.4 * controller.sceneRadius() * 0.5 * 0.5) < 1e-9, qPrintable(QString::number(flown)));
+
+        answerDialog(1.0, 1.0, true);
+        QCOMPARE(loadNavigationSpeeds().orbit, 1.0);
+        controller.setCamera(before);
+    }
+
+    // Issue 16 §2: world or local axes for the gizmo (X, shown in the status bar): in local space
+    // a turned crate moves and scales along its own axes.
+    void theGizmoMovesAlongTheObjectsOwnAxesInLocalSpace()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        const Camera view = controller.camera();
+        auto* spaceLabel = window_->findChild<QLabel*>("spaceLabel");
+        QAction* local = window_->findChild<QAction*>("localAxes");
+        QVERIFY(spaceLabel && local);
+        QCOMPARE(local->shortcut(), QKeySequence(Qt::Key_X));
+        QCOMPARE(spaceLabel->text(), QString("World axes"));
+        // A crate turned 30 degrees about Y, seen from above at an angle.
+        const glm::dvec3 at = document.project().source.centre() + glm::dvec3(0.0, -0.5, 3.0);
+        OccluderSpec crate;
+        crate.name = "turned crate";
+        crate.mesh = "box";
+        const double turn = std::numbers::pi / 6.0;
+        crate.transform = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(at)), float(turn), glm::vec3(0, 1, 0));
+        document.addOccluder(crate);
+        const ObjectRef object{ObjectKind::Occluder, document.project().occluders.size() - 1};
+        QCOMPARE(document.selection(), object);
+        Camera camera;
+        camera.target = at;
+        camera.distance = 8.0;
+        camera.yaw = 0.3;
+        camera.pitch = -0.6;
+        controller.setCamera(camera);
+        controller.setGizmoMode(GizmoMode::Move);
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_X);
+        QCOMPARE(controller.gizmoSpace(), GizmoSpace::Local);
+        QVERIFY(local->isChecked());
+        QCOMPARE(spaceLabel->text(), QString("Local axes"));
+        const glm::dvec3 ownX(std::cos(turn), 0.0, -std::sin(turn));
+        const GizmoFrame frame = *controller.gizmo();
+        QVERIFY(glm::length(frame.axes[0] - ownX) < 1e-6);
+        waitForUpdate();
+        saveWindowShot("gizmo-local-axes");
+        // The red handle, drawn along the crate's own X in the real window.
+        const QImage image = viewport.grabFramebuffer();
+        const QPoint handle = pixelOf(controller, frame.pivot + 0.5 * frame.length * ownX);
+        const QRgb red = image.pixel(int(handle.x() * viewport.devicePixelRatio()), int(handle.y() * viewport.devicePixelRatio()));
+        QVERIFY2(qRed(red) > 200 && qGreen(red) < 110, qPrintable(QString::number(red, 16)));
+
+        // Moved 1 m along its own X: the world position changes along (cos 30°, 0, -sin 30°).
+        const glm::dvec3 grab = frame.pivot + 0.7 * frame.length * ownX;
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, pixelOf(controller, grab));
+        QTest::mouseMove(&viewport, pixelOf(controller, grab + 0.5 * ownX));
+        QTest::mouseMove(&viewport, pixelOf(controller, grab + 1.0 * ownX));
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, pixelOf(controller, grab + 1.0 * ownX));
+        const glm::dvec3 moved = pivotOf(document.state(object)) - at;
+        QVERIFY2(glm::length(moved - ownX) < 0.03, qPrintable(QString("moved by (%1, %2, %3)").arg(moved.x).arg(moved.y).arg(moved.z)));
+        // Scaled along its own X (the same in both spaces): the crate grows along its length only.
+        controller.setGizmoMode(GizmoMode::Scale);
+        const GizmoFrame scaleFrame = *controller.gizmo();
+        const glm::dvec3 scaleGrab = scaleFrame.pivot + 0.7 * scaleFrame.length * ownX;
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, pixelOf(controller, scaleGrab));
+        QTest::mouseMove(&viewport, pixelOf(controller, scaleGrab + 0.5 * scaleFrame.length * ownX));
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, pixelOf(controller, scaleGrab + 0.5 * scaleFrame.length * ownX));
+        const glm::mat4 scaled = std::get<glm::mat4>(document.state(object));
+        QVERIFY(std::abs(glm::length(glm::dvec3(scaled[0])) - 1.5) < 0.05);
+        QVERIFY(std::abs(glm::length(glm::dvec3(scaled[2])) - 1.0) < 1e-5);
+        QVERIFY(glm::length(glm::normalize(glm::dvec3(scaled[0])) - ownX) < 1e-5);
+        document.undoStack()->undo();
+        document.undoStack()->undo();
+
+        // World space: the same handle moves along the world's X.
+        controller.setGizmoMode(GizmoMode::Move);
+        QTest::keyClick(window_.get(), Qt::Key_X);
+        QCOMPARE(controller.gizmoSpace(), GizmoSpace::World);
+        QCOMPARE(spaceLabel->text(), QString("World axes"));
+        const GizmoFrame world = *controller.gizmo();
+        QCOMPARE(world.axes[0], glm::dvec3(1, 0, 0));
+        const glm::dvec3 worldGrab = world.pivot + 0.7 * world.length * world.axes[0];
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, pixelOf(controller, worldGrab));
+        QTest::mouseMove(&viewport, pixelOf(controller, worldGrab + glm::dvec3(1, 0, 0)));
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, pixelOf(controller, worldGrab + glm::dvec3(1, 0, 0)));
+        const glm::dvec3 worldMoved = pivotOf(document.state(object)) - at;
+        QVERIFY(std::abs(worldMoved.x - 1.0) < 0.03 && std::abs(worldMoved.z) < 1e-4);
+        document.undoStack()->undo();
+        document.undoStack()->undo();   // the crate
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
+    // Issue 16 §2: hide, isolate and lock in the outline (and H, Shift+H, Ctrl+Shift+H, Ctrl+L) for the
+    // level's objects, placed occluders and patches. Hidden: not drawn, not picked, still blocking
+    // rays, kept in the project; isolated: only the selection and the patches; locked: drawn, but
+    // clicks pass through and nothing moves it.
+    void outlineHidesIsolatesAndLocks()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        auto* outline = window_->findChild<OutlinePanel*>();
+        QVERIFY(outline);
+        const Camera view = controller.camera();
+        document.select({});
+        controller.setCamera(shaftView(document.project().source, document.project().receiver));
+        viewport.style().showRays = false;   // plain pixels of the objects
+        waitForUpdate();
+        const auto device = [&](QPoint p) { return QPoint(int(p.x() * viewport.devicePixelRatio()), int(p.y() * viewport.devicePixelRatio())); };
+        // A level object under a pixel near the middle of the view.
+        QPoint at;
+        ObjectRef object;
+        for (int y = 200; y < 420 && !object; y += 17)
+            for (int x = 250; x < 560 && !object; x += 23)
+                if (const ObjectRef o = controller.objectAt(QPointF(x, y)); o.kind == ObjectKind::SceneObject) {
+                    object = o;
+                    at = QPoint(x, y);
+                }
+        QVERIFY(object);
+        const std::uint64_t blocked = viewport.visibility().blocked;
+        const int commands = document.undoStack()->index();
+        const QImage shown = viewport.grabFramebuffer();
+
+        // Hidden from the outline's Show box: one undo step, not drawn, not picked, rays unchanged.
+        QTreeWidgetItem* row = outline->itemFor(object);
+        QVERIFY(row);
+        QCOMPARE(row->checkState(OutlinePanel::ShowColumn), Qt::Checked);
+        row->setCheckState(OutlinePanel::ShowColumn, Qt::Unchecked);
+        QVERIFY(document.flags(object).hidden);
+        QCOMPARE(document.undoStack()->index(), commands + 1);
+        QVERIFY(row->font(OutlinePanel::NameColumn).italic());
+        QVERIFY(row->toolTip(OutlinePanel::ShowColumn).contains("still blocks rays"));
+        waitForFrame();
+        QVERIFY(!viewport.resultIsStale());
+        QCOMPARE(viewport.visibility().blocked, blocked);   // hiding changes the view, not the level
+        const QImage hidden = viewport.grabFramebuffer();
+        QVERIFY2(hidden.pixel(device(at)) != shown.pixel(device(at)), "the hidden object is still drawn");
+        QVERIFY(controller.objectAt(at) != object);
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, at);
+        QVERIFY(document.selection() != object);
+        saveWindowShot("outline-hidden");
+        // Kept in the project, under the editor's settings the CLI keeps and ignores.
+        const auto saved = folder_ / "hidden.json";
+        QVERIFY(window_->saveTo(QString::fromStdString(saved.string())));
+        const nlohmann::json file = nlohmann::json::parse(std::ifstream(saved));
+        QVERIFY(file.at("editor").at("hidden").at("instances") == nlohmann::json::array({object.index}));
+        EditorDocument reopened;
+        reopened.open(saved);
+        QVERIFY(reopened.flags(object).hidden);
+        const std::uint64_t cli = referenceBlocked(saved);   // the CLI's answer: hidden objects block too
+        QVERIFY2(std::max(cli, blocked) - std::min(cli, blocked) <= viewport.visibility().rays / 10000,
+                 qPrintable(QString("CLI %1, editor %2").arg(cli).arg(blocked)));
+        document.undoStack()->undo();
+        QVERIFY(!document.flags(object).hidden);
+        QCOMPARE(row->checkState(OutlinePanel::ShowColumn), Qt::Checked);
+
+        // H hides the selection and shows it again; Ctrl+Shift+H shows everything in one step.
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        document.select(object);
+        QTest::keyClick(window_.get(), Qt::Key_H);
+        QVERIFY(document.flags(object).hidden);
+        QVERIFY(!controller.gizmo());   // nothing to hold a handle
+        QTest::keyClick(window_.get(), Qt::Key_H);
+        QVERIFY(!document.flags(object).hidden);
+        document.setFlags({ObjectKind::SceneObject, 0}, {true, false}, "hide");
+        document.setFlags(object, {true, false}, "hide");
+        const int beforeShowAll = document.undoStack()->index();
+        QTest::keyClick(window_.get(), Qt::Key_H, Qt::ControlModifier | Qt::ShiftModifier);
+        QVERIFY(!document.flags(object).hidden && !document.flags({ObjectKind::SceneObject, 0}).hidden);
+        QCOMPARE(document.undoStack()->index(), beforeShowAll + 1);
+
+        // Isolate a crate (Shift+H): the level is not drawn or picked, the crate and the patches are.
+        const Project& project = document.project();
+        const glm::dvec3 crateAt = project.source.centre() + 0.5 * (project.receiver.centre() - project.source.centre());   // in the open shaft
+        OccluderSpec crate;
+        crate.name = "isolated crate";
+        crate.mesh = "box";
+        crate.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(crateAt)), glm::vec3(0.4f));
+        document.addOccluder(crate);
+        const ObjectRef crateRef{ObjectKind::Occluder, document.project().occluders.size() - 1};
+        waitForUpdate();
+        const int beforeIsolate = document.undoStack()->index();
+        QTest::keyClick(window_.get(), Qt::Key_H, Qt::ShiftModifier);
+        QCOMPARE(document.isolated(), crateRef);
+        document.select({});   // its gizmo would cover it
+        QCOMPARE(document.undoStack()->index(), beforeIsolate);   // view state: no undo step
+        QVERIFY(!document.isShown(object) && document.isShown(crateRef) && document.isShown({ObjectKind::Receiver, 0}));
+        QVERIFY(outline->itemFor(object)->foreground(OutlinePanel::NameColumn).color() != outline->itemFor(crateRef)->foreground(OutlinePanel::NameColumn).color());
+        viewport.style().showRays = true;   // for the picture: the rays stay with the patches
+        waitForFrame();
+        saveWindowShot("outline-isolated");
+        viewport.style().showRays = false;
+        waitForFrame();
+        const QImage isolated = viewport.grabFramebuffer();
+        const auto levelGrey = [](const QImage& image) {
+            int n = 0;
+            for (int y = 0; y < image.height(); y += 6)
+                for (int x = 0; x < image.width(); x += 6) {
+                    const QRgb c = image.pixel(x, y);
+                    n += qGray(c) > 80 && std::abs(qRed(c) - qBlue(c)) < 20 && std::abs(qGreen(c) - qBlue(c)) < 20;
+                }
+            return n;
+        };
+        QVERIFY2(levelGrey(isolated) < levelGrey(shown) / 5, qPrintable(QString("%1 grey samples isolated, %2 before").arg(levelGrey(isolated)).arg(levelGrey(shown))));
+        const QPoint crateCentre = pixelOf(controller, crateAt);
+        const QRgb violet = isolated.pixel(device(crateCentre));
+        QVERIFY2(qBlue(violet) > qGreen(violet) + 30 && qRed(violet) > qGreen(violet), qPrintable(QString::number(violet, 16)));
+        QVERIFY(controller.objectAt(at).kind != ObjectKind::SceneObject);   // the level is not there to click
+        QCOMPARE(controller.objectAt(crateCentre), crateRef);
+        QTest::keyClick(window_.get(), Qt::Key_H, Qt::ShiftModifier);
+        QVERIFY(!document.isolated());
+        QVERIFY(document.isShown(object));
+
+        // Lock the crate (Ctrl+L): drawn, no gizmo, no edit, a click passes through it, placement still lands on it.
+        document.select(crateRef);
+        QVERIFY(controller.gizmo());
+        QTest::keyClick(window_.get(), Qt::Key_L, Qt::ControlModifier);
+        QVERIFY(document.flags(crateRef).locked);
+        QCOMPARE(outline->itemFor(crateRef)->checkState(OutlinePanel::LockColumn), Qt::Checked);
+        QVERIFY(!controller.gizmo());
+        QTest::keyClick(window_.get(), Qt::Key_Delete);
+        QCOMPARE(document.project().occluders.size(), crateRef.index + 1);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("locked"), qPrintable(window_->statusBar()->currentMessage()));
+        QDoubleSpinBox* field = nullptr;
+        for (QDoubleSpinBox* box : window_->findChildren<QDoubleSpinBox*>())
+            if (box->isVisible() && !field)
+                field = box;
+        QVERIFY(field && !field->isEnabled());
+        QVERIFY(controller.objectAt(crateCentre) != crateRef);
+        const auto surface = controller.visibleSurface(pixelRay(controller.camera(), crateCentre.x(), crateCentre.y(), controller.width(), controller.height()));
+        QVERIFY(surface && glm::length(surface->point - crateAt) <= 0.35);   // on the 0.4 m crate
+        waitForFrame();
+        QVERIFY(viewport.grabFramebuffer().pixel(device(crateCentre)) != shown.pixel(device(crateCentre)));   // still drawn
+
+        // A locked patch is not placed again; a hidden one is not drawn, its rays still are.
+        viewport.style().showRays = true;
+        document.setFlags({ObjectKind::Receiver, 0}, {false, true}, "lock receiver");
+        QTest::keyClick(window_.get(), Qt::Key_2, Qt::ControlModifier);
+        QCOMPARE(controller.tool(), Tool::Select);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("receiver is locked"), qPrintable(window_->statusBar()->currentMessage()));
+        document.undoStack()->undo();
+        const QPoint receiverCentre = pixelOf(controller, document.project().receiver.centre());
+        document.setFlags({ObjectKind::Receiver, 0}, {true, false}, "hide receiver");
+        QVERIFY((controller.objectAt(receiverCentre) != ObjectRef{ObjectKind::Receiver, 0}));
+        waitForFrame();
+        QVERIFY(viewport.raysDrawn() > 0);
+        const QRgb where = viewport.grabFramebuffer().pixel(device(receiverCentre));
+        QVERIFY2(!(qBlue(where) > qRed(where) + 60), qPrintable(QString::number(where, 16)));   // no blue patch there
+        document.undoStack()->undo();   // the receiver shown
+        document.undoStack()->undo();   // the crate unlocked
+        document.undoStack()->undo();   // the crate
+        document.select({});
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
+    // Issue 16 §2: patch size presets, in the properties panel (one undoable resize; a wall's patch
+    // keeps its bottom edge) and when placing (Create > Placing Size, the ghost shows it).
+    void patchSizePresetsResizeAndPlace()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        const Camera view = controller.camera();
+        const ObjectRef receiver{ObjectKind::Receiver, 0};
+        const Patch before = document.project().receiver;
+        QVERIFY(std::abs(before.normal().y) < 0.5);   // the demo's receiver stands on a wall
+        document.select(receiver);
+        auto* size = window_->findChild<QComboBox*>("patchSize");
+        QVERIFY(size && size->isVisible());
+        QCOMPARE(size->currentText(), QString("Custom"));
+        QCOMPARE(size->itemText(1), QString::fromUtf8("Doorway 0.9 × 2.1 m"));
+        viewport.style().showRays = false;
+        controller.setCamera(facing(before, 6.0));
+        waitForUpdate();
+        const QImage small = viewport.grabFramebuffer();
+        const int commands = document.undoStack()->index();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        size->setFocus();
+        QTest::keyClick(size, Qt::Key_Down);   // the next item: Doorway
+        const Patch door = document.project().receiver;
+        QVERIFY(std::abs(glm::length(door.u) - 0.9) < 1e-12 && std::abs(glm::length(door.v) - 2.1) < 1e-12);
+        const auto bottom = [](const Patch& p) {
+            return std::min({p.corner.y, (p.corner + p.u).y, (p.corner + p.v).y, (p.corner + p.u + p.v).y});
+        };
+        QVERIFY(std::abs(bottom(door) - bottom(before)) < 1e-12);
+        QVERIFY(glm::length(glm::normalize(door.u) - glm::normalize(before.u)) < 1e-12);
+        QCOMPARE(document.undoStack()->index(), commands + 1);
+        QCOMPARE(size->currentIndex(), 1);
+        waitForUpdate();
+        saveWindowShot("patch-size-doorway");
+        // Drawn as narrow as a door: no longer blue near the old patch's side edge (the demo's receiver is 2 x 2 m).
+        const QPoint side = pixelOf(controller, before.corner + 0.08 * before.u + 0.5 * before.v);
+        const auto device = [&](QPoint p) { return QPoint(int(p.x() * viewport.devicePixelRatio()), int(p.y() * viewport.devicePixelRatio())); };
+        const QRgb was = small.pixel(device(side)), now = viewport.grabFramebuffer().pixel(device(side));
+        QVERIFY2(qBlue(was) > qBlue(now) + 30 && qBlue(was) > qRed(was) + 40, qPrintable(QString("%1 -> %2").arg(was, 0, 16).arg(now, 0, 16)));
+        document.undoStack()->undo();
+        QCOMPARE(document.project().receiver.corner, before.corner);
+        QCOMPARE(document.project().receiver.u, before.u);
+        QCOMPARE(size->currentText(), QString("Custom"));
+
+        // Placing with a preset: the ghost and the placed patch are a standing player, on the floor.
+        QAction* player = window_->findChild<QAction*>("placingSize-Player standing");
+        QVERIFY(player);
+        player->trigger();
+        controller.setTool(Tool::PlaceReceiver);
+        QVERIFY(window_->statusBar()->currentMessage().contains(QString::fromUtf8("0.6 × 1.8 m")));
+        const glm::dvec3 low(before.centre().x, 0.3, before.centre().z);
+        const QPoint at = pixelOf(controller, low - 0.02 * before.normal());
+        QTest::mouseMove(&viewport, at);
+        QTRY_VERIFY(controller.placementGhost().has_value());
+        const Patch ghost = *controller.placementGhost();
+        QVERIFY(std::abs(glm::length(ghost.u) - 0.6) < 1e-9 && std::abs(glm::length(ghost.v) - 1.8) < 1e-9);
+        waitForFrame();
+        saveWindowShot("placing-player");
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, at);
+        const Patch placed = document.project().receiver;
+        QVERIFY(glm::length(placed.centre() - ghost.centre()) < 1e-9);
+        const auto floor = controller.visibleSurface(Ray{placed.centre(), glm::dvec3(0, -1, 0)});
+        QVERIFY(floor && bottom(placed) >= floor->point.y && bottom(placed) < floor->point.y + 0.05);
+        QCOMPARE(presetOf(placed), std::optional<std::size_t>(2));
+        document.undoStack()->undo();
+        window_->findChild<QMenu*>("placingSize")->actions().front()->trigger();   // the patch's own size again
+        QVERIFY(!controller.placementSize());
+        viewport.style().showRays = true;
+        document.select({});
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
@@ -1280,6 +1932,16 @@ private:
         window_->viewport().requestUpdate();
         spy.wait(3000);
         QTRY_VERIFY_WITH_TIMEOUT(!window_->viewport().resultIsStale(), 30000);
+        QTest::qWait(50);
+    }
+
+    /// Until the viewport drew a frame of the document and view as they are now (flags and the
+    /// view change no ray: no new answer comes).
+    void waitForFrame()
+    {
+        QSignalSpy spy(&window_->viewport(), &QOpenGLWindow::frameSwapped);
+        window_->viewport().requestUpdate();
+        QVERIFY(spy.wait(5000));
         QTest::qWait(50);
     }
 

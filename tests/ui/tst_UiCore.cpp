@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <condition_variable>
 #include <fstream>
 #include <mutex>
@@ -17,9 +18,12 @@
 #include "Gizmo.h"
 #include "LiveVisibility.h"
 #include "ObjectEdits.h"
+#include "ObjectFlags.h"
+#include "PatchPresets.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
 #include "RayEnds.h"
+#include "SectionCutHandle.h"
 #include "UiTestScene.h"
 #include "ViewSettings.h"
 #include "ViewportController.h"
@@ -243,6 +247,248 @@ TEST(Gizmo, SnapsMovesToTheGridAndRotationsAndScalesToSteps)
     const double factor = glm::length(glm::dvec3(m[0]));
     EXPECT_NEAR(factor * 10.0, std::round(factor * 10.0), 1e-4);
     EXPECT_GT(factor, 1.25);
+}
+
+// Issue 16 §2: orthographic views. Pixel rays are parallel to the view, start on the eye's plane,
+// and land where the projection matrix draws them; the gizmo picks and drags in them.
+TEST(Camera, OrthographicRaysAreParallelAndMeetTheDrawnPixels)
+{
+    for (const bool orthographic : {false, true}) {
+        Camera camera;
+        camera.target = {1.0, 2.0, 3.0};
+        camera.distance = 7.0;
+        camera.yaw = 0.7;
+        camera.pitch = -0.4;
+        camera.orthographic = orthographic;
+        const glm::mat4 viewProj = camera.projection(1280.0 / 720.0, 20.0) * camera.view();
+        for (const glm::dvec2 pixel : {glm::dvec2(0, 0), glm::dvec2(640, 360), glm::dvec2(1279, 719), glm::dvec2(100, 600)}) {
+            const Ray ray = pixelRay(camera, pixel.x, pixel.y, 1280, 720);
+            if (orthographic) {
+                expectNear(ray.direction, camera.forward(), 1e-12);
+                EXPECT_NEAR(glm::dot(ray.origin - camera.eye(), camera.forward()), 0.0, 1e-9);
+            }
+            for (double along : {0.5, 5.0, 12.0}) {
+                const glm::dvec3 point = ray.origin + along * ray.direction;
+                const glm::dvec3 back = toPixels(camera, point, 1280, 720);
+                EXPECT_NEAR(back.x, pixel.x, 1e-6);
+                EXPECT_NEAR(back.y, pixel.y, 1e-6);
+                EXPECT_NEAR(back.z, along * glm::dot(ray.direction, camera.forward()), 1e-9);
+                const glm::vec4 clip = viewProj * glm::vec4(glm::vec3(point), 1.0f);   // what the GPU draws
+                EXPECT_NEAR((clip.x / clip.w + 1.0) * 640.0, pixel.x, 0.05) << orthographic;
+                EXPECT_NEAR((1.0 - clip.y / clip.w) * 360.0, pixel.y, 0.05) << orthographic;
+            }
+        }
+    }
+    // The scale at the target is kept when switching; zoom and pan work on it.
+    Camera camera;
+    camera.distance = 10.0;
+    Camera ortho = camera;
+    ortho.orthographic = true;
+    const glm::dvec3 beside = camera.target + 2.0 * camera.right();
+    EXPECT_NEAR(toPixels(camera, beside, 800, 600).x, toPixels(ortho, beside, 800, 600).x, 1e-9);
+    dolly(ortho, 1.0);
+    EXPECT_NEAR(ortho.halfHeight(), 0.85 * camera.halfHeight(), 1e-12);
+    const glm::dvec3 before = toPixels(ortho, beside, 800, 600);
+    pan(ortho, 30.0, -20.0, 600);
+    const glm::dvec3 after = toPixels(ortho, beside, 800, 600);
+    EXPECT_NEAR(after.x - before.x, 30.0, 1e-9);
+    EXPECT_NEAR(after.y - before.y, -20.0, 1e-9);
+    const Camera top = axisView(AxisView::Top, Bounds{glm::vec3(-1.0f), glm::vec3(1.0f)});
+    EXPECT_TRUE(top.orthographic);
+    EXPECT_FALSE(lookThrough({0, 0, 0}, {0, 0, 1}, {0, 0, 5}, 0.5).orthographic);
+    // Kept in the project's view, and absent (perspective) in files that predate it.
+    EXPECT_TRUE(cameraFromJson(cameraToJson(top))->orthographic);
+    EXPECT_FALSE(cameraToJson(camera).contains("orthographic"));
+    EXPECT_FALSE(cameraFromJson(cameraToJson(camera))->orthographic);
+}
+
+TEST(Gizmo, PicksAndDragsInAnOrthographicView)
+{
+    Camera camera;
+    camera.distance = 10.0;
+    camera.yaw = 0.6;
+    camera.pitch = -0.5;
+    camera.orthographic = true;
+    const glm::mat4 box = glm::translate(glm::mat4(1.0f), glm::vec3(3.0f, 0.0f, -2.0f));   // off the view's centre
+    const GizmoFrame frame = gizmoFrame(box, GizmoMode::Move, camera);
+    EXPECT_NEAR(frame.length, 0.15 * camera.distance, 1e-12);   // the same size on screen wherever it is
+    auto pixelOf = [&](const glm::dvec3& p) { return toPixels(camera, p, 1000, 800); };
+    for (int axis = 0; axis < 3; ++axis) {
+        glm::dvec3 dir(0.0);
+        dir[axis] = 1.0;
+        const glm::dvec3 grab = pixelOf(frame.pivot + 0.7 * frame.length * dir);
+        EXPECT_EQ(pickGizmoAxis(frame, camera, grab.x, grab.y, 1000, 800), axis);
+        const GizmoDrag drag = beginGizmoDrag(GizmoMode::Move, axis, box, camera, grab.x, grab.y, 1000, 800);
+        const glm::dvec3 to = pixelOf(frame.pivot + (0.7 * frame.length - 0.8) * dir);
+        expectNear(pivotOf(dragGizmo(drag, camera, to.x, to.y, 1000, 800)), frame.pivot - 0.8 * dir, 1e-6);
+    }
+}
+
+// Issue 16 §1: the section cut's handle sits on the cut plane in view, and a drag moves the cut
+// along Y under the cursor (by the cursor's vertical motion when the view looks along Y).
+TEST(SectionCutHandle, SitsOnTheCutAndFollowsTheCursor)
+{
+    Camera camera;
+    camera.target = {2.0, 1.0, -3.0};
+    camera.distance = 12.0;
+    camera.yaw = 0.4;
+    camera.pitch = -0.7;
+    const auto handle = cutHandle(camera, 2.5, 800, 600);
+    ASSERT_TRUE(handle);
+    EXPECT_EQ(handle->point.y, 2.5);
+    const glm::dvec3 grip = toPixels(camera, handle->point, 800, 600);
+    EXPECT_GT(grip.x, 600.0) << "right of the centre, clear of the gizmo";
+    EXPECT_TRUE(pickCutHandle(*handle, camera, grip.x, grip.y + 3.0, 800, 600));
+    EXPECT_FALSE(pickCutHandle(*handle, camera, grip.x - 60.0, grip.y, 800, 600));
+    for (double by : {0.7, -1.3}) {
+        const CutDrag drag = beginCutDrag(*handle, camera, grip.x, grip.y, 800, 600);
+        const glm::dvec3 to = toPixels(camera, handle->point + glm::dvec3(0.0, by, 0.0), 800, 600);
+        EXPECT_NEAR(dragCut(drag, camera, to.x, to.y, 800, 600), 2.5 + by, 1e-6);
+        EXPECT_NEAR(dragCut(drag, camera, to.x, to.y, 800, 600, 0.25), std::round((2.5 + by) / 0.25) * 0.25, 1e-12);
+    }
+    EXPECT_FALSE(cutHandle(camera, 500.0, 800, 600)) << "a cut far above the view has no handle in it";
+
+    Camera top = axisView(AxisView::Top, Bounds{glm::vec3(-5.0f), glm::vec3(5.0f)});
+    for (const bool orthographic : {true, false}) {
+        top.orthographic = orthographic;
+        const auto above = cutHandle(top, 1.0, 800, 600);
+        ASSERT_TRUE(above);
+        const glm::dvec3 p = toPixels(top, above->point, 800, 600);
+        EXPECT_TRUE(pickCutHandle(*above, top, p.x, p.y, 800, 600));
+        const CutDrag drag = beginCutDrag(*above, top, p.x, p.y, 800, 600);
+        // 50 pixels up the screen: raised by 50 pixels' worth of metres at the plane's depth.
+        const double depth = orthographic ? top.distance : glm::dot(above->point - top.eye(), top.forward());
+        EXPECT_NEAR(dragCut(drag, top, p.x, p.y - 50.0, 800, 600), 1.0 + 50.0 * 2.0 * depth * std::tan(top.fovY / 2.0) / 600.0, 1e-9);
+    }
+}
+
+// Issue 16 §2: world or local space. In local space the handles are the object's own axes, a move
+// goes along them (snapping the distance moved), a turn is about them.
+TEST(Gizmo, LocalSpaceMovesAndTurnsAlongTheObjectsOwnAxes)
+{
+    Camera camera;
+    camera.distance = 10.0;
+    camera.yaw = 0.6;
+    camera.pitch = -0.5;
+    const glm::mat4 box = glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.4f, 0.0f, 0.0f)), 0.5f, glm::vec3(0, 1, 0));
+    const glm::dvec3 ownX(std::cos(0.5), 0.0, -std::sin(0.5));
+    EXPECT_EQ(gizmoFrame(box, GizmoMode::Move, camera).axes[0], glm::dvec3(1, 0, 0));
+    const GizmoFrame local = gizmoFrame(box, GizmoMode::Move, camera, GizmoSpace::Local);
+    expectNear(local.axes[0], ownX, 1e-6);
+    auto pixelOf = [&](const glm::dvec3& p) { return toPixels(camera, p, 1000, 800); };
+    const glm::dvec3 grab = pixelOf(local.pivot + 0.7 * local.length * ownX);
+    ASSERT_EQ(pickGizmoAxis(local, camera, grab.x, grab.y, 1000, 800), 0);
+    const GizmoDrag drag = beginGizmoDrag(GizmoMode::Move, 0, box, camera, grab.x, grab.y, 1000, 800, GizmoSpace::Local);
+    const glm::dvec3 to = pixelOf(local.pivot + (0.7 * local.length + 1.3) * ownX);
+    expectNear(pivotOf(dragGizmo(drag, camera, to.x, to.y, 1000, 800)), local.pivot + 1.3 * ownX, 1e-5);
+    // Snapped: 1.3 m becomes 1.25 m along the axis, wherever the pivot started.
+    expectNear(pivotOf(dragGizmo(drag, camera, to.x, to.y, 1000, 800, GizmoSnap{0.25, 0.0, 0.0})), local.pivot + 1.25 * ownX, 1e-5);
+    // A turn about the local Z axis keeps the object's own Y in the plane it spans with Z... and its Z.
+    const GizmoDrag turn = beginGizmoDrag(GizmoMode::Rotate, 2, box, camera, 500, 400, 1000, 800, GizmoSpace::Local);
+    const glm::mat4 turned = std::get<glm::mat4>(dragGizmo(turn, camera, 540, 400, 1000, 800));
+    expectNear(glm::normalize(glm::dvec3(turned[2])), glm::normalize(glm::dvec3(box[2])), 1e-6);
+    EXPECT_GT(glm::length(glm::dvec3(turned[0]) - glm::dvec3(box[0])), 0.1);
+}
+
+// Issue 16 §2: size presets. A wall's patch keeps its bottom edge (it stands on the floor), whichever
+// way its edges point; a floor's keeps its centre.
+TEST(PatchPresets, ResizeKeepsAWallPatchsBottomEdge)
+{
+    const auto bottomMiddle = [](const Patch& p) {
+        glm::dvec3 corners[4] = {p.corner, p.corner + p.u, p.corner + p.v, p.corner + p.u + p.v};
+        std::sort(std::begin(corners), std::end(corners), [](const glm::dvec3& a, const glm::dvec3& b) { return a.y < b.y; });
+        return 0.5 * (corners[0] + corners[1]);
+    };
+    Patch up;   // a wall's patch: u across, v up
+    up.corner = {1.0, 0.02, -3.0};
+    up.u = {0.0, 0.0, 1.0};
+    up.v = {0.0, 1.0, 0.0};
+    Patch down = up;   // v pointing down, from the top corner
+    down.corner = up.corner + up.v;
+    down.v = -up.v;
+    down.u = -up.u;
+    down.corner += up.u;
+    Patch sideways = up;   // u up, v across
+    sideways.u = up.v;
+    sideways.v = up.u;
+    sideways.corner = up.corner;
+    for (const Patch& wall : {up, down, sideways}) {
+        const Patch door = resizedPatch(wall, 0.9, 2.1);
+        expectNear(bottomMiddle(door), bottomMiddle(wall), 1e-12);
+        const glm::dvec3 vertical = std::abs(door.u.y) > std::abs(door.v.y) ? door.u : door.v;
+        EXPECT_NEAR(glm::length(vertical), 2.1, 1e-12);
+        expectNear(door.normal(), wall.normal(), 1e-12);
+        EXPECT_EQ(door.na, wall.na);
+        EXPECT_EQ(presetOf(door), std::optional<std::size_t>(0));
+    }
+    EXPECT_FALSE(presetOf(up)) << "1 x 1 m is custom";
+    Patch floor;
+    floor.corner = {0.0, 0.0, 0.0};
+    floor.u = {2.0, 0.0, 0.0};
+    floor.v = {0.0, 0.0, -2.0};
+    const Patch player = resizedPatch(floor, 0.6, 1.8);
+    expectNear(player.centre(), floor.centre(), 1e-12);
+    EXPECT_NEAR(glm::length(player.u), 0.6, 1e-12);
+    EXPECT_NEAR(glm::length(player.v), 1.8, 1e-12);
+}
+
+// Issue 16 §2: hide and lock are kept in the project (DESIGN.md §3: keys the CLI keeps), each
+// undoable; an occluder's flags live in its own entry and move with it; other shapes read as none.
+TEST(ObjectFlags, AreKeptInTheProjectAndFollowTheirObjects)
+{
+    const std::filesystem::path folder = freshFolder("object-flags");
+    const std::filesystem::path project = test::copyDemoProject(folder);
+    EditorDocument document;
+    document.open(project);
+    const ObjectRef wall{ObjectKind::SceneObject, 2}, receiver{ObjectKind::Receiver, 0};
+    document.setFlags(wall, {true, false}, "hide");
+    document.setFlags(receiver, {false, true}, "lock");
+    OccluderSpec crate;
+    crate.name = "crate";
+    crate.mesh = "box";
+    document.addOccluder(crate);
+    document.addOccluder(crate);
+    document.setFlags({ObjectKind::Occluder, 1}, {true, true}, "hide and lock");
+    EXPECT_TRUE(document.flags(wall).hidden);
+    EXPECT_FALSE(document.isShown(wall));
+    EXPECT_TRUE(document.isShown(receiver));
+    EXPECT_FALSE(document.isPickable(receiver));
+    EXPECT_EQ(document.hiddenMask(ObjectKind::Occluder), (std::vector<std::uint8_t>{0, 1}));
+    // The first crate deleted: the second's flags go with it.
+    document.select({ObjectKind::Occluder, 0});
+    document.removeSelected();
+    EXPECT_EQ(document.flags({ObjectKind::Occluder, 0}), (ObjectFlags{true, true}));
+    document.save(folder / "flags.json");
+    const nlohmann::json file = nlohmann::json::parse(std::ifstream(folder / "flags.json"));
+    EXPECT_EQ(file.at("editor").at("hidden").at("instances"), nlohmann::json::array({2}));
+    EXPECT_EQ(file.at("editor").at("locked").at("patches"), nlohmann::json::array({"receiver"}));
+    EXPECT_FALSE(file.at("editor").contains("hidden") && file.at("editor").at("hidden").contains("patches"));
+    EXPECT_EQ(file.at("occluders").at(0).at("editor"), (nlohmann::json{{"hidden", true}, {"locked", true}}));
+    EditorDocument reopened;
+    reopened.open(folder / "flags.json");
+    EXPECT_EQ(reopened.flags(wall), (ObjectFlags{true, false}));
+    EXPECT_EQ(reopened.flags(receiver), (ObjectFlags{false, true}));
+    EXPECT_EQ(reopened.flags({ObjectKind::Occluder, 0}), (ObjectFlags{true, true}));
+    // Undo takes each back; nothing left, the keys go.
+    while (document.undoStack()->canUndo())
+        document.undoStack()->undo();
+    EXPECT_EQ(document.flags(wall), ObjectFlags{});
+    EXPECT_FALSE(document.editorSettings().contains("hidden"));
+    EXPECT_FALSE(document.editorSettings().contains("locked"));
+    // Isolation: view state, ended by a change of the occluder list.
+    document.setIsolated(receiver);
+    EXPECT_FALSE(document.isShown(wall));
+    EXPECT_EQ(document.hiddenMask(ObjectKind::SceneObject), std::vector<std::uint8_t>(document.sceneFile().instances.size(), 1));
+    document.addOccluder(crate);
+    document.setIsolated({ObjectKind::Occluder, 0});
+    document.undoStack()->undo();
+    EXPECT_FALSE(document.isolated());
+    // Values of another shape read as no flag and are replaced when written.
+    nlohmann::json odd = {{"hidden", 3}, {"locked", {{"instances", "all"}}}, {"camera", 1}};
+    EXPECT_EQ(settingsFlags(odd, wall), ObjectFlags{});
+    setSettingsFlags(odd, wall, {true, true});
+    EXPECT_EQ(settingsFlags(odd, wall), (ObjectFlags{true, true}));
+    EXPECT_EQ(odd.at("camera"), 1);
 }
 
 TEST(RaySubset, AllRaysUnderTheCapAndASpreadSubsetAboveIt)

@@ -1,0 +1,93 @@
+#include "SectionCutHandle.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sightline::ui {
+
+namespace {
+
+constexpr double kScreenFraction = 0.06;   // the arrows' length relative to the depth (as the gizmo's 0.15)
+constexpr double kMarginPixels = 24.0;
+constexpr double kAlongY = 0.95;           // |forward.y| beyond this: the view looks (nearly) along Y
+
+/// Parameter s of the point `on` + s * Y nearest to the ray (the gizmo's axis parameter on Y).
+double yParameter(const glm::dvec3& on, const Ray& ray)
+{
+    const glm::dvec3 axis(0.0, 1.0, 0.0);
+    const glm::dvec3 w0 = on - ray.origin;
+    const double b = glm::dot(axis, ray.direction);
+    const double denom = 1.0 - b * b;
+    if (denom < 1e-9)
+        return 0.0;
+    return (b * glm::dot(ray.direction, w0) - glm::dot(axis, w0)) / denom;
+}
+
+double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b)
+{
+    const glm::dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (a + t * ab));
+}
+
+} // namespace
+
+std::optional<CutHandle> cutHandle(const Camera& camera, double cutHeight, int width, int height)
+{
+    if (!std::isfinite(cutHeight))
+        return std::nullopt;
+    const double aspect = double(width) / std::max(height, 1);
+    glm::dvec3 right = camera.right();
+    right.y = 0.0;
+    CutHandle handle;
+    handle.point = camera.target + 0.75 * camera.halfHeight() * aspect * right;
+    handle.point.y = cutHeight;
+    handle.size = std::max(kScreenFraction * camera.screenDepth(handle.point), 1e-3);
+    const glm::dvec3 p = toPixels(camera, handle.point, width, height);
+    if (!(p.z > 0.0) || p.x < kMarginPixels || p.x > width - kMarginPixels || p.y < kMarginPixels ||
+        p.y > height - kMarginPixels)
+        return std::nullopt;
+    return handle;
+}
+
+bool pickCutHandle(const CutHandle& handle, const Camera& camera, double x, double y, int width, int height,
+                   double tolerance)
+{
+    const glm::dvec3 up(0.0, handle.size, 0.0);
+    const glm::dvec3 a = toPixels(camera, handle.point + up, width, height);
+    const glm::dvec3 b = toPixels(camera, handle.point - up, width, height);
+    const glm::dvec3 c = toPixels(camera, handle.point, width, height);
+    if (!(a.z > 0.0 && b.z > 0.0 && c.z > 0.0))
+        return false;
+    // The arrows' span, or the grip at the middle (all that shows when looking along Y).
+    return distanceToSegment({x, y}, glm::dvec2(a), glm::dvec2(b)) <= tolerance ||
+           glm::length(glm::dvec2(x, y) - glm::dvec2(c)) <= 1.5 * tolerance;
+}
+
+CutDrag beginCutDrag(const CutHandle& handle, const Camera& camera, double x, double y, int width, int height)
+{
+    CutDrag drag;
+    drag.handle = handle;
+    drag.startHeight = handle.point.y;
+    drag.startY = y;
+    if (std::abs(camera.forward().y) > kAlongY) {
+        // Metres on the cut plane per pixel: the view's height at the plane's depth over the pixels.
+        const double depth = camera.orthographic ? camera.distance : std::abs(glm::dot(handle.point - camera.eye(), camera.forward()));
+        drag.metresPerPixel = 2.0 * depth * std::tan(camera.fovY / 2.0) / std::max(height, 1);
+        return drag;
+    }
+    drag.startParam = yParameter(handle.point, pixelRay(camera, x, y, width, height));
+    return drag;
+}
+
+double dragCut(const CutDrag& drag, const Camera& camera, double x, double y, int width, int height, double step)
+{
+    const double moved = drag.metresPerPixel > 0.0
+                             ? (drag.startY - y) * drag.metresPerPixel   // up the screen raises the cut
+                             : yParameter(drag.handle.point, pixelRay(camera, x, y, width, height)) - drag.startParam;
+    const double to = drag.startHeight + moved;
+    return step > 0.0 ? std::round(to / step) * step : to;
+}
+
+} // namespace sightline::ui
