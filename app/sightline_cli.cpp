@@ -31,6 +31,7 @@
 #include "cli/LightingCommands.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
+#include "cli/OutputPaths.h"
 #include "cli/PvsCommands.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
@@ -123,6 +124,7 @@ void checkShaftOptions(const CLI::App& command, const ShaftArgs& args)
 int runShaft(const ShaftArgs& args)
 {
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    cli::checkOutputs({{"--mask", args.mask}}, cli::projectInputs(args.project, project));
     validatePatchPair(project.source, project.receiver);   // refuse before the expensive scene load
     if (args.mode == "table") {
         try {
@@ -310,6 +312,18 @@ int runBench(BenchArgs& args)
         args.settings.denseSide = 128;
     if (args.settings.denseSide % 32 != 0)
         throw Error("--dense must be a multiple of 32, got " + std::to_string(args.settings.denseSide));
+    // Before the runs, which may take minutes: the CSV or chart must not replace what is benchmarked.
+    std::vector<cli::FileRole> inputs;
+    for (const std::string& file : args.settings.projects) {
+        std::vector<cli::FileRole> read{{"the project", file}};
+        try {
+            read = cli::projectInputs(file, loadProject(file, {.allowOutsidePaths = args.settings.allowOutsidePaths}));
+        } catch (const std::exception&) {
+            // An unreadable project is refused by the run itself, with its own message.
+        }
+        inputs.insert(inputs.end(), read.begin(), read.end());
+    }
+    cli::checkOutputs({{"--csv", args.csv}, {"--chart", args.chart}}, inputs);
     std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s %10s %10s\n", "project", "method", "sources", "receiver", "ms",
                 "wrong-block", "wrong-free", "error", "light-mae", "dense-mae");
     const auto rows = bench::run(args.settings, [](const bench::Row& r) {
@@ -477,7 +491,7 @@ int main(int argc, char** argv)
                          "hh (Heckbert-Herf baseline, counts only: no --mask)")
         ->check(CLI::IsMember({"raycast", "cpu", "gl", "hh"}))
         ->capture_default_str();
-    shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)");
+    shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)")->check(cli::outputFile());
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
     shaftCmd->add_option("--threads", shaft.threads, "raycast, cpu: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");
@@ -546,8 +560,8 @@ int main(int argc, char** argv)
     benchCmd->add_option("--dense", benchArgs.settings.denseSide,
                          "Dense reference: N x N regular source samples (multiple of 32; --shadow default 128)")
         ->check(CLI::Range(0, 1024));
-    benchCmd->add_option("--csv", benchArgs.csv, "Write all rows as CSV");
-    benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error");
+    benchCmd->add_option("--csv", benchArgs.csv, "Write all rows as CSV")->check(cli::outputFile());
+    benchCmd->add_option("--chart", benchArgs.chart, "Write a PNG chart of time against error")->check(cli::outputFile());
     cli::addAllowOutsidePaths(benchCmd, benchArgs.settings.allowOutsidePaths);
 
     cli::ImportanceArgs importance;
@@ -566,6 +580,20 @@ int main(int argc, char** argv)
     std::string demoSeeds = "1-3";
     demoCmd->add_option("--seeds", demoSeeds, "Seeds of each generated bench kind, FIRST-LAST (1-3; at most 100 of them)");
 
+    // CLI11 answers a misspelt subcommand ("sightline-cli shaf p.json") with "A subcommand is
+    // required", as if none were given: name it and the ones there are.
+    if (argc > 1 && argv[1][0] != '-') {
+        std::string names;
+        bool known = false;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+            known = known || sub->get_name() == argv[1];
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (!known) {
+            std::cerr << "sightline-cli: error: unknown subcommand '" << argv[1] << "' (" << names << "; see --help)\n";
+            return 2;
+        }
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

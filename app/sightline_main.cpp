@@ -24,6 +24,7 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "cli/OutputLimits.h"
+#include "cli/OutputPaths.h"
 #include "plugins/VideoEncoder.h"
 #include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
@@ -74,11 +75,21 @@ QString prepareOverlay(const EditorDocument& document, PatchOverlay& overlay)
     return QString::asprintf("%.1f ms a frame", run.sampleMs / std::max(run.framesDone, 1));
 }
 
+/// Refuses an output that would replace the opened file or a file it names (cli/OutputPaths.h):
+/// `--screenshot p.json p.json` replaced the project with the PNG.
+void checkOutput(const std::string& option, const std::string& output, const std::string& file, const Project& project)
+{
+    std::vector<cli::FileRole> inputs = cli::projectInputs(file, project);
+    inputs.front().role = "the opened file";
+    cli::checkOutputs({{option, output}}, inputs);
+}
+
 int screenshot(const Arguments& args, int width, int height)
 {
     EditorDocument document;
     document.setAllowOutsidePaths(args.allowOutsidePaths);
     document.open(args.file);
+    checkOutput("--screenshot", args.screenshot, args.file, document.project());
     ViewStyle style;
     style.rayCap = args.rays;
     style.showBlocked = args.showBlocked;
@@ -126,6 +137,7 @@ int record(const Arguments& args, int width, int height)
     EditorDocument document;
     document.setAllowOutsidePaths(args.allowOutsidePaths);
     document.open(args.file);
+    checkOutput("--record", args.record, args.file, document.project());
     ViewStyle style;
     style.rayCap = args.rays;
     style.showBlocked = args.showBlocked;

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <fstream>
 
+#include <glm/geometric.hpp>
+
 #include "EditCommands.h"
 #include "plugins/SceneFormats.h"
 #include "visibility/AtomicFile.h"
@@ -137,14 +139,52 @@ std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double sid
         (alongX ? p.z : p.x) = (alongX ? lo.z : lo.x) + across * (alongX ? hi.z - lo.z : hi.x - lo.x);
         return p;
     };
-    std::vector<glm::dvec3> sources, receivers;
+    // That height is over the level's lowest point, which is the floor of an interior but, on a
+    // terrain, the bottom of its deepest valley: elsewhere the candidate is under the ground (all
+    // rays pass beneath the hills, 100% visible) or inside a floor slab. A candidate with no floor
+    // under it (a surface wound to face up) but a surface facing up above it is lifted to the same
+    // height over that surface; one standing over a floor is "grounded", at that height over it.
+    const double overFloor = height - lo.y;
+    auto facesUp = [&](const SurfaceHit& hit) {
+        const glm::dvec3 a(triangles.vertices[3 * hit.triangle]), b(triangles.vertices[3 * hit.triangle + 1]),
+            c(triangles.vertices[3 * hit.triangle + 2]);
+        const glm::dvec3 n = glm::cross(b - a, c - a);
+        return glm::length(n) > 0.0 && n.y > 0.5 * glm::length(n);
+    };
+    struct Candidate {
+        glm::dvec3 centre;
+        bool grounded = false;
+    };
+    auto grounded = [&](glm::dvec3 p) {
+        for (int lifts = 0; lifts < 8; ++lifts) {
+            if (const auto down = pickSurface(triangles, Ray{p, {0.0, -1.0, 0.0}}); down && facesUp(*down))
+                return Candidate{{p.x, down->point.y + overFloor, p.z}, true};
+            const auto up = pickSurface(triangles, Ray{p, {0.0, 1.0, 0.0}});
+            if (!up || !facesUp(*up))
+                break;
+            p.y = up->point.y + overFloor;
+        }
+        return Candidate{p, false};
+    };
+    std::vector<Candidate> sourceCandidates, receiverCandidates;
     for (const double along : {0.08, 0.15, 0.25, 0.35})
         for (const double side01 : {0.5, 0.35, 0.65, 0.2, 0.8}) {
-            if (const glm::dvec3 p = at(along, side01); isOpen(p))
-                sources.push_back(p);
-            if (const glm::dvec3 p = at(1.0 - along, side01); isOpen(p))
-                receivers.push_back(p);
+            if (const Candidate c = grounded(at(along, side01)); isOpen(c.centre))
+                sourceCandidates.push_back(c);
+            if (const Candidate c = grounded(at(1.0 - along, side01)); isOpen(c.centre))
+                receiverCandidates.push_back(c);
         }
+    // Grounded candidates on both sides, where there are some; else any open ones (a level
+    // without floors, or wound the other way).
+    const auto anyGrounded = [](const std::vector<Candidate>& list) {
+        return std::any_of(list.begin(), list.end(), [](const Candidate& c) { return c.grounded; });
+    };
+    const bool groundedOnly = anyGrounded(sourceCandidates) && anyGrounded(receiverCandidates);
+    std::vector<glm::dvec3> sources, receivers;
+    for (const auto& [list, out] : {std::pair{&sourceCandidates, &sources}, std::pair{&receiverCandidates, &receivers}})
+        for (const Candidate& c : *list)
+            if (c.grounded || !groundedOnly)
+                out->push_back(c.centre);
     if (sources.empty() || receivers.empty())
         return {source, receiver};
     // The farthest pair with a clear line between centres; else the farthest open pair. Each

@@ -189,7 +189,14 @@ std::filesystem::path MainWindow::projectFolder() const
 void MainWindow::resetSectionCut()
 {
     const Project& project = document_.project();
-    viewport_->style().cutHeight = std::max(project.source.centre().y, project.receiver.centre().y) + 1.5;
+    ViewStyle& style = viewport_->style();
+    style.cutHeight = std::max(project.source.centre().y, project.receiver.centre().y) + 1.5;
+    // The cut looks into rooms past their ceilings. Where both patches stand under open sky (a
+    // terrain, a courtyard) it has no ceiling to remove and would only hide the hills and roofs
+    // between them (a terrain opened as dark holes where its hills were cut): it starts off.
+    style.cutaway = !(controller_->openSkyAbove(project.source.centre()) && controller_->openSkyAbove(project.receiver.centre()));
+    if (cutAction_)
+        cutAction_->setChecked(style.cutaway);
     viewport_->requestUpdate();
 }
 

@@ -62,6 +62,9 @@ void ViewportController::setTool(Tool tool)
         return;
     }
     tool_ = tool;
+    // The handles hide while placing: none is under the cursor when they come back.
+    hoveredAxis_ = -1;
+    cutHovered_ = false;
     if (ghost_) {
         ghost_.reset();
         emit viewChanged();
@@ -100,7 +103,36 @@ std::optional<CutHandle> ViewportController::cutHandle() const
 {
     if (!style_ || !style_->cutaway || tool_ != Tool::Select)
         return std::nullopt;
-    return sightline::ui::cutHandle(camera_, cutaway(*style_, camera_).height, width_, height_);
+    const double height = cutaway(*style_, camera_).height;
+    if (cutDrag_) {
+        // Held where it was grabbed: the spot is not chosen again under the cursor.
+        CutHandle held = cutDrag_->handle;
+        held.point.y = height;
+        return held;
+    }
+    // Clear of what the designer clicks: the patches in view and the selection's gizmo.
+    std::vector<ScreenBox> keepClear;
+    for (const ObjectKind kind : {ObjectKind::Source, ObjectKind::Receiver})
+        if (document_.isShown({kind, 0})) {
+            const Patch& p = kind == ObjectKind::Source ? document_.project().source : document_.project().receiver;
+            if (const auto box = screenBox(camera_, {p.corner, p.corner + p.u, p.corner + p.v, p.corner + p.u + p.v}, width_, height_, 8.0))
+                keepClear.push_back(*box);
+        }
+    if (const auto frame = gizmo()) {
+        std::vector<glm::dvec3> ends{frame->pivot};
+        for (const glm::dvec3& axis : frame->axes) {
+            ends.push_back(frame->pivot + 1.2 * frame->length * axis);
+            ends.push_back(frame->pivot - 1.2 * frame->length * axis);
+        }
+        if (const auto box = screenBox(camera_, ends, width_, height_, 8.0))
+            keepClear.push_back(*box);
+    }
+    return sightline::ui::cutHandle(camera_, height, width_, height_, keepClear);
+}
+
+bool ViewportController::openSkyAbove(const glm::dvec3& point) const
+{
+    return !pickSurface(triangles(), Ray{point, {0.0, 1.0, 0.0}});
 }
 
 const WorldTriangles& ViewportController::triangles() const

@@ -102,6 +102,8 @@ public:
     /// placed occluders; hidden objects (and those isolation hides) are not drawn. Placement puts
     /// patches on it, locked objects included.
     std::optional<SurfaceHit> visibleSurface(const Ray& ray) const;
+    /// Whether nothing of the level, drawn or not, lies straight above `point` (open sky).
+    bool openSkyAbove(const glm::dvec3& point) const;
     /// What a click at `position` selects (gizmo handles excepted).
     ObjectRef objectAt(QPointF position) const;
     /// Places the source or receiver on the surface under `position`; false when nothing is hit.

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include "cli/AoFiles.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
+#include "cli/OutputPaths.h"
 #include "lighting/ao/AoBinnedCaster.h"
 #include "lighting/ao/AoComputation.h"
 #include "lighting/ao/AoEmbree.h"
@@ -54,7 +56,7 @@ CLI::App* addAoCommand(CLI::App& app, AoArgs& args)
     command->add_option("--k", args.k, "Light directions: 6, 18, 66, 258 or 1026 (subdivided octahedron)")->capture_default_str();
     command->add_option("--npy", args.npy,
                         "AO as float32 .npy: shape (V,) in the file's vertex order, NaN for a vertex of no face; with "
-                        "--texel the atlas, shape (H, W), NaN in the gutter");
+                        "--texel the atlas, shape (H, W), NaN in the gutter")->check(outputFile());
     command->add_flag("--json", args.json, "Print one JSON object (k, vertices, ms, ...) instead of text");
     command->add_option("--method", args.method,
                         "Fill the matrix with cpu (exact, binned per direction), embree (single rays, the baseline) or "
@@ -79,11 +81,11 @@ CLI::App* addAoCommand(CLI::App& app, AoArgs& args)
     command->add_option("--texel", args.texel,
                         "Texel mode: sample points on a grid of M texels per metre over each triangle (light maps)")
         ->check(CLI::PositiveNumber);
-    command->add_option("--lightmap", args.lightmap, "Texel mode: write the light-map atlas PNG (sRGB)");
+    command->add_option("--lightmap", args.lightmap, "Texel mode: write the light-map atlas PNG (sRGB)")->check(outputFile());
     command->add_option("--gltf", args.gltf,
                         "Write glTF (.glb/.gltf): AO (or --env colour) in COLOR_0; with --texel, TEXCOORD_1 and an "
-                        "occlusionTexture naming the --lightmap PNG");
-    command->add_option("--ply", args.ply, "Write a binary PLY with sRGB vertex colours (vertex mode)");
+                        "occlusionTexture naming the --lightmap PNG")->check(outputFile());
+    command->add_option("--ply", args.ply, "Write a binary PLY with sRGB vertex colours (vertex mode)")->check(outputFile());
     command->add_option("--threads", args.threads, "cpu, embree: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
@@ -118,9 +120,16 @@ int runAo(const AoArgs& args)
         environment = AoEnvironment::load(args.env);
 
     std::vector<std::string> warnings;
-    const Scene scene = isProject(args.input)
-                            ? buildScene(loadProject(args.input, {.allowOutsidePaths = args.allowOutsidePaths}), &warnings)
-                            : loadScene(args.input, &warnings);
+    std::optional<Project> project;
+    std::vector<FileRole> inputs{{"the mesh", args.input}};
+    if (isProject(args.input)) {
+        project = loadProject(args.input, {.allowOutsidePaths = args.allowOutsidePaths});
+        inputs = projectInputs(args.input, *project);
+    }
+    if (!args.env.empty())
+        inputs.push_back({"the environment", args.env});
+    checkOutputs({{"--npy", args.npy}, {"--gltf", args.gltf}, {"--ply", args.ply}, {"--lightmap", args.lightmap}}, inputs);
+    const Scene scene = project ? buildScene(*project, &warnings) : loadScene(args.input, &warnings);
     const AoOccluders occluders = aoOccluders(scene);
     const std::string what = std::filesystem::path(args.input).filename().string();
     if (occluders.triangleCount() == 0)   // refused before the importer's warnings: one line

@@ -14,6 +14,7 @@
 
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
+#include "cli/OutputPaths.h"
 #include "lighting/SoftShadow.h"
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
@@ -95,8 +96,8 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
         "importance", "Importance map (paper §9): per sample of a patch, the fraction of the other patch it sees, "
                       "accumulated over the project's animation");
     command->add_option("project", args.project, "Project file (JSON, DESIGN.md §3; optional \"animation\" key)")->required();
-    command->add_option("--out", args.out, "PNG: the map in the viridis colour map with a legend")->required();
-    command->add_option("--npy", args.npy, "Also write the raw values as float32 .npy, shape (nb, na), in [0, 1]");
+    command->add_option("--out", args.out, "PNG: the map in the viridis colour map with a legend")->required()->check(outputFile());
+    command->add_option("--npy", args.npy, "Also write the raw values as float32 .npy, shape (nb, na), in [0, 1]")->check(outputFile());
     command->add_option("--frames", args.frames,
                         "Frames to accumulate (default: the animation's \"frames\", else its last key frame + 1, "
                         "or 1 without an animation)")
@@ -129,6 +130,7 @@ int runImportance(const ImportanceArgs& args)
 {
     const auto start = std::chrono::steady_clock::now();
     Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    checkOutputs({{"--out", args.out}, {"--npy", args.npy}}, projectInputs(args.project, project));
     applyGrids(args.grids, project);
     const std::string what = std::filesystem::path(args.project).filename().string();
     const Animation animation = parseAnimation(project, what);
@@ -222,8 +224,8 @@ CLI::App* addShadowCommand(CLI::App& app, ShadowArgs& args)
         "shadow", "Soft shadow (paper §8): the light the source patch, as an area light, casts on the receiver");
     command->add_option("project", args.project,
                         "Project file (optional \"light\" texture and \"receiver_heights\", see README)")->required();
-    command->add_option("--out", args.out, "PNG of the light on the receiver, one pixel per receiver sample (v up)")->required();
-    command->add_option("--npy", args.npy, "Also write the light fraction (mean over colours) as float32 .npy, shape (nb, na)");
+    command->add_option("--out", args.out, "PNG of the light on the receiver, one pixel per receiver sample (v up)")->required()->check(outputFile());
+    command->add_option("--npy", args.npy, "Also write the light fraction (mean over colours) as float32 .npy, shape (nb, na)")->check(outputFile());
     command->add_flag("--intensity", args.intensity, "Write the shadow intensity (1 - light, grey) instead of the light");
     command->add_option("--scale", args.scale, "Enlarge the PNG N times (nearest)")->check(CLI::Range(1, 64));
     command->add_option("--method", args.method,
@@ -248,6 +250,7 @@ int runShadow(const ShadowArgs& args)
 {
     const auto start = std::chrono::steady_clock::now();
     Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    checkOutputs({{"--out", args.out}, {"--npy", args.npy}}, projectInputs(args.project, project));
     applyGrids(args.grids, project);
     validatePatchPair(project.source, project.receiver);
     // The PNG is the receiver grid times --scale a side: both in range can still be too big.

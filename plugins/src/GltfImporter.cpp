@@ -505,6 +505,10 @@ glm::mat4 localTransform(const tinygltf::Node& node, const std::string& what)
             throw Error(what + ": matrix must have 16 numbers");
         glm::dmat4 m;
         std::memcpy(glm::value_ptr(m), node.matrix.data(), sizeof(m)); // both column-major
+        // glTF 2.0 §5.25: a node's matrix must be decomposable to TRS. A projective last row was
+        // dropped without a word (positions are transformed as points, w ignored): another shape.
+        if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+            throw Error(what + ": matrix must be affine (elements 3, 7, 11, 15 equal to 0, 0, 0, 1; glTF requires a TRS matrix)");
         return glm::mat4(m);
     }
     glm::dvec3 t(0.0), s(1.0);

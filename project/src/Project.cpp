@@ -116,6 +116,10 @@ struct Reader {
         std::array<float, 16> values{};
         for (int i = 0; i < 16; ++i)
             m[i / 4][i % 4] = values[std::size_t(i)] = float(number(t[std::size_t(i)], key));
+        // Points are transformed with w = 1 and the result's w ignored: a projective last row
+        // would be dropped without a word, placing another shape than the file says.
+        if (m[0][3] != 0.0f || m[1][3] != 0.0f || m[2][3] != 0.0f || m[3][3] != 1.0f)
+            fail(key, "must be affine: elements 3, 7, 11 and 15 (its last row) must be 0, 0, 0, 1");
         if (transformsAsWritten)
             transformsAsWritten->emplace(values, t);
         return m;

@@ -3,7 +3,10 @@
 // the CLI (and the editor's headless front end) as a user would.
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -186,4 +189,65 @@ TEST_F(BadInputs, JsonOutputSurvivesFileNamesThatAreNotUtf8)
     ASSERT_EQ(shaft.code, 0) << shaft.err;
     EXPECT_TRUE(json::accept(shaft.out)) << shaft.out;
     EXPECT_TRUE(fs::exists(mask));
+}
+
+// Category: lost data. An output naming an input of the same run (or another output) replaced it
+// with a silent success: `shaft p.json --mask p.json` turned the project into a .npy, `importance
+// --out wall.obj` the level into a PNG, `--out m.png --npy m.png` kept only the .npy.
+TEST_F(BadInputs, AnOutputNeverReplacesAnInputOrAnotherOutput)
+{
+    const fs::path file = write(project());
+    auto bytes = [](const fs::path& f) {
+        std::stringstream text;
+        text << std::ifstream(f, std::ios::binary).rdbuf();
+        return text.str();
+    };
+    const std::string projectBytes = bytes(file), sceneBytes = bytes(projectFolder / "wall.obj");
+    const std::string p = file.string(), wall = (projectFolder / "wall.obj").string();
+    // Through another spelling and a symlink too: the same file, not the same string.
+    fs::create_symlink(projectFolder / "wall.obj", folder / "link.obj");
+    const std::string dotted = (projectFolder / "." / "p.json").string();
+    const std::pair<std::string, std::vector<const char*>> cases[] = {
+        {"shaft " + p + " --mask " + p, {"--mask", "would replace the project", "choose another file"}},
+        {"shaft " + p + " --mask " + dotted, {"--mask", "the project"}},
+        {"shaft " + p + " --mask " + wall, {"--mask", "the scene"}},
+        {"importance " + p + " --out " + wall, {"--out", "the scene"}},
+        {"importance " + p + " --out " + (folder / "link.obj").string(), {"--out", "the scene"}},
+        {"shadow " + p + " --out " + p, {"--out", "the project"}},
+        {"shadow " + p + " --out " + (folder / "s.png").string() + " --npy " + p, {"--npy", "the project"}},
+        {"importance " + p + " --out " + (folder / "m.png").string() + " --npy " + (folder / "m.png").string(),
+         {"--out and --npy both name", "m.png"}},
+        {"ao " + wall + " --ply " + wall, {"--ply", "the mesh"}},
+        {"ao " + p + " --npy " + wall, {"--npy", "the scene"}},
+        {"bench " + p + " --methods raycast --sources 32 --receivers 32 --repeat 1 --csv " + p, {"--csv", "the project"}},
+    };
+    for (const auto& [command, words] : cases) {
+        const CliRun run = runCli(command, 120);
+        EXPECT_EQ(run.code, 1) << command << " -> " << run.err;
+        EXPECT_TRUE(oneLine(run.err)) << command << " -> [" << run.err << "]";
+        for (const char* w : words)
+            EXPECT_TRUE(contains(run.err, w)) << command << ": expected '" << w << "' in: " << run.err;
+        EXPECT_EQ(bytes(file), projectBytes) << command;
+        EXPECT_EQ(bytes(projectFolder / "wall.obj"), sceneBytes) << command;
+    }
+    EXPECT_FALSE(fs::exists(folder / "m.png"));
+    EXPECT_FALSE(fs::exists(folder / "s.png"));
+
+    // The editor's headless outputs too: `sightline --screenshot p.json p.json` replaced the project.
+    const fs::path editor = fs::path(SIGHTLINE_CLI).parent_path() / "sightline";
+    if (fs::exists(editor))
+        for (const std::string& output : {p, dotted, wall}) {
+            const std::string command = "--screenshot " + output + " " + p;
+            const CliRun run = runProgram(editor.string(), command, 60);
+            EXPECT_EQ(run.code, 1) << command << " -> " << run.err;
+            EXPECT_TRUE(oneLine(run.err)) << command << " -> [" << run.err << "]";
+            EXPECT_TRUE(contains(run.err, "--screenshot ") && contains(run.err, "would replace")) << run.err;
+            EXPECT_EQ(bytes(file), projectBytes) << command;
+            EXPECT_EQ(bytes(projectFolder / "wall.obj"), sceneBytes) << command;
+        }
+
+    // An empty file name is refused, not taken for "no mask".
+    const CliRun empty = runCli("shaft " + p + " --mask ''");
+    EXPECT_EQ(empty.code, 2) << empty.err;
+    EXPECT_TRUE(contains(empty.err, "--mask") && contains(empty.err, "empty file name")) << empty.err;
 }

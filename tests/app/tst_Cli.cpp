@@ -328,6 +328,12 @@ TEST_F(Cli, FailuresAreOneLineAndNonZero)
         EXPECT_TRUE(run.out.empty()) << arguments;
     }
 
+    // A misspelt subcommand is named, with the ones there are (it read "A subcommand is required").
+    const CliRun misspelt = runCli("shaf " + project);
+    EXPECT_EQ(misspelt.code, 2);
+    EXPECT_NE(misspelt.err.find("unknown subcommand 'shaf'"), std::string::npos) << misspelt.err;
+    EXPECT_NE(misspelt.err.find("shaft, info"), std::string::npos) << misspelt.err;
+
     // An invalid patch pair is refused, never computed.
     json bad = json::parse(std::ifstream(folder / "p.json"));
     bad["receiver"]["corner"] = {-0.5, -0.2, -1};

@@ -130,6 +130,19 @@ TEST(Project, ErrorsNameTheBadKey)
     d["occluders"][0]["transform"] = json::array({1, 0, 0});
     EXPECT_NE(errorOf(d).find("occluders[0].transform"), std::string::npos) << errorOf(d);
 
+    // A projective last row was dropped without a word (points go through with w = 1, the
+    // result's w ignored): the occluder or moved object stood elsewhere than the file said.
+    for (const int element : {3, 7, 11, 15}) {
+        d = minimalDocument();
+        json t = json::array({1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 2, 0, 4, 1});
+        t[std::size_t(element)] = element == 15 ? 2 : 1;
+        d["occluders"][0]["transform"] = t;
+        EXPECT_NE(errorOf(d).find("occluders[0].transform' must be affine"), std::string::npos) << errorOf(d);
+        d = minimalDocument();
+        d["scene_transforms"] = json::array({{{"instance", 0}, {"transform", t}}});
+        EXPECT_NE(errorOf(d).find("scene_transforms[0].transform' must be affine"), std::string::npos) << errorOf(d);
+    }
+
     d = minimalDocument();
     d["version"] = 2;
     EXPECT_NE(errorOf(d).find("version"), std::string::npos) << errorOf(d);

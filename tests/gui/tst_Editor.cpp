@@ -35,6 +35,7 @@
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
 #include "PatchPresets.h"
+#include "Picking.h"
 #include "PreferencesDialog.h"
 #include "RecordingControls.h"
 #include "UiTestScene.h"
@@ -1326,6 +1327,47 @@ private slots:
         waitForUpdate();
     }
 
+    // The cut's handle never sits on a patch: in the demo's opening view its usual spot (right of
+    // the target) was on the receiver, and a click on the receiver grabbed the cut instead of
+    // selecting it. Here the view is turned so that the usual spot is the receiver's centre.
+    void clickingAPatchUnderTheCutHandlesSpotSelectsThePatch()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        Viewport& viewport = window_->viewport();
+        const Camera view = controller.camera();
+        const double cut = viewport.style().cutHeight;
+        const Patch receiver = document.project().receiver;
+        document.select({});
+        viewport.style().cutHeight = receiver.centre().y;
+        Camera camera = shaftView(document.project().source, receiver);
+        const double aspect = double(controller.width()) / controller.height();
+        glm::dvec3 right = camera.right();
+        right.y = 0.0;
+        camera.target = receiver.centre() - 0.75 * camera.halfHeight() * aspect * right;
+        controller.setCamera(camera);
+        waitForFrame();
+        const auto handle = controller.cutHandle();
+        QVERIFY(handle);
+        const QPoint centre = pixelOf(controller, receiver.centre());
+        const QPoint grip = pixelOf(controller, handle->point);
+        QVERIFY2((centre - grip).manhattanLength() > 40,
+                 qPrintable(QString("the handle's grip at %1,%2 is on the receiver at %3,%4").arg(grip.x()).arg(grip.y()).arg(centre.x()).arg(centre.y())));
+        saveWindowShot("section-cut-handle-clear-of-the-receiver");
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, centre);
+        QVERIFY(!controller.isDraggingCut());
+        QCOMPARE(document.selection(), (ObjectRef{ObjectKind::Receiver, 0}));
+        QCOMPARE(viewport.style().cutHeight, receiver.centre().y);   // the click moved no cut
+        // The handle is still there to drag, clear of the patches.
+        QTest::mousePress(&viewport, Qt::LeftButton, {}, grip);
+        QVERIFY(controller.isDraggingCut());
+        QTest::mouseRelease(&viewport, Qt::LeftButton, {}, grip);
+        document.select({});
+        viewport.style().cutHeight = cut;
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
     // Issue 16 §2: top / front / side as orthographic views, 5 switching perspective and
     // orthographic (View > Camera > Orthographic), and every tool working in orthographic views:
     // picking, placement, gizmo drags, orbit, pan, zoom and the rays.
@@ -1885,6 +1927,36 @@ private slots:
         document.select({});
         controller.setCamera(view);
         waitForUpdate();
+    }
+
+    // A terrain opened alone: the default patches stood under the ground (1.5 m over its deepest
+    // valley; 100% visible, drawn in the dark beneath it) and the section cut, 1.5 m over them,
+    // hid every hill, so the first view was dark holes. Now the patches stand over the ground and,
+    // under open sky, the cut starts off; the demo's patches are under its ceiling: it starts on.
+    void aTerrainOpensWithItsPatchesOverTheGroundAndTheCutOff()
+    {
+        EditorDocument& document = window_->document();
+        Viewport& viewport = window_->viewport();
+        const std::filesystem::path terrain = test::writeTerrainObj(folder_ / "terrain");
+        QVERIFY(window_->openFile(QString::fromStdString(terrain.string())));
+        waitForUpdate();
+        QVERIFY(!viewport.style().cutaway);
+        const WorldTriangles triangles = worldTriangles(document.scene());
+        for (const Patch* patch : {&document.project().source, &document.project().receiver}) {
+            const auto ground = pickSurface(triangles, Ray{patch->centre(), {0.0, -1.0, 0.0}});
+            QVERIFY2(ground && std::abs(ground->distance - 1.5) < 0.01, qPrintable(QString("patch at y = %1").arg(patch->centre().y)));
+        }
+        waitForFrame();
+        const QImage frame = viewport.grabFramebuffer();
+        int lit = 0, samples = 0;
+        for (int y = 0; y < frame.height(); y += 8)
+            for (int x = 0; x < frame.width(); x += 8, ++samples)
+                lit += qGray(frame.pixel(x, y)) > 90;
+        QVERIFY2(lit > samples / 3, qPrintable(QString("%1 of %2 samples lit").arg(lit).arg(samples)));
+        saveWindowShot("terrain-open");
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        QVERIFY(viewport.style().cutaway);
     }
 
     void cleanupTestCase()

@@ -332,4 +332,16 @@ TEST(BadGltf, CoordinatesPastTheRangeNameTheFile)
     expectRefused(g.writeEmbedded(dir / "scaled.gltf"), {"coordinates up to"});
 }
 
+// glTF requires node matrices decomposable to TRS; a projective last row was dropped without a
+// word (another shape than the file's), so it is refused. The affine matrix next to it loads.
+TEST(BadGltf, NodeMatricesMustBeAffine)
+{
+    TempDir dir;
+    GltfDoc g = triangleDoc();
+    g.doc["nodes"][0]["matrix"] = {1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    expectRefused(g.writeEmbedded(dir / "projective.gltf"), {"matrix must be affine"});
+    g.doc["nodes"][0]["matrix"] = {2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 3, 0, 0, 1};
+    EXPECT_NO_THROW(loadScene(g.writeEmbedded(dir / "affine.gltf")));
+}
+
 } // namespace

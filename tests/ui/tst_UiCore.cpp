@@ -362,6 +362,36 @@ TEST(SectionCutHandle, SitsOnTheCutAndFollowsTheCursor)
     }
 }
 
+// The handle keeps clear of what the designer clicks: where its usual spot (right of the target)
+// would cover a patch or the gizmo, it takes another; it covered the demo's receiver in the
+// opening view, and a click on the receiver grabbed the cut instead.
+TEST(SectionCutHandle, KeepsClearOfThePatchesAndTheGizmo)
+{
+    Camera camera;
+    camera.target = {2.0, 1.0, -3.0};
+    camera.distance = 12.0;
+    camera.yaw = 0.4;
+    camera.pitch = -0.7;
+    const auto usual = cutHandle(camera, 2.5, 800, 600);
+    ASSERT_TRUE(usual);
+    const auto box = screenBox(camera, {usual->point + glm::dvec3(0.0, -0.3, 0.0), usual->point + glm::dvec3(0.4, 0.3, 0.2)},
+                               800, 600, 8.0);
+    ASSERT_TRUE(box);
+    const glm::dvec3 usualGrip = toPixels(camera, usual->point, 800, 600);
+    ASSERT_TRUE(usualGrip.x >= box->x0 && usualGrip.x <= box->x1 && usualGrip.y >= box->y0 && usualGrip.y <= box->y1);
+    const auto moved = cutHandle(camera, 2.5, 800, 600, {*box});
+    ASSERT_TRUE(moved);
+    EXPECT_EQ(moved->point.y, 2.5) << "still on the cut";
+    const glm::dvec3 grip = toPixels(camera, moved->point, 800, 600);
+    EXPECT_TRUE(grip.x < box->x0 - 16.0 || grip.x > box->x1 + 16.0 || grip.y < box->y0 - 16.0 || grip.y > box->y1 + 16.0)
+        << "grip at " << grip.x << ", " << grip.y;
+    EXPECT_TRUE(grip.x > 24.0 && grip.x < 776.0 && grip.y > 24.0 && grip.y < 576.0) << "in view";
+    EXPECT_TRUE(pickCutHandle(*moved, camera, grip.x, grip.y, 800, 600));
+    // Nothing in its way: the usual spot. Everything in its way: still a handle, the usual one.
+    EXPECT_EQ(cutHandle(camera, 2.5, 800, 600, {})->point, usual->point);
+    EXPECT_EQ(cutHandle(camera, 2.5, 800, 600, {ScreenBox{0.0, 0.0, 800.0, 600.0}})->point, usual->point);
+}
+
 // Issue 16 §2: world or local space. In local space the handles are the object's own axes, a move
 // goes along them (snapping the distance moved), a turn is about them.
 TEST(Gizmo, LocalSpaceMovesAndTurnsAlongTheObjectsOwnAxes)
@@ -848,6 +878,35 @@ TEST(EditorDocument, ABareLevelGetsPatchesInOpenSpaceThatSeeEachOther)
     EXPECT_GT(glm::length(p.receiver.centre() - p.source.centre()), 10.0) << "across the level, not side by side";
 }
 
+
+// The default height (1.5 m over the level's lowest point) put the patches under a hilly terrain
+// (every ray passed beneath the hills: 100% visible, drawn in the dark under the ground) and,
+// in a level modelled in centimetres, inside its 20-unit floor slab. Each patch now stands over
+// the ground under it, with nothing above it on a terrain.
+TEST(EditorDocument, ABareTerrainOrSlabGetsPatchesOverItsGround)
+{
+    const auto folder = freshFolder("bare-terrain");
+    test::writeTerrainObj(folder);
+    {
+        // A closed floor slab 3,600 units wide and 20 thick, its top at y = 0 (centimetres), wound outward.
+        std::ofstream out(folder / "slab.obj");
+        for (int k = 0; k < 8; ++k)
+            out << "v " << (k & 4 ? 1800 : -1800) << " " << (k & 2 ? 0 : -20) << " " << (k & 1 ? 1800 : -1800) << "\n";
+        out << "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\nf 1 5 6\nf 1 6 2\nf 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n";
+    }
+    for (const char* level : {"terrain.obj", "slab.obj"}) {
+        EditorDocument document;
+        document.open(folder / level);
+        const WorldTriangles triangles = worldTriangles(document.scene());
+        for (const Patch* patch : {&document.project().source, &document.project().receiver}) {
+            const auto ground = pickSurface(triangles, Ray{patch->centre(), {0.0, -1.0, 0.0}});
+            ASSERT_TRUE(ground) << level << ": nothing under the patch at y = " << patch->centre().y;
+            EXPECT_NEAR(ground->distance, 1.5, 0.01) << level;
+            EXPECT_FALSE(pickSurface(triangles, Ray{patch->centre(), {0.0, 1.0, 0.0}}))
+                << level << ": something above the patch at y = " << patch->centre().y;
+        }
+    }
+}
 
 // Issue 16 §1: the section cut followed the orbit target (a pan or a moment of flying hid the
 // level), and picking ignored it: a click on the floor selected the hidden ceiling, and placing a
