@@ -53,8 +53,11 @@ struct ViewStyle {
     /// editor sets it when a file opens; NaN, for headless images: 1.5 m above the orbit target).
     bool cutaway = true;
     double cutHeight = std::numeric_limits<double>::quiet_NaN();
-    glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.15f};
-    glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.25f};
+    /// The rays' colours. Alpha is the coverage an open shaft reaches on screen, whatever the ray
+    /// count and zoom (each ray's opacity follows from how many cross a pixel, RayLayer.h); where
+    /// rays are blocked the bundle is fainter in proportion. 1: every ray opaque.
+    glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.6f};
+    glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.45f};
     /// Where a blocked ray is first stopped (when its end is known: setRayEnds), a dot.
     glm::vec4 stopColour{1.0f, 1.0f, 1.0f, 0.9f};
     /// Shade the scene file with its ambient occlusion (setAmbientOcclusion), once there is one.
@@ -75,6 +78,9 @@ struct RaySubset {
 RaySubset raySubset(int sourceCount, int receiverCount, int cap);
 /// The (receiver, source) pair of drawn ray k; the shader computes the same.
 std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& subset, std::uint32_t k);
+/// The drawn rays k of `subset` that `map` leaves free, increasing: while blocked rays are hidden
+/// only these are drawn.
+std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySubset& subset);
 
 /// A framebuffer with an RGBA8 colour and a 24/8 depth-stencil renderbuffer: the background
 /// cache and the headless screenshot.
