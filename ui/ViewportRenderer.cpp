@@ -100,18 +100,18 @@ uniform vec3 sourceCorner, sourceU, sourceV;
 uniform ivec2 sourceGrid;
 uniform vec3 receiverCorner, receiverU, receiverV;
 uniform ivec2 receiverGrid;
-uniform uint receivers, receiverStride, sourceStride, wordsPerRow;
+uniform uint receivers, receiverStride, sourceStride;
 uniform int showBlocked;
 uniform vec4 freeColour, blockedColour, stopColour;
 // useEnds: a blocked ray ends at its first stop (ends[k], a fraction of the way to the receiver).
 // marks: one vertex per ray, a dot at that stop (clipped for free rays and rays stopped nowhere).
 uniform int useEnds, marks;
-layout(binding = 0) uniform usamplerBuffer hidden;
 layout(binding = 2) uniform samplerBuffer ends;
-// indirect: vertex pair n draws ray freeRays[n] (the free rays of the subset, when blocked ones
-// are hidden: no vertex work for the rays that would be clipped).
+// The drawn rays, listed on the CPU once per answer (never the whole map: a 512x512 receiver's
+// is 32 MB). indirect: vertex pair n draws ray rays[n], the free rays of the subset (blocked rays
+// hidden: none of them costs vertex work). Otherwise ray k = n, blocked where bit k of rays is set.
 uniform int indirect;
-layout(binding = 5) uniform usamplerBuffer freeRays;
+layout(binding = 0) uniform usamplerBuffer rays;
 out vec4 vColour;
 uint mixBits(uint x) {
     x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
@@ -123,12 +123,11 @@ vec3 samplePoint(vec3 corner, vec3 u, vec3 v, ivec2 grid, uint index) {
 }
 void main() {
     uint id = marks != 0 ? uint(gl_VertexID) : uint(gl_VertexID) >> 1;
-    uint k = indirect != 0 ? texelFetch(freeRays, int(id)).r : id;
+    uint k = indirect != 0 ? texelFetch(rays, int(id)).r : id;
     uint jk = k % receivers, ik = k / receivers;
     uint j = jk * receiverStride + (receiverStride > 1u ? mixBits(jk) % receiverStride : 0u);
     uint i = ik * sourceStride + (sourceStride > 1u ? mixBits(j ^ 0x5bd1e995u) % sourceStride : 0u);
-    uint word = texelFetch(hidden, int(j * wordsPerRow + (i >> 5))).r;
-    bool blocked = ((word >> (i & 31u)) & 1u) != 0u;
+    bool blocked = indirect == 0 && ((texelFetch(rays, int(k >> 5)).r >> (k & 31u)) & 1u) != 0u;
     vec3 s = samplePoint(sourceCorner, sourceU, sourceV, sourceGrid, i);
     vec3 r = samplePoint(receiverCorner, receiverU, receiverV, receiverGrid, j);
     float stop = (blocked && useEnds != 0) ? texelFetch(ends, int(k)).r : 1.0;
@@ -352,6 +351,18 @@ std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySu
     return free;
 }
 
+std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const RaySubset& subset)
+{
+    const auto count = std::uint32_t(subset.count());
+    std::vector<std::uint32_t> bits((std::size_t(count) + 31) / 32, 0u);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const auto [j, i] = subsetRay(subset, k);
+        if (map.blocked(int(j), int(i)))
+            bits[k >> 5] |= 1u << (k & 31u);
+    }
+    return bits;
+}
+
 Cutaway cutaway(const ViewStyle& style, const Camera& camera)
 {
     if (!style.cutaway)
@@ -407,14 +418,15 @@ struct ViewportRenderer::Impl {
     GLuint meshProgram = 0, lineProgram = 0, rayProgram = 0, overlayProgram = 0;
     MeshBuffer sceneFile, occluders;
     GLuint lineVao = 0, lineVbo = 0;
-    GLuint rayVao = 0, mapBuffer = 0, mapTexture = 0;
+    GLuint rayVao = 0;
     const HiddenSampleMap* map = nullptr;
-    bool mapUploaded = false;
     GLuint endsBuffer = 0, endsTexture = 0;
-    // The free rays of the drawn subset (freeDrawnRays), for the map and subset they were listed for.
-    GLuint freeBuffer = 0, freeTexture = 0;
-    const HiddenSampleMap* freeMap = nullptr;
-    RaySubset freeSubset;
+    // The drawn rays (freeDrawnRays, or blockedDrawnRays while blocked ones are shown), for the
+    // map, subset and kind they were listed for.
+    GLuint raysBuffer = 0, raysTexture = 0;
+    const HiddenSampleMap* listedMap = nullptr;
+    RaySubset listedSubset;
+    bool listedFree = false;
     GLsizei freeCount = 0;
     int endsCap = 0;   ///< the subset the uploaded ends are for; 0: none
     GLuint overlayBuffer = 0, overlayTexture = 0;
@@ -540,10 +552,8 @@ ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_un
     gl.VertexArrayAttribBinding(d.lineVao, 1, 0);
 
     gl.CreateVertexArrays(1, &d.rayVao);   // attribute-less: the rays come from gl_VertexID
-    gl.CreateBuffers(1, &d.mapBuffer);
-    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.mapTexture);
-    gl.CreateBuffers(1, &d.freeBuffer);
-    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.freeTexture);
+    gl.CreateBuffers(1, &d.raysBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.raysTexture);
     gl.CreateBuffers(1, &d.endsBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.endsTexture);
     gl.CreateBuffers(1, &d.overlayBuffer);
@@ -558,11 +568,11 @@ ViewportRenderer::~ViewportRenderer()
         gl.DeleteProgram(p);
     GLuint vaos[] = {d.sceneFile.vao, d.occluders.vao, d.lineVao, d.rayVao};
     gl.DeleteVertexArrays(4, vaos);
-    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer, d.freeBuffer};
-    gl.DeleteBuffers(7, buffers);
-    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
-                         d.sceneFile.hiddenTexture, d.occluders.hiddenTexture, d.freeTexture};
-    gl.DeleteTextures(8, textures);
+    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.raysBuffer, d.endsBuffer, d.overlayBuffer};
+    gl.DeleteBuffers(6, buffers);
+    GLuint textures[] = {d.raysTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
+                         d.sceneFile.hiddenTexture, d.occluders.hiddenTexture};
+    gl.DeleteTextures(7, textures);
     GLuint more[] = {d.pvsBuffer, d.sceneFile.hiddenBuffer, d.occluders.hiddenBuffer};
     gl.DeleteBuffers(3, more);
     d.cache.destroy(gl);
@@ -647,17 +657,10 @@ void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<st
 void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
 {
     Impl& d = *impl_;
-    d.map = map;
-    d.mapUploaded = false;
+    // Kept, not uploaded: the drawn rays are listed from it when they are next drawn.
+    d.map = map && map->rayCount() > 0 ? map : nullptr;
     d.endsCap = 0;
-    d.freeMap = nullptr;   // listed for the map before
-    if (!map || map->rayCount() == 0)
-        return;
-    // The map's 64-bit words, little-endian, are the 32-bit words the shader reads, in order.
-    const auto bytes = GLsizeiptr(std::size_t(map->receiverCount()) * std::size_t(map->wordsPerRow()) * 8);
-    d.gl.NamedBufferData(d.mapBuffer, bytes, map->row(0).data(), GL_STREAM_DRAW);
-    d.gl.TextureBuffer(d.mapTexture, GL_R32UI, d.mapBuffer);
-    d.mapUploaded = true;
+    d.listedMap = nullptr;   // listed for the map before
 }
 
 void ViewportRenderer::setRayEnds(const std::vector<float>& ends, int cap)
@@ -824,7 +827,7 @@ void ViewportRenderer::render(const FrameState& f)
     // sample counts are these patches'.
     const bool mapFits = d.map && d.map->sourceCount() == f.source.na * f.source.nb &&
                          d.map->receiverCount() == f.receiver.na * f.receiver.nb;
-    if (f.style.showRays && f.pairValid && d.mapUploaded && mapFits) {
+    if (f.style.showRays && f.pairValid && mapFits) {
         const RaySubset subset = raySubset(d.map->sourceCount(), d.map->receiverCount(), f.style.rayCap);
         const GLuint p = d.rayProgram;
         auto vec3 = [&](const char* name, const glm::dvec3& v) {
@@ -842,7 +845,6 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniform1ui(p, d.loc(p, "receivers"), subset.receivers);
         gl.ProgramUniform1ui(p, d.loc(p, "receiverStride"), subset.receiverStride);
         gl.ProgramUniform1ui(p, d.loc(p, "sourceStride"), subset.sourceStride);
-        gl.ProgramUniform1ui(p, d.loc(p, "wordsPerRow"), GLuint(d.map->wordsPerRow() * 2));
         gl.ProgramUniform1i(p, d.loc(p, "showBlocked"), f.style.showBlocked ? 1 : 0);
         // Readable from 1k to 1M rays (issue 16 §2; RayLayer.h): each ray's opacity from how many
         // drawn rays cross a pixel of the bundle, so that an open shaft reaches the style's
@@ -858,24 +860,24 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniform1i(p, d.loc(p, "useEnds"), useEnds ? 1 : 0);
         gl.ProgramUniform1i(p, d.loc(p, "marks"), 0);
         gl.ProgramUniform4fv(p, d.loc(p, "stopColour"), 1, glm::value_ptr(f.style.stopColour));
-        // Blocked rays hidden: only the free ones are drawn (listed once per answer; on the demo
-        // 71% of rays are blocked, and each cost its vertex work to be clipped).
+        // Blocked rays hidden: only the free ones are drawn (on the demo 71% of rays are blocked,
+        // and each cost its vertex work to be clipped). Listed once per answer.
         const bool indirect = !f.style.showBlocked;
-        if (indirect && (d.freeMap != d.map || d.freeSubset.receivers != subset.receivers ||
-                         d.freeSubset.receiverStride != subset.receiverStride ||
-                         d.freeSubset.sourcePerReceiver != subset.sourcePerReceiver ||
-                         d.freeSubset.sourceStride != subset.sourceStride)) {
-            const std::vector<std::uint32_t> free = freeDrawnRays(*d.map, subset);
-            gl.NamedBufferData(d.freeBuffer, GLsizeiptr(std::max<std::size_t>(free.size(), 1) * sizeof(std::uint32_t)),
-                               free.empty() ? nullptr : free.data(), GL_STREAM_DRAW);
-            gl.TextureBuffer(d.freeTexture, GL_R32UI, d.freeBuffer);
-            d.freeMap = d.map;
-            d.freeSubset = subset;
-            d.freeCount = GLsizei(free.size());
+        if (d.listedMap != d.map || d.listedFree != indirect || d.listedSubset.receivers != subset.receivers ||
+            d.listedSubset.receiverStride != subset.receiverStride ||
+            d.listedSubset.sourcePerReceiver != subset.sourcePerReceiver ||
+            d.listedSubset.sourceStride != subset.sourceStride) {
+            const std::vector<std::uint32_t> list = indirect ? freeDrawnRays(*d.map, subset) : blockedDrawnRays(*d.map, subset);
+            gl.NamedBufferData(d.raysBuffer, GLsizeiptr(std::max<std::size_t>(list.size(), 1) * sizeof(std::uint32_t)),
+                               list.empty() ? nullptr : list.data(), GL_STREAM_DRAW);
+            gl.TextureBuffer(d.raysTexture, GL_R32UI, d.raysBuffer);
+            d.listedMap = d.map;
+            d.listedSubset = subset;
+            d.listedFree = indirect;
+            d.freeCount = indirect ? GLsizei(list.size()) : 0;
         }
         gl.ProgramUniform1i(p, d.loc(p, "indirect"), indirect ? 1 : 0);
-        gl.BindTextureUnit(5, d.freeTexture);
-        gl.BindTextureUnit(0, d.mapTexture);
+        gl.BindTextureUnit(0, d.raysTexture);
         gl.BindTextureUnit(2, d.endsTexture);
         gl.BindVertexArray(d.rayVao);
         // Sparse rays go straight into the frame (a layer at full size would only add its copies).
@@ -903,7 +905,7 @@ void ViewportRenderer::render(const FrameState& f)
             gl.Enable(GL_DEPTH_TEST);
             gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
             gl.UseProgram(p);
-            gl.BindTextureUnit(0, d.mapTexture);
+            gl.BindTextureUnit(0, d.raysTexture);
             gl.BindVertexArray(d.rayVao);
         }
         if (useEnds) {   // the dots, at full resolution

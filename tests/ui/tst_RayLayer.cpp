@@ -1,5 +1,5 @@
 // How the viewport draws many rays (ui/RayLayer.h): each ray's opacity from the expected overlap,
-// the layer's resolution, the free rays listed for drawing, and the picture itself: a dense
+// the layer's resolution, the rays listed for drawing, and the picture itself: a dense
 // bundle is a haze of the same density at any ray count, never an opaque slab.
 #include <cmath>
 
@@ -71,7 +71,7 @@ TEST(RayLayer, TheBundleOnScreenIsTheHullOfThePatchesCorners)
     EXPECT_FALSE(bundleOnScreen(inside.projection(1280.0 / 720.0, 16.0) * inside.view(), 1280, 720, source, receiver));
 }
 
-TEST(RayLayer, OnlyTheFreeRaysOfTheSubsetAreListed)
+TEST(RayLayer, TheDrawnRaysAreListedNotTheWholeMap)
 {
     HiddenSampleMap map(64, 32, 32);   // 64 source samples, 32 x 32 receiver samples
     for (int j = 0; j < 1024; ++j)
@@ -81,9 +81,12 @@ TEST(RayLayer, OnlyTheFreeRaysOfTheSubsetAreListed)
     for (const int cap : {1 << 16, 4096}) {
         const RaySubset subset = raySubset(64, 1024, cap);
         const std::vector<std::uint32_t> free = freeDrawnRays(map, subset);
+        const std::vector<std::uint32_t> bits = blockedDrawnRays(map, subset);
+        ASSERT_EQ(bits.size(), (subset.count() + 31) / 32);
         std::size_t expected = 0;
         for (std::uint32_t k = 0, next = 0; k < subset.count(); ++k) {
             const auto [j, i] = subsetRay(subset, k);
+            ASSERT_EQ(((bits[k / 32] >> (k % 32)) & 1u) != 0, map.blocked(int(j), int(i))) << k;
             if (map.blocked(int(j), int(i)))
                 continue;
             ++expected;
