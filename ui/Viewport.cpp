@@ -26,6 +26,10 @@ constexpr std::size_t kRateWindow = 15;   // frames the update rate is the media
 // software rasteriser they take the processor from the sampler: a drag at 4,096 rays drew 4.2
 // frames per answer shown, each a stale answer at a new place.
 constexpr qint64 kMinFrameNs = 16'000'000;
+// While an answer is being sampled and none has arrived, frames can only show the last answer's
+// rays at the patches' new places: at most 30 of those a second, so the sampler keeps the
+// processor (at 16,384 rays a drag drew 2 frames per answer, each about 10 ms of llvmpipe).
+constexpr qint64 kMinStaleFrameNs = 33'000'000;
 
 bool pairIsValid(const Patch& source, const Patch& receiver)
 {
@@ -506,6 +510,8 @@ void Viewport::takeAnswer(std::uint64_t generation, VisibilityResult result)
         return;   // an answer older than the one shown
     shownGeneration_ = generation;
     arrived_ = std::move(result);
+    if (frameCap_.isActive())
+        frameCap_.stop();   // a frame for the answer waits at most for the 60 Hz cap
     update();
 }
 
@@ -537,10 +543,18 @@ bool Viewport::event(QEvent* event)
     }
     case QEvent::Leave: emit hoverLeft(); break;
     case QEvent::UpdateRequest: {
+        // Moved patches go to the sampler now, even when their frame waits (below).
+        const Project& project = document_.project();
+        const bool onWorker = backendChosen_ && renderer_ &&
+                              !(visibility_.backend() == LiveVisibility::Backend::Gl && visibility_.receiverHeights().empty());
+        if (samplesDirty_ && onWorker && !sceneFileDirty_ && !occludersDirty_ &&
+            heightsGrid_ == std::pair{project.receiver.na, project.receiver.nb})
+            requestSample();
         const qint64 since = clock_.nsecsElapsed() - paintStartNs_;
-        if (since < kMinFrameNs) {
-            if (!frameCap_.isActive())
-                frameCap_.start(int((kMinFrameNs - since + 999'999) / 1'000'000));
+        const qint64 least = resultIsStale() && !arrived_ && !samplesDirty_ ? kMinStaleFrameNs : kMinFrameNs;
+        if (since < least) {
+            if (!frameCap_.isActive() || frameCap_.remainingTime() > int((least - since) / 1'000'000))
+                frameCap_.start(int((least - since + 999'999) / 1'000'000));
             return true;   // drawn when the timer fires
         }
         break;
