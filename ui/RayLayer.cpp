@@ -107,7 +107,7 @@ double expectedOverlap(const BundleOnScreen& bundle, std::uint64_t rays)
     return double(rays) * length / std::max(bundle.area, length);
 }
 
-int rayLayerDivisor(double overlap) { return overlap <= 2.0 ? 1 : overlap <= 8.0 ? 2 : 4; }
+int rayLayerDivisor(double overlap) { return overlap <= 2.0 ? 1 : overlap <= 8.0 ? 2 : overlap <= 256.0 ? 4 : 8; }
 
 float rayOpacity(double coverage, double overlap, int divisor)
 {

@@ -17,8 +17,8 @@
 //     tiny opacities away, a 16-bit count overflowed at a million rays; R32F blends as fast as
 //     RG16 on llvmpipe), and n rays cover 1 - (1 - a)^n when laid over the frame.
 //   - Resolution. Where more than a couple of rays cross each pixel no single ray can be seen
-//     anyway, so the layer is drawn at half or a quarter of the view's resolution (half or a
-//     quarter of the pixels a ray), then laid over the frame with bilinear
+//     anyway, so the layer is drawn at a half, a quarter or (past 256 rays a pixel) an eighth of
+//     the view's resolution (that fraction of the pixels a ray), then laid over the frame with bilinear
 //     filtering, only over the bundle's screen rectangle. Its depth is the frame's, sampled down,
 //     so walls in front still hide rays.
 // The pure functions below decide; RayLayer owns the GL objects.
@@ -51,8 +51,10 @@ std::optional<BundleOnScreen> bundleOnScreen(const glm::mat4& viewProj, int widt
 /// How many of `rays` drawn rays are expected to cross one pixel of the bundle (at full resolution).
 double expectedOverlap(const BundleOnScreen& bundle, std::uint64_t rays);
 
-/// The layer's resolution, as a divisor of the view's (1, 2 or 4): full where rays are sparse
-/// enough to be told apart (at most 2 a pixel), a half up to 8, else a quarter.
+/// The layer's resolution, as a divisor of the view's (1, 2, 4 or 8): full where rays are sparse
+/// enough to be told apart (at most 2 a pixel), a half up to 8, a quarter up to 256, else an
+/// eighth (65,536 rays on the demo's default view: 37 -> 22-32 ms of llvmpipe a frame, and the
+/// haze looks the same).
 int rayLayerDivisor(double overlap);
 
 /// One ray's opacity so that `overlap` rays at full resolution reach `coverage` (in (0, 1]) where

@@ -21,7 +21,7 @@ TEST(RayLayer, EachRaysOpacityMakesAnOpenShaftReachTheCoverageAtAnyDensity)
 {
     for (const double coverage : {0.3, 0.8}) {
         for (const double overlap : {0.25, 1.0, 3.0, 40.0, 5000.0}) {
-            for (const int divisor : {1, 2, 4}) {
+            for (const int divisor : {1, 2, 4, 8}) {
                 const double a = rayOpacity(coverage, overlap, divisor);
                 EXPECT_GT(a, 0.0);
                 EXPECT_LE(a, coverage + 1e-7) << "a single ray is never more than the coverage";
@@ -38,7 +38,8 @@ TEST(RayLayer, EachRaysOpacityMakesAnOpenShaftReachTheCoverageAtAnyDensity)
     // Sparse rays are drawn at full resolution; dense ones in a coarser layer.
     EXPECT_EQ(rayLayerDivisor(1.5), 1);
     EXPECT_EQ(rayLayerDivisor(5.0), 2);
-    EXPECT_EQ(rayLayerDivisor(300.0), 4);
+    EXPECT_EQ(rayLayerDivisor(100.0), 4);
+    EXPECT_EQ(rayLayerDivisor(5000.0), 8);
 }
 
 TEST(RayLayer, TheBundleOnScreenIsTheHullOfThePatchesCorners)
