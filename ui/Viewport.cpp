@@ -22,6 +22,14 @@ void* resolveInQtContext(const char* name)
 }
 
 constexpr std::size_t kRateWindow = 15;   // frames the update rate is the median over
+// At most one frame a display refresh (60 Hz). Frames drawn faster show nothing more, and on a
+// software rasteriser they take the processor from the sampler: a drag at 4,096 rays drew 4.2
+// frames per answer shown, each a stale answer at a new place.
+constexpr qint64 kMinFrameNs = 16'000'000;
+// While an answer is being sampled and none has arrived, frames can only show the last answer's
+// rays at the patches' new places: at most 30 of those a second, so the sampler keeps the
+// processor (at 16,384 rays a drag drew 2 frames per answer, each about 10 ms of llvmpipe).
+constexpr qint64 kMinStaleFrameNs = 33'000'000;
 
 bool pairIsValid(const Patch& source, const Patch& receiver)
 {
@@ -39,6 +47,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
     : QOpenGLWindow(QOpenGLWindow::NoPartialUpdate), document_(document), controller_(controller)
 {
     clock_.start();
+    connect(this, &QOpenGLWindow::frameSwapped, this,
+            [this] { lastDrawMs_ = double(clock_.nsecsElapsed() - paintStartNs_) * 1e-6; });
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
         if (changes == NamesChanged)
             return;   // a rename changes no ray and no pixel of the view
@@ -101,6 +111,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
     });
     connect(&controller_, &ViewportController::viewChanged, this, [this] { update(); });
+    frameCap_.setSingleShot(true);
+    connect(&frameCap_, &QTimer::timeout, this, [this] { requestUpdate(); });
     flyTimer_.setInterval(16);
     connect(&flyTimer_, &QTimer::timeout, this, [this] {
         controller_.advanceFly(flyClock_.restart() * 1e-3);
@@ -159,6 +171,7 @@ void Viewport::resizeGL(int w, int h) { controller_.setViewportSize(w, h); }
 
 void Viewport::paintGL()
 {
+    paintStartNs_ = clock_.nsecsElapsed();
     const int w = int(width() * devicePixelRatio()), h = int(height() * devicePixelRatio());
     controller_.setViewportSize(width(), height());
     if (!renderer_)
@@ -497,6 +510,8 @@ void Viewport::takeAnswer(std::uint64_t generation, VisibilityResult result)
         return;   // an answer older than the one shown
     shownGeneration_ = generation;
     arrived_ = std::move(result);
+    if (frameCap_.isActive())
+        frameCap_.stop();   // a frame for the answer waits at most for the 60 Hz cap
     update();
 }
 
@@ -527,6 +542,23 @@ bool Viewport::event(QEvent* event)
         return true;
     }
     case QEvent::Leave: emit hoverLeft(); break;
+    case QEvent::UpdateRequest: {
+        // Moved patches go to the sampler now, even when their frame waits (below).
+        const Project& project = document_.project();
+        const bool onWorker = backendChosen_ && renderer_ &&
+                              !(visibility_.backend() == LiveVisibility::Backend::Gl && visibility_.receiverHeights().empty());
+        if (samplesDirty_ && onWorker && !sceneFileDirty_ && !occludersDirty_ &&
+            heightsGrid_ == std::pair{project.receiver.na, project.receiver.nb})
+            requestSample();
+        const qint64 since = clock_.nsecsElapsed() - paintStartNs_;
+        const qint64 least = resultIsStale() && !arrived_ && !samplesDirty_ ? kMinStaleFrameNs : kMinFrameNs;
+        if (since < least) {
+            if (!frameCap_.isActive() || frameCap_.remainingTime() > int((least - since) / 1'000'000))
+                frameCap_.start(int((least - since + 999'999) / 1'000'000));
+            return true;   // drawn when the timer fires
+        }
+        break;
+    }
     default: break;
     }
     return QOpenGLWindow::event(event);

@@ -44,6 +44,9 @@ public:
     /// when nothing re-sampled for a second (idle).
     double updateRate() const;
     std::uint64_t raysDrawn() const { return raysDrawn_; }
+    /// Milliseconds from the start of the last frame's painting to its swap: drawing, software
+    /// rasterising and the copy to the window (the interaction benchmark reports it).
+    double lastDrawMs() const { return lastDrawMs_; }
     /// The overlay painted on a patch. After changing it, call update(): the next frame brings it
     /// up to date (it may need the current result) and emits overlayUpdated().
     PatchOverlay& overlay() { return overlay_; }
@@ -172,6 +175,9 @@ private:
     bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true, flagsDirty_ = true;
     bool backendChosen_ = false;
     std::uint64_t raysDrawn_ = 0;
+    qint64 paintStartNs_ = -1'000'000'000;
+    QTimer frameCap_;   ///< a frame asked for sooner than kMinFrameMs after the last one waits for it
+    double lastDrawMs_ = 0.0;
     QElapsedTimer clock_;
     std::deque<qint64> updateTimes_;   ///< ns timestamps of recent re-sampling frames
     QTimer flyTimer_;

@@ -30,6 +30,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "InteractionBenchmark.h"
 #include "MainWindow.h"
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
@@ -39,6 +40,7 @@
 #include "RecordingControls.h"
 #include "UiTestScene.h"
 #include "VideoDecoder.h"
+#include "VideoRecording.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "project/Animation.h"
@@ -47,6 +49,7 @@
 #include "visibility/pvs/PvsObjects.h"
 #include "project/RecordedPath.h"
 #include "visibility/ColourMap.h"
+#include "visibility/Error.h"
 #include "visibility/RayCastSampler.h"
 
 using namespace sightline;
@@ -220,6 +223,66 @@ private slots:
         QCOMPARE(document.project().receiver.corner, receiver.corner);
         controller.setCamera(before);
         window_->viewport().style().rayCap = rayCap;
+        waitForUpdate();
+    }
+
+    // Issue 16 §3: the interaction benchmark replays the project's recorded path (its camera and
+    // edits, one path frame per frame drawn) instead of the scripted drag, and puts everything back.
+    void interactionBenchmarkReplaysTheRecordedPath()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        const Project start = document.project();
+        InteractionOptions options;
+        options.width = 800;   // the test window's viewport
+        options.height = 600;
+        options.frames = 9;
+        options.replay = InteractionReplay::RecordedPath;
+        bool refused = false;
+        try {
+            runInteractionBenchmark(*window_, options);
+        } catch (const sightline::Error& e) {
+            refused = QString(e.what()).contains("no recorded path");
+        }
+        QVERIFY(refused);
+
+        // Four frames: the camera turns at frame 1, the receiver slides 0.5 m at frame 2.
+        RecordedPath path;
+        path.frames = 4;
+        const PathCamera first{before.target, before.distance, before.yaw, before.pitch, before.fovY};
+        PathCamera turned = first;
+        turned.yaw += 0.3;
+        path.camera = {{0, first}, {1, turned}};
+        PathEdit slide;
+        slide.object = PathEdit::Object::Receiver;
+        slide.patch = start.receiver;
+        path.edits.push_back(slide);
+        slide.frame = 2;
+        slide.patch.corner.z -= 0.5;
+        path.edits.push_back(slide);
+        document.applyProjectKey(kRecordedPathKey, toJson(path));
+
+        std::vector<int> frames;
+        options.posed = [&](int frame) {
+            frames.push_back(frame);
+            // What is shown is the path's pose at that frame.
+            const Camera expected = toCamera(*path.cameraAt(frame));
+            QCOMPARE(controller.camera().yaw, expected.yaw);
+            QCOMPARE(document.project().receiver.corner, projectAtPathFrame(start, path, frame).receiver.corner);
+        };
+        const InteractionFigures figures = runInteractionBenchmark(*window_, options);
+        QVERIFY(figures.replay.find("recorded path") != std::string::npos);
+        QCOMPARE(figures.frames, 9);
+        // The path's frames in order, round and round (10 warm-up frames, then the 9 measured).
+        QVERIFY(frames.size() >= 19);
+        for (std::size_t k = 0; k < frames.size(); ++k)
+            QCOMPARE(frames[k], int(k % 4));
+        QVERIFY(figures.drawnHz > 0.0);
+        // Back where it started.
+        QCOMPARE(document.project().receiver.corner, start.receiver.corner);
+        QCOMPARE(controller.camera().yaw, before.yaw);
+        document.applyProjectKey(kRecordedPathKey, nullptr);
         waitForUpdate();
     }
 
