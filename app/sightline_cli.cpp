@@ -224,7 +224,7 @@ int runShaft(const ShaftArgs& args)
         const std::string used = stats.strategy;
         const bool forced = options.strategy != CpuStrategy::Auto;
         strategy = used == "hybrid"    ? "hybrid: " + masks + " + embree-packets-16"
-                   : used == "raycast" ? std::string("raycast: embree-packets-16") +
+                   : used == "raycast" ? std::string("raycast: embree float rays, hits proven, free rays confirmed") +
                                              (forced ? " (forced by --strategy)" : " (cheaper than the bitmask here)")
                                        : masks;
         if (stats.probed)
@@ -233,7 +233,8 @@ int runShaft(const ShaftArgs& args)
             strategy += " (chosen by timing both on an earlier call)";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
-                 {"rays_cast", stats.raysCast}, {"float_fallbacks", stats.floatFallbacks},
+                 {"rays_cast", stats.raysCast}, {"proven_hits", stats.provenHits}, {"exact_hit_tests", stats.exactHitTests},
+                 {"rays_confirmed", stats.raysConfirmed}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}};

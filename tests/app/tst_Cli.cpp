@@ -396,7 +396,7 @@ TEST_F(Cli, ForcedRaycastStrategySaysSo)
     const CliRun run = runCli("shaft " + (folder / "p.json").string() + " --method cpu --strategy raycast --json");
     ASSERT_EQ(run.code, 0) << run.err;
     const std::string strategy = json::parse(run.out)["strategy"];
-    EXPECT_EQ(strategy, "raycast: embree-packets-16 (forced by --strategy)");
+    EXPECT_EQ(strategy, "raycast: embree float rays, hits proven, free rays confirmed (forced by --strategy)");
 }
 
 TEST_F(Cli, RepeatWarmsUpOnceThenTimesNRuns)

@@ -15,6 +15,7 @@
 #include "bitmask/Shaft.h"
 #include "bitmask/Strategy.h"
 #include "bitmask/TilePass.h"
+#include "raycast/ProvenRayCaster.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -76,6 +77,7 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     {
         std::lock_guard lock(rayCasterMutex_);
         rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
+        provenCaster_.reset();
     }
     std::lock_guard lock(probeMutex_);
     probeMemo_.reset();
@@ -127,6 +129,14 @@ std::shared_ptr<const RayCastScene> CpuBitmaskSampler::wholeSceneCaster() const
     if (!rayCaster_)
         rayCaster_ = std::make_shared<const RayCastScene>(triangles_);
     return rayCaster_;
+}
+
+std::shared_ptr<const raycast::ProvenRayCaster> CpuBitmaskSampler::provenCaster() const
+{
+    std::lock_guard lock(rayCasterMutex_);
+    if (!provenCaster_)
+        provenCaster_ = std::make_shared<const raycast::ProvenRayCaster>(triangles_);
+    return provenCaster_;
 }
 
 HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
@@ -232,13 +242,23 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 plan = rememberedRays ? Plan::RayCast : Plan::Bitmask;
             }
         }
+        // Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
+        const auto castRays = [&](const RayCastOptions& rayOptions) {
+            const std::shared_ptr<const RayCastScene> reference = wholeSceneCaster();
+            const std::shared_ptr<const raycast::ProvenRayCaster> proven = provenCaster();
+            raycast::ProvenCastStats cast;
+            proven->sampleUnblocked(source, receiver, map, rayOptions, *reference, raycast::CastMode::Auto, &cast);
+            local.raysCast += cast.floatRays;
+            local.provenHits += cast.provenHits;
+            local.exactHitTests += cast.exactTests;
+            local.raysConfirmed += cast.confirmRays;
+        };
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
-            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
+            wholeSceneCaster(), provenCaster();   // built on first use, counted as setup
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            local.raysCast =
-                caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
+            castRays({.jitter = options.jitter, .heights = options.heights});
             local.rayMs = msSince(rayStart);
             return;
         }
@@ -296,7 +316,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
                                                 shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
             std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
-            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
+            wholeSceneCaster(), provenCaster();
             std::vector<int> samples;
             RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
             const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
@@ -318,7 +338,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     for (std::size_t k = rayDone; k < end; ++k)
                         bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
                     const auto start = Clock::now();
-                    local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
+                    castRays(rayOptions);
                     rayMs += msSince(start);
                     rayDone = end;
                 }
@@ -343,7 +363,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 for (std::uint32_t t : rest)
                     bins.tileSamples(t, receiver.na, receiver.nb, samples);
                 const auto restStart = Clock::now();
-                local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
+                castRays(rayOptions);
                 local.rayMs += msSince(restStart);
             }
             local.sampleMs = msSince(sampleStart) - local.rayMs;

@@ -43,6 +43,11 @@ struct RayCastOptions {
     /// sampleUnblocked only: cast from these receiver samples (bit indices) and leave the other
     /// rows alone. Null: every receiver sample. Not owned.
     const std::vector<int>* receiverSubset = nullptr;
+    /// Packets start at a source sample and run to a block of 4x4 neighbouring receiver samples
+    /// instead of from a receiver sample to 16 source samples: coherent packets where the
+    /// receiver grid is the finer one. The same answer, bit for bit (every candidate is still
+    /// tested from its receiver end).
+    bool fromSource = false;
 };
 
 class RayCastScene {
