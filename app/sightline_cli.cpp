@@ -311,12 +311,12 @@ int runBench(BenchArgs& args)
         args.settings.denseSide = 128;
     if (args.settings.denseSide % 32 != 0)
         throw Error("--dense must be a multiple of 32, got " + std::to_string(args.settings.denseSide));
-    std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s %10s %10s\n", "project", "method", "sources", "receiver", "ms",
-                "wrong-block", "wrong-free", "error", "light-mae", "dense-mae");
+    std::printf("%-28s %-18s %7s %9s %10s %10s %12s %12s %10s %10s %10s\n", "project", "method", "sources", "receiver", "ms",
+                "thread-ms", "wrong-block", "wrong-free", "error", "light-mae", "dense-mae");
     const auto rows = bench::run(args.settings, [](const bench::Row& r) {
         const std::string name = fs::path(r.project).filename().string();
-        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %12llu %12llu %10.6f %10.6f ", name.c_str(), r.method.c_str(),
-                    r.sourceSamples, r.receiverSide, r.receiverSide, r.ms, (unsigned long long)r.wronglyBlocked,
+        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %10.2f %12llu %12llu %10.6f %10.6f ", name.c_str(), r.method.c_str(),
+                    r.sourceSamples, r.receiverSide, r.receiverSide, r.ms, r.threadMs, (unsigned long long)r.wronglyBlocked,
                     (unsigned long long)r.wronglyFree, r.errorFraction(), r.lightMae);
         if (r.denseMae >= 0.0)
             std::printf("%10.6f\n", r.denseMae);
