@@ -130,6 +130,16 @@ TEST(ProvenRayCaster, AutoTimesBothWaysOnceForSimilarCalls)
     const RayCastScene reference(triangles);
     const ProvenRayCaster caster(triangles);
     const Patch source = xyPatch(0, 8, 8);
+    {
+        // A call on a few receiver samples (Auto's probe casts a few tiles at a time) is too
+        // small to time: it neither times nor leaves a choice for the next calls.
+        const Patch receiver = xyPatch(2, 32, 32);
+        const std::vector<int> few = {0, 1, 2, 3, 32, 33, 34, 35};
+        HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+        ProvenCastStats stats;
+        caster.sampleUnblocked(source, receiver, map, {.receiverSubset = &few}, reference, CastMode::Auto, &stats);
+        EXPECT_FALSE(stats.probedMode);
+    }
     for (int call = 0; call < 3; ++call) {
         Patch receiver = xyPatch(2, 32, 32);
         receiver.corner.x += 0.01 * call;

@@ -248,6 +248,10 @@ namespace {
 /// source samples when they start at the receiver), cast together.
 constexpr int kLanes = 16;
 
+/// CastMode::Auto times packets against single rays only on calls with at least this many items
+/// (4x4 blocks, or receiver samples), an eighth of them each.
+constexpr std::size_t kModeProbeItems = 32;
+
 /// The extent of a 4x4 block of a patch's samples.
 double blockExtent(const Patch& p)
 {
@@ -471,14 +475,18 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
             }
         }
         // Time both ways on a few items drawn at random (their rows are final either way), by
-        // thread time per ray, and cast the rest the cheaper way.
+        // thread time per ray, and cast the rest the cheaper way. A call with few items (Auto's
+        // probe casts a few tiles at a time) is too small to tell: packets, and no memo.
+        if (items < kModeProbeItems) {
+            castAll(all, packets, nullptr);
+            return;
+        }
         std::mt19937 scramble(12345);
         std::shuffle(all.begin(), all.end(), scramble);
-        const std::size_t probe = std::max<std::size_t>(1, std::min(items / 2, std::max<std::size_t>(2, items / 16)));
+        const std::size_t probe = items / 8;
         const std::vector<std::uint32_t> first(all.begin(), all.begin() + std::ptrdiff_t(probe));
-        const std::vector<std::uint32_t> second(all.begin() + std::ptrdiff_t(probe),
-                                                all.begin() + std::ptrdiff_t(std::min(items, 2 * probe)));
-        const std::vector<std::uint32_t> rest(all.begin() + std::ptrdiff_t(std::min(items, 2 * probe)), all.end());
+        const std::vector<std::uint32_t> second(all.begin() + std::ptrdiff_t(probe), all.begin() + std::ptrdiff_t(2 * probe));
+        const std::vector<std::uint32_t> rest(all.begin() + std::ptrdiff_t(2 * probe), all.end());
         std::uint64_t packetRays = 0, singleRays = 0;
         const double packetNs = double(castAll(first, true, &packetRays));
         const double singleNs = double(castAll(second, false, &singleRays));
