@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -32,6 +33,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+/// This thread's processor time, in milliseconds.
+double threadMs()
+{
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
+}
 
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
 /// a ray pass cost more than they save).
@@ -262,7 +271,21 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             local.rayMs = msSince(rayStart);
             return;
         }
-        work->occluders.prepare(shaft, filter);
+        // A probe measures each method by one thread's processor time (so that other jobs sharing
+        // the machine, which stretch the wall time of whatever runs while they do, do not decide
+        // it): its setup and its batches run on this thread alone.
+        const bool probing = plan == Plan::Probe;
+        tbb::task_arena one(1);
+        const auto onOneThread = [&](const auto& f) {
+            const double start = threadMs();
+            one.execute(f);
+            return threadMs() - start;
+        };
+        double setupThreadMs = 0.0;
+        if (probing)
+            setupThreadMs += onOneThread([&] { work->occluders.prepare(shaft, filter); });
+        else
+            work->occluders.prepare(shaft, filter);
         const std::vector<const Occluder*>& occluders = work->occluders.occluders;
         local.culledFrontFaces = work->occluders.culledFrontFaces;
         local.trianglesInShaft = occluders.size();
@@ -291,7 +314,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         local.smallTriangles = smallTriangles.size();
 
         TileBins& bins = work->bins;
-        bins.build(shaft, work->occluders, small, closedInstance, triangles_);
+        if (probing)
+            setupThreadMs += onOneThread([&] { bins.build(shaft, work->occluders, small, closedInstance, triangles_); });
+        else
+            bins.build(shaft, work->occluders, small, closedInstance, triangles_);
         local.setupMs = msSince(setupStart);
 
         const auto addCounts = [&](const TilePassCounts& counts) {
@@ -327,9 +353,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
                     const std::vector<std::uint32_t> part(bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone),
                                                           bitmaskTiles.begin() + std::ptrdiff_t(end));
-                    const auto start = Clock::now();
-                    addCounts(bitmaskPass(shaft, bins, map, narrow, &part));
-                    bitmaskMs += msSince(start);
+                    bitmaskMs += onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow, &part)); });
                     bitmaskDone = end;
                 }
                 if (rayDone < rayTiles.size()) {
@@ -338,18 +362,17 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     for (std::size_t k = rayDone; k < end; ++k)
                         bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
                     const auto start = Clock::now();
-                    castRays(rayOptions);
-                    rayMs += msSince(start);
+                    rayMs += onOneThread([&] { castRays(rayOptions); });
+                    local.rayMs += msSince(start);
                     rayDone = end;
                 }
                 if (probeIsDecided(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), batch))
                     break;
             }
-            local.rayMs += rayMs;
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
-            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), local.setupMs);
+            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), setupThreadMs);
             {
                 std::lock_guard lock(probeMutex_);
                 probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, kProbeReuse}});

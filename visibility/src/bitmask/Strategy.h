@@ -83,7 +83,9 @@ bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayT
 /// The probe's verdict: ray casting when a whole call by rays (its cost per tile times the
 /// receiver's `tiles`) would cost less than a whole call by the bitmask, which is its cost per
 /// tile times the tiles plus its setup (`bitmaskSetupMs`: clipping, regions, binning). The choice
-/// serves later calls (ProbeMemo), which by rays skip that setup altogether.
+/// serves later calls (ProbeMemo), which by rays skip that setup altogether. The sampler measures
+/// all of these as one thread's processor time (the probe's setup and batches run on one thread),
+/// which other jobs sharing the machine do not stretch as they stretch the wall time.
 bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
                       double bitmaskSetupMs);
 
