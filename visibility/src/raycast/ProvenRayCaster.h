@@ -19,12 +19,13 @@
 // speed depends on the bound: hits it cannot prove, huge triangles, far-away patches and
 // kilometre-long rays all go to the exact test.
 //
-// Where the speed comes from (README, "The samplers"): the tuned tracer starts every ray at its
-// receiver sample, so a packet fans out over the source patch; here rays start at the end whose
-// partner has the finer grid (at 32-128 source samples, the source), so a packet's 16 rays run to
-// 4x4 neighbouring samples and share their traversal. Where packets still diverge (dense meshes
-// at coarse receiver grids) single rays are cheaper; the hits of packets are checked after the
-// call (rtcIntersect16, no callback), those of single rays in an occlusion filter.
+// Where the speed comes from (docs/benchmarks.md, "Ray casting where it is the right strategy"):
+// the tuned tracer starts every ray at its receiver sample, so a packet fans out over the source
+// patch; here rays start at the end whose partner has the finer grid (at 32-128 source samples,
+// the source), so a packet's 16 rays run to 4x4 neighbouring samples and share their traversal.
+// Where packets still diverge (dense meshes at coarse receiver grids) single rays are cheaper;
+// the hits of packets are checked after the call (rtcIntersect16, no callback), those of single
+// rays in an occlusion filter.
 
 #include <atomic>
 #include <cstdint>
