@@ -12,7 +12,7 @@
 //     source sample), reads the ray's bit from the map in a buffer texture and moves blocked rays
 //     out of the clip volume: no per-ray CPU work. A cap draws a hashed subset, evenly spread
 //     over the receiver samples, so up to 1M rays stay readable and fast;
-//   - the gizmo handles, over everything.
+//   - the PVS debugger's gap markers and the gizmo handles, over everything.
 
 #include <array>
 #include <cstdint>
@@ -100,6 +100,11 @@ struct FrameState {
     std::optional<Patch> placementGhost;     ///< where a click would place a patch: drawn faint
     int hoveredAxis = -1;
     ViewStyle style;
+    /// The PVS debugger's gap list (issue 17 §5): the reference's witness rays through openings
+    /// the bake missed, from a point of the cell to the object; drawn over everything, a cross
+    /// where each meets the object, the selected one brighter.
+    std::vector<std::array<glm::vec3, 2>> gapMarkers;
+    int gapSelected = -1;
 };
 
 /// The cutaway's limits: geometry above `height` or nearer than `depth` along the view direction

@@ -59,8 +59,8 @@ void addOutputOptions(CLI::App* cmd, PvsOutputs& o, bool outRequired)
     if (outRequired)
         out->required();
     cmd->add_option("--json", o.json, "Also write DESIGN.md §4's .pvs.json");
-    cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style rows: numleafs, visofs[], zero-run-length rows");
-    cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump: numclusters, bitofs[n][2], rows");
+    cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style cell-to-cell rows: numleafs, visofs[], zero-run-length rows");
+    cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump of cell-to-cell rows: numclusters, bitofs[n][2], rows");
     cmd->add_option("--prt", o.prt, "Also write the cells' shared faces as a PRT1 portal file (TrenchBroom)");
     cmd->add_option("--prt-scale", o.prtScale, "PRT1 units per metre (1 keeps metres; 39.37 gives Quake units)")
         ->check(CLI::Range(1e-6, 1e6));
@@ -129,6 +129,9 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
         part.data = job.data;
         part.data.rows = cells.empty() ? pvs::VisibilityRows(job.data.cells.size(), job.data.objects.size())
                                        : job.baker->bake(cells, {}, &stats);
+        if (job.baker->settings().cellRows)
+            part.data.cellRows = cells.empty() ? pvs::VisibilityRows(job.data.cells.size(), job.data.cells.size())
+                                               : job.baker->bakeCellRows(cells, {}, &stats);
         applyPvsOverrides(job.overrides, part.data.rows);
         // Only the shard's rows: overrides touched every cell.
         for (std::size_t c = 0; c < part.data.cells.size(); ++c)
@@ -155,6 +158,8 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
     const auto bakeStart = std::chrono::steady_clock::now();
     pvs::PvsData data = job.data;
     data.rows = job.baker->bake({}, {}, &stats);
+    if (job.baker->settings().cellRows)
+        data.cellRows = job.baker->bakeCellRows({}, {}, &stats);
     applyPvsOverrides(job.overrides, data.rows);
     const double bakeMs = millisecondsSince(bakeStart);
     const json sizes = writePvsOutputs(data, args.outputs);
@@ -314,17 +319,25 @@ json writePvsOutputs(const pvs::PvsData& data, const PvsOutputs& o)
 {
     const pvs::EncodedSizes sizes = pvs::encodedSizes(data.rows);
     json out = {{"raw_row_bytes", sizes.raw}, {"compressed_row_bytes", sizes.compressed}};
+    if (data.hasCellRows()) {
+        const pvs::EncodedSizes cellSizes = pvs::encodedSizes(data.cellRows);
+        out["cell_rows_raw_bytes"] = cellSizes.raw;
+        out["cell_rows_compressed_bytes"] = cellSizes.compressed;
+    }
+    if ((!o.quake1.empty() || !o.quake2.empty()) && !data.hasCellRows())
+        throw Error(std::string(o.quake1.empty() ? "--quake2" : "--quake1") +
+                    " writes cell-to-cell rows (the engines' clusters), and these parts have none: bake them with --cell-rows");
     const std::string bytes = pvs::encodePvs(data, o.raw ? pvs::RowEncoding::Raw : pvs::RowEncoding::ZeroRuns);
     out["pvs_bytes"] = bytes.size();
     if (!o.json.empty())
         writeText(o.json, pvs::pvsJson(data));
     if (!o.quake1.empty()) {
-        const std::string q = pvs::quake1Vis(data.rows);
+        const std::string q = pvs::quake1Vis(data.cellRows);
         out["quake1_bytes"] = q.size();
         writeText(o.quake1, q);
     }
     if (!o.quake2.empty()) {
-        const std::string q = pvs::quake2Vis(data.rows);
+        const std::string q = pvs::quake2Vis(data.cellRows);
         out["quake2_bytes"] = q.size();
         writeText(o.quake2, q);
     }

@@ -118,7 +118,7 @@ std::string PvsSettings::canonical() const
     std::ostringstream s;
     s.precision(17);
     s << "pvs-bake-v2 coarse_shafts=" << coarseShafts << " fine_shafts=" << fineShafts << " smallest_gap=" << smallestGap
-      << " coarse_gap=" << kCoarseGap << " residue_rays=" << residueRays << " direct=" << directCellPoints << "x"
+      << " coarse_gap=" << kCoarseGap << " blocks=" << kBlockCells << "x" << kBlockShafts << " residue_rays=" << residueRays << " direct=" << directCellPoints << "x"
       << directObjectPoints << " max_distance=" << maxDistance << " cell_rows=" << cellRows << " refine=" << refine
       << " safe=" << safe;
     return s.str();
@@ -217,6 +217,29 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
         boxes.push_back(o.bounds);
     objectTree_ = buildTree(boxes);
     cellTree_ = buildTree(cells_);
+    // Blocks: the cell tree's first nodes of at most kBlockCells cells (neighbours, by the median
+    // splits), which partition the cells.
+    blockOf_.assign(cells_.size(), 0);
+    std::vector<std::uint32_t> stack;
+    if (!cellTree_.nodes.empty())
+        stack.push_back(0);
+    while (!stack.empty()) {
+        const Node& node = cellTree_.nodes[stack.back()];
+        stack.pop_back();
+        if (node.end - node.begin > kBlockCells) {
+            stack.push_back(node.second);
+            stack.push_back(node.first);
+            continue;
+        }
+        Block block;
+        block.bounds = node.bounds;
+        for (std::uint32_t k = node.begin; k < node.end; ++k) {
+            block.cells.push_back(cellTree_.order[k]);
+            blockOf_[cellTree_.order[k]] = blocks_.size();
+        }
+        std::sort(block.cells.begin(), block.cells.end());
+        blocks_.push_back(std::move(block));
+    }
     objectPoints_.resize(objects_.size());
     smallSoups_.resize(objects_.size());
     for (std::size_t o = 0; o < objects_.size(); ++o) {
@@ -262,105 +285,50 @@ bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, PvsStat
     return false;
 }
 
-void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, CellState& state, PvsStats* stats) const
+namespace {
+
+bool bit(const std::vector<std::uint8_t>& v, std::size_t o) { return (v[o / 8] >> (o % 8)) & 1u; }
+void setBit(std::vector<std::uint8_t>& v, std::size_t o, bool value)
 {
-    const std::size_t bytes = (objects_.size() + 7) / 8;
-    if (state.row.size() != bytes || pass == PvsPass::Coarse) {
-        state.row.assign(bytes, 0);
-        state.unknown.assign(bytes, 0);
-    }
-    PvsStats local;
-    const bool coarse = pass == PvsPass::Coarse;
-    const bool last = !coarse || !settings_.refine;
-    SearchLimits limits;
-    limits.maxShafts = coarse ? settings_.coarseShafts : settings_.fineShafts;
-    limits.smallestGap = coarse ? std::max(kCoarseGap, settings_.smallestGap) : settings_.smallestGap;
-    const Bounds& cellBox = cells_[cell];
-    auto bit = [](const std::vector<std::uint8_t>& v, std::size_t o) { return (v[o / 8] >> (o % 8)) & 1u; };
-    auto setBit = [](std::vector<std::uint8_t>& v, std::size_t o, bool value) {
-        v[o / 8] = std::uint8_t(value ? v[o / 8] | (1u << (o % 8)) : v[o / 8] & ~(1u << (o % 8)));
-    };
-    // Which objects this pass still has to decide: all (coarse) or the Unknown ones (refine).
-    auto pending = [&](std::size_t o) { return coarse || bit(state.unknown, o); };
-    auto decide = [&](std::size_t o, bool visible, bool unknown) {
-        setBit(state.row, o, visible);
-        setBit(state.unknown, o, unknown);
-    };
-    const std::uint64_t seed = cellSeed(cell);
-    auto testObject = [&](std::size_t o) {
-        const PvsObject& object = objects_[o];
-        if (object.bounds.empty()) {
-            decide(o, false, false);
-            return;
-        }
-        if (coarse && settings_.maxDistance > 0.0 && boxDistance(cellBox, object.bounds) > settings_.maxDistance) {
-            ++local.distanceCulled;
-            decide(o, false, false);
-            return;
-        }
-        if (boxesMeet(cellBox, object.bounds)) {
-            ++local.overlapPairs;
-            decide(o, true, false);
-            return;
-        }
-        if (coarse && visibleByDirectRays(cell, o, local)) {
-            ++local.directWitnesses;
-            decide(o, true, false);
-            return;
-        }
-        SearchTarget target;
-        target.box = object.bounds;
-        target.object = std::int32_t(o);
-        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
-        SearchLimits l = limits;
-        if (!coarse && !settings_.safe)
-            l.residueRays = settings_.residueRays;
-        const Reach reach = search_->search(cellBox, target, l, mixSeed(seed, 2 * o + (coarse ? 0 : 1)), &local.search);
-        if (reach == Reach::Visible) {
-            ++local.shaftWitnesses;
-            decide(o, true, false);
-        } else if (reach == Reach::Hidden) {
-            ++local.provenHidden;
-            decide(o, false, false);
-        } else if (!last) {
-            decide(o, true, true);   // coarse: kept until refined
-        } else {
-            ++local.unknownPairs;
-            if (settings_.safe || coarse) {   // safe, or coarse only (--no-refine): conservative
-                ++local.safeKept;
-                decide(o, true, true);
-            } else {
-                decide(o, false, true);   // the residue rays found no witness
-            }
-        }
-    };
-    // Groups: a node proven hidden hides all its objects at once.
+    v[o / 8] = std::uint8_t(value ? v[o / 8] | (1u << (o % 8)) : v[o / 8] & ~(1u << (o % 8)));
+}
+
+} // namespace
+
+void PvsBaker::traverse(const Bounds& from, const std::function<bool(std::size_t)>& pending, const SearchLimits& limits,
+                        std::uint64_t seed, const std::function<void(std::size_t)>& testObject,
+                        const std::function<void(std::size_t)>& hide, PvsStats& stats) const
+{
+    // Groups: a node proven hidden hides all its objects at once; a node no object of which is
+    // still to decide is skipped.
     const Tree& tree = objectTree_;
     std::vector<std::uint32_t> stack;
     if (!tree.nodes.empty())
         stack.push_back(0);
     while (!stack.empty()) {
-        const Node& node = tree.nodes[stack.back()];
         const std::uint32_t nodeIndex = stack.back();
+        const Node& node = tree.nodes[nodeIndex];
         stack.pop_back();
         if (node.item >= 0) {
             if (pending(std::size_t(node.item)))
                 testObject(std::size_t(node.item));
             continue;
         }
-        bool any = false;   // anything below still to decide
+        bool any = false;
         for (std::uint32_t k = node.begin; k < node.end && !any; ++k)
             any = pending(tree.order[k]);
         if (!any)
             continue;
-        if (coarse && settings_.maxDistance > 0.0 && boxDistance(cellBox, node.bounds) > settings_.maxDistance) {
+        if (settings_.maxDistance > 0.0 && boxDistance(from, node.bounds) > settings_.maxDistance) {
             for (std::uint32_t k = node.begin; k < node.end; ++k)
-                decide(tree.order[k], false, false);
-            local.distanceCulled += node.end - node.begin;
+                if (pending(tree.order[k])) {
+                    hide(tree.order[k]);
+                    ++stats.distanceCulled;
+                }
             continue;
         }
-        if (!boxesMeet(cellBox, node.bounds)) {
-            ++local.nodeTests;
+        if (!boxesMeet(from, node.bounds)) {
+            ++stats.nodeTests;
             SearchTarget target;
             target.box = node.bounds;
             target.own = [&](std::uint32_t instance) {
@@ -370,15 +338,12 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, CellState& state, PvsSta
                 const std::uint32_t at = tree.position[std::size_t(o)];
                 return at >= node.begin && at < node.end;
             };
-            const Reach reach =
-                search_->search(cellBox, target, limits, mixSeed(seed, 2 * (objects_.size() + nodeIndex) + (coarse ? 0 : 1)),
-                                &local.search);
-            if (reach == Reach::Hidden) {
-                ++local.nodesCulled;
+            if (search_->search(from, target, limits, mixSeed(seed, objects_.size() + nodeIndex), &stats.search) == Reach::Hidden) {
+                ++stats.nodesCulled;
                 for (std::uint32_t k = node.begin; k < node.end; ++k)
                     if (pending(tree.order[k])) {
-                        decide(tree.order[k], false, false);
-                        ++local.provenHidden;
+                        hide(tree.order[k]);
+                        ++stats.provenHidden;
                     }
                 continue;
             }
@@ -386,8 +351,126 @@ void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, CellState& state, PvsSta
         stack.push_back(node.second);
         stack.push_back(node.first);
     }
-    if (stats)
-        stats->add(local);
+}
+
+std::vector<std::uint8_t> PvsBaker::bakeBlock(std::size_t block, PvsStats& stats) const
+{
+    // The coarse pass: what no point of the block's box can see (proven), with the coarse budget
+    // and no witnesses sought beyond the search's own. Valid for every cell of the block.
+    const Bounds& box = blocks_[block].bounds;
+    std::vector<std::uint8_t> hidden((objects_.size() + 7) / 8, 0);
+    SearchLimits limits;
+    limits.maxShafts = kBlockShafts * settings_.coarseShafts;
+    limits.smallestGap = std::max(kCoarseGap, settings_.smallestGap);
+    const std::uint64_t seed = mixSeed(seed_ ^ 0x626c6f636bull, block);
+    const auto pending = [&](std::size_t o) { return !bit(hidden, o); };
+    const auto hide = [&](std::size_t o) { setBit(hidden, o, true); };
+    const auto testObject = [&](std::size_t o) {
+        const PvsObject& object = objects_[o];
+        if (object.bounds.empty()) {
+            hide(o);
+            return;
+        }
+        if (settings_.maxDistance > 0.0 && boxDistance(box, object.bounds) > settings_.maxDistance) {
+            ++stats.distanceCulled;
+            hide(o);
+            return;
+        }
+        if (boxesMeet(box, object.bounds))
+            return;
+        SearchTarget target;
+        target.box = object.bounds;
+        target.object = std::int32_t(o);
+        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
+        if (search_->search(box, target, limits, mixSeed(seed, o), &stats.search) == Reach::Hidden) {
+            ++stats.provenHidden;
+            hide(o);
+        }
+    };
+    traverse(box, pending, limits, seed, testObject, hide, stats);
+    return hidden;
+}
+
+std::vector<std::uint8_t> PvsBaker::bakeCell(std::size_t cell, const std::vector<std::uint8_t>& blockHidden, PvsStats& stats) const
+{
+    // The refine pass for one cell: what its block did not prove hidden, first with the coarse
+    // budget and the direct rays, then what is still Unknown with the fine budget and, in the
+    // default mode, the residue rays.
+    const Bounds& cellBox = cells_[cell];
+    const std::size_t bytes = (objects_.size() + 7) / 8;
+    std::vector<std::uint8_t> row(bytes, 0), decided = blockHidden;
+    const std::uint64_t seed = cellSeed(cell);
+    SearchLimits coarse;
+    coarse.maxShafts = settings_.coarseShafts;
+    coarse.smallestGap = std::max(kCoarseGap, settings_.smallestGap);
+    SearchLimits fine;
+    fine.maxShafts = settings_.fineShafts;
+    fine.smallestGap = settings_.smallestGap;
+    fine.residueRays = settings_.safe ? 0 : settings_.residueRays;
+    std::vector<std::size_t> unknown;
+    const auto pending = [&](std::size_t o) { return !bit(decided, o); };
+    const auto hide = [&](std::size_t o) { setBit(decided, o, true); };
+    const auto show = [&](std::size_t o) {
+        setBit(decided, o, true);
+        setBit(row, o, true);
+    };
+    const auto testObject = [&](std::size_t o) {
+        const PvsObject& object = objects_[o];
+        if (object.bounds.empty()) {
+            hide(o);
+            return;
+        }
+        if (settings_.maxDistance > 0.0 && boxDistance(cellBox, object.bounds) > settings_.maxDistance) {
+            ++stats.distanceCulled;
+            hide(o);
+            return;
+        }
+        if (boxesMeet(cellBox, object.bounds)) {
+            ++stats.overlapPairs;
+            show(o);
+            return;
+        }
+        SearchTarget target;
+        target.box = object.bounds;
+        target.object = std::int32_t(o);
+        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
+        const Reach reach = search_->search(cellBox, target, coarse, mixSeed(seed, 2 * o), &stats.search);
+        if (reach == Reach::Visible) {
+            ++stats.shaftWitnesses;
+            show(o);
+        } else if (reach == Reach::Hidden) {
+            ++stats.provenHidden;
+            hide(o);
+        } else if (visibleByDirectRays(cell, o, stats)) {
+            ++stats.directWitnesses;
+            show(o);
+        } else {
+            hide(o);
+            unknown.push_back(o);   // for the fine budget
+        }
+    };
+    traverse(cellBox, pending, coarse, mixSeed(seed, 0x6e6f6465ull), testObject, hide, stats);
+    for (std::size_t o : unknown) {
+        SearchTarget target;
+        target.box = objects_[o].bounds;
+        target.object = std::int32_t(o);
+        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
+        const Reach reach = search_->search(cellBox, target, fine, mixSeed(seed, 2 * o + 1), &stats.search);
+        if (reach == Reach::Visible) {
+            ++stats.shaftWitnesses;
+            setBit(row, o, true);
+        } else if (reach == Reach::Hidden) {
+            ++stats.provenHidden;
+        } else {
+            ++stats.unknownPairs;
+            if (settings_.safe) {
+                ++stats.safeKept;
+                setBit(row, o, true);
+            }
+            // Default: the residue rays found no witness; culled.
+        }
+    }
+    return row;
 }
 
 PvsBaker::Tree PvsBaker::buildTree(const std::vector<Bounds>& boxes)
@@ -480,29 +563,58 @@ std::vector<std::size_t> cellList(const std::vector<std::size_t>& cellIndices, s
 VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const PvsProgress& progress, PvsStats* stats) const
 {
     const std::vector<std::size_t> todo = cellList(cellIndices, cells_.size());
-    std::vector<CellState> states(cells_.size());
     std::mutex statsMutex;
     PvsStats total;
     const int threads = settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
-    auto runPass = [&](PvsPass pass) {
-        const auto start = std::chrono::steady_clock::now();
+    // The blocks these cells belong to, in order.
+    std::vector<std::size_t> blocks;
+    for (std::size_t c : todo)
+        blocks.push_back(blockOf_[c]);
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    std::vector<std::vector<std::uint8_t>> hidden(blocks_.size());
+    std::vector<std::uint8_t> listed(cells_.size(), 0);
+    for (std::size_t c : todo)
+        listed[c] = 1;
+    auto start = std::chrono::steady_clock::now();
+    forEachCell(threads, blocks.size(), progress.cancel, [&](std::size_t k) {
+        PvsStats local;
+        const std::size_t b = blocks[k];
+        hidden[b] = bakeBlock(b, local);
+        if (progress.onCell) {
+            // The coarse answer of each of its cells: all that the block did not prove hidden.
+            std::vector<std::uint8_t> row(hidden[b].size());
+            for (std::size_t i = 0; i < row.size(); ++i)
+                row[i] = std::uint8_t(~hidden[b][i]);
+            if (objects_.size() % 8)
+                row.back() = std::uint8_t(row.back() & ((1u << (objects_.size() % 8)) - 1));
+            for (std::size_t c : blocks_[b].cells)
+                if (listed[c])
+                    progress.onCell(PvsPass::Coarse, c, row);
+        }
+        const std::lock_guard lock(statsMutex);
+        total.add(local);
+    });
+    total.coarseMs = millisecondsSince(start);
+    VisibilityRows out(cells_.size(), objects_.size());
+    if (!settings_.refine) {
+        for (std::size_t c : todo)
+            for (std::size_t o = 0; o < objects_.size(); ++o)
+                out.set(c, o, !bit(hidden[blockOf_[c]], o));
+    } else {
+        start = std::chrono::steady_clock::now();
         forEachCell(threads, todo.size(), progress.cancel, [&](std::size_t k) {
             PvsStats local;
-            bakeCell(todo[k], pass, states[todo[k]], &local);
+            const std::size_t c = todo[k];
+            const std::vector<std::uint8_t> row = bakeCell(c, hidden[blockOf_[c]], local);
+            std::copy(row.begin(), row.end(), out.row(c));
             if (progress.onCell)
-                progress.onCell(pass, todo[k], states[todo[k]].row);
+                progress.onCell(PvsPass::Refine, c, row);
             const std::lock_guard lock(statsMutex);
             total.add(local);
         });
-        (pass == PvsPass::Coarse ? total.coarseMs : total.refineMs) = millisecondsSince(start);
-    };
-    runPass(PvsPass::Coarse);
-    if (settings_.refine)
-        runPass(PvsPass::Refine);
-    VisibilityRows out(cells_.size(), objects_.size());
-    for (std::size_t c = 0; c < cells_.size(); ++c)
-        if (!states[c].row.empty())
-            std::copy(states[c].row.begin(), states[c].row.end(), out.row(c));
+        total.refineMs = millisecondsSince(start);
+    }
     if (stats) {
         const double cellRowsMs = stats->cellRowsMs;
         *stats = total;

@@ -9,31 +9,37 @@
 //
 //  - Visible: a witness, a first-hit ray (FirstHitCaster.h) from a point of the cell whose first
 //    triangle is the object's (for a group box: a ray reaching the box). Boxes that overlap the
-//    cell are visible by definition (no witness). Before the shafts, a few direct rays from
-//    stratified points of the cell towards points of the object's triangles (the point of each
-//    triangle nearest the cell's centre for objects of at most 64 triangles, then area-stratified
-//    ones) find most visible objects cheaply.
+//    cell are visible by definition (no witness). When the first, small budget of sub-shafts
+//    settles nothing, a few direct rays from stratified points of the cell towards points of the
+//    object's triangles (the point of each triangle nearest the cell's centre for objects of at
+//    most 64 triangles, then area-stratified ones) look for a witness on the object itself (a
+//    chair or a plant fills little of its box).
 //  - Hidden: a proof (ShaftProof.h): the face pairs between the cell's box and the target's box
 //    cover every segment between them; each was split into sub-shafts until every one was shown
 //    blocked by a single planar region or a single closed solid. A hidden group hides all of its
 //    objects at once.
 //  - Unknown: neither, within the pass's budget (sub-shafts per target, smallest gap split to).
 //
-// Passes: the coarse pass runs every cell with a small budget and writes Unknown as visible, so
-// the coarse rows are already conservative (every culled pair is proven) and a caller (the
-// editor) has a usable answer for every cell early. The refine pass revisits only the Unknown
-// pairs with a larger budget. What is still Unknown after it is where visibility, if any, passes
-// through openings narrower than the smallest gap: the default mode spends `residueRays` rays
-// there looking for a witness and culls the pair when none is found (sampling can miss such
-// visibility, never invent it); the safe mode keeps it visible, so every pair the safe mode culls
-// is proven hidden.
+// Passes. The coarse pass works on blocks: neighbouring cells (at most kBlockCells, grouped by a
+// tree of the cells' bounds) whose union box is tested as one source. What is proven hidden from
+// a block's box is hidden from each of its cells, so the coarse rows (everything the block did
+// not prove hidden) are conservative and come early: the editor has a usable answer for every
+// cell at a fraction of the cost. The refine pass then bakes each cell alone, over what its block
+// did not prove hidden: first with the coarse budget (`coarseShafts` sub-shafts per target) and
+// the direct rays, then, for what is still Unknown, with the fine budget. What is Unknown after
+// that is where visibility, if any, passes through openings narrower than the smallest gap: the
+// default mode spends `residueRays` rays there looking for a witness and culls the pair when none
+// is found (sampling can miss such visibility, never invent it); the safe mode keeps it visible,
+// so every pair the safe mode culls is proven hidden.
 //
 // Distance cut-off (`maxDistance` > 0): an object or cell whose box is farther than that from every
 // point of the cell's box is culled without a test (a designer's choice, not visibility).
 //
-// Determinism: each cell's row depends only on the scene, the settings and the cell (no shared
-// state between cells, seeds from the scene hash and the cell id, a fixed traversal order), so the
-// output is byte-identical whatever the thread count or the split of cells over shards or ranks.
+// Determinism: each cell's row depends only on the scene, the settings, the cell list and the cell
+// (its block is a function of the cell list; no state is shared between cells; seeds come from
+// the scene hash and the cell or block id; traversal orders are fixed), so the output is
+// byte-identical whatever the thread count or the split of cells over shards or ranks (a shard
+// bakes the blocks of its cells itself).
 
 #include <atomic>
 #include <cstdint>
@@ -51,12 +57,12 @@ namespace sightline::pvs {
 class FirstHitCaster;
 
 struct PvsSettings {
-    int coarseShafts = 16;      ///< sub-shafts per (cell, target), coarse pass
-    int fineShafts = 512;       ///< sub-shafts per (cell, target), refine pass
+    int coarseShafts = 16;      ///< sub-shafts per (cell, target) at first (a block: kBlockShafts times more)
+    int fineShafts = 512;       ///< sub-shafts per (cell, target) still Unknown after the coarse budget
     double smallestGap = 0.02;  ///< metres: the refine pass splits sub-shafts down to this spread
     int residueRays = 16384;    ///< default mode: rays per pair over what is left open (ShaftSearch.h)
-    int directCellPoints = 8;   ///< direct rays (coarse pass): points of the cell
-    int directObjectPoints = 8; ///< direct rays (coarse pass): area-stratified points on the object
+    int directCellPoints = 8;   ///< direct rays (after the first budget): points of the cell
+    int directObjectPoints = 8; ///< direct rays: area-stratified points on the object
     double maxDistance = 0.0;   ///< metres; 0: no distance cut-off
     bool cellRows = false;      ///< also bake cell-to-cell rows (the Quake formats' clusters)
     bool refine = true;         ///< run the refine pass
@@ -73,6 +79,10 @@ struct PvsSettings {
 
 /// The coarse pass's smallest gap (metres): it stops splitting early and leaves the rest Unknown.
 inline constexpr double kCoarseGap = 0.25;
+/// Cells per block of the coarse pass (at most), and its sub-shafts per (block, target), in
+/// coarse_shafts: a block's answer serves all its cells.
+inline constexpr std::uint32_t kBlockCells = 16;
+inline constexpr int kBlockShafts = 4;
 
 enum class PvsPass { Coarse, Refine };
 
@@ -103,12 +113,6 @@ struct PvsStats {
     void add(const PvsStats& o);
 };
 
-/// A cell's state between passes: its row and which of its bits are still Unknown (written
-/// visible until refined).
-struct CellState {
-    std::vector<std::uint8_t> row, unknown;
-};
-
 class PvsBaker {
 public:
     /// `sceneSha256` seeds the sampling (with each cell's index). Cells are validated
@@ -134,14 +138,22 @@ public:
     VisibilityRows bakeCellRows(const std::vector<std::size_t>& cellIndices = {}, const PvsProgress& progress = {},
                                 PvsStats* stats = nullptr) const;
 
-    /// One cell, one pass, in the calling thread: `state` holds the previous pass's answer
-    /// (empty for the coarse pass) and is updated.
-    void bakeCell(std::size_t cell, PvsPass pass, CellState& state, PvsStats* stats = nullptr) const;
+    /// How many blocks the cells are grouped in for the coarse pass (at most kBlockCells cells
+    /// each, neighbours by the cell tree's median splits), and the block of a cell.
+    std::size_t blockCount() const { return blocks_.size(); }
+    std::size_t blockOf(std::size_t cell) const { return blockOf_[cell]; }
 
 private:
+    /// Visits the object tree from a box: nodes proven hidden hide their objects (`hide`), the
+    /// objects of the others that are `pending` are tested one by one (`testObject`).
+    void traverse(const Bounds& from, const std::function<bool(std::size_t)>& pending, const SearchLimits& limits,
+                  std::uint64_t seed, const std::function<void(std::size_t)>& testObject,
+                  const std::function<void(std::size_t)>& hide, PvsStats& stats) const;
+    /// The coarse pass for a block: the objects proven hidden from every point of its box.
+    std::vector<std::uint8_t> bakeBlock(std::size_t block, PvsStats& stats) const;
+    /// The refine pass for a cell: its row, given what its block proved hidden.
+    std::vector<std::uint8_t> bakeCell(std::size_t cell, const std::vector<std::uint8_t>& blockHidden, PvsStats& stats) const;
     bool visibleByDirectRays(std::size_t cell, std::size_t object, PvsStats& stats) const;
-    void buildObjectTree();
-    void buildCellTree();
     bool hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const;
     std::uint64_t cellSeed(std::size_t cell) const;
 
@@ -167,6 +179,12 @@ private:
     };
     static Tree buildTree(const std::vector<Bounds>& boxes);
     Tree objectTree_, cellTree_;
+    struct Block {
+        Bounds bounds;
+        std::vector<std::size_t> cells;
+    };
+    std::vector<Block> blocks_;
+    std::vector<std::size_t> blockOf_;
     /// Per object: points on its triangles, area-stratified (the direct rays' targets).
     std::vector<std::vector<glm::vec3>> objectPoints_;
     /// Per object of few triangles, its triangles (3 vertices each): nearest-point targets.
