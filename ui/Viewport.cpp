@@ -314,7 +314,7 @@ void Viewport::paintGL()
     frame.style = style_;
     if (style_.pvsDebugger)
         for (const pvs::Gap& gap : pvsGaps_)
-            frame.gapMarkers.push_back({gap.from, gap.to});
+            frame.gapMarkers.push_back({gap.from, gap.to, pvsShownCell_ == std::optional<std::size_t>(gap.cell)});
     frame.gapSelected = pvsGapSelected_;
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();

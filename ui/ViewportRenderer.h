@@ -100,10 +100,15 @@ struct FrameState {
     std::optional<Patch> placementGhost;     ///< where a click would place a patch: drawn faint
     int hoveredAxis = -1;
     ViewStyle style;
-    /// The PVS debugger's gap list (issue 17 §5): the reference's witness rays through openings
-    /// the bake missed, from a point of the cell to the object; drawn over everything, a cross
-    /// where each meets the object, the selected one brighter.
-    std::vector<std::array<glm::vec3, 2>> gapMarkers;
+    /// The PVS debugger's gap list (issue 17 §5): where the reference saw an object through an
+    /// opening the bake culled it behind. Drawn over everything: a cross where the reference's
+    /// witness ray meets the object, and for the gaps of the shown cell (`ray`) the ray itself,
+    /// from its point in the cell; the selected one brighter and larger.
+    struct GapMarker {
+        glm::vec3 from{0.0f}, to{0.0f};
+        bool ray = false;
+    };
+    std::vector<GapMarker> gapMarkers;
     int gapSelected = -1;
 };
 
