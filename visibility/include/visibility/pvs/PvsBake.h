@@ -82,7 +82,7 @@ inline constexpr double kCoarseGap = 0.25;
 /// Cells per block of the coarse pass (at most), and its sub-shafts per (block, target), in
 /// coarse_shafts: a block's answer serves all its cells.
 inline constexpr std::uint32_t kBlockCells = 16;
-inline constexpr int kBlockShafts = 4;
+inline constexpr int kBlockShafts = 2;
 
 enum class PvsPass { Coarse, Refine };
 
