@@ -92,6 +92,20 @@ public:
     std::size_t pvsCoarseDone() const { return pvsCoarse_; }
     std::size_t pvsRefinedDone() const { return pvsRefined_; }
     bool pvsFinished() const { return pvsFinished_; }
+    /// Whether cell c's shown answer is still the coarse one (refinement has not reached it).
+    bool pvsCellCoarse(std::size_t cell) const { return cell >= pvsCellRefined_.size() || !pvsCellRefined_[cell]; }
+    /// The status bar's text for the PVS debugger.
+    QString pvsStatus() const;
+    /// The gap list of the last bake's accuracy check (PvsDebugger.h), once it is in.
+    bool pvsGapsReady() const { return pvsGapsReady_; }
+    const std::vector<pvs::Gap>& pvsGaps() const { return pvsGaps_; }
+    /// Frames gap k: the eye at the reference's witness point in the cell, looking along the
+    /// witness ray at the object the bake culled (tinted, seen through the opening it missed).
+    void framePvsGap(std::size_t k);
+    /// The gap last framed (-1: none); drawn highlighted.
+    int pvsGapSelected() const { return pvsGapSelected_; }
+    /// The gap marker within `radius` pixels of `position` (logical pixels), nearest first.
+    std::optional<std::size_t> pvsGapAt(QPointF position, double radius = 10.0) const;
 
 signals:
     /// The PVS debugger's state for the status bar.
@@ -149,7 +163,14 @@ private:
     std::optional<std::size_t> pvsShownCell_, pvsFrozenCell_;
     bool pvsUploaded_ = false;
     void takePvsEvent(PvsDebugEvent event);
-    QString pvsStatus() const;
+    std::vector<std::uint8_t> pvsCellRefined_;   ///< per cell: 1 once its refined row is in
+    std::vector<pvs::Gap> pvsGaps_;
+    bool pvsGapsReady_ = false;
+    std::size_t pvsReferenceCells_ = 0;
+    std::uint64_t pvsReferenceVisible_ = 0, pvsMissed_ = 0;
+    int pvsGapSelected_ = -1;
+    double pvsCutoff_ = 0.0;   ///< the project's pvs.max_distance when the rows were last shown
+    std::string pvsBakeKey_;   ///< the settings the running (or last) bake was started with
     /// The bake's rows with the project's overrides applied (kept in pvsShown_).
     const pvs::VisibilityRows& pvsShownRows();
     QString pvsError_, pvsOverrideError_;

@@ -957,6 +957,25 @@ void ViewportRenderer::render(const FrameState& f)
             lines.push_back({corners[(k + 1) % 4], outline});
         }
     }
+    // PVS gaps: a cross at the object, the witness ray for the shown cell's gaps (bright for the
+    // selected gap).
+    for (std::size_t k = 0; k < f.gapMarkers.size(); ++k) {
+        const bool selected = int(k) == f.gapSelected;
+        const glm::vec4 ray = selected ? glm::vec4(1.0f, 1.0f, 0.85f, 1.0f) : glm::vec4(1.0f, 0.55f, 0.1f, 0.9f);
+        const glm::vec3 from = f.gapMarkers[k].from, to = f.gapMarkers[k].to;
+        if (f.gapMarkers[k].ray || selected) {
+            overlay.push_back({from, glm::vec4(glm::vec3(ray), 0.35f)});
+            overlay.push_back({to, ray});
+        }
+        // The cross keeps a steady size on screen: a fraction of the distance to the eye.
+        const float arm = float(0.015 * glm::length(glm::dvec3(to) - f.camera.eye())) * (selected ? 2.0f : 1.0f);
+        for (int axis = 0; axis < 3; ++axis) {
+            glm::vec3 reach(0.0f);
+            reach[axis] = arm;
+            overlay.push_back({to - reach, ray});
+            overlay.push_back({to + reach, ray});
+        }
+    }
     std::vector<LineVertex> handles;   // triangles, over everything
     if (f.cutHandle)
         appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);

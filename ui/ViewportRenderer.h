@@ -13,7 +13,7 @@
 //     CPU once per answer, and a vertex shader turns each into its (receiver sample, source
 //     sample) pair. How dense bundles stay readable and cheap: RayLayer.h;
 //   - the section cut's outline (where the cut plane meets the level's box) and its handle;
-//   - the gizmo handles, over everything.
+//   - the PVS debugger's gap markers and the gizmo handles, over everything.
 
 #include <array>
 #include <cstdint>
@@ -116,6 +116,16 @@ struct FrameState {
     bool cutHandleHovered = false;
     Bounds levelBounds;
     ViewStyle style;
+    /// The PVS debugger's gap list (issue 17 §5): where the reference saw an object through an
+    /// opening the bake culled it behind. Drawn over everything: a cross where the reference's
+    /// witness ray meets the object, and for the gaps of the shown cell (`ray`) the ray itself,
+    /// from its point in the cell; the selected one brighter and larger.
+    struct GapMarker {
+        glm::vec3 from{0.0f}, to{0.0f};
+        bool ray = false;
+    };
+    std::vector<GapMarker> gapMarkers;
+    int gapSelected = -1;
 };
 
 /// The section cut's colour: cyan, apart from the patches, the rays, the selection and the axes.
