@@ -226,7 +226,7 @@ int runShaft(const ShaftArgs& args)
         const std::string used = stats.strategy;
         const bool forced = options.strategy != CpuStrategy::Auto;
         strategy = used == "hybrid"    ? "hybrid: " + masks + " + embree-packets-16"
-                   : used == "raycast" ? std::string("raycast: embree-packets-16") +
+                   : used == "raycast" ? std::string("raycast: embree float rays, hits proven, free rays confirmed") +
                                              (forced ? " (forced by --strategy)" : " (cheaper than the bitmask here)")
                                        : masks;
         if (stats.probed)
@@ -235,7 +235,8 @@ int runShaft(const ShaftArgs& args)
             strategy += " (chosen by timing both on an earlier call)";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
-                 {"rays_cast", stats.raysCast}, {"float_fallbacks", stats.floatFallbacks},
+                 {"rays_cast", stats.raysCast}, {"proven_hits", stats.provenHits}, {"exact_hit_tests", stats.exactHitTests},
+                 {"rays_confirmed", stats.raysConfirmed}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}};
@@ -324,12 +325,12 @@ int runBench(BenchArgs& args)
         inputs.insert(inputs.end(), read.begin(), read.end());
     }
     cli::checkOutputs({{"--csv", args.csv}, {"--chart", args.chart}}, inputs);
-    std::printf("%-28s %-18s %7s %9s %10s %12s %12s %10s %10s %10s\n", "project", "method", "sources", "receiver", "ms",
-                "wrong-block", "wrong-free", "error", "light-mae", "dense-mae");
+    std::printf("%-28s %-18s %7s %9s %10s %10s %12s %12s %10s %10s %10s\n", "project", "method", "sources", "receiver", "ms",
+                "thread-ms", "wrong-block", "wrong-free", "error", "light-mae", "dense-mae");
     const auto rows = bench::run(args.settings, [](const bench::Row& r) {
         const std::string name = fs::path(r.project).filename().string();
-        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %12llu %12llu %10.6f %10.6f ", name.c_str(), r.method.c_str(),
-                    r.sourceSamples, r.receiverSide, r.receiverSide, r.ms, (unsigned long long)r.wronglyBlocked,
+        std::printf("%-28s %-18s %7d %5dx%-4d %10.2f %10.2f %12llu %12llu %10.6f %10.6f ", name.c_str(), r.method.c_str(),
+                    r.sourceSamples, r.receiverSide, r.receiverSide, r.ms, r.threadMs, (unsigned long long)r.wronglyBlocked,
                     (unsigned long long)r.wronglyFree, r.errorFraction(), r.lightMae);
         if (r.denseMae >= 0.0)
             std::printf("%10.6f\n", r.denseMae);

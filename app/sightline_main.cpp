@@ -4,13 +4,19 @@
 // (--benchmark-interaction, optionally with an overlay on).
 
 #include <algorithm>
+#include <optional>
 #include <cstdio>
 #include <string>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <CLI/CLI.hpp>
 #include <QApplication>
 #include <QCoreApplication>
 #include <QPainter>
+#include <QTemporaryDir>
 #include <QSurfaceFormat>
 
 #include "AnimationImportance.h"
@@ -20,6 +26,7 @@
 #include "OffscreenRender.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
+#include "StallBenchmark.h"
 #include "VideoRecording.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
@@ -40,7 +47,10 @@ struct Arguments {
     std::string screenshot;
     std::string record;
     bool benchmark = false;
-    int frames = 300;
+    bool stalls = false;
+    std::string receiverSamples;
+    std::string replay = "auto";
+    int frames = 300;   ///< benchmark default; recordings use the path's or animation's length
     bool framesGiven = false;
     double fps = 0.0;   ///< 0: the recorded path's, else 30
     std::string size = "1280x720";
@@ -174,15 +184,33 @@ int benchmark(const Arguments& args, int width, int height)
     window.overlayControls().setKind(parseOverlayKind(args.overlay));
     window.overlayControls().setStatistic(parseImportanceStatistic(args.statistic));
     window.overlayControls().setAccumulating(args.accumulate);
-    const InteractionFigures f = runInteractionBenchmark(window, args.frames, width, height, args.ao);
-    std::printf("interaction benchmark: %s, %d frames at %dx%d, receiver dragged along a scripted path\n",
-                args.file.c_str(), f.frames, f.width, f.height);
+    InteractionOptions options;
+    options.width = width;
+    options.height = height;
+    options.withAo = args.ao;
+    // The recorded path when asked, or by default when the project has one; else the drag.
+    const bool hasPath = !parseRecordedPath(window.document().project(), args.file).empty();
+    options.replay = args.replay == "path" || (args.replay == "auto" && hasPath) ? InteractionReplay::RecordedPath
+                                                                                 : InteractionReplay::Drag;
+    options.frames = args.framesGiven || options.replay == InteractionReplay::Drag
+                         ? args.frames
+                         : parseRecordedPath(window.document().project(), args.file).frames;
+    const InteractionFigures f = runInteractionBenchmark(window, options);
+    std::printf("interaction benchmark: %s, %d frames at %dx%d, %s\n", args.file.c_str(), f.frames, f.width, f.height,
+                options.replay == InteractionReplay::Drag ? "receiver dragged along a scripted path"
+                                                          : ("replaying its " + f.replay).c_str());
     std::printf("  sampler        %s\n", f.backend.c_str());
     std::printf("  rays           %llu per update (%llu drawn), %.1f%% visible on average\n",
                 static_cast<unsigned long long>(f.rays), static_cast<unsigned long long>(f.raysDrawn), 100.0 * f.meanVisibleFraction);
-    std::printf("  update rate    %.1f Hz median (frame %.1f ms median, %.1f ms 90th percentile)\n", f.medianHz,
-                f.medianFrameMs, f.p90FrameMs);
+    if (f.answers > 0)
+        std::printf("  update rate    %.1f Hz median (interval %.1f ms median, %.1f ms 90th percentile; %d updates)\n",
+                    f.medianHz, f.medianFrameMs, f.p90FrameMs, f.answers);
+    else
+        std::printf("  update rate    no update (nothing the path moved needed a new sample)\n");
+    std::printf("  drawing        %.1f ms a frame median, %.1f ms 90th percentile; %.1f frames drawn per second, "
+                "%.2f per update\n", f.medianDrawMs, f.p90DrawMs, f.drawnHz, f.framesPerAnswer);
     std::printf("  sampling       %.1f ms median per update\n", f.medianSampleMs);
+    std::printf("  processor      %.1f ms per update (all threads), %.2f cores busy on average\n", f.cpuMsPerAnswer, f.cpuLoad);
     std::printf("  overlay        %s%s\n", args.overlay.c_str(), args.accumulate ? ", accumulating" : "");
     if (args.ao) {
         std::printf("  with AO        %.1f Hz median (frame %.1f ms 90th percentile) over the %d frames shown while the "
@@ -196,10 +224,65 @@ int benchmark(const Arguments& args, int width, int height)
     return 0;
 }
 
+int stallBenchmark(const Arguments& args, int width, int height)
+{
+    std::optional<std::pair<int, int>> grid;
+    if (!args.receiverSamples.empty()) {
+        int na = 0, nb = 0;
+        if (!parseSize(args.receiverSamples, na, nb) || na > 1024 || nb > 1024) {
+            std::fprintf(stderr, "sightline: --receiver-samples must be NAxNB with sides in [1, 1024], got '%s'\n",
+                         args.receiverSamples.c_str());
+            return 2;
+        }
+        grid = std::pair{na, nb};
+    }
+    const QTemporaryDir folder;
+    bool addedAnimation = false;
+    const std::filesystem::path project = stallBenchmarkProject(
+        args.file, grid, args.framesGiven ? args.frames : 10, folder.path().toStdString(), &addedAnimation);
+    MainWindow window(EditorOptions{.offerRecovery = false, .allowOutsidePaths = args.allowOutsidePaths});
+    window.viewport().style().rayCap = args.rays;
+    window.viewport().style().showBlocked = args.showBlocked;
+    const StallFigures f = runStallBenchmark(window, QString::fromStdString(project.string()), width, height);
+    const Project& opened = window.document().project();
+    const auto phase = [](const char* name, const StallPhase& p) {
+        std::printf("  %-16s longest stall %.1f ms (at %.0f ms), %d over 50 ms, in %.0f ms\n", name, p.longestStallMs, p.at,
+                    p.stallsOver50Ms, p.ms);
+    };
+    std::printf("event-loop stall benchmark: %s (receiver %dx%d) at %dx%d, a 1 ms timer ticking throughout\n",
+                args.file.c_str(), opened.receiver.na, opened.receiver.nb, width, height);
+    phase("first open", f.firstOpen);
+    phase("open again", f.open);
+    if (f.frames > 0) {
+        phase("accumulate", f.accumulate);
+        std::printf("  animation        %d frames%s%s\n", f.frames,
+                    addedAnimation ? " (the benchmark's: the receiver steps 0.5 m every other frame)" : "",
+                    f.shown ? "" : "; no result shown");
+    }
+    std::printf("  longest          %.1f ms (first open %.1f ms)\n", std::max(f.open.longestStallMs, f.accumulate.longestStallMs),
+                f.firstOpen.longestStallMs);
+    return 0;
+}
+
 } // namespace
+
+/// The editor allocates and frees the same large blocks every update (the sampler's per-call
+/// buffers, llvmpipe's per-frame bins). glibc returned the freed top of each heap to the system
+/// at once (128 KiB trim threshold) and the next update faulted it back in: 2,500 page faults an
+/// update, 40% of the editor's processor time while dragging on llvmpipe (65 instead of 104 ms an
+/// update, `--benchmark-interaction --rays 4096`). Keeping up to 256 MiB of freed memory per heap,
+/// and serving blocks up to 32 MiB (glibc's own upper bound) from the heaps, stops that.
+void keepFreedMemory()
+{
+#if defined(__GLIBC__)
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+#endif
+}
 
 int main(int argc, char** argv)
 {
+    keepFreedMemory();
     CLI::App app{"Sightline: see which rays between two patches of a level are blocked, live.\n"
                  "Without options, opens the editor (on FILE if given)."};
     Arguments args;
@@ -212,9 +295,21 @@ int main(int argc, char** argv)
     app.add_option("--fps", args.fps, "Recording frame rate (default: the recorded path's, else 30)")
         ->check(CLI::Range(0.001, 240.0));
     app.add_flag("--benchmark-interaction", args.benchmark,
-                 "Drag FILE's receiver along a scripted path in the editor and print the median update rate");
+                 "Drag FILE's receiver along a scripted path in the editor (or replay its recorded path) and print "
+                 "the median update rate");
+    app.add_flag("--benchmark-stalls", args.stalls,
+                 "Open FILE in the editor (twice) and accumulate its animation (without one, the receiver "
+                 "stepping 0.5 m every other frame, --frames of them, default 10), and print the longest time the "
+                 "event loop did not run in each");
+    app.add_option("--receiver-samples", args.receiverSamples,
+                   "Stall benchmark: the receiver's grid, NAxNB (e.g. 512x512 for the demo floor)");
+    app.add_option("--replay", args.replay,
+                   "Benchmark: what moves: the project's recorded path (path), the scripted drag of the receiver "
+                   "(drag), or the path when the project has one (auto)")
+        ->check(CLI::IsMember({"auto", "path", "drag"}));
     CLI::Option* frames = app.add_option("--frames", args.frames,
-                                         "Benchmark frames; recording frames (default: the recorded path's length, "
+                                         "Benchmark frames (default 300, or the recorded path's length when "
+                                         "replaying it); recording frames (default: the recorded path's length, "
                                          "else the animation's frames)")
                               ->check(CLI::Range(1, 100000));
     app.add_option("--size", args.size, "Screenshot, recording or benchmark viewport size, WxH (a recording needs even sides)");
@@ -258,8 +353,8 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "sightline: %s\n", e.what());
         return 2;
     }
-    if ((!args.screenshot.empty() || !args.record.empty() || args.benchmark) && args.file.empty()) {
-        std::fprintf(stderr, "sightline: --screenshot, --record and --benchmark-interaction need a project file\n");
+    if ((!args.screenshot.empty() || !args.record.empty() || args.benchmark || args.stalls) && args.file.empty()) {
+        std::fprintf(stderr, "sightline: --screenshot, --record, --benchmark-interaction and --benchmark-stalls need a project file\n");
         return 2;
     }
     if (args.ao && !args.benchmark) {
@@ -308,6 +403,8 @@ int main(int argc, char** argv)
         QApplication application(argc, argv);
         if (args.benchmark)
             return benchmark(args, width, height);
+        if (args.stalls)
+            return stallBenchmark(args, width, height);
         MainWindow window;
         window.show();
         if (!args.file.empty())
@@ -316,7 +413,7 @@ int main(int argc, char** argv)
     } catch (const std::exception& e) {
         const std::string doing = !args.record.empty()       ? "recording " + args.file + " to " + args.record
                                   : !args.screenshot.empty() ? "rendering the screenshot of " + args.file
-                                  : args.benchmark          ? "benchmarking " + args.file
+                                  : args.benchmark || args.stalls ? "benchmarking " + args.file
                                                             : std::string("running the editor");
         std::fprintf(stderr, "sightline: %s\n", describeFailure(e, doing).c_str());
         return 1;

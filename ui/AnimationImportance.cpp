@@ -20,14 +20,20 @@ ImportanceRunResult accumulateDocumentAnimation(const EditorDocument& document, 
 ImportanceRunResult accumulateAnimation(const AnimationInput& input, const Animation& animation, int frames,
                                         ImportanceSide side, const std::function<bool(int, int)>& progress)
 {
-    const Project& project = input.project;
+    return accumulateMotion(input, ProjectMotion::of(animation), frames, side, progress);
+}
+
+ImportanceRunResult accumulateMotion(const AnimationInput& input, const ProjectMotion& motion, int frames,
+                                     ImportanceSide side, const std::function<bool(int, int)>& progress)
+{
+    const Project project = withoutMotionKeys(input.project);
     SamplerSettings settings;
     settings.method = "cpu";
     settings.heights = projectReceiverHeights(project, project.receiver, input.name);
-    ProjectSampler sampler(projectAtFrame(project, animation, 0), input.meshes, settings);
+    ProjectSampler sampler(motion.at(project, 0), input.meshes, settings);
     int done = 0;
     try {
-        return accumulateImportance(sampler, project, animation, frames, side, [&](int d, int total) {
+        return accumulateImportance(sampler, project, motion, frames, side, [&](int d, int total) {
             done = d;
             return !progress || progress(d, total);
         });

@@ -1,7 +1,8 @@
 #pragma once
-// "Accumulate Animation": the importance map of the document's project accumulated over the
-// frames of its "animation" key (Eisemann & Décoret §9, accumulation over time; format in
-// project/Animation.h), exactly as `sightline-cli importance` computes it (same run, same
+// "Accumulate Animation" / "Accumulate Recorded Path": the importance map of the document's
+// project accumulated over the frames of its "animation" key or of its recorded path (Eisemann &
+// Décoret §9, accumulation over time; project/ProjectMotion.h), exactly as `sightline-cli
+// importance [--path]` computes it (same run, same
 // CPU sampler, the project's receiver_heights included), but on the document as it is now,
 // unsaved edits included, with the meshes the editor already loaded. Also serves
 // `sightline --screenshot --overlay receiver|source`.
@@ -11,6 +12,7 @@
 #include "EditorDocument.h"
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
+#include "project/ProjectMotion.h"
 
 namespace sightline::ui {
 
@@ -23,8 +25,11 @@ struct AnimationInput {
 };
 AnimationInput animationInput(const EditorDocument& document);
 
-/// Accumulates `side`'s importance over `frames` frames of `animation` applied to `input`'s
-/// project. Touches nothing but its arguments: safe on a worker thread.
+/// Accumulates `side`'s importance over `frames` frames of `motion` applied to `input`'s project.
+/// Touches nothing but its arguments: safe on a worker thread.
+ImportanceRunResult accumulateMotion(const AnimationInput& input, const ProjectMotion& motion, int frames,
+                                     ImportanceSide side, const std::function<bool(int, int)>& progress = {});
+/// The same over an animation.
 ImportanceRunResult accumulateAnimation(const AnimationInput& input, const Animation& animation, int frames,
                                         ImportanceSide side, const std::function<bool(int, int)>& progress = {});
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <ctime>
 #include <numbers>
 #include <vector>
 
@@ -11,7 +12,10 @@
 #include <QTimer>
 
 #include "MainWindow.h"
+#include "PathPlayback.h"
 #include "Viewport.h"
+#include "project/ProjectMotion.h"
+#include "visibility/Error.h"
 
 namespace sightline::ui {
 
@@ -26,13 +30,31 @@ double percentile(std::vector<double> values, double q)
     return values[k];
 }
 
-/// Runs the event loop until the viewport shows a new answer (or 10 s passed).
-void waitForAnswer(Viewport& viewport)
+constexpr int kWarmUp = 10;
+
+/// Processor time of this process, all threads, in ms.
+double processCpuMs()
+{
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+/// Runs the event loop until `done()` holds (checked after every event batch) or `ms` passed.
+template <class Done>
+void runUntil(Done done, int ms)
 {
     QEventLoop loop;
-    QObject::connect(&viewport, &Viewport::visibilityUpdated, &loop, &QEventLoop::quit);
-    QTimer::singleShot(10'000, &loop, &QEventLoop::quit);
-    loop.exec();
+    QTimer poll;
+    poll.setInterval(10);
+    QObject::connect(&poll, &QTimer::timeout, &loop, [&] {
+        if (done())
+            loop.quit();
+    });
+    QTimer::singleShot(ms, &loop, &QEventLoop::quit);
+    poll.start();
+    if (!done())
+        loop.exec();
 }
 
 } // namespace
@@ -45,72 +67,141 @@ Patch scriptedReceiver(const Patch& start, int frame, int frames)
     return p;
 }
 
-InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int width, int height, bool withAo)
+InteractionFigures runInteractionBenchmark(MainWindow& window, const InteractionOptions& options)
 {
+    EditorDocument& document = window.document();
+    const Project start = document.project();
+    RecordedPath path;
+    const bool replayPath = options.replay == InteractionReplay::RecordedPath;
+    if (replayPath) {
+        path = parseRecordedPath(start, document.displayName().toStdString());
+        if (path.empty())
+            throw Error(document.displayName().toStdString() +
+                        " has no recorded path (\"recorded_path\"): record one in the editor (F9), or drag instead");
+    }
+
     InteractionFigures figures;
-    figures.width = width;
-    figures.height = height;
-    window.viewportContainer()->setFixedSize(width, height);
+    figures.width = options.width;
+    figures.height = options.height;
+    figures.replay = replayPath ? "recorded path, " + std::to_string(path.frames) + " frames" : "scripted drag";
+    window.viewportContainer()->setFixedSize(options.width, options.height);
     window.show();
     Viewport& viewport = window.viewport();
+    ViewportController& controller = window.controller();
+    const Camera camera = controller.camera();
     QElapsedTimer wait;
     wait.start();
     while (!viewport.isExposed() && wait.elapsed() < 10'000)
         QApplication::processEvents(QEventLoop::AllEvents, 50);
 
-    EditorDocument& document = window.document();
+    // A motion as a hand makes it: the next pose after every frame drawn, whether or not an answer
+    // came (the sampler works on a worker thread, the latest request wins).
     const ObjectRef receiver{ObjectKind::Receiver, 0};
-    const Patch start = document.project().receiver;
-    // A drag as a hand makes it: the receiver moves on to its next position after every frame
-    // drawn, whether or not an answer came (the sampler works on a worker thread, the latest
-    // request wins). An update is an answer shown; the figure is the interval between them.
+    const Project base = withoutMotionKeys(start);
     int step = 0;
-    const auto move = QObject::connect(&viewport, &QOpenGLWindow::frameSwapped, &viewport, [&] {
-        document.applyState(receiver, scriptedReceiver(start, ++step, frames));
-    });
-    constexpr int kWarmUp = 10;
-    std::vector<double> frameMs, sampleMs, aoFrameMs;
-    double visible = 0.0;
-    QElapsedTimer clock, aoClock;
-    document.applyState(receiver, scriptedReceiver(start, step, frames));
-    for (int f = -kWarmUp; f < frames; ++f) {
-        if (f == 0) {
-            clock.start();
-            if (withAo) {
-                viewport.setAmbientOcclusion(true);
-                aoClock.start();
-            }
+    const auto pose = [&] {
+        if (!replayPath) {
+            document.applyState(receiver, scriptedReceiver(start.receiver, step, options.frames));
+            return;
         }
-        const bool aoComputing = withAo && f >= 0 && figures.aoDoneMs == 0.0;
-        waitForAnswer(viewport);
-        if (f < 0)
-            continue;
-        frameMs.push_back(double(clock.nsecsElapsed()) * 1e-6);
-        if (aoComputing) {
-            aoFrameMs.push_back(frameMs.back());
+        const int frame = step % path.frames;
+        showPathFrame(document, controller, base, path, frame);
+        if (options.posed)
+            options.posed(frame);
+        viewport.update();   // a pose that moves nothing is drawn too
+    };
+
+    // The drag counts answers shown; the path counts frames drawn (a path frame that moves no
+    // patch needs no answer).
+    std::vector<double> answerMs, drawMs, frameMs, sampleMs;
+    double visible = 0.0;
+    int counted = 0, drawn = 0;
+    bool measuring = false;
+    const int wanted = kWarmUp + options.frames;
+    QEventLoop loop;
+    QElapsedTimer answerClock, frameClock, measured, aoClock;
+    std::vector<double> aoAnswerMs;
+    double cpuStart = 0.0;
+    const auto startMeasuring = [&] {
+        measuring = true;
+        answerClock.start();
+        measured.start();
+        cpuStart = processCpuMs();
+        drawn = 0;
+        if (options.withAo) {
+            viewport.setAmbientOcclusion(true);
+            aoClock.start();
+        }
+    };
+    const auto drawnConnection = QObject::connect(&viewport, &QOpenGLWindow::frameSwapped, &viewport, [&] {
+        ++drawn;
+        if (measuring) {
+            drawMs.push_back(viewport.lastDrawMs());
+            frameMs.push_back(double(frameClock.nsecsElapsed()) * 1e-6);
+        }
+        frameClock.restart();
+        if (replayPath && ++counted == kWarmUp)
+            startMeasuring();
+        if (replayPath && counted >= wanted) {
+            loop.quit();
+            return;
+        }
+        ++step;
+        pose();
+    });
+    const auto answerConnection = QObject::connect(&viewport, &Viewport::visibilityUpdated, &viewport, [&] {
+        if (!replayPath && ++counted == kWarmUp) {
+            startMeasuring();
+            return;
+        }
+        if (!measuring)
+            return;
+        answerMs.push_back(double(answerClock.nsecsElapsed()) * 1e-6);
+        answerClock.restart();
+        if (options.withAo && figures.aoDoneMs == 0.0) {   // shown while the AO was computing
+            aoAnswerMs.push_back(answerMs.back());
             if (viewport.aoLevel() >= 258)
                 figures.aoDoneMs = double(aoClock.nsecsElapsed()) * 1e-6;
         }
-        clock.restart();
         sampleMs.push_back(viewport.visibility().ms);
         visible += viewport.visibility().visibleFraction();
-    }
-    QObject::disconnect(move);
-    document.applyState(receiver, start);
-    waitForAnswer(viewport);
+        if (!replayPath && kWarmUp + int(answerMs.size()) >= wanted)
+            loop.quit();
+    });
+    frameClock.start();
+    pose();
+    QTimer::singleShot(std::min(wanted, 100'000) * 20'000, &loop, &QEventLoop::quit);   // 20 s for the slowest frame
+    loop.exec();
+    const double cpuMs = measuring ? processCpuMs() - cpuStart : 0.0;
+    const double wallMs = measuring ? double(measured.nsecsElapsed()) * 1e-6 : 0.0;
+    QObject::disconnect(drawnConnection);
+    QObject::disconnect(answerConnection);
+    if (options.withAo)
+        viewport.setAmbientOcclusion(false);
 
-    figures.frames = frames;
-    figures.medianFrameMs = percentile(frameMs, 0.5);
-    figures.p90FrameMs = percentile(frameMs, 0.9);
+    // Back to where it started.
+    showProjectState(document, start);
+    controller.setCamera(camera);
+    runUntil([&] { return !viewport.resultIsStale(); }, 10'000);
+
+    figures.frames = options.frames;
+    figures.answers = int(answerMs.size());
+    figures.medianFrameMs = percentile(answerMs, 0.5);
+    figures.p90FrameMs = percentile(answerMs, 0.9);
     figures.medianHz = figures.medianFrameMs > 0.0 ? 1000.0 / figures.medianFrameMs : 0.0;
     figures.medianSampleMs = percentile(sampleMs, 0.5);
-    figures.aoFrames = int(aoFrameMs.size());
-    figures.aoP90FrameMs = percentile(aoFrameMs, 0.9);
-    const double aoMedian = percentile(aoFrameMs, 0.5);
+    figures.medianDrawMs = percentile(drawMs, 0.5);
+    figures.p90DrawMs = percentile(drawMs, 0.9);
+    const double medianFrame = percentile(frameMs, 0.5);
+    figures.drawnHz = medianFrame > 0.0 ? 1000.0 / medianFrame : 0.0;
+    figures.cpuMsPerAnswer = answerMs.empty() ? 0.0 : cpuMs / double(answerMs.size());
+    figures.cpuLoad = wallMs > 0.0 ? cpuMs / wallMs : 0.0;
+    figures.aoFrames = int(aoAnswerMs.size());
+    figures.aoP90FrameMs = percentile(aoAnswerMs, 0.9);
+    const double aoMedian = percentile(aoAnswerMs, 0.5);
     figures.aoMedianHz = aoMedian > 0.0 ? 1000.0 / aoMedian : 0.0;
-    if (withAo)
-        viewport.setAmbientOcclusion(false);
-    figures.meanVisibleFraction = frames > 0 ? visible / frames : 0.0;
+    figures.framesPerAnswer = answerMs.empty() ? 0.0 : double(drawn) / double(answerMs.size());
+    figures.meanVisibleFraction = answerMs.empty() ? 0.0 : visible / double(answerMs.size());
     figures.rays = viewport.visibility().rays;
     figures.raysDrawn = viewport.raysDrawn();
     figures.backend = viewport.backendName();

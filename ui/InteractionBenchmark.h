@@ -1,30 +1,60 @@
 #pragma once
-// `sightline --benchmark-interaction`: drags the receiver along a scripted path in the real
-// editor window (a new position after every frame drawn) and measures the interval between
-// answers shown, sampling and drawing included. A benchmark (figures printed), not a test.
+// `sightline --benchmark-interaction`: moves things in the real editor window as a designer does
+// (a new pose after every frame drawn) and measures the interval between answers shown, sampling
+// and drawing included. A benchmark (figures printed), not a test. Two motions:
+//   - the scripted drag: the receiver slides along a Lissajous figure within its plane;
+//   - the project's recorded path (project/RecordedPath.h): its camera and edits, frame after
+//     frame, as "Play Recorded Path" shows them (ui/PathPlayback.h), but one path frame per frame
+//     drawn instead of at the path's own rate.
 
+#include <cstdint>
+#include <functional>
 #include <string>
 
+#include "project/RecordedPath.h"
 #include "visibility/Patch.h"
 
 namespace sightline::ui {
 
 class MainWindow;
 
+enum class InteractionReplay { Drag, RecordedPath };
+
+struct InteractionOptions {
+    int frames = 300;   ///< measured frames: answers (drag) or path frames drawn (recorded path)
+    int width = 1280, height = 720;
+    InteractionReplay replay = InteractionReplay::Drag;
+    /// RecordedPath: called once each path frame is shown (before it is drawn), with its index.
+    std::function<void(int pathFrame)> posed;
+    /// The level's AO preview starts at the first counted frame (issue 18: the editor stays live
+    /// while k = 258 completes).
+    bool withAo = false;
+};
+
 struct InteractionFigures {
     int frames = 0;
     int width = 0, height = 0;
-    double medianHz = 0.0;
-    double medianFrameMs = 0.0;
+    std::string replay;            ///< "scripted drag" or "recorded path, 312 frames"
+    double medianHz = 0.0;         ///< answers shown per second (from the median interval)
+    double medianFrameMs = 0.0;    ///< interval between answers shown: median, 90th percentile
     double p90FrameMs = 0.0;
-    double medianSampleMs = 0.0;
+    double medianSampleMs = 0.0;   ///< the sampler's time per answer (on its worker thread)
+    /// Frames drawn: their rate, the time from the start of painting to the swap (median, 90th
+    /// percentile) and how many were drawn per answer shown.
+    double drawnHz = 0.0;
+    double medianDrawMs = 0.0, p90DrawMs = 0.0;
+    double framesPerAnswer = 0.0;
+    int answers = 0;
+    /// Processor time of the whole process (GUI thread, sampler, software rasteriser) per answer
+    /// shown, and per second: on 2 cores an update cannot come faster than every cpuMsPerAnswer / 2.
+    double cpuMsPerAnswer = 0.0;
+    double cpuLoad = 0.0;
     double meanVisibleFraction = 0.0;
     std::uint64_t rays = 0;
     std::uint64_t raysDrawn = 0;
     std::string backend;
-    /// With the AO preview started at the first counted frame (issue 18: the editor stays live
-    /// while k = 258 completes): the frames shown while it was computing, their median rate and
-    /// 90th percentile, and when k = 258 was shown (0: not within the run).
+    /// With the AO preview (InteractionOptions::withAo): the updates shown while it was computing,
+    /// their median rate and 90th percentile, and when k = 258 was shown (0: not within the run).
     int aoFrames = 0;
     double aoMedianHz = 0.0;
     double aoP90FrameMs = 0.0;
@@ -35,9 +65,9 @@ struct InteractionFigures {
 /// (so a valid pair stays valid), a Lissajous figure of 30% of its width and 20% of its height.
 Patch scriptedReceiver(const Patch& start, int frame, int frames);
 
-/// Shows the window with a width x height viewport, runs `frames` frames (after 10 of warm-up)
-/// and restores the receiver. `withAo`: the level's AO preview starts at the first counted frame.
-InteractionFigures runInteractionBenchmark(MainWindow& window, int frames, int width = 1280, int height = 720,
-                                           bool withAo = false);
+/// Shows the window with a width x height viewport, runs the options' frames (after 10 of
+/// warm-up) and restores the patches, occluders and camera. RecordedPath needs the project to
+/// have one (throws sightline::Error otherwise, naming the key).
+InteractionFigures runInteractionBenchmark(MainWindow& window, const InteractionOptions& options);
 
 } // namespace sightline::ui

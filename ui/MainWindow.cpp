@@ -10,6 +10,7 @@
 #include <QDockWidget>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QInputDialog>
 #include <QKeyEvent>
 #include <QLabel>
 #include <QLineEdit>
@@ -184,6 +185,23 @@ std::filesystem::path MainWindow::projectFolder() const
     if (!document_.project().folder.empty())   // a level opened without a project
         return document_.project().folder;
     return std::filesystem::current_path();
+}
+
+void MainWindow::setPvsDistanceCutoff(double metres)
+{
+    // The project's pvs.max_distance (undoable); the debugger shows it over the bake at once and
+    // `pvs bake` culls by it.
+    const auto it = document_.project().extra.find("pvs");
+    const nlohmann::json before = it != document_.project().extra.end() ? *it : nlohmann::json();
+    nlohmann::json after = before.is_object() ? before : nlohmann::json::object();
+    if (metres > 0.0)
+        after["max_distance"] = metres;
+    else
+        after.erase("max_distance");
+    if (after == before)
+        return;
+    document_.undoStack()->push(new SetProjectKeyCommand(document_, "pvs", before, after,
+                                                         metres > 0.0 ? tr("PVS cut-off %1 m").arg(metres) : tr("No PVS cut-off")));
 }
 
 void MainWindow::resetSectionCut()
@@ -551,6 +569,34 @@ void MainWindow::createActions()
         ->setObjectName("pvsNever");
     action(view, tr("PVS: Clear Override Here"), QKeySequence(), [overrideSelected] { overrideSelected(nullptr); })
         ->setObjectName("pvsClear");
+    // The gap list (issue 17 §5): where the dense reference saw an object the bake culls, drawn as
+    // markers (a click on one frames it); N and Shift+N step through them.
+    const auto stepGap = [this](int step) {
+        const std::size_t n = viewport_->pvsGaps().size();
+        if (!viewport_->pvsGapsReady() || n == 0) {
+            statusBar()->showMessage(viewport_->pvsGapsReady() ? tr("PVS: the reference found no gaps")
+                                                               : tr("PVS: no gap list yet (the debugger checks the bake once it is over)"),
+                                     5000);
+            return;
+        }
+        const int at = viewport_->pvsGapSelected();
+        viewport_->framePvsGap(std::size_t(((at < 0 ? (step > 0 ? -1 : 0) : at) + step + int(n)) % int(n)));
+    };
+    action(view, tr("PVS: Next Gap"), QKeySequence(Qt::Key_N), [stepGap] { stepGap(1); })->setObjectName("pvsNextGap");
+    action(view, tr("PVS: Previous Gap"), QKeySequence(Qt::SHIFT | Qt::Key_N), [stepGap] { stepGap(-1); })
+        ->setObjectName("pvsPreviousGap");
+    action(view, tr("PVS: Distance Cut-off..."), QKeySequence(), [this] {
+        const auto it = document_.project().extra.find("pvs");
+        const double now = it != document_.project().extra.end() && it->is_object() && (*it).value("max_distance", nlohmann::json()).is_number()
+                               ? (*it)["max_distance"].get<double>()
+                               : 0.0;
+        bool ok = false;
+        const double metres = QInputDialog::getDouble(this, tr("PVS Distance Cut-off"),
+                                                      tr("Cull objects farther than this from the view cell (metres, 0: none):"),
+                                                      now, 0.0, 1e6, 1, &ok);
+        if (ok)
+            setPvsDistanceCutoff(metres);
+    })->setObjectName("pvsCutoff");
     connect(viewport_, &Viewport::pvsUpdated, this, [this, pvsView](const QString& status) {
         if (pvsView->isChecked())
             statusBar()->showMessage(status);

@@ -57,6 +57,8 @@ public:
     bool saveTo(const QString& file);
     /// Lights the AO preview with a Radiance .hdr environment; an unreadable file is a message.
     bool setAoEnvironment(const QString& file);
+    /// The PVS distance cut-off (the project's pvs.max_distance, metres; 0 removes it), undoable.
+    void setPvsDistanceCutoff(double metres);
     /// The viewport as it is now, to a PNG.
     bool screenshotTo(const QString& file);
     /// Where autosave writes (QStandardPaths::AppDataLocation/recovery.json).

@@ -133,6 +133,10 @@ OverlayControls::OverlayControls(QMainWindow& window, EditorDocument& document, 
     animation_->setObjectName("accumulateAnimation");
     animation_->setToolTip(tr("Sample every frame of the project's \"animation\" and show the accumulated importance"));
     connect(animation_, &QAction::triggered, this, &OverlayControls::accumulateAnimation);
+    path_ = view->addAction(tr("Accumulate Recorded &Path..."));
+    path_->setObjectName("accumulateRecordedPath");
+    path_->setToolTip(tr("Sample every frame of the project's recorded path (Record menu) and show the accumulated importance"));
+    connect(path_, &QAction::triggered, this, &OverlayControls::accumulateRecordedPath);
 
     toolbar->addSeparator();
     toolbar->addWidget(kindCombo_);
@@ -200,17 +204,22 @@ void OverlayControls::resetAccumulation()
     updateWidgets();
 }
 
-bool OverlayControls::accumulateAnimation()
+bool OverlayControls::accumulateAnimation() { return accumulate(ProjectMotion::Kind::Animation); }
+
+bool OverlayControls::accumulateRecordedPath() { return accumulate(ProjectMotion::Kind::RecordedPath); }
+
+bool OverlayControls::accumulate(ProjectMotion::Kind kind)
 {
-    const QString title = tr("Accumulate Animation");
-    Animation animation;
+    const bool animated = kind == ProjectMotion::Kind::Animation;
+    const QString title = animated ? tr("Accumulate Animation") : tr("Accumulate Recorded Path");
+    ProjectMotion motion;
     try {
-        animation = parseAnimation(document_.project(), document_.displayName().toStdString());
+        motion = parseProjectMotion(document_.project(), kind, document_.displayName().toStdString());
     } catch (const std::exception& e) {
         QMessageBox::warning(&window_, title, QString::fromUtf8(e.what()));
         return false;
     }
-    if (animation.empty()) {
+    if (motion.empty() && animated) {
         QMessageBox::information(&window_, title,
                                  tr("%1 has no animation. Add an \"animation\" key whose tracks move occluders or the "
                                     "patches over frames, for example\n\n\"animation\": {\"frames\": 60, \"tracks\": "
@@ -220,10 +229,18 @@ bool OverlayControls::accumulateAnimation()
                                      .arg(document_.displayName()));
         return false;
     }
+    if (motion.empty()) {
+        QMessageBox::information(&window_, title,
+                                 tr("%1 has no recorded path. Record one with Record > Record Video (F9): move the "
+                                    "patches or occluders while it records, stop with F9, then accumulate again.")
+                                     .arg(document_.displayName()));
+        return false;
+    }
     const ImportanceSide side = viewport_.overlay().kind() == OverlayKind::SourceImportance ? ImportanceSide::Source
                                                                                            : ImportanceSide::Receiver;
-    const int frames = defaultFrameCount(animation);   // as `sightline-cli importance` without --frames
-    QProgressDialog progress(tr("Sampling %1 frames of the animation...").arg(frames), tr("Cancel"), 0, frames, &window_);
+    const int frames = motion.defaultFrames();   // as `sightline-cli importance [--path]` without --frames
+    const QString what = animated ? tr("the animation") : tr("the recorded path");
+    QProgressDialog progress(tr("Sampling %1 frames of %2...").arg(frames).arg(what), tr("Cancel"), 0, frames, &window_);
     progress.setWindowTitle(title);
     progress.setWindowModality(Qt::WindowModal);   // no edits while the frames are sampled
     progress.setMinimumDuration(300);
@@ -237,7 +254,7 @@ bool OverlayControls::accumulateAnimation()
     QEventLoop loop;
     std::thread worker([&, input = animationInput(document_)] {
         try {
-            result = ui::accumulateAnimation(input, animation, frames, side, [&](int d, int) {
+            result = ui::accumulateMotion(input, motion, frames, side, [&](int d, int) {
                 framesSampled = d;
                 return !cancel;
             });
@@ -263,20 +280,22 @@ bool OverlayControls::accumulateAnimation()
     poll.stop();
     progress.close();
     if (!result) {
-        QMessageBox::warning(&window_, title, tr("The animation could not be accumulated: %1").arg(QString::fromStdString(failure)));
+        QMessageBox::warning(&window_, title,
+                             tr("%1 could not be accumulated: %2").arg(animated ? tr("The animation") : tr("The recorded path"), QString::fromStdString(failure)));
         return false;
     }
     ImportanceRunResult run = std::move(*result);
     if (run.framesDone == 0)
         return false;
     const int done = run.framesDone;
-    const double perFrame = run.sampleMs / done;
-    viewport_.overlay().showAnimationResult(side, std::move(run.accumulator));
+    const double perFrame = run.sampleMs / std::max(run.framesSampled, 1);
+    viewport_.overlay().showAnimationResult(side, std::move(run.accumulator), !animated);
     setKind(side == ImportanceSide::Source ? OverlayKind::SourceImportance : OverlayKind::ReceiverImportance);
     window_.statusBar()->showMessage(
         run.cancelled ? tr("Cancelled after %1 of %2 frames: showing those; any edit returns to the live overlay").arg(done).arg(frames)
-                      : tr("Accumulated %1 frames of the animation (%2 ms a frame); any edit returns to the live overlay")
+                      : tr("Accumulated %1 frames of %2 (%3 ms a frame sampled); any edit returns to the live overlay")
                             .arg(done)
+                            .arg(what)
                             .arg(perFrame, 0, 'f', 1),
         10000);
     return true;

@@ -1,7 +1,7 @@
 #pragma once
 // The window's side of the patch overlay (PatchOverlay.h): the View menu's Overlay and Statistic
 // choices and the toolbar's combos (kept in step), "Accumulate While Editing", "Reset
-// Accumulation", "Accumulate Animation...", the legend over the view and the read-out of the
+// Accumulation", "Accumulate Animation...", "Accumulate Recorded Path...", the legend over the view and the read-out of the
 // sample under the cursor in the status bar. Kept out of MainWindow so it stays a wiring class.
 
 #include <QObject>
@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "PatchOverlay.h"
+#include "project/ProjectMotion.h"
 
 class QAction;
 class QActionGroup;
@@ -42,6 +43,9 @@ public:
     /// message box when the project has no animation or the run fails. Returns whether a result is
     /// shown.
     bool accumulateAnimation();
+    /// The same over the project's recorded path (project/RecordedPath.h: one frame per recorded
+    /// frame, its edits applied), as `sightline-cli importance --path`.
+    bool accumulateRecordedPath();
     /// The read-out for the cursor at `position` (logical pixels of the viewport): empty when the
     /// overlay is off or the cursor is not on the overlaid patch.
     QString readOutAt(QPointF position) const;
@@ -50,6 +54,7 @@ public:
     QAction* accumulateAction() const { return accumulate_; }
     QAction* resetAction() const { return reset_; }
     QAction* animationAction() const { return animation_; }
+    QAction* pathAction() const { return path_; }
     QComboBox* kindCombo() const { return kindCombo_; }
     QComboBox* statisticCombo() const { return statisticCombo_; }
     OverlayLegend* legend() const { return legend_; }
@@ -59,6 +64,7 @@ private:
     /// Legend, read-out and the enabled state of the actions, from the overlay as it is.
     void updateWidgets();
     void updateReadOut();
+    bool accumulate(ProjectMotion::Kind kind);
 
     QMainWindow& window_;
     EditorDocument& document_;
@@ -69,6 +75,7 @@ private:
     QAction* accumulate_ = nullptr;
     QAction* reset_ = nullptr;
     QAction* animation_ = nullptr;
+    QAction* path_ = nullptr;
     QComboBox* kindCombo_ = nullptr;
     QComboBox* statisticCombo_ = nullptr;
     OverlayLegend* legend_ = nullptr;

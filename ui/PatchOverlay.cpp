@@ -45,18 +45,19 @@ ObjectKind overlayPatch(OverlayKind kind)
 bool isImportance(OverlayKind kind) { return kind == OverlayKind::ReceiverImportance || kind == OverlayKind::SourceImportance; }
 
 namespace {
-/// "37 frames", "1 animation frame".
-QString frameCount(int frames, bool animation)
+/// "37 frames", "1 animation frame", "312 recorded-path frames".
+QString frameCount(int frames, bool animation, bool recordedPath = false)
 {
-    const QString unit = animation ? (frames == 1 ? QObject::tr("animation frame") : QObject::tr("animation frames"))
-                                   : (frames == 1 ? QObject::tr("frame") : QObject::tr("frames"));
+    const QString unit = animation && recordedPath ? (frames == 1 ? QObject::tr("recorded-path frame") : QObject::tr("recorded-path frames"))
+                         : animation ? (frames == 1 ? QObject::tr("animation frame") : QObject::tr("animation frames"))
+                                     : (frames == 1 ? QObject::tr("frame") : QObject::tr("frames"));
     return QString::number(frames) + ' ' + unit;
 }
 } // namespace
 
-QString statisticPhrase(ImportanceStatistic statistic, int frames, bool animation)
+QString statisticPhrase(ImportanceStatistic statistic, int frames, bool animation, bool recordedPath)
 {
-    const QString count = frameCount(frames, animation);
+    const QString count = frameCount(frames, animation, recordedPath);
     switch (statistic) {
     case ImportanceStatistic::Mean: return QObject::tr("mean of %1").arg(count);
     case ImportanceStatistic::Maximum: return QObject::tr("maximum of %1").arg(count);
@@ -205,9 +206,9 @@ void PatchOverlay::clear()
     refresh();
 }
 
-void PatchOverlay::showAnimationResult(ImportanceSide side, ImportanceAccumulator accumulator)
+void PatchOverlay::showAnimationResult(ImportanceSide side, ImportanceAccumulator accumulator, bool recordedPath)
 {
-    animation_ = AnimationResult{side, std::move(accumulator)};
+    animation_ = AnimationResult{side, std::move(accumulator), recordedPath};
     refresh();
 }
 
@@ -230,7 +231,7 @@ void PatchOverlay::refresh()
 {
     shown_ = {};
     shownFrames_ = 0;
-    shownAccumulated_ = shownIsAnimation_ = false;
+    shownAccumulated_ = shownIsAnimation_ = shownIsPath_ = false;
     light_ = {};
     if (isImportance(kind_)) {
         const ImportanceSide side = kind_ == OverlayKind::ReceiverImportance ? ImportanceSide::Receiver : ImportanceSide::Source;
@@ -240,6 +241,7 @@ void PatchOverlay::refresh()
             shown_ = animation_->accumulator.result(statistic_);
             shownFrames_ = animation_->accumulator.frames();
             shownAccumulated_ = shownIsAnimation_ = true;
+            shownIsPath_ = animation_->recordedPath;
         } else if (accumulating_ && !accumulator(side).empty()) {
             shown_ = accumulator(side).result(statistic_);
             shownFrames_ = accumulator(side).frames();
@@ -264,7 +266,7 @@ QString PatchOverlay::legendCaption() const
     QString what = receiver ? QObject::tr("fraction of the source seen") : QObject::tr("fraction of the receiver seeing it");
     if (shownAccumulated_ && statistic_ == ImportanceStatistic::EverVisible)   // only 0 and 1
         what = receiver ? QObject::tr("saw the source (100%) or never (0%)") : QObject::tr("seen by the receiver (100%) or never (0%)");
-    const QString over = shownAccumulated_ ? statisticPhrase(statistic_, shownFrames_, shownIsAnimation_) : QObject::tr("this frame");
+    const QString over = shownAccumulated_ ? statisticPhrase(statistic_, shownFrames_, shownIsAnimation_, shownIsPath_) : QObject::tr("this frame");
     return what + QString::fromUtf8(" — ") + over;
 }
 
@@ -288,7 +290,7 @@ QString PatchOverlay::readOut(int a, int b) const
     const QString where =
         (receiver ? QObject::tr("receiver sample (%1, %2): ") : QObject::tr("source sample (%1, %2): ")).arg(a).arg(b);
     const double value = map->at(a, b);
-    const QString frames = frameCount(shownFrames_, shownIsAnimation_);
+    const QString frames = frameCount(shownFrames_, shownIsAnimation_, shownIsPath_);
     if (shownAccumulated_ && statistic_ == ImportanceStatistic::EverVisible) {
         if (receiver)
             return where + (value > 0.0 ? QObject::tr("saw the source in at least one of %1").arg(frames)
@@ -297,7 +299,7 @@ QString PatchOverlay::readOut(int a, int b) const
                                     : QObject::tr("never seen by the receiver in %1").arg(frames));
     }
     const QString context =
-        shownAccumulated_ ? statisticPhrase(statistic_, shownFrames_, shownIsAnimation_) : QObject::tr("this frame");
+        shownAccumulated_ ? statisticPhrase(statistic_, shownFrames_, shownIsAnimation_, shownIsPath_) : QObject::tr("this frame");
     if (receiver)
         return where + QObject::tr("%1% of the source seen (%2)").arg(100.0 * value, 0, 'f', 1).arg(context);
     return where + QObject::tr("seen by %1% of the receiver (%2)").arg(100.0 * value, 0, 'f', 1).arg(context);

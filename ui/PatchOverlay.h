@@ -42,7 +42,7 @@ ObjectKind overlayPatch(OverlayKind kind);
 bool isImportance(OverlayKind kind);
 
 /// "mean of 37 frames", "maximum of 37 animation frames", "ever visible in 2 frames", "this frame".
-QString statisticPhrase(ImportanceStatistic statistic, int frames, bool animation);
+QString statisticPhrase(ImportanceStatistic statistic, int frames, bool animation, bool recordedPath = false);
 
 class PatchOverlay {
 public:
@@ -70,7 +70,8 @@ public:
     void clear();
     /// An accumulation over the project's animation for one side: shown for that side's overlay
     /// (with the chosen statistic) until dropAnimationResult(), resetAccumulation() or clear().
-    void showAnimationResult(ImportanceSide side, ImportanceAccumulator accumulator);
+    /// `recordedPath`: the frames were the project's recorded path's ("mean of 312 recorded-path frames").
+    void showAnimationResult(ImportanceSide side, ImportanceAccumulator accumulator, bool recordedPath = false);
     /// The document changed: the animation result no longer describes it.
     void dropAnimationResult();
     bool hasAnimationResult() const { return animation_.has_value(); }
@@ -98,6 +99,7 @@ private:
     struct AnimationResult {
         ImportanceSide side;
         ImportanceAccumulator accumulator;
+        bool recordedPath = false;
     };
     struct Grids {
         int sourceNa = 0, sourceNb = 0, receiverNa = 0, receiverNb = 0;
@@ -134,6 +136,7 @@ private:
     int shownFrames_ = 0;
     bool shownAccumulated_ = false;   ///< an accumulation (live or animation), not the current frame
     bool shownIsAnimation_ = false;
+    bool shownIsPath_ = false;   ///< the animation result shown came from the recorded path
     LightImage light_;
     OverlayTexels texels_;
     std::uint64_t version_ = 0;

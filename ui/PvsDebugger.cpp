@@ -1,5 +1,6 @@
 #include "PvsDebugger.h"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <new>
@@ -19,6 +20,25 @@ std::string editorPvsSeed(const Scene& scene)
                                            world.vertices.size() * sizeof(glm::vec3)));
 }
 
+std::string pvsBakeKey(const Project& project)
+{
+    try {
+        PvsSetup setup = parsePvsSetup(project, "project");
+        setup.settings.maxDistance = 0.0;
+        std::string key = setup.settings.canonical();
+        key.append(setup.groupByName ? " by-name" : "").append(setup.gridCells ? " grid" : " listed");
+        for (const float v : {setup.grid.cellSize, setup.grid.height, setup.grid.lift})
+            key.append(" ").append(std::to_string(v));
+        for (const Bounds& b : setup.cells)
+            for (int k = 0; k < 3; ++k)
+                key.append(" ").append(std::to_string(b.min[k])).append(" ").append(std::to_string(b.max[k]));
+        return key;
+    } catch (const std::exception& e) {
+        std::string key = "error: ";
+        return key.append(e.what());
+    }
+}
+
 std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point)
 {
     for (std::size_t c = 0; c < cells.size(); ++c) {
@@ -28,6 +48,26 @@ std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::d
             return c;
     }
     return std::nullopt;
+}
+
+void applyDistanceCutoff(const std::vector<Bounds>& cells, const std::vector<pvs::PvsObject>& objects, double maxDistance,
+                         pvs::VisibilityRows& rows)
+{
+    if (!(maxDistance > 0.0))
+        return;
+    for (std::size_t c = 0; c < cells.size() && c < rows.cellCount(); ++c)
+        for (std::size_t o = 0; o < objects.size() && o < rows.objectCount(); ++o) {
+            if (!rows.visible(c, o) || objects[o].bounds.empty())
+                continue;
+            double d2 = 0.0;
+            for (int k = 0; k < 3; ++k) {
+                const double gap = std::max({0.0, double(cells[c].min[k]) - double(objects[o].bounds.max[k]),
+                                             double(objects[o].bounds.min[k]) - double(cells[c].max[k])});
+                d2 += gap * gap;
+            }
+            if (d2 > maxDistance * maxDistance)
+                rows.set(c, o, false);
+        }
 }
 
 std::vector<std::uint8_t> culledInstances(const std::vector<pvs::PvsObject>& objects, const std::uint8_t* row,
@@ -104,12 +144,31 @@ void PvsDebugger::start(std::uint64_t generation, std::shared_ptr<const Scene> s
                 event.ms = ms();
                 deliver_(std::move(event));
             };
-            baker.bake({}, progress);
+            pvs::PvsData data;
+            data.sceneSha256 = editorPvsSeed(*scene);
+            data.cells = begun.cells;
+            data.objects = begun.objects;
+            data.rows = baker.bake({}, progress);
             PvsDebugEvent done;
             done.generation = generation;
             done.finished = true;
             done.ms = ms();
             deliver_(std::move(done));
+            // The gap list: the dense reference in its random cells (no panoramas: only the
+            // pairs it sees and the bake culled, with the witness ray of each).
+            pvs::ReferenceSettings reference;
+            reference.views = 0;
+            reference.cancel = cancel.get();
+            const pvs::AccuracyReport report = pvs::measureAccuracy(*scene, data, reference);
+            PvsDebugEvent checked;
+            checked.generation = generation;
+            checked.checked = true;
+            checked.gaps = report.gaps;
+            checked.referenceCells = report.cells.size();
+            checked.referenceVisible = report.referenceVisible;
+            checked.missed = report.missed;
+            checked.ms = ms();
+            deliver_(std::move(checked));
         } catch (const pvs::PvsCancelled&) {
         } catch (const std::bad_alloc&) {
             fail("out of memory baking the PVS");

@@ -2,8 +2,10 @@
 // The editor's PVS debugger (issue 17 §5): the project's PVS baked in the background (the coarse
 // pass over every cell first, then refinement, PvsBake.h), and, for the view cell the camera is
 // in, which objects of the level it may see. The viewport tints the culled ones; freezing keeps
-// the cell while the camera flies around it. Plain C++ (no Qt): the caller decides how an answer
-// reaches its thread.
+// the cell while the camera flies around it. Once the bake is over, the same worker measures it
+// against the dense reference (PvsReference.h, in its random cells) and hands over the gap list:
+// where the reference saw an object through an opening the bake culled it behind, shown as
+// markers. Plain C++ (no Qt): the caller decides how an answer reaches its thread.
 
 #include <atomic>
 #include <cstdint>
@@ -20,6 +22,7 @@
 #include "visibility/Scene.h"
 #include "visibility/pvs/PvsBake.h"
 #include "visibility/pvs/PvsData.h"
+#include "visibility/pvs/PvsReference.h"
 
 namespace sightline::ui {
 
@@ -36,6 +39,11 @@ struct PvsDebugEvent {
     bool finished = false;                ///< the bake is over (or failed: `error`)
     double ms = 0.0;
     std::string error;
+    /// After `finished`: the accuracy check (gaps and counts over its reference cells).
+    bool checked = false;
+    std::vector<pvs::Gap> gaps;
+    std::size_t referenceCells = 0;
+    std::uint64_t referenceVisible = 0, missed = 0;
 };
 
 class PvsDebugger {
@@ -61,8 +69,19 @@ private:
 /// not of the file's bytes as `pvs bake` uses, so the two can differ by sampling alone.
 std::string editorPvsSeed(const Scene& scene);
 
+/// What a bake of `project` depends on besides the scene: its PVS settings (less the distance
+/// cut-off and the overrides, which are applied over a bake), cells and grouping. A change of it
+/// needs a new bake; the text of a parse error stands for a project that cannot be baked.
+std::string pvsBakeKey(const Project& project);
+
 /// The cell holding `point` (the first, for overlapping listed boxes), if any.
 std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point);
+
+/// The distance cut-off (PvsSettings::maxDistance, the project's pvs.max_distance) applied over
+/// baked rows: objects whose bounds lie farther than `maxDistance` from a cell's box are culled
+/// from its row, as the bake culls them. 0 or less: nothing changes.
+void applyDistanceCutoff(const std::vector<Bounds>& cells, const std::vector<pvs::PvsObject>& objects, double maxDistance,
+                         pvs::VisibilityRows& rows);
 
 /// Per instance of the scene: 1 where the instance belongs to an object `row` does not see.
 std::vector<std::uint8_t> culledInstances(const std::vector<pvs::PvsObject>& objects, const std::uint8_t* row,

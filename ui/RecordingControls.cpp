@@ -14,6 +14,7 @@
 #include <QUndoCommand>
 
 #include "EditorDocument.h"
+#include "PathPlayback.h"
 #include "VideoRecording.h"
 #include "Viewport.h"
 #include "ViewportController.h"
@@ -336,16 +337,11 @@ void RecordingControls::playFrame()
     const double seconds = double(playClock_.nsecsElapsed()) * 1e-9;
     const bool ended = seconds >= playing_.seconds();
     // At the end every object returns to its state before the playback.
-    const Project shown = ended ? playStart_ : projectAtPathFrame(playStart_, playing_, playing_.frameAtTime(seconds));
-    const Project& now = document_.project();
-    if (!samePatch(now.source, shown.source))
-        document_.applyState({ObjectKind::Source, 0}, shown.source);
-    if (!samePatch(now.receiver, shown.receiver))
-        document_.applyState({ObjectKind::Receiver, 0}, shown.receiver);
-    for (std::size_t i = 0; i < shown.occluders.size() && i < now.occluders.size(); ++i)
-        if (now.occluders[i].transform != shown.occluders[i].transform)
-            document_.applyState({ObjectKind::Occluder, i}, shown.occluders[i].transform);
-    if (!playing_.empty()) {   // to its last view at the end (not when stopped early)
+    if (ended)
+        showProjectState(document_, playStart_);
+    else
+        showPathFrame(document_, controller_, playStart_, playing_, playing_.frameAtTime(seconds));
+    if (ended && !playing_.empty()) {   // to its last view at the end (not when stopped early)
         if (const auto camera = playing_.cameraAt(playing_.frameAtTime(seconds)))
             controller_.setCamera(toCamera(*camera));
     }

@@ -22,6 +22,14 @@ void* resolveInQtContext(const char* name)
 }
 
 constexpr std::size_t kRateWindow = 15;   // frames the update rate is the median over
+// At most one frame a display refresh (60 Hz). Frames drawn faster show nothing more, and on a
+// software rasteriser they take the processor from the sampler: a drag at 4,096 rays drew 4.2
+// frames per answer shown, each a stale answer at a new place.
+constexpr qint64 kMinFrameNs = 16'000'000;
+// While an answer is being sampled and none has arrived, frames can only show the last answer's
+// rays at the patches' new places: at most 30 of those a second, so the sampler keeps the
+// processor (at 16,384 rays a drag drew 2 frames per answer, each about 10 ms of llvmpipe).
+constexpr qint64 kMinStaleFrameNs = 33'000'000;
 
 bool pairIsValid(const Patch& source, const Patch& receiver)
 {
@@ -39,6 +47,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
     : QOpenGLWindow(QOpenGLWindow::NoPartialUpdate), document_(document), controller_(controller)
 {
     clock_.start();
+    connect(this, &QOpenGLWindow::frameSwapped, this,
+            [this] { lastDrawMs_ = double(clock_.nsecsElapsed() - paintStartNs_) * 1e-6; });
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
         if (changes == NamesChanged)
             return;   // a rename changes no ray and no pixel of the view
@@ -48,7 +58,18 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             return;
         }
         if (changes == ProjectKeysChanged) {
-            pvsRowsChanged_ = true;   // the PVS overrides may have changed: shown anew, not baked again
+            // Overrides and the distance cut-off are shown anew over the same bake; other PVS
+            // settings (cells, sample budgets, the mode) need a new one.
+            pvsRowsChanged_ = true;
+            if (pvsBakeKey(document_.project()) != pvsBakeKey_) {
+                pvsStale_ = style_.pvsDebugger;
+                if (!style_.pvsDebugger) {
+                    if (pvs_)
+                        pvs_->stop();
+                    ++pvsGeneration_;
+                    pvsCells_.clear();
+                }
+            }
             update();
             return;
         }
@@ -81,6 +102,10 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
                 pvsRows_ = {};
                 pvsShown_ = {};
                 pvsCoarse_ = pvsRefined_ = 0;
+                pvsCellRefined_.clear();
+                pvsGaps_.clear();
+                pvsGapsReady_ = false;
+                pvsGapSelected_ = -1;
                 pvsFinished_ = false;
             }
         }
@@ -101,6 +126,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
     });
     connect(&controller_, &ViewportController::viewChanged, this, [this] { update(); });
+    frameCap_.setSingleShot(true);
+    connect(&frameCap_, &QTimer::timeout, this, [this] { requestUpdate(); });
     flyTimer_.setInterval(16);
     connect(&flyTimer_, &QTimer::timeout, this, [this] {
         controller_.advanceFly(flyClock_.restart() * 1e-3);
@@ -159,6 +186,7 @@ void Viewport::resizeGL(int w, int h) { controller_.setViewportSize(w, h); }
 
 void Viewport::paintGL()
 {
+    paintStartNs_ = clock_.nsecsElapsed();
     const int w = int(width() * devicePixelRatio()), h = int(height() * devicePixelRatio());
     controller_.setViewportSize(width(), height());
     if (!renderer_)
@@ -264,6 +292,10 @@ void Viewport::paintGL()
         pvsObjects_.clear();
         pvsRows_ = {};
         pvsCoarse_ = pvsRefined_ = 0;
+        pvsCellRefined_.clear();
+        pvsGaps_.clear();
+        pvsGapsReady_ = false;
+        pvsGapSelected_ = -1;
         pvsFinished_ = false;
         pvsFrozenCell_.reset();
         pvsRowsChanged_ = true;
@@ -272,6 +304,7 @@ void Viewport::paintGL()
                 QMetaObject::invokeMethod(
                     this, [this, e = std::move(event)]() mutable { takePvsEvent(std::move(e)); }, Qt::QueuedConnection);
             });
+        pvsBakeKey_ = pvsBakeKey(project);
         pvs_->start(++pvsGeneration_, std::make_shared<const Scene>(document_.scene()), project,
                     document_.displayName().toStdString());
     }
@@ -318,6 +351,10 @@ void Viewport::paintGL()
     frame.cutHandleHovered = controller_.cutHandleHovered() || controller_.isDraggingCut();
     frame.levelBounds = controller_.levelBounds();
     frame.style = style_;
+    if (style_.pvsDebugger)
+        for (const pvs::Gap& gap : pvsGaps_)
+            frame.gapMarkers.push_back({gap.from, gap.to, pvsShownCell_ == std::optional<std::size_t>(gap.cell)});
+    frame.gapSelected = pvsGapSelected_;
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();
 
@@ -388,12 +425,15 @@ void Viewport::setPvsDebugger(bool on)
 
 const pvs::VisibilityRows& Viewport::pvsShownRows()
 {
-    // The designer's overrides (the project's pvs.overrides) over the bake, as `pvs bake` applies them.
+    // The designer's distance cut-off and overrides (the project's pvs.max_distance and
+    // pvs.overrides) over the bake, as `pvs bake` applies them: shown at once, no new bake.
     pvsShown_ = pvsRows_;
     pvsOverrideError_.clear();
     if (pvsRows_.cellCount() > 0) {
         try {
             const PvsSetup setup = parsePvsSetup(document_.project(), document_.displayName().toStdString());
+            pvsCutoff_ = setup.settings.maxDistance;
+            applyDistanceCutoff(pvsCells_, pvsObjects_, pvsCutoff_, pvsShown_);
             applyPvsOverrides(resolvePvsOverrides(setup.overridesJson, pvsObjects_, pvsCells_.size(),
                                                   document_.displayName().toStdString()),
                               pvsShown_);
@@ -412,25 +452,104 @@ void Viewport::setPvsFrozen(bool frozen)
     update();
 }
 
+namespace {
+
+/// "3-7, 12, 20-254" for the cells still coarse (at most `most` runs, then "...").
+QString cellRuns(const std::vector<std::uint8_t>& refined, std::size_t count, int most = 4)
+{
+    QStringList runs;
+    for (std::size_t c = 0; c < count;) {
+        if (c < refined.size() && refined[c]) {
+            ++c;
+            continue;
+        }
+        std::size_t end = c;
+        while (end + 1 < count && !(end + 1 < refined.size() && refined[end + 1]))
+            ++end;
+        if (runs.size() == most) {
+            runs << QStringLiteral("...");
+            break;
+        }
+        runs << (end == c ? QString::number(c) : QStringLiteral("%1-%2").arg(c).arg(end));
+        c = end + 1;
+    }
+    return runs.join(QStringLiteral(", "));
+}
+
+} // namespace
+
 QString Viewport::pvsStatus() const
 {
     if (!pvsError_.isEmpty())
         return tr("PVS: %1").arg(pvsError_);
     if (pvsCells_.empty())
         return tr("PVS: finding view cells and objects...");
-    QString progress = pvsFinished_ ? tr("baked") : pvsCoarse_ < pvsCells_.size()
-                                                     ? tr("coarse %1 of %2 cells").arg(pvsCoarse_).arg(pvsCells_.size())
-                                                     : tr("refining %1 of %2 cells").arg(pvsRefined_).arg(pvsCells_.size());
+    const std::size_t cells = pvsCells_.size();
+    QString progress;
+    if (pvsFinished_)
+        progress = tr("baked");
+    else if (pvsCoarse_ < cells)
+        progress = tr("coarse %1 of %2 cells").arg(pvsCoarse_).arg(cells);
+    else
+        progress = tr("refining: %1 of %2 cells refined, still coarse: %3").arg(pvsRefined_).arg(cells).arg(cellRuns(pvsCellRefined_, cells));
+    if (pvsFinished_)
+        progress += pvsGapsReady_ ? tr(", %n gap(s) against the reference", "", int(pvsGaps_.size()))
+                                  : tr(", checking against the reference...");
+    if (pvsCutoff_ > 0.0)
+        progress += tr(", cut-off %1 m").arg(pvsCutoff_);
     if (!pvsOverrideError_.isEmpty())
         return tr("PVS %1 · overrides ignored: %2").arg(progress, pvsOverrideError_);
     if (!pvsShownCell_)
         return tr("PVS %1 · the camera is in no view cell").arg(progress);
-    return tr("PVS %1 · cell %2%3 sees %4 of %5 objects (culled ones tinted)")
+    const bool coarse = !pvsFinished_ && pvsCellCoarse(*pvsShownCell_);
+    return tr("PVS %1 · cell %2%3%4 sees %5 of %6 objects (culled ones tinted)")
         .arg(progress)
         .arg(*pvsShownCell_)
         .arg(pvsFrozen_ ? tr(" (frozen)") : QString())
+        .arg(coarse ? tr(" (coarse answer)") : QString())
         .arg(pvsShown_.cellCount() > *pvsShownCell_ ? pvsShown_.visibleCount(*pvsShownCell_) : 0)
         .arg(pvsObjects_.size());
+}
+
+void Viewport::framePvsGap(std::size_t k)
+{
+    if (k >= pvsGaps_.size())
+        return;
+    const pvs::Gap& gap = pvsGaps_[k];
+    const glm::dvec3 from(gap.from), to(gap.to);
+    const glm::dvec3 along = to - from;
+    const double length = glm::length(along);
+    if (!(length > 0.0))
+        return;
+    // The eye at the witness ray's start (in the cell), the target where it meets the object.
+    const glm::dvec3 direction = along / length;
+    Camera camera = lookThrough(from - 0.01 * direction, direction, to, std::max(0.3, 0.1 * length));
+    controller_.setCamera(camera);
+    pvsGapSelected_ = int(k);
+    if (pvsFrozen_)
+        pvsFrozenCell_ = gap.cell;   // a frozen view shows the gap's cell
+    pvsUploaded_ = false;
+    emit pvsUpdated(pvsStatus());
+    update();
+}
+
+std::optional<std::size_t> Viewport::pvsGapAt(QPointF position, double radius) const
+{
+    if (!style_.pvsDebugger || pvsGaps_.empty())
+        return std::nullopt;
+    std::optional<std::size_t> best;
+    double bestDistance = radius;
+    for (std::size_t k = 0; k < pvsGaps_.size(); ++k) {
+        const glm::dvec3 p = toPixels(controller_.camera(), glm::dvec3(pvsGaps_[k].to), width(), height());
+        if (p.z <= 0.0)
+            continue;   // behind the eye
+        const double d = std::hypot(p.x - position.x(), p.y - position.y());
+        if (d <= bestDistance) {
+            bestDistance = d;
+            best = k;
+        }
+    }
+    return best;
 }
 
 void Viewport::takePvsEvent(PvsDebugEvent event)
@@ -449,9 +568,20 @@ void Viewport::takePvsEvent(PvsDebugEvent event)
         pvsObjects_ = std::move(event.objects);
         pvsRows_ = pvs::VisibilityRows(pvsCells_.size(), pvsObjects_.size());
     }
+    if (event.checked) {
+        pvsGaps_ = std::move(event.gaps);
+        pvsGapsReady_ = true;
+        pvsReferenceCells_ = event.referenceCells;
+        pvsReferenceVisible_ = event.referenceVisible;
+        pvsMissed_ = event.missed;
+    }
     if (event.cell && *event.cell < pvsRows_.cellCount() && event.row.size() == pvsRows_.rowBytes()) {
         std::copy(event.row.begin(), event.row.end(), pvsRows_.row(*event.cell));
         ++(event.pass == pvs::PvsPass::Coarse ? pvsCoarse_ : pvsRefined_);
+        if (event.pass == pvs::PvsPass::Refine) {
+            pvsCellRefined_.resize(pvsRows_.cellCount(), 0);
+            pvsCellRefined_[*event.cell] = 1;
+        }
         pvsRowsChanged_ = pvsRowsChanged_ || event.cell == pvsShownCell_;
     }
     if (event.finished)
@@ -497,6 +627,8 @@ void Viewport::takeAnswer(std::uint64_t generation, VisibilityResult result)
         return;   // an answer older than the one shown
     shownGeneration_ = generation;
     arrived_ = std::move(result);
+    if (frameCap_.isActive())
+        frameCap_.stop();   // a frame for the answer waits at most for the 60 Hz cap
     update();
 }
 
@@ -527,6 +659,23 @@ bool Viewport::event(QEvent* event)
         return true;
     }
     case QEvent::Leave: emit hoverLeft(); break;
+    case QEvent::UpdateRequest: {
+        // Moved patches go to the sampler now, even when their frame waits (below).
+        const Project& project = document_.project();
+        const bool onWorker = backendChosen_ && renderer_ &&
+                              !(visibility_.backend() == LiveVisibility::Backend::Gl && visibility_.receiverHeights().empty());
+        if (samplesDirty_ && onWorker && !sceneFileDirty_ && !occludersDirty_ &&
+            heightsGrid_ == std::pair{project.receiver.na, project.receiver.nb})
+            requestSample();
+        const qint64 since = clock_.nsecsElapsed() - paintStartNs_;
+        const qint64 least = resultIsStale() && !arrived_ && !samplesDirty_ ? kMinStaleFrameNs : kMinFrameNs;
+        if (since < least) {
+            if (!frameCap_.isActive() || frameCap_.remainingTime() > int((least - since) / 1'000'000))
+                frameCap_.start(int((least - since + 999'999) / 1'000'000));
+            return true;   // drawn when the timer fires
+        }
+        break;
+    }
     default: break;
     }
     return QOpenGLWindow::event(event);
@@ -534,6 +683,13 @@ bool Viewport::event(QEvent* event)
 
 void Viewport::mousePressEvent(QMouseEvent* event)
 {
+    // A click on a PVS gap marker frames that gap (the gap list, issue 17 §5).
+    if (event->button() == Qt::LeftButton && event->modifiers() == Qt::NoModifier)
+        if (const std::optional<std::size_t> gap = pvsGapAt(event->position())) {
+            framePvsGap(*gap);
+            event->accept();
+            return;
+        }
     controller_.mousePress(event->button(), event->modifiers(), event->position());
     if (controller_.isFlying() && !flyTimer_.isActive()) {
         flyClock_.start();

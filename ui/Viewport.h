@@ -44,6 +44,9 @@ public:
     /// when nothing re-sampled for a second (idle).
     double updateRate() const;
     std::uint64_t raysDrawn() const { return raysDrawn_; }
+    /// Milliseconds from the start of the last frame's painting to its swap: drawing, software
+    /// rasterising and the copy to the window (the interaction benchmark reports it).
+    double lastDrawMs() const { return lastDrawMs_; }
     /// The overlay painted on a patch. After changing it, call update(): the next frame brings it
     /// up to date (it may need the current result) and emits overlayUpdated().
     PatchOverlay& overlay() { return overlay_; }
@@ -89,6 +92,20 @@ public:
     std::size_t pvsCoarseDone() const { return pvsCoarse_; }
     std::size_t pvsRefinedDone() const { return pvsRefined_; }
     bool pvsFinished() const { return pvsFinished_; }
+    /// Whether cell c's shown answer is still the coarse one (refinement has not reached it).
+    bool pvsCellCoarse(std::size_t cell) const { return cell >= pvsCellRefined_.size() || !pvsCellRefined_[cell]; }
+    /// The status bar's text for the PVS debugger.
+    QString pvsStatus() const;
+    /// The gap list of the last bake's accuracy check (PvsDebugger.h), once it is in.
+    bool pvsGapsReady() const { return pvsGapsReady_; }
+    const std::vector<pvs::Gap>& pvsGaps() const { return pvsGaps_; }
+    /// Frames gap k: the eye at the reference's witness point in the cell, looking along the
+    /// witness ray at the object the bake culled (tinted, seen through the opening it missed).
+    void framePvsGap(std::size_t k);
+    /// The gap last framed (-1: none); drawn highlighted.
+    int pvsGapSelected() const { return pvsGapSelected_; }
+    /// The gap marker within `radius` pixels of `position` (logical pixels), nearest first.
+    std::optional<std::size_t> pvsGapAt(QPointF position, double radius = 10.0) const;
 
 signals:
     /// The PVS debugger's state for the status bar.
@@ -146,7 +163,14 @@ private:
     std::optional<std::size_t> pvsShownCell_, pvsFrozenCell_;
     bool pvsUploaded_ = false;
     void takePvsEvent(PvsDebugEvent event);
-    QString pvsStatus() const;
+    std::vector<std::uint8_t> pvsCellRefined_;   ///< per cell: 1 once its refined row is in
+    std::vector<pvs::Gap> pvsGaps_;
+    bool pvsGapsReady_ = false;
+    std::size_t pvsReferenceCells_ = 0;
+    std::uint64_t pvsReferenceVisible_ = 0, pvsMissed_ = 0;
+    int pvsGapSelected_ = -1;
+    double pvsCutoff_ = 0.0;   ///< the project's pvs.max_distance when the rows were last shown
+    std::string pvsBakeKey_;   ///< the settings the running (or last) bake was started with
     /// The bake's rows with the project's overrides applied (kept in pvsShown_).
     const pvs::VisibilityRows& pvsShownRows();
     QString pvsError_, pvsOverrideError_;
@@ -172,6 +196,9 @@ private:
     bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true, flagsDirty_ = true;
     bool backendChosen_ = false;
     std::uint64_t raysDrawn_ = 0;
+    qint64 paintStartNs_ = -1'000'000'000;
+    QTimer frameCap_;   ///< a frame asked for sooner than kMinFrameMs after the last one waits for it
+    double lastDrawMs_ = 0.0;
     QElapsedTimer clock_;
     std::deque<qint64> updateTimes_;   ///< ns timestamps of recent re-sampling frames
     QTimer flyTimer_;

@@ -8,6 +8,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "RayLayer.h"
 #include "visibility/SourceJitter.h"
 #include "visibility/gl/GlShaders.h"
 
@@ -99,14 +100,18 @@ uniform vec3 sourceCorner, sourceU, sourceV;
 uniform ivec2 sourceGrid;
 uniform vec3 receiverCorner, receiverU, receiverV;
 uniform ivec2 receiverGrid;
-uniform uint receivers, receiverStride, sourceStride, wordsPerRow;
+uniform uint receivers, receiverStride, sourceStride;
 uniform int showBlocked;
 uniform vec4 freeColour, blockedColour, stopColour;
 // useEnds: a blocked ray ends at its first stop (ends[k], a fraction of the way to the receiver).
 // marks: one vertex per ray, a dot at that stop (clipped for free rays and rays stopped nowhere).
 uniform int useEnds, marks;
-layout(binding = 0) uniform usamplerBuffer hidden;
 layout(binding = 2) uniform samplerBuffer ends;
+// The drawn rays, listed on the CPU once per answer (never the whole map: a 512x512 receiver's
+// is 32 MB). indirect: vertex pair n draws ray rays[n], the free rays of the subset (blocked rays
+// hidden: none of them costs vertex work). Otherwise ray k = n, blocked where bit k of rays is set.
+uniform int indirect;
+layout(binding = 0) uniform usamplerBuffer rays;
 out vec4 vColour;
 uint mixBits(uint x) {
     x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
@@ -117,12 +122,12 @@ vec3 samplePoint(vec3 corner, vec3 u, vec3 v, ivec2 grid, uint index) {
     return corner + (float(a) + 0.5) / float(grid.x) * u + (float(b) + 0.5) / float(grid.y) * v;
 }
 void main() {
-    uint k = marks != 0 ? uint(gl_VertexID) : uint(gl_VertexID) >> 1;
+    uint id = marks != 0 ? uint(gl_VertexID) : uint(gl_VertexID) >> 1;
+    uint k = indirect != 0 ? texelFetch(rays, int(id)).r : id;
     uint jk = k % receivers, ik = k / receivers;
     uint j = jk * receiverStride + (receiverStride > 1u ? mixBits(jk) % receiverStride : 0u);
     uint i = ik * sourceStride + (sourceStride > 1u ? mixBits(j ^ 0x5bd1e995u) % sourceStride : 0u);
-    uint word = texelFetch(hidden, int(j * wordsPerRow + (i >> 5))).r;
-    bool blocked = ((word >> (i & 31u)) & 1u) != 0u;
+    bool blocked = indirect == 0 && ((texelFetch(rays, int(k >> 5)).r >> (k & 31u)) & 1u) != 0u;
     vec3 s = samplePoint(sourceCorner, sourceU, sourceV, sourceGrid, i);
     vec3 r = samplePoint(receiverCorner, receiverU, receiverV, receiverGrid, j);
     float stop = (blocked && useEnds != 0) ? texelFetch(ends, int(k)).r : 1.0;
@@ -333,6 +338,31 @@ std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& s, std::uint3
     return {j, i};
 }
 
+std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySubset& subset)
+{
+    std::vector<std::uint32_t> free;
+    const auto count = std::uint32_t(subset.count());
+    free.reserve(count);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const auto [j, i] = subsetRay(subset, k);
+        if (!map.blocked(int(j), int(i)))
+            free.push_back(k);
+    }
+    return free;
+}
+
+std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const RaySubset& subset)
+{
+    const auto count = std::uint32_t(subset.count());
+    std::vector<std::uint32_t> bits((std::size_t(count) + 31) / 32, 0u);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const auto [j, i] = subsetRay(subset, k);
+        if (map.blocked(int(j), int(i)))
+            bits[k >> 5] |= 1u << (k & 31u);
+    }
+    return bits;
+}
+
 Cutaway cutaway(const ViewStyle& style, const Camera& camera)
 {
     if (!style.cutaway)
@@ -388,10 +418,16 @@ struct ViewportRenderer::Impl {
     GLuint meshProgram = 0, lineProgram = 0, rayProgram = 0, overlayProgram = 0;
     MeshBuffer sceneFile, occluders;
     GLuint lineVao = 0, lineVbo = 0;
-    GLuint rayVao = 0, mapBuffer = 0, mapTexture = 0;
+    GLuint rayVao = 0;
     const HiddenSampleMap* map = nullptr;
-    bool mapUploaded = false;
     GLuint endsBuffer = 0, endsTexture = 0;
+    // The drawn rays (freeDrawnRays, or blockedDrawnRays while blocked ones are shown), for the
+    // map, subset and kind they were listed for.
+    GLuint raysBuffer = 0, raysTexture = 0;
+    const HiddenSampleMap* listedMap = nullptr;
+    RaySubset listedSubset;
+    bool listedFree = false;
+    GLsizei freeCount = 0;
     int endsCap = 0;   ///< the subset the uploaded ends are for; 0: none
     GLuint overlayBuffer = 0, overlayTexture = 0;
     ObjectKind overlayPatch = ObjectKind::None;   ///< None: no overlay uploaded
@@ -415,6 +451,12 @@ struct ViewportRenderer::Impl {
     RenderTarget cache;
     std::optional<BackgroundKey> cacheKey;
     bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
+    // The frame is composed here, and only its colour is copied to the caller's framebuffer: on
+    // llvmpipe, blitting the cache's depth and stencil into a window's framebuffer takes the
+    // shader path (8 stencil passes), about 2/3 of a 1280x720 frame's fixed cost (17.7 of 25 ms
+    // measured under load), while blits between targets of the same formats are plain copies.
+    RenderTarget compose;
+    RayLayer rayLayer;
     std::uint64_t sceneVersion = 0;
     std::vector<MeshVertex> sceneFileVertices;   ///< kept to add the AO map's uvs later
     std::vector<MeshVertex> occluderVertices;    ///< likewise
@@ -428,11 +470,11 @@ struct ViewportRenderer::Impl {
     {
         if (cache.framebuffer && width == cache.width && height == cache.height)
             return;
-        cacheBroken = !cache.create(gl, width, height);
+        cacheBroken = !cache.create(gl, width, height) || !compose.create(gl, width, height);
         cacheKey.reset();
     }
 
-    explicit Impl(const gl::Functions& functions) : gl(functions) {}
+    explicit Impl(const gl::Functions& functions) : gl(functions), rayLayer(functions) {}
 
     GLint loc(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
 
@@ -510,8 +552,8 @@ ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_un
     gl.VertexArrayAttribBinding(d.lineVao, 1, 0);
 
     gl.CreateVertexArrays(1, &d.rayVao);   // attribute-less: the rays come from gl_VertexID
-    gl.CreateBuffers(1, &d.mapBuffer);
-    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.mapTexture);
+    gl.CreateBuffers(1, &d.raysBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.raysTexture);
     gl.CreateBuffers(1, &d.endsBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.endsTexture);
     gl.CreateBuffers(1, &d.overlayBuffer);
@@ -526,14 +568,15 @@ ViewportRenderer::~ViewportRenderer()
         gl.DeleteProgram(p);
     GLuint vaos[] = {d.sceneFile.vao, d.occluders.vao, d.lineVao, d.rayVao};
     gl.DeleteVertexArrays(4, vaos);
-    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.mapBuffer, d.endsBuffer, d.overlayBuffer};
+    GLuint buffers[] = {d.sceneFile.vbo, d.occluders.vbo, d.lineVbo, d.raysBuffer, d.endsBuffer, d.overlayBuffer};
     gl.DeleteBuffers(6, buffers);
-    GLuint textures[] = {d.mapTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
+    GLuint textures[] = {d.raysTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
                          d.sceneFile.hiddenTexture, d.occluders.hiddenTexture};
     gl.DeleteTextures(7, textures);
     GLuint more[] = {d.pvsBuffer, d.sceneFile.hiddenBuffer, d.occluders.hiddenBuffer};
     gl.DeleteBuffers(3, more);
     d.cache.destroy(gl);
+    d.compose.destroy(gl);
 }
 
 void ViewportRenderer::setSceneFile(const Scene& scene)
@@ -614,16 +657,10 @@ void ViewportRenderer::setOccluders(const Scene& occluders, const std::vector<st
 void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
 {
     Impl& d = *impl_;
-    d.map = map;
-    d.mapUploaded = false;
+    // Kept, not uploaded: the drawn rays are listed from it when they are next drawn.
+    d.map = map && map->rayCount() > 0 ? map : nullptr;
     d.endsCap = 0;
-    if (!map || map->rayCount() == 0)
-        return;
-    // The map's 64-bit words, little-endian, are the 32-bit words the shader reads, in order.
-    const auto bytes = GLsizeiptr(std::size_t(map->receiverCount()) * std::size_t(map->wordsPerRow()) * 8);
-    d.gl.NamedBufferData(d.mapBuffer, bytes, map->row(0).data(), GL_STREAM_DRAW);
-    d.gl.TextureBuffer(d.mapTexture, GL_R32UI, d.mapBuffer);
-    d.mapUploaded = true;
+    d.listedMap = nullptr;   // listed for the map before
 }
 
 void ViewportRenderer::setRayEnds(const std::vector<float>& ends, int cap)
@@ -655,7 +692,11 @@ void ViewportRenderer::render(const FrameState& f)
 {
     Impl& d = *impl_;
     const gl::Functions& gl = d.gl;
-    const glm::mat4 viewProj = f.camera.projection(double(f.width) / f.height, f.sceneRadius) * f.camera.view();
+    // The radius sets the depth range. It is rounded up to a power of two: the editor's includes
+    // the patches, and a receiver dragged past the level's bounds changed the projection, and so
+    // redrew the cached level (about 30 ms on llvmpipe), on every frame of the drag.
+    const double radius = std::exp2(std::ceil(std::log2(std::max(f.sceneRadius, 1.0))));
+    const glm::mat4 viewProj = f.camera.projection(double(f.width) / f.height, radius) * f.camera.view();
     const glm::vec3 eye(f.camera.eye());
     const glm::vec3 forward(f.camera.forward());
     for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram, d.overlayProgram})
@@ -712,6 +753,7 @@ void ViewportRenderer::render(const FrameState& f)
         gl.BindTextureUnit(4, d.pvsTexture);
     const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao, pvs};
     bool drawn = false;
+    GLuint target = f.framebuffer;   // where the frame is composed
     d.resizeCache(f.width, f.height);
     if (!d.cacheBroken) {
         if (d.cacheKey != key) {
@@ -720,14 +762,16 @@ void ViewportRenderer::render(const FrameState& f)
         }
         while (gl.GetError() != GL_NO_ERROR) {
         }
-        gl.BlitNamedFramebuffer(d.cache.framebuffer, f.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width, f.height,
-                                GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
+        gl.BlitNamedFramebuffer(d.cache.framebuffer, d.compose.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width,
+                                f.height, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
         drawn = gl.GetError() == GL_NO_ERROR;
         d.cacheBroken = !drawn;
+        if (drawn)
+            target = d.compose.framebuffer;
     }
     if (!drawn)
         drawBackground(f.framebuffer);
-    gl.BindFramebuffer(GL_FRAMEBUFFER, f.framebuffer);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, target);
     gl.Viewport(0, 0, f.width, f.height);
 
     // Placed occluders: always drawn (they move), never cut away.
@@ -783,7 +827,7 @@ void ViewportRenderer::render(const FrameState& f)
     // sample counts are these patches'.
     const bool mapFits = d.map && d.map->sourceCount() == f.source.na * f.source.nb &&
                          d.map->receiverCount() == f.receiver.na * f.receiver.nb;
-    if (f.style.showRays && f.pairValid && d.mapUploaded && mapFits) {
+    if (f.style.showRays && f.pairValid && mapFits) {
         const RaySubset subset = raySubset(d.map->sourceCount(), d.map->receiverCount(), f.style.rayCap);
         const GLuint p = d.rayProgram;
         auto vec3 = [&](const char* name, const glm::dvec3& v) {
@@ -801,27 +845,70 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniform1ui(p, d.loc(p, "receivers"), subset.receivers);
         gl.ProgramUniform1ui(p, d.loc(p, "receiverStride"), subset.receiverStride);
         gl.ProgramUniform1ui(p, d.loc(p, "sourceStride"), subset.sourceStride);
-        gl.ProgramUniform1ui(p, d.loc(p, "wordsPerRow"), GLuint(d.map->wordsPerRow() * 2));
         gl.ProgramUniform1i(p, d.loc(p, "showBlocked"), f.style.showBlocked ? 1 : 0);
-        // Readable from 1k to 1M rays (issue 16 §2: 1M drawn was an opaque slab): the more rays
-        // overlap, the fainter each, as 1/sqrt(count) beyond the first 2,048, down to a floor.
-        const float fade = float(std::clamp(std::sqrt(2048.0 / double(std::max<std::uint64_t>(subset.count(), 1))), 0.12, 1.0));
-        const auto faded = [&](glm::vec4 c) {
-            c.a = c.a >= 1.0f ? c.a : c.a * fade;   // an opaque colour (tests, prints) stays opaque
-            return c;
-        };
-        gl.ProgramUniform4fv(p, d.loc(p, "freeColour"), 1, glm::value_ptr(faded(f.style.freeColour)));
-        gl.ProgramUniform4fv(p, d.loc(p, "blockedColour"), 1, glm::value_ptr(faded(f.style.blockedColour)));
-        gl.ProgramUniform4fv(p, d.loc(p, "stopColour"), 1, glm::value_ptr(f.style.stopColour));
+        // Readable from 1k to 1M rays (issue 16 §2; RayLayer.h): each ray's opacity from how many
+        // drawn rays cross a pixel of the bundle, so that an open shaft reaches the style's
+        // coverage; dense bundles are drawn into a coarser coverage layer, then laid over the frame.
+        const std::optional<BundleOnScreen> bundle = bundleOnScreen(viewProj, f.width, f.height, f.source, f.receiver);
+        const double overlap =
+            bundle ? expectedOverlap(*bundle, subset.count())
+                   : double(subset.count()) * 0.5 * (f.width + f.height) / (double(f.width) * double(f.height));
+        const int divisor = rayLayerDivisor(overlap);
+        float freeAlpha = rayOpacity(f.style.freeColour.a, overlap, divisor);
+        float blockedAlpha = rayOpacity(f.style.blockedColour.a, overlap, divisor);
         const bool useEnds = f.style.showBlocked && d.endsCap == f.style.rayCap;
         gl.ProgramUniform1i(p, d.loc(p, "useEnds"), useEnds ? 1 : 0);
         gl.ProgramUniform1i(p, d.loc(p, "marks"), 0);
-        gl.UseProgram(p);
-        gl.BindTextureUnit(0, d.mapTexture);
+        gl.ProgramUniform4fv(p, d.loc(p, "stopColour"), 1, glm::value_ptr(f.style.stopColour));
+        // Blocked rays hidden: only the free ones are drawn (on the demo 71% of rays are blocked,
+        // and each cost its vertex work to be clipped). Listed once per answer.
+        const bool indirect = !f.style.showBlocked;
+        if (d.listedMap != d.map || d.listedFree != indirect || d.listedSubset.receivers != subset.receivers ||
+            d.listedSubset.receiverStride != subset.receiverStride ||
+            d.listedSubset.sourcePerReceiver != subset.sourcePerReceiver ||
+            d.listedSubset.sourceStride != subset.sourceStride) {
+            const std::vector<std::uint32_t> list = indirect ? freeDrawnRays(*d.map, subset) : blockedDrawnRays(*d.map, subset);
+            gl.NamedBufferData(d.raysBuffer, GLsizeiptr(std::max<std::size_t>(list.size(), 1) * sizeof(std::uint32_t)),
+                               list.empty() ? nullptr : list.data(), GL_STREAM_DRAW);
+            gl.TextureBuffer(d.raysTexture, GL_R32UI, d.raysBuffer);
+            d.listedMap = d.map;
+            d.listedSubset = subset;
+            d.listedFree = indirect;
+            d.freeCount = indirect ? GLsizei(list.size()) : 0;
+        }
+        gl.ProgramUniform1i(p, d.loc(p, "indirect"), indirect ? 1 : 0);
+        gl.BindTextureUnit(0, d.raysTexture);
         gl.BindTextureUnit(2, d.endsTexture);
         gl.BindVertexArray(d.rayVao);
-        gl.DrawArrays(GL_LINES, 0, GLsizei(2 * subset.count()));
-        if (useEnds) {
+        // Sparse rays go straight into the frame (a layer at full size would only add its copies).
+        const bool layered = divisor > 1 && d.rayLayer.begin(target, f.width, f.height, divisor, f.style.showBlocked);
+        if (layered) {
+            // Counts: free rays in red, blocked ones in green.
+            const glm::vec4 free(1.0f, 0.0f, 0.0f, 0.0f), blocked(0.0f, 1.0f, 0.0f, 0.0f);
+            gl.ProgramUniform4fv(p, d.loc(p, "freeColour"), 1, glm::value_ptr(free));
+            gl.ProgramUniform4fv(p, d.loc(p, "blockedColour"), 1, glm::value_ptr(blocked));
+        } else {
+            if (divisor > 1) {   // no layer could be made: the full-resolution opacities
+                freeAlpha = rayOpacity(f.style.freeColour.a, overlap, 1);
+                blockedAlpha = rayOpacity(f.style.blockedColour.a, overlap, 1);
+            }
+            const glm::vec4 free(glm::vec3(f.style.freeColour), freeAlpha), blocked(glm::vec3(f.style.blockedColour), blockedAlpha);
+            gl.ProgramUniform4fv(p, d.loc(p, "freeColour"), 1, glm::value_ptr(free));
+            gl.ProgramUniform4fv(p, d.loc(p, "blockedColour"), 1, glm::value_ptr(blocked));
+        }
+        gl.UseProgram(p);
+        gl.DrawArrays(GL_LINES, 0, indirect ? 2 * d.freeCount : GLsizei(2 * subset.count()));
+        if (layered) {
+            const glm::dvec2 lo = bundle ? bundle->min : glm::dvec2(0.0), hi = bundle ? bundle->max : glm::dvec2(f.width, f.height);
+            d.rayLayer.composite(target, f.width, f.height, lo, hi, glm::vec4(glm::vec3(f.style.freeColour), freeAlpha),
+                                 glm::vec4(glm::vec3(f.style.blockedColour), blockedAlpha));
+            gl.Enable(GL_DEPTH_TEST);
+            gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+            gl.UseProgram(p);
+            gl.BindTextureUnit(0, d.raysTexture);
+            gl.BindVertexArray(d.rayVao);
+        }
+        if (useEnds) {   // the dots, at full resolution
             gl.Enable(GL_PROGRAM_POINT_SIZE);
             gl.ProgramUniform1i(p, d.loc(p, "marks"), 1);
             gl.DrawArrays(GL_POINTS, 0, GLsizei(subset.count()));
@@ -870,6 +957,25 @@ void ViewportRenderer::render(const FrameState& f)
             lines.push_back({corners[(k + 1) % 4], outline});
         }
     }
+    // PVS gaps: a cross at the object, the witness ray for the shown cell's gaps (bright for the
+    // selected gap).
+    for (std::size_t k = 0; k < f.gapMarkers.size(); ++k) {
+        const bool selected = int(k) == f.gapSelected;
+        const glm::vec4 ray = selected ? glm::vec4(1.0f, 1.0f, 0.85f, 1.0f) : glm::vec4(1.0f, 0.55f, 0.1f, 0.9f);
+        const glm::vec3 from = f.gapMarkers[k].from, to = f.gapMarkers[k].to;
+        if (f.gapMarkers[k].ray || selected) {
+            overlay.push_back({from, glm::vec4(glm::vec3(ray), 0.35f)});
+            overlay.push_back({to, ray});
+        }
+        // The cross keeps a steady size on screen: a fraction of the distance to the eye.
+        const float arm = float(0.015 * glm::length(glm::dvec3(to) - f.camera.eye())) * (selected ? 2.0f : 1.0f);
+        for (int axis = 0; axis < 3; ++axis) {
+            glm::vec3 reach(0.0f);
+            reach[axis] = arm;
+            overlay.push_back({to - reach, ray});
+            overlay.push_back({to + reach, ray});
+        }
+    }
     std::vector<LineVertex> handles;   // triangles, over everything
     if (f.cutHandle)
         appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);
@@ -890,6 +996,10 @@ void ViewportRenderer::render(const FrameState& f)
     drawLines(handles, GL_TRIANGLES);
     gl.DepthMask(GL_TRUE);
     gl.Disable(GL_BLEND);
+    if (target != f.framebuffer)
+        gl.BlitNamedFramebuffer(target, f.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width, f.height,
+                                GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, f.framebuffer);
     gl.BindVertexArray(0);
     gl.UseProgram(0);
 }

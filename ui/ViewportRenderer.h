@@ -7,13 +7,13 @@
 //     is invalid);
 //   - an overlay on one patch (importance or light, PatchOverlay.h): one texel per sample, drawn
 //     opaque just in front of the patch in place of its translucent fill;
-//   - the rays straight from the hidden-samples map (§9 of Eisemann & Décoret: the map is the
-//     answer the designer looks at). A vertex shader turns gl_VertexID into (receiver sample,
-//     source sample), reads the ray's bit from the map in a buffer texture and moves blocked rays
-//     out of the clip volume: no per-ray CPU work. A cap draws a hashed subset, evenly spread
-//     over the receiver samples, so up to 1M rays stay readable and fast;
+//   - the rays of the hidden-samples map (§9 of Eisemann & Décoret: the map is the answer the
+//     designer looks at). A cap draws a hashed subset, evenly spread over the receiver samples;
+//     the subset's free rays (or, with blocked ones shown, a bit per drawn ray) are listed on the
+//     CPU once per answer, and a vertex shader turns each into its (receiver sample, source
+//     sample) pair. How dense bundles stay readable and cheap: RayLayer.h;
 //   - the section cut's outline (where the cut plane meets the level's box) and its handle;
-//   - the gizmo handles, over everything.
+//   - the PVS debugger's gap markers and the gizmo handles, over everything.
 
 #include <array>
 #include <cstdint>
@@ -53,8 +53,11 @@ struct ViewStyle {
     /// editor sets it when a file opens; NaN, for headless images: 1.5 m above the orbit target).
     bool cutaway = true;
     double cutHeight = std::numeric_limits<double>::quiet_NaN();
-    glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.15f};
-    glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.25f};
+    /// The rays' colours. Alpha is the coverage an open shaft reaches on screen, whatever the ray
+    /// count and zoom (each ray's opacity follows from how many cross a pixel, RayLayer.h); where
+    /// rays are blocked the bundle is fainter in proportion. 1: every ray opaque.
+    glm::vec4 freeColour{1.0f, 0.85f, 0.15f, 0.6f};
+    glm::vec4 blockedColour{0.9f, 0.15f, 0.1f, 0.45f};
     /// Where a blocked ray is first stopped (when its end is known: setRayEnds), a dot.
     glm::vec4 stopColour{1.0f, 1.0f, 1.0f, 0.9f};
     /// Shade the scene file with its ambient occlusion (setAmbientOcclusion), once there is one.
@@ -75,6 +78,12 @@ struct RaySubset {
 RaySubset raySubset(int sourceCount, int receiverCount, int cap);
 /// The (receiver, source) pair of drawn ray k; the shader computes the same.
 std::pair<std::uint32_t, std::uint32_t> subsetRay(const RaySubset& subset, std::uint32_t k);
+/// The drawn rays k of `subset` that `map` leaves free, increasing: while blocked rays are hidden
+/// only these are drawn.
+std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySubset& subset);
+/// Bit k (of word k / 32) set where drawn ray k of `subset` is blocked in `map`: what the shader
+/// reads while blocked rays are shown, in place of the whole map.
+std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const RaySubset& subset);
 
 /// A framebuffer with an RGBA8 colour and a 24/8 depth-stencil renderbuffer: the background
 /// cache and the headless screenshot.
@@ -107,6 +116,16 @@ struct FrameState {
     bool cutHandleHovered = false;
     Bounds levelBounds;
     ViewStyle style;
+    /// The PVS debugger's gap list (issue 17 §5): where the reference saw an object through an
+    /// opening the bake culled it behind. Drawn over everything: a cross where the reference's
+    /// witness ray meets the object, and for the gaps of the shown cell (`ray`) the ray itself,
+    /// from its point in the cell; the selected one brighter and larger.
+    struct GapMarker {
+        glm::vec3 from{0.0f}, to{0.0f};
+        bool ray = false;
+    };
+    std::vector<GapMarker> gapMarkers;
+    int gapSelected = -1;
 };
 
 /// The section cut's colour: cyan, apart from the patches, the rays, the selection and the axes.
@@ -147,7 +166,8 @@ public:
     void setHiddenObjects(const std::vector<std::uint8_t>& sceneFile, const std::vector<std::uint8_t>& occluders);
     /// The placed occluders (object id of instance i = occluderOf[i]).
     void setOccluders(const Scene& occluders, const std::vector<std::size_t>& occluderOf);
-    /// The map to draw rays from (nullptr: none, e.g. an invalid pair). Forgets the ray ends.
+    /// The map to draw rays from (nullptr: none, e.g. an invalid pair), kept by pointer until the
+    /// next call: call again whenever its contents change. Forgets the ray ends.
     void setHiddenSamples(const HiddenSampleMap* map);
     /// Where each drawn ray of a `cap`-ray subset ends (RayEnds.h), after setHiddenSamples: blocked
     /// rays are then drawn up to their first stop, with a dot there, while the style's cap is `cap`.

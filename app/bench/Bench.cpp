@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <span>
+#include <tuple>
 #include <sstream>
 #include <utility>
 
@@ -24,21 +26,30 @@ namespace sightline::bench {
 
 namespace {
 
-double msOf(const std::function<void()>& f)
+double threadMs()
 {
-    const auto start = std::chrono::steady_clock::now();
-    f();
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
 }
 
-double medianMs(int repeat, const std::function<void()>& f)
+/// The lower medians (an even count never reports the slower middle run) of the wall time and
+/// of the calling thread's processor time over `repeat` runs, after one warm-up (thread pools,
+/// page faults, shader compilation).
+std::pair<double, double> medianMs(int repeat, const std::function<void()>& f)
 {
-    f();   // warm-up: thread pools, page faults, shader compilation
-    std::vector<double> times;
-    for (int k = 0; k < std::max(1, repeat); ++k)
-        times.push_back(msOf(f));
-    std::sort(times.begin(), times.end());
-    return times[(times.size() - 1) / 2];   // lower median: an even count never reports the slower middle run
+    f();
+    std::vector<double> wall, thread;
+    for (int k = 0; k < std::max(1, repeat); ++k) {
+        const auto start = std::chrono::steady_clock::now();
+        const double threadStart = threadMs();
+        f();
+        thread.push_back(threadMs() - threadStart);
+        wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    std::sort(wall.begin(), wall.end());
+    std::sort(thread.begin(), thread.end());
+    return {wall[(wall.size() - 1) / 2], thread[(thread.size() - 1) / 2]};
 }
 
 /// "<prefix>WxH" with a table resolution HoughMaskTable accepts.
@@ -181,7 +192,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     row.method = method;
                     row.sourceSamples = count;
                     row.receiverSide = side;
-                    row.ms = medianMs(settings.repeat, evaluate);
+                    std::tie(row.ms, row.threadMs) = medianMs(settings.repeat, evaluate);
                     row.rays = truth.rayCount();
                     if (method == "hh") {
                         // Counts only: per receiver sample, the excess or shortfall of blocked
@@ -228,14 +239,14 @@ std::string toCsv(const std::vector<Row>& rows)
 {
     std::ostringstream out;
     out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-           "light_mae,dense_light_mae\n";
+           "light_mae,dense_light_mae,thread_ms\n";
     for (const Row& r : rows) {
         out << '"' << r.project << "\"," << r.method << ',' << r.sourceSamples << ',' << r.receiverSide << 'x'
             << r.receiverSide << ',' << r.rays << ',' << r.ms << ',' << r.blocked << ',' << r.wronglyBlocked << ','
             << r.wronglyFree << ',' << r.errorFraction() << ',' << r.lightMae << ',';
         if (r.denseMae >= 0.0)
             out << r.denseMae;
-        out << '\n';
+        out << ',' << r.threadMs << '\n';
     }
     return out.str();
 }

@@ -41,6 +41,10 @@ struct Row {
     std::string project, method;
     int sourceSamples = 0, receiverSide = 0;
     double ms = 0.0;   ///< median of `repeat` runs after one warm-up
+    /// Median processor time of the calling thread over the same runs. With Settings::threads
+    /// 1 every method runs on that thread, and the figure is its work: a shared machine, where
+    /// other jobs take turns on the cores, disturbs it far less than the wall time.
+    double threadMs = 0.0;
     std::uint64_t rays = 0, blocked = 0;
     std::uint64_t wronglyBlocked = 0;   ///< method blocked, reference free
     std::uint64_t wronglyFree = 0;      ///< reference blocked, method free

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <numeric>
@@ -19,6 +20,7 @@
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
 #include "project/LightingSetup.h"
+#include "project/ProjectMotion.h"
 #include "project/ProjectSampler.h"
 #include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
@@ -94,14 +96,17 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
 {
     CLI::App* command = app.add_subcommand(
         "importance", "Importance map (paper §9): per sample of a patch, the fraction of the other patch it sees, "
-                      "accumulated over the project's animation");
+                      "accumulated over the project's animation (or, with --path, its recorded path)");
     command->add_option("project", args.project, "Project file (JSON, DESIGN.md §3; optional \"animation\" key)")->required();
     command->add_option("--out", args.out, "PNG: the map in the viridis colour map with a legend")->required()->check(outputFile());
     command->add_option("--npy", args.npy, "Also write the raw values as float32 .npy, shape (nb, na), in [0, 1]")->check(outputFile());
     command->add_option("--frames", args.frames,
                         "Frames to accumulate (default: the animation's \"frames\", else its last key frame + 1, "
-                        "or 1 without an animation)")
+                        "or 1 without an animation; with --path, the path's length)")
         ->check(CLI::Range(1, kMaxAnimationFrames));
+    command->add_flag("--path", args.path,
+                      "Accumulate over the project's recorded path (\"recorded_path\", recorded in the editor: "
+                      "one frame per recorded frame, its edits applied) instead of its animation");
     command->add_option("--of", args.of, "Which patch the map is over: receiver (fraction of the source each "
                                          "receiver sample sees) or source (fraction of receiver samples seeing it)")
         ->check(CLI::IsMember({"receiver", "source"}))
@@ -133,19 +138,25 @@ int runImportance(const ImportanceArgs& args)
     checkOutputs({{"--out", args.out}, {"--npy", args.npy}}, projectInputs(args.project, project));
     applyGrids(args.grids, project);
     const std::string what = std::filesystem::path(args.project).filename().string();
-    const Animation animation = parseAnimation(project, what);
-    const int frames = args.frames > 0 ? args.frames : defaultFrameCount(animation);
-    if (frames > 1 && animation.empty())
+    const ProjectMotion motion =
+        parseProjectMotion(project, args.path ? ProjectMotion::Kind::RecordedPath : ProjectMotion::Kind::Animation, what);
+    if (args.path && motion.empty())
+        throw Error(what + " has no recorded path (\"recorded_path\"): record one in the editor (Record > Record Video, F9)");
+    const int frames = args.frames > 0 ? args.frames : motion.defaultFrames();
+    if (frames > 1 && motion.empty())
         std::cerr << "sightline-cli: warning: the project has no animation; all " << frames << " frames are the same\n";
     // Refuse an invalid pair at any frame before the expensive work (never a wrong answer).
+    const Project base = withoutMotionKeys(project);
     for (int f = 0; f < frames; ++f) {
-        const Project frame = projectAtFrame(project, animation, f);
+        if (!motion.mayChangeAt(f))
+            continue;   // as the frame before
+        const Project frame = motion.at(base, f);
         try {
             validatePatchPair(frame.source, frame.receiver);
         } catch (const Error& e) {
             throw Error(frames > 1 ? "frame " + std::to_string(f) + ": " + e.what() : std::string(e.what()));
         }
-        if (animation.empty())
+        if (motion.empty())
             break;
     }
 
@@ -156,12 +167,12 @@ int runImportance(const ImportanceArgs& args)
     settings.threads = args.threads;
     settings.jitter = SourceJitter{.seed = args.jitter};
     settings.heights = projectReceiverHeights(project, project.receiver, what);
-    ProjectSampler sampler(projectAtFrame(project, animation, 0), loadProjectMeshes(project, &warnings), settings);
+    ProjectSampler sampler(motion.at(base, 0), loadProjectMeshes(project, &warnings), settings);
     printWarnings(warnings);
 
     const ImportanceSide side = args.of == "source" ? ImportanceSide::Source : ImportanceSide::Receiver;
     const bool showProgress = (args.progress || ::isatty(2)) && frames > 1;
-    const ImportanceRunResult run = accumulateImportance(sampler, project, animation, frames, side, [&](int done, int total) {
+    const ImportanceRunResult run = accumulateImportance(sampler, base, motion, frames, side, [&](int done, int total) {
         if (showProgress)
             std::fprintf(stderr, "\rsightline-cli: frame %d/%d", done, total);
         return true;
@@ -180,19 +191,22 @@ int runImportance(const ImportanceArgs& args)
         const auto application = ensureApplication();
         const QString title = QString::fromStdString(args.of + " importance, " + statisticText + " over " +
                                                      std::to_string(run.framesDone) + (run.framesDone == 1 ? " frame" : " frames") +
-                                                     " (" + std::to_string(patch.na) + "x" + std::to_string(patch.nb) + "): " + what);
+                                                     (args.path ? " of the recorded path" : "") + " (" + std::to_string(patch.na) + "x" + std::to_string(patch.nb) + "): " + what);
         const QString caption = side == ImportanceSide::Receiver ? "fraction of the source seen" : "fraction of the receiver seeing it";
         savePng(renderMapImage(map, title, caption), args.out);
     }
     if (!args.npy.empty())
         writeFloatNpy(map.values, map.nb, map.na, args.npy);
 
-    const double perFrame = run.sampleMs / std::max(run.framesDone, 1);
+    // Per frame sampled (a path's frames without an edit repeat the frame before, unsampled).
+    const double perFrame = run.sampleMs / std::max(run.framesSampled, 1);
     if (args.json) {
         json out = {{"of", args.of},
                     {"statistic", args.statistic},
                     {"method", args.method},
                     {"frames", run.framesDone},
+                    {"frames_sampled", run.framesSampled},
+                    {"motion", motion.name()},
                     {"samples", json::array({map.na, map.nb})},
                     {"other_samples", json::array({side == ImportanceSide::Receiver ? project.source.na : project.receiver.na,
                                                    side == ImportanceSide::Receiver ? project.source.nb : project.receiver.nb})},
@@ -209,6 +223,9 @@ int runImportance(const ImportanceArgs& args)
     } else {
         std::printf("importance %s, %s over %d frame%s, %dx%d samples (%s)\n", args.of.c_str(), statisticText.c_str(),
                     run.framesDone, run.framesDone == 1 ? "" : "s", map.na, map.nb, args.method.c_str());
+        if (motion.kind == ProjectMotion::Kind::RecordedPath)
+            std::printf("frames     of the recorded path (%d fps), %d sampled (the others change nothing)\n",
+                        int(std::lround(motion.path.fps)), run.framesSampled);
         std::printf("values     mean %.4f, min %.4f, max %.4f\n", map.mean(), double(*lo), double(*hi));
         std::printf("time       %.2f ms a frame sampling, %.0f ms in all\n", perFrame, millisecondsSince(start));
         std::printf("image      %s\n", args.out.c_str());

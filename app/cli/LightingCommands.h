@@ -18,7 +18,8 @@ struct GridOverrides {
 
 struct ImportanceArgs {
     std::string project, out, npy;
-    int frames = 0;                ///< 0: defaultFrameCount(the project's animation)
+    int frames = 0;                ///< 0: the motion's defaultFrames()
+    bool path = false;             ///< accumulate over the recorded path, not the animation
     std::string of = "receiver";
     std::string statistic = "mean";
     std::string method = "cpu";

@@ -59,8 +59,8 @@ void addOutputOptions(CLI::App* cmd, PvsOutputs& o, bool outRequired)
     if (outRequired)
         out->required();
     cmd->add_option("--json", o.json, "Also write DESIGN.md §4's .pvs.json");
-    cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style rows: numleafs, visofs[], zero-run-length rows");
-    cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump: numclusters, bitofs[n][2], rows");
+    cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style cell-to-cell rows: numleafs, visofs[], zero-run-length rows");
+    cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump of cell-to-cell rows: numclusters, bitofs[n][2], rows");
     cmd->add_option("--prt", o.prt, "Also write the cells' shared faces as a PRT1 portal file (TrenchBroom)");
     cmd->add_option("--prt-scale", o.prtScale, "PRT1 units per metre (1 keeps metres; 39.37 gives Quake units)")
         ->check(CLI::Range(1e-6, 1e6));
@@ -129,6 +129,9 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
         part.data = job.data;
         part.data.rows = cells.empty() ? pvs::VisibilityRows(job.data.cells.size(), job.data.objects.size())
                                        : job.baker->bake(cells, {}, &stats);
+        if (job.baker->settings().cellRows)
+            part.data.cellRows = cells.empty() ? pvs::VisibilityRows(job.data.cells.size(), job.data.cells.size())
+                                               : job.baker->bakeCellRows(cells, {}, &stats);
         applyPvsOverrides(job.overrides, part.data.rows);
         // Only the shard's rows: overrides touched every cell.
         for (std::size_t c = 0; c < part.data.cells.size(); ++c)
@@ -155,6 +158,8 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
     const auto bakeStart = std::chrono::steady_clock::now();
     pvs::PvsData data = job.data;
     data.rows = job.baker->bake({}, {}, &stats);
+    if (job.baker->settings().cellRows)
+        data.cellRows = job.baker->bakeCellRows({}, {}, &stats);
     applyPvsOverrides(job.overrides, data.rows);
     const double bakeMs = millisecondsSince(bakeStart);
     const json sizes = writePvsOutputs(data, args.outputs);
@@ -251,9 +256,17 @@ PvsBakeJob prepareBakeJob(const PvsBakeArgs& args)
     const std::string what = fs::path(args.project).filename().string();
     PvsSetup setup = parsePvsSetup(project, what);
     if (args.coarse > 0)
-        setup.settings.coarseSamples = args.coarse;
+        setup.settings.coarseShafts = args.coarse;
     if (args.fine > 0)
-        setup.settings.fineSamples = args.fine;
+        setup.settings.fineShafts = args.fine;
+    if (args.smallestGap > 0.0)
+        setup.settings.smallestGap = args.smallestGap;
+    if (args.residueRays >= 0)
+        setup.settings.residueRays = args.residueRays;
+    if (args.maxDistance >= 0.0)
+        setup.settings.maxDistance = args.maxDistance;
+    if (args.cellRows || !args.outputs.quake1.empty() || !args.outputs.quake2.empty())
+        setup.settings.cellRows = true;
     if (args.safe)
         setup.settings.safe = true;
     if (args.noRefine)
@@ -306,17 +319,25 @@ json writePvsOutputs(const pvs::PvsData& data, const PvsOutputs& o)
 {
     const pvs::EncodedSizes sizes = pvs::encodedSizes(data.rows);
     json out = {{"raw_row_bytes", sizes.raw}, {"compressed_row_bytes", sizes.compressed}};
+    if (data.hasCellRows()) {
+        const pvs::EncodedSizes cellSizes = pvs::encodedSizes(data.cellRows);
+        out["cell_rows_raw_bytes"] = cellSizes.raw;
+        out["cell_rows_compressed_bytes"] = cellSizes.compressed;
+    }
+    if ((!o.quake1.empty() || !o.quake2.empty()) && !data.hasCellRows())
+        throw Error(std::string(o.quake1.empty() ? "--quake2" : "--quake1") +
+                    " writes cell-to-cell rows (the engines' clusters), and these parts have none: bake them with --cell-rows");
     const std::string bytes = pvs::encodePvs(data, o.raw ? pvs::RowEncoding::Raw : pvs::RowEncoding::ZeroRuns);
     out["pvs_bytes"] = bytes.size();
     if (!o.json.empty())
         writeText(o.json, pvs::pvsJson(data));
     if (!o.quake1.empty()) {
-        const std::string q = pvs::quake1Vis(data.rows);
+        const std::string q = pvs::quake1Vis(data.cellRows);
         out["quake1_bytes"] = q.size();
         writeText(o.quake1, q);
     }
     if (!o.quake2.empty()) {
-        const std::string q = pvs::quake2Vis(data.rows);
+        const std::string q = pvs::quake2Vis(data.cellRows);
         out["quake2_bytes"] = q.size();
         writeText(o.quake2, q);
     }
@@ -347,19 +368,27 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
                     {"load_ms", job.loadMs},
                     {"coarse_ms", stats.coarseMs},
                     {"refine_ms", stats.refineMs},
-                    {"safe_kept", stats.safeWitnesses},
+                    {"cell_rows_ms", stats.cellRowsMs},
                     {"ranks", ranks},
                     {"threads", args.threads},
                     {"triangles", job.scene.triangleCount()},
                     {"overlap_pairs", stats.overlapPairs},
                     {"direct_witnesses", stats.directWitnesses},
                     {"shaft_witnesses", stats.shaftWitnesses},
-                    {"safe_witnesses", stats.safeWitnesses},
-                    {"shaft_pairs", stats.shaftPairs},
-                    {"shaft_rays", stats.shaftRays},
-                    {"witness_casts", stats.witnessCasts},
+                    {"proven_hidden", stats.provenHidden},
+                    {"unknown_pairs", stats.unknownPairs},
+                    {"residue_witnesses", stats.search.residueWitnesses},
+                    {"safe_kept", stats.safeKept},
+                    {"distance_culled", stats.distanceCulled},
                     {"node_tests", stats.nodeTests},
                     {"nodes_culled", stats.nodesCulled},
+                    {"direct_casts", stats.directCasts},
+                    {"sub_shafts", stats.search.shafts},
+                    {"shaft_casts", stats.search.casts},
+                    {"plane_proofs", stats.search.planeProofs},
+                    {"solid_proofs", stats.search.solidProofs},
+                    {"open_sub_shafts", stats.search.openShafts},
+                    {"residue_rays", stats.search.residueRays},
                     {"scene_sha256", data.sceneSha256},
                     {"settings_sha256", data.settingsSha256},
                     {"sizes", sizes}};
@@ -370,8 +399,9 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
     }
     std::printf("scene      %zu triangles, %zu cells x %zu objects (load %.1f ms)\n", job.scene.triangleCount(),
                 data.cells.size(), data.objects.size(), job.loadMs);
-    std::printf("bake       %.1f ms (coarse %.1f, refine %.1f; safe mode kept %llu pairs for their bounds)%s\n", bakeMs,
-                stats.coarseMs, stats.refineMs, (unsigned long long)stats.safeWitnesses, ranks > 1 ? (" over " + std::to_string(ranks) + " ranks").c_str() : "");
+    std::printf("bake       %.1f ms (coarse %.1f, refine %.1f); %llu pairs proven hidden, %llu unknown (%s)%s\n", bakeMs,
+                stats.coarseMs, stats.refineMs, (unsigned long long)stats.provenHidden, (unsigned long long)stats.unknownPairs,
+                job.baker->settings().safe ? "kept: safe mode" : "culled after the residue rays", ranks > 1 ? (" over " + std::to_string(ranks) + " ranks").c_str() : "");
     std::printf("visible    %zu of %zu pairs (%.2f%%)\n", data.rows.visibleCount(), pairs,
                 pairs ? 100.0 * double(data.rows.visibleCount()) / double(pairs) : 0.0);
     std::printf("rows       %llu bytes raw, %llu zero-run-length; .pvs %llu bytes\n",
@@ -397,9 +427,16 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     bake->add_flag("--mpi", b.mpi, "Under mpirun: the ranks share the cells, rank 0 writes the outputs");
     bake->add_option("--threads", b.threads, "Worker threads (0 = all cores; the output never depends on it)")
         ->check(CLI::Range(0, 1024));
-    bake->add_flag("--safe", b.safe, "Safe mode: keep a pair whose fine shaft reaches the object's bounds unblocked, even without a witness on its triangles");
-    bake->add_option("--coarse", b.coarse, "Shaft samples per face side, coarse pass (1-32)")->check(CLI::Range(1, 32));
-    bake->add_option("--fine", b.fine, "Shaft samples per face side, refine pass (1-32)")->check(CLI::Range(1, 32));
+    bake->add_flag("--safe", b.safe, "Safe mode: cull only pairs proven hidden (docs/pvs.md)");
+    bake->add_option("--coarse", b.coarse, "Sub-shafts per (cell, target), coarse pass")->check(CLI::Range(1, 1 << 20));
+    bake->add_option("--fine", b.fine, "Sub-shafts per (cell, target), refine pass")->check(CLI::Range(1, 1 << 24));
+    bake->add_option("--smallest-gap", b.smallestGap, "Metres: the refine pass splits shafts down to this spread")
+        ->check(CLI::Range(1e-4, 100.0));
+    bake->add_option("--residue-rays", b.residueRays, "Default mode: rays per pair over what no proof or witness settled")
+        ->check(CLI::Range(0, 1 << 20));
+    bake->add_option("--max-distance", b.maxDistance, "Metres: cull what is farther from the cell (0: no cut-off)")
+        ->check(CLI::Range(0.0, 1e7));
+    bake->add_flag("--cell-rows", b.cellRows, "Also bake cell-to-cell rows (--quake1 and --quake2 write them)");
     bake->add_flag("--no-refine", b.noRefine, "Coarse pass only");
     bake->add_flag("--check", b.check, "Measure accuracy against the dense reference in the same run");
     bake->add_option("--gaps", b.gaps, "--check: write the gap list (missed pairs with the reference's witness ray) as JSON");

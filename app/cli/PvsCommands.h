@@ -26,7 +26,11 @@ struct PvsBakeArgs {
     bool resume = false;        ///< --shard: keep an existing part of the same scene and settings
     int threads = 0;
     bool safe = false;
-    int coarse = 0, fine = 0;   ///< 0: the project's (or the defaults)
+    int coarse = 0, fine = 0;   ///< sub-shafts per pair and pass; 0: the project's (or the defaults)
+    double smallestGap = 0.0;   ///< 0: the project's
+    int residueRays = -1;       ///< -1: the project's
+    double maxDistance = -1.0;  ///< -1: the project's
+    bool cellRows = false;      ///< also bake cell-to-cell rows (implied by --quake1 / --quake2)
     bool noRefine = false;
     bool check = false;         ///< measure accuracy in the same run
     std::string gaps;           ///< --check: write the gap list as JSON

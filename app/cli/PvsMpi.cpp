@@ -42,7 +42,7 @@ int runMpiBake(const PvsBakeArgs& args, int argc, char** argv)
     const auto start = std::chrono::steady_clock::now();
     std::string error;
     std::optional<PvsBakeJob> job;
-    pvs::VisibilityRows rows;
+    pvs::VisibilityRows rows, cellRows;
     pvs::PvsStats stats;
     std::vector<std::size_t> cells;
     try {
@@ -50,6 +50,9 @@ int runMpiBake(const PvsBakeArgs& args, int argc, char** argv)
         cells = pvs::shardCells(job->data.cells.size(), std::uint32_t(rank), std::uint32_t(size));
         rows = cells.empty() ? pvs::VisibilityRows(job->data.cells.size(), job->data.objects.size())
                              : job->baker->bake(cells, {}, &stats);
+        if (job->baker->settings().cellRows)
+            cellRows = cells.empty() ? pvs::VisibilityRows(job->data.cells.size(), job->data.cells.size())
+                                     : job->baker->bakeCellRows(cells, {}, &stats);
     } catch (const std::exception& e) {
         error = describeFailure(e, "baking on rank " + std::to_string(rank));
     }
@@ -59,11 +62,15 @@ int runMpiBake(const PvsBakeArgs& args, int argc, char** argv)
         MPI_Finalize();
         return 1;
     }
-    // Every rank packs its rows (cell order), rank 0 gathers them.
-    const std::size_t rowBytes = rows.rowBytes();
+    // Every rank packs its rows (cell order; each cell's object row, then its cell row when baked),
+    // rank 0 gathers them.
+    const std::size_t rowBytes = rows.rowBytes(), cellRowBytes = cellRows.cellCount() ? cellRows.rowBytes() : 0;
     std::vector<std::uint8_t> mine;
-    for (std::size_t c : cells)
+    for (std::size_t c : cells) {
         mine.insert(mine.end(), rows.row(c), rows.row(c) + rowBytes);
+        if (cellRowBytes)
+            mine.insert(mine.end(), cellRows.row(c), cellRows.row(c) + cellRowBytes);
+    }
     const int count = int(mine.size());
     std::vector<int> counts(static_cast<std::size_t>(size), 0), displacements(static_cast<std::size_t>(size), 0);
     MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
@@ -77,18 +84,24 @@ int runMpiBake(const PvsBakeArgs& args, int argc, char** argv)
         all.resize(std::size_t(total));
     }
     MPI_Gatherv(mine.data(), count, MPI_BYTE, all.data(), counts.data(), displacements.data(), MPI_BYTE, 0, MPI_COMM_WORLD);
-    double slowest = stats.coarseMs + stats.refineMs, bakeMs = 0.0;
+    double slowest = stats.coarseMs + stats.refineMs + stats.cellRowsMs, bakeMs = 0.0;
     MPI_Reduce(&slowest, &bakeMs, 1, MPI_DOUBLE, MPI_MAX, 0, MPI_COMM_WORLD);
     int code = 0;
     if (rank == 0) {
         try {
             pvs::PvsData data = job->data;
             data.rows = pvs::VisibilityRows(data.cells.size(), data.objects.size());
+            if (cellRowBytes)
+                data.cellRows = pvs::VisibilityRows(data.cells.size(), data.cells.size());
+            const std::size_t stride = rowBytes + cellRowBytes;
             for (int r = 0; r < size; ++r) {
                 const auto its = pvs::shardCells(data.cells.size(), std::uint32_t(r), std::uint32_t(size));
                 const std::uint8_t* p = all.data() + displacements[std::size_t(r)];
-                for (std::size_t k = 0; k < its.size(); ++k)
-                    std::copy(p + k * rowBytes, p + (k + 1) * rowBytes, data.rows.row(its[k]));
+                for (std::size_t k = 0; k < its.size(); ++k) {
+                    std::copy(p + k * stride, p + k * stride + rowBytes, data.rows.row(its[k]));
+                    if (cellRowBytes)
+                        std::copy(p + k * stride + rowBytes, p + (k + 1) * stride, data.cellRows.row(its[k]));
+                }
             }
             applyPvsOverrides(job->overrides, data.rows);
             const auto sizes = writePvsOutputs(data, args.outputs);

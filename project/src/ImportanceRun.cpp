@@ -1,6 +1,7 @@
 #include "project/ImportanceRun.h"
 
 #include <chrono>
+#include <optional>
 
 namespace sightline {
 
@@ -10,16 +11,22 @@ ImportanceMap importanceOf(const HiddenSampleMap& map, const Project& frame, Imp
                                             : sourceImportance(map, frame.source.na, frame.source.nb);
 }
 
-ImportanceRunResult accumulateImportance(ProjectSampler& sampler, const Project& project, const Animation& animation,
+ImportanceRunResult accumulateImportance(ProjectSampler& sampler, const Project& project, const ProjectMotion& motion,
                                          int frames, ImportanceSide side, const std::function<bool(int, int)>& progress)
 {
     const auto start = std::chrono::steady_clock::now();
+    const Project base = withoutMotionKeys(project);   // copied for each frame
     ImportanceRunResult result;
+    std::optional<ImportanceMap> last;
     for (int f = 0; f < frames; ++f) {
-        const Project frame = projectAtFrame(project, animation, f);
-        const HiddenSampleMap map = sampler.sample(frame);   // reassembles only if occluders moved
-        result.sampleMs += sampler.lastSampleMs();
-        result.accumulator.add(importanceOf(map, frame, side));
+        if (!last || motion.mayChangeAt(f)) {
+            const Project frame = motion.at(base, f);
+            const HiddenSampleMap map = sampler.sample(frame);   // reassembles only if occluders moved
+            result.sampleMs += sampler.lastSampleMs();
+            ++result.framesSampled;
+            last = importanceOf(map, frame, side);
+        }
+        result.accumulator.add(*last);
         ++result.framesDone;
         if (progress && !progress(f + 1, frames)) {
             result.cancelled = f + 1 < frames;
@@ -28,6 +35,12 @@ ImportanceRunResult accumulateImportance(ProjectSampler& sampler, const Project&
     }
     result.totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return result;
+}
+
+ImportanceRunResult accumulateImportance(ProjectSampler& sampler, const Project& project, const Animation& animation,
+                                         int frames, ImportanceSide side, const std::function<bool(int, int)>& progress)
+{
+    return accumulateImportance(sampler, project, ProjectMotion::of(animation), frames, side, progress);
 }
 
 } // namespace sightline

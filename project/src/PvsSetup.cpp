@@ -73,10 +73,25 @@ PvsSetup parsePvsSetup(const Project& project, const std::string& what)
             throw Error(what + ": pvs.group_by_name must be true or false");
         setup.groupByName = p["group_by_name"].get<bool>();
     }
-    if (p.contains("coarse_samples"))
-        setup.settings.coarseSamples = integer(p["coarse_samples"], "coarse_samples", what);
-    if (p.contains("fine_samples"))
-        setup.settings.fineSamples = integer(p["fine_samples"], "fine_samples", what);
+    for (const char* gone : {"coarse_samples", "fine_samples"})
+        if (p.contains(gone))
+            throw Error(what + ": pvs." + gone + " is gone: the bake now splits shafts adaptively; use coarse_shafts, "
+                                              "fine_shafts and smallest_gap (docs/pvs.md)");
+    if (p.contains("coarse_shafts"))
+        setup.settings.coarseShafts = integer(p["coarse_shafts"], "coarse_shafts", what);
+    if (p.contains("fine_shafts"))
+        setup.settings.fineShafts = integer(p["fine_shafts"], "fine_shafts", what);
+    if (p.contains("residue_rays"))
+        setup.settings.residueRays = integer(p["residue_rays"], "residue_rays", what);
+    if (p.contains("smallest_gap"))
+        setup.settings.smallestGap = number(p["smallest_gap"], "smallest_gap", what);
+    if (p.contains("max_distance"))
+        setup.settings.maxDistance = number(p["max_distance"], "max_distance", what);
+    if (p.contains("cell_rows")) {
+        if (!p["cell_rows"].is_boolean())
+            throw Error(what + ": pvs.cell_rows must be true or false");
+        setup.settings.cellRows = p["cell_rows"].get<bool>();
+    }
     if (p.contains("safe")) {
         if (!p["safe"].is_boolean())
             throw Error(what + ": pvs.safe must be true or false");

@@ -54,6 +54,7 @@ TEST(Bench, EveryMethodAgainstTheReference)
     for (const bench::Row& r : rows) {
         EXPECT_EQ(r.rays, std::uint64_t(r.sourceSamples) * std::uint64_t(r.receiverSide * r.receiverSide));
         EXPECT_GT(r.ms, 0.0);
+        EXPECT_GT(r.threadMs, 0.0);
         if (r.method == "raycast")
             EXPECT_EQ(r.wronglyBlocked + r.wronglyFree, 0u);
         else if (r.method == "cpu-table-16x8")
@@ -64,7 +65,7 @@ TEST(Bench, EveryMethodAgainstTheReference)
     const std::string csv = bench::toCsv(rows);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
     EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-                        "light_mae,dense_light_mae\n", 0), 0u);
+                        "light_mae,dense_light_mae,thread_ms\n", 0), 0u);
 
     const fs::path png = folder / "chart.png";
     bench::writeChart(rows, png);

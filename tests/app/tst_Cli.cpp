@@ -168,17 +168,17 @@ TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
     std::string header;
     std::getline(csv, header);
     // Fields after the quoted project: method, source_samples, receiver, rays, ms, blocked,
-    // wrongly_blocked, wrongly_free, error_fraction, light_mae, dense_light_mae (empty without --shadow).
+    // wrongly_blocked, wrongly_free, error_fraction, light_mae, dense_light_mae (empty without
+    // --shadow), thread_ms.
     std::vector<std::vector<std::string>> rows;
     for (std::string line; std::getline(csv, line);) {
         std::vector<std::string> fields;
         std::stringstream in(line.substr(line.rfind('"') + 2));
         for (std::string field; std::getline(in, field, ',');)
             fields.push_back(field);
-        if (line.back() == ',')
-            fields.emplace_back();   // getline drops a trailing empty field
-        ASSERT_EQ(fields.size(), 11u) << line;
+        ASSERT_EQ(fields.size(), 12u) << line;
         EXPECT_EQ(fields[10], "") << line;
+        EXPECT_GT(std::stod(fields[11]), 0.0) << line;
         rows.push_back(fields);
     }
     ASSERT_EQ(rows.size(), 2u);
@@ -402,7 +402,7 @@ TEST_F(Cli, ForcedRaycastStrategySaysSo)
     const CliRun run = runCli("shaft " + (folder / "p.json").string() + " --method cpu --strategy raycast --json");
     ASSERT_EQ(run.code, 0) << run.err;
     const std::string strategy = json::parse(run.out)["strategy"];
-    EXPECT_EQ(strategy, "raycast: embree-packets-16 (forced by --strategy)");
+    EXPECT_EQ(strategy, "raycast: embree float rays, hits proven, free rays confirmed (forced by --strategy)");
 }
 
 TEST_F(Cli, RepeatWarmsUpOnceThenTimesNRuns)

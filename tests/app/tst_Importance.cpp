@@ -12,7 +12,9 @@
 #include "project/Animation.h"
 #include "project/ImportanceRun.h"
 #include "project/LightingSetup.h"
+#include "project/ProjectMotion.h"
 #include "project/ProjectSampler.h"
+#include "project/RecordedPath.h"
 #include "report/MapImage.h"
 #include "visibility/ColourMap.h"
 #include "visibility/Error.h"
@@ -57,6 +59,35 @@ protected:
 
     void save() const { std::ofstream(folder / "p.json") << document.dump(2); }
     fs::path projectFile() const { return folder / "p.json"; }
+
+    /// A recorded path over 7 frames at 10 fps: the door out of the way (frames 0-2), in the hole
+    /// (3-4), then the receiver slid 0.3 m sideways (5-6), with camera keys that sampling ignores.
+    /// Edits in frame order: door and receiver at 0, door at 3, receiver at 5.
+    static RecordedPath doorPath(const Project& project)
+    {
+        RecordedPath path;
+        path.fps = 10.0;
+        path.frames = 7;
+        path.camera = {{0, PathCamera{}}, {2, PathCamera{.distance = 7.0}}, {6, PathCamera{.yaw = 0.5}}};
+        glm::mat4 open = project.occluders[0].transform, shut = open;
+        open[3][1] += 5.0f;
+        PathEdit door;
+        door.object = PathEdit::Object::Occluder;
+        door.name = "door";
+        door.transform = open;
+        path.edits.push_back(door);
+        door.frame = 3;
+        door.transform = shut;
+        path.edits.push_back(door);
+        PathEdit slide;   // as the recorder writes it: the starting state at frame 0, then the move
+        slide.object = PathEdit::Object::Receiver;
+        slide.patch = project.receiver;
+        path.edits.insert(path.edits.begin() + 1, slide);
+        slide.frame = 5;
+        slide.patch.corner.x += 0.3;
+        path.edits.push_back(slide);
+        return path;
+    }
 
     /// The reference importance of one animation frame (Embree).
     ImportanceMap referenceAt(int frame, ImportanceSide side = ImportanceSide::Receiver) const
@@ -172,6 +203,85 @@ TEST_F(ImportanceProject, AccumulatingTwoAlternatingConfigurationsGivesTheirAver
         accumulateImportance(sampler, project, animation, 4, ImportanceSide::Receiver, [](int, int) { return false; });
     EXPECT_EQ(stopped.framesDone, 1);
     EXPECT_TRUE(stopped.cancelled);
+}
+
+TEST_F(ImportanceProject, ImportanceOverARecordedPathEqualsTheSameFramesAccumulatedByHand)
+{
+    Project project = loadProject(projectFile());
+    setRecordedPath(project, doorPath(project));
+    const ProjectMotion motion = parseProjectMotion(project, ProjectMotion::Kind::RecordedPath, "p.json");
+    ASSERT_EQ(motion.defaultFrames(), 7);
+    // Only frames with an edit key can differ from the frame before.
+    for (int f = 0; f < 9; ++f)
+        EXPECT_EQ(motion.mayChangeAt(f), f == 0 || f == 3 || f == 5) << f;
+
+    for (const ImportanceSide side : {ImportanceSide::Receiver, ImportanceSide::Source}) {
+        // By hand: every frame of the path sampled and added.
+        ProjectSampler handSampler(project, loadProjectMeshes(project), SamplerSettings{});
+        const RecordedPath path = parseRecordedPath(project, "p.json");
+        ImportanceAccumulator byHand;
+        for (int f = 0; f < 9; ++f) {   // two frames past the end hold the last one
+            const Project frame = projectAtPathFrame(project, path, f);
+            byHand.add(importanceOf(handSampler.sample(frame), frame, side));
+        }
+        ProjectSampler sampler(project, loadProjectMeshes(project), SamplerSettings{});
+        const ImportanceRunResult run = accumulateImportance(sampler, project, motion, 9, side);
+        ASSERT_EQ(run.framesDone, 9);
+        EXPECT_EQ(run.framesSampled, 3);   // frames 0, 3 and 5; the others repeat the frame before
+        for (const ImportanceStatistic statistic :
+             {ImportanceStatistic::Mean, ImportanceStatistic::Maximum, ImportanceStatistic::EverVisible}) {
+            const ImportanceMap expected = byHand.result(statistic), got = run.accumulator.result(statistic);
+            ASSERT_TRUE(got.sameGrid(expected));
+            for (std::size_t k = 0; k < expected.values.size(); ++k)
+                ASSERT_EQ(got.values[k], expected.values[k]) << k;
+        }
+    }
+    // The path's frames really differ: the door shuts the hole, the receiver slides.
+    const RecordedPath path = doorPath(project);
+    ProjectSampler sampler(project, loadProjectMeshes(project), SamplerSettings{});
+    const auto at = [&](int f) { return receiverImportance(sampler.sample(projectAtPathFrame(project, path, f))); };
+    const ImportanceMap open = at(0), shut = at(3), slid = at(5);
+    EXPECT_GT(open.mean(), shut.mean() + 0.05);
+    std::size_t moved = 0;
+    for (std::size_t k = 0; k < shut.values.size(); ++k)
+        moved += slid.values[k] != shut.values[k];
+    EXPECT_GT(moved, shut.values.size() / 10);
+}
+
+TEST_F(ImportanceProject, CliImportanceOverTheRecordedPath)
+{
+    const fs::path png = folder / "map.png", npy = folder / "map.npy";
+    // No path yet: refused in one line, naming the key.
+    const CliRun none = runCli("importance " + projectFile().string() + " --path --out " + png.string());
+    EXPECT_NE(none.code, 0);
+    EXPECT_NE(none.err.find("recorded_path"), std::string::npos) << none.err;
+
+    Project project = loadProject(projectFile());
+    const RecordedPath path = doorPath(project);
+    document["recorded_path"] = toJson(path);
+    save();
+    const CliRun run = runCli("importance " + projectFile().string() + " --path --json --out " + png.string() +
+                              " --npy " + npy.string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_EQ(out["frames"], 7);   // the path's length
+    EXPECT_EQ(out["frames_sampled"], 3);
+    EXPECT_EQ(out["motion"], "recorded path");
+    // The mean over the path's 7 frames, each sampled by hand with the CLI's sampler.
+    ProjectSampler sampler(project, loadProjectMeshes(project), SamplerSettings{});
+    ImportanceAccumulator byHand;
+    for (int f = 0; f < 7; ++f)
+        byHand.add(receiverImportance(sampler.sample(projectAtPathFrame(project, path, f))));
+    const ImportanceMap expected = byHand.result(ImportanceStatistic::Mean);
+    const FloatArray values = readFloatNpy(npy);
+    ASSERT_EQ(values.values.size(), expected.values.size());
+    for (std::size_t k = 0; k < expected.values.size(); ++k)
+        ASSERT_EQ(values.values[k], expected.values[k]) << k;
+    // Without --path the same project accumulates its animation (4 frames).
+    const CliRun animated = runCli("importance " + projectFile().string() + " --json --out " + png.string());
+    ASSERT_EQ(animated.code, 0) << animated.err;
+    EXPECT_EQ(json::parse(animated.out)["frames"], 4);
+    EXPECT_EQ(json::parse(animated.out)["motion"], "animation");
 }
 
 TEST_F(ImportanceProject, LightTextureAndHeightMapsComeFromFiles)

@@ -71,17 +71,18 @@ protected:
 
 TEST_F(PvsCli, ShardedAndThreadedBakesAreByteIdenticalToOneProcess)
 {
-    const fs::path whole = bake("whole.pvs", "--json " + (dir / "whole.pvs.json").string());
+    // With the cell-to-cell rows too (the Quake formats' clusters).
+    const fs::path whole = bake("whole.pvs", "--cell-rows --json " + (dir / "whole.pvs.json").string());
     const std::string reference = sha(whole);
-    EXPECT_EQ(sha(bake("t1.pvs", "--threads 1")), reference);
-    EXPECT_EQ(sha(bake("t2.pvs", "--threads 2")), reference);
+    EXPECT_EQ(sha(bake("t1.pvs", "--cell-rows --threads 1")), reference);
+    EXPECT_EQ(sha(bake("t2.pvs", "--cell-rows --threads 2")), reference);
     for (int n : {1, 2, 3, 7}) {
         std::string parts;
         for (int i = 0; i < n; ++i) {
             // Built by appending (GCC 12 warns falsely, -Wrestrict, on "literal" + std::string here).
             std::string name = "part", shard = "--shard ";
             name.append(std::to_string(i)).append("of").append(std::to_string(n));
-            shard.append(std::to_string(i)).append("/").append(std::to_string(n)).append(" --threads ");
+            shard.append(std::to_string(i)).append("/").append(std::to_string(n)).append(" --cell-rows --threads ");
             shard.append(std::to_string(1 + i % 2));
             parts.append(" ").append(bake(name, shard).string());
         }
@@ -125,11 +126,11 @@ TEST_F(PvsCli, MpiBakeOverThreeRanksIsByteIdentical)
 {
     if (std::system("command -v mpirun > /dev/null 2>&1") != 0)
         GTEST_SKIP() << "mpirun not installed (Debian: openmpi-bin)";
-    const std::string reference = sha(bake("whole.pvs", "--json " + (dir / "whole.pvs.json").string()));
+    const std::string reference = sha(bake("whole.pvs", "--cell-rows --json " + (dir / "whole.pvs.json").string()));
     const fs::path out = dir / "mpi.pvs";
     const CliRun run = runProgram("env OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_plm=isolated "
                                   "OMPI_MCA_btl_vader_single_copy_mechanism=none mpirun --oversubscribe -np 3",
-                                  std::string(SIGHTLINE_CLI) + " pvs bake " + project + " --mpi --threads 1 --out " +
+                                  std::string(SIGHTLINE_CLI) + " pvs bake " + project + " --mpi --cell-rows --threads 1 --out " +
                                       out.string() + " --json " + (dir / "mpi.pvs.json").string() + " --print-json",
                                   300);
     ASSERT_EQ(run.code, 0) << run.err << run.out;
@@ -221,6 +222,61 @@ TEST_F(PvsCli, BadCellsAreRefusedInOneLine)
                                   p["cell_size"] = -1;
                               }) + " --out x"),
                        "pvs.cell_size must be a positive number");
+}
+
+/// Quake's row decompression, written from the format's description (not Sightline's code).
+std::vector<bool> quakeRow(const std::string& lump, std::size_t at, std::size_t bits)
+{
+    std::vector<bool> row;
+    while (row.size() < bits) {
+        const unsigned char b = static_cast<unsigned char>(lump.at(at++));
+        if (b == 0) {
+            row.insert(row.end(), 8 * static_cast<unsigned char>(lump.at(at++)), false);
+            continue;
+        }
+        for (int k = 0; k < 8; ++k)
+            row.push_back((b >> k) & 1);
+    }
+    row.resize(bits);
+    return row;
+}
+
+std::uint32_t le32(const std::string& s, std::size_t at)
+{
+    std::uint32_t v = 0;
+    for (int k = 0; k < 4; ++k)
+        v |= std::uint32_t(static_cast<unsigned char>(s.at(at + std::size_t(k)))) << (8 * k);
+    return v;
+}
+
+TEST_F(PvsCli, QuakeRowsAreCellToCellAndMatchTheJson)
+{
+    // 2 x 2 rooms, 16 cells each: the Quake lumps hold cluster (cell) rows, decoded here by a
+    // decoder of the test's own; each row equals the .pvs.json's visible_cells, and every cell
+    // sees itself.
+    const fs::path out = bake("q.pvs", "--quake1 " + (dir / "q.q1").string() + " --quake2 " + (dir / "q.q2").string() +
+                                           " --json " + (dir / "q.pvs.json").string());
+    const auto j = nlohmann::json::parse(slurp(dir / "q.pvs.json"));
+    ASSERT_TRUE(j.contains("visible_cells"));
+    const std::size_t cells = j["cells"].size();
+    ASSERT_EQ(cells, 64u);
+    const std::string q1 = slurp(dir / "q.q1"), q2 = slurp(dir / "q.q2");
+    ASSERT_EQ(le32(q1, 0), cells);
+    ASSERT_EQ(le32(q2, 0), cells);
+    for (std::size_t c = 0; c < cells; ++c) {
+        std::vector<bool> expected(cells, false);
+        for (const auto& d : j["visible_cells"][c])
+            expected[d.get<std::size_t>()] = true;
+        EXPECT_TRUE(expected[c]) << "cell " << c << " sees itself";
+        EXPECT_EQ(quakeRow(q1, 4 + 4 * cells + le32(q1, 4 + 4 * c), cells), expected) << "quake1 cell " << c;
+        EXPECT_EQ(quakeRow(q2, le32(q2, 4 + 8 * c), cells), expected) << "quake2 cell " << c;
+    }
+    // Parts baked without cell rows cannot make Quake lumps: one line says how to bake them.
+    const fs::path p0 = bake("n0", "--shard 0/1");
+    expectOneLineError(runCli("pvs merge " + p0.string() + " --out " + (dir / "n.pvs").string() + " --quake1 " +
+                              (dir / "n.q1").string()),
+                       "--cell-rows");
+    EXPECT_TRUE(fs::exists(out));
 }
 
 TEST_F(PvsCli, EngineFormatsAndCheckAreWritten)

@@ -30,6 +30,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "InteractionBenchmark.h"
+#include "EditCommands.h"
 #include "MainWindow.h"
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
@@ -40,6 +42,7 @@
 #include "RecordingControls.h"
 #include "UiTestScene.h"
 #include "VideoDecoder.h"
+#include "VideoRecording.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "project/Animation.h"
@@ -48,6 +51,7 @@
 #include "visibility/pvs/PvsObjects.h"
 #include "project/RecordedPath.h"
 #include "visibility/ColourMap.h"
+#include "visibility/Error.h"
 #include "visibility/RayCastSampler.h"
 
 using namespace sightline;
@@ -221,6 +225,66 @@ private slots:
         QCOMPARE(document.project().receiver.corner, receiver.corner);
         controller.setCamera(before);
         window_->viewport().style().rayCap = rayCap;
+        waitForUpdate();
+    }
+
+    // Issue 16 §3: the interaction benchmark replays the project's recorded path (its camera and
+    // edits, one path frame per frame drawn) instead of the scripted drag, and puts everything back.
+    void interactionBenchmarkReplaysTheRecordedPath()
+    {
+        EditorDocument& document = window_->document();
+        ViewportController& controller = window_->controller();
+        const Camera before = controller.camera();
+        const Project start = document.project();
+        InteractionOptions options;
+        options.width = 800;   // the test window's viewport
+        options.height = 600;
+        options.frames = 9;
+        options.replay = InteractionReplay::RecordedPath;
+        bool refused = false;
+        try {
+            runInteractionBenchmark(*window_, options);
+        } catch (const sightline::Error& e) {
+            refused = QString(e.what()).contains("no recorded path");
+        }
+        QVERIFY(refused);
+
+        // Four frames: the camera turns at frame 1, the receiver slides 0.5 m at frame 2.
+        RecordedPath path;
+        path.frames = 4;
+        const PathCamera first{before.target, before.distance, before.yaw, before.pitch, before.fovY};
+        PathCamera turned = first;
+        turned.yaw += 0.3;
+        path.camera = {{0, first}, {1, turned}};
+        PathEdit slide;
+        slide.object = PathEdit::Object::Receiver;
+        slide.patch = start.receiver;
+        path.edits.push_back(slide);
+        slide.frame = 2;
+        slide.patch.corner.z -= 0.5;
+        path.edits.push_back(slide);
+        document.applyProjectKey(kRecordedPathKey, toJson(path));
+
+        std::vector<int> frames;
+        options.posed = [&](int frame) {
+            frames.push_back(frame);
+            // What is shown is the path's pose at that frame.
+            const Camera expected = toCamera(*path.cameraAt(frame));
+            QCOMPARE(controller.camera().yaw, expected.yaw);
+            QCOMPARE(document.project().receiver.corner, projectAtPathFrame(start, path, frame).receiver.corner);
+        };
+        const InteractionFigures figures = runInteractionBenchmark(*window_, options);
+        QVERIFY(figures.replay.find("recorded path") != std::string::npos);
+        QCOMPARE(figures.frames, 9);
+        // The path's frames in order, round and round (10 warm-up frames, then the 9 measured).
+        QVERIFY(frames.size() >= 19);
+        for (std::size_t k = 0; k < frames.size(); ++k)
+            QCOMPARE(frames[k], int(k % 4));
+        QVERIFY(figures.drawnHz > 0.0);
+        // Back where it started.
+        QCOMPARE(document.project().receiver.corner, start.receiver.corner);
+        QCOMPARE(controller.camera().yaw, before.yaw);
+        document.applyProjectKey(kRecordedPathKey, nullptr);
         waitForUpdate();
     }
 
@@ -1925,6 +1989,98 @@ private slots:
         QVERIFY(!controller.placementSize());
         viewport.style().showRays = true;
         document.select({});
+        controller.setCamera(view);
+        waitForUpdate();
+    }
+
+    // Issue 17 §5: while the debugger refines, its status names the cells still coarse; after the
+    // bake it checks itself against the dense reference and shows the gap list as markers; a
+    // click on a marker frames that gap (the eye on the reference's witness ray in the gap's
+    // cell, the object the bake culled tinted ahead) and N steps to the next; the distance
+    // cut-off (pvs.max_distance, undoable) culls far objects at once, without a new bake.
+    void pvsDebuggerGapsCutOffAndCoarseCells()
+    {
+        Viewport& viewport = window_->viewport();
+        ViewportController& controller = window_->controller();
+        EditorDocument& document = window_->document();
+        const Camera view = controller.camera();
+        // A rough bake (one sub-shaft per pair in the refine pass, no residue rays) has gaps to show.
+        const auto it = document.project().extra.find("pvs");
+        const nlohmann::json before = it != document.project().extra.end() ? *it : nlohmann::json();
+        nlohmann::json rough = before.is_object() ? before : nlohmann::json::object();
+        rough["fine_shafts"] = 1;
+        rough["residue_rays"] = 0;
+        QStringList statuses;
+        const auto connection = connect(&viewport, &Viewport::pvsUpdated, [&statuses](const QString& s) { statuses << s; });
+        document.undoStack()->push(new SetProjectKeyCommand(document, "pvs", before, rough, "rough PVS"));
+        window_->findChild<QAction*>("pvsDebugger")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
+        const std::size_t cells = viewport.pvsCells().size();
+        QVERIFY(cells > 0);
+        bool namedCoarse = false;
+        for (const QString& s : statuses)
+            namedCoarse = namedCoarse || s.contains("still coarse: ");
+        QVERIFY2(namedCoarse, qPrintable(statuses.join('\n').left(2000)));
+        for (std::size_t c = 0; c < cells; ++c)
+            QVERIFY(!viewport.pvsCellCoarse(c));
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsGapsReady(), 240000);
+        disconnect(connection);
+        const std::vector<pvs::Gap> gaps = viewport.pvsGaps();
+        QVERIFY(!gaps.empty());
+        QVERIFY2(viewport.pvsStatus().contains("gap"), qPrintable(viewport.pvsStatus()));
+
+        // Look down at the first gap's marker and click it (the patch pair's rays off: a designer
+        // looking at the PVS hides them, V).
+        const bool rays = viewport.style().showRays;
+        viewport.style().showRays = false;
+        Camera above;
+        above.target = glm::dvec3(gaps[0].to);
+        above.distance = 6.0;
+        above.pitch = -0.7;
+        controller.setCamera(above);
+        waitForUpdate();
+        const glm::dvec3 px = toPixels(controller.camera(), glm::dvec3(gaps[0].to), viewport.width(), viewport.height());
+        const std::optional<std::size_t> picked = viewport.pvsGapAt(QPointF(px.x, px.y));
+        QVERIFY(picked);
+        saveWindowShot("pvs-gap-markers");
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, QPoint(int(std::lround(px.x)), int(std::lround(px.y))));
+        QTRY_COMPARE(viewport.pvsGapSelected(), int(*picked));
+        const pvs::Gap& gap = gaps[*picked];
+        QVERIFY(glm::length(controller.camera().eye() - glm::dvec3(gap.from)) < 1e-3);
+        QTRY_VERIFY(viewport.pvsCell() == std::optional<std::size_t>(gap.cell));
+        QVERIFY(!viewport.pvsShown().visible(gap.cell, gap.object));   // the culled object, tinted ahead
+        QTest::qWait(200);
+        saveWindowShot("pvs-gap-framed");
+        window_->findChild<QAction*>("pvsNextGap")->trigger();
+        QCOMPARE(viewport.pvsGapSelected(), int((*picked + 1) % gaps.size()));
+
+        // The distance cut-off: far objects culled from the shown rows at once; undone.
+        const std::size_t cell = gap.cell;
+        const std::size_t seen = viewport.pvsShown().visibleCount(cell);
+        const std::size_t coarseDone = viewport.pvsCoarseDone();
+        window_->setPvsDistanceCutoff(3.0);
+        QTRY_VERIFY(viewport.pvsShown().visibleCount(cell) < seen);
+        QCOMPARE(viewport.pvsCoarseDone(), coarseDone);   // not baked again
+        QVERIFY2(viewport.pvsStatus().contains("cut-off 3 m"), qPrintable(viewport.pvsStatus()));
+        const Bounds& box = viewport.pvsCells()[cell];
+        const std::vector<pvs::PvsObject> objects = pvs::sceneObjects(document.scene(), false);
+        for (std::size_t o = 0; o < objects.size(); ++o)
+            if (viewport.pvsShown().visible(cell, o)) {
+                double d2 = 0.0;
+                for (int k = 0; k < 3; ++k) {
+                    const double g = std::max({0.0, double(box.min[k] - objects[o].bounds.max[k]), double(objects[o].bounds.min[k] - box.max[k])});
+                    d2 += g * g;
+                }
+                QVERIFY2(d2 <= 9.0 + 1e-9, qPrintable(QString::fromStdString(objects[o].name)));
+            }
+        QCOMPARE(document.project().extra.at("pvs").at("max_distance").get<double>(), 3.0);
+        saveWindowShot("pvs-cutoff");
+        document.undoStack()->undo();
+        QTRY_COMPARE(viewport.pvsShown().visibleCount(cell), seen);
+
+        window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
+        document.undoStack()->undo();                              // the rough settings
+        viewport.style().showRays = rays;
         controller.setCamera(view);
         waitForUpdate();
     }

@@ -139,16 +139,74 @@ TEST(Pvs, AnObjectBehindAPillarFromEveryPointOfTheCellIsCulled)
 TEST(Pvs, AnObjectSeenOnlyThroughANarrowSlotIsFoundByTheShafts)
 {
     // A wall with a 5 cm slot; the target behind it is seen only through the slot. The direct
-    // rays (few, random) rarely find it; the shafts (every cell-face sample to every box-face
-    // sample) and their continuation must.
+    // rays (few, random) rarely find it; the shaft search must: the sub-shafts through the slot
+    // are the ones no wall proves blocked, so they are split and their central segments cast.
     Scene s;
     addBox(s, "wall_left", {-3.0f, -1.0f, 1.0f}, {0.075f, 2.0f, 1.1f});
     addBox(s, "wall_right", {0.125f, -1.0f, 1.0f}, {3.0f, 2.0f, 1.1f});
     addBox(s, "target", {-0.5f, 0.0f, 3.0f}, {0.7f, 1.0f, 3.2f});
-    PvsSettings settings;
-    settings.fineSamples = 8;
-    const VisibilityRows rows = bakeOf(s, {box({-0.5f, 0.0f, -1.0f}, {0.7f, 1.0f, 0.0f})}, settings);
+    const VisibilityRows rows = bakeOf(s, {box({-0.5f, 0.0f, -1.0f}, {0.7f, 1.0f, 0.0f})});
     EXPECT_TRUE(rows.visible(0, 2));
+}
+
+TEST(Pvs, CellRowsSeeThroughTheDoorAndNotThroughTheWall)
+{
+    // The Quake formats' rows are over clusters: cell to cell. Room A's cell sees room B's through
+    // the doorway; with the wall sealed, not even the safe mode keeps them (the wall proves it).
+    for (bool door : {true, false}) {
+        const Scene scene = twoRooms(door);
+        PvsSettings settings;
+        settings.safe = !door;
+        const PvsBaker baker(scene, kRoomCells, sceneObjects(scene, false), "00ab", settings);
+        const VisibilityRows cellRows = baker.bakeCellRows();
+        ASSERT_EQ(cellRows.cellCount(), 2u);
+        ASSERT_EQ(cellRows.objectCount(), 2u);
+        EXPECT_TRUE(cellRows.visible(0, 0));   // every cell sees itself
+        EXPECT_TRUE(cellRows.visible(1, 1));
+        EXPECT_EQ(cellRows.visible(0, 1), door) << "door " << door;
+        EXPECT_EQ(cellRows.visible(1, 0), door) << "door " << door;
+    }
+}
+
+TEST(Pvs, TheDistanceCutOffCullsWhatIsFartherThanItFromTheCell)
+{
+    const Scene scene = twoRooms(true);
+    const auto objects = sceneObjects(scene, false);
+    PvsSettings settings;
+    settings.maxDistance = 2.5;   // room A's cell (x <= 2) to room B's crate (x >= 5.8): 3.8 m
+    const VisibilityRows rows = bakeOf(scene, kRoomCells, settings);
+    EXPECT_TRUE(rows.visible(0, objectNamed(objects, "crate_a")));
+    EXPECT_FALSE(rows.visible(0, objectNamed(objects, "crate_b")));
+    EXPECT_FALSE(rows.visible(0, objectNamed(objects, "wall_east")));
+    EXPECT_TRUE(rows.visible(0, objectNamed(objects, "floor")));   // it runs under the cell
+    const VisibilityRows cellRows = PvsBaker(scene, kRoomCells, objects, "00ab", settings).bakeCellRows();
+    EXPECT_FALSE(cellRows.visible(0, 1));   // 4.2 m apart
+    EXPECT_TRUE(cellRows.visible(0, 0));
+}
+
+TEST(Pvs, TheSafeModeCullsOnlyWhatItProves)
+{
+    // A wall with a 2 cm slit: the crate behind the slit is seen through it; the box behind the
+    // wall's right part is hidden by that part from every point of the cell. The safe bake keeps
+    // the crate and culls the box, and every pair it culls is one it proved hidden.
+    Scene s;
+    addBox(s, "wall_left", {-3.0f, -1.0f, 1.0f}, {0.09f, 2.0f, 1.1f});
+    addBox(s, "wall_right", {0.11f, -1.0f, 1.0f}, {3.0f, 2.0f, 1.1f});
+    addBox(s, "crate", {-0.5f, 0.0f, 3.0f}, {0.7f, 1.0f, 3.2f});
+    addBox(s, "hidden", {2.0f, 0.0f, 1.5f}, {2.5f, 0.5f, 2.0f});
+    const std::vector<Bounds> cell = {box({-0.5f, 0.0f, -1.0f}, {0.7f, 1.0f, 0.0f})};
+    for (bool safe : {true, false}) {
+        PvsSettings settings;
+        settings.safe = safe;
+        PvsStats stats;
+        const PvsBaker baker(s, cell, sceneObjects(s, false), "00ab", settings);
+        const VisibilityRows rows = baker.bake({}, {}, &stats);
+        EXPECT_TRUE(rows.visible(0, 2)) << "safe " << safe;
+        EXPECT_FALSE(rows.visible(0, 3)) << "safe " << safe;
+        if (safe) {
+            EXPECT_EQ(stats.provenHidden + rows.visibleCount(0), 4u);
+        }
+    }
 }
 
 TEST(Pvs, TheRowsDoNotDependOnThreadsOrOnWhichCellsAreBakedTogether)
@@ -322,6 +380,32 @@ TEST(PvsFiles, PvsBinaryRoundTripsRawAndCompressed)
     }
     // The compressed rows are smaller here: mostly zeros.
     EXPECT_LT(encodePvs(d, RowEncoding::ZeroRuns).size(), encodePvs(d, RowEncoding::Raw).size());
+}
+
+TEST(PvsFiles, CellRowsRoundTripInVersionTwoAndVersionOneFilesStillRead)
+{
+    PvsData d = sampleData();
+    d.cellRows = VisibilityRows(d.cells.size(), d.cells.size());
+    for (std::size_t c = 0; c < d.cells.size(); ++c)
+        for (std::size_t e = 0; e < d.cells.size(); ++e)
+            d.cellRows.set(c, e, (c + e) % 2 == 0);
+    for (RowEncoding e : {RowEncoding::Raw, RowEncoding::ZeroRuns}) {
+        const std::string bytes = encodePvs(d, e);
+        EXPECT_EQ(le32(bytes, 28), 1u);   // flags: cell rows follow
+        const PvsData back = decodePvs(bytes, "x.pvs");
+        EXPECT_EQ(back.rows, d.rows);
+        EXPECT_EQ(back.cellRows, d.cellRows);
+        EXPECT_EQ(encodePvs(back, e), bytes);
+        EXPECT_NE(pvsJson(back).find("\"visible_cells\": [\n  [0, 2, 4]"), std::string::npos);
+    }
+    // A version 1 file (no flags, no cell rows) is read as before.
+    std::string old = encodePvs(sampleData());
+    old[8] = 1;
+    const PvsData back = decodePvs(old, "old.pvs");
+    EXPECT_EQ(back.rows, sampleData().rows);
+    EXPECT_FALSE(back.hasCellRows());
+    old[28] = 1;   // version 1 knows no flags
+    EXPECT_THROW(decodePvs(old, "old.pvs"), Error);
 }
 
 TEST(PvsFiles, DamagedPvsFilesAreRefusedNotRead)

@@ -14,10 +14,8 @@ using sightline::test::xyPatch;
 
 namespace {
 
-/// Flat costs: 2 ns a pair whatever the pairs per ray, 100 ns a ray whatever the shaft, no close
-/// triangles.
-const CostModel kModel{.setupNsPerTriangle = 200.0, .rayNsPerReceiverSample = 0.0, .passNsPerPair = 2.0, .passFalloff = 0.0, .rayNsPerLevel = 0.0,
-                       .rayNsOffset = 0.0, .minRayNs = 100.0, .rayPassShare = 0.0};
+/// Flat costs: 2 ns a pair whatever the pairs per ray, 100 ns a ray whatever the shaft.
+const CostModel kModel{.setupNsPerTriangle = 200.0, .passNsPerPair = 2.0, .passFalloff = 0.0, .rayLogBase = std::log(100.0)};
 
 CostEstimate estimate(std::uint64_t rays, std::uint64_t pairs, std::uint64_t triangles, int receiverSamples = 64 * 64)
 {
@@ -31,7 +29,7 @@ TEST(Strategy, PredictsEachMethodFromItsUnits)
 {
     const CostEstimate e = estimate(1'000'000, 4'000'000, 10'000);
     EXPECT_DOUBLE_EQ(predictedBitmaskMs(e, kModel), 1e-6 * (200.0 * 10'000 + 2.0 * 4'000'000));   // 10 ms
-    EXPECT_DOUBLE_EQ(predictedRayMs(e, kModel), 100.0);
+    EXPECT_NEAR(predictedRayMs(e, kModel), 100.0, 1e-9);
 }
 
 TEST(Strategy, PairsCostLessAsTheyCrowdARayAndRaysMoreInADeeperTree)
@@ -41,19 +39,25 @@ TEST(Strategy, PairsCostLessAsTheyCrowdARayAndRaysMoreInADeeperTree)
     EXPECT_DOUBLE_EQ(m.passNs(4.0), 2.0);    // the reference point: 4 pairs a ray
     EXPECT_DOUBLE_EQ(m.passNs(16.0), 1.0);   // four times as many: half the cost each
     EXPECT_DOUBLE_EQ(m.passNs(0.0), m.passNs(0.01));
-    m.rayNsPerLevel = 6.0, m.rayNsOffset = 20.0, m.minRayNs = 5.0;
-    EXPECT_DOUBLE_EQ(m.rayNs(1023), 6.0 * 10.0 - 20.0);   // 2^10 triangles: ten levels
-    EXPECT_DOUBLE_EQ(m.rayNs(0), 5.0);                     // the floor
-    // Ray casting also pays its share of the bitmask pass (its close triangles).
-    m.rayPassShare = 0.5;
+    // Each ray's cost is a product of powers: of the tree (1 + triangles), of 1 + pairs per ray
+    // (and its square in the logarithm), of the receiver grid's side.
+    m.rayLogTriangles = 0.5;
+    EXPECT_NEAR(m.rayNs(99, 0.0, 1), 100.0 * 10.0, 1e-9);   // sqrt(1 + 99)
+    m.rayLogTriangles = 0.0, m.rayLogSide = -1.0;
+    EXPECT_NEAR(m.rayNs(99, 0.0, 64 * 64), 100.0 / 64.0, 1e-9);
+    m.rayLogSide = 0.0, m.rayLogPairs = 1.0;
+    EXPECT_NEAR(m.rayNs(0, std::exp(2.0) - 1.0, 1), 100.0 * std::exp(2.0), 1e-9);
+    EXPECT_NEAR(m.rayNs(0, 1e9, 1), m.rayNs(0, std::exp(7.0) - 1.0, 1), 1e-9);   // clamped to the fitted range
     const CostEstimate e = estimate(1'000'000, 4'000'000, 1023);
-    EXPECT_DOUBLE_EQ(predictedRayMs(e, m), 1e-6 * 40.0 * 1'000'000 + 0.5 * 1e-6 * 2.0 * 4'000'000);
-    // And its packets' share per receiver sample.
-    m.rayNsPerReceiverSample = 1000.0;
-    EXPECT_DOUBLE_EQ(predictedRayMs(e, m), 1e-6 * 40.0 * 1'000'000 + 0.5 * 1e-6 * 2.0 * 4'000'000 + 1e-6 * 1000.0 * 64 * 64);
-    // The measured model has both effects.
-    EXPECT_LT(measuredCosts(true).passNs(100.0), measuredCosts(true).passNs(1.0));
-    EXPECT_GT(measuredCosts(true).rayNs(50'000), measuredCosts(true).rayNs(100));
+    EXPECT_NEAR(predictedRayMs(e, m), 1e-6 * 100.0 * std::exp(std::log1p(4.0)) * 1'000'000, 1e-9);
+    // The measured model: pairs cost less as they crowd a ray; rays cost more in a deeper tree,
+    // and less where the pairs are so many that rays stop at their first hits (a dense mesh);
+    // a finer receiver grid makes packets cheaper.
+    const CostModel& measured = measuredCosts(true);
+    EXPECT_LT(measured.passNs(100.0), measured.passNs(1.0));
+    EXPECT_GT(measured.rayNs(50'000, 10.0, 1024), measured.rayNs(100, 10.0, 1024));
+    EXPECT_LT(measured.rayNs(50'000, 300.0, 1024), measured.rayNs(50'000, 30.0, 1024));
+    EXPECT_LT(measured.rayNs(50'000, 30.0, 64 * 64), measured.rayNs(50'000, 30.0, 32 * 32));
 }
 
 TEST(Strategy, DecidesWhereOnePredictionIsUnderHalfTheOther)
@@ -87,7 +91,7 @@ TEST(Strategy, DoesNotProbeWhereAProbeCannotTell)
 TEST(Strategy, TheMeasuredModelsCostTheDoubleKernelMore)
 {
     EXPECT_GT(measuredCosts(false).passNsPerPair, measuredCosts(true).passNsPerPair);
-    EXPECT_EQ(measuredCosts(false).rayNs(10'000), measuredCosts(true).rayNs(10'000));
+    EXPECT_EQ(measuredCosts(false).rayNs(10'000, 10.0, 1024), measuredCosts(true).rayNs(10'000, 10.0, 1024));
 }
 
 TEST(Strategy, AProbeTimesOneTileInEightButAtLeastFour)

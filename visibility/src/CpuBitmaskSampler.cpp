@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "bitmask/Shaft.h"
 #include "bitmask/Strategy.h"
 #include "bitmask/TilePass.h"
+#include "raycast/ProvenRayCaster.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ShaftGeometry.h"
 
@@ -31,6 +33,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+/// This thread's processor time, in milliseconds.
+double threadMs()
+{
+    timespec now{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+    return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
+}
 
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
 /// a ray pass cost more than they save).
@@ -76,6 +86,7 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     {
         std::lock_guard lock(rayCasterMutex_);
         rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
+        provenCaster_.reset();
     }
     std::lock_guard lock(probeMutex_);
     probeMemo_.reset();
@@ -127,6 +138,14 @@ std::shared_ptr<const RayCastScene> CpuBitmaskSampler::wholeSceneCaster() const
     if (!rayCaster_)
         rayCaster_ = std::make_shared<const RayCastScene>(triangles_);
     return rayCaster_;
+}
+
+std::shared_ptr<const raycast::ProvenRayCaster> CpuBitmaskSampler::provenCaster() const
+{
+    std::lock_guard lock(rayCasterMutex_);
+    if (!provenCaster_)
+        provenCaster_ = std::make_shared<const raycast::ProvenRayCaster>(triangles_);
+    return provenCaster_;
 }
 
 HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
@@ -232,17 +251,41 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 plan = rememberedRays ? Plan::RayCast : Plan::Bitmask;
             }
         }
+        // Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
+        const auto castRays = [&](const RayCastOptions& rayOptions) {
+            const std::shared_ptr<const RayCastScene> reference = wholeSceneCaster();
+            const std::shared_ptr<const raycast::ProvenRayCaster> proven = provenCaster();
+            raycast::ProvenCastStats cast;
+            proven->sampleUnblocked(source, receiver, map, rayOptions, *reference, raycast::CastMode::Auto, &cast);
+            local.raysCast += cast.floatRays;
+            local.provenHits += cast.provenHits;
+            local.exactHitTests += cast.exactTests;
+            local.raysConfirmed += cast.confirmRays;
+        };
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
-            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
+            wholeSceneCaster(), provenCaster();   // built on first use, counted as setup
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            local.raysCast =
-                caster->sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
+            castRays({.jitter = options.jitter, .heights = options.heights});
             local.rayMs = msSince(rayStart);
             return;
         }
-        work->occluders.prepare(shaft, filter);
+        // A probe measures each method by one thread's processor time (so that other jobs sharing
+        // the machine, which stretch the wall time of whatever runs while they do, do not decide
+        // it): its setup and its batches run on this thread alone.
+        const bool probing = plan == Plan::Probe;
+        tbb::task_arena one(1);
+        const auto onOneThread = [&](const auto& f) {
+            const double start = threadMs();
+            one.execute(f);
+            return threadMs() - start;
+        };
+        double setupThreadMs = 0.0;
+        if (probing)
+            setupThreadMs += onOneThread([&] { work->occluders.prepare(shaft, filter); });
+        else
+            work->occluders.prepare(shaft, filter);
         const std::vector<const Occluder*>& occluders = work->occluders.occluders;
         local.culledFrontFaces = work->occluders.culledFrontFaces;
         local.trianglesInShaft = occluders.size();
@@ -271,7 +314,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         local.smallTriangles = smallTriangles.size();
 
         TileBins& bins = work->bins;
-        bins.build(shaft, work->occluders, small, closedInstance, triangles_);
+        if (probing)
+            setupThreadMs += onOneThread([&] { bins.build(shaft, work->occluders, small, closedInstance, triangles_); });
+        else
+            bins.build(shaft, work->occluders, small, closedInstance, triangles_);
         local.setupMs = msSince(setupStart);
 
         const auto addCounts = [&](const TilePassCounts& counts) {
@@ -296,7 +342,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
                                                 shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
             std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
-            const std::shared_ptr<const RayCastScene> caster = wholeSceneCaster();
+            wholeSceneCaster(), provenCaster();
             std::vector<int> samples;
             RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
             const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
@@ -307,9 +353,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
                     const std::vector<std::uint32_t> part(bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone),
                                                           bitmaskTiles.begin() + std::ptrdiff_t(end));
-                    const auto start = Clock::now();
-                    addCounts(bitmaskPass(shaft, bins, map, narrow, &part));
-                    bitmaskMs += msSince(start);
+                    bitmaskMs += onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow, &part)); });
                     bitmaskDone = end;
                 }
                 if (rayDone < rayTiles.size()) {
@@ -318,18 +362,17 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                     for (std::size_t k = rayDone; k < end; ++k)
                         bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
                     const auto start = Clock::now();
-                    local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
-                    rayMs += msSince(start);
+                    rayMs += onOneThread([&] { castRays(rayOptions); });
+                    local.rayMs += msSince(start);
                     rayDone = end;
                 }
                 if (probeIsDecided(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), batch))
                     break;
             }
-            local.rayMs += rayMs;
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
-            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), local.setupMs);
+            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), setupThreadMs);
             {
                 std::lock_guard lock(probeMutex_);
                 probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, kProbeReuse}});
@@ -343,7 +386,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 for (std::uint32_t t : rest)
                     bins.tileSamples(t, receiver.na, receiver.nb, samples);
                 const auto restStart = Clock::now();
-                local.raysCast += caster->sampleUnblocked(source, receiver, map, rayOptions);
+                castRays(rayOptions);
                 local.rayMs += msSince(restStart);
             }
             local.sampleMs = msSince(sampleStart) - local.rayMs;

@@ -117,6 +117,8 @@ struct RayCastScene::Embree {
         const Embree* self = nullptr;
         glm::dvec3 receiverEnd{0.0};
         const glm::dvec3* directions = nullptr;   ///< q - p
+        /// Packets from the source: each ray's own receiver end, by id (receiverEnd unused).
+        const glm::dvec3* ends = nullptr;
     };
 
     static void occluded(const RTCOccludedFunctionNArguments* args)
@@ -124,6 +126,21 @@ struct RayCastScene::Embree {
         const auto* context = reinterpret_cast<const SegmentContext*>(args->context);
         const Embree& self = *context->self;
         const std::size_t t = 3 * std::size_t(args->primID);
+        if (context->ends) {
+            // Rays from the source: each lane seen from its own receiver end, as above.
+            for (unsigned i = 0; i < args->N; ++i) {
+                if (args->valid[i] != -1)
+                    continue;
+                const unsigned id = RTCRayN_id(args->ray, args->N, i);
+                const TriangleSeenFrom triangle(context->ends[id], self.vertex(t), self.vertex(t + 1), self.vertex(t + 2));
+                const glm::dvec3& d = context->directions[id];
+                std::int64_t hit = 0;
+                raycast::crossedLanes(triangle, &d.x, &d.y, &d.z, 1, &hit);
+                if (hit)
+                    RTCRayN_tfar(args->ray, args->N, i) = -std::numeric_limits<float>::infinity();
+            }
+            return;
+        }
         // The rays of a call share their receiver end: what depends on it and the triangle once.
         const TriangleSeenFrom triangle(context->receiverEnd, self.vertex(t), self.vertex(t + 1), self.vertex(t + 2));
         constexpr unsigned kMax = 16;
@@ -298,9 +315,62 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
         cast += rowCast;
     };
 
+    // Packets from a source sample to a block of 4x4 receiver samples.
+    auto castFromSource = [&](const std::vector<int>& js) {
+        glm::dvec3 ends[16], shifts[16], toSource[16];
+        for (std::size_t k = 0; k < js.size(); ++k)
+            ends[k] = receiverEnd(js[k]), shifts[k] = options.jitter.shift(source, js[k]);
+        Embree::SegmentContext context;
+        rtcInitIntersectContext(&context.base);
+        context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        context.self = embree_.get();
+        context.directions = toSource;
+        context.ends = ends;
+        std::uint64_t blockCast = 0;
+        alignas(64) RTCRay16 rays;
+        alignas(64) int valid[16];
+        for (int i = 0; i < S; ++i) {
+            int lanes = 0;
+            for (std::size_t k = 0; k < 16; ++k) {
+                valid[k] = k < js.size() && !map.blocked(js[k], i) ? -1 : 0;
+                lanes += valid[k] != 0;
+                const std::size_t l = k < js.size() ? k : 0;
+                // The reference's direction, (source sample + shift) - receiver end, and the ray
+                // back from that source end: within the widening's bound of the exact segment.
+                const glm::dvec3 start = sourceExact[std::size_t(i)] + shifts[l];
+                toSource[k] = start - ends[l];
+                const glm::vec3 org(start), dir(-toSource[k]);
+                rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
+                rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
+                rays.tnear[k] = 0.0f;
+                rays.tfar[k] = 1.0f;
+                rays.time[k] = 0.0f;
+                rays.mask[k] = 0xffffffffu;
+                rays.id[k] = unsigned(k);
+                rays.flags[k] = 0;
+            }
+            if (lanes == 0)
+                continue;
+            blockCast += std::uint64_t(lanes);
+            rtcOccluded16(valid, scene, &context.base, &rays);
+            for (std::size_t k = 0; k < js.size(); ++k)
+                if (valid[k] && rays.tfar[k] < 0.0f)
+                    map.setBlocked(js[k], i);
+        }
+        cast += blockCast;
+    };
+
     const std::vector<int>* subset = options.receiverSubset;
     const int receivers = subset ? int(subset->size()) : receiver.sampleCount();
     auto run = [&] {
+        if (options.fromSource && options.packets) {
+            const std::vector<std::vector<int>> blocks = raycast::receiverBlocks(receiver, subset);
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& range) {
+                for (std::size_t b = range.begin(); b != range.end(); ++b)
+                    castFromSource(blocks[b]);
+            });
+            return;
+        }
         tbb::parallel_for(tbb::blocked_range<int>(0, receivers, 16), [&](const tbb::blocked_range<int>& range) {
             for (int k = range.begin(); k != range.end(); ++k) {
                 const int j = subset ? (*subset)[std::size_t(k)] : k;

@@ -5,7 +5,10 @@
 //     "cell_size": 2.0, "cell_height": 1.8, "cell_lift": 0.1,     grid cells over the floors, or
 //     "cells": [{"min": [x,y,z], "max": [x,y,z]}, ...],            boxes listed (then no grid)
 //     "group_by_name": false,                                      one object per instance name
-//     "coarse_samples": 3, "fine_samples": 8, "safe": false,       bake settings (PvsBake.h)
+//     "coarse_shafts": 16, "fine_shafts": 1024,                    bake settings (PvsBake.h)
+//     "smallest_gap": 0.02, "residue_rays": 256, "safe": false,
+//     "max_distance": 0,                                           distance cut-off, metres (0: none)
+//     "cell_rows": false,                                          also bake cell-to-cell rows
 //     "overrides": [{"object": "lamp", "visible": "always"},       or "never"; by object name
 //                   {"instance": 12, "visible": "never", "cells": [0, 3]}]   or by instance index,
 //   }                                                              optionally in some cells only

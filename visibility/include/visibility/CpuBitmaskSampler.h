@@ -41,6 +41,10 @@
 
 namespace sightline {
 
+namespace raycast {
+class ProvenRayCaster;
+}
+
 /// How the exact CPU method splits the work.
 enum class CpuStrategy {
     Auto,      ///< by predicted cost (bitmask/Strategy.h): the bitmask's setup per triangle in the
@@ -52,8 +56,10 @@ enum class CpuStrategy {
     Hybrid,    ///< large triangles by backprojection, then only the still-unblocked rays are cast
                ///< against the small ones: ray casting is strong exactly where the bitmask is weak
                ///< (many tiny occluders, each touching many receiver samples)
-    RayCast,   ///< every ray cast, exactly (RayCastSampler.h: the bitmask's cost barely drops with
-               ///< fewer source samples, ray casting's does)
+    RayCast,   ///< every ray cast, with the reference's answer (src/raycast/ProvenRayCaster.h: Embree's
+               ///< float triangles, every hit proven or tested exactly, the rays left free confirmed
+               ///< by the reference; the bitmask's cost barely drops with fewer source samples, ray
+               ///< casting's does)
 };
 
 struct BitmaskOptions {
@@ -101,6 +107,9 @@ struct BitmaskStats {
     std::uint64_t floatPairs = 0;     ///< of those, by the single-precision SIMD kernel
     std::uint64_t floatFallbacks = 0; ///< pairs the kernel could not prove exact, sent to double
     std::uint64_t raysCast = 0;       ///< rays cast (hybrid: against the small triangles)
+    std::uint64_t provenHits = 0;     ///< ray casting: float hits proven crossings from Embree's numbers
+    std::uint64_t exactHitTests = 0;  ///< ray casting: float hits the proof left to the double test
+    std::uint64_t raysConfirmed = 0;  ///< ray casting: rays the float pass left free, cast by the reference
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
     double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
@@ -142,8 +151,10 @@ private:
     /// Per instance: may watertight culling skip its front faces with this receiver? With a
     /// bumpy receiver, `displacedBox` bounds its displaced samples (null: the flat patch).
     std::vector<char> cullableInstances(const Patch& receiver, const Bounds* displacedBox = nullptr) const;
-    /// The whole scene's BVH, built on first use.
+    /// The whole scene's BVH (the reference's), built on first use.
     std::shared_ptr<const RayCastScene> wholeSceneCaster() const;
+    /// The whole scene's float BVH for the RayCast strategy, built on first use.
+    std::shared_ptr<const raycast::ProvenRayCaster> provenCaster() const;
     std::unique_ptr<Workspace> takeWorkspace() const;
     void returnWorkspace(std::unique_ptr<Workspace> work) const;
 
@@ -159,6 +170,7 @@ private:
     /// The whole scene's BVH, built the first time the RayCast strategy is chosen.
     mutable std::mutex rayCasterMutex_;
     mutable std::shared_ptr<const RayCastScene> rayCaster_;
+    mutable std::shared_ptr<const raycast::ProvenRayCaster> provenCaster_;
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;

@@ -18,9 +18,9 @@
 // reused by every sample() call (the editor re-samples on every patch move); a call whose patches
 // lie so far out that the boxes' widening would not cover its rays rebuilds it, wider, first.
 //
-// The CPU sampler's RayCast strategy casts with this class too. (Embree's own float triangles,
-// grown so that every exact crossing is reported and each hit proven or tested exactly in an
-// occlusion filter, answered the same bit for bit but were no faster: README, "Measured".)
+// The CPU sampler's RayCast strategy (src/raycast/ProvenRayCaster.h) casts through Embree's own
+// float triangles, proves or tests every hit, and confirms with this class the rays it leaves
+// free, so that it answers as this class does, bit for bit.
 
 #include <memory>
 #include <vector>
@@ -43,6 +43,11 @@ struct RayCastOptions {
     /// sampleUnblocked only: cast from these receiver samples (bit indices) and leave the other
     /// rows alone. Null: every receiver sample. Not owned.
     const std::vector<int>* receiverSubset = nullptr;
+    /// Packets start at a source sample and run to a block of 4x4 neighbouring receiver samples
+    /// instead of from a receiver sample to 16 source samples: coherent packets where the
+    /// receiver grid is the finer one. The same answer, bit for bit (every candidate is still
+    /// tested from its receiver end).
+    bool fromSource = false;
 };
 
 class RayCastScene {

@@ -22,10 +22,12 @@ constexpr std::uint64_t kProbeMaxBinEntries = std::uint64_t(40) << 20;
 const CostModel& measuredCosts(bool floatKernel)
 {
     // README, "Auto's cost model": least squares on the logarithms over the bench scenes
-    // (2 threads); the double kernel's pairs cost about four times the float kernel's.
-    static const CostModel simd{.setupNsPerTriangle = 400.0, .rayNsPerReceiverSample = 500.0, .passNsPerPair = 2.5,
-                                .passFalloff = 0.5, .rayNsPerLevel = 14.0, .rayNsOffset = 120.0, .minRayNs = 5.0,
-                                .rayPassShare = 0.3};
+    // (the bitmask: 2 threads; ray casting: one thread's processor time, times 0.44, the median
+    // ratio of the bitmask's predictions to its one-thread times over the same runs); the double
+    // kernel's pairs cost about four times the float kernel's.
+    static const CostModel simd{.setupNsPerTriangle = 400.0, .passNsPerPair = 2.5, .passFalloff = 0.5,
+                                .rayLogBase = 3.623, .rayLogTriangles = 0.1169, .rayLogPairs = 0.5906,
+                                .rayLogPairs2 = -0.0823, .rayLogSide = -0.3341};
     static const CostModel scalar = [] {
         CostModel m = simd;
         m.passNsPerPair = 10.0;
@@ -40,9 +42,12 @@ double CostModel::passNs(double pairsPerRay) const
     return passNsPerPair * std::pow(std::max(pairsPerRay, 0.01) / 4.0, -passFalloff);
 }
 
-double CostModel::rayNs(std::uint64_t trianglesInShaft) const
+double CostModel::rayNs(std::uint64_t trianglesInShaft, double pairsPerRay, int receiverSamples) const
 {
-    return std::max(minRayNs, rayNsPerLevel * std::log2(1.0 + double(trianglesInShaft)) - rayNsOffset);
+    const double l = std::clamp(std::log1p(std::max(pairsPerRay, 0.0)), 0.0, 7.0);
+    const double side = std::sqrt(double(std::max(receiverSamples, 1)));
+    return std::exp(rayLogBase + rayLogTriangles * std::log1p(double(trianglesInShaft)) + rayLogPairs * l +
+                    rayLogPairs2 * l * l + rayLogSide * std::log(side));
 }
 
 namespace {
@@ -62,8 +67,8 @@ double predictedBitmaskMs(const CostEstimate& e, const CostModel& m)
 
 double predictedRayMs(const CostEstimate& e, const CostModel& m)
 {
-    return 1e-6 * (m.rayNs(e.estimatedTriangles) * double(e.rays) + m.rayNsPerReceiverSample * double(e.receiverSamples)) +
-           m.rayPassShare * passMs(e, m);
+    const double pairsPerRay = e.rays > 0 ? double(e.estimatedPairs) / double(e.rays) : 0.0;
+    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, e.receiverSamples) * double(e.rays);
 }
 
 std::size_t probeTilesPerMethod(std::size_t tiles)

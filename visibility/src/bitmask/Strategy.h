@@ -26,31 +26,34 @@ struct CostEstimate {
     int receiverSamples = 0;
 };
 
-/// What a unit of each method's work costs, fitted to runs on these 2-core machines over the
-/// demo, its floor, the dense mesh, few occluders and the twelve bench scenes at 64-1024 sources
-/// and 32-128 receiver samples (README, "Auto's cost model"):
-/// - the bitmask: setup per triangle in the shaft, and its pass per estimated pair, which falls
-///   as the pairs per ray grow (the narrowed shaft skips more of them once a tile is blocked):
-///   passNsPerPair * (pairs per ray / 4)^-passFalloff;
-/// - ray casting: per ray, growing with the BVH's depth, rayNsPerLevel * log2(1 + triangles in
-///   the shaft) - rayNsOffset (at least minRayNs), plus a share of the bitmask's pass (the fit's
-///   way of saying that a crowded shaft costs rays more candidates each, not only a deeper walk),
-///   plus rayNsPerReceiverSample per receiver sample (with few source samples a packet's rays
-///   share little of the traversal).
+/// What a unit of each method's work costs, fitted to runs on these 2-core machines (README,
+/// "Auto's cost model"):
+/// - the bitmask (fitted over the demo, its floor, the dense mesh, few occluders and the twelve
+///   bench scenes at 64-1024 sources and 32-128 receiver samples): setup per triangle in the
+///   shaft, and its pass per estimated pair, which falls as the pairs per ray grow (the narrowed
+///   shaft skips more of them once a tile is blocked): passNsPerPair * (pairs per ray / 4)^-passFalloff;
+/// - ray casting (raycast/ProvenRayCaster.h, fitted over all 27 bench scenes at 32-1024 sources
+///   and 32-64 receiver samples, processor time of one thread scaled to the bitmask's units): per
+///   ray, exp(rayLogBase + rayLogTriangles ln(1 + triangles in the shaft) + rayLogPairs l +
+///   rayLogPairs2 l^2 + rayLogSide ln(receiver side)), l = ln(1 + pairs per ray) (clamped to
+///   [0, 7], the fitted range). A deeper tree costs each ray more; pairs crowding a ray first cost
+///   more (rays pass near more triangles) and then less (rays stop at their first proven hit,
+///   and few are left to the reference); a finer receiver grid makes packets more coherent.
 struct CostModel {
     double setupNsPerTriangle = 0.0;
-    double rayNsPerReceiverSample = 0.0;   ///< ray casting's work per receiver sample (its packets)
     double passNsPerPair = 0.0;
     double passFalloff = 0.0;
-    double rayNsPerLevel = 0.0;
-    double rayNsOffset = 0.0;
-    double minRayNs = 0.0;
-    double rayPassShare = 0.0;
+    double rayLogBase = 0.0;
+    double rayLogTriangles = 0.0;
+    double rayLogPairs = 0.0;
+    double rayLogPairs2 = 0.0;
+    double rayLogSide = 0.0;
 
     /// The bitmask pass's cost per pair for this many pairs per ray.
     double passNs(double pairsPerRay) const;
-    /// Ray casting's cost per ray with this many triangles in the shaft.
-    double rayNs(std::uint64_t trianglesInShaft) const;
+    /// Ray casting's cost per ray with this many triangles in the shaft and pairs per ray, for a
+    /// receiver grid of `receiverSamples`.
+    double rayNs(std::uint64_t trianglesInShaft, double pairsPerRay, int receiverSamples) const;
 };
 
 /// The model Auto uses: with the SIMD kernel, and without it (the double kernel's pairs cost more).
@@ -80,7 +83,9 @@ bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayT
 /// The probe's verdict: ray casting when a whole call by rays (its cost per tile times the
 /// receiver's `tiles`) would cost less than a whole call by the bitmask, which is its cost per
 /// tile times the tiles plus its setup (`bitmaskSetupMs`: clipping, regions, binning). The choice
-/// serves later calls (ProbeMemo), which by rays skip that setup altogether.
+/// serves later calls (ProbeMemo), which by rays skip that setup altogether. The sampler measures
+/// all of these as one thread's processor time (the probe's setup and batches run on one thread),
+/// which other jobs sharing the machine do not stretch as they stretch the wall time.
 bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
                       double bitmaskSetupMs);
 

@@ -85,7 +85,7 @@ float segmentFirstHit(const FirstHitCaster& caster, const glm::dvec3& from, cons
     return hit.instance < 0 ? 1.0f : float(kEnds + double(hit.t));
 }
 
-RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction, float tfar) const
+RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) const
 {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -96,7 +96,7 @@ RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction,
     rh.ray.dir_x = direction.x;
     rh.ray.dir_y = direction.y;
     rh.ray.dir_z = direction.z;
-    rh.ray.tnear = 0.0f;
+    rh.ray.tnear = tnear;
     rh.ray.tfar = tfar;
     rh.ray.mask = 0xffffffffu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -106,6 +106,7 @@ RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction,
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return out;
     out.instance = embree_->instanceOf[rh.hit.primID];
+    out.triangle = std::int64_t(rh.hit.primID);
     out.t = rh.ray.tfar;
     out.normal = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
     return out;

@@ -11,9 +11,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
-#include "visibility/Patch.h"
 #include "visibility/pvs/FirstHitCaster.h"
 #include "visibility/pvs/ViewCells.h"
 
@@ -55,74 +53,15 @@ double millisecondsSince(std::chrono::steady_clock::time_point start)
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// An axis-aligned rectangle: a box that is flat on `axis`.
-struct Rect {
-    Bounds box;
-    int axis = 0;
-};
-
-/// The face of `box` on `axis`, on its max side when `positive`.
-Rect face(const Bounds& box, int axis, bool positive)
+/// The distance between two boxes (0 when they meet).
+double boxDistance(const Bounds& a, const Bounds& b)
 {
-    Rect r{box, axis};
-    r.box.min[axis] = r.box.max[axis] = positive ? box.max[axis] : box.min[axis];
-    return r;
-}
-
-/// The patch of a rectangle with `n` x `n` samples (DESIGN.md §2 layout).
-Patch patchOf(const Rect& r, int n)
-{
-    const int b = (r.axis + 1) % 3, c = (r.axis + 2) % 3;
-    Patch p;
-    p.corner = glm::dvec3(r.box.min);
-    p.u = glm::dvec3(0.0);
-    p.v = glm::dvec3(0.0);
-    p.u[b] = double(r.box.max[b]) - r.box.min[b];
-    p.v[c] = double(r.box.max[c]) - r.box.min[c];
-    p.na = p.nb = n;
-    return p;
-}
-
-/// Clips `r` (not flat on `axis` ... or flat) to the side of the plane x[axis] = plane given by
-/// `sign` (+1: x > plane + margin). False when nothing of positive extent is left.
-bool clipToSide(Rect& r, int axis, float plane, int sign, float margin)
-{
-    if (r.axis == axis) {
-        const float x = r.box.min[axis];
-        return sign > 0 ? x > plane + margin : x < plane - margin;
-    }
-    if (sign > 0)
-        r.box.min[axis] = std::max(r.box.min[axis], plane + margin);
-    else
-        r.box.max[axis] = std::min(r.box.max[axis], plane - margin);
-    return r.box.max[axis] - r.box.min[axis] > margin;
-}
-
-bool overlaps(const Bounds& a, const Bounds& b)
-{
-    for (int k = 0; k < 3; ++k)
-        if (a.max[k] < b.min[k] || b.max[k] < a.min[k])
-            return false;
-    return true;
-}
-
-/// Exit parameter of the ray origin + t d from `box` (t in units of d), or 0 if it misses.
-float exitParameter(const Bounds& box, const glm::vec3& origin, const glm::vec3& d)
-{
-    float t0 = 0.0f, t1 = INFINITY;
+    double d2 = 0.0;
     for (int k = 0; k < 3; ++k) {
-        if (d[k] == 0.0f) {
-            if (origin[k] < box.min[k] || origin[k] > box.max[k])
-                return 0.0f;
-            continue;
-        }
-        float a = (box.min[k] - origin[k]) / d[k], b = (box.max[k] - origin[k]) / d[k];
-        if (a > b)
-            std::swap(a, b);
-        t0 = std::max(t0, a);
-        t1 = std::min(t1, b);
+        const double gap = std::max({0.0, double(a.min[k]) - double(b.max[k]), double(b.min[k]) - double(a.max[k])});
+        d2 += gap * gap;
     }
-    return t1 >= t0 ? t1 : 0.0f;
+    return std::sqrt(d2);
 }
 
 constexpr std::size_t kSmallObjectTriangles = 64;   // nearest-point targets for objects this small
@@ -157,30 +96,50 @@ glm::vec3 closestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const g
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-constexpr float kFaceMargin = 1e-3f;   // metres: keeps clipped pairs strictly valid (DESIGN.md §2)
-
 } // namespace
+
+void PvsStats::add(const PvsStats& o)
+{
+    overlapPairs += o.overlapPairs;
+    directWitnesses += o.directWitnesses;
+    shaftWitnesses += o.shaftWitnesses;
+    provenHidden += o.provenHidden;
+    unknownPairs += o.unknownPairs;
+    safeKept += o.safeKept;
+    distanceCulled += o.distanceCulled;
+    nodeTests += o.nodeTests;
+    nodesCulled += o.nodesCulled;
+    directCasts += o.directCasts;
+    search.add(o.search);
+}
 
 std::string PvsSettings::canonical() const
 {
     std::ostringstream s;
-    s << "pvs-bake-v1 coarse=" << coarseSamples << " fine=" << fineSamples << " direct=" << directCellPoints << "x"
-      << directObjectPoints << " witness=" << witnessTries << " refine=" << refine << " safe=" << safe;
+    s.precision(17);
+    s << "pvs-bake-v2 coarse_shafts=" << coarseShafts << " fine_shafts=" << fineShafts << " smallest_gap=" << smallestGap
+      << " coarse_gap=" << kCoarseGap << " blocks=" << kBlockCells << "x" << kBlockShafts << " residue_rays=" << residueRays << " direct=" << directCellPoints << "x"
+      << directObjectPoints << " max_distance=" << maxDistance << " cell_rows=" << cellRows << " refine=" << refine
+      << " safe=" << safe;
     return s.str();
 }
 
 void PvsSettings::validate() const
 {
-    auto range = [](const char* name, int value, int lo, int hi) {
-        if (value < lo || value > hi)
-            throw Error(std::string("pvs: ") + name + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                        "], got " + std::to_string(value));
+    auto range = [](const char* name, double value, double lo, double hi) {
+        if (!(value >= lo && value <= hi)) {
+            std::ostringstream m;
+            m << "pvs: " << name << " must be in [" << lo << ", " << hi << "], got " << value;
+            throw Error(m.str());
+        }
     };
-    range("coarse samples", coarseSamples, 1, 32);
-    range("fine samples", fineSamples, 1, 32);
+    range("coarse shafts", coarseShafts, 1, 1 << 20);
+    range("fine shafts", fineShafts, 1, 1 << 24);
+    range("smallest gap", smallestGap, 1e-4, 100.0);
+    range("residue rays", residueRays, 0, 1 << 20);
     range("direct cell points", directCellPoints, 1, 4096);
     range("direct object points", directObjectPoints, 1, 4096);
-    range("witness tries", witnessTries, 1, 1024);
+    range("max distance", maxDistance, 0.0, 1e7);
     if (safe && !refine)
         throw Error("pvs: safe mode works in the refine pass; it cannot go with --no-refine");
     range("threads", threads, 0, 1024);
@@ -235,7 +194,7 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
     settings_.validate();
     validateCells(cells_, "pvs cells");
     caster_ = std::make_unique<FirstHitCaster>(scene);
-    sampler_ = std::make_unique<CpuBitmaskSampler>(scene);
+    prover_ = std::make_unique<ShaftProver>(scene);
     objectOfInstance_.assign(scene.instances.size(), -1);
     for (std::size_t o = 0; o < objects_.size(); ++o)
         for (std::uint32_t i : objects_[o].instances) {
@@ -244,7 +203,8 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
                             std::to_string(scene.instances.size()));
             objectOfInstance_[i] = std::int32_t(o);
         }
-    // Per object, its world triangles; then the direct rays' targets for each pass.
+    search_ = std::make_unique<ShaftSearch>(*caster_, *prover_, objectOfInstance_);
+    // Per object, its world triangles; then the direct rays' targets.
     const WorldTriangles world = worldTriangles(scene);
     std::vector<std::vector<glm::vec3>> soup(objects_.size());
     for (std::size_t t = 0; t < world.size(); ++t) {
@@ -252,20 +212,46 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
         if (o >= 0)
             soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
     }
-    buildObjectTree();
-    const int counts[2] = {settings_.directObjectPoints, 4 * settings_.directObjectPoints};
-    objectPoints_.resize(2 * objects_.size());
+    std::vector<Bounds> boxes;
+    for (const PvsObject& o : objects_)
+        boxes.push_back(o.bounds);
+    objectTree_ = buildTree(boxes);
+    cellTree_ = buildTree(cells_);
+    // Blocks: the cell tree's first nodes of at most kBlockCells cells (neighbours, by the median
+    // splits), which partition the cells.
+    blockOf_.assign(cells_.size(), 0);
+    std::vector<std::uint32_t> stack;
+    if (!cellTree_.nodes.empty())
+        stack.push_back(0);
+    while (!stack.empty()) {
+        const Node& node = cellTree_.nodes[stack.back()];
+        stack.pop_back();
+        if (node.end - node.begin > kBlockCells) {
+            stack.push_back(node.second);
+            stack.push_back(node.first);
+            continue;
+        }
+        Block block;
+        block.bounds = node.bounds;
+        for (std::uint32_t k = node.begin; k < node.end; ++k) {
+            block.cells.push_back(cellTree_.order[k]);
+            blockOf_[cellTree_.order[k]] = blocks_.size();
+        }
+        std::sort(block.cells.begin(), block.cells.end());
+        blocks_.push_back(std::move(block));
+    }
+    objectPoints_.resize(objects_.size());
     smallSoups_.resize(objects_.size());
-    for (std::size_t o = 0; o < objects_.size(); ++o)
+    for (std::size_t o = 0; o < objects_.size(); ++o) {
         if (soup[o].size() <= 3 * kSmallObjectTriangles)
             smallSoups_[o] = soup[o];
-    for (std::size_t o = 0; o < objects_.size(); ++o)
-        for (int pass = 0; pass < 2; ++pass)
-            objectPoints_[2 * o + std::size_t(pass)] =
-                surfacePoints(soup[o], counts[pass], mixSeed(seed_ ^ 0x6f626a656374ull, o * 2 + std::size_t(pass)));
+        objectPoints_[o] = surfacePoints(soup[o], settings_.directObjectPoints, mixSeed(seed_ ^ 0x6f626a656374ull, o * 2));
+    }
 }
 
 PvsBaker::~PvsBaker() = default;
+
+std::uint64_t PvsBaker::cellSeed(std::size_t cell) const { return mixSeed(seed_, cell); }
 
 bool PvsBaker::hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const
 {
@@ -273,18 +259,12 @@ bool PvsBaker::hitsObject(const glm::vec3& from, const glm::vec3& towards, float
     return hit.instance >= 0 && objectOfInstance_[std::size_t(hit.instance)] == std::int32_t(object);
 }
 
-bool PvsBaker::visibleByOverlap(std::size_t cell, std::size_t object) const
+bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, PvsStats& stats) const
 {
-    return !objects_[object].bounds.empty() && overlaps(cells_[cell], objects_[object].bounds);
-}
-
-bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPointsIndex,
-                                   std::uint32_t salt) const
-{
-    const std::vector<glm::vec3>& stratified = objectPoints_[2 * object + std::size_t(objectPointsIndex)];
+    const std::vector<glm::vec3>& stratified = objectPoints_[object];
     if (stratified.empty())
         return false;
-    const std::vector<glm::vec3> from = boxPoints(cells_[cell], cellPoints, mixSeed(mixSeed(seed_, cell), salt));
+    const std::vector<glm::vec3> from = boxPoints(cells_[cell], settings_.directCellPoints, mixSeed(cellSeed(cell), 1));
     // Large objects (a floor, a long wall) are sampled coarsely by area: their points are mostly
     // in other rooms. The point of each of their triangles nearest the cell's centre is aimed at
     // first (objects of few triangles only).
@@ -297,309 +277,427 @@ bool PvsBaker::visibleByDirectRays(std::size_t cell, std::size_t object, int cel
     targets.insert(targets.end(), stratified.begin(), stratified.end());
     // Targets outer, origins inner: consecutive rays spread over the object first.
     for (std::size_t q = 0; q < targets.size(); ++q)
-        for (const glm::vec3& p : from)
+        for (const glm::vec3& p : from) {
+            ++stats.directCasts;
             if (hitsObject(p, targets[q] - p, 1.0f + 1e-3f, object))
                 return true;
+        }
     return false;
 }
 
 namespace {
 
-/// A receiver grid side for a face `extent` long: `n`, or more up to 32 so that its spacing is
-/// no coarser than `spacing` (node boxes are larger than cells), at most 32.
-int sideFor(double extent, double spacing, int n, bool dense)
+bool bit(const std::vector<std::uint8_t>& v, std::size_t o) { return (v[o / 8] >> (o % 8)) & 1u; }
+void setBit(std::vector<std::uint8_t>& v, std::size_t o, bool value)
 {
-    if (!dense || spacing <= 0.0)
-        return n;
-    return std::clamp(int(std::ceil(extent / spacing)), n, 32);
+    v[o / 8] = std::uint8_t(value ? v[o / 8] | (1u << (o % 8)) : v[o / 8] & ~(1u << (o % 8)));
 }
 
 } // namespace
 
-std::vector<std::pair<Patch, Patch>> PvsBaker::facePairs(const Bounds& cellBox, const Bounds& targetBox, int samples,
-                                                         bool denseTarget) const
+void PvsBaker::traverse(const Bounds& from, const std::function<bool(std::size_t)>& pending, const SearchLimits& limits,
+                        std::uint64_t seed, const std::function<void(std::size_t)>& testObject,
+                        const std::function<void(std::size_t)>& hide, PvsStats& stats) const
 {
-    std::vector<std::pair<Patch, Patch>> out;
-    for (int fa = 0; fa < 3; ++fa)
-        for (int fs = 0; fs < 2; ++fs)
-            for (int ga = 0; ga < 3; ++ga)
-                for (int gs = 0; gs < 2; ++gs) {
-                    const int cellSign = fs ? 1 : -1, objectSign = gs ? 1 : -1;
-                    Rect cellFace = face(cellBox, fa, fs != 0);
-                    Rect objectFace = face(targetBox, ga, gs != 0);
-                    if (targetBox.max[(ga + 1) % 3] - targetBox.min[(ga + 1) % 3] <= kFaceMargin ||
-                        targetBox.max[(ga + 2) % 3] - targetBox.min[(ga + 2) % 3] <= kFaceMargin)
-                        continue;   // a degenerate face of a flat box
-                    // The object's face beyond the cell face's plane, the cell face beyond the
-                    // object face's plane (on its outer side).
-                    if (!clipToSide(objectFace, fa, cellFace.box.min[fa], cellSign, kFaceMargin))
-                        continue;
-                    if (!clipToSide(cellFace, ga, objectFace.box.min[ga], objectSign, kFaceMargin))
-                        continue;
-                    const Patch source = patchOf(cellFace, samples);
-                    Patch receiver = patchOf(objectFace, samples);
-                    const double spacing = std::max(glm::length(source.u), glm::length(source.v)) / samples;
-                    receiver.na = sideFor(glm::length(receiver.u), spacing, samples, denseTarget);
-                    receiver.nb = sideFor(glm::length(receiver.v), spacing, samples, denseTarget);
-                    out.emplace_back(source, receiver);
-                }
-    return out;
-}
-
-HiddenSampleMap PvsBaker::sampleShaft(const Patch& source, const Patch& receiver, PvsStats* stats) const
-{
-    BitmaskOptions options;
-    options.threads = 1;   // cells run in parallel; one call, one thread
-    // Fixed, never Auto: its timed choice could differ between runs and flip ties. The sampler's
-    // exact ray-cast strategy: for grids this small the bitmask's per-call shaft set-up dominates
-    // (demo coarse pass: 56 s with CpuStrategy::Bitmask, 2.3 s with RayCast, identical rows).
-    options.strategy = CpuStrategy::RayCast;
-    HiddenSampleMap map;
-    try {
-        map = sampler_->sample(source, receiver, options);
-    } catch (const Error&) {
-        return map;   // a sliver pair the sampler refuses: the direct rays cover it
-    }
-    if (stats) {
-        ++stats->shaftPairs;
-        stats->shaftRays += map.rayCount();
-    }
-    return map;
-}
-
-bool PvsBaker::boxReachable(std::size_t cell, const Bounds& box, int samples, PvsStats* stats) const
-{
-    if (overlaps(cells_[cell], box))
-        return true;
-    for (const auto& [source, receiver] : facePairs(cells_[cell], box, samples, true)) {
-        const HiddenSampleMap map = sampleShaft(source, receiver, stats);
-        if (map.receiverCount() && map.blockedCount() < map.rayCount())
-            return true;
-    }
-    return false;
-}
-
-bool PvsBaker::visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
-                                    bool* boxSeen) const
-{
-    const Bounds& objectBox = objects_[object].bounds;
-    if (objectBox.empty())
-        return false;
-    for (const auto& [source, receiver] : facePairs(cells_[cell], objectBox, samples, false)) {
-        const HiddenSampleMap map = sampleShaft(source, receiver, stats);
-        const std::uint64_t rays = map.rayCount();
-        if (rays == 0)
-            continue;
-        const std::uint64_t unblocked = rays - map.blockedCount();
-        if (unblocked == 0)
-            continue;
-        if (boxSeen)
-            *boxSeen = true;
-        // Continue a few unblocked rays, spread evenly over the unblocked ones.
-        const std::uint64_t tries = std::min<std::uint64_t>(unblocked, std::uint64_t(witnessTries));
-        std::uint64_t rank = 0, nextPick = 0, picked = 0;
-        for (int j = 0; j < map.receiverCount() && picked < tries; ++j)
-            for (int i = 0; i < map.sourceCount() && picked < tries; ++i) {
-                if (map.blocked(j, i))
-                    continue;
-                if (rank++ != nextPick)
-                    continue;
-                ++picked;
-                nextPick = (picked * unblocked) / tries;
-                const glm::vec3 from(source.sample(i)), to(receiver.sample(j));
-                const glm::vec3 d = to - from;
-                const float tfar = exitParameter(objectBox, from, d);
-                if (stats)
-                    ++stats->witnessCasts;
-                if (tfar > 0.0f && hitsObject(from, d, tfar * (1.0f + 1e-5f), object))
-                    return true;
-            }
-    }
-    return false;
-}
-
-void PvsBaker::bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t>& row, PvsStats* stats) const
-{
-    const std::size_t bytes = (objects_.size() + 7) / 8;
-    if (row.size() != bytes)
-        row.assign(bytes, 0);
-    PvsStats local;
-    auto isVisible = [&](std::size_t o) { return (row[o / 8] >> (o % 8)) & 1u; };
-    auto testObject = [&](std::size_t o) {
-        if (isVisible(o))
-            return;   // proven visible by an earlier pass
-        bool visible = false;
-        if (pass == PvsPass::Coarse) {
-            if (visibleByOverlap(cell, o)) {
-                visible = true;
-                ++local.overlapPairs;
-            } else if (visibleByDirectRays(cell, o, settings_.directCellPoints, 0, 1)) {
-                visible = true;
-                ++local.directWitnesses;
-            } else if (visibleThroughShafts(cell, o, settings_.coarseSamples, settings_.witnessTries, &local, nullptr)) {
-                visible = true;
-                ++local.shaftWitnesses;
-            }
-        } else {
-            if (visibleByDirectRays(cell, o, 4 * settings_.directCellPoints, 1, 2)) {
-                visible = true;
-                ++local.directWitnesses;
-            } else {
-                bool boxSeen = false;
-                if (visibleThroughShafts(cell, o, settings_.fineSamples, 8 * settings_.witnessTries, &local, &boxSeen)) {
-                    visible = true;
-                    ++local.shaftWitnesses;
-                } else if (settings_.safe && boxSeen) {
-                    // Safe: an unblocked ray reached the object's bounds, and no continuation of
-                    // it was seen to hit the object; kept anyway (a conservative box answer).
-                    visible = true;
-                    ++local.safeWitnesses;
-                }
-            }
-        }
-        if (visible)
-            row[o / 8] = std::uint8_t(row[o / 8] | (1u << (o % 8)));
-    };
-    // Objects grouped by bounds (a BVH over their boxes): a node no unblocked shaft ray reaches
-    // hides all of its objects (at this pass's sample spacing, node faces sampled as densely as
-    // the cell's), so rooms behind walls cost one test instead of one per object.
-    const int samples = pass == PvsPass::Coarse ? settings_.coarseSamples : settings_.fineSamples;
+    // Groups: a node proven hidden hides all its objects at once; a node no object of which is
+    // still to decide is skipped.
+    const Tree& tree = objectTree_;
     std::vector<std::uint32_t> stack;
-    if (!nodes_.empty())
+    if (!tree.nodes.empty())
         stack.push_back(0);
     while (!stack.empty()) {
-        const ObjectNode& node = nodes_[stack.back()];
+        const std::uint32_t nodeIndex = stack.back();
+        const Node& node = tree.nodes[nodeIndex];
         stack.pop_back();
-        if (node.object >= 0) {
-            testObject(std::size_t(node.object));
+        if (node.item >= 0) {
+            if (pending(std::size_t(node.item)))
+                testObject(std::size_t(node.item));
             continue;
         }
-        bool allKnown = true;   // every object below already proven visible: nothing to learn
-        for (std::uint32_t k = node.begin; k < node.end && allKnown; ++k)
-            allKnown = isVisible(treeObjects_[k]);
-        if (allKnown)
+        bool any = false;
+        for (std::uint32_t k = node.begin; k < node.end && !any; ++k)
+            any = pending(tree.order[k]);
+        if (!any)
             continue;
-        ++local.nodeTests;
-        if (!boxReachable(cell, node.bounds, samples, &local)) {
-            ++local.nodesCulled;
+        if (settings_.maxDistance > 0.0 && boxDistance(from, node.bounds) > settings_.maxDistance) {
+            for (std::uint32_t k = node.begin; k < node.end; ++k)
+                if (pending(tree.order[k])) {
+                    hide(tree.order[k]);
+                    ++stats.distanceCulled;
+                }
             continue;
+        }
+        if (!boxesMeet(from, node.bounds)) {
+            ++stats.nodeTests;
+            SearchTarget target;
+            target.box = node.bounds;
+            target.own = [&](std::uint32_t instance) {
+                const std::int32_t o = objectOfInstance_[instance];
+                if (o < 0)
+                    return false;
+                const std::uint32_t at = tree.position[std::size_t(o)];
+                return at >= node.begin && at < node.end;
+            };
+            if (search_->search(from, target, limits, mixSeed(seed, objects_.size() + nodeIndex), &stats.search) == Reach::Hidden) {
+                ++stats.nodesCulled;
+                for (std::uint32_t k = node.begin; k < node.end; ++k)
+                    if (pending(tree.order[k])) {
+                        hide(tree.order[k]);
+                        ++stats.provenHidden;
+                    }
+                continue;
+            }
         }
         stack.push_back(node.second);
         stack.push_back(node.first);
     }
-    if (stats) {
-        stats->overlapPairs += local.overlapPairs;
-        stats->directWitnesses += local.directWitnesses;
-        stats->shaftWitnesses += local.shaftWitnesses;
-        stats->safeWitnesses += local.safeWitnesses;
-        stats->shaftPairs += local.shaftPairs;
-        stats->shaftRays += local.shaftRays;
-        stats->witnessCasts += local.witnessCasts;
-        stats->nodeTests += local.nodeTests;
-        stats->nodesCulled += local.nodesCulled;
-    }
 }
 
-void PvsBaker::buildObjectTree()
+std::vector<std::uint8_t> PvsBaker::bakeBlock(std::size_t block, PvsStats& stats) const
 {
+    // The coarse pass: what no point of the block's box can see (proven), with the coarse budget
+    // and no witnesses sought beyond the search's own. Valid for every cell of the block.
+    const Bounds& box = blocks_[block].bounds;
+    std::vector<std::uint8_t> hidden((objects_.size() + 7) / 8, 0);
+    SearchLimits limits;
+    limits.maxShafts = kBlockShafts * settings_.coarseShafts;
+    limits.smallestGap = std::max(kCoarseGap, settings_.smallestGap);
+    const std::uint64_t seed = mixSeed(seed_ ^ 0x626c6f636bull, block);
+    const auto pending = [&](std::size_t o) { return !bit(hidden, o); };
+    const auto hide = [&](std::size_t o) { setBit(hidden, o, true); };
+    const auto testObject = [&](std::size_t o) {
+        const PvsObject& object = objects_[o];
+        if (object.bounds.empty()) {
+            hide(o);
+            return;
+        }
+        if (settings_.maxDistance > 0.0 && boxDistance(box, object.bounds) > settings_.maxDistance) {
+            ++stats.distanceCulled;
+            hide(o);
+            return;
+        }
+        if (boxesMeet(box, object.bounds))
+            return;
+        SearchTarget target;
+        target.box = object.bounds;
+        target.object = std::int32_t(o);
+        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
+        if (search_->search(box, target, limits, mixSeed(seed, o), &stats.search) == Reach::Hidden) {
+            ++stats.provenHidden;
+            hide(o);
+        }
+    };
+    traverse(box, pending, limits, seed, testObject, hide, stats);
+    return hidden;
+}
+
+std::vector<std::uint8_t> PvsBaker::bakeCell(std::size_t cell, const std::vector<std::uint8_t>& blockHidden, PvsStats& stats) const
+{
+    // The refine pass for one cell: what its block did not prove hidden, first with the coarse
+    // budget and the direct rays, then what is still Unknown with the fine budget and, in the
+    // default mode, the residue rays.
+    const Bounds& cellBox = cells_[cell];
+    const std::size_t bytes = (objects_.size() + 7) / 8;
+    std::vector<std::uint8_t> row(bytes, 0), decided = blockHidden;
+    const std::uint64_t seed = cellSeed(cell);
+    SearchLimits coarse;
+    coarse.maxShafts = settings_.coarseShafts;
+    coarse.smallestGap = std::max(kCoarseGap, settings_.smallestGap);
+    SearchLimits fine;
+    fine.maxShafts = settings_.fineShafts;
+    fine.smallestGap = settings_.smallestGap;
+    fine.residueRays = settings_.safe ? 0 : settings_.residueRays;
+    std::vector<std::size_t> unknown;
+    const auto pending = [&](std::size_t o) { return !bit(decided, o); };
+    const auto hide = [&](std::size_t o) { setBit(decided, o, true); };
+    const auto show = [&](std::size_t o) {
+        setBit(decided, o, true);
+        setBit(row, o, true);
+    };
+    const auto testObject = [&](std::size_t o) {
+        const PvsObject& object = objects_[o];
+        if (object.bounds.empty()) {
+            hide(o);
+            return;
+        }
+        if (settings_.maxDistance > 0.0 && boxDistance(cellBox, object.bounds) > settings_.maxDistance) {
+            ++stats.distanceCulled;
+            hide(o);
+            return;
+        }
+        if (boxesMeet(cellBox, object.bounds)) {
+            ++stats.overlapPairs;
+            show(o);
+            return;
+        }
+        SearchTarget target;
+        target.box = object.bounds;
+        target.object = std::int32_t(o);
+        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
+        const Reach reach = search_->search(cellBox, target, coarse, mixSeed(seed, 2 * o), &stats.search);
+        if (reach == Reach::Visible) {
+            ++stats.shaftWitnesses;
+            show(o);
+        } else if (reach == Reach::Hidden) {
+            ++stats.provenHidden;
+            hide(o);
+        } else if (visibleByDirectRays(cell, o, stats)) {
+            ++stats.directWitnesses;
+            show(o);
+        } else {
+            hide(o);
+            unknown.push_back(o);   // for the fine budget
+        }
+    };
+    traverse(cellBox, pending, coarse, mixSeed(seed, 0x6e6f6465ull), testObject, hide, stats);
+    for (std::size_t o : unknown) {
+        SearchTarget target;
+        target.box = objects_[o].bounds;
+        target.object = std::int32_t(o);
+        target.own = [&](std::uint32_t instance) { return objectOfInstance_[instance] == std::int32_t(o); };
+        const Reach reach = search_->search(cellBox, target, fine, mixSeed(seed, 2 * o + 1), &stats.search);
+        if (reach == Reach::Visible) {
+            ++stats.shaftWitnesses;
+            setBit(row, o, true);
+        } else if (reach == Reach::Hidden) {
+            ++stats.provenHidden;
+        } else {
+            ++stats.unknownPairs;
+            if (settings_.safe) {
+                ++stats.safeKept;
+                setBit(row, o, true);
+            }
+            // Default: the residue rays found no witness; culled.
+        }
+    }
+    return row;
+}
+
+PvsBaker::Tree PvsBaker::buildTree(const std::vector<Bounds>& boxes)
+{
+    Tree tree;
     std::vector<std::uint32_t> ids;
-    for (std::size_t o = 0; o < objects_.size(); ++o)
-        if (!objects_[o].bounds.empty())
+    for (std::size_t o = 0; o < boxes.size(); ++o)
+        if (!boxes[o].empty())
             ids.push_back(std::uint32_t(o));
+    tree.position.assign(boxes.size(), std::uint32_t(-1));
     if (ids.empty())
-        return;
+        return tree;
     // Median splits on the longest axis of the centres; ties by index: deterministic.
     struct Job {
         std::uint32_t node, begin, end;
     };
-    nodes_.push_back({});
+    tree.nodes.push_back({});
     std::vector<Job> jobs{{0, 0, std::uint32_t(ids.size())}};
     while (!jobs.empty()) {
         const Job job = jobs.back();
         jobs.pop_back();
         Bounds box, centres;
         for (std::uint32_t k = job.begin; k < job.end; ++k) {
-            box.extend(objects_[ids[k]].bounds);
-            centres.extend(0.5f * (objects_[ids[k]].bounds.min + objects_[ids[k]].bounds.max));
+            box.extend(boxes[ids[k]]);
+            centres.extend(0.5f * (boxes[ids[k]].min + boxes[ids[k]].max));
         }
-        nodes_[job.node].bounds = box;
-        nodes_[job.node].begin = job.begin;
-        nodes_[job.node].end = job.end;
+        tree.nodes[job.node].bounds = box;
+        tree.nodes[job.node].begin = job.begin;
+        tree.nodes[job.node].end = job.end;
         if (job.end - job.begin == 1) {
-            nodes_[job.node].object = std::int32_t(ids[job.begin]);
+            tree.nodes[job.node].item = std::int32_t(ids[job.begin]);
             continue;
         }
         const glm::vec3 extent = centres.max - centres.min;
         const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
         const std::uint32_t mid = (job.begin + job.end) / 2;
         std::nth_element(ids.begin() + job.begin, ids.begin() + mid, ids.begin() + job.end, [&](std::uint32_t a, std::uint32_t b) {
-            const float ca = objects_[a].bounds.min[axis] + objects_[a].bounds.max[axis];
-            const float cb = objects_[b].bounds.min[axis] + objects_[b].bounds.max[axis];
+            const float ca = boxes[a].min[axis] + boxes[a].max[axis];
+            const float cb = boxes[b].min[axis] + boxes[b].max[axis];
             return ca != cb ? ca < cb : a < b;
         });
-        const std::uint32_t first = std::uint32_t(nodes_.size());
-        nodes_.push_back({});
-        nodes_.push_back({});
-        nodes_[job.node].first = first;
-        nodes_[job.node].second = first + 1;
+        const std::uint32_t first = std::uint32_t(tree.nodes.size());
+        tree.nodes.push_back({});
+        tree.nodes.push_back({});
+        tree.nodes[job.node].first = first;
+        tree.nodes[job.node].second = first + 1;
         jobs.push_back({first + 1, mid, job.end});
         jobs.push_back({first, job.begin, mid});
     }
-    treeObjects_ = std::move(ids);
+    for (std::size_t k = 0; k < ids.size(); ++k)
+        tree.position[ids[k]] = std::uint32_t(k);
+    tree.order = std::move(ids);
+    return tree;
 }
 
-VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const PvsProgress& progress, PvsStats* stats) const
+namespace {
+
+/// Runs `work(k)` for k in [0, count) on `threads` threads, checking `cancel` between items.
+template <class Work>
+void forEachCell(int threads, std::size_t count, const std::atomic<bool>* cancel, Work&& work)
+{
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+            for (std::size_t k = r.begin(); k != r.end(); ++k) {
+                if (cancel && cancel->load())
+                    return;
+                work(k);
+            }
+        });
+    });
+    if (cancel && cancel->load())
+        throw PvsCancelled();
+}
+
+std::vector<std::size_t> cellList(const std::vector<std::size_t>& cellIndices, std::size_t cellCount)
 {
     std::vector<std::size_t> todo = cellIndices;
     if (todo.empty())
-        for (std::size_t c = 0; c < cells_.size(); ++c)
+        for (std::size_t c = 0; c < cellCount; ++c)
             todo.push_back(c);
     for (std::size_t c : todo)
-        if (c >= cells_.size())
-            throw Error("pvs: cell " + std::to_string(c) + " out of range (" + std::to_string(cells_.size()) + " cells)");
-    std::vector<std::vector<std::uint8_t>> rows(cells_.size());
+        if (c >= cellCount)
+            throw Error("pvs: cell " + std::to_string(c) + " out of range (" + std::to_string(cellCount) + " cells)");
+    return todo;
+}
+
+} // namespace
+
+VisibilityRows PvsBaker::bake(const std::vector<std::size_t>& cellIndices, const PvsProgress& progress, PvsStats* stats) const
+{
+    const std::vector<std::size_t> todo = cellList(cellIndices, cells_.size());
     std::mutex statsMutex;
     PvsStats total;
     const int threads = settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
-    tbb::task_arena arena(threads);
-    auto runPass = [&](PvsPass pass) {
-        const auto start = std::chrono::steady_clock::now();
-        arena.execute([&] {
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, todo.size(), 1), [&](const tbb::blocked_range<std::size_t>& r) {
-                for (std::size_t k = r.begin(); k != r.end(); ++k) {
-                    if (progress.cancel && progress.cancel->load())
-                        return;
-                    PvsStats local;
-                    bakeCell(todo[k], pass, rows[todo[k]], &local);
-                    if (progress.onCell)
-                        progress.onCell(pass, todo[k], rows[todo[k]]);
-                    const std::lock_guard lock(statsMutex);
-                    total.overlapPairs += local.overlapPairs;
-                    total.directWitnesses += local.directWitnesses;
-                    total.shaftWitnesses += local.shaftWitnesses;
-                    total.safeWitnesses += local.safeWitnesses;
-                    total.shaftPairs += local.shaftPairs;
-                    total.shaftRays += local.shaftRays;
-                    total.witnessCasts += local.witnessCasts;
-                    total.nodeTests += local.nodeTests;
-                    total.nodesCulled += local.nodesCulled;
-                }
-            });
-        });
-        if (progress.cancel && progress.cancel->load())
-            throw PvsCancelled();
-        const double ms = millisecondsSince(start);
-        (pass == PvsPass::Coarse ? total.coarseMs : total.refineMs) = ms;
-    };
-    runPass(PvsPass::Coarse);
-    if (settings_.refine)
-        runPass(PvsPass::Refine);
+    // The blocks these cells belong to, in order.
+    std::vector<std::size_t> blocks;
+    for (std::size_t c : todo)
+        blocks.push_back(blockOf_[c]);
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    std::vector<std::vector<std::uint8_t>> hidden(blocks_.size());
+    std::vector<std::uint8_t> listed(cells_.size(), 0);
+    for (std::size_t c : todo)
+        listed[c] = 1;
+    auto start = std::chrono::steady_clock::now();
+    forEachCell(threads, blocks.size(), progress.cancel, [&](std::size_t k) {
+        PvsStats local;
+        const std::size_t b = blocks[k];
+        hidden[b] = bakeBlock(b, local);
+        if (progress.onCell) {
+            // The coarse answer of each of its cells: all that the block did not prove hidden.
+            std::vector<std::uint8_t> row(hidden[b].size());
+            for (std::size_t i = 0; i < row.size(); ++i)
+                row[i] = std::uint8_t(~hidden[b][i]);
+            if (objects_.size() % 8)
+                row.back() = std::uint8_t(row.back() & ((1u << (objects_.size() % 8)) - 1));
+            for (std::size_t c : blocks_[b].cells)
+                if (listed[c])
+                    progress.onCell(PvsPass::Coarse, c, row);
+        }
+        const std::lock_guard lock(statsMutex);
+        total.add(local);
+    });
+    total.coarseMs = millisecondsSince(start);
     VisibilityRows out(cells_.size(), objects_.size());
-    for (std::size_t c = 0; c < cells_.size(); ++c)
-        if (!rows[c].empty())
-            std::copy(rows[c].begin(), rows[c].end(), out.row(c));
-    if (stats)
+    if (!settings_.refine) {
+        for (std::size_t c : todo)
+            for (std::size_t o = 0; o < objects_.size(); ++o)
+                out.set(c, o, !bit(hidden[blockOf_[c]], o));
+    } else {
+        start = std::chrono::steady_clock::now();
+        forEachCell(threads, todo.size(), progress.cancel, [&](std::size_t k) {
+            PvsStats local;
+            const std::size_t c = todo[k];
+            const std::vector<std::uint8_t> row = bakeCell(c, hidden[blockOf_[c]], local);
+            std::copy(row.begin(), row.end(), out.row(c));
+            if (progress.onCell)
+                progress.onCell(PvsPass::Refine, c, row);
+            const std::lock_guard lock(statsMutex);
+            total.add(local);
+        });
+        total.refineMs = millisecondsSince(start);
+    }
+    if (stats) {
+        const double cellRowsMs = stats->cellRowsMs;
         *stats = total;
+        stats->cellRowsMs = cellRowsMs;
+    }
+    return out;
+}
+
+VisibilityRows PvsBaker::bakeCellRows(const std::vector<std::size_t>& cellIndices, const PvsProgress& progress, PvsStats* stats) const
+{
+    const std::vector<std::size_t> todo = cellList(cellIndices, cells_.size());
+    VisibilityRows out(cells_.size(), cells_.size());
+    std::mutex statsMutex;
+    PvsStats total;
+    const int threads = settings_.threads > 0 ? settings_.threads : tbb::this_task_arena::max_concurrency();
+    const auto start = std::chrono::steady_clock::now();
+    forEachCell(threads, todo.size(), progress.cancel, [&](std::size_t k) {
+        const std::size_t cell = todo[k];
+        const Bounds& cellBox = cells_[cell];
+        PvsStats local;
+        std::vector<std::uint8_t> row(out.rowBytes(), 0);
+        auto set = [&](std::size_t d) { row[d / 8] = std::uint8_t(row[d / 8] | (1u << (d % 8))); };
+        const std::uint64_t seed = mixSeed(cellSeed(cell), 0x63656c6cull);
+        auto searchBox = [&](const Bounds& box, std::uint64_t id, bool lastPass) {
+            SearchTarget target;
+            target.box = box;
+            SearchLimits limits;
+            limits.maxShafts = lastPass ? settings_.fineShafts : settings_.coarseShafts;
+            limits.smallestGap = lastPass ? settings_.smallestGap : std::max(kCoarseGap, settings_.smallestGap);
+            if (lastPass && !settings_.safe)
+                limits.residueRays = settings_.residueRays;
+            return search_->search(cellBox, target, limits, mixSeed(seed, id), &local.search);
+        };
+        // Coarse budget first, then the fine one for what is left: the same answers as a
+        // two-pass bake, in one visit.
+        auto decideBox = [&](const Bounds& box, std::uint64_t id) {
+            Reach reach = searchBox(box, 2 * id, false);
+            if (reach == Reach::Unknown && settings_.refine)
+                reach = searchBox(box, 2 * id + 1, true);
+            if (reach == Reach::Unknown) {
+                ++local.unknownPairs;
+                return settings_.safe || !settings_.refine;
+            }
+            return reach == Reach::Visible;
+        };
+        const Tree& tree = cellTree_;
+        std::vector<std::uint32_t> stack{0};
+        while (!stack.empty() && !tree.nodes.empty()) {
+            const std::uint32_t nodeIndex = stack.back();
+            const Node& node = tree.nodes[nodeIndex];
+            stack.pop_back();
+            if (settings_.maxDistance > 0.0 && boxDistance(cellBox, node.bounds) > settings_.maxDistance)
+                continue;
+            if (node.item >= 0) {
+                const std::size_t d = std::size_t(node.item);
+                if (boxesMeet(cellBox, cells_[d]) || decideBox(cells_[d], d))
+                    set(d);
+                continue;
+            }
+            if (!boxesMeet(cellBox, node.bounds)) {
+                ++local.nodeTests;
+                if (searchBox(node.bounds, 2 * (cells_.size() + nodeIndex), false) == Reach::Hidden ||
+                    (settings_.refine && searchBox(node.bounds, 2 * (cells_.size() + nodeIndex) + 1, true) == Reach::Hidden)) {
+                    ++local.nodesCulled;
+                    continue;
+                }
+            }
+            stack.push_back(node.second);
+            stack.push_back(node.first);
+        }
+        std::copy(row.begin(), row.end(), out.row(cell));
+        if (progress.onCell)
+            progress.onCell(PvsPass::Refine, cell, row);
+        const std::lock_guard lock(statsMutex);
+        total.add(local);
+    });
+    total.cellRowsMs = millisecondsSince(start);
+    if (stats) {
+        stats->cellRowsMs = total.cellRowsMs;
+        stats->search.add(total.search);
+        stats->nodeTests += total.nodeTests;
+        stats->nodesCulled += total.nodesCulled;
+    }
     return out;
 }
 

@@ -169,31 +169,11 @@ std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t 
     return row;
 }
 
-std::string encodePvs(const PvsData& data, RowEncoding encoding)
+namespace {
+
+/// u64 offsets (C + 1, from the start of the row data) then the rows, raw or zero-run-length.
+void putRows(std::string& out, const VisibilityRows& rows, RowEncoding encoding)
 {
-    const VisibilityRows& rows = data.rows;
-    if (rows.cellCount() != data.cells.size() || rows.objectCount() != data.objects.size())
-        throw Error("pvs: rows do not match the cell and object tables");
-    std::string out(kPvsMagic, 8);
-    put32(out, kPvsFileVersion);
-    put32(out, std::uint32_t(encoding));
-    put32(out, std::uint32_t(data.cells.size()));
-    put32(out, std::uint32_t(data.objects.size()));
-    put32(out, std::uint32_t(rows.rowBytes()));
-    put32(out, 0);
-    putHash(out, data.sceneSha256);
-    putHash(out, data.settingsSha256);
-    for (const Bounds& b : data.cells)
-        putBounds(out, b);
-    for (const PvsObject& o : data.objects) {
-        put32(out, o.instance);
-        put32(out, std::uint32_t(o.instances.size()));
-        for (std::uint32_t i : o.instances)
-            put32(out, i);
-        putBounds(out, o.bounds);
-        put32(out, std::uint32_t(o.name.size()));
-        out += o.name;
-    }
     std::string rowData;
     std::vector<std::uint64_t> offsets;
     for (std::size_t c = 0; c < rows.cellCount(); ++c) {
@@ -209,6 +189,70 @@ std::string encodePvs(const PvsData& data, RowEncoding encoding)
     for (std::uint64_t o : offsets)
         put64(out, o);
     out += rowData;
+}
+
+VisibilityRows readRows(Reader& r, std::uint32_t cells, std::size_t columns, std::uint32_t encoding, const char* what)
+{
+    const std::size_t rowBytes = (columns + 7) / 8;
+    std::vector<std::uint64_t> offsets;
+    r.need((std::size_t(cells) + 1) * 8, what);
+    for (std::uint32_t c = 0; c <= cells; ++c)
+        offsets.push_back(r.u64(what));
+    const std::string_view rowData = r.take(std::size_t(std::min<std::uint64_t>(offsets.back(), r.bytes.size())), what);
+    VisibilityRows rows(cells, columns);
+    for (std::uint32_t c = 0; c < cells; ++c) {
+        if (offsets[c] > offsets[c + 1] || offsets[c + 1] > rowData.size())
+            throw Error(r.what + ": " + what + " decrease or overrun at cell " + std::to_string(c));
+        const std::string_view one = rowData.substr(offsets[c], offsets[c + 1] - offsets[c]);
+        std::vector<std::uint8_t> row;
+        if (encoding == 0) {
+            if (one.size() != rowBytes)
+                throw Error(r.what + ": raw row " + std::to_string(c) + " has " + std::to_string(one.size()) + " bytes");
+            row.assign(one.begin(), one.end());
+        } else {
+            try {
+                row = decompressZeroRuns(one, 0, rowBytes);
+            } catch (const Error& e) {
+                throw Error(r.what + ": cell " + std::to_string(c) + ": " + e.what());
+            }
+        }
+        std::copy(row.begin(), row.end(), rows.row(c));
+    }
+    return rows;
+}
+
+} // namespace
+
+std::string encodePvs(const PvsData& data, RowEncoding encoding)
+{
+    const VisibilityRows& rows = data.rows;
+    if (rows.cellCount() != data.cells.size() || rows.objectCount() != data.objects.size())
+        throw Error("pvs: rows do not match the cell and object tables");
+    if (data.hasCellRows() && (data.cellRows.cellCount() != data.cells.size() || data.cellRows.objectCount() != data.cells.size()))
+        throw Error("pvs: cell-to-cell rows do not match the cell table");
+    std::string out(kPvsMagic, 8);
+    put32(out, kPvsFileVersion);
+    put32(out, std::uint32_t(encoding));
+    put32(out, std::uint32_t(data.cells.size()));
+    put32(out, std::uint32_t(data.objects.size()));
+    put32(out, std::uint32_t(rows.rowBytes()));
+    put32(out, data.hasCellRows() ? 1u : 0u);   // flags: bit 0, cell-to-cell rows follow the object rows
+    putHash(out, data.sceneSha256);
+    putHash(out, data.settingsSha256);
+    for (const Bounds& b : data.cells)
+        putBounds(out, b);
+    for (const PvsObject& o : data.objects) {
+        put32(out, o.instance);
+        put32(out, std::uint32_t(o.instances.size()));
+        for (std::uint32_t i : o.instances)
+            put32(out, i);
+        putBounds(out, o.bounds);
+        put32(out, std::uint32_t(o.name.size()));
+        out += o.name;
+    }
+    putRows(out, rows, encoding);
+    if (data.hasCellRows())
+        putRows(out, data.cellRows, encoding);
     return out;
 }
 
@@ -218,14 +262,16 @@ PvsData decodePvs(std::string_view bytes, const std::string& what)
     if (r.take(8, "magic") != std::string_view(kPvsMagic, 8))
         throw Error(what + ": not a Sightline .pvs file (bad magic)");
     const std::uint32_t version = r.u32("version");
-    if (version != kPvsFileVersion)
-        throw Error(what + ": .pvs version " + std::to_string(version) + ", this build reads version " +
+    if (version != 1 && version != kPvsFileVersion)
+        throw Error(what + ": .pvs version " + std::to_string(version) + ", this build reads versions 1 and " +
                     std::to_string(kPvsFileVersion));
     const std::uint32_t encoding = r.u32("encoding");
     if (encoding > 1)
         throw Error(what + ": unknown row encoding " + std::to_string(encoding));
     const std::uint32_t cells = r.u32("cell count"), objects = r.u32("object count"), rowBytes = r.u32("row bytes");
-    r.u32("reserved");
+    const std::uint32_t flags = r.u32("flags");
+    if (flags > (version >= 2 ? 1u : 0u))
+        throw Error(what + ": unknown flags " + std::to_string(flags));
     if (rowBytes != (std::uint64_t(objects) + 7) / 8)
         throw Error(what + ": row size " + std::to_string(rowBytes) + " does not fit " + std::to_string(objects) + " objects");
     PvsData data;
@@ -246,33 +292,11 @@ PvsData decodePvs(std::string_view bytes, const std::string& what)
         object.name = std::string(r.take(length, "object name"));
         data.objects.push_back(std::move(object));
     }
-    std::vector<std::uint64_t> offsets;
-    r.need((std::size_t(cells) + 1) * 8, "row offsets");
-    for (std::uint32_t c = 0; c <= cells; ++c)
-        offsets.push_back(r.u64("row offsets"));
-    const std::string_view rowData = bytes.substr(r.at);
-    if (offsets.back() != rowData.size())
-        throw Error(what + ": row data is " + std::to_string(rowData.size()) + " bytes, the offsets say " +
-                    std::to_string(offsets.back()));
-    data.rows = VisibilityRows(cells, objects);
-    for (std::uint32_t c = 0; c < cells; ++c) {
-        if (offsets[c] > offsets[c + 1])
-            throw Error(what + ": row offsets decrease at cell " + std::to_string(c));
-        const std::string_view one = rowData.substr(offsets[c], offsets[c + 1] - offsets[c]);
-        std::vector<std::uint8_t> row;
-        if (encoding == 0) {
-            if (one.size() != rowBytes)
-                throw Error(what + ": raw row " + std::to_string(c) + " has " + std::to_string(one.size()) + " bytes");
-            row.assign(one.begin(), one.end());
-        } else {
-            try {
-                row = decompressZeroRuns(one, 0, rowBytes);
-            } catch (const Error& e) {
-                throw Error(what + ": cell " + std::to_string(c) + ": " + e.what());
-            }
-        }
-        std::copy(row.begin(), row.end(), data.rows.row(c));
-    }
+    data.rows = readRows(r, cells, objects, encoding, "row offsets");
+    if (flags & 1u)
+        data.cellRows = readRows(r, cells, cells, encoding, "cell row offsets");
+    if (r.at != bytes.size())
+        throw Error(what + ": " + std::to_string(bytes.size() - r.at) + " bytes after the rows");
     return data;
 }
 
@@ -303,7 +327,19 @@ std::string pvsJson(const PvsData& data)
             out += (k ? ", " : "") + std::to_string(list[k]);
         out += "]";
     }
-    out += "]}\n";
+    out += "]";
+    if (data.hasCellRows()) {
+        out += ",\n \"visible_cells\": [";
+        for (std::size_t c = 0; c < data.cellRows.cellCount(); ++c) {
+            out += c ? ",\n  [" : "\n  [";
+            const auto list = data.cellRows.visibleObjects(c);
+            for (std::size_t k = 0; k < list.size(); ++k)
+                out += (k ? ", " : "") + std::to_string(list[k]);
+            out += "]";
+        }
+        out += "]";
+    }
+    out += "}\n";
     return out;
 }
 
@@ -477,6 +513,8 @@ PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::str
     std::vector<int> seen(first.shardCount, -1);
     PvsData out = first.data;
     out.rows = VisibilityRows(first.data.cells.size(), first.data.objects.size());
+    if (first.data.hasCellRows())
+        out.cellRows = VisibilityRows(first.data.cells.size(), first.data.cells.size());
     for (std::size_t k = 0; k < parts.size(); ++k) {
         const PvsPart& p = parts[k];
         const std::string& name = names[k];
@@ -496,8 +534,14 @@ PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::str
             throw Error("pvs merge: shard " + std::to_string(p.shard) + " given twice (" + names[std::size_t(seen[p.shard])] +
                         " and " + name + ")");
         seen[p.shard] = int(k);
-        for (std::uint32_t c : p.cellIndices)
+        if (p.data.hasCellRows() != first.data.hasCellRows())
+            throw Error("pvs merge: " + name + (p.data.hasCellRows() ? " has" : " has no") + " cell-to-cell rows, " + names[0] +
+                        (first.data.hasCellRows() ? " has" : " has none"));
+        for (std::uint32_t c : p.cellIndices) {
             std::copy(p.data.rows.row(c), p.data.rows.row(c) + p.data.rows.rowBytes(), out.rows.row(c));
+            if (out.hasCellRows())
+                std::copy(p.data.cellRows.row(c), p.data.cellRows.row(c) + p.data.cellRows.rowBytes(), out.cellRows.row(c));
+        }
     }
     for (std::uint32_t s = 0; s < first.shardCount; ++s)
         if (seen[s] < 0)

@@ -65,6 +65,8 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
             CellResult& r = results[k];
             const std::vector<glm::vec3> from = boxPoints(pvs.cells[c], settings.cellPoints, mixSeed(seed, c));
             for (std::size_t o = 0; o < objectCount; ++o) {
+                if (settings.cancel && settings.cancel->load())
+                    return;
                 bool seen = false;
                 Gap witness;
                 for (std::size_t q = 0; q < targets[o].size() && !seen; ++q)
@@ -107,6 +109,8 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
                     }
         });
     });
+    if (settings.cancel && settings.cancel->load())
+        throw PvsCancelled();
     AccuracyReport report;
     report.cells = order;
     for (CellResult& r : results) {

@@ -1,6 +1,9 @@
 #include "RayPackets.h"
 
 #include <numeric>
+#include <string>
+
+#include "visibility/Error.h"
 
 namespace sightline::raycast {
 
@@ -15,6 +18,21 @@ std::vector<int> packetOrder(const Patch& source)
             order[std::size_t(k)] = ((block / blocksAcross) * 4 + within / 4) * source.na + (block % blocksAcross) * 4 + within % 4;
         }
     return order;
+}
+
+std::vector<std::vector<int>> receiverBlocks(const Patch& receiver, const std::vector<int>* subset)
+{
+    const int blocksA = (receiver.na + 3) / 4, blocksB = (receiver.nb + 3) / 4;
+    std::vector<std::vector<int>> byBlock(std::size_t(blocksA) * std::size_t(blocksB));
+    const int count = subset ? int(subset->size()) : receiver.sampleCount();
+    for (int k = 0; k < count; ++k) {
+        const int j = subset ? (*subset)[std::size_t(k)] : k;
+        if (j < 0 || j >= receiver.sampleCount())
+            throw Error("receiver sample " + std::to_string(j) + " is outside the grid");
+        byBlock[std::size_t((j / receiver.na / 4) * blocksA + (j % receiver.na) / 4)].push_back(j);
+    }
+    std::erase_if(byBlock, [](const std::vector<int>& block) { return block.empty(); });
+    return byBlock;
 }
 
 // (A float filter in front of it, deciding most lanes in single precision, measured slower: the

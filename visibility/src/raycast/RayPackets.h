@@ -1,6 +1,6 @@
 #pragma once
-// Internal to the reference ray caster (RayCastSampler.cpp): how its rays go into packets and how
-// a packet's lanes are tested against one triangle.
+// Internal to the ray casters (RayCastSampler.cpp, ProvenRayCaster.cpp): how their rays go into
+// packets and how a packet's lanes are tested against one triangle.
 
 #include <cstdint>
 #include <vector>
@@ -14,10 +14,16 @@ namespace sightline::raycast {
 /// grid allows (more coherent than 16 along a row, and faster), else bit order.
 std::vector<int> packetOrder(const Patch& source);
 
+/// Receiver samples grouped in blocks of 4x4 neighbouring grid samples (only those of `subset`,
+/// when given), in the grid's order: packets that start at the source run to one block. Throws
+/// sightline::Error for a subset entry outside the grid.
+std::vector<std::vector<int>> receiverBlocks(const Patch& receiver, const std::vector<int>* subset);
+
 /// TriangleSeenFrom::crossedBy for `count` segments from the triangle's viewpoint with directions
 /// (dx, dy, dz): hit[i] is 1 where segment i crosses it by the contract, else 0. Branch-free, so
 /// that the compiler vectorises it (with AVX2 where the CPU has it): the same arithmetic, lane by
-/// lane, hence the same answers as crossedBy.
+/// lane, hence the same answers as crossedBy (RayPackets.cpp is built without contracting
+/// products into fused multiply-adds, which the AVX2 copy could otherwise do and crossedBy not).
 void crossedLanes(const TriangleSeenFrom& triangle, const double* dx, const double* dy, const double* dz, int count,
                   std::int64_t* hit);
 

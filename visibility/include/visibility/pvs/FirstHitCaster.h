@@ -19,6 +19,7 @@ namespace sightline::pvs {
 
 struct RayHit {
     std::int64_t instance = -1;   ///< -1: nothing hit before tfar
+    std::int64_t triangle = -1;   ///< index into worldTriangles(scene), -1 with no hit
     float t = 0.0f;               ///< in units of the direction's length
     glm::vec3 normal{0.0f};       ///< geometric normal of the hit triangle (unnormalised, winding's)
 };
@@ -32,7 +33,9 @@ public:
     FirstHitCaster& operator=(const FirstHitCaster&) = delete;
 
     /// The first triangle met by origin + t * direction, 0 <= t <= tfar. Thread-safe.
-    RayHit cast(const glm::vec3& origin, const glm::vec3& direction, float tfar) const;
+    RayHit cast(const glm::vec3& origin, const glm::vec3& direction, float tfar) const { return cast(origin, direction, 0.0f, tfar); }
+    /// The same, from tnear on (the next triangle after one already met).
+    RayHit cast(const glm::vec3& origin, const glm::vec3& direction, float tnear, float tfar) const;
 
     std::size_t triangleCount() const;
 

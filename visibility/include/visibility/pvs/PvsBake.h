@@ -1,45 +1,45 @@
 #pragma once
-// The PVS bake (issue 17 §2): which objects each view cell may see.
+// The PVS bake (issue 17 §2): which objects (and, on request, which other cells) each view cell
+// may see.
 //
 // An object is visible from a cell when some segment from a point of the cell's box to a point of
-// the object's triangles meets no other triangle (DESIGN.md §4). The bake samples that question
-// and proves every "visible" it writes with a witness ray: a first-hit cast (FirstHitCaster.h)
-// from a point of the cell whose first triangle is the object's. Sampling can therefore only miss
-// visibility, never invent it (except for boxes that overlap the cell, which are visible by
-// definition of a box and written so). Per (cell, object), in order, stopping at the first witness:
+// the object's triangles meets no other triangle (DESIGN.md §4). Per cell, the objects are visited
+// through a tree of their bounds (a BVH, deterministic median splits), and for each group box or
+// object the bake asks ShaftSearch.h, which answers with one of:
 //
-//  0. Groups: objects are grouped by bounds (a BVH); a group no unblocked shaft ray of the pass
-//     reaches (step 3 against the group's box, its faces sampled at least as densely as the
-//     cell's) hides all its objects at once.
-//  1. Overlap: the object's bounds meet the cell's box -> visible.
-//  2. Direct rays: a few stratified points of the cell (seeded from the scene hash and the cell id)
-//     towards, for objects of at most 64 triangles, the point of each triangle nearest the cell's
-//     centre (a floor or a long wall is mostly in other rooms), then a few area-stratified points
-//     on the object's triangles (seeded from the object).
-//  3. Shafts (Eisemann & Décoret 2007, the exact bitmask sampler, CpuBitmaskSampler.h, as §11's
-//     from-region future work): between each cell face and each face of the object's bounds that
-//     can see each other. A pair of box faces is not always a valid patch pair (DESIGN.md §2:
-//     each must lie strictly on one side of the other's plane), so each face is clipped to the part
-//     strictly in front of the other's plane (1 mm margin); every segment from the cell to the box
-//     leaves the cell through some face F and enters the box through some face G, and its exit
-//     and entry points lie in F clipped by G's plane and G clipped by F's, so these clipped pairs
-//     cover every segment between the boxes (less the margins). The sampler gives every blocked
-//     ray of the pair at once; an unblocked ray reaches the object's *bounds*, which is only a
-//     proxy: it is continued into the box with a first-hit cast, and only a first hit on the
-//     object counts. A few unblocked rays per pair are tried (spread over the pair's samples).
+//  - Visible: a witness, a first-hit ray (FirstHitCaster.h) from a point of the cell whose first
+//    triangle is the object's (for a group box: a ray reaching the box). Boxes that overlap the
+//    cell are visible by definition (no witness). When the first, small budget of sub-shafts
+//    settles nothing, a few direct rays from stratified points of the cell towards points of the
+//    object's triangles (the point of each triangle nearest the cell's centre for objects of at
+//    most 64 triangles, then area-stratified ones) look for a witness on the object itself (a
+//    chair or a plant fills little of its box).
+//  - Hidden: a proof (ShaftProof.h): the face pairs between the cell's box and the target's box
+//    cover every segment between them; each was split into sub-shafts until every one was shown
+//    blocked by a single planar region or a single closed solid. A hidden group hides all of its
+//    objects at once.
+//  - Unknown: neither, within the pass's budget (sub-shafts per target, smallest gap split to).
 //
-// Passes: the coarse pass runs every cell at the coarse sample counts, so the editor has an
-// answer for every cell soon; the refine pass reruns only the pairs the coarse pass left hidden,
-// with more samples (adaptive: visible pairs are done, hidden ones are where sampling can miss).
-// Safe mode gives up the witness for the refine pass's shafts: a pair whose fine shaft reached the
-// object's bounds by an unblocked ray is kept even when no continuation met the object (foliage:
-// a box of thin leaves is mostly air). It is conservative with respect to the bounds at the fine
-// sample spacing, not a proof of invisibility for what it culls; docs/pvs.md reports what it
-// reaches against the reference.
+// Passes. The coarse pass works on blocks: neighbouring cells (at most kBlockCells, grouped by a
+// tree of the cells' bounds) whose union box is tested as one source. What is proven hidden from
+// a block's box is hidden from each of its cells, so the coarse rows (everything the block did
+// not prove hidden) are conservative and come early: the editor has a usable answer for every
+// cell at a fraction of the cost. The refine pass then bakes each cell alone, over what its block
+// did not prove hidden: first with the coarse budget (`coarseShafts` sub-shafts per target) and
+// the direct rays, then, for what is still Unknown, with the fine budget. What is Unknown after
+// that is where visibility, if any, passes through openings narrower than the smallest gap: the
+// default mode spends `residueRays` rays there looking for a witness and culls the pair when none
+// is found (sampling can miss such visibility, never invent it); the safe mode keeps it visible,
+// so every pair the safe mode culls is proven hidden.
 //
-// Determinism: each cell's row depends only on the scene, the settings and the cell (no shared
-// state between cells, fixed sampler strategy, seeds from the scene hash and cell id), so the
-// output is byte-identical whatever the thread count or the split of cells over shards or ranks.
+// Distance cut-off (`maxDistance` > 0): an object or cell whose box is farther than that from every
+// point of the cell's box is culled without a test (a designer's choice, not visibility).
+//
+// Determinism: each cell's row depends only on the scene, the settings, the cell list and the cell
+// (its block is a function of the cell list; no state is shared between cells; seeds come from
+// the scene hash and the cell or block id; traversal orders are fixed), so the output is
+// byte-identical whatever the thread count or the split of cells over shards or ranks (a shard
+// bakes the blocks of its cells itself).
 
 #include <atomic>
 #include <cstdint>
@@ -48,37 +48,41 @@
 #include <string>
 #include <vector>
 
-#include "visibility/HiddenSampleMap.h"
-#include "visibility/Patch.h"
 #include "visibility/Scene.h"
 #include "visibility/pvs/PvsData.h"
-
-namespace sightline {
-class CpuBitmaskSampler;
-}
+#include "visibility/pvs/ShaftSearch.h"
 
 namespace sightline::pvs {
 
 class FirstHitCaster;
 
 struct PvsSettings {
-    int coarseSamples = 3;     ///< shaft samples per face side, coarse pass (n x n on each face)
-    int fineSamples = 6;       ///< shaft samples per face side, refine pass (at most 32)
-    int directCellPoints = 8;  ///< direct rays: points of the cell (coarse pass; refine uses 4x)
-    int directObjectPoints = 8;///< direct rays: points on the object (coarse; refine uses 4x)
-    int witnessTries = 4;      ///< unblocked shaft rays continued per face pair (coarse; refine 8x)
-    bool refine = true;        ///< run the refine pass
-    /// Safe mode (refine pass): a pair stays visible when a fine shaft ray reached the object's
-    /// bounds unblocked even though no continuation was seen to hit its triangles.
+    int coarseShafts = 16;      ///< sub-shafts per (cell, target) at first (a block: kBlockShafts times more)
+    int fineShafts = 512;       ///< sub-shafts per (cell, target) still Unknown after the coarse budget
+    double smallestGap = 0.02;  ///< metres: the refine pass splits sub-shafts down to this spread
+    int residueRays = 16384;    ///< default mode: rays per pair over what is left open (ShaftSearch.h)
+    int directCellPoints = 8;   ///< direct rays (after the first budget): points of the cell
+    int directObjectPoints = 8; ///< direct rays: area-stratified points on the object
+    double maxDistance = 0.0;   ///< metres; 0: no distance cut-off
+    bool cellRows = false;      ///< also bake cell-to-cell rows (the Quake formats' clusters)
+    bool refine = true;         ///< run the refine pass
+    /// Safe mode: pairs left Unknown stay visible, so every culled pair is proven hidden.
     bool safe = false;
-    int threads = 0;           ///< 0 = all cores (the answer never depends on it)
+    int threads = 0;            ///< 0 = all cores (the answer never depends on it)
 
     /// Canonical text of the settings that change the answer (not `threads`): part manifests and
     /// the .pvs header's settings hash are built from it.
     std::string canonical() const;
-    /// Throws sightline::Error for counts out of range.
+    /// Throws sightline::Error for values out of range.
     void validate() const;
 };
+
+/// The coarse pass's smallest gap (metres): it stops splitting early and leaves the rest Unknown.
+inline constexpr double kCoarseGap = 0.25;
+/// Cells per block of the coarse pass (at most), and its sub-shafts per (block, target), in
+/// coarse_shafts: a block's answer serves all its cells.
+inline constexpr std::uint32_t kBlockCells = 16;
+inline constexpr int kBlockShafts = 2;
 
 enum class PvsPass { Coarse, Refine };
 
@@ -96,14 +100,17 @@ struct PvsCancelled : std::exception {
 };
 
 struct PvsStats {
-    double coarseMs = 0.0, refineMs = 0.0;
+    double coarseMs = 0.0, refineMs = 0.0, cellRowsMs = 0.0;
     std::uint64_t overlapPairs = 0, directWitnesses = 0, shaftWitnesses = 0;
-    std::uint64_t safeWitnesses = 0;   ///< safe mode: pairs kept for an unblocked ray to the bounds alone
-    std::uint64_t shaftPairs = 0;     ///< face pairs sampled with the bitmask sampler
-    std::uint64_t shaftRays = 0;      ///< rays those pairs answered
-    std::uint64_t witnessCasts = 0;   ///< first-hit casts
-    std::uint64_t nodeTests = 0;      ///< object groups (BVH nodes) tested
-    std::uint64_t nodesCulled = 0;    ///< of those, hidden with all their objects
+    std::uint64_t provenHidden = 0;     ///< pairs culled by a proof (their own, or their group's)
+    std::uint64_t unknownPairs = 0;     ///< pairs Unknown after the last pass
+    std::uint64_t safeKept = 0;         ///< of those, kept visible by the safe mode
+    std::uint64_t distanceCulled = 0;   ///< pairs culled by the distance cut-off
+    std::uint64_t nodeTests = 0;        ///< object groups (BVH nodes) tested
+    std::uint64_t nodesCulled = 0;      ///< of those, proven hidden with all their objects
+    std::uint64_t directCasts = 0;      ///< direct rays cast
+    SearchStats search;                 ///< sub-shafts, casts, proofs
+    void add(const PvsStats& o);
 };
 
 class PvsBaker {
@@ -116,29 +123,39 @@ public:
 
     const std::vector<Bounds>& cells() const { return cells_; }
     const std::vector<PvsObject>& objects() const { return objects_; }
+    const PvsSettings& settings() const { return settings_; }
 
     /// Bakes the listed cells (indices into cells(); all when empty): the coarse pass over all of
-    /// them first, then refinement. Returns rows for every cell (cells not
-    /// listed stay all zero). Throws PvsCancelled when progress.cancel is set.
+    /// them first, then refinement. Returns rows for every cell (cells not listed stay all zero).
+    /// Throws PvsCancelled when progress.cancel is set.
     VisibilityRows bake(const std::vector<std::size_t>& cellIndices = {}, const PvsProgress& progress = {},
                         PvsStats* stats = nullptr) const;
 
-    /// One cell, one pass, in the calling thread: `row` holds the previous passes' answer
-    /// (empty for the coarse pass) and is updated.
-    void bakeCell(std::size_t cell, PvsPass pass, std::vector<std::uint8_t>& row, PvsStats* stats = nullptr) const;
+    /// Cell-to-cell rows for the listed cells (all when empty): bit d of row c is set when some
+    /// segment between the boxes of cells c and d meets no triangle (witnessed; proven hidden
+    /// otherwise, or, after the budget, as the mode says). Each row is baked from its own cell's
+    /// side, so in the default mode two rows may disagree on a pair. Every cell sees itself.
+    VisibilityRows bakeCellRows(const std::vector<std::size_t>& cellIndices = {}, const PvsProgress& progress = {},
+                                PvsStats* stats = nullptr) const;
+
+    /// How many blocks the cells are grouped in for the coarse pass (at most kBlockCells cells
+    /// each, neighbours by the cell tree's median splits), and the block of a cell.
+    std::size_t blockCount() const { return blocks_.size(); }
+    std::size_t blockOf(std::size_t cell) const { return blockOf_[cell]; }
 
 private:
-    bool visibleByOverlap(std::size_t cell, std::size_t object) const;
-    bool visibleByDirectRays(std::size_t cell, std::size_t object, int cellPoints, int objectPoints,
-                             std::uint32_t salt) const;
-    bool visibleThroughShafts(std::size_t cell, std::size_t object, int samples, int witnessTries, PvsStats* stats,
-                              bool* boxSeen) const;
-    std::vector<std::pair<Patch, Patch>> facePairs(const Bounds& cellBox, const Bounds& targetBox, int samples,
-                                                   bool denseTarget) const;
-    HiddenSampleMap sampleShaft(const Patch& source, const Patch& receiver, PvsStats* stats) const;
-    bool boxReachable(std::size_t cell, const Bounds& box, int samples, PvsStats* stats) const;
-    void buildObjectTree();
+    /// Visits the object tree from a box: nodes proven hidden hide their objects (`hide`), the
+    /// objects of the others that are `pending` are tested one by one (`testObject`).
+    void traverse(const Bounds& from, const std::function<bool(std::size_t)>& pending, const SearchLimits& limits,
+                  std::uint64_t seed, const std::function<void(std::size_t)>& testObject,
+                  const std::function<void(std::size_t)>& hide, PvsStats& stats) const;
+    /// The coarse pass for a block: the objects proven hidden from every point of its box.
+    std::vector<std::uint8_t> bakeBlock(std::size_t block, PvsStats& stats) const;
+    /// The refine pass for a cell: its row, given what its block proved hidden.
+    std::vector<std::uint8_t> bakeCell(std::size_t cell, const std::vector<std::uint8_t>& blockHidden, PvsStats& stats) const;
+    bool visibleByDirectRays(std::size_t cell, std::size_t object, PvsStats& stats) const;
     bool hitsObject(const glm::vec3& from, const glm::vec3& towards, float tfar, std::size_t object) const;
+    std::uint64_t cellSeed(std::size_t cell) const;
 
     std::vector<Bounds> cells_;
     std::vector<PvsObject> objects_;
@@ -146,16 +163,28 @@ private:
     std::uint64_t seed_ = 0;
     PvsSettings settings_;
     std::unique_ptr<FirstHitCaster> caster_;
-    std::unique_ptr<CpuBitmaskSampler> sampler_;
-    /// Objects grouped by bounds: a binary tree, node 0 the root; a leaf holds one object.
-    struct ObjectNode {
+    std::unique_ptr<ShaftProver> prover_;
+    std::unique_ptr<ShaftSearch> search_;
+    /// Boxes grouped by bounds: a binary tree, node 0 the root; a leaf holds one item.
+    struct Node {
         Bounds bounds;
-        std::int32_t object = -1;
+        std::int32_t item = -1;
         std::uint32_t first = 0, second = 0;
-        std::uint32_t begin = 0, end = 0;   ///< its objects: treeObjects_[begin, end)
+        std::uint32_t begin = 0, end = 0;   ///< its items: order[begin, end)
     };
-    std::vector<ObjectNode> nodes_;
-    std::vector<std::uint32_t> treeObjects_;
+    struct Tree {
+        std::vector<Node> nodes;
+        std::vector<std::uint32_t> order;
+        std::vector<std::uint32_t> position;   ///< item -> its index in order
+    };
+    static Tree buildTree(const std::vector<Bounds>& boxes);
+    Tree objectTree_, cellTree_;
+    struct Block {
+        Bounds bounds;
+        std::vector<std::size_t> cells;
+    };
+    std::vector<Block> blocks_;
+    std::vector<std::size_t> blockOf_;
     /// Per object: points on its triangles, area-stratified (the direct rays' targets).
     std::vector<std::vector<glm::vec3>> objectPoints_;
     /// Per object of few triangles, its triangles (3 vertices each): nearest-point targets.

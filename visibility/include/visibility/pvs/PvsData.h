@@ -62,6 +62,10 @@ struct PvsData {
     std::vector<Bounds> cells;
     std::vector<PvsObject> objects;
     VisibilityRows rows;
+    /// Cell-to-cell rows (cells x cells: bit d of row c, cell d is visible from cell c), or empty
+    /// (0 x 0) when not baked. The Quake formats' rows are over clusters: these.
+    VisibilityRows cellRows;
+    bool hasCellRows() const { return cellRows.cellCount() != 0; }
 };
 
 } // namespace sightline::pvs

@@ -19,7 +19,7 @@
 
 namespace sightline::pvs {
 
-inline constexpr std::uint32_t kPvsFileVersion = 1;
+inline constexpr std::uint32_t kPvsFileVersion = 2;   ///< 2 adds the optional cell-to-cell rows; 1 is read too
 
 /// Quake's visibility row compression. `decompress` expands one row of `rowBytes` bytes starting
 /// at `data[offset]` and throws sightline::Error when the data runs out or a run overflows the row.
@@ -44,11 +44,13 @@ struct EncodedSizes {
 EncodedSizes encodedSizes(const VisibilityRows& rows);
 
 /// Quake 1: u32 numleafs, i32 visofs[numleafs], then the compressed rows (offsets from the start
-/// of the row data, as a BSP's leaf visofs into the vis lump). Row bit k = object k.
+/// of the row data, as a BSP's leaf visofs into the vis lump). The CLI writes the cell-to-cell
+/// rows (PvsData::cellRows): leaf k = cell k, row bit d = cell d.
 std::string quake1Vis(const VisibilityRows& rows);
 /// Quake 2 / Source vis lump (dvis_t): i32 numclusters, i32 bitofs[numclusters][2] (PVS, PHS;
 /// offsets from the lump's start; the PHS offset points at the PVS row, Sightline bakes no
-/// hearing set), then the compressed rows. Row bit k = object k.
+/// hearing set), then the compressed rows. The CLI writes the cell-to-cell rows: cluster k =
+/// cell k, row bit d = cell d.
 std::string quake2Vis(const VisibilityRows& rows);
 
 /// PRT1 text: one portal per pair of cells whose boxes share a face of positive area (the shared

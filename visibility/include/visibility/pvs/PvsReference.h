@@ -16,6 +16,7 @@
 //  - gap list: each missed pair with the reference's witness ray (from a point of the cell to a
 //    point of the object): an opening the bake's samples stepped over.
 
+#include <atomic>
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,9 @@ struct ReferenceSettings {
     int width = 64, height = 32;
     std::uint64_t seed = 0x5eed;   ///< mixed with the scene hash
     int threads = 0;
+    /// Checked between objects; true stops the measurement (measureAccuracy then throws
+    /// PvsCancelled, PvsBake.h): the editor runs it in the background.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 struct Gap {
