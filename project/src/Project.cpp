@@ -133,7 +133,8 @@ struct Reader {
         for (std::size_t i = 0; i < list.size(); ++i) {
             const std::string key = "scene_transforms[" + std::to_string(i) + "]";
             const json& object = list[i];
-            if (!object.is_object() || !object.contains("instance") || !object.at("instance").is_number_unsigned())
+            if (!object.is_object() || !object.contains("instance") || !object.at("instance").is_number_integer() ||
+                object.at("instance").get<std::int64_t>() < 0)   // built in code, 0 is a signed integer
                 fail(key + ".instance", "must be a non-negative integer");
             if (!object.contains("transform"))
                 fail(key + ".transform", "is missing");

@@ -139,8 +139,14 @@ TEST(Project, ErrorsNameTheBadKey)
         d["occluders"][0]["transform"] = t;
         EXPECT_NE(errorOf(d).find("occluders[0].transform' must be affine"), std::string::npos) << errorOf(d);
         d = minimalDocument();
-        d["scene_transforms"] = json::array({{{"instance", 0}, {"transform", t}}});
+        json moved = json::object();   // spelt out: nested braces would make arrays of pairs
+        moved["instance"] = 0;        // a signed integer, as a document built in code has
+        moved["transform"] = t;
+        d["scene_transforms"] = json::array();
+        d["scene_transforms"].push_back(moved);
         EXPECT_NE(errorOf(d).find("scene_transforms[0].transform' must be affine"), std::string::npos) << errorOf(d);
+        d["scene_transforms"][0]["instance"] = -1;
+        EXPECT_NE(errorOf(d).find("scene_transforms[0].instance' must be a non-negative integer"), std::string::npos) << errorOf(d);
     }
 
     d = minimalDocument();

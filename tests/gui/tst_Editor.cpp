@@ -2102,14 +2102,22 @@ private slots:
             const auto ground = pickSurface(triangles, Ray{patch->centre(), {0.0, -1.0, 0.0}});
             QVERIFY2(ground && std::abs(ground->distance - 1.5) < 0.01, qPrintable(QString("patch at y = %1").arg(patch->centre().y)));
         }
+        // Where a pixel's ray meets the terrain, the terrain is drawn there, lit (the cut left
+        // dark holes where it had removed the hills), and the terrain fills a good part of the view.
         waitForFrame();
         const QImage frame = viewport.grabFramebuffer();
-        int lit = 0, samples = 0;
-        for (int y = 0; y < frame.height(); y += 8)
-            for (int x = 0; x < frame.width(); x += 8, ++samples)
-                lit += qGray(frame.pixel(x, y)) > 90;
-        QVERIFY2(lit > samples / 3, qPrintable(QString("%1 of %2 samples lit").arg(lit).arg(samples)));
+        ViewportController& controller = window_->controller();
+        int onTerrain = 0, lit = 0, samples = 0;
+        for (int y = 4; y < controller.height(); y += 12)
+            for (int x = 4; x < controller.width(); x += 12, ++samples) {
+                if (!controller.visibleSurface(pixelRay(controller.camera(), x, y, controller.width(), controller.height())))
+                    continue;
+                ++onTerrain;
+                lit += qGray(frame.pixel(int(x * viewport.devicePixelRatio()), int(y * viewport.devicePixelRatio()))) > 90;
+            }
         saveWindowShot("terrain-open");
+        QVERIFY2(onTerrain > samples / 8, qPrintable(QString("the terrain covers %1 of %2 samples").arg(onTerrain).arg(samples)));
+        QVERIFY2(lit >= onTerrain * 95 / 100, qPrintable(QString("%1 of %2 terrain samples lit").arg(lit).arg(onTerrain)));
         QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
         waitForUpdate();
         QVERIFY(viewport.style().cutaway);
