@@ -124,7 +124,8 @@ StallFigures runStallBenchmark(MainWindow& window, const QString& file, int widt
         StallWatch watch;
         bool opened = false;
         QTimer::singleShot(0, &window, [&] { opened = window.openFile(file); });
-        runUntil([&] { return opened && !viewport.resultIsStale() && viewport.visibility().rays > 0; }, 600'000);
+        runUntil([&] { return opened && !viewport.resultIsStale() && viewport.visibility().rays > 0 && viewport.levelDrawn(); },
+                 600'000);
         const StallPhase phase = watch.finish();
         runUntil([] { return false; }, 300);
         return phase;

@@ -84,6 +84,11 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
         if (changes & (SceneFileChanged | DocumentReset)) {
             sceneFileDirty_ = true;
+            levelDirty_ = true;
+            if (changes & DocumentReset)
+                prepareLevel();
+            else
+                levelStale_ = true;
             // Which sampler is faster depends on the level: timed on an empty document, GL wins
             // (0.6 against 3.4 ms) and would then cost 700 ms an update on the demo (llvmpipe).
             backendChosen_ = false;
@@ -141,6 +146,8 @@ Viewport::~Viewport()
     pvs_.reset();      // joins, as the ones below
     ao_.reset();       // joins, as the sampler below
     worker_.reset();   // joins: no answer arrives for a viewport being destroyed
+    if (levelPrepared_.valid())
+        levelPrepared_.wait();   // its posted update() is dropped with this object
     makeCurrent();
     renderer_.reset();
     visibility_.setGl(nullptr);
@@ -179,10 +186,46 @@ void Viewport::initializeGL()
         renderer_.reset();
         gl_.reset();
     }
-    sceneFileDirty_ = occludersDirty_ = samplesDirty_ = true;
+    sceneFileDirty_ = occludersDirty_ = samplesDirty_ = levelDirty_ = true;
 }
 
 void Viewport::resizeGL(int w, int h) { controller_.setViewportSize(w, h); }
+
+void Viewport::prepareLevel()
+{
+    // A new document's level, built on a worker: on the demo's first open the GUI thread spent
+    // 45 ms on it, most of it touching new memory, which stalled the event loop with the upload
+    // and the first draw (docs/benchmarks.md). The scene is copied: the document may change
+    // while the worker reads.
+    auto scene = std::make_shared<const Scene>(document_.sceneFile());
+    levelPrepared_ = std::async(std::launch::async, [this, scene] {
+        LevelMesh mesh = prepareLevelMesh(*scene);
+        // Posted to this object: dropped if the view is gone (its destructor waits for this worker).
+        QMetaObject::invokeMethod(this, [this] { update(); }, Qt::QueuedConnection);
+        return mesh;
+    });
+    levelStale_ = false;
+}
+
+void Viewport::updateLevel()
+{
+    if (levelPrepared_.valid() && !levelStale_) {
+        if (levelPrepared_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+            if (!levelCleared_)
+                renderer_->setSceneFile(LevelMesh{});   // not the old document's level meanwhile
+            levelCleared_ = true;
+            return;
+        }
+        try {
+            renderer_->setSceneFile(levelPrepared_.get(), true);
+        } catch (const std::exception&) {   // out of memory on the worker: once more here
+            renderer_->setSceneFile(document_.sceneFile());
+        }
+    } else {
+        renderer_->setSceneFile(document_.sceneFile());
+    }
+    levelDirty_ = levelCleared_ = false;
+}
 
 void Viewport::paintGL()
 {
@@ -192,8 +235,8 @@ void Viewport::paintGL()
     if (!renderer_)
         return;
     const bool sceneChanged = sceneFileDirty_ || occludersDirty_;
-    if (sceneFileDirty_)
-        renderer_->setSceneFile(document_.sceneFile());
+    if (levelDirty_)
+        updateLevel();
     if (occludersDirty_)
         renderer_->setOccluders(document_.occluderScene(), document_.occluderOfInstance());
     if (flagsDirty_ || sceneChanged)
@@ -357,6 +400,8 @@ void Viewport::paintGL()
     frame.gapSelected = pvsGapSelected_;
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();
+    if (renderer_->levelIncomplete())
+        update();   // the rest of a new level's first draw
 
     if (resampled || deferred) {
         if (resampled)

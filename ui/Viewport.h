@@ -14,6 +14,7 @@
 #include <QTimer>
 
 #include <deque>
+#include <future>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -59,6 +60,9 @@ public:
     /// The shown result is older than the patches and occluders (an answer is on its way, or a
     /// slow GL update waits for the drag to end).
     bool resultIsStale() const { return samplesDirty_ || shownGeneration_ != requestedGeneration_; }
+    /// The level as the document has it is drawn whole. After an open it is prepared on a worker
+    /// and its first draw spread over a few frames (the event loop keeps running meanwhile).
+    bool levelDrawn() const { return !levelDirty_ && renderer_ && !renderer_->levelIncomplete(); }
 
     /// Shades the level with its ambient occlusion, computed progressively in the background
     /// (AoPreview.h); recomputed when the level changes while it is on.
@@ -194,6 +198,13 @@ private:
     ViewStyle style_;
     QString backendReport_;
     bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true, flagsDirty_ = true;
+    // The drawn level. A new document's is prepared on a worker (prepareLevel()); until it is
+    // ready frames show no level. An edit to the level while it is prepared makes it stale: the
+    // frame then builds the level from the document itself, as it does after every edit.
+    void prepareLevel();
+    void updateLevel();
+    bool levelDirty_ = true, levelStale_ = false, levelCleared_ = false;
+    std::future<LevelMesh> levelPrepared_;
     bool backendChosen_ = false;
     std::uint64_t raysDrawn_ = 0;
     qint64 paintStartNs_ = -1'000'000'000;

@@ -179,12 +179,16 @@ void main() {
 }
 )";
 
+} // namespace
+
 struct MeshVertex {
     glm::vec3 position;
     glm::vec3 normal;
     std::uint32_t object;
     glm::vec2 aoUv{-1.0f, -1.0f};
 };
+
+namespace {
 
 struct LineVertex {
     glm::vec3 position;
@@ -450,6 +454,16 @@ struct ViewportRenderer::Impl {
     };
     RenderTarget cache;
     std::optional<BackgroundKey> cacheKey;
+    // A level's first draw costs llvmpipe about three times its later ones (the demo's 250k
+    // vertices: 107-117 ms against 37-41 ms, quiet; its memory touched for the first time, not
+    // its shaders: a warm-up draw of a small mesh changed nothing). So a newly uploaded level is
+    // drawn into the cache over several frames, kFirstDrawChunk vertices each, which keeps the
+    // event loop's longest stall on opening a level under 100 ms; later draws are whole.
+    static constexpr GLsizei kFirstDrawChunk = 3 * 24'000;
+    // The upload itself (30 ms for the demo on a first open) gets a frame of its own.
+    GLsizei cacheLevelDrawn = -1;   ///< vertices of the scene file in the cache under cacheKey; -1: not cleared
+    bool levelFirstDraw = false;    ///< the scene file was uploaded in chunks and not yet drawn whole
+    bool levelJustUploaded = false; ///< ... in this frame: it draws none of it
     bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
     // The frame is composed here, and only its colour is copied to the caller's framebuffer: on
     // llvmpipe, blitting the cache's depth and stencil into a window's framebuffer takes the
@@ -516,9 +530,11 @@ struct ViewportRenderer::Impl {
         gl.TextureBuffer(buffer.hiddenTexture, GL_R8UI, buffer.hiddenBuffer);
     }
 
-    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selected, const glm::vec4& flat)
+    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selected, const glm::vec4& flat, GLsizei first = 0,
+                  GLsizei end = std::numeric_limits<GLsizei>::max())
     {
-        if (buffer.vertices == 0)
+        end = std::min(end, buffer.vertices);
+        if (end <= first)
             return;
         gl.ProgramUniform1i(meshProgram, loc(meshProgram, "hideOn"), buffer.anyHidden ? 1 : 0);
         if (buffer.anyHidden)
@@ -527,7 +543,7 @@ struct ViewportRenderer::Impl {
         gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), selected);
         gl.ProgramUniform4fv(meshProgram, loc(meshProgram, "flatColour"), 1, glm::value_ptr(flat));
         gl.BindVertexArray(buffer.vao);
-        gl.DrawArrays(GL_TRIANGLES, 0, buffer.vertices);
+        gl.DrawArrays(GL_TRIANGLES, first, end - first);
     }
 };
 
@@ -579,10 +595,27 @@ ViewportRenderer::~ViewportRenderer()
     d.compose.destroy(gl);
 }
 
-void ViewportRenderer::setSceneFile(const Scene& scene)
+LevelMesh::LevelMesh() = default;
+LevelMesh::~LevelMesh() = default;
+LevelMesh::LevelMesh(LevelMesh&&) noexcept = default;
+LevelMesh& LevelMesh::operator=(LevelMesh&&) noexcept = default;
+
+LevelMesh prepareLevelMesh(const Scene& scene)
 {
-    impl_->sceneFileVertices = meshVertices(worldTriangles(scene), nullptr);
+    LevelMesh mesh;
+    mesh.vertices = meshVertices(worldTriangles(scene), nullptr);
+    return mesh;
+}
+
+void ViewportRenderer::setSceneFile(const Scene& scene) { setSceneFile(prepareLevelMesh(scene)); }
+
+bool ViewportRenderer::levelIncomplete() const { return impl_->levelFirstDraw; }
+
+void ViewportRenderer::setSceneFile(LevelMesh mesh, bool inChunks)
+{
+    impl_->sceneFileVertices = std::move(mesh.vertices);
     impl_->upload(impl_->sceneFile, impl_->sceneFileVertices);
+    impl_->levelFirstDraw = impl_->levelJustUploaded = inChunks && impl_->sceneFile.vertices > 0;
     impl_->aoReady = false;   // its uvs were for the old triangles
     ++impl_->sceneVersion;
 }
@@ -719,12 +752,16 @@ void ViewportRenderer::render(const FrameState& f)
     gl.DepthMask(GL_TRUE);
     gl.Disable(GL_BLEND);
     gl.Disable(GL_CULL_FACE);
-    auto drawBackground = [&](GLuint framebuffer) {
+    // The level's vertices [first, end) (a first draw comes in chunks: kFirstDrawChunk).
+    auto drawBackground = [&](GLuint framebuffer, bool clear = true, GLsizei first = 0,
+                              GLsizei end = std::numeric_limits<GLsizei>::max()) {
         gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
         gl.Viewport(0, 0, f.width, f.height);
-        const float background[4] = {0.17f, 0.18f, 0.2f, 1.0f};
-        gl.ClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, background);
-        gl.ClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        if (clear) {
+            const float background[4] = {0.17f, 0.18f, 0.2f, 1.0f};
+            gl.ClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, background);
+            gl.ClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+        }
         gl.UseProgram(d.meshProgram);
         setCut(cut.height, cut.depth);
         gl.Enable(GL_CLIP_DISTANCE0);
@@ -732,11 +769,11 @@ void ViewportRenderer::render(const FrameState& f)
         gl.Enable(GL_CLIP_DISTANCE2);
         gl.Enable(GL_POLYGON_OFFSET_FILL);
         gl.PolygonOffset(1.0f, 1.0f);   // the wireframe overlay wins the depth test
-        d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, selectedFile, glm::vec4(0.0f));
+        d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, selectedFile, glm::vec4(0.0f), first, end);
         gl.Disable(GL_POLYGON_OFFSET_FILL);
         if (f.style.wireframe) {
             gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-            d.drawMesh(d.sceneFile, {}, -1, {0.1f, 0.1f, 0.12f, 1.0f});
+            d.drawMesh(d.sceneFile, {}, -1, {0.1f, 0.1f, 0.12f, 1.0f}, first, end);
             gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         }
         gl.Disable(GL_CLIP_DISTANCE0);
@@ -757,9 +794,21 @@ void ViewportRenderer::render(const FrameState& f)
     d.resizeCache(f.width, f.height);
     if (!d.cacheBroken) {
         if (d.cacheKey != key) {
-            drawBackground(d.cache.framebuffer);
             d.cacheKey = key;
+            d.cacheLevelDrawn = -1;
         }
+        const GLsizei total = d.sceneFile.vertices;
+        if (d.cacheLevelDrawn < total) {
+            const GLsizei from = std::max<GLsizei>(d.cacheLevelDrawn, 0);
+            const GLsizei to = !d.levelFirstDraw     ? total
+                               : d.levelJustUploaded ? from
+                                                     : std::min(total, from + Impl::kFirstDrawChunk);
+            drawBackground(d.cache.framebuffer, d.cacheLevelDrawn < 0, from, to);
+            d.cacheLevelDrawn = to;
+            if (to >= total)
+                d.levelFirstDraw = false;
+        }
+        d.levelJustUploaded = false;
         while (gl.GetError() != GL_NO_ERROR) {
         }
         gl.BlitNamedFramebuffer(d.cache.framebuffer, d.compose.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width,

@@ -143,6 +143,20 @@ Cutaway cutaway(const ViewStyle& style, const Camera& camera);
 /// Whether a point of the scene file is hidden by the cut.
 bool hiddenByCut(const Cutaway& cut, const Camera& camera, const glm::dvec3& point);
 
+struct MeshVertex;
+
+/// The scene file's triangles as the renderer draws them (positions, normals, object ids).
+/// Built from the scene alone, so a worker thread can prepare it (the demo's 83k triangles take
+/// 45 ms on a first open, most of it touching new memory) and the GUI thread only uploads it.
+struct LevelMesh {
+    std::vector<MeshVertex> vertices;
+    LevelMesh();
+    ~LevelMesh();
+    LevelMesh(LevelMesh&&) noexcept;
+    LevelMesh& operator=(LevelMesh&&) noexcept;
+};
+LevelMesh prepareLevelMesh(const Scene& scene);
+
 class ViewportRenderer {
 public:
     /// Compiles the programs; the context must stay current while the renderer is used.
@@ -153,6 +167,9 @@ public:
 
     /// The scene file's objects (object id = instance index).
     void setSceneFile(const Scene& scene);
+    /// The same, prepared by prepareLevelMesh (on any thread); an empty mesh draws no level.
+    /// `inChunks`: its first draw is spread over frames (levelIncomplete()), for interactive views.
+    void setSceneFile(LevelMesh mesh, bool inChunks = false);
     /// The level's ambient occlusion as a light map (AoPreview.h): `uvs` per world triangle
     /// corner of the whole scene, the scene file's triangles then the placed occluders'
     /// (worldTriangles order; -1 where a triangle has none), a width x height map of the light
@@ -182,6 +199,9 @@ public:
 
     /// Rays drawn by the last render().
     std::uint64_t raysDrawn() const { return raysDrawn_; }
+    /// A newly set level is drawn over several frames (its first draw is the slow one): true
+    /// until the last frame drew all of it; the caller asks for another frame meanwhile.
+    bool levelIncomplete() const;
 
 private:
     struct MeshBuffer;

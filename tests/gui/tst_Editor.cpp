@@ -2175,6 +2175,7 @@ private:
         window_->viewport().requestUpdate();
         spy.wait(3000);
         QTRY_VERIFY_WITH_TIMEOUT(!window_->viewport().resultIsStale(), 30000);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->viewport().levelDrawn(), 10000);
         QTest::qWait(50);
     }
 
@@ -2185,6 +2186,7 @@ private:
         QSignalSpy spy(&window_->viewport(), &QOpenGLWindow::frameSwapped);
         window_->viewport().requestUpdate();
         QVERIFY(spy.wait(5000));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->viewport().levelDrawn(), 10000);
         QTest::qWait(50);
     }
 
