@@ -36,7 +36,8 @@ bool samePatch(const Patch& a, const Patch& b) { return a.corner == b.corner && 
 
 bool sameCamera(const Camera& a, const Camera& b)
 {
-    return a.target == b.target && a.distance == b.distance && a.yaw == b.yaw && a.pitch == b.pitch && a.fovY == b.fovY;
+    return a.target == b.target && a.distance == b.distance && a.yaw == b.yaw && a.pitch == b.pitch && a.fovY == b.fovY &&
+           a.orthographic == b.orthographic;
 }
 
 } // namespace

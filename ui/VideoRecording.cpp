@@ -55,10 +55,11 @@ Camera toCamera(const PathCamera& p)
     c.yaw = p.yaw;
     c.pitch = p.pitch;
     c.fovY = p.fovY;
+    c.orthographic = p.orthographic;
     return c;
 }
 
-PathCamera toPathCamera(const Camera& c) { return {c.target, c.distance, c.yaw, c.pitch, c.fovY}; }
+PathCamera toPathCamera(const Camera& c) { return {c.target, c.distance, c.yaw, c.pitch, c.fovY, c.orthographic}; }
 
 RecordingScene recordingScene(const EditorDocument& document, const Camera& camera, const ViewStyle& style)
 {

@@ -112,6 +112,11 @@ RecordedPath parseRecordedPath(const Project& project, const std::string& what)
             cam.camera.yaw = number(keys[k], "yaw", what, key);
             cam.camera.pitch = number(keys[k], "pitch", what, key);
             cam.camera.fovY = number(keys[k], "fov_y", what, key);
+            if (const auto flag = keys[k].find("orthographic"); flag != keys[k].end()) {
+                if (!flag->is_boolean())
+                    fail(what, key + ".orthographic", "must be true or false");
+                cam.camera.orthographic = flag->get<bool>();
+            }
             if (!(cam.camera.distance > 0.0))
                 fail(what, key + ".distance", "must be positive");
             if (!(std::abs(cam.camera.pitch) < 1.5708))
@@ -171,9 +176,12 @@ RecordedPath parseRecordedPath(const Project& project, const std::string& what)
 json toJson(const RecordedPath& path)
 {
     json camera = json::array();
-    for (const PathCameraKey& key : path.camera)
+    for (const PathCameraKey& key : path.camera) {
         camera.push_back({{"frame", key.frame}, {"target", vec3Json(key.camera.target)}, {"distance", key.camera.distance},
                           {"yaw", key.camera.yaw}, {"pitch", key.camera.pitch}, {"fov_y", key.camera.fovY}});
+        if (key.camera.orthographic)
+            camera.back()["orthographic"] = true;
+    }
     json edits = json::array();
     for (const PathEdit& e : path.edits) {
         json key = {{"frame", e.frame}};

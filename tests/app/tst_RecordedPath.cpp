@@ -37,6 +37,7 @@ RecordedPath samplePath()
     path.frames = 30;
     path.camera.push_back({0, {{1.0, 2.0, 3.0}, 7.5, 0.25, -0.5, 0.9}});
     path.camera.push_back({12, {{1.1, 2.0, 3.0}, 7.0, 0.3, -0.45, 0.9}});
+    path.camera.push_back({18, {{1.1, 2.0, 3.0}, 7.0, 0.0, -1.5, 0.9, true}});   // the top view, orthographic
     PathEdit start;
     start.frame = 0;
     start.object = PathEdit::Object::Receiver;
@@ -80,6 +81,10 @@ TEST(RecordedPath, RoundTripsThroughTheProjectFileBesideOtherKeys)
     EXPECT_EQ(back.edits[1].patch.u, path.edits[1].patch.u);
     EXPECT_EQ(back.edits[2].transform, path.edits[2].transform);
     EXPECT_EQ(toJson(back), toJson(path));
+    // The orthographic flag is kept, and written only where it is set.
+    EXPECT_TRUE(back.camera[2].camera.orthographic);
+    EXPECT_FALSE(back.camera[1].camera.orthographic);
+    EXPECT_FALSE(toJson(path).at("camera")[1].contains("orthographic"));
 
     // A second save of the loaded project keeps it byte for byte (an unknown key to the model).
     saveProject(loaded, folder / "q.json");
@@ -152,6 +157,7 @@ TEST(RecordedPath, AMalformedPathIsRefusedNamingTheKey)
         {with(json::json_pointer("/camera/1/frame"), 30), "'recorded_path.camera[1].frame' must be in [0, frames)"},
         {with(json::json_pointer("/camera/0/distance"), -1), "'recorded_path.camera[0].distance' must be positive"},
         {with(json::json_pointer("/camera/0/target"), json::array({1, 2})), "'recorded_path.camera[0].target' must be an array of 3"},
+        {with(json::json_pointer("/camera/2/orthographic"), "yes"), "'recorded_path.camera[2].orthographic' must be true or false"},
         {with(json::json_pointer("/edits/0/object"), "door"), "'recorded_path.edits[0].object' must be \"source\""},
         {with(json::json_pointer("/edits/2/frame"), 5), "'recorded_path.edits[2].frame' must not be less"},
         {with(json::json_pointer("/edits/2/transform"), json::array({1, 2, 3})), "'recorded_path.edits[2].transform' must be an array of 16"},

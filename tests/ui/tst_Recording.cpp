@@ -281,3 +281,21 @@ TEST(RecordCommand, BadArgumentsGiveOneLineErrorsAndNoFile)
 
 } // namespace
 } // namespace sightline::ui
+
+// A path recorded in an orthographic view (7 / 1 / 3, or 5) plays back orthographic: the flag goes
+// into the path's camera keys and back out, and a key differing only in it is a new key.
+namespace sightline::ui {
+TEST(VideoRecording, TheOrthographicFlagRoundTripsThroughAPathCamera)
+{
+    Camera camera;
+    camera.target = {1.0, 2.0, 3.0};
+    camera.orthographic = true;
+    const PathCamera key = toPathCamera(camera);
+    EXPECT_TRUE(key.orthographic);
+    EXPECT_TRUE(toCamera(key).orthographic);
+    Camera perspective = camera;
+    perspective.orthographic = false;
+    EXPECT_FALSE(toCamera(toPathCamera(perspective)).orthographic);
+    EXPECT_NE(toPathCamera(perspective), key);
+}
+} // namespace sightline::ui

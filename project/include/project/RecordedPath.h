@@ -9,6 +9,7 @@
 //     "frames": 312,                              // its length (the last sample + 1)
 //     "camera": [                                 // a key where the camera changed
 //       {"frame": 0, "target": [x, y, z], "distance": 9.5, "yaw": 1.2, "pitch": -0.6, "fov_y": 0.87},
+//       {"frame": 90, ..., "orthographic": true},   // only where it is (absent: perspective)
 //       ...],
 //     "edits": [                                  // a key where an object changed
 //       {"frame": 0,  "object": "receiver", "corner": [x, y, z], "u": [...], "v": [...]},
@@ -48,6 +49,7 @@ struct PathCamera {
     double yaw = 0.0;
     double pitch = -0.3;
     double fovY = 0.8727;
+    bool orthographic = false;   ///< top / front / side and 5 (issue 16 §2)
     bool operator==(const PathCamera&) const = default;
 };
 
