@@ -818,8 +818,10 @@ void ViewportRenderer::render(const FrameState& f)
         if (drawn)
             target = d.compose.framebuffer;
     }
-    if (!drawn)
+    if (!drawn) {   // without the cache, every frame draws the level whole
         drawBackground(f.framebuffer);
+        d.levelFirstDraw = d.levelJustUploaded = false;
+    }
     gl.BindFramebuffer(GL_FRAMEBUFFER, target);
     gl.Viewport(0, 0, f.width, f.height);
 

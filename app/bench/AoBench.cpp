@@ -175,8 +175,9 @@ int main(int argc, char** argv)
         if (gl) {
             try {
                 const auto context = gl::HeadlessContext::create(gl::Backend::OSMesa);
-                for (int resolution : {1024, 2048}) {
-                    AoGlCaster caster(context->functions(), occluders, {.resolution = resolution});
+                // The default (occluders simplified within a quarter texel) and every triangle.
+                for (const auto& [resolution, simplify] : {std::pair{1024, 0.25}, std::pair{1024, 0.0}, std::pair{2048, 0.25}}) {
+                    AoGlCaster caster(context->functions(), occluders, {.resolution = resolution, .simplifyTexels = simplify});
                     VisibilityMatrix m;
                     const double t = timeMs(1, [&] {
                         m = VisibilityMatrix(points.size(), 258);
@@ -187,9 +188,10 @@ int main(int argc, char** argv)
                         for (int w = 0; w < m.words(); ++w)
                             differ += unsigned(std::popcount((m.row(i)[w] ^ computation.matrix().row(i)[w]) &
                                                                               (w == 4 ? 0x3ull : ~0ull)));
-                    std::printf("gl k=258 %dx%d (%s): %.0f ms, RMSE vs MC %.4f, bits differing from cpu %llu\n", resolution,
-                                resolution, context->renderer().c_str(), t, rmse(ambientOcclusion(m, points, 258), mc),
-                                (unsigned long long)differ);
+                    std::printf("gl k=258 %dx%d, %zu triangles (within %.2f texel) (%s): %.0f ms, RMSE vs MC %.4f, bits "
+                                "differing from cpu %llu\n",
+                                resolution, resolution, caster.drawnTriangles(), simplify, context->renderer().c_str(), t,
+                                rmse(ambientOcclusion(m, points, 258), mc), (unsigned long long)differ);
                 }
             } catch (const std::exception& e) {
                 std::printf("gl: skipped (%s)\n", e.what());

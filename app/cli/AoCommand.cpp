@@ -74,6 +74,10 @@ CLI::App* addAoCommand(CLI::App& app, AoArgs& args)
     command->add_option("--gl-resolution", args.glResolution, "gl: depth map side in pixels")
         ->check(CLI::Range(64, 8192))
         ->capture_default_str();
+    command->add_option("--gl-simplify", args.glSimplify,
+                        "gl: draw the depth maps from the occluders simplified within T texels (0: every triangle)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     command->add_option("--env", args.env, "Light from a Radiance .hdr latitude-longitude environment (colours only; "
                                            "--npy stays the uniform-sky AO)");
     command->add_option("--rotate", args.rotate, "--env: turn the environment about +Y by DEG degrees");
@@ -96,6 +100,7 @@ void checkAoOptions(const CLI::App& command, const AoArgs& args)
     aoLevelOf(args.k);   // "k 100: the light sphere has 6, 18, 66, 258 or 1026 directions"
     requireMethod(command, "--gl-backend", args.method, {"gl"});
     requireMethod(command, "--gl-resolution", args.method, {"gl"});
+    requireMethod(command, "--gl-simplify", args.method, {"gl"});
     requireMethod(command, "--threads", args.method, {"cpu", "embree"});
     for (const char* option : {"--rotate", "--exposure"})
         if (given(command, option) && args.env.empty())
@@ -152,6 +157,7 @@ int runAo(const AoArgs& args)
     std::unique_ptr<gl::HeadlessContext> context;
     std::unique_ptr<AoFiller> filler;
     std::string renderer;
+    const AoGlCaster* glCaster = nullptr;
     if (args.method == "cpu") {
         filler = std::make_unique<AoBinnedCaster>(occluders, AoBinnedOptions{.threads = args.threads});
     } else if (args.method == "embree") {
@@ -159,7 +165,10 @@ int runAo(const AoArgs& args)
     } else {
         context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
         renderer = context->renderer();
-        filler = std::make_unique<AoGlCaster>(context->functions(), occluders, AoGlOptions{.resolution = args.glResolution});
+        auto caster = std::make_unique<AoGlCaster>(context->functions(), occluders,
+                                                   AoGlOptions{.resolution = args.glResolution, .simplifyTexels = args.glSimplify});
+        glCaster = caster.get();
+        filler = std::move(caster);
     }
 
     // Progressive, level by level: each level's time is reported (the editor shows each at once).
@@ -256,6 +265,9 @@ int runAo(const AoArgs& args)
             out["env"] = {{"file", args.env}, {"rotate", args.rotate}, {"exposure", args.exposure}, {"relight_ms", relightMs}};
         if (!renderer.empty())
             out["renderer"] = renderer;
+        if (glCaster)
+            out["gl"] = {{"resolution", args.glResolution}, {"texel_m", glCaster->texelSize()},
+                         {"drawn_triangles", glCaster->drawnTriangles()}, {"simplification_m", glCaster->simplificationError()}};
         std::cout << dumpJson(out) << "\n";
     } else {
         std::printf("ao         %s: %zu %s, %zu triangles, k = %d (%s, %s weights)\n", what.c_str(), points.size(),
@@ -263,6 +275,9 @@ int runAo(const AoArgs& args)
                     args.weights.c_str());
         std::printf("values     mean %.4f over %zu points (%zu of no face, %zu zero normals: NaN)\n", mean, shaded, noFace,
                     zeroNormal);
+        if (glCaster)
+            std::printf("gl         %d^2 depth maps (texel %.3g m) of %zu triangles, simplified within %.3g m\n",
+                        args.glResolution, glCaster->texelSize(), glCaster->drawnTriangles(), glCaster->simplificationError());
         std::printf("time       %.1f ms matrix, %.1f ms shading, %.0f ms loading\n", fillMs, shadeMs, loadMs);
         for (const json& l : levels)
             std::printf("           k = %4d after %.1f ms\n", l["k"].get<int>(), l["ms"].get<double>());

@@ -18,6 +18,7 @@ struct AoArgs {
     std::string weights = "solid-angle";
     std::string glBackend = "osmesa";
     int glResolution = 1024;
+    double glSimplify = 0.25;   ///< texels (AoGlOptions::simplifyTexels)
     double rotate = 0.0, exposure = 0.0;
     double texel = 0.0;   ///< > 0: texel mode, texels per metre
     int threads = 0;

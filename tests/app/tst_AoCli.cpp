@@ -106,6 +106,15 @@ TEST_F(AoCli, NpyAndJsonFollowTheContract)
     const Npy e = readNpy(folder / "e.npy");
     for (int i = 0; i < 12; ++i)
         EXPECT_NEAR(e.values[std::size_t(i)], npy.values[std::size_t(i)], 0.02f);
+    // The GL mode says what its depth maps drew: the room's box and floor cannot be simplified
+    // within a quarter texel without moving them, so every triangle.
+    const CliRun gl = runCli("ao " + room() + " --k 18 --method gl --gl-resolution 256 --json");
+    ASSERT_EQ(gl.code, 0) << gl.err;
+    const json maps = json::parse(gl.out).at("gl");
+    EXPECT_EQ(maps["resolution"], 256);
+    EXPECT_GT(maps["texel_m"].get<double>(), 0.0);
+    EXPECT_EQ(maps["drawn_triangles"], json::parse(gl.out)["triangles"]);
+    EXPECT_LE(maps["simplification_m"].get<double>(), 0.25 * maps["texel_m"].get<double>());
 }
 
 TEST_F(AoCli, ProjectsGiveEveryInstanceInOrder)
@@ -214,5 +223,7 @@ TEST_F(AoCli, BadInputGetsOneLineErrors)
     expectError(runCli("ao " + room() + " --rotate 30"), "--env");
     expectError(runCli("ao " + room() + " --texel 4 --ply x.ply"), "--ply");
     expectError(runCli("ao " + room() + " --threads 2 --method gl"), "--threads");
+    expectError(runCli("ao " + room() + " --gl-simplify 0.5"), "--gl-simplify");   // cpu, the default
+    expectError(runCli("ao " + room() + " --method gl --gl-simplify 2"), "--gl-simplify");
     expectError(runCli("ao " + room() + " --texel 100000 --lightmap x.png"), "light map");
 }

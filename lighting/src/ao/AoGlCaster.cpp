@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include <glm/geometric.hpp>
+#include <meshoptimizer.h>
 
 #include "visibility/Error.h"
 #include "visibility/gl/GlShaders.h"
@@ -90,6 +91,7 @@ struct AoGlCaster::Impl {
     glm::vec3 centre{0.0f};
     float radius = 1.0f;
     GLsizei indexCount = 0;
+    double simplificationError = 0.0;   ///< metres
     GLuint vao = 0, vertexBuffer = 0, indexBuffer = 0, depthTexture = 0, framebuffer = 0;
     GLuint depthProgram = 0, compareProgram = 0;
     GLuint originBuffer = 0, normalBuffer = 0, bitBuffer = 0;
@@ -137,13 +139,27 @@ AoGlCaster::AoGlCaster(const gl::Functions& gl, const AoOccluders& occluders, Ao
     m.depthProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kDepthVertex}, {GL_FRAGMENT_SHADER, kDepthFragment}}, "GL AO depth map");
     m.compareProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, kCompare}}, "GL AO depth compare");
 
+    // Coarse occluders where they give the same answer: edge collapses that move the surface by
+    // less than a fraction of a texel, which the compare's bias (at least a texel) and the map's
+    // resolution already cover. meshoptimizer measures the error relative to the mesh's scale.
+    std::vector<std::uint32_t> indices = occluders.indices;
+    if (options.simplifyTexels > 0.0 && !indices.empty()) {
+        const float scale = meshopt_simplifyScale(&occluders.vertices[0].x, occluders.vertices.size(), sizeof(glm::vec3));
+        if (scale > 0.0f) {
+            const double limit = options.simplifyTexels * 2.0 * double(m.radius) / options.resolution;
+            float error = 0.0f;
+            indices.resize(meshopt_simplify(indices.data(), occluders.indices.data(), occluders.indices.size(),
+                                            &occluders.vertices[0].x, occluders.vertices.size(), sizeof(glm::vec3), 0,
+                                            float(limit / scale), 0, &error));
+            m.simplificationError = double(error) * scale;
+        }
+    }
     gl.CreateBuffers(1, &m.vertexBuffer);
     gl.NamedBufferData(m.vertexBuffer, GLsizeiptr(occluders.vertices.size() * sizeof(glm::vec3)), occluders.vertices.data(),
                        GL_STATIC_DRAW);
     gl.CreateBuffers(1, &m.indexBuffer);
-    gl.NamedBufferData(m.indexBuffer, GLsizeiptr(occluders.indices.size() * sizeof(std::uint32_t)), occluders.indices.data(),
-                       GL_STATIC_DRAW);
-    m.indexCount = GLsizei(occluders.indices.size());
+    gl.NamedBufferData(m.indexBuffer, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(), GL_STATIC_DRAW);
+    m.indexCount = GLsizei(indices.size());
     gl.CreateVertexArrays(1, &m.vao);
     gl.VertexArrayVertexBuffer(m.vao, 0, m.vertexBuffer, 0, sizeof(glm::vec3));
     gl.VertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
@@ -164,6 +180,10 @@ AoGlCaster::AoGlCaster(const gl::Functions& gl, const AoOccluders& occluders, Ao
 AoGlCaster::~AoGlCaster() = default;
 
 double AoGlCaster::texelSize() const { return 2.0 * impl_->radius / impl_->options.resolution; }
+
+std::size_t AoGlCaster::drawnTriangles() const { return std::size_t(impl_->indexCount) / 3; }
+
+double AoGlCaster::simplificationError() const { return impl_->simplificationError; }
 
 double AoGlCaster::bias(double cosTheta) const
 {
