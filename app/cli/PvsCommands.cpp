@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/OutputLimits.h"
+#include "cli/OutputPaths.h"
 #include "cli/PvsBakeJob.h"
 #include "demo/PvsLevel.h"
 #include "plugins/SceneFormats.h"
@@ -52,6 +53,20 @@ std::pair<std::uint32_t, std::uint32_t> parseShard(const std::string& text)
 }
 
 void writeText(const std::string& path, const std::string& bytes) { writeFileAtomically(path, bytes); }
+
+/// What a PVS command writes never replaces what it reads, nor another of its outputs
+/// (cli/OutputPaths.h): `pvs bake p.json --out p.json` replaced the project with the rows.
+void checkPvsOutputs(const PvsOutputs& o, const std::string& gaps, const std::vector<FileRole>& inputs)
+{
+    checkOutputs({{"--out", o.out}, {"--json", o.json}, {"--quake1", o.quake1}, {"--quake2", o.quake2}, {"--prt", o.prt},
+                  {"--gaps", gaps}},
+                 inputs);
+}
+
+std::vector<FileRole> projectFiles(const std::string& file, bool allowOutsidePaths)
+{
+    return projectInputs(file, loadProject(file, {.allowOutsidePaths = allowOutsidePaths}));
+}
 
 void addOutputOptions(CLI::App* cmd, PvsOutputs& o, bool outRequired)
 {
@@ -96,6 +111,7 @@ void printAccuracy(const pvs::AccuracyReport& a)
 
 int runBake(const PvsBakeArgs& args, int argc, char** argv)
 {
+    checkPvsOutputs(args.outputs, args.gaps, projectFiles(args.project, args.allowOutsidePaths));
     if (args.mpi) {
         if (!args.shard.empty())
             throw Error("--mpi and --shard: under MPI the ranks share the cells; use one or the other");
@@ -175,6 +191,10 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
 
 int runMerge(const PvsMergeArgs& args)
 {
+    std::vector<FileRole> inputs;
+    for (const std::string& name : args.parts)
+        inputs.push_back({"the part file", name});
+    checkPvsOutputs(args.outputs, {}, inputs);
     std::vector<pvs::PvsPart> parts;
     for (const std::string& name : args.parts)
         parts.push_back(pvs::decodePart(readInputFile(name, name), name));
@@ -195,6 +215,9 @@ int runMerge(const PvsMergeArgs& args)
 
 int runCheck(const PvsCheckArgs& args)
 {
+    std::vector<FileRole> inputs = projectFiles(args.project, args.allowOutsidePaths);
+    inputs.push_back({"the .pvs file", args.pvs});
+    checkOutputs({{"--gaps", args.gaps}}, inputs);
     PvsBakeArgs bakeArgs;
     bakeArgs.project = args.project;
     bakeArgs.allowOutsidePaths = args.allowOutsidePaths;

@@ -220,6 +220,12 @@ TEST_F(BadInputs, AnOutputNeverReplacesAnInputOrAnotherOutput)
         {"ao " + wall + " --ply " + wall, {"--ply", "the mesh"}},
         {"ao " + p + " --npy " + wall, {"--npy", "the scene"}},
         {"bench " + p + " --methods raycast --sources 32 --receivers 32 --repeat 1 --csv " + p, {"--csv", "the project"}},
+        {"pvs bake " + p + " --out " + p, {"--out", "the project"}},
+        {"pvs bake " + p + " --out " + (folder / "r.pvs").string() + " --prt " + wall, {"--prt", "the scene"}},
+        {"pvs bake " + p + " --out " + (folder / "r.pvs").string() + " --json " + (folder / "r.pvs").string(),
+         {"--out and --json both name"}},
+        {"pvs merge " + p + " --out " + p, {"--out", "the part file"}},
+        {"pvs check " + p + " " + (folder / "r.pvs").string() + " --gaps " + p, {"--gaps", "the project"}},
     };
     for (const auto& [command, words] : cases) {
         const CliRun run = runCli(command, 120);
@@ -232,6 +238,7 @@ TEST_F(BadInputs, AnOutputNeverReplacesAnInputOrAnotherOutput)
     }
     EXPECT_FALSE(fs::exists(folder / "m.png"));
     EXPECT_FALSE(fs::exists(folder / "s.png"));
+    EXPECT_FALSE(fs::exists(folder / "r.pvs"));
 
     // The editor's headless outputs too: `sightline --screenshot p.json p.json` replaced the project.
     const fs::path editor = fs::path(SIGHTLINE_CLI).parent_path() / "sightline";
