@@ -204,19 +204,13 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     // flat patch and take the flat path unchanged.
     if (options.heights)
         validateReceiverHeights(source, receiver, *options.heights);
-    const bool bumpy = !flatReceiver(options.heights);
     if (embree_->triangles == 0)
         return 0;
-    const glm::dvec3 normal = bumpy ? receiverNormalTowardSource(source, receiver) : glm::dvec3(0.0);
-
-    // Positions in double (DESIGN.md §2).
+    const raycast::SampleEnds sampleEnds(source, receiver, options.heights);   // positions in double (DESIGN.md §2)
+    const bool bumpy = sampleEnds.bumpy;
     const int S = source.sampleCount();
-    std::vector<glm::dvec3> sourceExact(static_cast<std::size_t>(S));
-    for (int i = 0; i < S; ++i)
-        sourceExact[std::size_t(i)] = source.sample(i);
-    const auto receiverEnd = [&](int j) {
-        return bumpy ? receiver.sample(j) + options.heights->metres[std::size_t(j)] * normal : receiver.sample(j);
-    };
+    const std::vector<glm::dvec3>& sourceExact = sampleEnds.source;
+    const auto receiverEnd = [&](int j) { return sampleEnds.receiverEnd(j); };
 
     // The boxes must cover this call's float rays: widen (rebuild) first if its patches lie
     // beyond what the build allowed for.

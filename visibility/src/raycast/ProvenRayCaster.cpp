@@ -266,18 +266,12 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
 {
     if (map.sourceCount() != source.sampleCount() || map.receiverNa() != receiver.na || map.receiverNb() != receiver.nb)
         throw Error("ProvenRayCaster::sampleUnblocked: map dimensions do not match the patches");
-    if (options.heights)
-        validateReceiverHeights(source, receiver, *options.heights);
+    const SampleEnds sampleEnds(source, receiver, options.heights);
     const Impl& m = *impl_;
-    const bool bumpy = !flatReceiver(options.heights);
-    const glm::dvec3 normal = bumpy ? receiverNormalTowardSource(source, receiver) : glm::dvec3(0.0);
+    const bool bumpy = sampleEnds.bumpy;
     const int S = source.sampleCount();
-    std::vector<glm::dvec3> sourceExact(static_cast<std::size_t>(S));
-    for (int i = 0; i < S; ++i)
-        sourceExact[std::size_t(i)] = source.sample(i);
-    const auto receiverEnd = [&](int j) {
-        return bumpy ? receiver.sample(j) + options.heights->metres[std::size_t(j)] * normal : receiver.sample(j);
-    };
+    const std::vector<glm::dvec3>& sourceExact = sampleEnds.source;
+    const auto receiverEnd = [&](int j) { return sampleEnds.receiverEnd(j); };
 
     // Rays start where a packet's far ends lie closest together.
     const bool fromSource = blockExtent(receiver) <= blockExtent(source);

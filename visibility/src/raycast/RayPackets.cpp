@@ -7,6 +7,19 @@
 
 namespace sightline::raycast {
 
+SampleEnds::SampleEnds(const Patch& source_, const Patch& receiver_, const ReceiverHeights* heights_)
+    : receiver(receiver_), heights(heights_)
+{
+    if (heights)
+        validateReceiverHeights(source_, receiver, *heights);
+    bumpy = !flatReceiver(heights);
+    if (bumpy)
+        normal = receiverNormalTowardSource(source_, receiver);
+    source.resize(std::size_t(source_.sampleCount()));
+    for (int i = 0; i < source_.sampleCount(); ++i)
+        source[std::size_t(i)] = source_.sample(i);
+}
+
 std::vector<int> packetOrder(const Patch& source)
 {
     const int S = source.sampleCount();

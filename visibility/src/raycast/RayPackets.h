@@ -7,8 +7,26 @@
 
 #include "visibility/ExactSegment.h"
 #include "visibility/Patch.h"
+#include "visibility/ReceiverHeights.h"
 
 namespace sightline::raycast {
+
+/// The segments' ends in double (DESIGN.md §2): every source sample, and each receiver sample
+/// moved along the receiver's normal by its height on a bumpy receiver (§8; all-zero heights are
+/// the flat patch). Throws sightline::Error for heights that do not fit the receiver.
+struct SampleEnds {
+    SampleEnds(const Patch& source, const Patch& receiver, const ReceiverHeights* heights);
+    glm::dvec3 receiverEnd(int j) const
+    {
+        return bumpy ? receiver.sample(j) + heights->metres[std::size_t(j)] * normal : receiver.sample(j);
+    }
+
+    const Patch& receiver;
+    const ReceiverHeights* heights;
+    bool bumpy = false;
+    glm::dvec3 normal{0.0};               ///< the receiver's, towards the source (bumpy only)
+    std::vector<glm::dvec3> source;       ///< source.sample(i)
+};
 
 /// Source sample indices in the order rays go into packets of 16: blocks of 4x4 samples where the
 /// grid allows (more coherent than 16 along a row, and faster), else bit order.
