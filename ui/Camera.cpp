@@ -158,4 +158,22 @@ Camera lookThrough(const glm::dvec3& from, const glm::dvec3& fromNormal, const g
     return camera;
 }
 
+double axisParameter(const glm::dvec3& pivot, const glm::dvec3& axis, const Ray& ray)
+{
+    const glm::dvec3 w0 = pivot - ray.origin;
+    const double b = glm::dot(axis, ray.direction);
+    const double denom = 1.0 - b * b;
+    if (denom < 1e-9)
+        return 0.0;   // looking straight down the axis: no motion along it
+    return (b * glm::dot(ray.direction, w0) - glm::dot(axis, w0)) / denom;
+}
+
+double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b)
+{
+    const glm::dvec2 ab = b - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    return glm::length(p - (a + t * ab));
+}
+
 } // namespace sightline::ui

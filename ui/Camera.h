@@ -83,4 +83,10 @@ Ray pixelRay(const Camera& camera, double x, double y, int width, int height);
 /// eye (< 0 behind it).
 glm::dvec3 toPixels(const Camera& camera, const glm::dvec3& point, int width, int height);
 
+/// Parameter s of the point pivot + s * axis (axis of unit length) nearest to the ray: where a
+/// handle dragged along that axis follows the cursor. 0 when the ray runs along the axis.
+double axisParameter(const glm::dvec3& pivot, const glm::dvec3& axis, const Ray& ray);
+/// Distance from p to the segment a-b (pixels, for picking handles drawn as lines).
+double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b);
+
 } // namespace sightline::ui

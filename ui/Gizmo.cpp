@@ -10,25 +10,6 @@ namespace {
 constexpr double kScreenFraction = 0.15;     // handle length relative to the eye distance (Camera::screenDepth)
 constexpr double kRadiansPerPixel = 0.01;
 
-/// Parameter s of the point pivot + s * axis closest to the pixel's ray.
-double axisParameter(const glm::dvec3& pivot, const glm::dvec3& axis, const Ray& ray)
-{
-    const glm::dvec3 w0 = pivot - ray.origin;
-    const double b = glm::dot(axis, ray.direction);
-    const double denom = 1.0 - b * b;
-    if (denom < 1e-9)
-        return 0.0;   // looking straight down the axis: no motion along it
-    return (b * glm::dot(ray.direction, w0) - glm::dot(axis, w0)) / denom;
-}
-
-double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b)
-{
-    const glm::dvec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(p - (a + t * ab));
-}
-
 } // namespace
 
 GizmoFrame gizmoFrame(const ObjectState& state, GizmoMode mode, const Camera& camera, GizmoSpace space)

@@ -13,26 +13,7 @@ constexpr double kScreenFraction = 0.06;   // the arrows' length relative to the
 constexpr double kMarginPixels = 24.0;
 constexpr double kGripPixels = 16.0;      // the grip's radius on screen, with room for the cursor
 constexpr double kAlongY = 0.95;           // |forward.y| beyond this: the view looks (nearly) along Y
-
-/// Parameter s of the point `on` + s * Y nearest to the ray (the gizmo's axis parameter on Y).
-double yParameter(const glm::dvec3& on, const Ray& ray)
-{
-    const glm::dvec3 axis(0.0, 1.0, 0.0);
-    const glm::dvec3 w0 = on - ray.origin;
-    const double b = glm::dot(axis, ray.direction);
-    const double denom = 1.0 - b * b;
-    if (denom < 1e-9)
-        return 0.0;
-    return (b * glm::dot(ray.direction, w0) - glm::dot(axis, w0)) / denom;
-}
-
-double distanceToSegment(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b)
-{
-    const glm::dvec2 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(p - (a + t * ab));
-}
+constexpr glm::dvec3 kUp{0.0, 1.0, 0.0};  // the handle moves along world Y
 
 } // namespace
 
@@ -119,7 +100,7 @@ CutDrag beginCutDrag(const CutHandle& handle, const Camera& camera, double x, do
         drag.metresPerPixel = 2.0 * depth * std::tan(camera.fovY / 2.0) / std::max(height, 1);
         return drag;
     }
-    drag.startParam = yParameter(handle.point, pixelRay(camera, x, y, width, height));
+    drag.startParam = axisParameter(handle.point, kUp, pixelRay(camera, x, y, width, height));
     return drag;
 }
 
@@ -127,7 +108,7 @@ double dragCut(const CutDrag& drag, const Camera& camera, double x, double y, in
 {
     const double moved = drag.metresPerPixel > 0.0
                              ? (drag.startY - y) * drag.metresPerPixel   // up the screen raises the cut
-                             : yParameter(drag.handle.point, pixelRay(camera, x, y, width, height)) - drag.startParam;
+                             : axisParameter(drag.handle.point, kUp, pixelRay(camera, x, y, width, height)) - drag.startParam;
     const double to = drag.startHeight + moved;
     return step > 0.0 ? std::round(to / step) * step : to;
 }

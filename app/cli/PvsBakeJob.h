@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/OutputPaths.h"
 #include "cli/PvsCommands.h"
 #include "project/PvsSetup.h"
 #include "visibility/Scene.h"
@@ -26,8 +27,9 @@ struct PvsBakeJob {
     double loadMs = 0.0;
 };
 
-/// Loads and checks everything; throws sightline::Error with one line.
-PvsBakeJob prepareBakeJob(const PvsBakeArgs& args);
+/// Loads and checks everything, including that no output (args.outputs, args.gaps) would replace
+/// a file the project names or one of `alsoRead`; throws sightline::Error with one line.
+PvsBakeJob prepareBakeJob(const PvsBakeArgs& args, const std::vector<FileRole>& alsoRead = {});
 
 /// Writes --out (.pvs) and the other formats asked for; returns the summary of sizes.
 nlohmann::json writePvsOutputs(const pvs::PvsData& data, const PvsOutputs& outputs);

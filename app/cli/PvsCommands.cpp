@@ -63,11 +63,6 @@ void checkPvsOutputs(const PvsOutputs& o, const std::string& gaps, const std::ve
                  inputs);
 }
 
-std::vector<FileRole> projectFiles(const std::string& file, bool allowOutsidePaths)
-{
-    return projectInputs(file, loadProject(file, {.allowOutsidePaths = allowOutsidePaths}));
-}
-
 void addOutputOptions(CLI::App* cmd, PvsOutputs& o, bool outRequired)
 {
     auto* out = cmd->add_option("--out", o.out, "Write the binary .pvs (docs/pvs.md)");
@@ -111,7 +106,6 @@ void printAccuracy(const pvs::AccuracyReport& a)
 
 int runBake(const PvsBakeArgs& args, int argc, char** argv)
 {
-    checkPvsOutputs(args.outputs, args.gaps, projectFiles(args.project, args.allowOutsidePaths));
     if (args.mpi) {
         if (!args.shard.empty())
             throw Error("--mpi and --shard: under MPI the ranks share the cells; use one or the other");
@@ -215,13 +209,11 @@ int runMerge(const PvsMergeArgs& args)
 
 int runCheck(const PvsCheckArgs& args)
 {
-    std::vector<FileRole> inputs = projectFiles(args.project, args.allowOutsidePaths);
-    inputs.push_back({"the .pvs file", args.pvs});
-    checkOutputs({{"--gaps", args.gaps}}, inputs);
     PvsBakeArgs bakeArgs;
     bakeArgs.project = args.project;
+    bakeArgs.gaps = args.gaps;
     bakeArgs.allowOutsidePaths = args.allowOutsidePaths;
-    const PvsBakeJob job = prepareBakeJob(bakeArgs);
+    const PvsBakeJob job = prepareBakeJob(bakeArgs, {{"the .pvs file", args.pvs}});
     const pvs::PvsData data = pvs::decodePvs(readInputFile(args.pvs, args.pvs), args.pvs);
     if (data.sceneSha256 != job.data.sceneSha256)
         throw Error(args.pvs + " was baked from another scene (scene sha256 " + data.sceneSha256.substr(0, 12) + "..., " +
@@ -271,11 +263,14 @@ int runLevel(const PvsLevelArgs& args)
 
 } // namespace
 
-PvsBakeJob prepareBakeJob(const PvsBakeArgs& args)
+PvsBakeJob prepareBakeJob(const PvsBakeArgs& args, const std::vector<FileRole>& alsoRead)
 {
     const auto start = std::chrono::steady_clock::now();
     PvsBakeJob job;
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    std::vector<FileRole> inputs = projectInputs(args.project, project);
+    inputs.insert(inputs.end(), alsoRead.begin(), alsoRead.end());
+    checkPvsOutputs(args.outputs, args.gaps, inputs);
     const std::string what = fs::path(args.project).filename().string();
     PvsSetup setup = parsePvsSetup(project, what);
     if (args.coarse > 0)

@@ -324,15 +324,26 @@ TEST(Gizmo, PicksAndDragsInAnOrthographicView)
     }
 }
 
-// Issue 16 §1: the section cut's handle sits on the cut plane in view, and a drag moves the cut
-// along Y under the cursor (by the cursor's vertical motion when the view looks along Y).
-TEST(SectionCutHandle, SitsOnTheCutAndFollowsTheCursor)
+namespace {
+
+/// A view from above and aside, as the cut's handle tests look at the level.
+Camera obliqueView()
 {
     Camera camera;
     camera.target = {2.0, 1.0, -3.0};
     camera.distance = 12.0;
     camera.yaw = 0.4;
     camera.pitch = -0.7;
+    return camera;
+}
+
+} // namespace
+
+// Issue 16 §1: the section cut's handle sits on the cut plane in view, and a drag moves the cut
+// along Y under the cursor (by the cursor's vertical motion when the view looks along Y).
+TEST(SectionCutHandle, SitsOnTheCutAndFollowsTheCursor)
+{
+    const Camera camera = obliqueView();
     const auto handle = cutHandle(camera, 2.5, 800, 600);
     ASSERT_TRUE(handle);
     EXPECT_EQ(handle->point.y, 2.5);
@@ -367,11 +378,7 @@ TEST(SectionCutHandle, SitsOnTheCutAndFollowsTheCursor)
 // opening view, and a click on the receiver grabbed the cut instead.
 TEST(SectionCutHandle, KeepsClearOfThePatchesAndTheGizmo)
 {
-    Camera camera;
-    camera.target = {2.0, 1.0, -3.0};
-    camera.distance = 12.0;
-    camera.yaw = 0.4;
-    camera.pitch = -0.7;
+    const Camera camera = obliqueView();
     const auto usual = cutHandle(camera, 2.5, 800, 600);
     ASSERT_TRUE(usual);
     const auto box = screenBox(camera, {usual->point + glm::dvec3(0.0, -0.3, 0.0), usual->point + glm::dvec3(0.4, 0.3, 0.2)},
