@@ -17,6 +17,7 @@
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
+#include "visibility/ExactJudge.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/HeckbertHerfSampler.h"
 #include "visibility/RayCastSampler.h"
@@ -100,6 +101,61 @@ std::pair<int, int> sourceGrid(int count)
     return {count / nb, nb};
 }
 
+namespace {
+
+/// The judges of one configuration, made when first needed (regular and jittered rays).
+struct Judges {
+    const WorldTriangles& triangles;
+    const Patch& source;
+    const Patch& receiver;
+    std::unique_ptr<ExactJudge> regular, jittered;
+
+    const ExactJudge& forJitter(const SourceJitter& jitter)
+    {
+        std::unique_ptr<ExactJudge>& judge = jitter.enabled() ? jittered : regular;
+        if (!judge)
+            judge = std::make_unique<ExactJudge>(triangles, source, receiver, jitter);
+        return *judge;
+    }
+};
+
+} // namespace
+
+void judgeDifferences(Row& row, const HiddenSampleMap& map, const HiddenSampleMap& truth,
+                      const std::function<const ExactJudge&()>& judge)
+{
+    std::vector<std::pair<int, int>> differ;
+    std::uint64_t blockedMore = 0, freeMore = 0;
+    for (int j = 0; j < map.receiverCount(); ++j) {
+        const std::span<const std::uint64_t> mine = map.row(j), theirs = truth.row(j);
+        for (std::size_t k = 0; k < mine.size(); ++k) {
+            blockedMore += std::uint64_t(std::popcount(mine[k] & ~theirs[k]));
+            freeMore += std::uint64_t(std::popcount(~mine[k] & theirs[k]));
+            if (blockedMore + freeMore <= kMaxJudgedRays)
+                for (std::uint64_t bits = mine[k] ^ theirs[k]; bits; bits &= bits - 1)
+                    differ.emplace_back(j, int(64 * k) + std::countr_zero(bits));
+        }
+    }
+    row.judged = blockedMore + freeMore <= kMaxJudgedRays;
+    row.wronglyBlocked = row.wronglyFree = row.ties = row.referenceErrors = 0;
+    if (!row.judged) {
+        row.wronglyBlocked = blockedMore, row.wronglyFree = freeMore;
+        return;
+    }
+    if (differ.empty())
+        return;
+    const std::vector<RayKind> kinds = judge().kinds(differ);
+    for (std::size_t k = 0; k < differ.size(); ++k) {
+        const bool blocked = map.blocked(differ[k].first, differ[k].second);
+        switch (kinds[k]) {
+        case RayKind::Free: row.wronglyBlocked += blocked, row.referenceErrors += !blocked; break;
+        case RayKind::Blocked: row.wronglyFree += !blocked, row.referenceErrors += blocked; break;
+        case RayKind::EdgeTie:
+        case RayKind::EndTie: ++row.ties; break;
+        }
+    }
+}
+
 std::vector<Row> run(const Settings& settings, const std::function<void(const Row&)>& progress)
 {
     std::vector<Row> rows;
@@ -109,6 +165,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
         const Scene scene = buildScene(project);
         const RayCastScene reference(scene);
         const CpuBitmaskSampler cpu(scene);
+        const WorldTriangles triangles = worldTriangles(scene);
         std::unique_ptr<TunedEmbree> tuned;   // made on first use
         std::unique_ptr<GlBitmaskSampler> gpu;
         std::unique_ptr<HeckbertHerfSampler> heckbertHerf;
@@ -123,6 +180,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 validatePatchPair(source, receiver);
                 const HiddenSampleMap regularTruth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
                 const SourceJitter jitter{.seed = 1};
+                Judges judges{triangles, source, receiver};
                 std::unique_ptr<HiddenSampleMap> jitteredTruth;   // made for the first "-jitter" method
                 // The dense light does not depend on the source grid: once per receiver grid.
                 ImportanceMap& dense = denseBySide[side];
@@ -208,13 +266,9 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                         }
                     } else {
                         row.blocked = map.blockedCount();
-                        for (int j = 0; j < map.receiverCount(); ++j) {
-                            const std::span<const std::uint64_t> mine = std::as_const(map).row(j), theirs = truth.row(j);
-                            for (std::size_t k = 0; k < mine.size(); ++k) {
-                                row.wronglyBlocked += std::uint64_t(std::popcount(mine[k] & ~theirs[k]));
-                                row.wronglyFree += std::uint64_t(std::popcount(~mine[k] & theirs[k]));
-                            }
-                        }
+                        judgeDifferences(row, map, truth, [&]() -> const ExactJudge& {
+                            return judges.forJitter(jittered ? jitter : SourceJitter{});
+                        });
                     }
                     // Light fractions (§8): from the map, or from hh's counts.
                     ImportanceMap light(receiver.na, receiver.nb);
@@ -239,14 +293,17 @@ std::string toCsv(const std::vector<Row>& rows)
 {
     std::ostringstream out;
     out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-           "light_mae,dense_light_mae,thread_ms\n";
+           "light_mae,dense_light_mae,thread_ms,ties\n";
     for (const Row& r : rows) {
         out << '"' << r.project << "\"," << r.method << ',' << r.sourceSamples << ',' << r.receiverSide << 'x'
             << r.receiverSide << ',' << r.rays << ',' << r.ms << ',' << r.blocked << ',' << r.wronglyBlocked << ','
             << r.wronglyFree << ',' << r.errorFraction() << ',' << r.lightMae << ',';
         if (r.denseMae >= 0.0)
             out << r.denseMae;
-        out << ',' << r.threadMs << '\n';
+        out << ',' << r.threadMs << ',';
+        if (r.judged)
+            out << r.ties;
+        out << '\n';
     }
     return out.str();
 }

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "visibility/ExactJudge.h"
+#include "visibility/HiddenSampleMap.h"
 #include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::bench {
@@ -46,8 +48,16 @@ struct Row {
     /// other jobs take turns on the cores, disturbs it far less than the wall time.
     double threadMs = 0.0;
     std::uint64_t rays = 0, blocked = 0;
-    std::uint64_t wronglyBlocked = 0;   ///< method blocked, reference free
-    std::uint64_t wronglyFree = 0;      ///< reference blocked, method free
+    /// Where the method and the reference differ, each ray is judged (visibility/ExactJudge.h):
+    /// a tie (DESIGN.md §2: within 1e-5 m of an edge or an end) may go either way and is counted
+    /// in `ties`; the rest are errors, in the method's direction. Rows with more than
+    /// kMaxJudgedRays differences (table modes, which are inexact by design) are not judged: all
+    /// their differences count as errors and `judged` is false.
+    std::uint64_t wronglyBlocked = 0;   ///< method blocked, exactly free
+    std::uint64_t wronglyFree = 0;      ///< method free, exactly blocked
+    std::uint64_t ties = 0;             ///< differences on ties (either answer is right)
+    bool judged = false;
+    std::uint64_t referenceErrors = 0;  ///< differences where the judge sides with the method (a bug)
     double errorFraction() const { return rays ? double(wronglyBlocked + wronglyFree) / double(rays) : 0.0; }
     /// Light fraction per receiver sample (1 - blocked / S), mean absolute error against the
     /// reference with the same samples ...
@@ -56,8 +66,18 @@ struct Row {
     double denseMae = -1.0;
 };
 
+/// Rows with more differences from the reference than this are not judged ray by ray (the judge
+/// is a brute force; about 10 us a ray on the bench scenes).
+inline constexpr std::uint64_t kMaxJudgedRays = 50'000;
+
 /// The most square na x nb grid with na * nb == count and na >= nb (32 -> 8x4, 1024 -> 32x32).
 std::pair<int, int> sourceGrid(int count);
+
+/// Fills the row's wronglyBlocked, wronglyFree, ties, judged and referenceErrors from the rays
+/// where `map` and the reference's `truth` differ, each judged by `judge()` (called only when
+/// there is something to judge: a judge costs a pass over the scene's triangles).
+void judgeDifferences(Row& row, const HiddenSampleMap& map, const HiddenSampleMap& truth,
+                      const std::function<const ExactJudge&()>& judge);
 
 /// Runs everything; `progress` (may be empty) is told of each finished row.
 std::vector<Row> run(const Settings& settings, const std::function<void(const Row&)>& progress = {});

@@ -14,6 +14,8 @@
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
 #include "visibility/Error.h"
+#include "visibility/ExactJudge.h"
+#include "visibility/RayCastSampler.h"
 
 using namespace sightline;
 namespace fs = std::filesystem;
@@ -55,17 +57,21 @@ TEST(Bench, EveryMethodAgainstTheReference)
         EXPECT_EQ(r.rays, std::uint64_t(r.sourceSamples) * std::uint64_t(r.receiverSide * r.receiverSide));
         EXPECT_GT(r.ms, 0.0);
         EXPECT_GT(r.threadMs, 0.0);
-        if (r.method == "raycast")
-            EXPECT_EQ(r.wronglyBlocked + r.wronglyFree, 0u);
-        else if (r.method == "cpu-table-16x8")
+        EXPECT_EQ(r.referenceErrors, 0u) << r.method;
+        if (r.method == "raycast") {
+            EXPECT_TRUE(r.judged);
+            EXPECT_EQ(r.wronglyBlocked + r.wronglyFree + r.ties, 0u);
+        } else if (r.method == "cpu-table-16x8") {
             EXPECT_GT(r.errorFraction(), 0.001) << r.sourceSamples;   // a coarse table is visibly wrong
-        else
-            EXPECT_LE(r.errorFraction(), 1e-4) << r.method;           // exact modes
+        } else {
+            EXPECT_TRUE(r.judged) << r.method;                        // exact modes: ties only
+            EXPECT_EQ(r.wronglyBlocked + r.wronglyFree, 0u) << r.method;
+        }
     }
     const std::string csv = bench::toCsv(rows);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
     EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-                        "light_mae,dense_light_mae,thread_ms\n", 0), 0u);
+                        "light_mae,dense_light_mae,thread_ms,ties\n", 0), 0u);
 
     const fs::path png = folder / "chart.png";
     bench::writeChart(rows, png);
@@ -81,6 +87,58 @@ TEST(Bench, EveryMethodAgainstTheReference)
         }
     EXPECT_GT(coloured, 200);
     fs::remove_all(folder);
+}
+
+TEST(Bench, DifferencesFromTheReferenceAreJudgedTiesOrErrors)
+{
+    // A wall x in [0, 1], y in [-1, 1] at z = 1 between a source at z = 0 and a receiver at z = 2,
+    // both 4x4 samples over x in [-0.75, 0.75]: samples at x = -0.5625 ... 0.5625, none on the
+    // wall's edge x = 0. A second wall's edge lies exactly under the rays joining the samples at
+    // x = -0.1875 (a tie for each of them).
+    WorldTriangles triangles;
+    const auto quad = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) {
+        triangles.vertices.insert(triangles.vertices.end(), {a, b, c, a, c, d});
+        triangles.instanceOf.insert(triangles.instanceOf.end(), {0, 0});
+    };
+    quad({0.0f, -1.0f, 1.0f}, {1.0f, -1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}, {0.0f, 1.0f, 1.0f});
+    quad({-0.1875f, -1.0f, 0.9f}, {-0.1875f, 1.0f, 0.9f}, {-0.4f, 1.0f, 0.9f}, {-0.4f, -1.0f, 0.9f});
+    Patch source, receiver;
+    source.corner = {-0.75, -0.75, 0.0}, source.u = {1.5, 0.0, 0.0}, source.v = {0.0, 1.5, 0.0};
+    receiver = source;
+    receiver.corner.z = 2.0;
+    source.na = source.nb = receiver.na = receiver.nb = 4;
+    const HiddenSampleMap truth = RayCastScene(triangles).sample(source, receiver);
+    const ExactJudge judge(triangles, source, receiver);
+    // A clear error each way and a flipped tie: receiver sample 0 (x = -0.5625, column 0) to
+    // source sample 0 is free, receiver sample 3 (x = 0.5625) to source sample 3 is blocked by the
+    // first wall, and receiver sample 1 (x = -0.1875) to source sample 1 (the same x) grazes the
+    // second wall's edge.
+    ASSERT_EQ(judge.ray(0, 0), RayKind::Free);
+    ASSERT_EQ(judge.ray(3, 3), RayKind::Blocked);
+    ASSERT_EQ(judge.ray(1, 1), RayKind::EdgeTie);
+    HiddenSampleMap map = truth;
+    const auto flip = [&](int j, int i) { map.row(j)[std::size_t(i >> 6)] ^= std::uint64_t(1) << (i & 63); };
+    ASSERT_FALSE(truth.blocked(0, 0));
+    ASSERT_TRUE(truth.blocked(3, 3));
+    flip(0, 0), flip(3, 3), flip(1, 1);
+    bench::Row row;
+    int judges = 0;
+    bench::judgeDifferences(row, map, truth, [&]() -> const ExactJudge& { ++judges; return judge; });
+    EXPECT_TRUE(row.judged);
+    EXPECT_EQ(row.wronglyBlocked, 1u);
+    EXPECT_EQ(row.wronglyFree, 1u);
+    EXPECT_EQ(row.ties, 1u);
+    EXPECT_EQ(row.referenceErrors, 0u);
+    EXPECT_EQ(judges, 1);
+    // No difference: nothing judged, no judge made.
+    bench::judgeDifferences(row, truth, truth, [&]() -> const ExactJudge& { ++judges; return judge; });
+    EXPECT_TRUE(row.judged);
+    EXPECT_EQ(row.wronglyBlocked + row.wronglyFree + row.ties, 0u);
+    EXPECT_EQ(judges, 1);
+    // The judge siding with the method: the reference is wrong (counted, not hidden).
+    bench::judgeDifferences(row, truth, map, [&]() -> const ExactJudge& { return judge; });
+    EXPECT_EQ(row.referenceErrors, 2u);
+    EXPECT_EQ(row.ties, 1u);
 }
 
 TEST(Bench, SettingsAreChecked)

@@ -317,7 +317,9 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     // depend on the model's constants), so Auto times both. The next seven calls on a similar
     // configuration (the receiver moved a little) take that choice without timing; the eighth
     // times again, and so does a call after the receiver turned to face another way, or after
-    // setScene. Every answer is the reference's.
+    // setScene. The first probe on a fresh sampler's grids is cold (Strategy.h, probeVerdict):
+    // the next call times again, warm, and its choice is the one reused. Every answer is the
+    // reference's.
     const Scene scene = sceneOf({combWall(120)});
     const RayCastScene reference(scene);
     Patch receiver = xyPatch(2, 64, 64);
@@ -333,8 +335,15 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     }
     ASSERT_TRUE(stats.probed) << "no source grid puts the comb in the probing band";
     CpuBitmaskSampler& sampler = *fresh;
+    receiver.corner.x += 0.01;
+    sampler.sample(source, receiver, {}, &stats);
+    ASSERT_TRUE(stats.probed) << "a cold probe's choice was reused";
+    ASSERT_FALSE(stats.reusedProbe);
+    // The choice for later calls may differ from the rest of this call's (its setup was paid).
+    sampler.sample(source, receiver, {}, &stats);
+    ASSERT_TRUE(stats.reusedProbe);
     const std::string chosen = stats.strategy;
-    for (int call = 1; call <= 8; ++call) {
+    for (int call = 2; call <= 8; ++call) {
         receiver.corner.x += 0.01;   // a drag: similar
         const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
         EXPECT_EQ(stats.probed, call == 8) << call;

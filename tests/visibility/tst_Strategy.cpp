@@ -1,7 +1,10 @@
 // Auto's choice between the bitmask and ray casting (bitmask/Strategy.h) as plain functions of
 // estimated and measured costs, on made-up inputs with known answers.
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -120,6 +123,62 @@ TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)
     // 20 ms: rays, which later calls take without that setup.
     EXPECT_TRUE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 20.0));
     EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 10.0));
+}
+
+TEST(Strategy, AProbeTimesBothMethodsOnNeighbouringTilesOverTheWholeReceiver)
+{
+    // 32x32 samples: 4x4 tiles, 4 pairs. 64x64: 8x8 tiles, 8 pairs.
+    for (const auto& [tilesA, perMethod] : {std::pair<std::size_t, std::size_t>(4, 4), std::pair<std::size_t, std::size_t>(8, 8)}) {
+        const std::size_t tiles = tilesA * tilesA;
+        const ProbeTiles split = probeTiles(tiles, tilesA, perMethod);
+        ASSERT_EQ(split.bitmask.size(), perMethod);
+        ASSERT_EQ(split.rays.size(), perMethod);
+        EXPECT_EQ(split.rest.size(), tiles - 2 * perMethod);
+        // Every tile once.
+        std::vector<int> seen(tiles, 0);
+        for (const auto* list : {&split.bitmask, &split.rays, &split.rest})
+            for (std::uint32_t t : *list)
+                ++seen.at(t);
+        EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), std::ptrdiff_t(tiles));
+        std::size_t bitmaskLeft = 0, rows = 0;
+        std::vector<char> rowSeen(tilesA, 0);
+        for (std::size_t k = 0; k < perMethod; ++k) {
+            const std::uint32_t b = split.bitmask[k], r = split.rays[k];
+            // Side by side in one row of the tile grid.
+            EXPECT_EQ(b / tilesA, r / tilesA) << k;
+            EXPECT_EQ(std::max(b, r) - std::min(b, r), 1u) << k;
+            bitmaskLeft += b < r;
+            rows += !rowSeen[b / tilesA];
+            rowSeen[b / tilesA] = 1;
+        }
+        // Each method gets the left tile half the time, and the pairs spread over the rows.
+        EXPECT_EQ(bitmaskLeft, perMethod / 2);
+        EXPECT_GE(rows, tilesA / 2);
+    }
+    // A receiver one tile wide: pairs one above the other; an odd tile left over is not probed.
+    const ProbeTiles column = probeTiles(5, 1, 2);
+    for (std::size_t k = 0; k < 2; ++k)
+        EXPECT_EQ(std::max(column.bitmask[k], column.rays[k]) - std::min(column.bitmask[k], column.rays[k]), 1u);
+    EXPECT_EQ(column.rest.size(), 1u);
+    // More pairs asked for than there are: all of them, nothing left but the odd tile.
+    EXPECT_EQ(probeTiles(5, 1, 9).rest.size(), 1u);
+}
+
+TEST(Strategy, AColdProbeDecidesItsOwnCallOnly)
+{
+    // Rays 1 ms a tile, the bitmask 0.8 and a 20 ms setup, over 16 tiles: this call has paid its
+    // setup, so its other tiles go by bitmask; later calls go by rays (16 ms against 32.8).
+    const ProbeVerdict warm = probeVerdict(4, 3.2, 4, 4.0, 16, 20.0, true);
+    EXPECT_FALSE(warm.restByRays);
+    EXPECT_TRUE(warm.memoRays);
+    EXPECT_EQ(warm.memoCalls, kProbeReuse);
+    // The same times measured on grids the sampler had not sampled before: the choice serves
+    // no later call (the next one probes again, warm).
+    const ProbeVerdict cold = probeVerdict(4, 3.2, 4, 4.0, 16, 20.0, false);
+    EXPECT_FALSE(cold.restByRays);
+    EXPECT_EQ(cold.memoCalls, 0);
+    // Rays cheaper per tile: the rest by rays as well.
+    EXPECT_TRUE(probeVerdict(4, 4.0, 4, 3.2, 16, 0.0, true).restByRays);
 }
 
 TEST(Strategy, AChoiceServesSimilarConfigurationsOnly)

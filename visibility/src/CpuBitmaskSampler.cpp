@@ -1,10 +1,9 @@
 #include "visibility/CpuBitmaskSampler.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <ctime>
-#include <numeric>
-#include <random>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -90,6 +89,7 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     }
     std::lock_guard lock(probeMutex_);
     probeMemo_.reset();
+    sampledGrids_.clear();   // the float BVH is new: its first rays pay first-touch faults again
 }
 
 std::vector<char> CpuBitmaskSampler::cullableInstances(const Patch& receiver, const Bounds* displacedBox) const
@@ -241,6 +241,14 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         }
         const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy};
         bool rememberedRays = false;
+        bool warmGrids = false;   // Auto sampled these grids before: a probe's times are what later calls pay
+        if (strategy == CpuStrategy::Auto) {
+            std::lock_guard lock(probeMutex_);
+            const std::array<int, 4> grids{source.na, source.nb, receiver.na, receiver.nb};
+            warmGrids = std::find(sampledGrids_.begin(), sampledGrids_.end(), grids) != sampledGrids_.end();
+            if (!warmGrids)
+                sampledGrids_.push_back(grids);
+        }
         if (plan == Plan::Probe) {
             std::lock_guard lock(probeMutex_);
             if (probeMemo_ && probeMemo_->memo.callsLeft > 0 &&
@@ -329,19 +337,14 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         const auto sampleStart = Clock::now();
         if (plan == Plan::Probe && smallTriangles.empty()) {
             // A few tiles (probeTilesPerMethod) by bitmask and as many by rays, a batch of each at a time,
-            // timed; their rows are final either way. The tiles are drawn at random over the
-            // whole receiver: in row order the first batches would all lie along one edge (a
-            // floor's edge by the wall costs nothing either way), and every 8th tile of a grid 16
-            // tiles wide is two columns of it. A fixed seed: the same tiles every call.
-            std::vector<std::uint32_t> shuffled(bins.tileCount());
-            std::iota(shuffled.begin(), shuffled.end(), 0u);
-            std::mt19937 scramble(12345);
-            std::shuffle(shuffled.begin(), shuffled.end(), scramble);
-            const std::size_t probeTiles = probeTilesPerMethod(shuffled.size());
-            std::vector<std::uint32_t> bitmaskTiles(shuffled.begin(), shuffled.begin() + std::ptrdiff_t(probeTiles));
-            std::vector<std::uint32_t> rayTiles(shuffled.begin() + std::ptrdiff_t(probeTiles),
-                                                shuffled.begin() + std::ptrdiff_t(2 * probeTiles));
-            std::vector<std::uint32_t> rest(shuffled.begin() + std::ptrdiff_t(2 * probeTiles), shuffled.end());
+            // timed; their rows are final either way. Pairs of neighbouring tiles drawn at random
+            // over the whole receiver, one of each to each method (probeTiles): in row order the
+            // first batches would all lie along one edge (a floor's edge by the wall costs nothing
+            // either way), and tiles drawn independently for each method differ in work.
+            ProbeTiles split = probeTiles(bins.tileCount(), std::size_t(bins.tilesA()), probeTilesPerMethod(bins.tileCount()));
+            const std::vector<std::uint32_t>& bitmaskTiles = split.bitmask;
+            const std::vector<std::uint32_t>& rayTiles = split.rays;
+            std::vector<std::uint32_t>& rest = split.rest;
             wholeSceneCaster(), provenCaster();
             std::vector<int> samples;
             RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
@@ -372,12 +375,13 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
-            const bool rays = probeChoosesRays(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), setupThreadMs);
+            const ProbeVerdict verdict =
+                probeVerdict(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), setupThreadMs, warmGrids);
             {
                 std::lock_guard lock(probeMutex_);
-                probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, kProbeReuse}});
+                probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, verdict.memoRays, verdict.memoCalls}});
             }
-            if (!rays) {
+            if (!verdict.restByRays) {
                 local.strategy = "bitmask";
                 addCounts(bitmaskPass(shaft, bins, map, narrow, &rest));
             } else {

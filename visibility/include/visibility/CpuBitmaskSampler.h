@@ -180,6 +180,9 @@ private:
     struct StrategyMemo;
     mutable std::mutex probeMutex_;
     mutable std::unique_ptr<StrategyMemo> probeMemo_;
+    /// Grid sizes (source na, nb, receiver na, nb) Auto has sampled since the scene was set: a
+    /// probe on new ones is cold (bitmask/Strategy.h, probeVerdict). Guarded by probeMutex_.
+    mutable std::vector<std::array<int, 4>> sampledGrids_;
 };
 
 } // namespace sightline

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 
 #include <glm/geometric.hpp>
 
@@ -107,6 +108,45 @@ bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t ra
     const double perBitmask = bitmaskMs / double(std::max<std::size_t>(bitmaskTiles, 1));
     const double perRay = rayMs / double(std::max<std::size_t>(rayTiles, 1));
     return perRay * double(tiles) < bitmaskSetupMs + perBitmask * double(tiles);
+}
+
+ProbeTiles probeTiles(std::size_t tiles, std::size_t tilesA, std::size_t perMethod)
+{
+    tilesA = std::max<std::size_t>(tilesA, 1);
+    const std::size_t rows = (tiles + tilesA - 1) / tilesA;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+    if (tilesA >= 2) {
+        for (std::size_t b = 0; b < rows; ++b)
+            for (std::size_t a = 0; a + 1 < tilesA && b * tilesA + a + 1 < tiles; a += 2)
+                pairs.emplace_back(std::uint32_t(b * tilesA + a), std::uint32_t(b * tilesA + a + 1));
+    } else {
+        for (std::size_t b = 0; b + 1 < tiles; b += 2)
+            pairs.emplace_back(std::uint32_t(b), std::uint32_t(b + 1));
+    }
+    std::mt19937 scramble(12345);
+    std::shuffle(pairs.begin(), pairs.end(), scramble);
+    ProbeTiles out;
+    std::vector<char> probed(tiles, 0);
+    for (std::size_t k = 0; k < std::min(perMethod, pairs.size()); ++k) {
+        const auto [first, second] = pairs[k];
+        out.bitmask.push_back(k % 2 == 0 ? first : second);
+        out.rays.push_back(k % 2 == 0 ? second : first);
+        probed[first] = probed[second] = 1;
+    }
+    for (std::size_t t = 0; t < tiles; ++t)
+        if (!probed[t])
+            out.rest.push_back(std::uint32_t(t));
+    return out;
+}
+
+ProbeVerdict probeVerdict(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs,
+                          std::size_t tiles, double bitmaskSetupMs, bool warm)
+{
+    const double perBitmask = bitmaskMs / double(std::max<std::size_t>(bitmaskTiles, 1));
+    const double perRay = rayMs / double(std::max<std::size_t>(rayTiles, 1));
+    return {.restByRays = perRay < perBitmask,
+            .memoRays = probeChoosesRays(bitmaskTiles, bitmaskMs, rayTiles, rayMs, tiles, bitmaskSetupMs),
+            .memoCalls = warm ? kProbeReuse : 0};
 }
 
 bool similarConfiguration(const Configuration& a, const Configuration& b)
