@@ -319,18 +319,31 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
         context.directions = toSource;
         context.ends = ends;
         std::uint64_t blockCast = 0;
-        alignas(64) RTCRay16 rays;
+        alignas(64) RTCRay16 rays{};   // inactive lanes keep whatever they held: Embree skips them
         alignas(64) int valid[16];
+        const std::uint64_t* rows[16];
+        for (std::size_t k = 0; k < js.size(); ++k)
+            rows[k] = map.row(js[k]).data();
         for (int i = 0; i < S; ++i) {
+            // The block's lanes still open for this source sample; a packet only where some are
+            // (after the float pass most are closed, and building a packet cost more than
+            // skipping it).
+            const std::size_t word = std::size_t(i >> 6);
+            const std::uint64_t bit = std::uint64_t(1) << (i & 63);
             int lanes = 0;
             for (std::size_t k = 0; k < 16; ++k) {
-                valid[k] = k < js.size() && !map.blocked(js[k], i) ? -1 : 0;
+                valid[k] = k < js.size() && !(rows[k][word] & bit) ? -1 : 0;
                 lanes += valid[k] != 0;
-                const std::size_t l = k < js.size() ? k : 0;
+            }
+            if (lanes == 0)
+                continue;
+            for (std::size_t k = 0; k < js.size(); ++k) {
+                if (!valid[k])
+                    continue;
                 // The reference's direction, (source sample + shift) - receiver end, and the ray
                 // back from that source end: within the widening's bound of the exact segment.
-                const glm::dvec3 start = sourceExact[std::size_t(i)] + shifts[l];
-                toSource[k] = start - ends[l];
+                const glm::dvec3 start = sourceExact[std::size_t(i)] + shifts[k];
+                toSource[k] = start - ends[k];
                 const glm::vec3 org(start), dir(-toSource[k]);
                 rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
                 rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
@@ -341,8 +354,6 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                 rays.id[k] = unsigned(k);
                 rays.flags[k] = 0;
             }
-            if (lanes == 0)
-                continue;
             blockCast += std::uint64_t(lanes);
             rtcOccluded16(valid, scene, &context.base, &rays);
             for (std::size_t k = 0; k < js.size(); ++k)
