@@ -51,6 +51,14 @@ TEST(Strategy, PairsCostLessAsTheyCrowdARayAndRaysMoreInADeeperTree)
     m.rayLogSide = 0.0, m.rayLogPairs = 1.0;
     EXPECT_NEAR(m.rayNs(0, std::exp(2.0) - 1.0, 1), 100.0 * std::exp(2.0), 1e-9);
     EXPECT_NEAR(m.rayNs(0, 1e9, 1), m.rayNs(0, std::exp(7.0) - 1.0, 1), 1e-9);   // clamped to the fitted range
+    // ... and of e to the coverage (the part of the receiver a triangle's region covers, 0-1).
+    m.rayLogPairs = 0.0, m.rayCoverage = -1.0;
+    EXPECT_NEAR(m.rayNs(0, 0.0, 1, 0.5), 100.0 * std::exp(-0.5), 1e-9);
+    EXPECT_NEAR(m.rayNs(0, 0.0, 1, 3.0), m.rayNs(0, 0.0, 1, 1.0), 1e-9);
+    // predictedRayMs passes pairs / (triangles x receiver samples): 64 triangles each covering a
+    // quarter of a 32x32 receiver.
+    EXPECT_NEAR(predictedRayMs(estimate(1'000'000, 64 * 256, 64, 32 * 32), m), 1e-6 * 100.0 * std::exp(-0.25) * 1'000'000, 1e-9);
+    m.rayCoverage = 0.0, m.rayLogPairs = 1.0;
     const CostEstimate e = estimate(1'000'000, 4'000'000, 1023);
     EXPECT_NEAR(predictedRayMs(e, m), 1e-6 * 100.0 * std::exp(std::log1p(4.0)) * 1'000'000, 1e-9);
     // The measured model: pairs cost less as they crowd a ray; rays cost more in a deeper tree,
@@ -61,6 +69,8 @@ TEST(Strategy, PairsCostLessAsTheyCrowdARayAndRaysMoreInADeeperTree)
     EXPECT_GT(measured.rayNs(50'000, 10.0, 1024), measured.rayNs(100, 10.0, 1024));
     EXPECT_LT(measured.rayNs(50'000, 300.0, 1024), measured.rayNs(50'000, 30.0, 1024));
     EXPECT_LT(measured.rayNs(50'000, 30.0, 64 * 64), measured.rayNs(50'000, 30.0, 32 * 32));
+    // Pairs from a few walls that cover the receiver cost rays less than as many from clutter.
+    EXPECT_LT(measured.rayNs(300, 10.0, 1024, 1.0), measured.rayNs(300, 10.0, 1024, 0.01));
 }
 
 TEST(Strategy, DecidesWhereOnePredictionIsUnderHalfTheOther)

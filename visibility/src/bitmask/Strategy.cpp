@@ -22,13 +22,14 @@ constexpr std::uint64_t kProbeMaxBinEntries = std::uint64_t(40) << 20;
 
 const CostModel& measuredCosts(bool floatKernel)
 {
-    // README, "Auto's cost model": least squares on the logarithms over the bench scenes
-    // (the bitmask: 2 threads; ray casting: one thread's processor time, times 0.44, the median
-    // ratio of the bitmask's predictions to its one-thread times over the same runs); the double
-    // kernel's pairs cost about four times the float kernel's.
+    // docs/benchmarks.md, "Auto's cost model": least squares on the logarithms over the bench
+    // scenes (the bitmask: 2 threads; ray casting: the medians of three runs of one thread's
+    // processor time, times 0.51, the median ratio of the bitmask's predictions to its one-thread
+    // times over the same runs); the double kernel's pairs cost about four times the float
+    // kernel's.
     static const CostModel simd{.setupNsPerTriangle = 400.0, .passNsPerPair = 2.5, .passFalloff = 0.5,
-                                .rayLogBase = 3.623, .rayLogTriangles = 0.1169, .rayLogPairs = 0.5906,
-                                .rayLogPairs2 = -0.0823, .rayLogSide = -0.3341};
+                                .rayLogBase = 3.695, .rayLogTriangles = 0.1431, .rayLogPairs = 0.5586,
+                                .rayLogPairs2 = -0.0827, .rayLogSide = -0.3496, .rayCoverage = -0.8071};
     static const CostModel scalar = [] {
         CostModel m = simd;
         m.passNsPerPair = 10.0;
@@ -43,12 +44,12 @@ double CostModel::passNs(double pairsPerRay) const
     return passNsPerPair * std::pow(std::max(pairsPerRay, 0.01) / 4.0, -passFalloff);
 }
 
-double CostModel::rayNs(std::uint64_t trianglesInShaft, double pairsPerRay, int receiverSamples) const
+double CostModel::rayNs(std::uint64_t trianglesInShaft, double pairsPerRay, int receiverSamples, double coverage) const
 {
     const double l = std::clamp(std::log1p(std::max(pairsPerRay, 0.0)), 0.0, 7.0);
     const double side = std::sqrt(double(std::max(receiverSamples, 1)));
     return std::exp(rayLogBase + rayLogTriangles * std::log1p(double(trianglesInShaft)) + rayLogPairs * l +
-                    rayLogPairs2 * l * l + rayLogSide * std::log(side));
+                    rayLogPairs2 * l * l + rayLogSide * std::log(side) + rayCoverage * std::clamp(coverage, 0.0, 1.0));
 }
 
 namespace {
@@ -69,7 +70,10 @@ double predictedBitmaskMs(const CostEstimate& e, const CostModel& m)
 double predictedRayMs(const CostEstimate& e, const CostModel& m)
 {
     const double pairsPerRay = e.rays > 0 ? double(e.estimatedPairs) / double(e.rays) : 0.0;
-    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, e.receiverSamples) * double(e.rays);
+    const double coverage = e.estimatedTriangles > 0 && e.receiverSamples > 0
+                                ? double(e.estimatedPairs) / (double(e.estimatedTriangles) * double(e.receiverSamples))
+                                : 0.0;
+    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, e.receiverSamples, coverage) * double(e.rays);
 }
 
 std::size_t probeTilesPerMethod(std::size_t tiles)

@@ -36,10 +36,13 @@ struct CostEstimate {
 /// - ray casting (raycast/ProvenRayCaster.h, fitted over all 27 bench scenes at 32-1024 sources
 ///   and 32-64 receiver samples, processor time of one thread scaled to the bitmask's units): per
 ///   ray, exp(rayLogBase + rayLogTriangles ln(1 + triangles in the shaft) + rayLogPairs l +
-///   rayLogPairs2 l^2 + rayLogSide ln(receiver side)), l = ln(1 + pairs per ray) (clamped to
-///   [0, 7], the fitted range). A deeper tree costs each ray more; pairs crowding a ray first cost
-///   more (rays pass near more triangles) and then less (rays stop at their first proven hit,
-///   and few are left to the reference); a finer receiver grid makes packets more coherent.
+///   rayLogPairs2 l^2 + rayLogSide ln(receiver side) + rayCoverage c), l = ln(1 + pairs per ray)
+///   (clamped to [0, 7], the fitted range), c = pairs / (triangles x receiver samples), the part
+///   of the receiver an average triangle's region covers. A deeper tree costs each ray more;
+///   pairs crowding a ray first cost more (rays pass near more triangles) and then less (rays stop
+///   at their first proven hit, and few are left to the reference); a finer receiver grid makes
+///   packets more coherent; pairs that come from a few large triangles (walls of an architectural
+///   interior, c near 1) cost rays far less than as many from clutter.
 struct CostModel {
     double setupNsPerTriangle = 0.0;
     double passNsPerPair = 0.0;
@@ -49,12 +52,14 @@ struct CostModel {
     double rayLogPairs = 0.0;
     double rayLogPairs2 = 0.0;
     double rayLogSide = 0.0;
+    double rayCoverage = 0.0;
 
     /// The bitmask pass's cost per pair for this many pairs per ray.
     double passNs(double pairsPerRay) const;
     /// Ray casting's cost per ray with this many triangles in the shaft and pairs per ray, for a
-    /// receiver grid of `receiverSamples`.
-    double rayNs(std::uint64_t trianglesInShaft, double pairsPerRay, int receiverSamples) const;
+    /// receiver grid of `receiverSamples`, where an average triangle's region covers `coverage`
+    /// of the receiver (0-1).
+    double rayNs(std::uint64_t trianglesInShaft, double pairsPerRay, int receiverSamples, double coverage = 0.0) const;
 };
 
 /// The model Auto uses: with the SIMD kernel, and without it (the double kernel's pairs cost more).
