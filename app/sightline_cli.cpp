@@ -233,13 +233,15 @@ int runShaft(const ShaftArgs& args)
             strategy += " (chosen by timing both on a few tiles)";
         if (stats.reusedProbe)
             strategy += " (chosen by timing both on an earlier call)";
+        else if (stats.reusedChoice)
+            strategy += " (chosen from the estimate on an earlier call)";
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
                  {"rays_cast", stats.raysCast}, {"proven_hits", stats.provenHits}, {"exact_hit_tests", stats.exactHitTests},
                  {"rays_confirmed", stats.raysConfirmed}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
-                 {"reused_probe", stats.reusedProbe}};
+                 {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
     }
 
     const std::uint64_t rays = std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount());

@@ -367,6 +367,42 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     EXPECT_FALSE(stats.reusedProbe);
 }
 
+TEST(CpuBitmaskSampler, AutoReusesAClearCutChoiceWithoutEstimatingAgain)
+{
+    // The comb at 32x32 receiver samples from 32x32 source samples: the bitmask, clear-cut by
+    // the estimate. The next seven calls on a similar configuration take that choice without
+    // estimating (the estimate prepares every 32nd triangle: milliseconds on a dense mesh); the
+    // eighth estimates again, as does a call with the double kernel, whose costs differ. Every
+    // answer is the reference's.
+    const Scene scene = sceneOf({combWall(120)});
+    const RayCastScene reference(scene);
+    const CpuBitmaskSampler sampler(scene);
+    const Patch source = xyPatch(0, 32, 32);
+    Patch receiver = xyPatch(2, 32, 32);
+    BitmaskStats stats;
+    sampler.sample(source, receiver, {}, &stats);
+    ASSERT_GT(stats.estimatedPairs, 0u);
+    ASSERT_FALSE(stats.probed);
+    ASSERT_FALSE(stats.reusedChoice);
+    const std::string chosen = stats.strategy;
+    for (int call = 1; call <= 8; ++call) {
+        receiver.corner.x += 0.01;
+        const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
+        EXPECT_EQ(stats.reusedChoice, call < 8) << call;
+        EXPECT_FALSE(stats.reusedProbe) << call;
+        EXPECT_EQ(stats.estimatedPairs > 0, call == 8) << call;
+        EXPECT_EQ(chosen, stats.strategy) << call;
+        const HiddenSampleMap expected = reference.sample(source, receiver);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 256, 1u)).nonTie(), 0u) << call;
+    }
+    if (CpuBitmaskSampler::simdAvailable()) {   // else both calls take the double kernel
+        sampler.sample(source, receiver, {.simd = false}, &stats);
+        EXPECT_FALSE(stats.reusedChoice);
+        EXPECT_GT(stats.estimatedPairs, 0u);
+    }
+}
+
 TEST(RayCastSampler, UnblockedCastsOnlyTheReceiverSubset)
 {
     const Scene wall = sceneOf({quad({-5, -5, 1}, {10, 0, 0}, {0, 10, 0})});

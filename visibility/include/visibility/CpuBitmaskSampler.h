@@ -118,7 +118,8 @@ struct BitmaskStats {
     double predictedBitmaskMs = 0.0;  ///< Auto: its cost model's predictions (0 when not estimated)
     double predictedRayMs = 0.0;
     bool probed = false;              ///< Auto: chose by timing both methods on a few tiles
-    bool reusedProbe = false;         ///< Auto: took an earlier call's timed choice instead
+    bool reusedChoice = false;        ///< Auto: took an earlier call's choice, without estimating
+    bool reusedProbe = false;         ///< ... and that choice was timed (a probe's)
 };
 
 class CpuBitmaskSampler {
@@ -174,9 +175,9 @@ private:
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;
-    /// Auto's last measured choice between the bitmask and ray casting, reused by the next calls
-    /// on a similar configuration: the editor and animations sample slowly changing ones, and
-    /// the probe costs 10-15% of a call. Cleared by setScene.
+    /// Auto's last choice between the bitmask and ray casting (estimated or measured), reused
+    /// by the next calls on a similar configuration: the editor and animations sample slowly
+    /// changing ones, and the estimate and probe cost 10-15% of a call. Cleared by setScene.
     struct StrategyMemo;
     mutable std::mutex probeMutex_;
     mutable std::unique_ptr<StrategyMemo> probeMemo_;

@@ -157,7 +157,7 @@ bool similarConfiguration(const Configuration& a, const Configuration& b)
 {
     const auto sameGrid = [](const Patch& x, const Patch& y) { return x.na == y.na && x.nb == y.nb; };
     if (!sameGrid(a.source, b.source) || !sameGrid(a.receiver, b.receiver) || a.jittered != b.jittered ||
-        a.bumpy != b.bumpy)
+        a.bumpy != b.bumpy || a.floatKernel != b.floatKernel)
         return false;
     const double distance = glm::length(a.receiver.centre() - a.source.centre());
     const double cos10 = std::cos(10.0 * M_PI / 180.0);

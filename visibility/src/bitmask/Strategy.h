@@ -5,9 +5,9 @@
 // casting's follows the rays; neither is known before sampling. Auto estimates the pairs from a
 // sample of the triangles, decides where the estimate is clear-cut, and otherwise measures both
 // methods on a few random tiles (their rows are final either way) and finishes with the faster.
-// A measured choice serves later calls on a similar configuration (the editor and animations
-// sample slowly changing ones). The decisions are plain functions of measured and estimated
-// costs, tested on their own (tst_Strategy).
+// A choice, estimated or measured, serves later calls on a similar configuration (the editor and
+// animations sample slowly changing ones). The decisions are plain functions of measured and
+// estimated costs, tested on their own (tst_Strategy).
 
 #include <array>
 #include <cstdint>
@@ -129,23 +129,25 @@ struct Configuration {
     Patch source, receiver;
     bool jittered = false;
     bool bumpy = false;
+    bool floatKernel = false;   ///< the bitmask's SIMD kernel (its pairs cost a quarter of the double kernel's)
 };
 
-/// Whether a choice measured on `measured` may serve `now`: the same sample grids and options,
+/// Whether a choice made on `measured` may serve `now`: the same sample grids and options,
 /// both patches facing the same way within 10 degrees, their centres moved by less than a fifth
 /// of the distance between them and their sizes within a fifth. A receiver dragged across a
 /// wall keeps its choice; one moved to the floor does not.
 bool similarConfiguration(const Configuration& measured, const Configuration& now);
 
-/// A measured choice and how many more calls it may serve.
+/// A choice and how many more calls it may serve.
 struct ProbeMemo {
     Configuration configuration;
     bool rays = false;
     int callsLeft = 0;
+    bool measured = false;   ///< by a probe; else a clear-cut verdict of the estimate
 };
 
-/// A probe's choice serves this many later calls on a similar configuration before Auto
-/// measures again.
+/// A choice serves this many later calls on a similar configuration before Auto estimates (and,
+/// where that is not clear-cut, measures) again.
 constexpr int kProbeReuse = 7;
 
 /// Auto's probe: how many of a receiver's `tiles` each method times at most: one in eight, but at
