@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Summarises `bench` CSVs of the methods embree-tuned,cpu,cpu-bitmask,cpu-raycast (run with
+--threads 1; docs/benchmarks.md, "Ray casting where it is the right strategy"), one CSV per run:
+
+- errors outside ties and tie differences per method, summed over the runs;
+- Auto (`cpu`) against the better of `cpu-bitmask` and `cpu-raycast`, by the medians of the runs'
+  thread_ms: how many configurations are within 10%, and every one that is not;
+- where ray casting is the right strategy (`cpu-raycast` faster than `cpu-bitmask`), the tuned
+  tracer's time over `cpu-raycast`'s and over `cpu`'s, by scene kind and sample counts.
+
+    scripts/bench_summary.py run-1.csv run-2.csv run-3.csv
+"""
+import collections
+import csv
+import os
+import re
+import statistics
+import sys
+
+
+def main(paths):
+    times = collections.defaultdict(lambda: collections.defaultdict(list))
+    errors, ties = collections.Counter(), collections.Counter()
+    for path in paths:
+        for row in csv.DictReader(open(path)):
+            key = (os.path.basename(row['project']).removesuffix('.json'), int(row['source_samples']),
+                   int(row['receiver'].split('x')[0]))
+            times[key][row['method']].append(float(row['thread_ms']))
+            if row['method'] != 'embree-tuned':
+                errors[row['method']] += int(row['wrongly_blocked']) + int(row['wrongly_free'])
+                ties[row['method']] += int(row.get('ties') or 0)
+    print(f'{len(paths)} runs; errors outside ties: {dict(errors)}; tie differences: {dict(ties)}')
+    median = {k: {m: statistics.median(v) for m, v in methods.items()} for k, methods in times.items()}
+
+    misses = []
+    for key, m in sorted(median.items()):
+        ratio = m['cpu'] / min(m['cpu-bitmask'], m['cpu-raycast'])
+        if ratio > 1.1:
+            misses.append((ratio, key, m))
+    print(f'Auto within 10% of the better strategy: {len(median) - len(misses)} of {len(median)}')
+    for ratio, key, m in sorted(misses, reverse=True):
+        print(f'  {ratio:.2f} {key[0]} {key[1]} x {key[2]}²: ' + ', '.join(f'{n} {t:.2f}' for n, t in sorted(m.items())))
+
+    groups = collections.defaultdict(list)
+    for key, m in median.items():
+        if m['cpu-raycast'] < m['cpu-bitmask']:
+            kind = re.sub(r'-\d+$', '', key[0])
+            groups[(kind, key[1], key[2])].append((m['embree-tuned'] / m['cpu-raycast'], m['embree-tuned'] / m['cpu'], key[0]))
+    rays = [r for group in groups.values() for r, _, _ in group]
+    if rays:
+        print(f'ray casting the right strategy on {len(rays)}: tuned / cpu-raycast {min(rays):.2f}-{max(rays):.2f}, '
+              f'1.0 or more on {sum(r >= 1.0 for r in rays)}')
+    for (kind, sources, side), group in sorted(groups.items()):
+        worst = min(group)
+        print(f'  {kind} ({len(group)}), {sources} x {side}²: tuned / cpu-raycast {min(r for r, _, _ in group):.2f}-'
+              f'{max(r for r, _, _ in group):.2f} (worst {worst[2]}), tuned / cpu {min(a for _, a, _ in group):.2f}-'
+              f'{max(a for _, a, _ in group):.2f}')
+
+
+if __name__ == '__main__':
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    main(sys.argv[1:])
