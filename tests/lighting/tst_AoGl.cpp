@@ -41,18 +41,9 @@ void basisOf(const glm::vec3& d, glm::vec3& u, glm::vec3& v)   // any basis: onl
 /// 2 n x n quads resting on it: every direction sees curved silhouettes.
 Scene curvedClutter(int n)
 {
-    Mesh dome;
-    dome.name = "dome";
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) {
-            const float x = -2.0f + 4.0f * float(i) / float(n), z = -2.0f + 4.0f * float(j) / float(n);
-            dome.positions.emplace_back(x, 0.4f * std::cos(0.8f * x) * std::cos(0.8f * z) + 0.05f * std::sin(3.0f * x + 2.0f * z), z);
-        }
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
-            dome.indices.insert(dome.indices.end(), {a, c, b, b, c, d});
-        }
+    Mesh dome = test::heightGrid("dome", n, 2.0f, [](float x, float z) {
+        return 0.4f * std::cos(0.8f * x) * std::cos(0.8f * z) + 0.05f * std::sin(3.0f * x + 2.0f * z);
+    });
     Mesh ball;
     ball.name = "ball";
     const glm::vec3 centre(0.3f, 1.0f, -0.2f);

@@ -1,8 +1,10 @@
 #pragma once
 // Small scenes with known answers, built in code.
 
+#include <cstdint>
 #include <exception>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -76,6 +78,26 @@ inline Mesh combWall(int n = 40)
             grid.indices.insert(grid.indices.end(), {i, i + 1, i + n + 2, i, i + n + 2, i + n + 1});
         }
     return grid;
+}
+
+/// A sheet of n x n quads over x, z in [-extent, extent] at y = height(x, z), two triangles a
+/// quad (a curved surface to coarsen, or to draw in chunks).
+template <typename Height>
+Mesh heightGrid(const std::string& name, int n, float extent, Height&& height)
+{
+    Mesh sheet;
+    sheet.name = name;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+            const float x = -extent + 2.0f * extent * float(i) / float(n), z = -extent + 2.0f * extent * float(j) / float(n);
+            sheet.positions.emplace_back(x, height(x, z), z);
+        }
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
+            sheet.indices.insert(sheet.indices.end(), {a, c, b, b, c, d});
+        }
+    return sheet;
 }
 
 /// Two parallel unit patches facing each other along +Z: source at z = 0, receiver at z = depth,

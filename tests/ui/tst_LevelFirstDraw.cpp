@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "Camera.h"
+#include "TestScenes.h"
 #include "ViewportRenderer.h"
 #include "visibility/Scene.h"
 #include "visibility/gl/HeadlessContext.h"
@@ -21,18 +22,7 @@ namespace {
 /// that cross, so that later chunks must be depth-tested against earlier ones.
 Scene crossingSheets(int n)
 {
-    Mesh sheet;
-    sheet.name = "sheet";
-    for (int j = 0; j <= n; ++j)
-        for (int i = 0; i <= n; ++i) {
-            const float x = -10.0f + 20.0f * float(i) / float(n), z = -10.0f + 20.0f * float(j) / float(n);
-            sheet.positions.emplace_back(x, std::sin(x * 0.7f) * std::cos(z * 0.5f), z);
-        }
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const auto a = std::uint32_t(j * (n + 1) + i), b = a + 1, c = a + std::uint32_t(n + 1), d = c + 1;
-            sheet.indices.insert(sheet.indices.end(), {a, c, b, b, c, d});
-        }
+    Mesh sheet = test::heightGrid("sheet", n, 10.0f, [](float x, float z) { return std::sin(x * 0.7f) * std::cos(z * 0.5f); });
     Mesh plane;
     plane.name = "plane";
     plane.positions = {{-10.0f, -2.0f, -10.0f}, {10.0f, -2.0f, -10.0f}, {10.0f, 2.0f, 10.0f}, {-10.0f, 2.0f, 10.0f}};
