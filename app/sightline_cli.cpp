@@ -327,8 +327,8 @@ int runBench(BenchArgs& args)
         inputs.insert(inputs.end(), read.begin(), read.end());
     }
     cli::checkOutputs({{"--csv", args.csv}, {"--chart", args.chart}}, inputs);
-    std::printf("%-28s %-18s %7s %9s %10s %10s %12s %12s %8s %10s %10s %10s\n", "project", "method", "sources", "receiver",
-                "ms", "thread-ms", "wrong-block", "wrong-free", "ties", "error", "light-mae", "dense-mae");
+    std::printf("%-28s %-18s %7s %9s %10s %10s %12s %12s %8s %10s %10s %10s  %s\n", "project", "method", "sources", "receiver",
+                "ms", "thread-ms", "wrong-block", "wrong-free", "ties", "error", "light-mae", "dense-mae", "variant");
     std::uint64_t referenceErrors = 0;
     const auto rows = bench::run(args.settings, [&](const bench::Row& r) {
         const std::string name = fs::path(r.project).filename().string();
@@ -338,9 +338,10 @@ int runBench(BenchArgs& args)
                     (unsigned long long)r.wronglyBlocked, (unsigned long long)r.wronglyFree, ties.c_str(), r.errorFraction(),
                     r.lightMae);
         if (r.denseMae >= 0.0)
-            std::printf("%10.6f\n", r.denseMae);
+            std::printf("%10.6f", r.denseMae);
         else
-            std::printf("%10s\n", "-");
+            std::printf("%10s", "-");
+        std::printf("  %s\n", r.variant.c_str());
         std::fflush(stdout);
         referenceErrors += r.referenceErrors;
     });

@@ -6,7 +6,9 @@
 - Auto (`cpu`) against the better of `cpu-bitmask` and `cpu-raycast`, by the medians of the runs'
   thread_ms: how many configurations are within 10%, and every one that is not;
 - where ray casting is the right strategy (`cpu-raycast` faster than `cpu-bitmask`), the tuned
-  tracer's time over `cpu-raycast`'s and over `cpu`'s, by scene kind and sample counts.
+  tracer's time over `cpu-raycast`'s and over `cpu`'s, by scene kind and sample counts;
+- the tuned tracer over `cpu` (Auto) on every scene kind and sample count, worst scene first, and
+  which of its traversals (`variant`) won how often.
 
     scripts/bench_summary.py run-1.csv run-2.csv run-3.csv
 """
@@ -20,13 +22,15 @@ import sys
 
 def main(paths):
     times = collections.defaultdict(lambda: collections.defaultdict(list))
-    errors, ties = collections.Counter(), collections.Counter()
+    errors, ties, variants = collections.Counter(), collections.Counter(), collections.Counter()
     for path in paths:
         for row in csv.DictReader(open(path)):
             key = (os.path.basename(row['project']).removesuffix('.json'), int(row['source_samples']),
                    int(row['receiver'].split('x')[0]))
             times[key][row['method']].append(float(row['thread_ms']))
-            if row['method'] != 'embree-tuned':
+            if row['method'] == 'embree-tuned':
+                variants[row.get('variant') or '(not recorded)'] += 1
+            else:
                 errors[row['method']] += int(row['wrongly_blocked']) + int(row['wrongly_free'])
                 ties[row['method']] += int(row.get('ties') or 0)
     print(f'{len(paths)} runs; errors outside ties: {dict(errors)}; tie differences: {dict(ties)}')
@@ -55,6 +59,15 @@ def main(paths):
         print(f'  {kind} ({len(group)}), {sources} x {side}²: tuned / cpu-raycast {min(r for r, _, _ in group):.2f}-'
               f'{max(r for r, _, _ in group):.2f} (worst {worst[2]}), tuned / cpu {min(a for _, a, _ in group):.2f}-'
               f'{max(a for _, a, _ in group):.2f}')
+
+    print(f'tuned tracer traversals kept: {dict(variants)}')
+    kinds = collections.defaultdict(list)
+    for key, m in median.items():
+        kinds[(re.sub(r'-\d+$', '', key[0]), key[1], key[2])].append((m['embree-tuned'] / m['cpu'], key[0]))
+    print('tuned / cpu (Auto) by kind, worst (scene) and best:')
+    for (kind, sources, side), group in sorted(kinds.items()):
+        worst, best = min(group), max(group)
+        print(f'  {kind:24} {sources:5} x {side}²: {worst[0]:6.2f} ({worst[1]})  {best[0]:6.2f}')
 
 
 if __name__ == '__main__':

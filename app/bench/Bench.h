@@ -64,6 +64,8 @@ struct Row {
     double lightMae = 0.0;
     /// ... and against the dense reference (Settings::denseSide; -1 when not computed).
     double denseMae = -1.0;
+    /// embree-tuned: the traversal it kept (TunedTraversal::name), the fastest of those it timed.
+    std::string variant;
 };
 
 /// Rows with more differences from the reference than this are not judged ray by ray (the judge

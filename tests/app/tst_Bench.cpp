@@ -13,6 +13,8 @@
 #include "CliRunner.h"
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
+#include "bench/TunedEmbree.h"
+#include "project/Project.h"
 #include "visibility/Error.h"
 #include "visibility/ExactJudge.h"
 #include "visibility/RayCastSampler.h"
@@ -71,7 +73,7 @@ TEST(Bench, EveryMethodAgainstTheReference)
     const std::string csv = bench::toCsv(rows);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
     EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-                        "light_mae,dense_light_mae,thread_ms,ties\n", 0), 0u);
+                        "light_mae,dense_light_mae,thread_ms,ties,variant\n", 0), 0u);
 
     const fs::path png = folder / "chart.png";
     bench::writeChart(rows, png);
@@ -86,6 +88,44 @@ TEST(Bench, EveryMethodAgainstTheReference)
             coloured += std::max({c.red(), c.green(), c.blue()}) - std::min({c.red(), c.green(), c.blue()}) > 60;
         }
     EXPECT_GT(coloured, 200);
+    fs::remove_all(folder);
+}
+
+TEST(Bench, TheTunedTracerKeepsTheFastestOfItsTraversals)
+{
+    // Every traversal a user could tune (either end, coherent or not) casts every segment: each
+    // agrees with the exact reference but for a few float misjudgements, and with the others.
+    const fs::path folder = fs::temp_directory_path() / ("sightline_tuned_" + std::to_string(getpid()));
+    bench::Settings settings;
+    settings.projects = {writeProject(folder).string()};
+    const Project project = loadProject(settings.projects[0]);
+    const Scene scene = buildScene(project);
+    const RayCastScene reference(scene);
+    const bench::TunedEmbree tuned(worldTriangles(scene));
+    for (const auto& [na, nb, side] : {std::tuple{8, 4, 16}, std::tuple{32, 32, 24}, std::tuple{5, 3, 7}}) {
+        Patch source = project.source, receiver = project.receiver;
+        source.na = na, source.nb = nb, receiver.na = receiver.nb = side;
+        const HiddenSampleMap truth = reference.sample(source, receiver);
+        ASSERT_GT(truth.blockedCount(), truth.rayCount() / 10);
+        ASSERT_LT(truth.blockedCount(), truth.rayCount() * 9 / 10);
+        for (const bench::TunedTraversal& traversal : bench::tunedTraversals()) {
+            const HiddenSampleMap map = tuned.sample(source, receiver, 2, traversal);
+            EXPECT_LE(double(map.differenceCount(truth)), 1e-3 * double(truth.rayCount())) << traversal.name() << ' ' << na;
+        }
+    }
+
+    settings.methods = bench::parseMethods("embree-tuned");
+    settings.sourceCounts = {32};
+    settings.receiverSides = {16};
+    settings.repeat = 1;
+    const auto rows = bench::run(settings, {});
+    ASSERT_EQ(rows.size(), 1u);
+    std::vector<std::string> names;
+    for (const bench::TunedTraversal& traversal : bench::tunedTraversals())
+        names.push_back(traversal.name());
+    EXPECT_EQ(names.size(), 4u);
+    EXPECT_NE(std::find(names.begin(), names.end(), rows[0].variant), names.end()) << rows[0].variant;
+    EXPECT_NE(bench::toCsv(rows).find("," + rows[0].variant + "\n"), std::string::npos);
     fs::remove_all(folder);
 }
 
