@@ -60,7 +60,7 @@ provenLanes(const RTCRayHit16& rh, const float* edge, float vertexError)
     return mask;
 }
 
-/// This thread's processor time: the probe between packets and single rays compares work, not
+/// This thread's processor time: the probe between the two traversals compares work, not
 /// waits (the machine may be shared).
 std::uint64_t threadNanoseconds()
 {
@@ -110,22 +110,51 @@ struct ProvenRayCaster::Impl {
         return hit != 0;
     }
 
-    /// What a single ray's occlusion filter needs: its exact ends and the task's counters.
-    struct SingleContext {
+    /// What the occlusion filter needs: the rays' exact ends (by ray id) and the task's counters.
+    struct FilterContext {
         RTCIntersectContext base;
         const Impl* self = nullptr;
-        glm::dvec3 receiverEnd{0.0};
-        glm::dvec3 toSource{0.0};
+        const glm::dvec3* receiverEnds = nullptr;   ///< by ray id
+        const glm::dvec3* toSources = nullptr;      ///< by ray id
         bool verify = false;
         Tally* tally = nullptr;
+        /// Packets: the hit each lane stopped at, by ray id, proven after the call; hits closer
+        /// to an end than `endDistance` (by ray id, in t) are passed over.
+        RTCRayHit16* deferred = nullptr;
+        const float* endDistance = nullptr;
     };
 
     /// Keeps a reported hit only where the contract says the segment crosses the triangle: proven
     /// from the hit (HitProof.h), or by the double test.
     static void filter(const RTCFilterFunctionNArguments* args)
     {
-        const auto* context = reinterpret_cast<const SingleContext*>(args->context);
+        const auto* context = reinterpret_cast<const FilterContext*>(args->context);
         const Impl& self = *context->self;
+        if (RTCRayHit16* stop = context->deferred) {
+            // Accept the hit and prove it after the call, 16 lanes at once (provenLanes): a
+            // filter call is then a few stores. A hit at an end (a patch on a wall) is not a
+            // crossing, and would stop the ray; passing over one that is leaves its ray to the
+            // confirmation, which is exact.
+            for (unsigned k = 0; k < args->N; ++k) {
+                if (args->valid[k] != -1)
+                    continue;
+                const unsigned id = RTCRayN_id(args->ray, args->N, k);
+                const float t = RTCRayN_tfar(args->ray, args->N, k), end = context->endDistance[id];
+                if (!(t > end && t < 1.0f - end)) {
+                    args->valid[k] = 0;
+                    continue;
+                }
+                stop->ray.tfar[id] = t;
+                stop->hit.Ng_x[id] = RTCHitN_Ng_x(args->hit, args->N, k);
+                stop->hit.Ng_y[id] = RTCHitN_Ng_y(args->hit, args->N, k);
+                stop->hit.Ng_z[id] = RTCHitN_Ng_z(args->hit, args->N, k);
+                stop->hit.u[id] = RTCHitN_u(args->hit, args->N, k);
+                stop->hit.v[id] = RTCHitN_v(args->hit, args->N, k);
+                stop->hit.geomID[id] = RTCHitN_geomID(args->hit, args->N, k);
+                stop->hit.primID[id] = RTCHitN_primID(args->hit, args->N, k);
+            }
+            return;
+        }
         for (unsigned k = 0; k < args->N; ++k) {
             if (args->valid[k] != -1)
                 continue;
@@ -136,15 +165,16 @@ struct ProvenRayCaster::Impl {
                                   RTCHitN_Ng_x(args->hit, args->N, k),  RTCHitN_Ng_y(args->hit, args->N, k),
                                   RTCHitN_Ng_z(args->hit, args->N, k),  RTCHitN_u(args->hit, args->N, k),
                                   RTCHitN_v(args->hit, args->N, k),     RTCRayN_tfar(args->ray, args->N, k)};
+            const unsigned id = RTCRayN_id(args->ray, args->N, k);
             if (provenCrossing(hit, self.classEdge[geomID], self.vertexError)) {
                 ++context->tally->proven;
                 if (context->verify &&
-                    !self.crossesExactly(self.worldTriangle(geomID, primID), context->receiverEnd, context->toSource))
+                    !self.crossesExactly(self.worldTriangle(geomID, primID), context->receiverEnds[id], context->toSources[id]))
                     ++context->tally->contradictions;
                 continue;
             }
             ++context->tally->exact;
-            if (!self.crossesExactly(self.worldTriangle(geomID, primID), context->receiverEnd, context->toSource))
+            if (!self.crossesExactly(self.worldTriangle(geomID, primID), context->receiverEnds[id], context->toSources[id]))
                 args->valid[k] = 0;
         }
     }
@@ -249,7 +279,7 @@ namespace {
 /// source samples when they start at the receiver), cast together.
 constexpr int kLanes = 16;
 
-/// CastMode::Auto times packets against single rays only on calls with at least this many items
+/// CastMode::Auto times the two traversals against each other only on calls with at least this many items
 /// (4x4 blocks, or receiver samples), an eighth of them each.
 constexpr std::size_t kModeProbeItems = 32;
 
@@ -286,19 +316,19 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
     // `start`: the ray's first end in the local frame (the source end, or the receiver end).
     const auto castSingle = [&](const glm::dvec3& receiverEnd_, const glm::dvec3& toSource, const glm::dvec3& start,
                                 bool startAtSource, Tally& tally) {
-        Impl::SingleContext context;
+        Impl::FilterContext context;
         rtcInitIntersectContext(&context.base);
         context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         context.self = &m;
-        context.receiverEnd = receiverEnd_;
-        context.toSource = toSource;
+        context.receiverEnds = &receiverEnd_;
+        context.toSources = &toSource;
         context.verify = verify;
         context.tally = &tally;
         const glm::vec3 org(start), dir(startAtSource ? -toSource : toSource);
         RTCRay ray{};
         ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
         ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-        ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu;
+        ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu, ray.id = 0;
         rtcOccluded1(m.scene, &context.base, &ray);
         return ray.tfar < 0.0f;
     };
@@ -354,6 +384,69 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         return blocked;
     };
 
+    // Up to 16 rays by one rtcOccluded16, every hit through the filter, with Embree's incoherent
+    // traversal (the packet near the root, single rays once it diverges). Returns the blocked
+    // lanes as bits.
+    const auto castOccluded = [&](const glm::dvec3* ends, const glm::dvec3* dirs, const glm::dvec3* starts, int lanes,
+                                  bool startAtSource, Tally& tally) {
+        alignas(64) thread_local RTCRay16 r{};
+        alignas(64) thread_local RTCRayHit16 stops{};   // the rays again, and where each stopped
+        alignas(64) int valid[kLanes];
+        alignas(64) float endDistance[kLanes];
+        for (int k = 0; k < kLanes; ++k)
+            valid[k] = k < lanes ? -1 : 0;
+        for (int k = 0; k < lanes; ++k) {
+            const glm::vec3 org(starts[k]), dir(startAtSource ? -dirs[k] : dirs[k]);
+            r.org_x[k] = org.x, r.org_y[k] = org.y, r.org_z[k] = org.z;
+            r.dir_x[k] = dir.x, r.dir_y[k] = dir.y, r.dir_z[k] = dir.z;
+            r.tnear[k] = 0.0f, r.tfar[k] = 1.0f, r.time[k] = 0.0f;
+            r.mask[k] = 0xffffffffu, r.id[k] = unsigned(k), r.flags[k] = 0;
+            stops.ray.org_x[k] = org.x, stops.ray.org_y[k] = org.y, stops.ray.org_z[k] = org.z;
+            stops.ray.dir_x[k] = dir.x, stops.ray.dir_y[k] = dir.y, stops.ray.dir_z[k] = dir.z;
+            // 0.1 mm: far beyond the float t's error at these lengths, and a crossing that close
+            // to an end is left to the confirmation.
+            endDistance[k] = float(1e-4 / glm::length(dirs[k]));
+        }
+        Impl::FilterContext context;
+        rtcInitIntersectContext(&context.base);
+        context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        context.self = &m;
+        context.receiverEnds = ends;
+        context.toSources = dirs;
+        context.verify = verify;
+        context.tally = &tally;
+        context.deferred = &stops;
+        context.endDistance = endDistance;
+        rtcOccluded16(valid, m.scene, &context.base, &r);
+        std::uint32_t stopped = 0;
+        alignas(64) float edge[kLanes];
+        for (int k = 0; k < kLanes; ++k) {
+            const bool hit = k < lanes && r.tfar[k] < 0.0f;
+            edge[k] = hit ? m.classEdge[stops.hit.geomID[k]] : 0.0f;
+            stopped |= std::uint32_t(hit) << k;
+        }
+        if (stopped == 0)
+            return std::uint32_t(0);
+        const std::uint32_t provenMask = provenLanes(stops, edge, m.vertexError) & stopped;
+        tally.proven += std::uint64_t(std::popcount(provenMask));
+        if (verify)
+            for (std::uint32_t p = provenMask; p; p &= p - 1) {
+                const int k = std::countr_zero(p);
+                if (!m.crossesExactly(m.worldTriangle(stops.hit.geomID[k], stops.hit.primID[k]), ends[k], dirs[k]))
+                    ++tally.contradictions;
+            }
+        // A hit the proof leaves open is tested in double; where that says no, the ray may still
+        // be blocked further on: cast again alone, every hit through the filter.
+        std::uint32_t blocked = provenMask;
+        for (std::uint32_t rest = stopped & ~provenMask; rest; rest &= rest - 1) {
+            const int k = std::countr_zero(rest);
+            ++tally.exact;
+            if (m.crossesExactly(m.worldTriangle(stops.hit.geomID[k], stops.hit.primID[k]), ends[k], dirs[k]) ||
+                castSingle(ends[k], dirs[k], starts[k], startAtSource, tally))
+                blocked |= 1u << k;
+        }
+        return blocked;
+    };
     // Pass 1 works on items: 4x4 blocks of receiver samples (rays from the source) or single
     // receiver samples (rays from the receiver), each owning its rows of the map.
     std::vector<std::vector<int>> blocks;
@@ -400,14 +493,10 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
                 tally.rays += std::uint64_t(lanes);
                 if (lanes == 0)
                     continue;
-                if (packets) {
-                    for (std::uint32_t hit = castPacket(ends, dirs, starts, lanes, true, tally); hit; hit &= hit - 1)
-                        map.setBlocked(lane[std::countr_zero(hit)], i);
-                } else {
-                    for (int k = 0; k < lanes; ++k)
-                        if (castSingle(ends[k], dirs[k], starts[k], true, tally))
-                            map.setBlocked(lane[k], i);
-                }
+                const std::uint32_t blocked = packets ? castPacket(ends, dirs, starts, lanes, true, tally)
+                                                      : castOccluded(ends, dirs, starts, lanes, true, tally);
+                for (std::uint32_t hit = blocked; hit; hit &= hit - 1)
+                    map.setBlocked(lane[std::countr_zero(hit)], i);
             }
             return;
         }
@@ -427,14 +516,10 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
             tally.rays += std::uint64_t(lanes);
             if (lanes == 0)
                 continue;
-            if (packets) {
-                for (std::uint32_t hit = castPacket(ends, dirs, starts, lanes, false, tally); hit; hit &= hit - 1)
-                    map.setBlocked(j, lane[std::countr_zero(hit)]);
-            } else {
-                for (int q = 0; q < lanes; ++q)
-                    if (castSingle(ends[q], dirs[q], starts[q], false, tally))
-                        map.setBlocked(j, lane[q]);
-            }
+            const std::uint32_t blocked = packets ? castPacket(ends, dirs, starts, lanes, false, tally)
+                                                  : castOccluded(ends, dirs, starts, lanes, false, tally);
+            for (std::uint32_t hit = blocked; hit; hit &= hit - 1)
+                map.setBlocked(j, lane[std::countr_zero(hit)]);
         }
     };
 
@@ -456,7 +541,7 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         return cpuNs.load();
     };
 
-    bool packets = mode != CastMode::Singles;
+    bool packets = mode != CastMode::Occluded;
     bool probed = false;
     auto pass = [&] {
         if (m.empty || items == 0)
@@ -491,11 +576,11 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         const std::vector<std::uint32_t> first(all.begin(), all.begin() + std::ptrdiff_t(probe));
         const std::vector<std::uint32_t> second(all.begin() + std::ptrdiff_t(probe), all.begin() + std::ptrdiff_t(2 * probe));
         const std::vector<std::uint32_t> rest(all.begin() + std::ptrdiff_t(2 * probe), all.end());
-        std::uint64_t packetRays = 0, singleRays = 0;
+        std::uint64_t packetRays = 0, occludedRays = 0;
         const double packetNs = double(castAll(first, true, &packetRays));
-        const double singleNs = double(castAll(second, false, &singleRays));
-        packets = singleRays == 0 || packetRays == 0 ||
-                  packetNs / double(packetRays) <= singleNs / double(singleRays);
+        const double occludedNs = double(castAll(second, false, &occludedRays));
+        packets = occludedRays == 0 || packetRays == 0 ||
+                  packetNs / double(packetRays) <= occludedNs / double(occludedRays);
         probed = true;
         castAll(rest, packets, nullptr);
         std::lock_guard lock(memoMutex_);

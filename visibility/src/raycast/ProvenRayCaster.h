@@ -23,9 +23,10 @@
 // the tuned tracer starts every ray at its receiver sample, so a packet fans out over the source
 // patch; here rays start at the end whose partner has the finer grid (at 32-128 source samples,
 // the source), so a packet's 16 rays run to 4x4 neighbouring samples and share their traversal.
-// Where packets still diverge (dense meshes at coarse receiver grids) single rays are cheaper;
-// the hits of packets are checked after the call (rtcIntersect16, no callback), those of single
-// rays in an occlusion filter.
+// Two traversals, timed against each other on a few blocks of each call: coherent packets, whose
+// hits are checked after the call (rtcIntersect16, no callback), and, where packets diverge
+// (dense meshes at coarse receiver grids), Embree's incoherent traversal (rtcOccluded16, single
+// rays below the top of the tree) with the hits checked in an occlusion filter.
 
 #include <atomic>
 #include <cstdint>
@@ -42,9 +43,9 @@ namespace sightline::raycast {
 
 /// How pass 1 traverses.
 enum class CastMode {
-    Auto,      ///< packets or single rays by the call's coherence (ProvenRayCaster.cpp)
-    Packets,   ///< rtcIntersect16 from one end to 16 neighbouring samples of the other
-    Singles,   ///< rtcOccluded1 with the proof in an occlusion filter
+    Auto,      ///< Packets or Occluded, timed on the call's first blocks (ProvenRayCaster.cpp)
+    Packets,   ///< rtcIntersect16 from one end to 16 neighbouring samples of the other, coherent
+    Occluded,  ///< rtcOccluded16 on the same 16 rays, incoherent, the proof in an occlusion filter
 };
 
 struct ProvenCastStats {
