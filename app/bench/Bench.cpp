@@ -109,7 +109,7 @@ struct Judges {
     const WorldTriangles& triangles;
     const Patch& source;
     const Patch& receiver;
-    std::unique_ptr<ExactJudge> regular, jittered;
+    std::unique_ptr<ExactJudge> regular = nullptr, jittered = nullptr;
 
     const ExactJudge& forJitter(const SourceJitter& jitter)
     {

@@ -2,8 +2,9 @@
 // The baseline the samplers' speed is measured against: the Embree tracer a user would tune for
 // this job, not our exact reference. Built-in triangles in a flat scene at Embree's default build
 // quality, not robust; every segment as a ray (t in [1e-6, 1 - 1e-6]) in packets of 16
-// (rtcOccluded16) sharing their receiver end, in 4x4 blocks of source samples where the grid
-// allows (faster than 16 along a row on every bench scene), receiver samples over all cores.
+// (rtcOccluded16) sharing one end, their other ends 4x4 neighbouring samples where the grid allows
+// (faster than 16 along a row on every bench scene), over all cores. `bench` times each traversal
+// (TunedTraversal) and reports the fastest, as a user tuning it for the scene at hand would.
 // Its answers are float ray casts: `bench` reports their disagreements with the exact reference
 // like any method's, but it is there for its speed. The BVH build is excluded from its timings.
 

@@ -1,6 +1,6 @@
 #pragma once
-// The CPU sampler's ray casting: the reference's answer (RayCastSampler.h), bit for bit, at the
-// speed of a tuned float tracer.
+// The CPU sampler's ray casting: the reference's answer (RayCastSampler.h), bit for bit, from a
+// float tracer set up as a user tuning Embree would (the price of exactness: docs/benchmarks.md).
 //
 // Two passes:
 // 1. Embree traverses its own float triangles with the setup a user tuning it would pick (flat
@@ -19,14 +19,13 @@
 // speed depends on the bound: hits it cannot prove, huge triangles, far-away patches and
 // kilometre-long rays all go to the exact test.
 //
-// Where the speed comes from (docs/benchmarks.md, "Ray casting where it is the right strategy"):
-// the tuned tracer starts every ray at its receiver sample, so a packet fans out over the source
-// patch; here rays start at the end whose partner has the finer grid (at 32-128 source samples,
-// the source), so a packet's 16 rays run to 4x4 neighbouring samples and share their traversal.
-// Two traversals, timed against each other on a few blocks of each call: coherent packets, whose
-// hits are checked after the call (rtcIntersect16, no callback), and, where packets diverge
-// (dense meshes at coarse receiver grids), Embree's incoherent traversal (rtcOccluded16, single
-// rays below the top of the tree) with the hits checked in an occlusion filter.
+// Traversal (docs/benchmarks.md, "Ray casting where it is the right strategy"): rays start at the
+// end whose partner has the finer grid (at 32-128 source samples, the source), so a packet's 16
+// rays run to 4x4 neighbouring samples and share their traversal. Two traversals, timed against
+// each other on a few blocks of each call: coherent packets, whose hits are checked after the
+// call (rtcIntersect16, no callback), and, where packets diverge (dense meshes at coarse receiver
+// grids), Embree's incoherent occlusion traversal (rtcOccluded16: single rays below the top of
+// the tree), whose filter records where each ray stopped for the proof after the call.
 
 #include <atomic>
 #include <cstdint>
