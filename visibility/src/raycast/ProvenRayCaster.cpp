@@ -333,6 +333,34 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         return ray.tfar < 0.0f;
     };
 
+    // The lanes of `stopped` hold in `rh` the hit each ray stopped at (ray and hit, SoA): proven
+    // 16 at once, the rest tested in double, and a ray whose hit that test denies cast again
+    // alone (it may be blocked further on), every hit through the filter. Returns the blocked
+    // lanes as bits.
+    const auto proveStops = [&](const RTCRayHit16& rh, std::uint32_t stopped, const glm::dvec3* ends,
+                                const glm::dvec3* dirs, const glm::dvec3* starts, bool startAtSource, Tally& tally) {
+        alignas(64) float edge[kLanes];
+        for (int k = 0; k < kLanes; ++k)
+            edge[k] = (stopped >> k & 1u) != 0 ? m.classEdge[rh.hit.geomID[k]] : 0.0f;
+        const std::uint32_t provenMask = provenLanes(rh, edge, m.vertexError) & stopped;
+        tally.proven += std::uint64_t(std::popcount(provenMask));
+        if (verify)
+            for (std::uint32_t p = provenMask; p; p &= p - 1) {
+                const int k = std::countr_zero(p);
+                if (!m.crossesExactly(m.worldTriangle(rh.hit.geomID[k], rh.hit.primID[k]), ends[k], dirs[k]))
+                    ++tally.contradictions;
+            }
+        std::uint32_t blocked = provenMask;
+        for (std::uint32_t rest = stopped & ~provenMask; rest; rest &= rest - 1) {
+            const int k = std::countr_zero(rest);
+            ++tally.exact;
+            if (m.crossesExactly(m.worldTriangle(rh.hit.geomID[k], rh.hit.primID[k]), ends[k], dirs[k]) ||
+                castSingle(ends[k], dirs[k], starts[k], startAtSource, tally))
+                blocked |= 1u << k;
+        }
+        return blocked;
+    };
+
     // 16 rays (lane k: receiver end ends[k], direction to its source end dirs[k]) by one packet
     // traversal for the closest hit, checked after the call; a lane whose hit neither proof nor
     // test confirms is cast again alone. Returns the blocked lanes as bits.
@@ -356,32 +384,10 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         rtcIntersect16(valid, m.scene, &context, &rh);
-        alignas(64) float edge[kLanes];
         std::uint32_t hits = 0;
-        for (int k = 0; k < kLanes; ++k) {
-            const bool hit = k < lanes && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
-            edge[k] = hit ? m.classEdge[rh.hit.geomID[k]] : 0.0f;
-            hits |= std::uint32_t(hit) << k;
-        }
-        if (hits == 0)
-            return std::uint32_t(0);
-        const std::uint32_t provenMask = provenLanes(rh, edge, m.vertexError) & hits;
-        tally.proven += std::uint64_t(std::popcount(provenMask));
-        if (verify)
-            for (std::uint32_t p = provenMask; p; p &= p - 1) {
-                const int k = std::countr_zero(p);
-                if (!m.crossesExactly(m.worldTriangle(rh.hit.geomID[k], rh.hit.primID[k]), ends[k], dirs[k]))
-                    ++tally.contradictions;
-            }
-        std::uint32_t blocked = provenMask;
-        for (std::uint32_t rest = hits & ~provenMask; rest; rest &= rest - 1) {
-            const int k = std::countr_zero(rest);
-            ++tally.exact;
-            if (m.crossesExactly(m.worldTriangle(rh.hit.geomID[k], rh.hit.primID[k]), ends[k], dirs[k]) ||
-                castSingle(ends[k], dirs[k], starts[k], startAtSource, tally))
-                blocked |= 1u << k;
-        }
-        return blocked;
+        for (int k = 0; k < lanes; ++k)
+            hits |= std::uint32_t(rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID) << k;
+        return hits == 0 ? hits : proveStops(rh, hits, ends, dirs, starts, startAtSource, tally);
     };
 
     // Up to 16 rays by one rtcOccluded16, every hit through the filter, with Embree's incoherent
@@ -419,34 +425,11 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         context.endDistance = endDistance;
         rtcOccluded16(valid, m.scene, &context.base, &r);
         std::uint32_t stopped = 0;
-        alignas(64) float edge[kLanes];
-        for (int k = 0; k < kLanes; ++k) {
-            const bool hit = k < lanes && r.tfar[k] < 0.0f;
-            edge[k] = hit ? m.classEdge[stops.hit.geomID[k]] : 0.0f;
-            stopped |= std::uint32_t(hit) << k;
-        }
-        if (stopped == 0)
-            return std::uint32_t(0);
-        const std::uint32_t provenMask = provenLanes(stops, edge, m.vertexError) & stopped;
-        tally.proven += std::uint64_t(std::popcount(provenMask));
-        if (verify)
-            for (std::uint32_t p = provenMask; p; p &= p - 1) {
-                const int k = std::countr_zero(p);
-                if (!m.crossesExactly(m.worldTriangle(stops.hit.geomID[k], stops.hit.primID[k]), ends[k], dirs[k]))
-                    ++tally.contradictions;
-            }
-        // A hit the proof leaves open is tested in double; where that says no, the ray may still
-        // be blocked further on: cast again alone, every hit through the filter.
-        std::uint32_t blocked = provenMask;
-        for (std::uint32_t rest = stopped & ~provenMask; rest; rest &= rest - 1) {
-            const int k = std::countr_zero(rest);
-            ++tally.exact;
-            if (m.crossesExactly(m.worldTriangle(stops.hit.geomID[k], stops.hit.primID[k]), ends[k], dirs[k]) ||
-                castSingle(ends[k], dirs[k], starts[k], startAtSource, tally))
-                blocked |= 1u << k;
-        }
-        return blocked;
+        for (int k = 0; k < lanes; ++k)
+            stopped |= std::uint32_t(r.tfar[k] < 0.0f) << k;
+        return stopped == 0 ? stopped : proveStops(stops, stopped, ends, dirs, starts, startAtSource, tally);
     };
+
     // Pass 1 works on items: 4x4 blocks of receiver samples (rays from the source) or single
     // receiver samples (rays from the receiver), each owning its rows of the map.
     std::vector<std::vector<int>> blocks;
