@@ -275,6 +275,32 @@ TEST(AoMatrix, ExactCpuModeAgreesWithEmbreeSingleRays)
     EXPECT_GT(a.visibleCount(1026), 0u);
 }
 
+TEST(AoMatrix, EmbreePacketsOfDirectionsAnswerAsSingleRays)
+{
+    // The baseline's two traversals cast the same float rays against the same scene: the same
+    // bits, at k = 6 (fewer directions than a packet) and 1026 (64 packets and a part).
+    const Scene scene = clutter();
+    const AoOccluders occluders = aoOccluders(scene);
+    AoPoints points = gridPoints(1e-3);
+    AoEmbreeCaster singles(occluders, 0, AoEmbreeTraversal::SingleRays);
+    AoEmbreeCaster packets(occluders, 0, AoEmbreeTraversal::DirectionPackets);
+    EXPECT_NE(singles.name(), packets.name());
+    for (const int k : {6, 1026}) {
+        VisibilityMatrix a(points.size(), k), b(points.size(), k);
+        singles.fill(points, aoDirections(k), 0, k, a);
+        packets.fill(points, aoDirections(k), 0, k, b);
+        std::size_t differ = 0, blocked = 0;
+        for (std::size_t i = 0; i < points.size(); ++i)
+            for (int j = 0; j < k; ++j) {
+                differ += a.visible(i, j) != b.visible(i, j);
+                blocked += glm::dot(points.normals[i], aoDirections(k).directions[std::size_t(j)]) > 0.0f && !a.visible(i, j);
+            }
+        EXPECT_EQ(differ, 0u) << k;
+        EXPECT_GT(a.visibleCount(k), 0u) << k;
+        EXPECT_GT(blocked, 0u) << k;   // the clutter blocks some of the facing directions
+    }
+}
+
 TEST(AoShading, RelightWithAUniformEnvironmentIsAoTimesItsRadiance)
 {
     const Scene scene = clutter();

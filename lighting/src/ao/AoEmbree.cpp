@@ -1,5 +1,7 @@
 #include "lighting/ao/AoEmbree.h"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -73,7 +75,33 @@ bool AoEmbreeScene::unblocked(const glm::vec3& origin, const glm::vec3& directio
     return ray.tfar >= 0.0f;   // Embree sets tfar to -inf on a hit
 }
 
-AoEmbreeCaster::AoEmbreeCaster(const AoOccluders& occluders, int threads) : scene_(occluders), threads_(threads) {}
+std::uint32_t AoEmbreeScene::unblocked16(const glm::vec3& origin, const glm::vec3& normal, const AoDirectionSet& set,
+                                         int first, int last) const
+{
+    alignas(64) RTCRay16 rays;
+    alignas(64) int valid[16];
+    for (int k = 0; k < 16; ++k) {
+        const int j = first + k;
+        const glm::vec3 d = j < last ? set.directions[std::size_t(j)] : glm::vec3(0.0f, 0.0f, 1.0f);
+        valid[k] = j < last && glm::dot(normal, d) > 0.0f ? -1 : 0;
+        rays.org_x[k] = origin.x, rays.org_y[k] = origin.y, rays.org_z[k] = origin.z;
+        rays.dir_x[k] = d.x, rays.dir_y[k] = d.y, rays.dir_z[k] = d.z;
+        rays.tnear[k] = 0.0f, rays.tfar[k] = std::numeric_limits<float>::infinity();
+        rays.time[k] = 0.0f, rays.mask[k] = 0xffffffffu, rays.id[k] = unsigned(k), rays.flags[k] = 0;
+    }
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);   // incoherent: the 16 directions fan out over the hemisphere
+    rtcOccluded16(valid, impl_->scene, &context, &rays);
+    std::uint32_t open = 0;
+    for (int k = 0; k < 16; ++k)
+        open |= std::uint32_t(valid[k] != 0 && rays.tfar[k] >= 0.0f) << k;
+    return open;
+}
+
+AoEmbreeCaster::AoEmbreeCaster(const AoOccluders& occluders, int threads, AoEmbreeTraversal traversal)
+    : scene_(occluders), threads_(threads), traversal_(traversal)
+{
+}
 
 bool AoEmbreeCaster::fill(const AoPoints& points, const AoDirectionSet& set, int first, int last, VisibilityMatrix& matrix,
                           const AoFillControl& control)
@@ -88,6 +116,13 @@ bool AoEmbreeCaster::fill(const AoPoints& points, const AoDirectionSet& set, int
             }
             for (std::size_t i = r.begin(); i < r.end(); ++i) {
                 const glm::vec3 n = points.normals[i];
+                if (traversal_ == AoEmbreeTraversal::DirectionPackets) {
+                    for (int j0 = first; j0 < last; j0 += 16)
+                        for (std::uint32_t open = scene_.unblocked16(points.origins[i], n, set, j0, std::min(last, j0 + 16));
+                             open; open &= open - 1)
+                            matrix.setVisible(i, j0 + std::countr_zero(open));
+                    continue;
+                }
                 for (int j = first; j < last; ++j) {
                     const glm::vec3 d = set.directions[std::size_t(j)];
                     if (glm::dot(n, d) <= 0.0f)

@@ -20,6 +20,10 @@ public:
     AoEmbreeScene& operator=(const AoEmbreeScene&) = delete;
     /// Whether the ray from `origin` towards unit `direction` leaves the scene unblocked.
     bool unblocked(const glm::vec3& origin, const glm::vec3& direction) const;
+    /// The same for directions [first, last) of `set` (at most 16) in one packet: a bit per
+    /// direction, set where it is unblocked and faces `normal` (dot > 0).
+    std::uint32_t unblocked16(const glm::vec3& origin, const glm::vec3& normal, const AoDirectionSet& set, int first,
+                              int last) const;
 
     struct Impl;
     const Impl& impl() const { return *impl_; }
@@ -28,16 +32,26 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// How the baseline casts a point's directions: one rtcOccluded1 each (what the AO issue named
+/// the baseline), or 16 to a packet (rtcOccluded16, Embree's default incoherent traversal), which
+/// `sightline-ao-bench` also times: the baseline it reports is the faster of the two.
+enum class AoEmbreeTraversal { SingleRays, DirectionPackets };
+
 class AoEmbreeCaster final : public AoFiller {
 public:
-    explicit AoEmbreeCaster(const AoOccluders& occluders, int threads = 0);
-    std::string name() const override { return "embree-single-rays"; }
+    explicit AoEmbreeCaster(const AoOccluders& occluders, int threads = 0,
+                            AoEmbreeTraversal traversal = AoEmbreeTraversal::SingleRays);
+    std::string name() const override
+    {
+        return traversal_ == AoEmbreeTraversal::SingleRays ? "embree-single-rays" : "embree-direction-packets";
+    }
     bool fill(const AoPoints& points, const AoDirectionSet& set, int first, int last, VisibilityMatrix& matrix,
               const AoFillControl& control = {}) override;
 
 private:
     AoEmbreeScene scene_;
     int threads_;
+    AoEmbreeTraversal traversal_;
 };
 
 /// The cosine-weighted AO of every usable point from `rays` Monte-Carlo rays (stratified: a
