@@ -6,8 +6,8 @@
 #include <ctime>
 #include <cmath>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <tuple>
 #include <sstream>
