@@ -256,9 +256,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 const CostEstimate cost{.rays = map.rayCount(), .estimatedPairs = estimate.pairs,
                                         .estimatedTriangles = estimate.triangles, .floatKernel = shaft.floatKernel,
                                         .bumpy = bumpy, .receiverSamples = receiver.sampleCount()};
-                plan = planFor(cost, measuredCosts(shaft.floatKernel));
-                local.predictedBitmaskMs = predictedBitmaskMs(cost, measuredCosts(shaft.floatKernel));
-                local.predictedRayMs = predictedRayMs(cost, measuredCosts(shaft.floatKernel));
+                const CostModel& model = measuredCosts(shaft.floatKernel);
+                plan = planFor(cost, model);
+                local.predictedBitmaskMs = predictedBitmaskMs(cost, model);
+                local.predictedRayMs = predictedRayMs(cost, model);
                 if (plan != Plan::Probe) {
                     std::lock_guard lock(probeMutex_);
                     probeMemo_ = std::make_unique<StrategyMemo>(

@@ -121,6 +121,7 @@ struct ProvenRayCaster::Impl {
         /// Packets: the hit each lane stopped at, by ray id, proven after the call; hits closer
         /// to an end than `endDistance` (by ray id, in t) are passed over.
         RTCRayHit16* deferred = nullptr;
+        float* stopDistance = nullptr;   ///< by ray id: t of the hit it stopped at (Embree then sets tfar to -inf)
         const float* endDistance = nullptr;
     };
 
@@ -144,7 +145,7 @@ struct ProvenRayCaster::Impl {
                     args->valid[k] = 0;
                     continue;
                 }
-                stop->ray.tfar[id] = t;
+                context->stopDistance[id] = t;
                 stop->hit.Ng_x[id] = RTCHitN_Ng_x(args->hit, args->N, k);
                 stop->hit.Ng_y[id] = RTCHitN_Ng_y(args->hit, args->N, k);
                 stop->hit.Ng_z[id] = RTCHitN_Ng_z(args->hit, args->N, k);
@@ -395,20 +396,19 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
     // lanes as bits.
     const auto castOccluded = [&](const glm::dvec3* ends, const glm::dvec3* dirs, const glm::dvec3* starts, int lanes,
                                   bool startAtSource, Tally& tally) {
-        alignas(64) thread_local RTCRay16 r{};
-        alignas(64) thread_local RTCRayHit16 stops{};   // the rays again, and where each stopped
+        // The rays, and after the call where each stopped (the hit, and its t put back in tfar).
+        alignas(64) thread_local RTCRayHit16 stops{};
         alignas(64) int valid[kLanes];
-        alignas(64) float endDistance[kLanes];
+        alignas(64) float endDistance[kLanes], stopDistance[kLanes];
         for (int k = 0; k < kLanes; ++k)
             valid[k] = k < lanes ? -1 : 0;
+        RTCRay16& r = stops.ray;
         for (int k = 0; k < lanes; ++k) {
             const glm::vec3 org(starts[k]), dir(startAtSource ? -dirs[k] : dirs[k]);
             r.org_x[k] = org.x, r.org_y[k] = org.y, r.org_z[k] = org.z;
             r.dir_x[k] = dir.x, r.dir_y[k] = dir.y, r.dir_z[k] = dir.z;
             r.tnear[k] = 0.0f, r.tfar[k] = 1.0f, r.time[k] = 0.0f;
             r.mask[k] = 0xffffffffu, r.id[k] = unsigned(k), r.flags[k] = 0;
-            stops.ray.org_x[k] = org.x, stops.ray.org_y[k] = org.y, stops.ray.org_z[k] = org.z;
-            stops.ray.dir_x[k] = dir.x, stops.ray.dir_y[k] = dir.y, stops.ray.dir_z[k] = dir.z;
             // 0.1 mm: far beyond the float t's error at these lengths, and a crossing that close
             // to an end is left to the confirmation.
             endDistance[k] = float(1e-4 / glm::length(dirs[k]));
@@ -422,11 +422,15 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         context.verify = verify;
         context.tally = &tally;
         context.deferred = &stops;
+        context.stopDistance = stopDistance;
         context.endDistance = endDistance;
         rtcOccluded16(valid, m.scene, &context.base, &r);
         std::uint32_t stopped = 0;
         for (int k = 0; k < lanes; ++k)
-            stopped |= std::uint32_t(r.tfar[k] < 0.0f) << k;
+            if (r.tfar[k] < 0.0f) {
+                stopped |= 1u << k;
+                r.tfar[k] = stopDistance[k];
+            }
         return stopped == 0 ? stopped : proveStops(stops, stopped, ends, dirs, starts, startAtSource, tally);
     };
 
