@@ -229,6 +229,8 @@ int runShaft(const ShaftArgs& args)
                    : used == "raycast" ? std::string("raycast: embree float rays, hits proven, free rays confirmed") +
                                              (forced ? " (forced by --strategy)" : " (cheaper than the bitmask here)")
                                        : masks;
+        if (stats.proxyBlocked > 0)
+            strategy += " (inner proxies of closed meshes answered " + std::to_string(stats.proxyBlocked) + " rays first)";
         if (stats.probed)
             strategy += " (chosen by timing both on a few tiles)";
         if (stats.reusedProbe)
@@ -240,6 +242,7 @@ int runShaft(const ShaftArgs& args)
                  {"rays_cast", stats.raysCast}, {"proven_hits", stats.provenHits}, {"exact_hit_tests", stats.exactHitTests},
                  {"rays_confirmed", stats.raysConfirmed}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
+                 {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
     }

@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes with known answers, built in code.
 
+#include <cmath>
 #include <cstdint>
 #include <exception>
 #include <random>
@@ -50,6 +51,29 @@ inline Mesh closedBox()
         m.positions.emplace_back((i & 1) ? 0.5f : -0.5f, (i & 2) ? 0.5f : -0.5f, (i & 4) ? 0.5f : -0.5f);
     m.indices = {0, 2, 3, 0, 3, 1, 4, 5, 7, 4, 7, 6, 0, 1, 5, 0, 5, 4,
                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
+    m.watertight = true;
+    return m;
+}
+
+/// A closed, outward-oriented torus around the z axis through `centre` (`rings` x `sides` quads,
+/// two triangles each), its tube's radius varied by `lumps` (0: smooth) so that no two quads are
+/// alike. Flagged watertight.
+inline Mesh closedTorus(const glm::dvec3& centre, double major, double minor, int rings, int sides, double lumps = 0.0)
+{
+    Mesh m;
+    m.name = "torus";
+    constexpr double kTwoPi = 6.283185307179586;
+    for (int i = 0; i < rings; ++i)
+        for (int k = 0; k < sides; ++k) {
+            const double a = kTwoPi * i / rings, b = kTwoPi * k / sides;
+            const double r = minor * (1.0 + lumps * std::sin(3.0 * a + 2.0 * b) * std::cos(5.0 * b - a));
+            m.positions.emplace_back(centre + glm::dvec3((major + r * std::cos(b)) * std::cos(a),
+                                                         (major + r * std::cos(b)) * std::sin(a), r * std::sin(b)));
+        }
+    const auto at = [&](int i, int k) { return std::uint32_t((i % rings) * sides + (k % sides)); };
+    for (int i = 0; i < rings; ++i)
+        for (int k = 0; k < sides; ++k)
+            m.indices.insert(m.indices.end(), {at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k), at(i + 1, k + 1), at(i, k + 1)});
     m.watertight = true;
     return m;
 }

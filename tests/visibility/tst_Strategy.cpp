@@ -86,6 +86,21 @@ TEST(Strategy, DecidesWhereOnePredictionIsUnderHalfTheOther)
     EXPECT_EQ(planFor(estimate(1'000'000, 70'000'000, 10'000), kModel), Plan::Probe);   // 141 against 100
 }
 
+TEST(Strategy, RaysTheInnerProxiesAnsweredCostRayCastingNothing)
+{
+    // A quarter of 1M rays still open (100 ms of rays): 25 ms, and the 10 ms bitmask still
+    // wins; a tenth: 10 ms, timed; a twenty-fifth: ray casting. The bitmask's prediction is the same.
+    CostEstimate e = estimate(1'000'000, 4'000'000, 10'000);
+    e.openShare = 0.25;
+    EXPECT_NEAR(predictedRayMs(e, kModel), 25.0, 1e-9);
+    EXPECT_DOUBLE_EQ(predictedBitmaskMs(e, kModel), 10.0);
+    EXPECT_EQ(planFor(e, kModel), Plan::Bitmask);
+    e.openShare = 0.1;
+    EXPECT_EQ(planFor(e, kModel), Plan::Probe);
+    e.openShare = 0.04;
+    EXPECT_EQ(planFor(e, kModel), Plan::RayCast);
+}
+
 TEST(Strategy, DoesNotProbeWhereAProbeCannotTell)
 {
     // Too few receiver samples for a probe's tiles, a bumpy receiver (the probe's ray tiles would

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <ctime>
+#include <limits>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -11,6 +12,7 @@
 #include <tbb/task_arena.h>
 
 #include "BitmaskRows.h"
+#include "bitmask/InnerProxy.h"
 #include "bitmask/Occluders.h"
 #include "bitmask/Shaft.h"
 #include "bitmask/Strategy.h"
@@ -21,8 +23,9 @@
 
 // The sampler's parts, one concept each, in visibility/src/bitmask/: the shaft (Shaft.h),
 // occluder preparation (Occluders.h), the double-precision path (DoublePath.h) and table mode
-// (TableMode.h), the narrowed shaft (Narrowing.h), the tile pass (TilePass.h) and Auto's choice
-// (Strategy.h); the float kernel in BitmaskRows.h. This file runs one call through them.
+// (TableMode.h), the narrowed shaft (Narrowing.h), the tile pass (TilePass.h), closed meshes'
+// inner proxies (InnerProxy.h) and Auto's choice (Strategy.h); the float kernel in
+// BitmaskRows.h. This file runs one call through them.
 
 namespace sightline {
 
@@ -44,6 +47,12 @@ double threadMs()
 /// Below this many small triangles in the shaft, Auto keeps to the plain bitmask (a BVH build and
 /// a ray pass cost more than they save).
 constexpr std::size_t kHybridMinSmallTriangles = 500;
+
+/// Voxels along a proxied mesh's longest side (InnerProxy.h). On dense-mesh-2, -4 and -6 at 1024
+/// x 32², 24 or 32 left 8-18% fewer rays to cast than 16, for two to four times the proxies'
+/// pass, and were no faster overall; 12 left 17% more (dense-mesh-2, 128 x 32²). README,
+/// docs/benchmarks.md.
+constexpr int kProxyResolution = 16;
 
 } // namespace
 
@@ -86,6 +95,7 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
         std::lock_guard lock(rayCasterMutex_);
         rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
         provenCaster_.reset();
+        innerProxies_.reset();
     }
     std::lock_guard lock(probeMutex_);
     probeMemo_.reset();
@@ -146,6 +156,18 @@ std::shared_ptr<const raycast::ProvenRayCaster> CpuBitmaskSampler::provenCaster(
     if (!provenCaster_)
         provenCaster_ = std::make_shared<const raycast::ProvenRayCaster>(triangles_);
     return provenCaster_;
+}
+
+std::shared_ptr<const InnerProxySet> CpuBitmaskSampler::innerProxies() const
+{
+    std::lock_guard lock(rayCasterMutex_);
+    if (!innerProxies_) {
+        std::vector<char> closed(instances_.size());
+        for (std::size_t i = 0; i < instances_.size(); ++i)
+            closed[i] = instances_[i].watertight;
+        innerProxies_ = std::make_shared<const InnerProxySet>(buildInnerProxies(triangles_, closed, kProxyResolution));
+    }
+    return innerProxies_;
 }
 
 HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
@@ -225,6 +247,22 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         for (std::size_t i = 0; i < instances_.size(); ++i)
             closedInstance[i] = instances_[i].watertight;
 
+        // The inner proxies first (InnerProxy.h): the rays through the closed meshes' insides,
+        // by the bitmask on a few large faces, before any strategy looks at the meshes' triangles.
+        if (exact && options.innerProxy && !instances_.empty()) {
+            const auto proxyStart = Clock::now();
+            std::vector<glm::dvec3> ends;
+            for (int k = 0; k < 4; ++k)
+                ends.push_back(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v);
+            const ProxyPass pass{.shaft = shaft, .hull = hull, .sourceCorners = filter.sourceCorners,
+                                 .receiverPoints = bumpy ? displaced : ends, .culling = options.watertightCulling,
+                                 .narrow = narrow};
+            local.proxyFaces = seedFromInnerProxies(*innerProxies(), pass, work->occluders, work->bins, map);
+            if (local.proxyFaces > 0)
+                local.proxyBlocked = map.blockedCount();
+            local.proxyMs = msSince(proxyStart);
+        }
+
         // Few source samples: ray casting everything may be cheaper than the bitmask, whose cost
         // follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on
         // a similar configuration serves without estimating again: the estimate prepares every
@@ -255,7 +293,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 local.estimatedTriangles = estimate.triangles;
                 const CostEstimate cost{.rays = map.rayCount(), .estimatedPairs = estimate.pairs,
                                         .estimatedTriangles = estimate.triangles, .floatKernel = shaft.floatKernel,
-                                        .bumpy = bumpy, .receiverSamples = receiver.sampleCount()};
+                                        .bumpy = bumpy, .receiverSamples = receiver.sampleCount(),
+                                        .openShare = 1.0 - double(local.proxyBlocked) / double(map.rayCount())};
                 const CostModel& model = measuredCosts(shaft.floatKernel);
                 plan = planFor(cost, model);
                 local.predictedBitmaskMs = predictedBitmaskMs(cost, model);

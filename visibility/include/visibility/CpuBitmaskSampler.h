@@ -44,6 +44,9 @@ namespace sightline {
 namespace raycast {
 class ProvenRayCaster;
 }
+namespace bitmask {
+struct InnerProxySet;
+}
 
 /// How the exact CPU method splits the work.
 enum class CpuStrategy {
@@ -81,6 +84,12 @@ struct BitmaskOptions {
     /// the tile still sees (what the large occluders already block narrows the shaft). Exact
     /// mode only.
     bool narrowShaft = true;
+    /// Exact mode: closed meshes of many triangles (Mesh::watertight) first answer the rays
+    /// through their inside with a few hundred large faces around a region strictly inside the
+    /// volume (bitmask/InnerProxy.h), by the bitmask, before the chosen strategy runs over every
+    /// triangle. Applied only while both patches lie outside the mesh's bounds, so the answer
+    /// never changes.
+    bool innerProxy = true;
     /// Exact mode: run well-conditioned occluders (projection factors up to 16, source grids up
     /// to 32 columns) through the single-precision AVX2 kernel, eight receiver samples at a time,
     /// where the CPU has AVX2; the rest stay in double. False: double everywhere.
@@ -111,6 +120,9 @@ struct BitmaskStats {
     std::uint64_t exactHitTests = 0;  ///< ray casting: float hits the proof left to the double test
     std::uint64_t raysConfirmed = 0;  ///< ray casting: rays the float pass left free, cast by the reference
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
+    std::size_t proxyFaces = 0;       ///< inner-proxy faces backprojected (BitmaskOptions::innerProxy)
+    std::uint64_t proxyBlocked = 0;   ///< rays the inner proxies answered, before the strategy ran
+    double proxyMs = 0.0;             ///< of setupMs: the inner proxies' pass (and their first build)
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
     double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
     std::uint64_t estimatedPairs = 0; ///< Auto: the pair estimate it chose by (0 when not estimated)
@@ -156,6 +168,8 @@ private:
     std::shared_ptr<const RayCastScene> wholeSceneCaster() const;
     /// The whole scene's float BVH for the RayCast strategy, built on first use.
     std::shared_ptr<const raycast::ProvenRayCaster> provenCaster() const;
+    /// The closed meshes' inner proxies (bitmask/InnerProxy.h), built on first use.
+    std::shared_ptr<const bitmask::InnerProxySet> innerProxies() const;
     std::unique_ptr<Workspace> takeWorkspace() const;
     void returnWorkspace(std::unique_ptr<Workspace> work) const;
 
@@ -172,6 +186,7 @@ private:
     mutable std::mutex rayCasterMutex_;
     mutable std::shared_ptr<const RayCastScene> rayCaster_;
     mutable std::shared_ptr<const raycast::ProvenRayCaster> provenCaster_;
+    mutable std::shared_ptr<const bitmask::InnerProxySet> innerProxies_;   // guarded by rayCasterMutex_
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;

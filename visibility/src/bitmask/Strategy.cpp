@@ -73,7 +73,8 @@ double predictedRayMs(const CostEstimate& e, const CostModel& m)
     const double coverage = e.estimatedTriangles > 0 && e.receiverSamples > 0
                                 ? double(e.estimatedPairs) / (double(e.estimatedTriangles) * double(e.receiverSamples))
                                 : 0.0;
-    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, e.receiverSamples, coverage) * double(e.rays);
+    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, e.receiverSamples, coverage) * double(e.rays) *
+           std::clamp(e.openShare, 0.0, 1.0);
 }
 
 std::size_t probeTilesPerMethod(std::size_t tiles)

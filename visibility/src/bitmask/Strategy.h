@@ -25,6 +25,9 @@ struct CostEstimate {
     bool floatKernel = false;               ///< the SIMD kernel takes well-conditioned occluders
     bool bumpy = false;
     int receiverSamples = 0;
+    /// The share of the rays still open when the strategy starts (the inner proxies answered
+    /// the rest): ray casting skips answered rays, the bitmask does not.
+    double openShare = 1.0;
 };
 
 /// What a unit of each method's work costs, fitted to runs on these 2-core machines (README,

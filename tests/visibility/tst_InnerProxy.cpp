@@ -1,0 +1,189 @@
+// The inner proxies of closed meshes (bitmask/InnerProxy.h): their faces lie inside the volume
+// and clear of the surface, and the sampler's answers with them are the exact answers, at
+// production sample counts, near the origin and 10 and 100 km from it.
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "AdversarialScenes.h"
+#include "ExactJudge.h"
+#include "TestScenes.h"
+#include "bitmask/InnerProxy.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/ExactSegment.h"
+#include "visibility/RayCastSampler.h"
+
+using namespace sightline;
+using namespace sightline::test;
+using namespace sightline::bitmask;
+using sightline::judge_detail::pointTriangleDistance2;
+
+namespace {
+
+/// Two tori through each other as one mesh: closed (every edge shared twice), crossing itself;
+/// the space inside both has even parity and must stay out of the proxy.
+Mesh linkedTori(const glm::dvec3& centre)
+{
+    Mesh m = closedTorus(centre, 1.0, 0.45, 64, 32, 0.1);
+    const Mesh other = closedTorus(centre + glm::dvec3(0.5, 0.0, 0.0), 1.0, 0.45, 64, 32, 0.1);
+    const auto offset = std::uint32_t(m.positions.size());
+    m.positions.insert(m.positions.end(), other.positions.begin(), other.positions.end());
+    for (std::uint32_t i : other.indices)
+        m.indices.push_back(i + offset);
+    return m;
+}
+
+/// Crossings of the segment from p to a far point, in world triangles of one mesh.
+int crossings(const WorldTriangles& t, const glm::dvec3& p, const glm::dvec3& far)
+{
+    int count = 0;
+    for (std::size_t k = 0; k < t.size(); ++k)
+        count += segmentCrossesTriangle(p, far, glm::dvec3(t.vertices[3 * k]), glm::dvec3(t.vertices[3 * k + 1]),
+                                        glm::dvec3(t.vertices[3 * k + 2]));
+    return count;
+}
+
+/// A patch facing +z at height z over [x0, x0 + size] x [y0, y0 + size].
+Patch patchAt(const glm::dvec3& corner, double size, int n)
+{
+    Patch p;
+    p.corner = corner;
+    p.u = {size, 0.0, 0.0};
+    p.v = {0.0, size, 0.0};
+    p.na = p.nb = n;
+    return p;
+}
+
+} // namespace
+
+TEST(InnerProxy, FacesLieInsideTheVolumeClearOfTheSurface)
+{
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (const double offset : {0.0, 1e4, 1e5})
+        for (const bool linked : {false, true}) {
+            const glm::dvec3 centre(offset, -0.5 * offset, 0.25 * offset);
+            Mesh mesh = linked ? linkedTori(centre) : closedTorus(centre, 1.0, 0.5, 64, 32, 0.15);
+            ASSERT_TRUE(closedAndOutward(mesh));
+            const WorldTriangles triangles = worldTriangles(sceneOf({std::move(mesh)}));
+            const std::vector<glm::vec3> faces = innerProxyTriangles(triangles.vertices.data(), triangles.size(), 16);
+            ASSERT_GT(faces.size(), 0u) << offset;
+            ASSERT_EQ(faces.size() % 3, 0u);
+            EXPECT_LE(faces.size() / 3, triangles.size() / 4);   // coarse: a quarter of the mesh at most
+            // Points on every face (corners, centroid and random points) have parity 1 and keep
+            // the margin from every triangle.
+            for (std::size_t f = 0; f < faces.size(); f += 3) {
+                const glm::dvec3 a(faces[f]), b(faces[f + 1]), c(faces[f + 2]);
+                EXPECT_GT(glm::length(glm::cross(b - a, c - a)), 0.0);
+                std::vector<glm::dvec3> points{a, b, c, (a + b + c) / 3.0};
+                for (int k = 0; k < 2; ++k) {
+                    double s = 0.5 * (unit(rng) + 1.0), t = 0.5 * (unit(rng) + 1.0);
+                    if (s + t > 1.0)
+                        s = 1.0 - s, t = 1.0 - t;
+                    points.push_back(a + s * (b - a) + t * (c - a));
+                }
+                for (const glm::dvec3& p : points) {
+                    double nearest = 1e300;
+                    for (std::size_t k = 0; k < triangles.size(); ++k)
+                        nearest = std::min(nearest, pointTriangleDistance2(p, glm::dvec3(triangles.vertices[3 * k]),
+                                                                           glm::dvec3(triangles.vertices[3 * k + 1]),
+                                                                           glm::dvec3(triangles.vertices[3 * k + 2])));
+                    ASSERT_GE(std::sqrt(nearest), kInnerMarginMetres) << offset << " face " << f / 3;
+                    const glm::dvec3 far = p + 100.0 * glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+                    ASSERT_EQ(crossings(triangles, p, far) % 2, 1) << offset << " face " << f / 3;
+                }
+            }
+        }
+}
+
+TEST(InnerProxy, ThinOrSmallMeshesGetNone)
+{
+    // A closed box 0.1 mm thick: no voxel clears the margin on both sides.
+    Mesh slab = closedBox();
+    for (glm::vec3& p : slab.positions)
+        p.z *= 1e-4f;
+    const WorldTriangles t = worldTriangles(sceneOf({slab}));
+    EXPECT_TRUE(innerProxyTriangles(t.vertices.data(), t.size(), 16).empty());
+    // The unit box has a proxy of its own, but the sampler leaves meshes under
+    // kProxyMinTriangles whole.
+    const WorldTriangles box = worldTriangles(sceneOf({closedBox()}));
+    EXPECT_FALSE(innerProxyTriangles(box.vertices.data(), box.size(), 16).empty());
+    const bitmask::InnerProxySet set = bitmask::buildInnerProxies(box, {1}, 16);
+    EXPECT_EQ(set.faces.size(), 0u);
+}
+
+TEST(InnerProxy, KeepsTheSamplersExactAtProductionSizes)
+{
+    // Lumpy statues standing in the shaft between a 32x32 source and a 64x64 receiver (4M rays
+    // a call): every strategy, with proxies, against the reference; the rays the two disagree on
+    // judged by the exact brute force. The proxies must have answered most blocked rays.
+    for (const double offset : {0.0, 1e4, 1e5}) {
+        const glm::dvec3 o(offset, 0.5 * offset, -0.25 * offset);
+        Mesh a = closedTorus(o + glm::dvec3(0.2, 0.3, 2.0), 0.9, 0.45, 96, 48, 0.15);
+        Mesh b = linkedTori(o + glm::dvec3(2.2, 1.6, 3.5));
+        b.watertight = closedAndOutward(b);
+        ASSERT_TRUE(a.watertight && b.watertight);
+        const Scene scene = sceneOf({std::move(a), std::move(b)});
+        const Patch source = patchAt(o + glm::dvec3(-0.5, -0.5, 0.0), 3.0, 32);
+        const Patch receiver = patchAt(o + glm::dvec3(-1.5, -1.5, 5.5), 5.0, 64);
+        const HiddenSampleMap expected = RayCastScene(scene).sample(source, receiver);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        CpuBitmaskSampler sampler(scene);
+        for (const CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::RayCast, CpuStrategy::Bitmask}) {
+            BitmaskStats stats;
+            const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = strategy}, &stats);
+            EXPECT_GT(stats.proxyFaces, 0u) << offset;
+            EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 2) << offset;
+            const Verdict v = judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u));
+            EXPECT_EQ(v.nonTie(), 0u) << offset << " " << stats.strategy;
+        }
+        // Decorrelated source samples (§6.2) and a bumpy receiver (§8, bumps up to 0.4 m).
+        const ReceiverHeights heights = randomHeights(receiver, 11u, 0.4);
+        const std::vector<glm::dvec3> displaced = displacedSamples(source, receiver, heights);
+        const SourceJitter jitter{.seed = 5};
+        const HiddenSampleMap bumpyExpected =
+            RayCastScene(scene).sample(source, receiver, {.jitter = jitter, .heights = &heights});
+        const ExactJudge bumpyJudge(worldTriangles(scene), source, receiver, jitter, &displaced);
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(
+            source, receiver, {.strategy = CpuStrategy::RayCast, .jitter = jitter, .heights = &heights}, &stats);
+        EXPECT_GT(stats.proxyBlocked, bumpyExpected.blockedCount() / 2) << offset;
+        EXPECT_EQ(bumpyJudge.judge(map, raysToJudge({&map, &bumpyExpected}, 4096, 3u)).nonTie(), 0u) << offset;
+    }
+}
+
+TEST(InnerProxy, StepsAsideWhenAPatchIsInsideAMeshsBounds)
+{
+    // The source inside a closed statue's bounds (here in the torus's hole, outside the volume,
+    // and then inside the tube itself, where every ray is blocked): the statue gets no proxy,
+    // other statues keep theirs, and the answer stays the reference's.
+    Mesh torus = closedTorus({0.0, 0.0, 0.0}, 1.5, 0.5, 96, 48, 0.1);
+    Mesh statue = closedTorus({0.5, 0.5, 3.0}, 0.6, 0.3, 96, 48, 0.1);
+    const Scene scene = sceneOf({std::move(torus), std::move(statue)});
+    const RayCastScene reference(scene);
+    const CpuBitmaskSampler sampler(scene);
+    for (const glm::dvec3 corner : {glm::dvec3(-0.3, -0.3, 0.0), glm::dvec3(1.3, -0.2, -0.1)}) {
+        const Patch source = patchAt(corner, 0.4, 32);
+        const Patch receiver = patchAt({-1.0, -1.0, 5.0}, 3.0, 64);
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
+        const HiddenSampleMap expected = reference.sample(source, receiver);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 5u)).nonTie(), 0u);
+        // Only the statue's proxy: its faces alone.
+        EXPECT_GT(stats.proxyFaces, 0u);
+        BitmaskStats without;
+        sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast, .innerProxy = false}, &without);
+        EXPECT_EQ(without.proxyFaces, 0u);
+        EXPECT_EQ(without.proxyBlocked, 0u);
+    }
+    // Both patches inside every statue's bounds: no proxy at all.
+    const Patch source = patchAt({-0.3, -0.3, 0.0}, 0.4, 32), receiver = patchAt({-0.2, -0.2, 0.2}, 0.3, 32);
+    BitmaskStats stats;
+    const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
+    EXPECT_EQ(stats.proxyFaces, 0u);
+    const HiddenSampleMap expected = reference.sample(source, receiver);
+    const ExactJudge judge(worldTriangles(scene), source, receiver);
+    EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 5u)).nonTie(), 0u);
+}

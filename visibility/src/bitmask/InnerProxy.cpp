@@ -1,0 +1,283 @@
+#include "InnerProxy.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+
+namespace sightline::bitmask {
+
+namespace {
+
+double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
+
+/// Distance from p to segment ab in the plane.
+double segmentDistance(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& b)
+{
+    const glm::dvec2 ab = b - a, ap = p - a;
+    const double length2 = glm::dot(ab, ab);
+    const double t = length2 > 0.0 ? std::clamp(glm::dot(ap, ab) / length2, 0.0, 1.0) : 0.0;
+    return glm::length(ap - t * ab);
+}
+
+/// Where the line {(x, p.x, p.y)} crosses the triangle, as its x; false when it misses. Sets
+/// `unsure` when the line passes within kColumnClearanceMetres of an edge (the count could round
+/// either way there).
+bool columnCrossing(const glm::dvec2& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, double& x,
+                    bool& unsure)
+{
+    const glm::dvec2 A(a.y, a.z), B(b.y, b.z), C(c.y, c.z);
+    const glm::dvec2 lo = glm::min(A, glm::min(B, C)) - kColumnClearanceMetres;
+    const glm::dvec2 hi = glm::max(A, glm::max(B, C)) + kColumnClearanceMetres;
+    if (p.x < lo.x || p.y < lo.y || p.x > hi.x || p.y > hi.y)
+        return false;
+    if (segmentDistance(p, A, B) < kColumnClearanceMetres || segmentDistance(p, B, C) < kColumnClearanceMetres ||
+        segmentDistance(p, C, A) < kColumnClearanceMetres) {
+        unsure = true;
+        return false;
+    }
+    const double e0 = cross2(B - A, p - A), e1 = cross2(C - B, p - B), e2 = cross2(A - C, p - C);
+    if (!((e0 > 0.0 && e1 > 0.0 && e2 > 0.0) || (e0 < 0.0 && e1 < 0.0 && e2 < 0.0)))
+        return false;
+    // Clear of every edge and inside: the projection has area, so the plane is not parallel to x.
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    x = a.x - (n.y * (p.x - a.y) + n.z * (p.y - a.z)) / n.x;
+    return true;
+}
+
+/// `v` rounded to float toward `toward` (never past v away from it).
+float roundToward(double v, double toward)
+{
+    float f = float(v);
+    if (toward > v && double(f) < v)
+        f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    if (toward < v && double(f) > v)
+        f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+
+} // namespace
+
+std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_t triangleCount, int resolution)
+{
+    if (triangleCount == 0 || resolution < 1)
+        return {};
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+    for (std::size_t k = 0; k < 3 * triangleCount; ++k) {
+        lo = glm::min(lo, glm::dvec3(vertices[k]));
+        hi = glm::max(hi, glm::dvec3(vertices[k]));
+    }
+    const glm::dvec3 extent = hi - lo;
+    const double h = std::max({extent.x, extent.y, extent.z}) / double(resolution);
+    if (!(h > 2.0 * kInnerMarginMetres))
+        return {};
+    const auto cells = [&](double e) { return std::clamp(int(std::ceil(e / h)), 1, resolution); };
+    const int nx = cells(extent.x), ny = cells(extent.y), nz = cells(extent.z);
+    const auto cellOf = [&](double v, double origin, int n) { return std::clamp(int(std::floor((v - origin) / h)), 0, n - 1); };
+    const auto at = [&](int x, int y, int z) { return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x); };
+
+    // Voxels some triangle's grown box touches, and each column's triangles.
+    std::vector<char> touched(std::size_t(nx) * std::size_t(ny) * std::size_t(nz), 0);
+    std::vector<std::vector<std::uint32_t>> column(std::size_t(ny) * std::size_t(nz));
+    for (std::size_t t = 0; t < triangleCount; ++t) {
+        const glm::dvec3 a(vertices[3 * t]), b(vertices[3 * t + 1]), c(vertices[3 * t + 2]);
+        const glm::dvec3 tlo = glm::min(a, glm::min(b, c)) - kInnerMarginMetres;
+        const glm::dvec3 thi = glm::max(a, glm::max(b, c)) + kInnerMarginMetres;
+        const int x0 = cellOf(tlo.x, lo.x, nx), x1 = cellOf(thi.x, lo.x, nx);
+        const int y0 = cellOf(tlo.y, lo.y, ny), y1 = cellOf(thi.y, lo.y, ny);
+        const int z0 = cellOf(tlo.z, lo.z, nz), z1 = cellOf(thi.z, lo.z, nz);
+        for (int z = z0; z <= z1; ++z)
+            for (int y = y0; y <= y1; ++y) {
+                column[std::size_t(z) * std::size_t(ny) + std::size_t(y)].push_back(std::uint32_t(t));
+                for (int x = x0; x <= x1; ++x)
+                    touched[at(x, y, z)] = 1;
+            }
+    }
+
+    // Parity of the untouched voxels, column by column.
+    std::vector<char> inside(touched.size(), 0);
+    std::vector<double> crossings;
+    for (int z = 0; z < nz; ++z)
+        for (int y = 0; y < ny; ++y) {
+            const glm::dvec2 p(lo.y + (y + 0.5) * h, lo.z + (z + 0.5) * h);
+            crossings.clear();
+            bool unsure = false;
+            for (std::uint32_t t : column[std::size_t(z) * std::size_t(ny) + std::size_t(y)]) {
+                double x = 0.0;
+                if (columnCrossing(p, glm::dvec3(vertices[3 * t]), glm::dvec3(vertices[3 * t + 1]),
+                                   glm::dvec3(vertices[3 * t + 2]), x, unsure))
+                    crossings.push_back(x);
+                if (unsure)
+                    break;
+            }
+            if (unsure)
+                continue;
+            std::sort(crossings.begin(), crossings.end());
+            for (int x = 0; x < nx; ++x) {
+                if (touched[at(x, y, z)])
+                    continue;
+                // No crossing lies in an untouched voxel, so the centre's side is unambiguous.
+                const double centre = lo.x + (x + 0.5) * h;
+                const auto above = crossings.end() - std::upper_bound(crossings.begin(), crossings.end(), centre);
+                inside[at(x, y, z)] = char(above % 2);
+            }
+        }
+
+    // The union's boundary: per plane between two layers of voxels, the faces with an inner
+    // voxel on one side only, merged greedily into rectangles (runs, then rows of equal runs).
+    std::vector<glm::vec3> triangles;
+    const std::array<int, 3> n{nx, ny, nz};
+    std::vector<char> mask;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+        const int nu = n[std::size_t(ua)], nv = n[std::size_t(va)];
+        const auto innerAt = [&](int k, int u, int v) {
+            if (k < 0 || k >= n[std::size_t(axis)])
+                return false;
+            std::array<int, 3> c{};
+            c[std::size_t(axis)] = k, c[std::size_t(ua)] = u, c[std::size_t(va)] = v;
+            return inside[at(c[0], c[1], c[2])] == 1;
+        };
+        for (int k = 0; k <= n[std::size_t(axis)]; ++k)
+            for (const int outward : {+1, -1}) {
+                // outward +1: the inner voxel below the plane (layer k - 1), the outer above.
+                mask.assign(std::size_t(nu) * std::size_t(nv), 0);
+                for (int v = 0; v < nv; ++v)
+                    for (int u = 0; u < nu; ++u) {
+                        const bool below = innerAt(k - 1, u, v), above = innerAt(k, u, v);
+                        mask[std::size_t(v) * std::size_t(nu) + std::size_t(u)] = outward > 0 ? below && !above : above && !below;
+                    }
+                const auto maskAt = [&](int u, int v) -> char& { return mask[std::size_t(v) * std::size_t(nu) + std::size_t(u)]; };
+                // The plane, moved toward the inner side by the rounding to float.
+                const double plane = lo[axis] + double(k) * h;
+                const float planeF = roundToward(plane, plane - double(outward));
+                for (int v = 0; v < nv; ++v)
+                    for (int u = 0; u < nu; ++u) {
+                        if (!maskAt(u, v))
+                            continue;
+                        int u1 = u;
+                        while (u1 + 1 < nu && maskAt(u1 + 1, v))
+                            ++u1;
+                        int v1 = v;
+                        const auto runFree = [&](int vv) {
+                            for (int uu = u; uu <= u1; ++uu)
+                                if (!maskAt(uu, vv))
+                                    return false;
+                            return true;
+                        };
+                        while (v1 + 1 < nv && runFree(v1 + 1))
+                            ++v1;
+                        for (int vv = v; vv <= v1; ++vv)
+                            for (int uu = u; uu <= u1; ++uu)
+                                maskAt(uu, vv) = 0;
+                        // The rectangle, shrunk by the rounding to float.
+                        const double u0m = lo[ua] + double(u) * h, u1m = lo[ua] + double(u1 + 1) * h;
+                        const double v0m = lo[va] + double(v) * h, v1m = lo[va] + double(v1 + 1) * h;
+                        const float uLo = roundToward(u0m, u1m), uHi = roundToward(u1m, u0m);
+                        const float vLo = roundToward(v0m, v1m), vHi = roundToward(v1m, v0m);
+                        if (!(uLo < uHi && vLo < vHi))
+                            continue;
+                        const auto corner = [&](float cu, float cv) {
+                            glm::vec3 p;
+                            p[axis] = planeF, p[ua] = cu, p[va] = cv;
+                            return p;
+                        };
+                        // (ua, va, axis) is right-handed: counter-clockwise in (u, v) faces +axis.
+                        std::array<glm::vec3, 4> q{corner(uLo, vLo), corner(uHi, vLo), corner(uHi, vHi), corner(uLo, vHi)};
+                        if (outward < 0)
+                            std::swap(q[1], q[3]);
+                        triangles.insert(triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+                    }
+            }
+    }
+    return triangles;
+}
+
+InnerProxySet buildInnerProxies(const WorldTriangles& triangles, const std::vector<char>& closed, int resolution)
+{
+    InnerProxySet proxies;
+    std::vector<std::vector<glm::vec3>> meshes(closed.size());
+    std::vector<std::size_t> counts(closed.size(), 0);
+    for (std::uint32_t i : triangles.instanceOf)
+        ++counts[i];
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const std::uint32_t i = triangles.instanceOf[t];
+        if (closed[i] && counts[i] >= kProxyMinTriangles)
+            meshes[i].insert(meshes[i].end(), &triangles.vertices[3 * t], &triangles.vertices[3 * t] + 3);
+    }
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+        if (meshes[i].empty())
+            continue;
+        const std::vector<glm::vec3> faces = innerProxyTriangles(meshes[i].data(), counts[i], resolution);
+        if (faces.empty() || double(faces.size() / 3) > kProxyMaxFaceShare * double(counts[i]))
+            continue;
+        const auto proxy = std::uint32_t(proxies.meshBounds.size());
+        Bounds meshBounds, faceBounds;
+        for (const glm::vec3& v : meshes[i])
+            meshBounds.extend(v);
+        for (const glm::vec3& v : faces)
+            faceBounds.extend(v);
+        proxies.faces.vertices.insert(proxies.faces.vertices.end(), faces.begin(), faces.end());
+        proxies.faces.instanceOf.insert(proxies.faces.instanceOf.end(), faces.size() / 3, proxy);
+        proxies.meshBounds.push_back(meshBounds);
+        proxies.faceBounds.push_back(faceBounds);
+    }
+    return proxies;
+}
+
+namespace {
+
+/// Whether `b` lies farther than kInnerMarginMetres from box [lo, hi] along some axis.
+bool apart(const Bounds& b, const glm::dvec3& lo, const glm::dvec3& hi)
+{
+    const glm::dvec3 bmin(b.min), bmax(b.max);
+    for (int k = 0; k < 3; ++k)
+        if (bmax[k] + kInnerMarginMetres < lo[k] || bmin[k] - kInnerMarginMetres > hi[k])
+            return true;
+    return false;
+}
+
+} // namespace
+
+std::size_t seedFromInnerProxies(const InnerProxySet& proxies, const ProxyPass& pass, OccluderSet& occluders,
+                                 TileBins& bins, HiddenSampleMap& map)
+{
+    const std::size_t count = proxies.meshBounds.size();
+    glm::dvec3 sourceLo(std::numeric_limits<double>::infinity()), sourceHi = -sourceLo;
+    glm::dvec3 receiverLo = sourceLo, receiverHi = sourceHi;
+    for (const glm::dvec3& c : pass.sourceCorners)
+        sourceLo = glm::min(sourceLo, c), sourceHi = glm::max(sourceHi, c);
+    for (const glm::dvec3& p : pass.receiverPoints)
+        receiverLo = glm::min(receiverLo, p), receiverHi = glm::max(receiverHi, p);
+    TriangleFilter filter;
+    filter.triangles = &proxies.faces;
+    filter.hull = &pass.hull;
+    filter.sourceCorners = pass.sourceCorners;
+    filter.instanceOutside.resize(count);
+    bool any = false;
+    for (std::size_t p = 0; p < count; ++p) {
+        const Bounds& faces = proxies.faceBounds[p];
+        filter.instanceOutside[p] = !apart(proxies.meshBounds[p], sourceLo, sourceHi) ||
+                                    !apart(proxies.meshBounds[p], receiverLo, receiverHi) ||
+                                    pass.hull.excludesBox(faces.min, faces.max);
+        any = any || !filter.instanceOutside[p];
+    }
+    if (!any)
+        return 0;
+    if (pass.culling)
+        filter.cullable.assign(count, 1);
+    occluders.prepare(pass.shaft, filter);
+    std::uint64_t pairs = 0;
+    for (const Occluder* o : occluders.occluders)
+        pairs += std::uint64_t(o->a1 - o->a0 + 1) * std::uint64_t(o->b1 - o->b0 + 1);
+    if (occluders.occluders.empty() || pairs > kProxyPairsPerRay * map.rayCount())
+        return 0;
+    bins.build(pass.shaft, occluders, {}, std::vector<char>(count, 1), proxies.faces);
+    bitmaskPass(pass.shaft, bins, map, pass.narrow);
+    return occluders.occluders.size();
+}
+
+} // namespace sightline::bitmask

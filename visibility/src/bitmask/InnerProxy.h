@@ -1,0 +1,106 @@
+#pragma once
+// Internal to the CPU bitmask sampler: coarse occluders standing in for the inside of a closed
+// mesh ("model no more than a scene needs"). A dense statue costs ray casting and the bitmask
+// one unit of work per small triangle, yet most of the rays it blocks pass through its inside. A
+// few hundred large faces around a region strictly inside the volume answer those rays through
+// the bitmask at the cost of a few-occluder scene, and leave only the rays near its shell to the
+// exact method.
+//
+// Why such a face answers exactly. Take any closed surface (each undirected edge shared by two
+// triangles, Scene.h's closedAndOutward; it may even cross itself): the parity of the number of
+// times a path crosses it is the same for every path between two points, so every point off the
+// surface has a parity, 0 far away, changing only where a path crosses the surface. Let R be a
+// region whose points all have parity 1 and lie farther than kInnerMarginMetres from every
+// triangle. A segment between two points of parity 0 that reaches R (or passes within the
+// contract's tie distance of it) must cross the surface between its ends, so it is blocked by the
+// contract, or is a tie (it crosses at an edge). And a segment from outside R that reaches R
+// crosses R's boundary: so R's boundary faces, as occluders, block only blocked rays. The
+// sampler uses a mesh's proxy only while both patches lie outside the mesh's bounds (their
+// points then have parity 0); the bitmask answers the faces' rays exactly up to the faces' own
+// ties, which lie in R's margin and so are blocked rays too. Faces it misses (gaps, culling) only
+// leave rays to the exact method.
+//
+// How R is found. The mesh's bounds are cut into cubic voxels; a voxel that no triangle's box
+// (grown by the margin) touches holds no surface, so its parity is that of its centre, taken
+// along the line through the voxel centres of its x column: the column's crossings are counted
+// in double, and a column whose line passes within kColumnClearanceMetres of a triangle edge
+// (where the count could round either way) is left out. R is the union of the odd voxels; its
+// boundary, the voxel faces with an odd voxel on one side only, is merged greedily into
+// rectangles per plane, rounded to float toward R.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "Occluders.h"
+#include "Shaft.h"
+#include "TilePass.h"
+#include "visibility/HiddenSampleMap.h"
+#include "visibility/Scene.h"
+#include "visibility/ShaftGeometry.h"
+
+namespace sightline::bitmask {
+
+/// How far every box stays from the surface: ten times the contract's tie distance (1e-5 m),
+/// so a ray the bitmask counts as touching a box (a tie of the box) still passes through the
+/// inside.
+inline constexpr double kInnerMarginMetres = 1e-4;
+
+/// A voxel column's line passing closer than this to a triangle edge (in the projection along
+/// x) leaves the column out: far above double rounding at any accepted coordinate (1e6 m:
+/// ~1e-10 m), so the crossings counted elsewhere are the true ones.
+inline constexpr double kColumnClearanceMetres = 1e-6;
+
+/// The boundary of R (above) for the closed surface of `triangleCount` triangles (three
+/// vertices each at `vertices`), from a grid of `resolution` voxels along the longest side of
+/// their bounds, as outward-facing triangles (counter-clockwise seen from outside R, the winding
+/// of Scene.h), three vertices each. The surface must be closed (closedAndOutward); its
+/// orientation does not matter. Empty when no voxel clears the surface.
+std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_t triangleCount, int resolution);
+
+/// A scene's proxies, as one triangle soup whose instances are the proxies.
+struct InnerProxySet {
+    WorldTriangles faces;            ///< instanceOf: the proxy
+    std::vector<Bounds> meshBounds;  ///< per proxy: its mesh's triangles' bounds
+    std::vector<Bounds> faceBounds;  ///< per proxy: its faces' bounds
+};
+
+/// Closed meshes with fewer triangles are left whole: their proxies would cost the bitmask about
+/// what the mesh does.
+inline constexpr std::size_t kProxyMinTriangles = 512;
+/// A proxy is kept only while its faces are at most this part of its mesh's triangles.
+inline constexpr double kProxyMaxFaceShare = 0.25;
+
+/// The proxies of the instances `closed` marks (verified closed, Mesh::watertight) with at least
+/// kProxyMinTriangles triangles.
+InnerProxySet buildInnerProxies(const WorldTriangles& triangles, const std::vector<char>& closed, int resolution);
+
+/// The pass runs only while the proxies' (face, receiver sample) pairs are at most this many per
+/// ray: a pair costs the bitmask about 10 ns and a ray through a dense mesh 100-140 ns, and the
+/// proxies answer 60-80% of a dense statue's rays (dense-mesh-2, -4, -6 at 128 and 1024 source
+/// samples); below 128 source samples the rays cost less than the faces.
+inline constexpr std::uint64_t kProxyPairsPerRay = 4;
+
+/// One call's view of the proxies.
+struct ProxyPass {
+    const Shaft& shaft;
+    const ShaftHull& hull;
+    std::array<glm::dvec3, 4> sourceCorners;
+    /// Every receiver-side segment end, or points whose bounds hold them all (a flat receiver's
+    /// corners, a bumpy one's displaced samples).
+    const std::vector<glm::dvec3>& receiverPoints;
+    bool culling = true;   ///< §7's front-face culling (the receiver is apart from every proxy used)
+    bool narrow = true;
+};
+
+/// ORs into `map` the rays the proxies block, using only proxies whose mesh bounds both patches
+/// stay clear of (by kInnerMarginMetres); the jittered source samples stay in their cells, so
+/// the source rectangle bounds them. Returns the faces it backprojected, 0 when it did not run
+/// (no proxy applies, or more pairs than kProxyPairsPerRay allows). `occluders` and `bins` are
+/// working storage.
+std::size_t seedFromInnerProxies(const InnerProxySet& proxies, const ProxyPass& pass, OccluderSet& occluders,
+                                 TileBins& bins, HiddenSampleMap& map);
+
+} // namespace sightline::bitmask
