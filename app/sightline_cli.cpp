@@ -243,6 +243,7 @@ int runShaft(const ShaftArgs& args)
                  {"rays_confirmed", stats.raysConfirmed}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
+                 {"proxies_built", stats.proxiesBuilt},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
     }

@@ -109,8 +109,7 @@ TEST(InnerProxy, ThinOrSmallMeshesGetNone)
     // kProxyMinTriangles whole.
     const WorldTriangles box = worldTriangles(sceneOf({closedBox()}));
     EXPECT_FALSE(innerProxyTriangles(box.vertices.data(), box.size(), 16).empty());
-    const bitmask::InnerProxySet set = bitmask::buildInnerProxies(box, {1}, 16);
-    EXPECT_EQ(set.faces.size(), 0u);
+    EXPECT_TRUE(buildInnerProxy(box.vertices.data(), box.size(), 16).faces.empty());
 }
 
 TEST(InnerProxy, KeepsTheSamplersExactAtProductionSizes)
@@ -186,4 +185,40 @@ TEST(InnerProxy, StepsAsideWhenAPatchIsInsideAMeshsBounds)
     const HiddenSampleMap expected = reference.sample(source, receiver);
     const ExactJudge judge(worldTriangles(scene), source, receiver);
     EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 5u)).nonTie(), 0u);
+}
+
+TEST(InnerProxy, IsBuiltWhereItPaysAndKeptForUnchangedMeshes)
+{
+    // Two statues of 4,608 triangles: a 4-source call (4,096 rays) builds none, a 1024-source
+    // call builds both; after the scene is replaced with a wall moved, they are reused, and
+    // after one statue moves, only that one is built again. Every answer is the reference's.
+    const auto sceneWith = [](double wallX, double statueX) {
+        Mesh wall = quad({float(wallX), -1.0f, 2.5f}, {0.3f, 0.0f, 0.0f}, {0.0f, 0.3f, 0.0f}, "wall");
+        return sceneOf({closedTorus({0.2, 0.3, 2.0}, 0.9, 0.45, 64, 36, 0.15),
+                        closedTorus({statueX, 1.6, 3.5}, 0.9, 0.45, 64, 36, 0.15), std::move(wall)});
+    };
+    Scene scene = sceneWith(0.0, 2.2);
+    CpuBitmaskSampler sampler(scene);
+    const Patch small = patchAt({-0.5, -0.5, 0.0}, 3.0, 32), large = small;
+    Patch few = small;
+    few.na = few.nb = 2;
+    const Patch receiver = patchAt({-1.5, -1.5, 5.5}, 5.0, 32);
+    const auto check = [&](const Patch& source, std::size_t built, const char* what) {
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
+        EXPECT_EQ(stats.proxiesBuilt, built) << what;
+        const HiddenSampleMap expected = RayCastScene(scene).sample(source, receiver);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 2048, 9u)).nonTie(), 0u) << what;
+        return stats;
+    };
+    EXPECT_EQ(check(few, 0, "few rays").proxyFaces, 0u);
+    EXPECT_GT(check(large, 2, "first").proxyFaces, 0u);
+    EXPECT_GT(check(large, 0, "again").proxyBlocked, 0u);
+    scene = sceneWith(0.5, 2.2);
+    sampler.setScene(scene);
+    EXPECT_GT(check(large, 0, "wall moved").proxyBlocked, 0u);
+    scene = sceneWith(0.5, 2.3);
+    sampler.setScene(scene);
+    EXPECT_GT(check(large, 1, "statue moved").proxyBlocked, 0u);
 }

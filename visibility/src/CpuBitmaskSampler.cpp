@@ -72,8 +72,27 @@ struct CpuBitmaskSampler::StrategyMemo {
 CpuBitmaskSampler::CpuBitmaskSampler(const Scene& scene) : triangles_(worldTriangles(scene))
 {
     validateCoordinates(triangles_, "scene");
-    for (const Instance& instance : scene.instances)
-        instances_.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
+    describeInstances(scene);
+}
+
+void CpuBitmaskSampler::describeInstances(const Scene& scene)
+{
+    instances_.clear();
+    for (const Instance& instance : scene.instances) {
+        InstanceInfo info;
+        info.watertight = scene.meshes[instance.mesh].watertight;
+        info.bounds = scene.instanceBounds(instance);
+        instances_.push_back(info);
+    }
+    // worldTriangles writes each instance's triangles together, in instance order.
+    for (std::size_t t = 0; t < triangles_.size(); ++t) {
+        InstanceInfo& info = instances_[triangles_.instanceOf[t]];
+        if (info.count == 0)
+            info.first = t;
+        ++info.count;
+        for (int k = 0; k < 3; ++k)
+            info.triangleBounds.extend(triangles_.vertices[3 * t + std::size_t(k)]);
+    }
 }
 
 CpuBitmaskSampler::CpuBitmaskSampler(WorldTriangles triangles) : triangles_(std::move(triangles))
@@ -88,14 +107,25 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     WorldTriangles triangles = worldTriangles(scene);
     validateCoordinates(triangles, "scene");
     triangles_ = std::move(triangles);
-    instances_.clear();
-    for (const Instance& instance : scene.instances)
-        instances_.push_back({scene.meshes[instance.mesh].watertight, scene.instanceBounds(instance)});
+    describeInstances(scene);
     {
         std::lock_guard lock(rayCasterMutex_);
         rayCaster_.reset();   // built again, for the new triangles, when RayCast is next chosen
         provenCaster_.reset();
-        innerProxies_.reset();
+    }
+    {
+        // Proxies stay at hand for instances that come back unchanged (the editor moved another
+        // object): a dense statue's takes 10-20 ms to build. Each holds a copy of its mesh, so those
+        // kept hold at most as many triangles as the new scene has.
+        std::lock_guard lock(proxyMutex_);
+        for (std::shared_ptr<const InnerProxy>& proxy : proxies_)
+            if (proxy)
+                earlierProxies_.insert(earlierProxies_.begin(), std::move(proxy));
+        std::size_t kept = 0, vertices = 0;
+        while (kept < earlierProxies_.size() && vertices + earlierProxies_[kept]->builtFrom.size() <= triangles_.vertices.size())
+            vertices += earlierProxies_[kept++]->builtFrom.size();
+        earlierProxies_.resize(kept);
+        proxies_.assign(instances_.size(), nullptr);
     }
     std::lock_guard lock(probeMutex_);
     probeMemo_.reset();
@@ -158,16 +188,25 @@ std::shared_ptr<const raycast::ProvenRayCaster> CpuBitmaskSampler::provenCaster(
     return provenCaster_;
 }
 
-std::shared_ptr<const InnerProxySet> CpuBitmaskSampler::innerProxies() const
+std::shared_ptr<const InnerProxy> CpuBitmaskSampler::innerProxy(std::size_t i, bool build, std::size_t* built) const
 {
-    std::lock_guard lock(rayCasterMutex_);
-    if (!innerProxies_) {
-        std::vector<char> closed(instances_.size());
-        for (std::size_t i = 0; i < instances_.size(); ++i)
-            closed[i] = instances_[i].watertight;
-        innerProxies_ = std::make_shared<const InnerProxySet>(buildInnerProxies(triangles_, closed, kProxyResolution));
-    }
-    return innerProxies_;
+    std::lock_guard lock(proxyMutex_);
+    if (proxies_.size() != instances_.size())
+        proxies_.resize(instances_.size());
+    if (proxies_[i] || !build)
+        return proxies_[i];
+    const InstanceInfo& info = instances_[i];
+    const glm::vec3* vertices = &triangles_.vertices[3 * info.first];
+    const std::uint64_t fingerprint = triangleFingerprint(vertices, info.count);
+    for (auto earlier = earlierProxies_.begin(); earlier != earlierProxies_.end(); ++earlier)
+        if ((*earlier)->builtFor(vertices, info.count, fingerprint)) {
+            proxies_[i] = std::move(*earlier);
+            earlierProxies_.erase(earlier);
+            return proxies_[i];
+        }
+    proxies_[i] = std::make_shared<const InnerProxy>(buildInnerProxy(vertices, info.count, kProxyResolution));
+    ++*built;
+    return proxies_[i];
 }
 
 HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
@@ -249,7 +288,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
 
         // The inner proxies first (InnerProxy.h): the rays through the closed meshes' insides,
         // by the bitmask on a few large faces, before any strategy looks at the meshes' triangles.
-        if (exact && options.innerProxy && !instances_.empty()) {
+        if (exact && options.innerProxy) {
             const auto proxyStart = Clock::now();
             std::vector<glm::dvec3> ends;
             for (int k = 0; k < 4; ++k)
@@ -257,7 +296,21 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             const ProxyPass pass{.shaft = shaft, .hull = hull, .sourceCorners = filter.sourceCorners,
                                  .receiverPoints = bumpy ? displaced : ends, .culling = options.watertightCulling,
                                  .narrow = narrow};
-            local.proxyFaces = seedFromInnerProxies(*innerProxies(), pass, work->occluders, work->bins, map);
+            std::vector<std::shared_ptr<const InnerProxy>> held;
+            std::vector<const InnerProxy*> proxies;
+            for (std::size_t i = 0; i < instances_.size(); ++i) {
+                const InstanceInfo& info = instances_[i];
+                if (!info.watertight || info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
+                    continue;
+                const bool build = double(map.rayCount()) >= kProxyBuildRaysPerTriangle * double(info.count);
+                if (std::shared_ptr<const InnerProxy> proxy = innerProxy(i, build, &local.proxiesBuilt);
+                    proxy && !proxy->faces.empty()) {
+                    proxies.push_back(proxy.get());
+                    held.push_back(std::move(proxy));
+                }
+            }
+            if (!proxies.empty())
+                local.proxyFaces = seedFromInnerProxies(proxies, pass, work->occluders, work->bins, map);
             if (local.proxyFaces > 0)
                 local.proxyBlocked = map.blockedCount();
             local.proxyMs = msSince(proxyStart);

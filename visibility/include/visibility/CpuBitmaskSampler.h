@@ -45,7 +45,7 @@ namespace raycast {
 class ProvenRayCaster;
 }
 namespace bitmask {
-struct InnerProxySet;
+struct InnerProxy;
 }
 
 /// How the exact CPU method splits the work.
@@ -122,7 +122,8 @@ struct BitmaskStats {
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::size_t proxyFaces = 0;       ///< inner-proxy faces backprojected (BitmaskOptions::innerProxy)
     std::uint64_t proxyBlocked = 0;   ///< rays the inner proxies answered, before the strategy ran
-    double proxyMs = 0.0;             ///< of setupMs: the inner proxies' pass (and their first build)
+    double proxyMs = 0.0;             ///< of setupMs: the inner proxies' pass and builds
+    std::size_t proxiesBuilt = 0;     ///< inner proxies built by this call (kept for later calls)
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
     double tableMs = 0.0;             ///< Table: building the Hough table (0 when cached)
     std::uint64_t estimatedPairs = 0; ///< Auto: the pair estimate it chose by (0 when not estimated)
@@ -168,14 +169,21 @@ private:
     std::shared_ptr<const RayCastScene> wholeSceneCaster() const;
     /// The whole scene's float BVH for the RayCast strategy, built on first use.
     std::shared_ptr<const raycast::ProvenRayCaster> provenCaster() const;
-    /// The closed meshes' inner proxies (bitmask/InnerProxy.h), built on first use.
-    std::shared_ptr<const bitmask::InnerProxySet> innerProxies() const;
+    /// Instance `i`'s inner proxy (bitmask/InnerProxy.h): built on first use where `build`
+    /// allows, or kept from the scene before when its triangles are unchanged; null otherwise.
+    /// Counts the proxies it builds in `built`.
+    std::shared_ptr<const bitmask::InnerProxy> innerProxy(std::size_t i, bool build, std::size_t* built) const;
+    /// Per instance: its watertight flag, bounds and triangles (for the inner proxies).
+    void describeInstances(const Scene& scene);
     std::unique_ptr<Workspace> takeWorkspace() const;
     void returnWorkspace(std::unique_ptr<Workspace> work) const;
 
     struct InstanceInfo {
         bool watertight = false;
         Bounds bounds;
+        Bounds triangleBounds;      ///< of its world triangles, exactly
+        std::size_t first = 0;      ///< its triangles in triangles_ (contiguous)
+        std::size_t count = 0;
     };
     WorldTriangles triangles_;
     std::vector<InstanceInfo> instances_;
@@ -186,7 +194,11 @@ private:
     mutable std::mutex rayCasterMutex_;
     mutable std::shared_ptr<const RayCastScene> rayCaster_;
     mutable std::shared_ptr<const raycast::ProvenRayCaster> provenCaster_;
-    mutable std::shared_ptr<const bitmask::InnerProxySet> innerProxies_;   // guarded by rayCasterMutex_
+    /// Inner proxies per instance (null: not built), and those of earlier scenes, kept for
+    /// instances that come back unchanged.
+    mutable std::mutex proxyMutex_;
+    mutable std::vector<std::shared_ptr<const bitmask::InnerProxy>> proxies_;
+    mutable std::vector<std::shared_ptr<const bitmask::InnerProxy>> earlierProxies_;
     /// Idle workspaces; a call takes one (or makes one) and gives it back.
     mutable std::mutex workspaceMutex_;
     mutable std::vector<std::unique_ptr<Workspace>> idleWorkspaces_;

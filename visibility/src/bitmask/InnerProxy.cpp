@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <functional>
 #include <limits>
+#include <string_view>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -196,36 +199,32 @@ std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_
     return triangles;
 }
 
-InnerProxySet buildInnerProxies(const WorldTriangles& triangles, const std::vector<char>& closed, int resolution)
+std::uint64_t triangleFingerprint(const glm::vec3* vertices, std::size_t triangleCount)
 {
-    InnerProxySet proxies;
-    std::vector<std::vector<glm::vec3>> meshes(closed.size());
-    std::vector<std::size_t> counts(closed.size(), 0);
-    for (std::uint32_t i : triangles.instanceOf)
-        ++counts[i];
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const std::uint32_t i = triangles.instanceOf[t];
-        if (closed[i] && counts[i] >= kProxyMinTriangles)
-            meshes[i].insert(meshes[i].end(), &triangles.vertices[3 * t], &triangles.vertices[3 * t] + 3);
-    }
-    for (std::size_t i = 0; i < meshes.size(); ++i) {
-        if (meshes[i].empty())
-            continue;
-        const std::vector<glm::vec3> faces = innerProxyTriangles(meshes[i].data(), counts[i], resolution);
-        if (faces.empty() || double(faces.size() / 3) > kProxyMaxFaceShare * double(counts[i]))
-            continue;
-        const auto proxy = std::uint32_t(proxies.meshBounds.size());
-        Bounds meshBounds, faceBounds;
-        for (const glm::vec3& v : meshes[i])
-            meshBounds.extend(v);
-        for (const glm::vec3& v : faces)
-            faceBounds.extend(v);
-        proxies.faces.vertices.insert(proxies.faces.vertices.end(), faces.begin(), faces.end());
-        proxies.faces.instanceOf.insert(proxies.faces.instanceOf.end(), faces.size() / 3, proxy);
-        proxies.meshBounds.push_back(meshBounds);
-        proxies.faceBounds.push_back(faceBounds);
-    }
-    return proxies;
+    const std::string_view bytes(reinterpret_cast<const char*>(vertices), 3 * triangleCount * sizeof(glm::vec3));
+    return std::uint64_t(std::hash<std::string_view>{}(bytes)) ^ (std::uint64_t(triangleCount) * 0x9e3779b97f4a7c15ULL);
+}
+
+bool InnerProxy::builtFor(const glm::vec3* vertices, std::size_t triangleCount, std::uint64_t fingerprintOfThem) const
+{
+    return fingerprint == fingerprintOfThem && builtFrom.size() == 3 * triangleCount &&
+           std::memcmp(builtFrom.data(), vertices, builtFrom.size() * sizeof(glm::vec3)) == 0;
+}
+
+InnerProxy buildInnerProxy(const glm::vec3* vertices, std::size_t triangleCount, int resolution)
+{
+    InnerProxy proxy;
+    proxy.builtFrom.assign(vertices, vertices + 3 * triangleCount);
+    proxy.fingerprint = triangleFingerprint(vertices, triangleCount);
+    if (triangleCount < kProxyMinTriangles)
+        return proxy;
+    std::vector<glm::vec3> faces = innerProxyTriangles(vertices, triangleCount, resolution);
+    if (double(faces.size() / 3) > kProxyMaxFaceShare * double(triangleCount))
+        return proxy;
+    for (const glm::vec3& v : faces)
+        proxy.faceBounds.extend(v);
+    proxy.faces = std::move(faces);
+    return proxy;
 }
 
 namespace {
@@ -242,40 +241,47 @@ bool apart(const Bounds& b, const glm::dvec3& lo, const glm::dvec3& hi)
 
 } // namespace
 
-std::size_t seedFromInnerProxies(const InnerProxySet& proxies, const ProxyPass& pass, OccluderSet& occluders,
-                                 TileBins& bins, HiddenSampleMap& map)
+bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
 {
-    const std::size_t count = proxies.meshBounds.size();
     glm::dvec3 sourceLo(std::numeric_limits<double>::infinity()), sourceHi = -sourceLo;
     glm::dvec3 receiverLo = sourceLo, receiverHi = sourceHi;
     for (const glm::dvec3& c : pass.sourceCorners)
         sourceLo = glm::min(sourceLo, c), sourceHi = glm::max(sourceHi, c);
     for (const glm::dvec3& p : pass.receiverPoints)
         receiverLo = glm::min(receiverLo, p), receiverHi = glm::max(receiverHi, p);
+    return !meshBounds.empty() && apart(meshBounds, sourceLo, sourceHi) && apart(meshBounds, receiverLo, receiverHi) &&
+           !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
+}
+
+std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, const ProxyPass& pass,
+                                 OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
+{
+    // One soup whose instances are the proxies.
+    WorldTriangles faces;
+    for (std::size_t p = 0; p < proxies.size(); ++p) {
+        const std::vector<glm::vec3>& f = proxies[p]->faces;
+        faces.vertices.insert(faces.vertices.end(), f.begin(), f.end());
+        faces.instanceOf.insert(faces.instanceOf.end(), f.size() / 3, std::uint32_t(p));
+    }
+    if (faces.size() == 0)
+        return 0;
     TriangleFilter filter;
-    filter.triangles = &proxies.faces;
+    filter.triangles = &faces;
     filter.hull = &pass.hull;
     filter.sourceCorners = pass.sourceCorners;
-    filter.instanceOutside.resize(count);
-    bool any = false;
-    for (std::size_t p = 0; p < count; ++p) {
-        const Bounds& faces = proxies.faceBounds[p];
-        filter.instanceOutside[p] = !apart(proxies.meshBounds[p], sourceLo, sourceHi) ||
-                                    !apart(proxies.meshBounds[p], receiverLo, receiverHi) ||
-                                    pass.hull.excludesBox(faces.min, faces.max);
-        any = any || !filter.instanceOutside[p];
-    }
-    if (!any)
-        return 0;
+    filter.instanceOutside.resize(proxies.size());
+    for (std::size_t p = 0; p < proxies.size(); ++p)
+        filter.instanceOutside[p] = pass.hull.excludesBox(proxies[p]->faceBounds.min, proxies[p]->faceBounds.max);
+    // The receiver lies outside every proxy's mesh: §7's culling holds for the faces.
     if (pass.culling)
-        filter.cullable.assign(count, 1);
+        filter.cullable.assign(proxies.size(), 1);
     occluders.prepare(pass.shaft, filter);
     std::uint64_t pairs = 0;
     for (const Occluder* o : occluders.occluders)
         pairs += std::uint64_t(o->a1 - o->a0 + 1) * std::uint64_t(o->b1 - o->b0 + 1);
     if (occluders.occluders.empty() || pairs > kProxyPairsPerRay * map.rayCount())
         return 0;
-    bins.build(pass.shaft, occluders, {}, std::vector<char>(count, 1), proxies.faces);
+    bins.build(pass.shaft, occluders, {}, std::vector<char>(proxies.size(), 1), faces);
     bitmaskPass(pass.shaft, bins, map, pass.narrow);
     return occluders.occluders.size();
 }

@@ -43,8 +43,8 @@
 
 namespace sightline::bitmask {
 
-/// How far every box stays from the surface: ten times the contract's tie distance (1e-5 m),
-/// so a ray the bitmask counts as touching a box (a tie of the box) still passes through the
+/// How far R stays from the surface: ten times the contract's tie distance (1e-5 m), so a ray
+/// the bitmask counts as touching one of R's faces (a tie of the face) still passes through the
 /// inside.
 inline constexpr double kInnerMarginMetres = 1e-4;
 
@@ -60,11 +60,18 @@ inline constexpr double kColumnClearanceMetres = 1e-6;
 /// orientation does not matter. Empty when no voxel clears the surface.
 std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_t triangleCount, int resolution);
 
-/// A scene's proxies, as one triangle soup whose instances are the proxies.
-struct InnerProxySet {
-    WorldTriangles faces;            ///< instanceOf: the proxy
-    std::vector<Bounds> meshBounds;  ///< per proxy: its mesh's triangles' bounds
-    std::vector<Bounds> faceBounds;  ///< per proxy: its faces' bounds
+/// One closed instance's proxy: its faces (three vertices each; empty when it has none worth
+/// using) and their bounds.
+struct InnerProxy {
+    std::vector<glm::vec3> faces;
+    Bounds faceBounds;
+    /// The triangles it was built from, and their hash: a scene replaced with this instance
+    /// unchanged, bit for bit (the editor moved another object), keeps the proxy.
+    std::vector<glm::vec3> builtFrom;
+    std::uint64_t fingerprint = 0;
+
+    /// Whether `triangleCount` triangles at `vertices` are those it was built from.
+    bool builtFor(const glm::vec3* vertices, std::size_t triangleCount, std::uint64_t fingerprintOfThem) const;
 };
 
 /// Closed meshes with fewer triangles are left whole: their proxies would cost the bitmask about
@@ -72,10 +79,17 @@ struct InnerProxySet {
 inline constexpr std::size_t kProxyMinTriangles = 512;
 /// A proxy is kept only while its faces are at most this part of its mesh's triangles.
 inline constexpr double kProxyMaxFaceShare = 0.25;
+/// A proxy is built for a call of at least this many rays per triangle of its mesh: building
+/// costs about 0.25 us a triangle (14-26 ms for dense-mesh-2, -4 and -6, 71-109k triangles), a
+/// ray through the mesh 100-140 ns, and a built proxy serves every later call on the scene.
+inline constexpr double kProxyBuildRaysPerTriangle = 1.0;
 
-/// The proxies of the instances `closed` marks (verified closed, Mesh::watertight) with at least
-/// kProxyMinTriangles triangles.
-InnerProxySet buildInnerProxies(const WorldTriangles& triangles, const std::vector<char>& closed, int resolution);
+/// A hash of `triangleCount` triangles at `vertices` (InnerProxy::fingerprint).
+std::uint64_t triangleFingerprint(const glm::vec3* vertices, std::size_t triangleCount);
+
+/// The proxy of one closed instance (verified closed, Mesh::watertight) from its triangles; no
+/// faces below kProxyMinTriangles or above kProxyMaxFaceShare.
+InnerProxy buildInnerProxy(const glm::vec3* vertices, std::size_t triangleCount, int resolution);
 
 /// The pass runs only while the proxies' (face, receiver sample) pairs are at most this many per
 /// ray: a pair costs the bitmask about 10 ns and a ray through a dense mesh 100-140 ns, and the
@@ -95,12 +109,15 @@ struct ProxyPass {
     bool narrow = true;
 };
 
-/// ORs into `map` the rays the proxies block, using only proxies whose mesh bounds both patches
-/// stay clear of (by kInnerMarginMetres); the jittered source samples stay in their cells, so
-/// the source rectangle bounds them. Returns the faces it backprojected, 0 when it did not run
-/// (no proxy applies, or more pairs than kProxyPairsPerRay allows). `occluders` and `bins` are
-/// working storage.
-std::size_t seedFromInnerProxies(const InnerProxySet& proxies, const ProxyPass& pass, OccluderSet& occluders,
-                                 TileBins& bins, HiddenSampleMap& map);
+/// Whether a proxy of a mesh with these bounds may serve the call: both patches clear of the
+/// bounds by kInnerMarginMetres (the jittered source samples stay in their cells, so the source
+/// rectangle bounds them), and the bounds not wholly outside the shaft.
+bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass);
+
+/// ORs into `map` the rays the proxies block (each one proxyApplies). Returns the faces it
+/// backprojected, 0 when it did not run (no faces in the shaft, or more pairs than
+/// kProxyPairsPerRay allows). `occluders` and `bins` are working storage.
+std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, const ProxyPass& pass,
+                                 OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map);
 
 } // namespace sightline::bitmask
