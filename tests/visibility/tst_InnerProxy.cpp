@@ -129,13 +129,28 @@ TEST(InnerProxy, KeepsTheSamplersExactAtProductionSizes)
         const HiddenSampleMap expected = RayCastScene(scene).sample(source, receiver);
         const ExactJudge judge(worldTriangles(scene), source, receiver);
         CpuBitmaskSampler sampler(scene);
+        std::size_t everyFace = 0;
         for (const CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::RayCast, CpuStrategy::Bitmask}) {
             BitmaskStats stats;
             const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = strategy}, &stats);
             EXPECT_GT(stats.proxyFaces, 0u) << offset;
+            everyFace = stats.proxyFaces;
             EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 2) << offset;
             const Verdict v = judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u));
             EXPECT_EQ(v.nonTie(), 0u) << offset << " " << stats.strategy;
+        }
+        // 8x4 source samples: more pairs per ray, so only the faces across the shaft's axis.
+        {
+            Patch few = source;
+            few.na = 8, few.nb = 4;
+            BitmaskStats stats;
+            const HiddenSampleMap map = sampler.sample(few, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
+            const HiddenSampleMap fewExpected = RayCastScene(scene).sample(few, receiver);
+            EXPECT_GT(stats.proxyFaces, 0u) << offset;
+            EXPECT_LT(stats.proxyFaces, everyFace) << offset;
+            EXPECT_GT(stats.proxyBlocked, fewExpected.blockedCount() / 4) << offset;
+            const ExactJudge fewJudge(worldTriangles(scene), few, receiver);
+            EXPECT_EQ(fewJudge.judge(map, raysToJudge({&map, &fewExpected}, 4096, 3u)).nonTie(), 0u) << offset;
         }
         // Decorrelated source samples (§6.2) and a bumpy receiver (§8, bumps up to 0.4 m).
         const ReceiverHeights heights = randomHeights(receiver, 11u, 0.4);
@@ -189,7 +204,7 @@ TEST(InnerProxy, StepsAsideWhenAPatchIsInsideAMeshsBounds)
 
 TEST(InnerProxy, IsBuiltWhereItPaysAndKeptForUnchangedMeshes)
 {
-    // Two statues of 4,608 triangles: a 4-source call (4,096 rays) builds none, a 1024-source
+    // Two statues of 4,608 triangles: a one-source call (1,024 rays) builds none, a 1024-source
     // call builds both; after the scene is replaced with a wall moved, they are reused, and
     // after one statue moves, only that one is built again. Every answer is the reference's.
     const auto sceneWith = [](double wallX, double statueX) {
@@ -201,7 +216,7 @@ TEST(InnerProxy, IsBuiltWhereItPaysAndKeptForUnchangedMeshes)
     CpuBitmaskSampler sampler(scene);
     const Patch small = patchAt({-0.5, -0.5, 0.0}, 3.0, 32), large = small;
     Patch few = small;
-    few.na = few.nb = 2;
+    few.na = few.nb = 1;
     const Patch receiver = patchAt({-1.5, -1.5, 5.5}, 5.0, 32);
     const auto check = [&](const Patch& source, std::size_t built, const char* what) {
         BitmaskStats stats;

@@ -256,12 +256,24 @@ bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
 std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
 {
-    // One soup whose instances are the proxies.
+    // One soup whose instances are the proxies; per face, whether the shaft's rays leave R
+    // through it (kProxyFaceAxisCos).
+    glm::dvec3 axis(0.0);
+    for (const glm::dvec3& c : pass.sourceCorners)
+        axis -= 0.25 * c;
+    for (const glm::dvec3& r : pass.receiverPoints)
+        axis += r / double(pass.receiverPoints.size());
+    axis = glm::normalize(axis);
     WorldTriangles faces;
+    std::vector<char> across;
     for (std::size_t p = 0; p < proxies.size(); ++p) {
         const std::vector<glm::vec3>& f = proxies[p]->faces;
         faces.vertices.insert(faces.vertices.end(), f.begin(), f.end());
         faces.instanceOf.insert(faces.instanceOf.end(), f.size() / 3, std::uint32_t(p));
+        for (std::size_t k = 0; k < f.size(); k += 3) {
+            const glm::dvec3 a(f[k]), b(f[k + 1]), c(f[k + 2]);
+            across.push_back(glm::dot(glm::normalize(glm::cross(b - a, c - a)), axis) >= kProxyFaceAxisCos);
+        }
     }
     if (faces.size() == 0)
         return 0;
@@ -276,14 +288,32 @@ std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, 
     if (pass.culling)
         filter.cullable.assign(proxies.size(), 1);
     occluders.prepare(pass.shaft, filter);
-    std::uint64_t pairs = 0;
-    for (const Occluder* o : occluders.occluders)
-        pairs += std::uint64_t(o->a1 - o->a0 + 1) * std::uint64_t(o->b1 - o->b0 + 1);
-    if (occluders.occluders.empty() || pairs > kProxyPairsPerRay * map.rayCount())
+    // Every face where its pairs are few for the rays, else the faces across the axis alone.
+    std::uint64_t pairsAll = 0, pairsAcross = 0;
+    std::vector<char> leave(occluders.occluders.size(), 0);
+    for (std::size_t k = 0; k < occluders.occluders.size(); ++k) {
+        const Occluder& o = *occluders.occluders[k];
+        const std::uint64_t pairs = std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
+        pairsAll += pairs;
+        if (across[occluders.triangleOf[k]])
+            pairsAcross += pairs;
+        else
+            leave[k] = 1;
+    }
+    const double rays = double(map.rayCount());
+    std::size_t used = occluders.occluders.size();
+    if (double(pairsAll) <= kProxyAllFacesPairsPerRay * rays) {
+        std::fill(leave.begin(), leave.end(), 0);
+    } else {
+        used -= std::size_t(std::count(leave.begin(), leave.end(), 1));
+        if (double(pairsAcross) > kProxyPairsPerRay * rays)
+            used = 0;
+    }
+    if (used == 0)
         return 0;
-    bins.build(pass.shaft, occluders, {}, std::vector<char>(proxies.size(), 1), faces);
+    bins.build(pass.shaft, occluders, leave, std::vector<char>(proxies.size(), 1), faces);
     bitmaskPass(pass.shaft, bins, map, pass.narrow);
-    return occluders.occluders.size();
+    return used;
 }
 
 } // namespace sightline::bitmask

@@ -80,9 +80,10 @@ inline constexpr std::size_t kProxyMinTriangles = 512;
 /// A proxy is kept only while its faces are at most this part of its mesh's triangles.
 inline constexpr double kProxyMaxFaceShare = 0.25;
 /// A proxy is built for a call of at least this many rays per triangle of its mesh: building
-/// costs about 0.25 us a triangle (14-26 ms for dense-mesh-2, -4 and -6, 71-109k triangles), a
-/// ray through the mesh 100-140 ns, and a built proxy serves every later call on the scene.
-inline constexpr double kProxyBuildRaysPerTriangle = 1.0;
+/// costs about 0.25 us a triangle (14-26 ms for dense-mesh-2, -4 and -6, 71-109k triangles), it
+/// saves 4 ms a call at 32 x 32² there, and a built proxy serves every later call on the scene
+/// (the editor samples the same scene many times); a call of a few rays never waits for it.
+inline constexpr double kProxyBuildRaysPerTriangle = 0.25;
 
 /// A hash of `triangleCount` triangles at `vertices` (InnerProxy::fingerprint).
 std::uint64_t triangleFingerprint(const glm::vec3* vertices, std::size_t triangleCount);
@@ -91,10 +92,24 @@ std::uint64_t triangleFingerprint(const glm::vec3* vertices, std::size_t triangl
 /// faces below kProxyMinTriangles or above kProxyMaxFaceShare.
 InnerProxy buildInnerProxy(const glm::vec3* vertices, std::size_t triangleCount, int resolution);
 
-/// The pass runs only while the proxies' (face, receiver sample) pairs are at most this many per
-/// ray: a pair costs the bitmask about 10 ns and a ray through a dense mesh 100-140 ns, and the
-/// proxies answer 60-80% of a dense statue's rays (dense-mesh-2, -4, -6 at 128 and 1024 source
-/// samples); below 128 source samples the rays cost less than the faces.
+/// Of R's faces, a call backprojects those whose outward normal makes at least this cosine
+/// with the shaft's axis (source centre to receiver centre): a ray through R leaves it through a
+/// face it sees from behind, and along the axis those are the faces across it. R's faces are
+/// axis-aligned and some component of a unit axis is at least 0.577, so one orientation at least
+/// is always kept. Any subset answers exactly (a ray missed is left to the strategy). Every face
+/// the culling keeps goes in where their pairs are at most kProxyAllFacesPairsPerRay per ray.
+/// Measured on dense-mesh-2, -4 and -6 (one thread, ray casting, the machine slow that hour):
+/// at 1024 x 32² every face (888-1,110 faces; dense-mesh-6: 0.24 pairs a ray) answered 5-8% more
+/// rays than the faces across the axis (188-238) and the call was 12-15% faster (43.6-75.7
+/// against 50.2-88.1 ms); at 128 x 32² (dense-mesh-2: 2.5 pairs a ray) the faces across it were
+/// 7-25% faster, and at 32 and 64 sources only they fit the budget below: 3.2-7.1 ms against
+/// 7.6-15.4 without proxies.
+inline constexpr double kProxyFaceAxisCos = 0.3;
+inline constexpr double kProxyAllFacesPairsPerRay = 1.0;
+
+/// The pass runs only while the pairs of the faces it backprojects are at most this many per
+/// ray: a pair costs the bitmask about 10 ns and a ray through a dense mesh 100-200 ns, and the
+/// proxies answer 55-80% of a dense statue's blocked rays.
 inline constexpr std::uint64_t kProxyPairsPerRay = 4;
 
 /// One call's view of the proxies.
@@ -114,9 +129,10 @@ struct ProxyPass {
 /// rectangle bounds them), and the bounds not wholly outside the shaft.
 bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass);
 
-/// ORs into `map` the rays the proxies block (each one proxyApplies). Returns the faces it
-/// backprojected, 0 when it did not run (no faces in the shaft, or more pairs than
-/// kProxyPairsPerRay allows). `occluders` and `bins` are working storage.
+/// ORs into `map` the rays the proxies block (each one proxyApplies), through the faces
+/// kProxyFaceAxisCos chooses. Returns the faces it backprojected, 0 when it did not run (no faces
+/// in the shaft, or more pairs than kProxyPairsPerRay allows). `occluders` and `bins` are
+/// working storage.
 std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map);
 
