@@ -293,21 +293,17 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             std::vector<glm::dvec3> ends;
             for (int k = 0; k < 4; ++k)
                 ends.push_back(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v);
-            const ProxyPass pass{.shaft = shaft, .hull = hull, .sourceCorners = filter.sourceCorners,
-                                 .receiverPoints = bumpy ? displaced : ends, .culling = options.watertightCulling,
-                                 .narrow = narrow};
-            std::vector<std::shared_ptr<const InnerProxy>> held;
-            std::vector<const InnerProxy*> proxies;
+            const ProxyPass pass(shaft, hull, filter.sourceCorners, bumpy ? displaced : ends, options.watertightCulling,
+                                 narrow);
+            std::vector<std::shared_ptr<const InnerProxy>> proxies;
             for (std::size_t i = 0; i < instances_.size(); ++i) {
                 const InstanceInfo& info = instances_[i];
                 if (!info.watertight || info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
                     continue;
                 const bool build = double(map.rayCount()) >= kProxyBuildRaysPerTriangle * double(info.count);
                 if (std::shared_ptr<const InnerProxy> proxy = innerProxy(i, build, &local.proxiesBuilt);
-                    proxy && !proxy->faces.empty()) {
-                    proxies.push_back(proxy.get());
-                    held.push_back(std::move(proxy));
-                }
+                    proxy && !proxy->faces.empty())
+                    proxies.push_back(std::move(proxy));
             }
             if (!proxies.empty())
                 local.proxyFaces = seedFromInnerProxies(proxies, pass, work->occluders, work->bins, map);

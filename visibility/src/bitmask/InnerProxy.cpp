@@ -241,29 +241,32 @@ bool apart(const Bounds& b, const glm::dvec3& lo, const glm::dvec3& hi)
 
 } // namespace
 
-bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
+ProxyPass::ProxyPass(const Shaft& shaft_, const ShaftHull& hull_, const std::array<glm::dvec3, 4>& sourceCorners_,
+                     const std::vector<glm::dvec3>& receiverPoints, bool culling_, bool narrow_)
+    : shaft(shaft_), hull(hull_), sourceCorners(sourceCorners_), culling(culling_), narrow(narrow_)
 {
-    glm::dvec3 sourceLo(std::numeric_limits<double>::infinity()), sourceHi = -sourceLo;
-    glm::dvec3 receiverLo = sourceLo, receiverHi = sourceHi;
-    for (const glm::dvec3& c : pass.sourceCorners)
-        sourceLo = glm::min(sourceLo, c), sourceHi = glm::max(sourceHi, c);
-    for (const glm::dvec3& p : pass.receiverPoints)
-        receiverLo = glm::min(receiverLo, p), receiverHi = glm::max(receiverHi, p);
-    return !meshBounds.empty() && apart(meshBounds, sourceLo, sourceHi) && apart(meshBounds, receiverLo, receiverHi) &&
-           !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
+    sourceLo = receiverLo = glm::dvec3(std::numeric_limits<double>::infinity());
+    sourceHi = receiverHi = -sourceLo;
+    axis = glm::dvec3(0.0);
+    for (const glm::dvec3& c : sourceCorners)
+        sourceLo = glm::min(sourceLo, c), sourceHi = glm::max(sourceHi, c), axis -= 0.25 * c;
+    for (const glm::dvec3& p : receiverPoints)
+        receiverLo = glm::min(receiverLo, p), receiverHi = glm::max(receiverHi, p),
+        axis += p / double(receiverPoints.size());
+    axis = glm::normalize(axis);
 }
 
-std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, const ProxyPass& pass,
+bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
+{
+    return !meshBounds.empty() && apart(meshBounds, pass.sourceLo, pass.sourceHi) &&
+           apart(meshBounds, pass.receiverLo, pass.receiverHi) && !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
+}
+
+std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
 {
     // One soup whose instances are the proxies; per face, whether the shaft's rays leave R
     // through it (kProxyFaceAxisCos).
-    glm::dvec3 axis(0.0);
-    for (const glm::dvec3& c : pass.sourceCorners)
-        axis -= 0.25 * c;
-    for (const glm::dvec3& r : pass.receiverPoints)
-        axis += r / double(pass.receiverPoints.size());
-    axis = glm::normalize(axis);
     WorldTriangles faces;
     std::vector<char> across;
     for (std::size_t p = 0; p < proxies.size(); ++p) {
@@ -272,7 +275,7 @@ std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, 
         faces.instanceOf.insert(faces.instanceOf.end(), f.size() / 3, std::uint32_t(p));
         for (std::size_t k = 0; k < f.size(); k += 3) {
             const glm::dvec3 a(f[k]), b(f[k + 1]), c(f[k + 2]);
-            across.push_back(glm::dot(glm::normalize(glm::cross(b - a, c - a)), axis) >= kProxyFaceAxisCos);
+            across.push_back(glm::dot(glm::normalize(glm::cross(b - a, c - a)), pass.axis) >= kProxyFaceAxisCos);
         }
     }
     if (faces.size() == 0)

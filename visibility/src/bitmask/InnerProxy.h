@@ -30,6 +30,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -112,14 +113,18 @@ inline constexpr double kProxyAllFacesPairsPerRay = 1.0;
 /// proxies answer 55-80% of a dense statue's blocked rays.
 inline constexpr std::uint64_t kProxyPairsPerRay = 4;
 
-/// One call's view of the proxies.
+/// One call's view of the proxies: the shaft, and the boxes every segment end lies in.
 struct ProxyPass {
+    /// `receiverPoints`: every receiver-side segment end, or points whose bounds hold them all (a
+    /// flat receiver's corners, a bumpy one's displaced samples).
+    ProxyPass(const Shaft& shaft, const ShaftHull& hull, const std::array<glm::dvec3, 4>& sourceCorners,
+              const std::vector<glm::dvec3>& receiverPoints, bool culling, bool narrow);
+
     const Shaft& shaft;
     const ShaftHull& hull;
     std::array<glm::dvec3, 4> sourceCorners;
-    /// Every receiver-side segment end, or points whose bounds hold them all (a flat receiver's
-    /// corners, a bumpy one's displaced samples).
-    const std::vector<glm::dvec3>& receiverPoints;
+    glm::dvec3 sourceLo, sourceHi, receiverLo, receiverHi;
+    glm::dvec3 axis;       ///< unit, source centre to the receiver points' centroid
     bool culling = true;   ///< §7's front-face culling (the receiver is apart from every proxy used)
     bool narrow = true;
 };
@@ -133,7 +138,7 @@ bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass);
 /// kProxyFaceAxisCos chooses. Returns the faces it backprojected, 0 when it did not run (no faces
 /// in the shaft, or more pairs than kProxyPairsPerRay allows). `occluders` and `bins` are
 /// working storage.
-std::size_t seedFromInnerProxies(const std::vector<const InnerProxy*>& proxies, const ProxyPass& pass,
+std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map);
 
 } // namespace sightline::bitmask
