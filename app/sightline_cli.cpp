@@ -230,7 +230,7 @@ int runShaft(const ShaftArgs& args)
                                              (forced ? " (forced by --strategy)" : " (cheaper than the bitmask here)")
                                        : masks;
         if (stats.proxyBlocked > 0)
-            strategy += " (inner proxies of closed meshes answered " + std::to_string(stats.proxyBlocked) + " rays first)";
+            strategy += " (inner proxies of meshes answered " + std::to_string(stats.proxyBlocked) + " rays first)";
         if (stats.probed)
             strategy += " (chosen by timing both on a few tiles)";
         if (stats.reusedProbe)
@@ -240,7 +240,8 @@ int runShaft(const ShaftArgs& args)
         split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
                  {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
                  {"rays_cast", stats.raysCast}, {"proven_hits", stats.provenHits}, {"exact_hit_tests", stats.exactHitTests},
-                 {"rays_confirmed", stats.raysConfirmed}, {"float_fallbacks", stats.floatFallbacks},
+                 {"rays_confirmed", stats.raysConfirmed},
+                 {"ray_float_ms", stats.rayFloatMs}, {"ray_confirm_ms", stats.rayConfirmMs}, {"ray_packets", stats.rayPackets}, {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
                  {"proxies_built", stats.proxiesBuilt},

@@ -65,9 +65,11 @@ TEST_F(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
 
 TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
 {
-    // Few large occluders: the bitmask's case. A dense mesh of tiny triangles filling the shaft:
-    // once ray casting's case, now the bitmask's too (its narrowed shaft against the exact ray
-    // caster: 40 against 106 ms measured), which Auto's cost model must see.
+    // Few large occluders: the bitmask's case. A dense mesh of tiny triangles filling the shaft
+    // (a lumpy sphere, open in slits at its poles): once ray casting's case, then the bitmask's
+    // (its narrowed shaft against the exact ray caster: 40 against 106 ms), and since its inner
+    // proxy, capped over the slits, answers 86% of the rays, ray casting's again (40 against
+    // 127 ms, docs/benchmarks.md), which Auto's cost model must see.
     const demo::BenchScene few = demo::makeFewOccludersScene();
     const demo::BenchScene dense = demo::makeDenseMeshScene();
     EXPECT_LT(few.scene.triangleCount(), 200u);
@@ -81,8 +83,14 @@ TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
         BitmaskStats stats;
         const HiddenSampleMap map = sampler.sample(bench->source, bench->receiver, {}, &stats);
         EXPECT_LE(map.differenceCount(expected) * 10000, map.rayCount()) << bench->name;
-        EXPECT_STREQ(stats.strategy, "bitmask") << bench->name;
-        EXPECT_LT(stats.predictedBitmaskMs, 0.5 * stats.predictedRayMs) << bench->name;
+        if (bench == &few) {
+            EXPECT_STREQ(stats.strategy, "bitmask");
+            EXPECT_LT(stats.predictedBitmaskMs, 0.5 * stats.predictedRayMs);
+        } else {
+            EXPECT_STREQ(stats.strategy, "raycast");
+            EXPECT_LT(stats.predictedRayMs, 0.5 * stats.predictedBitmaskMs);
+            EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 2);
+        }
         const HiddenSampleMap bitmask =
             sampler.sample(bench->source, bench->receiver, {.strategy = CpuStrategy::Bitmask});
         EXPECT_LE(bitmask.differenceCount(expected) * 10000, bitmask.rayCount()) << bench->name;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <random>
 
 #include "AdversarialScenes.h"
@@ -32,6 +34,84 @@ Mesh linkedTori(const glm::dvec3& centre)
     for (std::uint32_t i : other.indices)
         m.indices.push_back(i + offset);
     return m;
+}
+
+/// An open tube along z, or x (no ends): `rings` x `sides` quads of lumpy radius around the axis
+/// through `centre`, from length / 2 before it to length / 2 after. Rays along the axis pass through it
+/// without meeting it.
+Mesh openTube(const glm::dvec3& centre, double radius, double length, int rings, int sides, bool alongX = false)
+{
+    Mesh m;
+    m.name = "tube";
+    constexpr double kTwoPi = 6.283185307179586;
+    for (int i = 0; i <= rings; ++i)
+        for (int k = 0; k < sides; ++k) {
+            const double a = kTwoPi * k / sides, z = length * (double(i) / rings - 0.5);
+            const double r = radius * (1.0 + 0.05 * std::sin(3.0 * a + 5.0 * z) * (i > 0 && i < rings));
+            m.positions.emplace_back(centre + (alongX ? glm::dvec3(z, r * std::sin(a), r * std::cos(a))
+                                                      : glm::dvec3(r * std::cos(a), r * std::sin(a), z)));
+        }
+    const auto at = [&](int i, int k) { return std::uint32_t(i * sides + (k % sides)); };
+    for (int i = 0; i < rings; ++i)
+        for (int k = 0; k < sides; ++k)
+            m.indices.insert(m.indices.end(), {at(i, k), at(i, k + 1), at(i + 1, k + 1), at(i, k), at(i + 1, k + 1), at(i + 1, k)});
+    return m;
+}
+
+/// A closed torus with the quads of a few of its rings removed: `holes` holes in the top of its
+/// tube, one boundary loop each.
+Mesh holedTorus(const glm::dvec3& centre, int holes)
+{
+    Mesh m = closedTorus(centre, 1.0, 0.5, 64, 32, 0.15);
+    m.watertight = false;
+    std::vector<std::uint32_t> kept;
+    for (std::size_t q = 0; q < m.indices.size() / 6; ++q) {
+        const int ring = int(q) / 32, side = int(q) % 32;
+        const bool hole = side >= 4 && side < 10 && ring % 16 < 2 && ring / 16 < holes;
+        if (!hole)
+            kept.insert(kept.end(), m.indices.begin() + std::ptrdiff_t(6 * q), m.indices.begin() + std::ptrdiff_t(6 * q + 6));
+    }
+    m.indices = std::move(kept);
+    return m;
+}
+
+/// An n x n grid of quads over [0, 1]², flat (z = 0), open along its outline.
+Mesh flatSheet(int n)
+{
+    Mesh m;
+    m.name = "sheet";
+    for (int y = 0; y <= n; ++y)
+        for (int x = 0; x <= n; ++x)
+            m.positions.emplace_back(float(x) / float(n), float(y) / float(n), 0.0f);
+    const auto at = [&](int x, int y) { return std::uint32_t(y * (n + 1) + x); };
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x)
+            m.indices.insert(m.indices.end(), {at(x, y), at(x + 1, y), at(x + 1, y + 1), at(x, y), at(x + 1, y + 1), at(x, y + 1)});
+    return m;
+}
+
+/// Every undirected edge of the triangles (three vertices each, equal positions welded) is
+/// shared by an even number of them.
+bool closedModTwo(const std::vector<glm::vec3>& v)
+{
+    std::vector<std::pair<std::array<float, 3>, std::array<float, 3>>> edges;
+    for (std::size_t t = 0; t + 2 < v.size(); t += 3)
+        for (int k = 0; k < 3; ++k) {
+            std::array<float, 3> a{v[t + k].x, v[t + k].y, v[t + k].z};
+            std::array<float, 3> b{v[t + (k + 1) % 3].x, v[t + (k + 1) % 3].y, v[t + (k + 1) % 3].z};
+            if (a != b)
+                edges.emplace_back(std::min(a, b), std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t k = 0; k < edges.size();) {
+        std::size_t end = k;
+        while (end < edges.size() && edges[end] == edges[k])
+            ++end;
+        if ((end - k) % 2 == 1)
+            return false;
+        k = end;
+    }
+    return true;
 }
 
 /// Crossings of the segment from p to a far point, in world triangles of one mesh.
@@ -236,4 +316,103 @@ TEST(InnerProxy, IsBuiltWhereItPaysAndKeptForUnchangedMeshes)
     scene = sceneWith(0.5, 2.3);
     sampler.setScene(scene);
     EXPECT_GT(check(large, 1, "statue moved").proxyBlocked, 0u);
+}
+
+TEST(InnerProxy, CapsCloseOpenMeshes)
+{
+    // No caps for a closed mesh; an open one with its caps is closed (mod 2), one cap per hole,
+    // and its proxy's faces have parity 1 for the capped surface, clear of it by the margin.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    const WorldTriangles closed = worldTriangles(sceneOf({closedTorus({0.0, 0.0, 0.0}, 1.0, 0.5, 64, 32, 0.15)}));
+    EXPECT_TRUE(boundaryCaps(closed.vertices.data(), closed.size()).empty());
+    for (const double offset : {0.0, 1e4, 1e5})
+        for (const int holes : {1, 3}) {
+            const glm::dvec3 centre(offset, 0.5 * offset, -0.25 * offset);
+            const WorldTriangles open = worldTriangles(sceneOf({holedTorus(centre, holes)}));
+            EXPECT_FALSE(closedModTwo(open.vertices));
+            const std::vector<std::vector<glm::vec3>> caps = boundaryCaps(open.vertices.data(), open.size());
+            ASSERT_EQ(caps.size(), std::size_t(holes));
+            std::vector<glm::vec3> surface = open.vertices;
+            for (const std::vector<glm::vec3>& cap : caps)
+                surface.insert(surface.end(), cap.begin(), cap.end());
+            EXPECT_TRUE(closedModTwo(surface)) << offset;
+            const InnerProxy proxy = buildInnerProxy(open.vertices.data(), open.size(), 16);
+            ASSERT_FALSE(proxy.faces.empty()) << offset;
+            EXPECT_EQ(proxy.capBoxes.size(), std::size_t(holes));
+            WorldTriangles capped;
+            capped.vertices = surface;
+            capped.instanceOf.assign(surface.size() / 3, 0);
+            for (std::size_t f = 0; f < proxy.faces.size(); f += 3) {
+                const glm::dvec3 p = (glm::dvec3(proxy.faces[f]) + glm::dvec3(proxy.faces[f + 1]) + glm::dvec3(proxy.faces[f + 2])) / 3.0;
+                double nearest = 1e300;
+                for (std::size_t k = 0; k < capped.size(); ++k)
+                    nearest = std::min(nearest, pointTriangleDistance2(p, glm::dvec3(capped.vertices[3 * k]),
+                                                                       glm::dvec3(capped.vertices[3 * k + 1]),
+                                                                       glm::dvec3(capped.vertices[3 * k + 2])));
+                ASSERT_GE(std::sqrt(nearest), kInnerMarginMetres) << offset << " face " << f / 3;
+                const glm::dvec3 far = p + 100.0 * glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+                ASSERT_EQ(crossings(capped, p, far) % 2, 1) << offset << " face " << f / 3;
+            }
+        }
+    // A flat open sheet caps to itself: nothing inside, no proxy.
+    const WorldTriangles sheet = worldTriangles(sceneOf({flatSheet(32)}));
+    EXPECT_TRUE(buildInnerProxy(sheet.vertices.data(), sheet.size(), 16).faces.empty());
+}
+
+TEST(InnerProxy, OpenMeshesKeepTheSamplersExact)
+{
+    // An open tube along the shaft (rays down its bore meet nothing: its proxy's rays through
+    // the caps must be given back) and a torus with holes facing the patches, 32x32 source
+    // samples and a 64x64 receiver, at 0, 10 and 100 km: every strategy against the reference,
+    // disagreements judged. The proxies answer part of the blocked rays.
+    for (const double offset : {0.0, 1e4, 1e5}) {
+        const glm::dvec3 o(offset, -0.5 * offset, 0.25 * offset);
+        const Scene scene = sceneOf({openTube(o + glm::dvec3(1.0, 1.0, 2.75), 0.7, 2.5, 16, 48), holedTorus(o + glm::dvec3(3.2, 2.6, 3.0), 3)});
+        const Patch source = patchAt(o + glm::dvec3(-0.5, -0.5, 0.0), 3.0, 32);
+        const Patch receiver = patchAt(o + glm::dvec3(-1.5, -1.5, 5.5), 6.0, 64);
+        const HiddenSampleMap expected = RayCastScene(scene).sample(source, receiver);
+        ASSERT_GT(expected.blockedCount(), expected.rayCount() / 10);
+        ASSERT_LT(expected.blockedCount(), expected.rayCount() * 9 / 10);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        CpuBitmaskSampler sampler(scene);
+        for (const CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::RayCast, CpuStrategy::Bitmask}) {
+            BitmaskStats stats;
+            const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = strategy}, &stats);
+            EXPECT_GT(stats.proxyFaces, 0u) << offset;
+            EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 10) << offset;
+            const Verdict v = judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u));
+            EXPECT_EQ(v.nonTie(), 0u) << offset << " " << stats.strategy;
+        }
+        // Decorrelated source samples (§6.2) and a bumpy receiver (§8, bumps up to 0.4 m).
+        const ReceiverHeights heights = randomHeights(receiver, 13u, 0.4);
+        const std::vector<glm::dvec3> displaced = displacedSamples(source, receiver, heights);
+        const SourceJitter jitter{.seed = 7};
+        const HiddenSampleMap bumpyExpected = RayCastScene(scene).sample(source, receiver, {.jitter = jitter, .heights = &heights});
+        const ExactJudge bumpyJudge(worldTriangles(scene), source, receiver, jitter, &displaced);
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(
+            source, receiver, {.strategy = CpuStrategy::RayCast, .jitter = jitter, .heights = &heights}, &stats);
+        EXPECT_GT(stats.proxyBlocked, 0u) << offset;
+        EXPECT_EQ(bumpyJudge.judge(map, raysToJudge({&map, &bumpyExpected}, 4096, 3u)).nonTie(), 0u) << offset;
+    }
+    // A tube lying across the source's plane beside it, along x: its ends' caps reach behind
+    // the plane (no shadow on it bounds their rays), and rays from the source run down its bore
+    // to a low receiver.
+    for (const double offset : {0.0, 1e4}) {
+        const glm::dvec3 o(-0.25 * offset, offset, 0.5 * offset);
+        const Scene scene = sceneOf({openTube(o + glm::dvec3(4.0, 1.0, 0.0), 0.7, 2.6, 16, 48, true)});
+        const Patch source = patchAt(o + glm::dvec3(-0.5, -0.5, 0.0), 3.0, 32);
+        const Patch receiver = patchAt(o + glm::dvec3(5.5, -1.0, 0.9), 4.0, 64);
+        const HiddenSampleMap expected = RayCastScene(scene).sample(source, receiver);
+        ASSERT_GT(expected.blockedCount(), expected.rayCount() / 20);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        CpuBitmaskSampler sampler(scene);
+        for (const CpuStrategy strategy : {CpuStrategy::RayCast, CpuStrategy::Bitmask}) {
+            BitmaskStats stats;
+            const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = strategy}, &stats);
+            EXPECT_GT(stats.proxyBlocked, 0u) << offset;
+            EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u)).nonTie(), 0u) << offset << " " << stats.strategy;
+        }
+    }
 }

@@ -23,8 +23,8 @@
 
 // The sampler's parts, one concept each, in visibility/src/bitmask/: the shaft (Shaft.h),
 // occluder preparation (Occluders.h), the double-precision path (DoublePath.h) and table mode
-// (TableMode.h), the narrowed shaft (Narrowing.h), the tile pass (TilePass.h), closed meshes'
-// inner proxies (InnerProxy.h) and Auto's choice (Strategy.h); the float kernel in
+// (TableMode.h), the narrowed shaft (Narrowing.h), the tile pass (TilePass.h), meshes' inner
+// proxies (InnerProxy.h) and Auto's choice (Strategy.h); the float kernel in
 // BitmaskRows.h. This file runs one call through them.
 
 namespace sightline {
@@ -286,19 +286,20 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         for (std::size_t i = 0; i < instances_.size(); ++i)
             closedInstance[i] = instances_[i].watertight;
 
-        // The inner proxies first (InnerProxy.h): the rays through the closed meshes' insides,
+        // The inner proxies first (InnerProxy.h): the rays through the meshes' insides,
         // by the bitmask on a few large faces, before any strategy looks at the meshes' triangles.
         if (exact && options.innerProxy) {
             const auto proxyStart = Clock::now();
             std::vector<glm::dvec3> ends;
             for (int k = 0; k < 4; ++k)
                 ends.push_back(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v);
-            const ProxyPass pass(shaft, hull, filter.sourceCorners, bumpy ? displaced : ends, options.watertightCulling,
-                                 narrow);
+            const ProxyPass pass(shaft, hull, filter.sourceCorners, bumpy ? displaced : ends,
+                                 {source, receiver, options.jitter, bumpy ? &displaced : nullptr},
+                                 options.watertightCulling, narrow);
             std::vector<std::shared_ptr<const InnerProxy>> proxies;
             for (std::size_t i = 0; i < instances_.size(); ++i) {
                 const InstanceInfo& info = instances_[i];
-                if (!info.watertight || info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
+                if (info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
                     continue;
                 const bool build = double(map.rayCount()) >= kProxyBuildRaysPerTriangle * double(info.count);
                 if (std::shared_ptr<const InnerProxy> proxy = innerProxy(i, build, &local.proxiesBuilt);
@@ -365,6 +366,9 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             local.provenHits += cast.provenHits;
             local.exactHitTests += cast.exactTests;
             local.raysConfirmed += cast.confirmRays;
+            local.rayFloatMs += cast.floatMs;
+            local.rayConfirmMs += cast.confirmMs;
+            local.rayPackets = cast.packets;
         };
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";

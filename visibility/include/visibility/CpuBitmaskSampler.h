@@ -84,11 +84,12 @@ struct BitmaskOptions {
     /// the tile still sees (what the large occluders already block narrows the shaft). Exact
     /// mode only.
     bool narrowShaft = true;
-    /// Exact mode: closed meshes of many triangles (Mesh::watertight) first answer the rays
-    /// through their inside with a few hundred large faces around a region strictly inside the
-    /// volume (bitmask/InnerProxy.h), by the bitmask, before the chosen strategy runs over every
-    /// triangle. Applied only while both patches lie outside the mesh's bounds, so the answer
-    /// never changes.
+    /// Exact mode: meshes of many triangles, closed or closed by caps over their few holes,
+    /// first answer the rays through their inside with a few hundred large faces around a region
+    /// strictly inside the volume (bitmask/InnerProxy.h), by the bitmask, before the chosen
+    /// strategy runs over every triangle; rays that meet a cap's box are left to the strategy.
+    /// Applied only while both patches lie outside the mesh's bounds, so the answer never
+    /// changes.
     bool innerProxy = true;
     /// Exact mode: run well-conditioned occluders (projection factors up to 16, source grids up
     /// to 32 columns) through the single-precision AVX2 kernel, eight receiver samples at a time,
@@ -119,6 +120,9 @@ struct BitmaskStats {
     std::uint64_t provenHits = 0;     ///< ray casting: float hits proven crossings from Embree's numbers
     std::uint64_t exactHitTests = 0;  ///< ray casting: float hits the proof left to the double test
     std::uint64_t raysConfirmed = 0;  ///< ray casting: rays the float pass left free, cast by the reference
+    double rayFloatMs = 0.0;          ///< ray casting: the float pass (traversal, proofs, double tests)
+    double rayConfirmMs = 0.0;        ///< ray casting: the reference's cast of the rays left free
+    bool rayPackets = false;          ///< ray casting: closest-hit packets (else occlusion queries with a filter)
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::size_t proxyFaces = 0;       ///< inner-proxy faces backprojected (BitmaskOptions::innerProxy)
     std::uint64_t proxyBlocked = 0;   ///< rays the inner proxies answered, before the strategy ran

@@ -6,7 +6,15 @@
 #include <cstring>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string_view>
+#include <bit>
+#include <span>
+#include <tuple>
+#include <utility>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
@@ -199,6 +207,122 @@ std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_
     return triangles;
 }
 
+std::vector<std::vector<glm::vec3>> boundaryCaps(const glm::vec3* vertices, std::size_t triangleCount)
+{
+    // Weld equal positions (as closedAndOutward does), then keep the undirected edges an odd
+    // number of triangles share.
+    const std::size_t n = 3 * triangleCount;
+    std::vector<std::uint32_t> order(n);
+    for (std::size_t k = 0; k < n; ++k)
+        order[k] = std::uint32_t(k);
+    const auto less = [&](std::uint32_t a, std::uint32_t b) {
+        return std::tie(vertices[a].x, vertices[a].y, vertices[a].z) < std::tie(vertices[b].x, vertices[b].y, vertices[b].z);
+    };
+    std::sort(order.begin(), order.end(), less);
+    std::vector<std::uint32_t> weld(n);
+    std::vector<std::uint32_t> first;   // per welded id: a vertex slot holding it
+    for (std::size_t k = 0; k < n; ++k) {
+        if (k == 0 || less(order[k - 1], order[k]))
+            first.push_back(order[k]);
+        weld[order[k]] = std::uint32_t(first.size() - 1);
+    }
+    std::vector<std::uint64_t> edges;
+    edges.reserve(n);
+    for (std::size_t t = 0; t < triangleCount; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint64_t a = weld[3 * t + std::size_t(k)], b = weld[3 * t + std::size_t((k + 1) % 3)];
+            if (a != b)
+                edges.push_back(std::min(a, b) << 32 | std::max(a, b));
+        }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::uint64_t> boundary;
+    for (std::size_t k = 0; k < edges.size();) {
+        std::size_t end = k;
+        while (end < edges.size() && edges[end] == edges[k])
+            ++end;
+        if ((end - k) % 2 == 1)
+            boundary.push_back(edges[k]);
+        k = end;
+    }
+    if (boundary.empty())
+        return {};
+
+    // Its connected parts (union-find over the welded ids).
+    std::vector<std::uint32_t> parent(first.size());
+    for (std::size_t k = 0; k < parent.size(); ++k)
+        parent[k] = std::uint32_t(k);
+    const auto root = [&](std::uint32_t x) {
+        while (parent[x] != x)
+            x = parent[x] = parent[parent[x]];
+        return x;
+    };
+    for (std::uint64_t e : boundary)
+        parent[root(std::uint32_t(e >> 32))] = root(std::uint32_t(e & 0xffffffffu));
+    std::vector<std::uint32_t> partOf(first.size(), ~0u);
+    std::vector<std::vector<std::uint64_t>> parts;
+    for (std::uint64_t e : boundary) {
+        const std::uint32_t r = root(std::uint32_t(e >> 32));
+        if (partOf[r] == ~0u) {
+            partOf[r] = std::uint32_t(parts.size());
+            parts.emplace_back();
+        }
+        parts[partOf[r]].push_back(e);
+    }
+
+    // Each part's cone from the centroid of its vertices: its boundary is the part (the spokes
+    // to each vertex come twice, as every vertex of a mod-2 boundary has even degree).
+    std::vector<std::vector<glm::vec3>> caps;
+    for (const std::vector<std::uint64_t>& part : parts) {
+        glm::dvec3 sum(0.0);
+        for (std::uint64_t e : part)
+            sum += glm::dvec3(vertices[first[e >> 32]]) + glm::dvec3(vertices[first[e & 0xffffffffu]]);
+        const glm::vec3 apex(sum / double(2 * part.size()));
+        std::vector<glm::vec3>& cap = caps.emplace_back();
+        for (std::uint64_t e : part)
+            cap.insert(cap.end(), {apex, vertices[first[e >> 32]], vertices[first[e & 0xffffffffu]]});
+    }
+    return caps;
+}
+
+namespace {
+float roundDown(double v) { return roundToward(v, -std::numeric_limits<double>::infinity()); }
+float roundUp(double v) { return roundToward(v, std::numeric_limits<double>::infinity()); }
+} // namespace
+
+Bounds grownCapBox(const Bounds& capBounds)
+{
+    Bounds grown;
+    for (int k = 0; k < 3; ++k) {
+        grown.min[k] = roundDown(double(capBounds.min[k]) - kCapBoxGrowthMetres);
+        grown.max[k] = roundUp(double(capBounds.max[k]) + kCapBoxGrowthMetres);
+    }
+    return grown;
+}
+
+bool segmentMeetsBox(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& lo, const glm::dvec3& hi)
+{
+    // Both ends past one face: most segments, without a division.
+    for (int k = 0; k < 3; ++k)
+        if ((p[k] < lo[k] && q[k] < lo[k]) || (p[k] > hi[k] && q[k] > hi[k]))
+            return false;
+    double t0 = 0.0, t1 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+        const double d = q[k] - p[k];
+        if (d == 0.0) {
+            if (p[k] < lo[k] || p[k] > hi[k])
+                return false;
+            continue;
+        }
+        double ta = (lo[k] - p[k]) / d, tb = (hi[k] - p[k]) / d;
+        if (ta > tb)
+            std::swap(ta, tb);
+        t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+        if (t0 > t1)
+            return false;
+    }
+    return true;
+}
+
 std::uint64_t triangleFingerprint(const glm::vec3* vertices, std::size_t triangleCount)
 {
     const std::string_view bytes(reinterpret_cast<const char*>(vertices), 3 * triangleCount * sizeof(glm::vec3));
@@ -218,7 +342,37 @@ InnerProxy buildInnerProxy(const glm::vec3* vertices, std::size_t triangleCount,
     proxy.fingerprint = triangleFingerprint(vertices, triangleCount);
     if (triangleCount < kProxyMinTriangles)
         return proxy;
-    std::vector<glm::vec3> faces = innerProxyTriangles(vertices, triangleCount, resolution);
+    // An open mesh, closed by its caps, if they are few and small.
+    const std::vector<std::vector<glm::vec3>> caps = boundaryCaps(vertices, triangleCount);
+    std::vector<glm::vec3> surface;
+    if (!caps.empty()) {
+        if (caps.size() > kProxyMaxCaps)
+            return proxy;
+        Bounds meshBounds;
+        for (std::size_t k = 0; k < 3 * triangleCount; ++k)
+            meshBounds.extend(vertices[k]);
+        const auto volume = [](const Bounds& b, double grow) {
+            const glm::dvec3 e = glm::dvec3(b.max) - glm::dvec3(b.min) + 2.0 * grow;
+            return e.x * e.y * e.z;
+        };
+        double capVolume = 0.0;
+        for (const std::vector<glm::vec3>& cap : caps) {
+            Bounds box;
+            for (const glm::vec3& v : cap)
+                box.extend(v);
+            capVolume += volume(box, kCapBoxGrowthMetres);
+            proxy.capBoxes.push_back(box);
+        }
+        if (capVolume > kProxyMaxCapVolumeShare * volume(meshBounds, 0.0)) {
+            proxy.capBoxes.clear();
+            return proxy;
+        }
+        surface.assign(vertices, vertices + 3 * triangleCount);
+        for (const std::vector<glm::vec3>& cap : caps)
+            surface.insert(surface.end(), cap.begin(), cap.end());
+    }
+    std::vector<glm::vec3> faces = caps.empty() ? innerProxyTriangles(vertices, triangleCount, resolution)
+                                                : innerProxyTriangles(surface.data(), surface.size() / 3, resolution);
     if (double(faces.size() / 3) > kProxyMaxFaceShare * double(triangleCount))
         return proxy;
     for (const glm::vec3& v : faces)
@@ -241,9 +395,51 @@ bool apart(const Bounds& b, const glm::dvec3& lo, const glm::dvec3& hi)
 
 } // namespace
 
+namespace {
+
+/// Where the segments from `r` that meet box [lo, hi] may end on the source grid: the bounds,
+/// in fractional columns and rows (sample (a, b) at (a, b)), of the box corners' shadows from
+/// `r` on the source plane; none unless the box lies wholly between the plane and `r` (then a
+/// segment from `r` to the plane meets the box only inside the corners' shadows' hull).
+std::optional<std::array<double, 4>> shadowColumnsRows(const Patch& source, const glm::dvec3& r, const glm::dvec3& lo,
+                                                       const glm::dvec3& hi)
+{
+    const glm::dvec3 n = glm::cross(source.u, source.v);
+    const double rd = glm::dot(n, r - source.corner);
+    const double uu = glm::dot(source.u, source.u), uv = glm::dot(source.u, source.v), vv = glm::dot(source.v, source.v);
+    const double det = uu * vv - uv * uv;
+    if (!(det > 0.0))
+        return std::nullopt;
+    std::array<double, 4> out{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                              std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    for (int c = 0; c < 8; ++c) {
+        const glm::dvec3 corner(c & 1 ? hi.x : lo.x, c & 2 ? hi.y : lo.y, c & 4 ? hi.z : lo.z);
+        const double cd = glm::dot(n, corner - source.corner);
+        // Strictly between, by a relative margin far above rounding.
+        if (!(rd > 0.0 ? cd > 1e-9 * rd && cd < (1.0 - 1e-9) * rd : cd < 1e-9 * rd && cd > (1.0 - 1e-9) * rd))
+            return std::nullopt;
+        const glm::dvec3 p = r + rd / (rd - cd) * (corner - r) - source.corner;
+        const double pu = glm::dot(p, source.u), pv = glm::dot(p, source.v);
+        const double alpha = (pu * vv - pv * uv) / det, beta = (pv * uu - pu * uv) / det;
+        const double a = alpha * source.na - 0.5, b = beta * source.nb - 0.5;
+        out[0] = std::min(out[0], a), out[1] = std::max(out[1], a);
+        out[2] = std::min(out[2], b), out[3] = std::max(out[3], b);
+    }
+    if (!std::isfinite(out[0] + out[1] + out[2] + out[3]))
+        return std::nullopt;
+    return out;
+}
+
+/// The grid indices from a fractional bound, one more each way for rounding, clamped to the
+/// grid (in double first: a shadow may reach far past it).
+int firstIndex(double from) { return int(std::clamp(std::floor(from) - 1.0, 0.0, 1e9)); }
+int lastIndex(double to, int n) { return int(std::clamp(std::ceil(to) + 1.0, -1.0, double(n - 1))); }
+
+} // namespace
+
 ProxyPass::ProxyPass(const Shaft& shaft_, const ShaftHull& hull_, const std::array<glm::dvec3, 4>& sourceCorners_,
-                     const std::vector<glm::dvec3>& receiverPoints, bool culling_, bool narrow_)
-    : shaft(shaft_), hull(hull_), sourceCorners(sourceCorners_), culling(culling_), narrow(narrow_)
+                     const std::vector<glm::dvec3>& receiverPoints, const SegmentEnds& segments_, bool culling_, bool narrow_)
+    : shaft(shaft_), hull(hull_), segments(segments_), sourceCorners(sourceCorners_), culling(culling_), narrow(narrow_)
 {
     sourceLo = receiverLo = glm::dvec3(std::numeric_limits<double>::infinity());
     sourceHi = receiverHi = -sourceLo;
@@ -262,9 +458,17 @@ bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
            apart(meshBounds, pass.receiverLo, pass.receiverHi) && !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
 }
 
-std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const ProxyPass& pass,
+std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& all, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
 {
+    // The grown boxes of the caps the shaft may meet.
+    const std::vector<std::shared_ptr<const InnerProxy>>& proxies = all;
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> capBoxes;
+    for (const std::shared_ptr<const InnerProxy>& proxy : proxies)
+        for (const Bounds& box : proxy->capBoxes)
+            if (const Bounds grown = grownCapBox(box); !pass.hull.excludesBox(grown.min, grown.max))
+                capBoxes.emplace_back(glm::dvec3(grown.min), glm::dvec3(grown.max));
+
     // One soup whose instances are the proxies; per face, whether the shaft's rays leave R
     // through it (kProxyFaceAxisCos).
     WorldTriangles faces;
@@ -315,7 +519,110 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
     if (used == 0)
         return 0;
     bins.build(pass.shaft, occluders, leave, std::vector<char>(proxies.size(), 1), faces);
-    bitmaskPass(pass.shaft, bins, map, pass.narrow);
+    if (capBoxes.empty()) {
+        bitmaskPass(pass.shaft, bins, map, pass.narrow);
+        return used;
+    }
+    // With caps in the shaft: the proxies' answer less the rays that meet a cap's box. Only
+    // the rays they blocked are tested, and of a receiver sample's only those whose segments can
+    // reach the box (all of them lie in the box of the sample and the source rectangle).
+    HiddenSampleMap seeded(map.sourceCount(), map.receiverNa(), map.receiverNb());
+    bitmaskPass(pass.shaft, bins, seeded, pass.narrow);
+    const SegmentEnds& ends = pass.segments;
+    const int S = map.sourceCount();
+    std::array<std::vector<double>, 3> samples;   // the source samples, by axis
+    for (int k = 0; k < 3; ++k)
+        samples[std::size_t(k)].resize(std::size_t(S));
+    for (int i = 0; i < S; ++i) {
+        const glm::dvec3 p = ends.source.sample(i);
+        for (int k = 0; k < 3; ++k)
+            samples[std::size_t(k)][std::size_t(i)] = p[k];
+    }
+    tbb::parallel_for(tbb::blocked_range<int>(0, map.receiverCount(), 16), [&](const tbb::blocked_range<int>& range) {
+        std::vector<std::size_t> near;
+        std::vector<std::uint64_t> candidates;
+        for (int j = range.begin(); j != range.end(); ++j) {
+            const glm::dvec3 r = ends.receiverEnd(j);
+            const glm::dvec3 lo = glm::min(r, pass.sourceLo), hi = glm::max(r, pass.sourceHi);
+            near.clear();
+            for (std::size_t b = 0; b < capBoxes.size(); ++b)
+                if (!glm::any(glm::lessThan(hi, capBoxes[b].first)) && !glm::any(glm::greaterThan(lo, capBoxes[b].second)))
+                    near.push_back(b);
+            const std::span<std::uint64_t> out = map.row(j);
+            const std::span<std::uint64_t> in = seeded.row(j);
+            if (!near.empty()) {
+                const glm::dvec3 shift = ends.jitter.shift(ends.source, j);
+                // The samples not past the same face of some box as this end: per box and source
+                // row, one run of columns (each face's plane cuts a row once), widened by a
+                // column each way for rounding; then the slab test on those the proxies blocked.
+                candidates.assign(in.size(), 0);
+                const Patch& src = ends.source;
+                for (std::size_t b : near) {
+                    // A box wholly between this end and the source plane: the segments that meet
+                    // it end in its shadow on the plane, bounded by its corners' shadows.
+                    if (const auto shadow = shadowColumnsRows(src, r, capBoxes[b].first, capBoxes[b].second)) {
+                        const glm::dvec2 o = ends.jitter.offset(j);   // the grid's shift, in cells
+                        const int a0 = firstIndex((*shadow)[0] - o.x), a1 = lastIndex((*shadow)[1] - o.x, src.na);
+                        const int b0 = firstIndex((*shadow)[2] - o.y), b1 = lastIndex((*shadow)[3] - o.y, src.nb);
+                        for (int row = b0; row <= b1; ++row)
+                            for (int a = a0; a <= a1; ++a) {
+                                const int i = row * src.na + a;
+                                candidates[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
+                            }
+                        continue;
+                    }
+                    glm::dvec3 from(-std::numeric_limits<double>::infinity()), to(std::numeric_limits<double>::infinity());
+                    for (int k = 0; k < 3; ++k) {
+                        if (r[k] < capBoxes[b].first[k])
+                            from[k] = capBoxes[b].first[k] - shift[k];
+                        else if (r[k] > capBoxes[b].second[k])
+                            to[k] = capBoxes[b].second[k] - shift[k];
+                    }
+                    for (int row = 0; row < src.nb; ++row) {
+                        const glm::dvec3 base = src.corner + (row + 0.5) / src.nb * src.v;
+                        double aLo = -1.0, aHi = double(src.na);   // in columns: sample a sits at a
+                        bool empty = false;
+                        for (int k = 0; k < 3 && !empty; ++k)
+                            for (const auto& [bound, atLeast] : {std::pair(from[k], true), std::pair(to[k], false)}) {
+                                if (std::isinf(bound))
+                                    continue;
+                                // base + t u, t = (a + 0.5) / na, on the kept side of the bound.
+                                const double uk = src.u[k];
+                                if (uk == 0.0) {
+                                    empty = empty || (atLeast ? base[k] < bound : base[k] > bound);
+                                    continue;
+                                }
+                                const double a = (bound - base[k]) / uk * src.na - 0.5;
+                                if ((uk > 0.0) == atLeast)
+                                    aLo = std::max(aLo, a);
+                                else
+                                    aHi = std::min(aHi, a);
+                            }
+                        if (empty || !(aLo <= aHi + 2.0))
+                            continue;
+                        const int a0 = firstIndex(aLo), a1 = lastIndex(aHi, src.na);
+                        for (int a = a0; a <= a1; ++a) {
+                            const int i = row * src.na + a;
+                            candidates[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
+                        }
+                    }
+                }
+                for (std::size_t w = 0; w < in.size(); ++w)
+                    for (std::uint64_t bits = in[w] & candidates[w]; bits; bits &= bits - 1) {
+                        const int i = int(64 * w) + std::countr_zero(bits);
+                        const glm::dvec3 s(samples[0][std::size_t(i)] + shift.x, samples[1][std::size_t(i)] + shift.y,
+                                           samples[2][std::size_t(i)] + shift.z);
+                        for (std::size_t b : near)
+                            if (segmentMeetsBox(r, s, capBoxes[b].first, capBoxes[b].second)) {
+                                in[w] &= ~(std::uint64_t(1) << (i & 63));
+                                break;
+                            }
+                    }
+            }
+            for (std::size_t w = 0; w < out.size(); ++w)
+                out[w] |= in[w];
+        }
+    });
     return used;
 }
 
