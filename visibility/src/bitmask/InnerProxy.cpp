@@ -2,14 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <functional>
 #include <limits>
 #include <optional>
-#include <string_view>
-#include <bit>
 #include <span>
+#include <string_view>
 #include <tuple>
 #include <utility>
 
@@ -435,6 +435,61 @@ std::optional<std::array<double, 4>> shadowColumnsRows(const Patch& source, cons
 int firstIndex(double from) { return int(std::clamp(std::floor(from) - 1.0, 0.0, 1e9)); }
 int lastIndex(double to, int n) { return int(std::clamp(std::ceil(to) + 1.0, -1.0, double(n - 1))); }
 
+/// Sets in `candidates` (a row of a HiddenSampleMap) the source samples whose segments from the
+/// receiver end `r` may meet box [lo, hi], a superset widened by a column and a row each way
+/// for rounding; `shift` and `offset` are r's jitter (world, and in cells).
+void markSegmentsThatMayMeet(const Patch& source, const glm::dvec3& r, const glm::dvec3& shift, const glm::dvec2& offset,
+                             const glm::dvec3& lo, const glm::dvec3& hi, std::vector<std::uint64_t>& candidates)
+{
+    const auto mark = [&](int row, int a0, int a1) {
+        for (int a = a0; a <= a1; ++a) {
+            const int i = row * source.na + a;
+            candidates[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
+        }
+    };
+    // A box wholly between r and the source plane: the samples in its shadow.
+    if (const auto shadow = shadowColumnsRows(source, r, lo, hi)) {
+        const int a0 = firstIndex((*shadow)[0] - offset.x), a1 = lastIndex((*shadow)[1] - offset.x, source.na);
+        const int b0 = firstIndex((*shadow)[2] - offset.y), b1 = lastIndex((*shadow)[3] - offset.y, source.nb);
+        for (int row = b0; row <= b1; ++row)
+            mark(row, a0, a1);
+        return;
+    }
+    // Else those not past the same face of the box as r: along each axis where r lies outside
+    // the box, the samples on or past the box's far side; per source row one run of columns
+    // (each face's plane cuts a row once).
+    glm::dvec3 from(-std::numeric_limits<double>::infinity()), to(std::numeric_limits<double>::infinity());
+    for (int k = 0; k < 3; ++k) {
+        if (r[k] < lo[k])
+            from[k] = lo[k] - shift[k];
+        else if (r[k] > hi[k])
+            to[k] = hi[k] - shift[k];
+    }
+    for (int row = 0; row < source.nb; ++row) {
+        const glm::dvec3 base = source.corner + (row + 0.5) / source.nb * source.v;
+        double aLo = -1.0, aHi = double(source.na);   // in columns: sample a sits at a
+        bool empty = false;
+        for (int k = 0; k < 3 && !empty; ++k)
+            for (const auto& [bound, atLeast] : {std::pair(from[k], true), std::pair(to[k], false)}) {
+                if (std::isinf(bound))
+                    continue;
+                // base + t u with t = (a + 0.5) / na, on the kept side of the bound.
+                const double uk = source.u[k];
+                if (uk == 0.0) {
+                    empty = empty || (atLeast ? base[k] < bound : base[k] > bound);
+                    continue;
+                }
+                const double a = (bound - base[k]) / uk * source.na - 0.5;
+                if ((uk > 0.0) == atLeast)
+                    aLo = std::max(aLo, a);
+                else
+                    aHi = std::min(aHi, a);
+            }
+        if (!empty && aLo <= aHi + 2.0)
+            mark(row, firstIndex(aLo), lastIndex(aHi, source.na));
+    }
+}
+
 } // namespace
 
 ProxyPass::ProxyPass(const Shaft& shaft_, const ShaftHull& hull_, const std::array<glm::dvec3, 4>& sourceCorners_,
@@ -458,11 +513,10 @@ bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
            apart(meshBounds, pass.receiverLo, pass.receiverHi) && !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
 }
 
-std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& all, const ProxyPass& pass,
+std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
 {
     // The grown boxes of the caps the shaft may meet.
-    const std::vector<std::shared_ptr<const InnerProxy>>& proxies = all;
     std::vector<std::pair<glm::dvec3, glm::dvec3>> capBoxes;
     for (const std::shared_ptr<const InnerProxy>& proxy : proxies)
         for (const Bounds& box : proxy->capBoxes)
@@ -523,21 +577,16 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
         bitmaskPass(pass.shaft, bins, map, pass.narrow);
         return used;
     }
-    // With caps in the shaft: the proxies' answer less the rays that meet a cap's box. Only
-    // the rays they blocked are tested, and of a receiver sample's only those whose segments can
-    // reach the box (all of them lie in the box of the sample and the source rectangle).
+    // With caps in the shaft: the proxies' answer less the rays that meet a cap's box. Only the
+    // rays they blocked are tested: per receiver sample, the boxes its segments may reach (they
+    // lie in the box of the sample and the source rectangle), the source samples that may meet
+    // them (markSegmentsThatMayMeet), and of those, each by the slab test.
     HiddenSampleMap seeded(map.sourceCount(), map.receiverNa(), map.receiverNb());
     bitmaskPass(pass.shaft, bins, seeded, pass.narrow);
     const SegmentEnds& ends = pass.segments;
-    const int S = map.sourceCount();
-    std::array<std::vector<double>, 3> samples;   // the source samples, by axis
-    for (int k = 0; k < 3; ++k)
-        samples[std::size_t(k)].resize(std::size_t(S));
-    for (int i = 0; i < S; ++i) {
-        const glm::dvec3 p = ends.source.sample(i);
-        for (int k = 0; k < 3; ++k)
-            samples[std::size_t(k)][std::size_t(i)] = p[k];
-    }
+    std::vector<glm::dvec3> sourceSamples(std::size_t(map.sourceCount()));
+    for (int i = 0; i < map.sourceCount(); ++i)
+        sourceSamples[std::size_t(i)] = ends.source.sample(i);
     tbb::parallel_for(tbb::blocked_range<int>(0, map.receiverCount(), 16), [&](const tbb::blocked_range<int>& range) {
         std::vector<std::size_t> near;
         std::vector<std::uint64_t> candidates;
@@ -552,66 +601,14 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
             const std::span<std::uint64_t> in = seeded.row(j);
             if (!near.empty()) {
                 const glm::dvec3 shift = ends.jitter.shift(ends.source, j);
-                // The samples not past the same face of some box as this end: per box and source
-                // row, one run of columns (each face's plane cuts a row once), widened by a
-                // column each way for rounding; then the slab test on those the proxies blocked.
                 candidates.assign(in.size(), 0);
-                const Patch& src = ends.source;
-                for (std::size_t b : near) {
-                    // A box wholly between this end and the source plane: the segments that meet
-                    // it end in its shadow on the plane, bounded by its corners' shadows.
-                    if (const auto shadow = shadowColumnsRows(src, r, capBoxes[b].first, capBoxes[b].second)) {
-                        const glm::dvec2 o = ends.jitter.offset(j);   // the grid's shift, in cells
-                        const int a0 = firstIndex((*shadow)[0] - o.x), a1 = lastIndex((*shadow)[1] - o.x, src.na);
-                        const int b0 = firstIndex((*shadow)[2] - o.y), b1 = lastIndex((*shadow)[3] - o.y, src.nb);
-                        for (int row = b0; row <= b1; ++row)
-                            for (int a = a0; a <= a1; ++a) {
-                                const int i = row * src.na + a;
-                                candidates[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
-                            }
-                        continue;
-                    }
-                    glm::dvec3 from(-std::numeric_limits<double>::infinity()), to(std::numeric_limits<double>::infinity());
-                    for (int k = 0; k < 3; ++k) {
-                        if (r[k] < capBoxes[b].first[k])
-                            from[k] = capBoxes[b].first[k] - shift[k];
-                        else if (r[k] > capBoxes[b].second[k])
-                            to[k] = capBoxes[b].second[k] - shift[k];
-                    }
-                    for (int row = 0; row < src.nb; ++row) {
-                        const glm::dvec3 base = src.corner + (row + 0.5) / src.nb * src.v;
-                        double aLo = -1.0, aHi = double(src.na);   // in columns: sample a sits at a
-                        bool empty = false;
-                        for (int k = 0; k < 3 && !empty; ++k)
-                            for (const auto& [bound, atLeast] : {std::pair(from[k], true), std::pair(to[k], false)}) {
-                                if (std::isinf(bound))
-                                    continue;
-                                // base + t u, t = (a + 0.5) / na, on the kept side of the bound.
-                                const double uk = src.u[k];
-                                if (uk == 0.0) {
-                                    empty = empty || (atLeast ? base[k] < bound : base[k] > bound);
-                                    continue;
-                                }
-                                const double a = (bound - base[k]) / uk * src.na - 0.5;
-                                if ((uk > 0.0) == atLeast)
-                                    aLo = std::max(aLo, a);
-                                else
-                                    aHi = std::min(aHi, a);
-                            }
-                        if (empty || !(aLo <= aHi + 2.0))
-                            continue;
-                        const int a0 = firstIndex(aLo), a1 = lastIndex(aHi, src.na);
-                        for (int a = a0; a <= a1; ++a) {
-                            const int i = row * src.na + a;
-                            candidates[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
-                        }
-                    }
-                }
+                for (std::size_t b : near)
+                    markSegmentsThatMayMeet(ends.source, r, shift, ends.jitter.offset(j), capBoxes[b].first,
+                                            capBoxes[b].second, candidates);
                 for (std::size_t w = 0; w < in.size(); ++w)
                     for (std::uint64_t bits = in[w] & candidates[w]; bits; bits &= bits - 1) {
                         const int i = int(64 * w) + std::countr_zero(bits);
-                        const glm::dvec3 s(samples[0][std::size_t(i)] + shift.x, samples[1][std::size_t(i)] + shift.y,
-                                           samples[2][std::size_t(i)] + shift.z);
+                        const glm::dvec3 s = sourceSamples[std::size_t(i)] + shift;
                         for (std::size_t b : near)
                             if (segmentMeetsBox(r, s, capBoxes[b].first, capBoxes[b].second)) {
                                 in[w] &= ~(std::uint64_t(1) << (i & 63));
