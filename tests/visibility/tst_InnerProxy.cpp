@@ -1,6 +1,6 @@
-// The inner proxies of closed meshes (bitmask/InnerProxy.h): their faces lie inside the volume
-// and clear of the surface, and the sampler's answers with them are the exact answers, at
-// production sample counts, near the origin and 10 and 100 km from it.
+// The inner proxies of meshes (bitmask/InnerProxy.h), closed or capped over their holes: their
+// faces lie inside the volume and clear of the surface, and the sampler's answers with them are
+// the exact answers, at production sample counts, near the origin and 10 and 100 km from it.
 
 #include <gtest/gtest.h>
 
@@ -37,8 +37,8 @@ Mesh linkedTori(const glm::dvec3& centre)
 }
 
 /// An open tube along z, or x (no ends): `rings` x `sides` quads of lumpy radius around the axis
-/// through `centre`, from length / 2 before it to length / 2 after. Rays along the axis pass through it
-/// without meeting it.
+/// through `centre`, from length / 2 before it to length / 2 after. Rays along the axis pass
+/// through it without meeting it.
 Mesh openTube(const glm::dvec3& centre, double radius, double length, int rings, int sides, bool alongX = false)
 {
     Mesh m;
@@ -114,6 +114,16 @@ bool closedModTwo(const std::vector<glm::vec3>& v)
     return true;
 }
 
+/// The distance from p to the nearest of the triangles.
+double nearestDistance(const WorldTriangles& t, const glm::dvec3& p)
+{
+    double nearest = 1e300;
+    for (std::size_t k = 0; k < t.size(); ++k)
+        nearest = std::min(nearest, pointTriangleDistance2(p, glm::dvec3(t.vertices[3 * k]), glm::dvec3(t.vertices[3 * k + 1]),
+                                                           glm::dvec3(t.vertices[3 * k + 2])));
+    return std::sqrt(nearest);
+}
+
 /// Crossings of the segment from p to a far point, in world triangles of one mesh.
 int crossings(const WorldTriangles& t, const glm::dvec3& p, const glm::dvec3& far)
 {
@@ -164,12 +174,7 @@ TEST(InnerProxy, FacesLieInsideTheVolumeClearOfTheSurface)
                     points.push_back(a + s * (b - a) + t * (c - a));
                 }
                 for (const glm::dvec3& p : points) {
-                    double nearest = 1e300;
-                    for (std::size_t k = 0; k < triangles.size(); ++k)
-                        nearest = std::min(nearest, pointTriangleDistance2(p, glm::dvec3(triangles.vertices[3 * k]),
-                                                                           glm::dvec3(triangles.vertices[3 * k + 1]),
-                                                                           glm::dvec3(triangles.vertices[3 * k + 2])));
-                    ASSERT_GE(std::sqrt(nearest), kInnerMarginMetres) << offset << " face " << f / 3;
+                    ASSERT_GE(nearestDistance(triangles, p), kInnerMarginMetres) << offset << " face " << f / 3;
                     const glm::dvec3 far = p + 100.0 * glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
                     ASSERT_EQ(crossings(triangles, p, far) % 2, 1) << offset << " face " << f / 3;
                 }
@@ -345,12 +350,7 @@ TEST(InnerProxy, CapsCloseOpenMeshes)
             capped.instanceOf.assign(surface.size() / 3, 0);
             for (std::size_t f = 0; f < proxy.faces.size(); f += 3) {
                 const glm::dvec3 p = (glm::dvec3(proxy.faces[f]) + glm::dvec3(proxy.faces[f + 1]) + glm::dvec3(proxy.faces[f + 2])) / 3.0;
-                double nearest = 1e300;
-                for (std::size_t k = 0; k < capped.size(); ++k)
-                    nearest = std::min(nearest, pointTriangleDistance2(p, glm::dvec3(capped.vertices[3 * k]),
-                                                                       glm::dvec3(capped.vertices[3 * k + 1]),
-                                                                       glm::dvec3(capped.vertices[3 * k + 2])));
-                ASSERT_GE(std::sqrt(nearest), kInnerMarginMetres) << offset << " face " << f / 3;
+                ASSERT_GE(nearestDistance(capped, p), kInnerMarginMetres) << offset << " face " << f / 3;
                 const glm::dvec3 far = p + 100.0 * glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
                 ASSERT_EQ(crossings(capped, p, far) % 2, 1) << offset << " face " << f / 3;
             }
