@@ -58,8 +58,8 @@ Mesh openTube(const glm::dvec3& centre, double radius, double length, int rings,
     return m;
 }
 
-/// A closed torus with the quads of a few of its rings removed: `holes` holes in the top of its
-/// tube, one boundary loop each.
+/// A closed torus with the quads of a few of its rings removed: `holes` (up to 8) holes in the
+/// top of its tube, one boundary loop each.
 Mesh holedTorus(const glm::dvec3& centre, int holes)
 {
     Mesh m = closedTorus(centre, 1.0, 0.5, 64, 32, 0.15);
@@ -67,7 +67,7 @@ Mesh holedTorus(const glm::dvec3& centre, int holes)
     std::vector<std::uint32_t> kept;
     for (std::size_t q = 0; q < m.indices.size() / 6; ++q) {
         const int ring = int(q) / 32, side = int(q) % 32;
-        const bool hole = side >= 4 && side < 10 && ring % 16 < 2 && ring / 16 < holes;
+        const bool hole = side >= 4 && side < 10 && ring % 8 < 2 && ring / 8 < holes;
         if (!hole)
             kept.insert(kept.end(), m.indices.begin() + std::ptrdiff_t(6 * q), m.indices.begin() + std::ptrdiff_t(6 * q + 6));
     }
@@ -414,5 +414,28 @@ TEST(InnerProxy, OpenMeshesKeepTheSamplersExact)
             EXPECT_GT(stats.proxyBlocked, 0u) << offset;
             EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u)).nonTie(), 0u) << offset << " " << stats.strategy;
         }
+    }
+}
+
+TEST(InnerProxy, MeshesWithManyHolesSitOutSmallCalls)
+{
+    // Eight holes, so eight cap boxes in the shaft: more than an eighth of 32 source samples
+    // (kProxyCapBoxesPerSource), so an 8x4 call goes without the proxy, a 32x32 call with it;
+    // both answers exact.
+    const Scene scene = sceneOf({holedTorus({1.0, 1.0, 2.75}, 8)});
+    const Patch source = patchAt({-0.5, -0.5, 0.0}, 3.0, 32), receiver = patchAt({-1.5, -1.5, 5.5}, 6.0, 32);
+    Patch few = source;
+    few.na = 8, few.nb = 4;
+    CpuBitmaskSampler sampler(scene);
+    for (const Patch* s : {&source, static_cast<const Patch*>(&few)}) {
+        BitmaskStats stats;
+        const HiddenSampleMap map = sampler.sample(*s, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
+        if (s == &few)
+            EXPECT_EQ(stats.proxyFaces, 0u);
+        else
+            EXPECT_GT(stats.proxyBlocked, 0u);
+        const HiddenSampleMap expected = RayCastScene(scene).sample(*s, receiver);
+        const ExactJudge judge(worldTriangles(scene), *s, receiver);
+        EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u)).nonTie(), 0u);
     }
 }

@@ -513,15 +513,24 @@ bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
            apart(meshBounds, pass.receiverLo, pass.receiverHi) && !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
 }
 
-std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const ProxyPass& pass,
+std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& offered, const ProxyPass& pass,
                                  OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
 {
-    // The grown boxes of the caps the shaft may meet.
+    // The grown boxes of the caps the shaft may meet; a proxy that would take them past
+    // kProxyCapBoxesPerSource and kProxyMaxCapBoxesPerCall sits the call out.
+    std::vector<std::shared_ptr<const InnerProxy>> proxies;
     std::vector<std::pair<glm::dvec3, glm::dvec3>> capBoxes;
-    for (const std::shared_ptr<const InnerProxy>& proxy : proxies)
+    const double boxesAllowed = std::clamp(kProxyCapBoxesPerSource * map.sourceCount(), 2.0, kProxyMaxCapBoxesPerCall);
+    for (const std::shared_ptr<const InnerProxy>& proxy : offered) {
+        std::vector<std::pair<glm::dvec3, glm::dvec3>> inShaft;
         for (const Bounds& box : proxy->capBoxes)
             if (const Bounds grown = grownCapBox(box); !pass.hull.excludesBox(grown.min, grown.max))
-                capBoxes.emplace_back(glm::dvec3(grown.min), glm::dvec3(grown.max));
+                inShaft.emplace_back(glm::dvec3(grown.min), glm::dvec3(grown.max));
+        if (double(capBoxes.size() + inShaft.size()) > boxesAllowed)
+            continue;
+        capBoxes.insert(capBoxes.end(), inShaft.begin(), inShaft.end());
+        proxies.push_back(proxy);
+    }
 
     // One soup whose instances are the proxies; per face, whether the shaft's rays leave R
     // through it (kProxyFaceAxisCos).
