@@ -81,7 +81,7 @@ std::optional<BundleOnScreen> bundleOnScreen(const glm::mat4& viewProj, int widt
     std::vector<glm::dvec2> corners;
     for (const Patch* patch : {&source, &receiver})
         for (int k = 0; k < 4; ++k) {
-            const auto p = toPixels(patch->corner + double(k & 1) * patch->u + double(k >> 1) * patch->v);
+            const auto p = toPixels(patch->cornerPoint(k));
             if (!p)
                 return std::nullopt;
             corners.push_back(*p);

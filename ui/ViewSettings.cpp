@@ -60,7 +60,7 @@ Camera shaftView(const Patch& source, const Patch& receiver)
     Bounds bounds;
     for (const Patch* p : {&source, &receiver})
         for (int k = 0; k < 4; ++k)
-            bounds.extend(glm::vec3(p->corner + double(k & 1) * p->u + double(k >> 1) * p->v));
+            bounds.extend(glm::vec3(p->cornerPoint(k)));
     frame(camera, bounds);
     return camera;
 }

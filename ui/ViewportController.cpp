@@ -407,7 +407,7 @@ void ViewportController::frameSelection()
     if (selection.isPatch()) {
         const Patch p = std::get<Patch>(document_.state(selection));
         for (int k = 0; k < 4; ++k)
-            bounds.extend(glm::vec3(p.corner + double(k & 1) * p.u + double(k >> 1) * p.v));
+            bounds.extend(glm::vec3(p.cornerPoint(k)));
     } else if (selection.kind == ObjectKind::SceneObject) {
         bounds = document_.sceneFile().instanceBounds(document_.sceneFile().instances.at(selection.index));
     } else if (selection.kind == ObjectKind::Occluder) {

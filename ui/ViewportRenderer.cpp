@@ -991,8 +991,8 @@ void ViewportRenderer::render(const FrameState& f)
     // The shaft: corresponding corners joined; red when the pair cannot be sampled.
     const glm::vec4 shaftColour = f.pairValid ? glm::vec4(0.9f, 0.9f, 0.9f, 0.5f) : glm::vec4(1.0f, 0.2f, 0.2f, 0.9f);
     for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 s = f.source.corner + double(k & 1) * f.source.u + double(k >> 1) * f.source.v;
-        const glm::dvec3 r = f.receiver.corner + double(k & 1) * f.receiver.u + double(k >> 1) * f.receiver.v;
+        const glm::dvec3 s = f.source.cornerPoint(k);
+        const glm::dvec3 r = f.receiver.cornerPoint(k);
         lines.push_back({glm::vec3(s), shaftColour});
         lines.push_back({glm::vec3(r), shaftColour});
     }

@@ -264,8 +264,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         const ShaftHull hull = bumpy ? ShaftHull([&] {
             std::vector<glm::dvec3> points;
             for (int k = 0; k < 4; ++k) {
-                const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
-                points.push_back(source.corner + double(k & 1) * source.u + double(k >> 1) * source.v);
+                const glm::dvec3 rc = receiver.cornerPoint(k);
+                points.push_back(source.cornerPoint(k));
                 points.push_back(rc + lowest * normal);
                 points.push_back(rc + highest * normal);
             }
@@ -281,7 +281,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         if (options.watertightCulling)
             filter.cullable = cullableInstances(receiver, bumpy ? &displacedBox : nullptr);
         for (int k = 0; k < 4; ++k)
-            filter.sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+            filter.sourceCorners[std::size_t(k)] = source.cornerPoint(k);
         std::vector<char> closedInstance(instances_.size());
         for (std::size_t i = 0; i < instances_.size(); ++i)
             closedInstance[i] = instances_[i].watertight;
@@ -292,7 +292,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             const auto proxyStart = Clock::now();
             std::vector<glm::dvec3> ends;
             for (int k = 0; k < 4; ++k)
-                ends.push_back(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v);
+                ends.push_back(receiver.cornerPoint(k));
             const ProxyPass pass(shaft, hull, filter.sourceCorners, bumpy ? displaced : ends,
                                  {source, receiver, options.jitter, bumpy ? &displaced : nullptr},
                                  options.watertightCulling, narrow);

@@ -474,7 +474,7 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
             filter.cullable[i] = instance.watertight && receiverApartFrom(instance.bounds, receiver);
     }
     for (int k = 0; k < 4; ++k)
-        filter.sourceCorners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+        filter.sourceCorners[std::size_t(k)] = source.cornerPoint(k);
     OccluderSet& set = impl_->occluders;
     set.prepare(shaft, filter);
 

@@ -214,8 +214,8 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     // beyond what the build allowed for.
     double farthest = 0.0, longest = 0.0;
     for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
-        const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+        const glm::dvec3 sc = source.cornerPoint(k);
+        const glm::dvec3 rc = receiver.cornerPoint(k);
         farthest = std::max({farthest, maxAbs(sc), maxAbs(rc)});
         for (int l = 0; l < 4; ++l)
             longest = std::max(longest, maxAbs(rc - (source.corner + double(l & 1) * source.u + double(l >> 1) * source.v)));

@@ -67,8 +67,8 @@ ClippedPolygon ShaftFrames::clipToSlab(const glm::vec3& a, const glm::vec3& b, c
 ShaftHull::ShaftHull(const Patch& source, const Patch& receiver) : ShaftHull([&] {
     std::array<glm::dvec3, 8> corners;
     for (int k = 0; k < 4; ++k) {
-        corners[std::size_t(k)] = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
-        corners[std::size_t(k + 4)] = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+        corners[std::size_t(k)] = source.cornerPoint(k);
+        corners[std::size_t(k + 4)] = receiver.cornerPoint(k);
     }
     return std::vector<glm::dvec3>(corners.begin(), corners.end());
 }())
@@ -140,7 +140,7 @@ bool receiverApartFrom(const Bounds& b, const Patch& receiver)
 {
     Bounds receiverBox;
     for (int k = 0; k < 4; ++k)
-        receiverBox.extend(glm::vec3(receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v));
+        receiverBox.extend(glm::vec3(receiver.cornerPoint(k)));
     const float pad = 1e-4f * (1.0f + glm::length(receiverBox.max - receiverBox.min));
     return glm::any(glm::lessThan(b.max + pad, receiverBox.min)) || glm::any(glm::greaterThan(b.min - pad, receiverBox.max));
 }

@@ -184,7 +184,7 @@ public:
         // the receiver samples, padded by the tie distance.
         glm::dvec3 lo(1e300), hi(-1e300);
         for (int k = 0; k < 4; ++k) {
-            const glm::dvec3 corner = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+            const glm::dvec3 corner = source.cornerPoint(k);
             const glm::dvec3 cellPad = (glm::abs(source.u) / double(source.na) + glm::abs(source.v) / double(source.nb));
             lo = glm::min(lo, corner - cellPad), hi = glm::max(hi, corner + cellPad);
         }

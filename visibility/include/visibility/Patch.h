@@ -30,6 +30,9 @@ struct Patch {
     glm::dvec3 sample(int i) const { return sample(i % na, i / na); }
     glm::dvec3 normal() const;
     glm::dvec3 centre() const { return corner + 0.5 * (u + v); }
+    /// Corner k of the parallelogram, k in [0, 4): c, c + u, c + v, c + u + v (bit 0 adds u, bit 1
+    /// adds v). Every method's shaft and culling uses this one expression, so they agree bitwise.
+    glm::dvec3 cornerPoint(int k) const { return corner + double(k & 1) * u + double(k >> 1) * v; }
 };
 
 /// Limits on sample grids. The source set is a bitmask of at most 1024 bits (8 RGBA32UI render

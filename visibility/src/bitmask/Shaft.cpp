@@ -28,9 +28,9 @@ Shaft::Shaft(const Patch& source, const Patch& receiver, const SourceJitter& jit
     minReceiverDistance = 1e300;
     double maxReceiverDistance = 0.0;
     for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 sc = source.corner + double(k & 1) * source.u + double(k >> 1) * source.v;
+        const glm::dvec3 sc = source.cornerPoint(k);
         sourceCornersInReceiver[std::size_t(k)] = frames.receiver.coordinates(sc);
-        const glm::dvec3 rc = receiver.corner + double(k & 1) * receiver.u + double(k >> 1) * receiver.v;
+        const glm::dvec3 rc = receiver.cornerPoint(k);
         minReceiverDistance = std::min(minReceiverDistance, frames.source.coordinates(rc).z);
         maxReceiverDistance = std::max(maxReceiverDistance, frames.source.coordinates(rc).z);
     }
