@@ -294,7 +294,7 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             for (int k = 0; k < 4; ++k)
                 ends.push_back(receiver.cornerPoint(k));
             const ProxyPass pass(shaft, hull, filter.sourceCorners, bumpy ? displaced : ends,
-                                 {source, receiver, options.jitter, bumpy ? &displaced : nullptr},
+                                 {source, receiver, options.jitter, bumpy ? options.heights : nullptr},
                                  options.watertightCulling, narrow);
             std::vector<std::shared_ptr<const InnerProxy>> proxies;
             for (std::size_t i = 0; i < instances_.size(); ++i) {

@@ -105,6 +105,26 @@ WorldTriangles worldTriangles(const Scene& scene)
     return out;
 }
 
+std::vector<std::uint32_t> weldPositions(const glm::vec3* p, std::size_t count, std::vector<std::uint32_t>* representative)
+{
+    std::vector<std::uint32_t> order(count);
+    std::iota(order.begin(), order.end(), 0u);
+    const auto less = [&](std::uint32_t a, std::uint32_t b) {
+        return std::tie(p[a].x, p[a].y, p[a].z) < std::tie(p[b].x, p[b].y, p[b].z);
+    };
+    std::sort(order.begin(), order.end(), less);
+    std::vector<std::uint32_t> weld(count);
+    std::uint32_t id = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        if (k > 0 && less(order[k - 1], order[k]))
+            ++id;
+        weld[order[k]] = id;
+        if (representative && representative->size() == id)
+            representative->push_back(order[k]);
+    }
+    return weld;
+}
+
 bool closedAndOutward(const Mesh& mesh)
 {
     const std::vector<glm::vec3>& p = mesh.positions;
@@ -114,19 +134,7 @@ bool closedAndOutward(const Mesh& mesh)
         if (i >= p.size())
             return false;
 
-    std::vector<std::uint32_t> order(p.size());
-    std::iota(order.begin(), order.end(), 0u);
-    const auto less = [&](std::uint32_t a, std::uint32_t b) {
-        return std::tie(p[a].x, p[a].y, p[a].z) < std::tie(p[b].x, p[b].y, p[b].z);
-    };
-    std::sort(order.begin(), order.end(), less);
-    std::vector<std::uint64_t> weld(p.size());
-    std::uint64_t id = 0;
-    for (std::size_t k = 0; k < order.size(); ++k) {
-        if (k > 0 && less(order[k - 1], order[k]))
-            ++id;
-        weld[order[k]] = id;
-    }
+    const std::vector<std::uint32_t> weld = weldPositions(p.data(), p.size());
 
     // Relative to one of its vertices, so that a mesh far from the origin keeps its volume's digits.
     const glm::dvec3 origin(p[mesh.indices[0]]);

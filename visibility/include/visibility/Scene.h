@@ -82,6 +82,12 @@ struct WorldTriangles {
 
 WorldTriangles worldTriangles(const Scene& scene);
 
+/// Ids that weld `count` positions: positions of equal value share an id (ids count up in the
+/// positions' sorted order). `representative`, when given, receives for each id the index of a
+/// position that holds it.
+std::vector<std::uint32_t> weldPositions(const glm::vec3* positions, std::size_t count,
+                                         std::vector<std::uint32_t>* representative = nullptr);
+
 /// Whether `mesh` may carry Mesh::watertight: its surface is closed and consistently wound with
 /// outward faces. Vertices at exactly equal positions are welded first (OBJ, STL and glTF files
 /// often repeat a vertex per face or per normal); then every directed edge must occur once and

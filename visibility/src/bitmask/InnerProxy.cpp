@@ -10,7 +10,6 @@
 #include <optional>
 #include <span>
 #include <string_view>
-#include <tuple>
 #include <utility>
 
 #include <tbb/blocked_range.h>
@@ -18,6 +17,8 @@
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
+
+#include "../raycast/RayPackets.h"
 
 namespace sightline::bitmask {
 
@@ -212,20 +213,8 @@ std::vector<std::vector<glm::vec3>> boundaryCaps(const glm::vec3* vertices, std:
     // Weld equal positions (as closedAndOutward does), then keep the undirected edges an odd
     // number of triangles share.
     const std::size_t n = 3 * triangleCount;
-    std::vector<std::uint32_t> order(n);
-    for (std::size_t k = 0; k < n; ++k)
-        order[k] = std::uint32_t(k);
-    const auto less = [&](std::uint32_t a, std::uint32_t b) {
-        return std::tie(vertices[a].x, vertices[a].y, vertices[a].z) < std::tie(vertices[b].x, vertices[b].y, vertices[b].z);
-    };
-    std::sort(order.begin(), order.end(), less);
-    std::vector<std::uint32_t> weld(n);
     std::vector<std::uint32_t> first;   // per welded id: a vertex slot holding it
-    for (std::size_t k = 0; k < n; ++k) {
-        if (k == 0 || less(order[k - 1], order[k]))
-            first.push_back(order[k]);
-        weld[order[k]] = std::uint32_t(first.size() - 1);
-    }
+    const std::vector<std::uint32_t> weld = weldPositions(vertices, n, &first);
     std::vector<std::uint64_t> edges;
     edges.reserve(n);
     for (std::size_t t = 0; t < triangleCount; ++t)
@@ -493,8 +482,8 @@ void markSegmentsThatMayMeet(const Patch& source, const glm::dvec3& r, const glm
 } // namespace
 
 ProxyPass::ProxyPass(const Shaft& shaft_, const ShaftHull& hull_, const std::array<glm::dvec3, 4>& sourceCorners_,
-                     const std::vector<glm::dvec3>& receiverPoints, const SegmentEnds& segments_, bool culling_, bool narrow_)
-    : shaft(shaft_), hull(hull_), segments(segments_), sourceCorners(sourceCorners_), culling(culling_), narrow(narrow_)
+                     const std::vector<glm::dvec3>& receiverPoints, const PatchPair& patches_, bool culling_, bool narrow_)
+    : shaft(shaft_), hull(hull_), patches(patches_), sourceCorners(sourceCorners_), culling(culling_), narrow(narrow_)
 {
     sourceLo = receiverLo = glm::dvec3(std::numeric_limits<double>::infinity());
     sourceHi = receiverHi = -sourceLo;
@@ -592,10 +581,9 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
     // them (markSegmentsThatMayMeet), and of those, each by the slab test.
     HiddenSampleMap seeded(map.sourceCount(), map.receiverNa(), map.receiverNb());
     bitmaskPass(pass.shaft, bins, seeded, pass.narrow);
-    const SegmentEnds& ends = pass.segments;
-    std::vector<glm::dvec3> sourceSamples(std::size_t(map.sourceCount()));
-    for (int i = 0; i < map.sourceCount(); ++i)
-        sourceSamples[std::size_t(i)] = ends.source.sample(i);
+    const Patch& source = pass.patches.source;
+    const SourceJitter& jitter = pass.patches.jitter;
+    const raycast::SampleEnds ends(source, pass.patches.receiver, pass.patches.heights);
     tbb::parallel_for(tbb::blocked_range<int>(0, map.receiverCount(), 16), [&](const tbb::blocked_range<int>& range) {
         std::vector<std::size_t> near;
         std::vector<std::uint64_t> candidates;
@@ -609,15 +597,15 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
             const std::span<std::uint64_t> out = map.row(j);
             const std::span<std::uint64_t> in = seeded.row(j);
             if (!near.empty()) {
-                const glm::dvec3 shift = ends.jitter.shift(ends.source, j);
+                const glm::dvec3 shift = jitter.shift(source, j);
                 candidates.assign(in.size(), 0);
                 for (std::size_t b : near)
-                    markSegmentsThatMayMeet(ends.source, r, shift, ends.jitter.offset(j), capBoxes[b].first,
-                                            capBoxes[b].second, candidates);
+                    markSegmentsThatMayMeet(source, r, shift, jitter.offset(j), capBoxes[b].first, capBoxes[b].second,
+                                            candidates);
                 for (std::size_t w = 0; w < in.size(); ++w)
                     for (std::uint64_t bits = in[w] & candidates[w]; bits; bits &= bits - 1) {
                         const int i = int(64 * w) + std::countr_zero(bits);
-                        const glm::dvec3 s = sourceSamples[std::size_t(i)] + shift;
+                        const glm::dvec3 s = ends.source[std::size_t(i)] + shift;
                         for (std::size_t b : near)
                             if (segmentMeetsBox(r, s, capBoxes[b].first, capBoxes[b].second)) {
                                 in[w] &= ~(std::uint64_t(1) << (i & 63));

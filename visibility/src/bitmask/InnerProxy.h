@@ -49,6 +49,7 @@
 #include "TilePass.h"
 #include "visibility/HiddenSampleMap.h"
 #include "visibility/Scene.h"
+#include "visibility/ReceiverHeights.h"
 #include "visibility/ShaftGeometry.h"
 #include "visibility/SourceJitter.h"
 
@@ -157,15 +158,13 @@ inline constexpr double kProxyAllFacesPairsPerRay = 1.0;
 /// proxies answer 55-80% of a dense statue's blocked rays.
 inline constexpr std::uint64_t kProxyPairsPerRay = 4;
 
-/// The call's segments in world space, for the rays near caps: receiver sample j's end (on a
-/// bumpy receiver the displaced sample) and its source sample i, shifted by j's jitter.
-struct SegmentEnds {
+/// The call's patches and sampling, for the rays near caps (their segments' ends are built from
+/// them only when a cap's box lies in the shaft).
+struct PatchPair {
     const Patch& source;
     const Patch& receiver;
     const SourceJitter& jitter;
-    const std::vector<glm::dvec3>* displaced = nullptr;   ///< by bit index; null: flat
-
-    glm::dvec3 receiverEnd(int j) const { return displaced ? (*displaced)[std::size_t(j)] : receiver.sample(j); }
+    const ReceiverHeights* heights = nullptr;   ///< a bumpy receiver's; null: flat
 };
 
 /// One call's view of the proxies: the shaft, and the boxes every segment end lies in.
@@ -173,11 +172,11 @@ struct ProxyPass {
     /// `receiverPoints`: every receiver-side segment end, or points whose bounds hold them all (a
     /// flat receiver's corners, a bumpy one's displaced samples).
     ProxyPass(const Shaft& shaft, const ShaftHull& hull, const std::array<glm::dvec3, 4>& sourceCorners,
-              const std::vector<glm::dvec3>& receiverPoints, const SegmentEnds& segments, bool culling, bool narrow);
+              const std::vector<glm::dvec3>& receiverPoints, const PatchPair& patches, bool culling, bool narrow);
 
     const Shaft& shaft;
     const ShaftHull& hull;
-    SegmentEnds segments;
+    PatchPair patches;
     std::array<glm::dvec3, 4> sourceCorners;
     glm::dvec3 sourceLo, sourceHi, receiverLo, receiverHi;
     glm::dvec3 axis;       ///< unit, source centre to the receiver points' centroid
