@@ -231,6 +231,8 @@ int runShaft(const ShaftArgs& args)
                                        : masks;
         if (stats.proxyBlocked > 0)
             strategy += " (inner proxies of meshes answered " + std::to_string(stats.proxyBlocked) + " rays first)";
+        if (stats.swappedRoles)
+            strategy += " (patches' roles swapped: backprojected onto the receiver's finer grid)";
         if (stats.probed)
             strategy += " (chosen by timing both on a few tiles)";
         if (stats.reusedProbe)
@@ -245,7 +247,7 @@ int runShaft(const ShaftArgs& args)
                  {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
-                 {"proxies_built", stats.proxiesBuilt},
+                 {"proxies_built", stats.proxiesBuilt}, {"swapped_roles", stats.swappedRoles},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
     }

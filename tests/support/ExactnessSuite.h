@@ -9,6 +9,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -33,8 +34,24 @@ struct Method {
     std::function<HiddenSampleMap(const Scene&, const Patch&, const Patch&, const Question&)> sample;
 };
 
-/// How each case is asked: plainly, or with jitter and bumps made from the case's seed.
-enum class Variant { Plain, Jittered, Bumpy };
+/// How each case is asked: plainly, or with jitter and bumps made from the case's seed, or with
+/// a source of at most 8 rows (its 32 columns kept, so the categories that put an occluder on a
+/// source column still do) and a receiver of at most 32x32: more receiver samples than source
+/// samples, so the CPU sampler swaps the patches' roles (BitmaskOptions::swapRoles).
+enum class Variant { Plain, Jittered, Bumpy, SmallSource };
+
+/// The patches a case is asked with under `variant` (SmallSource cuts the grids; the others
+/// keep the case's).
+inline std::pair<Patch, Patch> askedPatches(const AdversarialCase& c, Variant variant)
+{
+    Patch source = c.source, receiver = c.receiver;
+    if (variant == Variant::SmallSource) {
+        source.nb = std::min(source.nb, 8);
+        receiver.na = std::min(receiver.na, 32);
+        receiver.nb = std::min(receiver.nb, 32);
+    }
+    return {source, receiver};
+}
 
 struct Tally {
     std::uint64_t wronglyBlocked = 0, wronglyFree = 0, judged = 0, ties = 0;
@@ -49,6 +66,7 @@ inline std::map<std::string, Tally> judgeSuite(const std::vector<AdversarialCase
     std::map<std::string, Tally> tallies;
     for (std::size_t n = 0; n < cases.size(); ++n) {
         const AdversarialCase& c = cases[n];
+        const auto [source, receiver] = askedPatches(c, variant);
         Question question;
         ReceiverHeights heights;
         std::vector<glm::dvec3> displaced;
@@ -56,19 +74,19 @@ inline std::map<std::string, Tally> judgeSuite(const std::vector<AdversarialCase
             question.jitter.seed = std::uint32_t(n + 1);
         if (variant == Variant::Bumpy) {
             // Bumps up to a tenth of the distance between the patches, towards the source.
-            const double distance = glm::length(c.receiver.centre() - c.source.centre());
-            heights = randomHeights(c.receiver, unsigned(n + 1), 0.1 * distance);
+            const double distance = glm::length(receiver.centre() - source.centre());
+            heights = randomHeights(receiver, unsigned(n + 1), 0.1 * distance);
             question.heights = &heights;
-            displaced = displacedSamples(c.source, c.receiver, heights);
+            displaced = displacedSamples(source, receiver, heights);
         }
         std::vector<HiddenSampleMap> maps;
         for (const Method& m : methods)
-            maps.push_back(m.sample(c.scene, c.source, c.receiver, question));
+            maps.push_back(m.sample(c.scene, source, receiver, question));
         std::vector<const HiddenSampleMap*> pointers;
         for (const HiddenSampleMap& m : maps)
             pointers.push_back(&m);
         const auto rays = raysToJudge(pointers, 2048, 7u);
-        const ExactJudge judge(worldTriangles(c.scene), c.source, c.receiver, question.jitter,
+        const ExactJudge judge(worldTriangles(c.scene), source, receiver, question.jitter,
                                displaced.empty() ? nullptr : &displaced);
         for (std::size_t k = 0; k < methods.size(); ++k) {
             const Verdict v = judge.judge(maps[k], rays);
@@ -80,7 +98,7 @@ inline std::map<std::string, Tally> judgeSuite(const std::vector<AdversarialCase
             if (v.nonTie()) {
                 std::printf("  %-12s %-48s %8llu wrongly blocked %8llu wrongly free (%dx%d receiver)\n",
                             methods[k].name.c_str(), c.name.c_str(), (unsigned long long)v.wronglyBlocked,
-                            (unsigned long long)v.wronglyFree, c.receiver.na, c.receiver.nb);
+                            (unsigned long long)v.wronglyFree, receiver.na, receiver.nb);
                 if (t.firstExample.empty())
                     t.firstExample = c.name + ", ray (j " + std::to_string(v.examples[0].first) + ", i " +
                                      std::to_string(v.examples[0].second) + ")";

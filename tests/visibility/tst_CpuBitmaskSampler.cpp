@@ -6,9 +6,11 @@
 #include "BruteForceCaster.h"
 #include "ExactJudge.h"
 #include "TestScenes.h"
+#include "bitmask/Strategy.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/RayCastSampler.h"
+#include "visibility/ReceiverHeights.h"
 
 using namespace sightline;
 using namespace sightline::test;
@@ -268,16 +270,20 @@ TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
     // A comb of 14,400 small triangles fills the shaft: every triangle touches most receiver
     // samples, so with few source samples the bitmask's pairs outnumber the rays. Where one
     // method's predicted cost is under half the other's, Auto takes it without timing; in between
-    // it times both on a few tiles (bitmask/Strategy.h). Every answer is the reference's.
+    // it times both on a few tiles (bitmask/Strategy.h). Every answer is the reference's. (The
+    // patches keep their roles here: AutoTakesTheBitmaskWithSwappedRolesByItsOwnRule.)
     const Scene scene = sceneOf({combWall(120)});
     const CpuBitmaskSampler sampler(scene);
     const RayCastScene reference(scene);
+    BitmaskOptions options;
+    options.swapRoles = false;
     int clearBitmask = 0, clearRays = 0, probed = 0;
     for (int r : {32, 64})
         for (int side : {32, 8, 4, 2, 1}) {
             const Patch source = xyPatch(0, side, side), receiver = xyPatch(2, r, r);
             BitmaskStats stats;
-            const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
+            const HiddenSampleMap map = sampler.sample(source, receiver, options, &stats);
+            EXPECT_FALSE(stats.swappedRoles);
             const double ratio = stats.predictedBitmaskMs / stats.predictedRayMs;
             if (ratio <= 0.5) {
                 EXPECT_STREQ(stats.strategy, "bitmask") << side << " " << r;
@@ -302,7 +308,7 @@ TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
     const Scene soup = sceneOf({randomSoup(3, 20000, -0.5f, 1.5f, 0.2f, 1.8f, 0.05f)});
     const Patch one = xyPatch(0, 1, 1), receiver = xyPatch(2, 32, 32);
     BitmaskStats stats;
-    const HiddenSampleMap map = CpuBitmaskSampler(soup).sample(one, receiver, {}, &stats);
+    const HiddenSampleMap map = CpuBitmaskSampler(soup).sample(one, receiver, options, &stats);
     EXPECT_LE(stats.predictedRayMs, 0.5 * stats.predictedBitmaskMs);
     EXPECT_STREQ(stats.strategy, "raycast");
     EXPECT_FALSE(stats.probed);
@@ -310,6 +316,96 @@ TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
     const HiddenSampleMap expected = RayCastScene(soup).sample(one, receiver);
     const ExactJudge judge(worldTriangles(soup), one, receiver);
     EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 256, 1u)).nonTie(), 0u);
+}
+
+TEST(CpuBitmaskSampler, AutoTakesTheBitmaskWithSwappedRolesByItsOwnRule)
+{
+    // Fewer source samples than receiver samples, at most 1024 of those: the patches swap roles.
+    // Auto takes the bitmask where its prediction is no dearer than the rays', rays where it is
+    // far dearer, and in between times the rays of an eighth of the (swapped) receiver samples
+    // (bitmask/Strategy.h). The comb and a soup of 20,000 triangles at 1-16x16 source samples
+    // give all three. Every answer is exact.
+    const Scene comb = sceneOf({combWall(120)});
+    const Scene soup = sceneOf({randomSoup(3, 20000, -0.5f, 1.5f, 0.2f, 1.8f, 0.05f)});
+    int byBitmask = 0, byRays = 0, timed = 0;
+    for (const Scene* scene : {&comb, &soup})
+        for (int side : {16, 8, 4, 2, 1}) {
+            const CpuBitmaskSampler sampler(*scene);
+            const Patch source = xyPatch(0, side, side), receiver = xyPatch(2, 32, 32);
+            BitmaskStats stats;
+            const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
+            EXPECT_TRUE(stats.swappedRoles) << side;
+            const double ratio = stats.predictedBitmaskMs / stats.predictedRayMs;
+            if (ratio <= bitmask::kSwappedBitmaskClearCut) {
+                EXPECT_STREQ(stats.strategy, "bitmask") << side;
+                EXPECT_FALSE(stats.probed) << side;
+                ++byBitmask;
+            } else if (ratio >= bitmask::kSwappedRaysClearCut) {
+                EXPECT_STREQ(stats.strategy, "raycast") << side;
+                EXPECT_FALSE(stats.probed) << side;
+                ++byRays;
+            } else {
+                EXPECT_TRUE(stats.probed) << side << ": ratio " << ratio;
+                ++timed;
+            }
+            EXPECT_EQ(map.sourceCount(), source.sampleCount());
+            EXPECT_EQ(map.receiverCount(), receiver.sampleCount());
+            const HiddenSampleMap expected = RayCastScene(*scene).sample(source, receiver);
+            const ExactJudge judge(worldTriangles(*scene), source, receiver);
+            EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 1u)).nonTie(), 0u) << side;
+        }
+    EXPECT_GT(byBitmask, 0);
+    EXPECT_GT(byRays, 0);
+    EXPECT_GT(timed, 0);
+}
+
+TEST(CpuBitmaskSampler, PatchesSwapRolesOnlyWhereTheAnswerCannotChange)
+{
+    // The same rays either way round (DESIGN.md §2's test does not tell a segment's ends apart):
+    // the swapped map, transposed back, agrees with the unswapped one but for ties, on a comb
+    // and on random triangles. Jitter (a per-receiver shift of the source grid), heights (a
+    // bumpy receiver), table mode and a forced ray cast (the reference's answer, bit for bit)
+    // keep the roles; so do receivers past kMaxSourceSamples or 32 columns.
+    const Scene scene = sceneOf({combWall(40), randomSoup(7, 400, -0.5f, 1.5f, 0.2f, 1.8f, 0.2f)});
+    const CpuBitmaskSampler sampler(scene);
+    const Patch source = xyPatch(0, 16, 8), receiver = xyPatch(2, 32, 32);
+    for (CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::Bitmask, CpuStrategy::Hybrid}) {
+        BitmaskOptions swapped, kept;
+        swapped.strategy = kept.strategy = strategy;
+        kept.swapRoles = false;
+        BitmaskStats swappedStats, keptStats;
+        const HiddenSampleMap a = sampler.sample(source, receiver, swapped, &swappedStats);
+        const HiddenSampleMap b = sampler.sample(source, receiver, kept, &keptStats);
+        EXPECT_TRUE(swappedStats.swappedRoles);
+        EXPECT_FALSE(keptStats.swappedRoles);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        EXPECT_EQ(judge.judge(a, raysToJudge({&a, &b}, 8192, 1u)).nonTie(), 0u);
+        EXPECT_GT(a.blockedCount(), a.rayCount() / 10);
+    }
+    const auto swaps = [&](const Patch& s, const Patch& r, BitmaskOptions options) {
+        BitmaskStats stats;
+        sampler.sample(s, r, options, &stats);
+        return stats.swappedRoles;
+    };
+    BitmaskOptions jittered;
+    jittered.jitter.seed = 3;
+    EXPECT_FALSE(swaps(source, receiver, jittered));
+    BitmaskOptions forced;
+    forced.strategy = CpuStrategy::RayCast;
+    EXPECT_FALSE(swaps(source, receiver, forced));
+    BitmaskOptions table;
+    table.mode = MaskMode::Table;
+    EXPECT_FALSE(swaps(source, receiver, table));
+    ReceiverHeights heights;
+    heights.metres.assign(std::size_t(receiver.sampleCount()), 0.0);
+    heights.metres[5] = 0.1;
+    BitmaskOptions bumpy;
+    bumpy.heights = &heights;
+    EXPECT_FALSE(swaps(source, receiver, bumpy));
+    EXPECT_FALSE(swaps(source, xyPatch(2, 64, 32), {}));   // 2048 receiver samples
+    EXPECT_FALSE(swaps(source, xyPatch(2, 64, 8), {}));    // 64 columns
+    EXPECT_FALSE(swaps(xyPatch(0, 32, 32), receiver, {})); // as many samples either way
+    EXPECT_TRUE(swaps(source, xyPatch(2, 32, 8), {}));
 }
 
 TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)

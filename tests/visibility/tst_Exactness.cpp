@@ -1,11 +1,13 @@
 // DESIGN.md §2's "Exact" contract on adversarial input: every exact CPU-side method (the Embree
 // reference, the CPU bitmask sampler with every strategy and both kernels, decorrelated samples,
-// bumpy receivers) against an exact double brute force (ExactJudge.h), at production sample
-// counts, at the origin and 1, 10 and 100 km from it. Zero disagreements outside ties.
+// bumpy receivers, small sources with the patches' roles swapped) against an exact double brute
+// force (ExactJudge.h), at production sample counts, at the origin and 1, 10 and 100 km from it.
+// Zero disagreements outside ties.
 
 #include <gtest/gtest.h>
 
 #include "ExactnessSuite.h"
+#include "bitmask/Strategy.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/RayCastSampler.h"
 
@@ -63,4 +65,18 @@ TEST(Exactness, BumpyReceiversAreExactToo)
 {
     // Each receiver sample raised towards the source by its own height (§8).
     expectExact(judgeSuite(suite({0.0, 1e4}, seeds(2)), cpuMethods(), Variant::Bumpy));
+}
+
+TEST(Exactness, SmallSourcesAreExactWithThePatchesRolesSwapped)
+{
+    // 32x8 sources against receivers of up to 32x32: the CPU sampler backprojects onto the
+    // receiver (its patches swap roles) wherever the receiver has more samples.
+    const std::vector<AdversarialCase> cases = suite({0.0, 1e4, 1e5}, seeds(2));
+    std::size_t swapped = 0;
+    for (const AdversarialCase& c : cases) {
+        const auto [source, receiver] = askedPatches(c, Variant::SmallSource);
+        swapped += bitmask::swapPatchRoles(source, receiver, {});
+    }
+    EXPECT_GT(swapped, cases.size() / 2);
+    expectExact(judgeSuite(cases, cpuMethods(), Variant::SmallSource));
 }

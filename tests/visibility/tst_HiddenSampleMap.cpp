@@ -2,6 +2,8 @@
 #include <fstream>
 #include <iterator>
 
+#include <stdexcept>
+
 #include <gtest/gtest.h>
 
 #include "visibility/Error.h"
@@ -30,6 +32,42 @@ TEST(HiddenSampleMap, SetAndCountBits)
     other.setBlocked(1, 1);
     EXPECT_EQ(map.differenceCount(other), 3u);   // (0,99), (5,64), (1,1)
     EXPECT_THROW(map.differenceCount(HiddenSampleMap(99, 3, 2)), std::invalid_argument);
+}
+
+TEST(HiddenSampleMap, RolesSwapTransposesTheRays)
+{
+    // 3 source samples (a 3x1 grid) and a 5x2 receiver grid; swapped: 10 source samples and a
+    // 3x1 receiver grid.
+    HiddenSampleMap map(3, 5, 2);
+    map.setBlocked(0, 2);
+    map.setBlocked(7, 0);
+    map.setBlocked(9, 1);
+    map.setBlocked(9, 2);
+    const HiddenSampleMap swapped = map.withRolesSwapped(3, 1);
+    EXPECT_EQ(swapped.sourceCount(), 10);
+    EXPECT_EQ(swapped.receiverNa(), 3);
+    EXPECT_EQ(swapped.receiverNb(), 1);
+    EXPECT_EQ(swapped.blockedCount(), 4u);
+    EXPECT_TRUE(swapped.blocked(2, 0));
+    EXPECT_TRUE(swapped.blocked(0, 7));
+    EXPECT_TRUE(swapped.blocked(1, 9));
+    EXPECT_TRUE(swapped.blocked(2, 9));
+    EXPECT_FALSE(swapped.blocked(0, 2));
+    // Twice is the identity, across word boundaries too (100 source samples in a 10x10 grid, a
+    // 7x10 receiver grid).
+    HiddenSampleMap wide(100, 7, 10);
+    for (int j = 0; j < 70; ++j)
+        for (int i = (j * 7) % 3; i < 100; i += 3 + j % 5)
+            wide.setBlocked(j, i);
+    const HiddenSampleMap back = wide.withRolesSwapped(10, 10).withRolesSwapped(7, 10);
+    EXPECT_EQ(back.sourceCount(), 100);
+    EXPECT_EQ(back.receiverNa(), 7);
+    EXPECT_EQ(back.receiverNb(), 10);
+    EXPECT_EQ(back.blockedCount(), wide.blockedCount());
+    for (int j = 0; j < 70; ++j)
+        for (int i = 0; i < 100; ++i)
+            ASSERT_EQ(back.blocked(j, i), wide.blocked(j, i)) << j << " " << i;
+    EXPECT_THROW((void)map.withRolesSwapped(4, 2), std::invalid_argument);
 }
 
 TEST(NpyWriter, LayoutFollowsTheMaskContract)

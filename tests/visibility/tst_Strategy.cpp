@@ -240,3 +240,63 @@ TEST(Strategy, AChoiceServesSimilarConfigurationsOnly)
     jittered.jittered = true;
     EXPECT_FALSE(similarConfiguration(wall, jittered));
 }
+
+TEST(Strategy, PatchesSwapRolesWhereTheReceiverHasMoreSamplesAndFitsASource)
+{
+    const Patch source = xyPatch(0, 16, 8), receiver = xyPatch(2, 32, 32);
+    EXPECT_TRUE(swapPatchRoles(source, receiver, {}));
+    EXPECT_FALSE(swapPatchRoles(source, receiver, {.exact = false}));
+    EXPECT_FALSE(swapPatchRoles(source, receiver, {.jittered = true}));
+    EXPECT_FALSE(swapPatchRoles(source, receiver, {.bumpy = true}));
+    EXPECT_FALSE(swapPatchRoles(source, receiver, {.raysForced = true}));
+    EXPECT_FALSE(swapPatchRoles(receiver, source, {}));                 // fewer receiver samples
+    EXPECT_FALSE(swapPatchRoles(xyPatch(2, 32, 32), receiver, {}));      // as many
+    EXPECT_FALSE(swapPatchRoles(source, xyPatch(2, 33, 31), {}));        // 33 columns
+    EXPECT_FALSE(swapPatchRoles(source, xyPatch(2, 32, 33), {}));        // 1056 samples
+    EXPECT_TRUE(swapPatchRoles(xyPatch(2, 1, 1), xyPatch(2, 2, 1), {}));
+}
+
+TEST(Strategy, WithSwappedRolesTheBitmaskWherePredictedNoDearerRaysWhereFarCheaperElseRaysAreTimed)
+{
+    // The swapped call cannot time the bitmask on tiles, and its ray prediction only runs low.
+    const CostModel model{.setupNsPerTriangle = 1000.0, .passNsPerPair = 1.0, .passFalloff = 0.0};
+    CostEstimate e{.rays = 32 * 1024, .estimatedPairs = 0, .estimatedTriangles = 0, .receiverSamples = 32,
+                   .finerSamples = 1024, .swappedRoles = true};
+    const double rayMs = predictedRayMs(e, model);
+    const auto planAt = [&](double ratio) {
+        e.estimatedTriangles = std::uint64_t(ratio * rayMs * 1000.0);   // 1 us each
+        return planFor(e, model);
+    };
+    EXPECT_EQ(planAt(0.9 * kSwappedBitmaskClearCut), Plan::Bitmask);
+    EXPECT_EQ(planAt(1.1 * kSwappedBitmaskClearCut), Plan::Probe);
+    EXPECT_EQ(planAt(0.9 * kSwappedRaysClearCut), Plan::Probe);
+    EXPECT_EQ(planAt(1.1 * kSwappedRaysClearCut), Plan::RayCast);
+    // The same estimate with the roles kept: the usual rule (clear-cut at twice).
+    e.swappedRoles = false;
+    EXPECT_EQ(planAt(0.9 * kSwappedRaysClearCut), Plan::RayCast);
+}
+
+TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverAndWeighsItAgainstThePrediction)
+{
+    std::vector<int> probe, rest;
+    swappedProbeSamples(128, probe, rest);
+    EXPECT_EQ(probe.size(), 16u);
+    EXPECT_EQ(rest.size(), 112u);
+    std::vector<int> all = probe;
+    all.insert(all.end(), rest.begin(), rest.end());
+    std::sort(all.begin(), all.end());
+    for (int k = 0; k < 128; ++k)
+        EXPECT_EQ(all[std::size_t(k)], k);
+    EXPECT_TRUE(std::is_sorted(probe.begin(), probe.end()));
+    EXPECT_GT(probe.back() - probe.front(), 64);   // spread over the receiver, not its first rows
+    std::vector<int> again, restAgain;
+    swappedProbeSamples(128, again, restAgain);
+    EXPECT_EQ(again, probe);                       // the same samples every call
+    swappedProbeSamples(5, probe, rest);
+    EXPECT_EQ(probe.size(), 1u);
+    EXPECT_EQ(rest.size(), 4u);
+    // 16 of 128 samples in 1 ms: 8 ms for all, against the bitmask predicted at 3 ms (two
+    // threads' units: 6 ms of one) and at 5 ms (10 ms).
+    EXPECT_FALSE(swappedProbeChoosesRays(3.0, 1.0, 16, 128));
+    EXPECT_TRUE(swappedProbeChoosesRays(5.0, 1.0, 16, 128));
+}

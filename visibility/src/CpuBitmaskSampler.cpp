@@ -215,6 +215,23 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
     validatePatchPair(source, receiver);
     if (options.heights)
         validateReceiverHeights(source, receiver, *options.heights);
+    if (options.swapRoles &&
+        swapPatchRoles(source, receiver, {.exact = options.mode == MaskMode::Exact, .jittered = options.jitter.enabled(),
+                                          .bumpy = !flatReceiver(options.heights),
+                                          .raysForced = options.strategy == CpuStrategy::RayCast})) {
+        BitmaskOptions swappedOptions = options;
+        swappedOptions.heights = nullptr;   // all zero: the flat receiver, now the source
+        const HiddenSampleMap swapped = sampleOriented(receiver, source, swappedOptions, stats, /*swappedRoles=*/true);
+        if (stats)
+            stats->swappedRoles = true;
+        return swapped.withRolesSwapped(receiver.na, receiver.nb);
+    }
+    return sampleOriented(source, receiver, options, stats, /*swappedRoles=*/false);
+}
+
+HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
+                                                  BitmaskStats* stats, bool swappedRoles) const
+{
     // A bumpy receiver (§8). All-zero heights move no sample: the flat path, unchanged.
     const bool bumpy = !flatReceiver(options.heights);
     std::vector<glm::dvec3> displaced;
@@ -317,6 +334,30 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
         // follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on
         // a similar configuration serves without estimating again: the estimate prepares every
         // 32nd triangle, 3 ms of an 18 ms call on a 90,000-triangle dense mesh.
+        // Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
+        const auto castRays = [&](const RayCastOptions& rayOptions) {
+            const std::shared_ptr<const RayCastScene> reference = wholeSceneCaster();
+            const std::shared_ptr<const raycast::ProvenRayCaster> proven = provenCaster();
+            raycast::ProvenCastStats cast;
+            proven->sampleUnblocked(source, receiver, map, rayOptions, *reference, raycast::CastMode::Auto, &cast);
+            local.raysCast += cast.floatRays;
+            local.provenHits += cast.provenHits;
+            local.exactHitTests += cast.exactTests;
+            local.raysConfirmed += cast.confirmRays;
+            local.rayFloatMs += cast.floatMs;
+            local.rayConfirmMs += cast.confirmMs;
+            local.rayPackets = cast.packets;
+        };
+        // A probe measures each method by one thread's processor time (so that other jobs sharing
+        // the machine, which stretch the wall time of whatever runs while they do, do not decide
+        // it): its setup and its batches run on this thread alone.
+        tbb::task_arena one(1);
+        const auto onOneThread = [&](const auto& f) {
+            const double start = threadMs();
+            one.execute(f);
+            return threadMs() - start;
+        };
+
         Plan plan = Plan::Bitmask;
         const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy, shaft.floatKernel};
         bool warmGrids = false;   // Auto sampled these grids before: a probe's times are what later calls pay
@@ -344,6 +385,8 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 const CostEstimate cost{.rays = map.rayCount(), .estimatedPairs = estimate.pairs,
                                         .estimatedTriangles = estimate.triangles, .floatKernel = shaft.floatKernel,
                                         .bumpy = bumpy, .receiverSamples = receiver.sampleCount(),
+                                        .finerSamples = std::max(source.sampleCount(), receiver.sampleCount()),
+                                        .swappedRoles = swappedRoles,
                                         .openShare = 1.0 - double(local.proxyBlocked) / double(map.rayCount())};
                 const CostModel& model = measuredCosts(shaft.floatKernel);
                 plan = planFor(cost, model);
@@ -356,39 +399,38 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
                 }
             }
         }
-        // Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
-        const auto castRays = [&](const RayCastOptions& rayOptions) {
-            const std::shared_ptr<const RayCastScene> reference = wholeSceneCaster();
-            const std::shared_ptr<const raycast::ProvenRayCaster> proven = provenCaster();
-            raycast::ProvenCastStats cast;
-            proven->sampleUnblocked(source, receiver, map, rayOptions, *reference, raycast::CastMode::Auto, &cast);
-            local.raysCast += cast.floatRays;
-            local.provenHits += cast.provenHits;
-            local.exactHitTests += cast.exactTests;
-            local.raysConfirmed += cast.confirmRays;
-            local.rayFloatMs += cast.floatMs;
-            local.rayConfirmMs += cast.confirmMs;
-            local.rayPackets = cast.packets;
-        };
+        // With the roles swapped the receiver has too few tiles to time the bitmask on: the rays
+        // of a few receiver samples are timed instead (their rows are final either way) and
+        // weighed against the bitmask's prediction (swappedProbeChoosesRays).
+        std::vector<int> raySamples;   // the receiver samples left to cast, when not all
+        if (plan == Plan::Probe && swappedRoles) {
+            std::vector<int> probe;
+            swappedProbeSamples(receiver.sampleCount(), probe, raySamples);
+            const auto probeStart = Clock::now();
+            wholeSceneCaster(), provenCaster();
+            const double probeMs =
+                onOneThread([&] { castRays({.jitter = options.jitter, .receiverSubset = &probe}); });
+            local.rayMs += msSince(probeStart);
+            local.probed = true;
+            const bool rays =
+                swappedProbeChoosesRays(local.predictedBitmaskMs, probeMs, probe.size(), std::size_t(receiver.sampleCount()));
+            plan = rays ? Plan::RayCast : Plan::Bitmask;
+            std::lock_guard lock(probeMutex_);
+            probeMemo_ = std::make_unique<StrategyMemo>(
+                StrategyMemo{{configuration, rays, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
+        }
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
             wholeSceneCaster(), provenCaster();   // built on first use, counted as setup
             local.setupMs = msSince(setupStart);
             const auto rayStart = Clock::now();
-            castRays({.jitter = options.jitter, .heights = options.heights});
-            local.rayMs = msSince(rayStart);
+            castRays({.jitter = options.jitter,
+                      .heights = options.heights,
+                      .receiverSubset = local.probed ? &raySamples : nullptr});
+            local.rayMs += msSince(rayStart);
             return;
         }
-        // A probe measures each method by one thread's processor time (so that other jobs sharing
-        // the machine, which stretch the wall time of whatever runs while they do, do not decide
-        // it): its setup and its batches run on this thread alone.
         const bool probing = plan == Plan::Probe;
-        tbb::task_arena one(1);
-        const auto onOneThread = [&](const auto& f) {
-            const double start = threadMs();
-            one.execute(f);
-            return threadMs() - start;
-        };
         double setupThreadMs = 0.0;
         if (probing)
             setupThreadMs += onOneThread([&] { work->occluders.prepare(shaft, filter); });

@@ -29,6 +29,20 @@ std::uint64_t HiddenSampleMap::blockedCount() const
     return count;
 }
 
+HiddenSampleMap HiddenSampleMap::withRolesSwapped(int na, int nb) const
+{
+    if (std::int64_t(na) * std::int64_t(nb) != sourceCount_)
+        throw std::invalid_argument("HiddenSampleMap::withRolesSwapped: the grid does not match the source count");
+    HiddenSampleMap out(receiverCount(), na, nb);
+    for (int j = 0; j < receiverCount(); ++j) {
+        const std::span<const std::uint64_t> bits = row(j);
+        for (std::size_t w = 0; w < bits.size(); ++w)
+            for (std::uint64_t word = bits[w]; word; word &= word - 1)
+                out.setBlocked(int(64 * w) + std::countr_zero(word), j);
+    }
+    return out;
+}
+
 std::uint64_t HiddenSampleMap::differenceCount(const HiddenSampleMap& other) const
 {
     if (other.sourceCount_ != sourceCount_ || other.receiverNa_ != receiverNa_ ||

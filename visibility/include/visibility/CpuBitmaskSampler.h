@@ -91,6 +91,13 @@ struct BitmaskOptions {
     /// Applied only while both patches lie outside the mesh's bounds, so the answer never
     /// changes.
     bool innerProxy = true;
+    /// Exact mode, where the receiver has more samples than the source but no more than a
+    /// source may have (kMaxSourceSamples, at most 32 columns), no jitter and no heights: the
+    /// patches swap roles, so the bitmask backprojects onto the grid with more samples (its work
+    /// follows (triangle, receiver sample) pairs: 5-10x fewer at 32-128 source samples against a
+    /// 32x32 receiver), and the map comes back transposed. Not with the RayCast strategy, whose
+    /// answer is the reference's bit for bit. The answer never changes but for ties.
+    bool swapRoles = true;
     /// Exact mode: run well-conditioned occluders (projection factors up to 16, source grids up
     /// to 32 columns) through the single-precision AVX2 kernel, eight receiver samples at a time,
     /// where the CPU has AVX2; the rest stay in double. False: double everywhere.
@@ -107,6 +114,8 @@ struct BitmaskOptions {
 
 struct BitmaskStats {
     const char* strategy = "";        ///< "bitmask", "hybrid" or "raycast"
+    bool swappedRoles = false;        ///< sampled with the patches' roles swapped (BitmaskOptions::swapRoles);
+                                      ///< the other counts are the swapped call's
     double setupMs = 0.0;             ///< clipping, influence regions, binning
     double sampleMs = 0.0;            ///< backprojection and bit setting
     double rayMs = 0.0;               ///< ray casting: hybrid's BVH build of the small triangles and
@@ -166,6 +175,10 @@ public:
                            BitmaskStats* stats = nullptr) const;
 
 private:
+    /// sample() on a validated pair, in the roles given (`swappedRoles`: the caller's receiver
+    /// is `source` here, for Auto's choice).
+    HiddenSampleMap sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
+                                   BitmaskStats* stats, bool swappedRoles) const;
     /// Per instance: may watertight culling skip its front faces with this receiver? With a
     /// bumpy receiver, `displacedBox` bounds its displaced samples (null: the flat patch).
     std::vector<char> cullableInstances(const Patch& receiver, const Bounds* displacedBox = nullptr) const;

@@ -62,6 +62,12 @@ public:
 
     bool operator==(const HiddenSampleMap& other) const = default;
 
+    /// The same rays with the patches' roles swapped: `this` is a map whose receiver grid is
+    /// the other map's source grid, and whose sources are the other map's receiver grid of
+    /// na x nb samples (sourceCount() must be na * nb); ray (receiver j, source i) here is ray
+    /// (receiver i, source j) there.
+    HiddenSampleMap withRolesSwapped(int na, int nb) const;
+
 private:
     int sourceCount_ = 0;
     int receiverNa_ = 0;

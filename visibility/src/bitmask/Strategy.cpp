@@ -17,6 +17,8 @@ constexpr int kProbeMinSamples = 32 * 32;
 /// The probe needs every triangle binned to its tiles first (about estimated pairs / 64 entries,
 /// 4 bytes each): above this many, the prediction decides.
 constexpr std::uint64_t kProbeMaxBinEntries = std::uint64_t(40) << 20;
+/// The SIMD kernel's rows hold up to 32 source columns (BitmaskRows.h).
+constexpr int kSwapMaxColumns = 32;
 
 } // namespace
 
@@ -73,8 +75,36 @@ double predictedRayMs(const CostEstimate& e, const CostModel& m)
     const double coverage = e.estimatedTriangles > 0 && e.receiverSamples > 0
                                 ? double(e.estimatedPairs) / (double(e.estimatedTriangles) * double(e.receiverSamples))
                                 : 0.0;
-    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, e.receiverSamples, coverage) * double(e.rays) *
+    const int finer = std::max(e.finerSamples, e.receiverSamples);
+    return 1e-6 * m.rayNs(e.estimatedTriangles, pairsPerRay, finer, coverage) * double(e.rays) *
            std::clamp(e.openShare, 0.0, 1.0);
+}
+
+bool swapPatchRoles(const Patch& source, const Patch& receiver, const RoleSwapOptions& options)
+{
+    return options.exact && !options.jittered && !options.bumpy && !options.raysForced &&
+           receiver.sampleCount() > source.sampleCount() && receiver.sampleCount() <= kMaxSourceSamples &&
+           receiver.na <= kSwapMaxColumns;
+}
+
+void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vector<int>& rest)
+{
+    std::vector<int> all(std::size_t(std::max(receiverSamples, 0)));
+    for (std::size_t k = 0; k < all.size(); ++k)
+        all[k] = int(k);
+    std::mt19937 scramble(12345);
+    std::shuffle(all.begin(), all.end(), scramble);
+    const std::size_t count = std::min(all.size(), std::max<std::size_t>(1, all.size() / 8));
+    probe.assign(all.begin(), all.begin() + std::ptrdiff_t(count));
+    rest.assign(all.begin() + std::ptrdiff_t(count), all.end());
+    std::sort(probe.begin(), probe.end());
+    std::sort(rest.begin(), rest.end());
+}
+
+bool swappedProbeChoosesRays(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples)
+{
+    const double raysMs = probeMs * double(samples) / double(std::max<std::size_t>(probed, 1));
+    return raysMs < kSwappedBitmaskThreadFactor * bitmaskPredictedMs;
 }
 
 std::size_t probeTilesPerMethod(std::size_t tiles)
@@ -85,6 +115,10 @@ std::size_t probeTilesPerMethod(std::size_t tiles)
 Plan planFor(const CostEstimate& e, const CostModel& m)
 {
     const double bitmask = predictedBitmaskMs(e, m), rays = predictedRayMs(e, m);
+    if (e.swappedRoles)
+        return bitmask <= kSwappedBitmaskClearCut * rays ? Plan::Bitmask
+               : bitmask >= kSwappedRaysClearCut * rays  ? Plan::RayCast
+                                                          : Plan::Probe;
     if (bitmask <= kClearCut * rays)
         return Plan::Bitmask;
     if (rays <= kClearCut * bitmask)

@@ -25,6 +25,11 @@ struct CostEstimate {
     bool floatKernel = false;               ///< the SIMD kernel takes well-conditioned occluders
     bool bumpy = false;
     int receiverSamples = 0;
+    /// The finer of the two grids (0: the receiver's): ray casting starts its packets at the
+    /// other end (raycast/ProvenRayCaster.h), whichever patch is the source.
+    int finerSamples = 0;
+    /// The patches swapped roles (swapPatchRoles): the estimate is of the swapped call.
+    bool swappedRoles = false;
     /// The share of the rays still open when the strategy starts (the inner proxies answered
     /// the rest): ray casting skips answered rays, the bitmask does not.
     double openShare = 1.0;
@@ -81,8 +86,30 @@ enum class Plan {
 /// The estimate's verdict: clear-cut when one prediction is under half the other (the predictions
 /// miss the narrowed shaft and the scene's ray cost by up to that much over the bench scenes);
 /// otherwise probe, where the receiver has tiles enough for a probe (and its bins are not
-/// huge), else the cheaper prediction.
+/// huge), else the cheaper prediction. With the roles swapped: kSwappedRaysClearCut (below).
 Plan planFor(const CostEstimate& estimate, const CostModel& model);
+
+/// With the patches' roles swapped the receiver has at most 1023 samples, too few tiles to time
+/// the bitmask on, and the ray model's inputs (the swapped call's pairs per ray, a coarse
+/// receiver) lie outside the range it was fitted on: against one thread's times it predicts
+/// rays 2.2-8 times too cheap (cluttered rooms worst), the bitmask 1.3-2.3 times
+/// (docs/benchmarks.md, "Swapped roles"). So the plan is the bitmask where its prediction is no
+/// more than the rays' (interiors, halls, cluttered rooms at 128 source samples: the rays would
+/// only be dearer still), rays where it is over kSwappedRaysClearCut times (dense meshes at 32
+/// source samples), and in between the rays of a few receiver samples are timed
+/// (swappedProbeChoosesRays).
+inline constexpr double kSwappedBitmaskClearCut = 1.0;
+inline constexpr double kSwappedRaysClearCut = 8.0;
+
+/// The swapped probe's receiver samples (an eighth, at least one, drawn with a fixed seed) in
+/// `probe`, and the others in `rest`, both in increasing order.
+void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vector<int>& rest);
+
+/// The swapped probe's verdict: rays where the timed samples' cost, `probeMs` of one thread for
+/// `probed` of `samples` receiver samples, scaled to all, is under kSwappedBitmaskThreadFactor
+/// times the bitmask's prediction (the model's units are two threads' milliseconds).
+inline constexpr double kSwappedBitmaskThreadFactor = 2.0;
+bool swappedProbeChoosesRays(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples);
 
 /// While probing: whether enough is known to stop, from the tiles done by each method and their
 /// times, and the whole receiver's tile count and the batch size.
@@ -126,6 +153,20 @@ struct ProbeVerdict {
 /// the later ones), so its choice serves this call only and the next similar call probes again.
 ProbeVerdict probeVerdict(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs,
                           std::size_t tiles, double bitmaskSetupMs, bool warm);
+
+/// What decides whether the patches may swap roles (BitmaskOptions::swapRoles).
+struct RoleSwapOptions {
+    bool exact = true;        ///< exact mode (table mode is the paper's method as published)
+    bool jittered = false;    ///< jitter shifts the source grid per receiver sample: not symmetric
+    bool bumpy = false;       ///< heights displace the receiver's samples; a source is flat
+    bool raysForced = false;  ///< the RayCast strategy answers the reference's way, bit for bit
+};
+
+/// Whether to sample with the patches' roles swapped: the bitmask's work follows (triangle,
+/// receiver sample) pairs, so it backprojects onto the patch with more samples where that one
+/// can be a source (at most kMaxSourceSamples, and at most 32 columns: the SIMD kernel's rows).
+/// Segments are the same either way: the contract's test does not tell the ends apart.
+bool swapPatchRoles(const Patch& source, const Patch& receiver, const RoleSwapOptions& options);
 
 /// One sampling configuration, as far as Auto's choice depends on it.
 struct Configuration {
