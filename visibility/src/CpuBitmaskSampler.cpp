@@ -330,10 +330,6 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             local.proxyMs = msSince(proxyStart);
         }
 
-        // Few source samples: ray casting everything may be cheaper than the bitmask, whose cost
-        // follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on
-        // a similar configuration serves without estimating again: the estimate prepares every
-        // 32nd triangle, 3 ms of an 18 ms call on a 90,000-triangle dense mesh.
         // Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
         const auto castRays = [&](const RayCastOptions& rayOptions) {
             const std::shared_ptr<const RayCastScene> reference = wholeSceneCaster();
@@ -358,6 +354,10 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             return threadMs() - start;
         };
 
+        // Few source samples: ray casting everything may be cheaper than the bitmask, whose cost
+        // follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on
+        // a similar configuration serves without estimating again: the estimate prepares every
+        // 32nd triangle, 3 ms of an 18 ms call on a 90,000-triangle dense mesh.
         Plan plan = Plan::Bitmask;
         const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy, shaft.floatKernel};
         bool warmGrids = false;   // Auto sampled these grids before: a probe's times are what later calls pay
