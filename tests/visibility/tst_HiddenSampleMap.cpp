@@ -1,7 +1,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-
 #include <stdexcept>
 
 #include <gtest/gtest.h>
