@@ -225,12 +225,15 @@ int runShaft(const ShaftArgs& args)
                                       : std::string("bitmask-exact-rows");
         const std::string used = stats.strategy;
         const bool forced = options.strategy != CpuStrategy::Auto;
-        strategy = used == "hybrid"    ? "hybrid: " + masks + " + embree-packets-16"
+        strategy = used == "mixed"     ? "mixed: " + masks + " or embree float rays, per receiver tile"
+                   : used == "hybrid"  ? "hybrid: " + masks + " + embree-packets-16"
                    : used == "raycast" ? std::string("raycast: embree float rays, hits proven, free rays confirmed") +
                                              (forced ? " (forced by --strategy)" : " (cheaper than the bitmask here)")
                                        : masks;
         if (stats.proxyBlocked > 0)
             strategy += " (inner proxies of meshes answered " + std::to_string(stats.proxyBlocked) + " rays first)";
+        if (stats.receiverTiles > 1)
+            strategy += " (receiver in " + std::to_string(stats.receiverTiles) + " tiles)";
         if (stats.swappedRoles)
             strategy += " (patches' roles swapped: backprojected onto the receiver's finer grid)";
         if (stats.probed)
@@ -247,7 +250,7 @@ int runShaft(const ShaftArgs& args)
                  {"float_fallbacks", stats.floatFallbacks},
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
-                 {"proxies_built", stats.proxiesBuilt}, {"swapped_roles", stats.swappedRoles},
+                 {"proxies_built", stats.proxiesBuilt}, {"swapped_roles", stats.swappedRoles}, {"receiver_tiles", stats.receiverTiles},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
                  {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
     }

@@ -36,21 +36,18 @@ struct Method {
 
 /// How each case is asked: plainly, or with jitter and bumps made from the case's seed, or with
 /// a source of at most 8 rows (its 32 columns kept, so the categories that put an occluder on a
-/// source column still do) and a receiver of at most 32x32: more receiver samples than source
-/// samples, so the CPU sampler swaps the patches' roles (BitmaskOptions::swapRoles).
+/// source column still do): more receiver samples than source samples, so the CPU sampler swaps
+/// the patches' roles, receivers past 1024 samples split into tiles (BitmaskOptions::swapRoles).
 enum class Variant { Plain, Jittered, Bumpy, SmallSource };
 
-/// The patches a case is asked with under `variant` (SmallSource cuts the grids; the others
-/// keep the case's).
+/// The patches a case is asked with under `variant` (SmallSource cuts the source's rows; the
+/// others keep the case's).
 inline std::pair<Patch, Patch> askedPatches(const AdversarialCase& c, Variant variant)
 {
-    Patch source = c.source, receiver = c.receiver;
-    if (variant == Variant::SmallSource) {
+    Patch source = c.source;
+    if (variant == Variant::SmallSource)
         source.nb = std::min(source.nb, 8);
-        receiver.na = std::min(receiver.na, 32);
-        receiver.nb = std::min(receiver.nb, 32);
-    }
-    return {source, receiver};
+    return {source, c.receiver};
 }
 
 struct Tally {

@@ -365,7 +365,8 @@ TEST(CpuBitmaskSampler, PatchesSwapRolesOnlyWhereTheAnswerCannotChange)
     // the swapped map, transposed back, agrees with the unswapped one but for ties, on a comb
     // and on random triangles. Jitter (a per-receiver shift of the source grid), heights (a
     // bumpy receiver), table mode and a forced ray cast (the reference's answer, bit for bit)
-    // keep the roles; so do receivers past kMaxSourceSamples or 32 columns.
+    // keep the roles; so do receivers of up to kMaxSourceSamples in more than 32 columns (past
+    // kMaxSourceSamples they swap in tiles: ReceiversPastASourcesSamplesAreSampledInSwappedTiles).
     const Scene scene = sceneOf({combWall(40), randomSoup(7, 400, -0.5f, 1.5f, 0.2f, 1.8f, 0.2f)});
     const CpuBitmaskSampler sampler(scene);
     const Patch source = xyPatch(0, 16, 8), receiver = xyPatch(2, 32, 32);
@@ -402,10 +403,38 @@ TEST(CpuBitmaskSampler, PatchesSwapRolesOnlyWhereTheAnswerCannotChange)
     BitmaskOptions bumpy;
     bumpy.heights = &heights;
     EXPECT_FALSE(swaps(source, receiver, bumpy));
-    EXPECT_FALSE(swaps(source, xyPatch(2, 64, 32), {}));   // 2048 receiver samples
+    EXPECT_TRUE(swaps(source, xyPatch(2, 64, 32), {}));    // 2048 receiver samples: in two tiles
     EXPECT_FALSE(swaps(source, xyPatch(2, 64, 8), {}));    // 64 columns
     EXPECT_FALSE(swaps(xyPatch(0, 32, 32), receiver, {})); // as many samples either way
     EXPECT_TRUE(swaps(source, xyPatch(2, 32, 8), {}));
+}
+
+TEST(CpuBitmaskSampler, ReceiversPastASourcesSamplesAreSampledInSwappedTiles)
+{
+    // A 70x45 receiver (3,150 samples: past a source's 1,024) against a 16x8 source: split into
+    // 3 x 2 tiles of 23-24 x 22-23 samples, each swapped; the map put together agrees with the
+    // whole receiver's, sampled unswapped, but for ties, and with the exact brute force.
+    const Scene scene = sceneOf({combWall(40), randomSoup(7, 400, -0.5f, 1.5f, 0.2f, 1.8f, 0.2f)});
+    const CpuBitmaskSampler sampler(scene);
+    const Patch source = xyPatch(0, 16, 8), receiver = xyPatch(2, 70, 45);
+    for (CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::Bitmask}) {
+        BitmaskOptions tiled, whole;
+        tiled.strategy = whole.strategy = strategy;
+        whole.swapRoles = false;
+        BitmaskStats tiledStats, wholeStats;
+        const HiddenSampleMap a = sampler.sample(source, receiver, tiled, &tiledStats);
+        const HiddenSampleMap b = sampler.sample(source, receiver, whole, &wholeStats);
+        EXPECT_EQ(tiledStats.receiverTiles, 6);
+        EXPECT_TRUE(tiledStats.swappedRoles);
+        EXPECT_EQ(wholeStats.receiverTiles, 1);
+        EXPECT_EQ(a.sourceCount(), source.sampleCount());
+        EXPECT_EQ(a.receiverNa(), 70);
+        EXPECT_EQ(a.receiverNb(), 45);
+        const ExactJudge judge(worldTriangles(scene), source, receiver);
+        EXPECT_EQ(judge.judge(a, raysToJudge({&a, &b}, 8192, 1u)).nonTie(), 0u);
+        EXPECT_GT(a.blockedCount(), a.rayCount() / 10);
+        EXPECT_LT(a.differenceCount(b), a.rayCount() / 1000);
+    }
 }
 
 TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
@@ -417,15 +446,17 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     // times again, and so does a call after the receiver turned to face another way, or after
     // setScene. The first probe on a fresh sampler's grids is cold (Strategy.h, probeVerdict):
     // the next call times again, warm, and its choice is the one reused. Every answer is the
-    // reference's.
+    // reference's. (The patches keep their roles, whole: swapped calls probe by rays alone.)
     const Scene scene = sceneOf({combWall(120)});
+    BitmaskOptions keep;
+    keep.swapRoles = false;
     const RayCastScene reference(scene);
     Patch receiver = xyPatch(2, 64, 64);
     BitmaskStats stats;
     int bestSide = 0;
     double bestGap = std::log(2.0);
     for (const int side : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
-        CpuBitmaskSampler(scene).sample(xyPatch(0, side, side), receiver, {}, &stats);
+        CpuBitmaskSampler(scene).sample(xyPatch(0, side, side), receiver, keep, &stats);
         const double gap = std::abs(std::log(stats.predictedRayMs / stats.predictedBitmaskMs));
         if (stats.probed && gap < bestGap)
             bestSide = side, bestGap = gap;
@@ -433,19 +464,19 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     ASSERT_GT(bestSide, 0) << "no source grid puts the comb in the probing band";
     Patch source = xyPatch(0, bestSide, bestSide);
     CpuBitmaskSampler sampler(scene);
-    sampler.sample(source, receiver, {}, &stats);
+    sampler.sample(source, receiver, keep, &stats);
     ASSERT_TRUE(stats.probed);
     receiver.corner.x += 0.01;
-    sampler.sample(source, receiver, {}, &stats);
+    sampler.sample(source, receiver, keep, &stats);
     ASSERT_TRUE(stats.probed) << "a cold probe's choice was reused";
     ASSERT_FALSE(stats.reusedProbe);
     // The choice for later calls may differ from the rest of this call's (its setup was paid).
-    sampler.sample(source, receiver, {}, &stats);
+    sampler.sample(source, receiver, keep, &stats);
     ASSERT_TRUE(stats.reusedProbe);
     const std::string chosen = stats.strategy;
     for (int call = 2; call <= 8; ++call) {
         receiver.corner.x += 0.01;   // a drag: similar
-        const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
+        const HiddenSampleMap map = sampler.sample(source, receiver, keep, &stats);
         EXPECT_EQ(stats.probed, call == 8) << call;
         EXPECT_EQ(stats.reusedProbe, call < 8) << call;
         if (stats.reusedProbe) {
@@ -460,10 +491,10 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
     turned.u = {c, 0.0, s};
     turned.corner = receiver.centre() - 0.5 * (turned.u + turned.v);
-    sampler.sample(source, turned, {}, &stats);
+    sampler.sample(source, turned, keep, &stats);
     EXPECT_FALSE(stats.reusedProbe);
     sampler.setScene(scene);
-    sampler.sample(source, receiver, {}, &stats);
+    sampler.sample(source, receiver, keep, &stats);
     EXPECT_FALSE(stats.reusedProbe);
 }
 

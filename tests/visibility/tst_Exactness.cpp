@@ -69,14 +69,16 @@ TEST(Exactness, BumpyReceiversAreExactToo)
 
 TEST(Exactness, SmallSourcesAreExactWithThePatchesRolesSwapped)
 {
-    // 32x8 sources against receivers of up to 32x32: the CPU sampler backprojects onto the
-    // receiver (its patches swap roles) wherever the receiver has more samples.
+    // 32x8 sources against the cases' receivers (16x32 to 128x32): the CPU sampler backprojects
+    // onto the receiver (its patches swap roles), in tiles of up to 32x32 past 1024 samples.
     const std::vector<AdversarialCase> cases = suite({0.0, 1e4, 1e5}, seeds(2));
-    std::size_t swapped = 0;
+    std::size_t swapped = 0, tiled = 0;
     for (const AdversarialCase& c : cases) {
         const auto [source, receiver] = askedPatches(c, Variant::SmallSource);
         swapped += bitmask::swapPatchRoles(source, receiver, {});
+        tiled += bitmask::receiverTilesToSwap(source, receiver, {}).has_value();
     }
-    EXPECT_GT(swapped, cases.size() / 2);
+    EXPECT_GT(swapped, cases.size() / 4);
+    EXPECT_GT(tiled, cases.size() / 8);
     expectExact(judgeSuite(cases, cpuMethods(), Variant::SmallSource));
 }

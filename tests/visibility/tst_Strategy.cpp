@@ -300,3 +300,19 @@ TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverAndWeighsItAgainstThePre
     EXPECT_FALSE(swappedProbeChoosesRays(3.0, 1.0, 16, 128));
     EXPECT_TRUE(swappedProbeChoosesRays(5.0, 1.0, 16, 128));
 }
+
+TEST(Strategy, ReceiversPastASourcesSamplesSplitIntoTilesThatEachSwap)
+{
+    const Patch source = xyPatch(0, 8, 4);
+    EXPECT_FALSE(receiverTilesToSwap(source, xyPatch(2, 32, 32), {}));   // swaps whole
+    EXPECT_EQ(receiverTilesToSwap(source, xyPatch(2, 64, 64), {}), std::pair(2, 2));
+    EXPECT_EQ(receiverTilesToSwap(source, xyPatch(2, 70, 45), {}), std::pair(3, 2));
+    EXPECT_EQ(receiverTilesToSwap(source, xyPatch(2, 128, 32), {}), std::pair(4, 1));
+    EXPECT_FALSE(receiverTilesToSwap(source, xyPatch(2, 64, 64), {.jittered = true}));
+    EXPECT_FALSE(receiverTilesToSwap(source, xyPatch(2, 64, 64), {.raysForced = true}));
+    // Every tile must have more samples than the source: 1024 source samples never split.
+    EXPECT_FALSE(receiverTilesToSwap(xyPatch(0, 32, 32), xyPatch(2, 64, 64), {}));
+    // 33x33 splits into tiles of 16-17 x 16-17 (256 samples at least): a 16x16 source does not.
+    EXPECT_EQ(receiverTilesToSwap(xyPatch(0, 16, 15), xyPatch(2, 33, 33), {}), std::pair(2, 2));
+    EXPECT_FALSE(receiverTilesToSwap(xyPatch(0, 16, 16), xyPatch(2, 33, 33), {}));
+}

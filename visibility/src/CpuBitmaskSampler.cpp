@@ -5,6 +5,7 @@
 #include <chrono>
 #include <ctime>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -215,10 +216,10 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
     validatePatchPair(source, receiver);
     if (options.heights)
         validateReceiverHeights(source, receiver, *options.heights);
-    if (options.swapRoles &&
-        swapPatchRoles(source, receiver, {.exact = options.mode == MaskMode::Exact, .jittered = options.jitter.enabled(),
-                                          .bumpy = !flatReceiver(options.heights),
-                                          .raysForced = options.strategy == CpuStrategy::RayCast})) {
+    const RoleSwapOptions swap{.exact = options.mode == MaskMode::Exact, .jittered = options.jitter.enabled(),
+                               .bumpy = !flatReceiver(options.heights),
+                               .raysForced = options.strategy == CpuStrategy::RayCast};
+    if (options.swapRoles && swapPatchRoles(source, receiver, swap)) {
         BitmaskOptions swappedOptions = options;
         swappedOptions.heights = nullptr;   // all zero: the flat receiver, now the source
         const HiddenSampleMap swapped = sampleOriented(receiver, source, swappedOptions, stats, /*swappedRoles=*/true);
@@ -226,7 +227,71 @@ HiddenSampleMap CpuBitmaskSampler::sample(const Patch& source, const Patch& rece
             stats->swappedRoles = true;
         return swapped.withRolesSwapped(receiver.na, receiver.nb);
     }
+    if (options.swapRoles)
+        if (const std::optional<std::pair<int, int>> tiles = receiverTilesToSwap(source, receiver, swap))
+            return sampleByReceiverTiles(source, receiver, options, stats, tiles->first, tiles->second);
     return sampleOriented(source, receiver, options, stats, /*swappedRoles=*/false);
+}
+
+namespace {
+
+/// A tile's counts and times added to the whole call's.
+void addTileStats(BitmaskStats& total, const BitmaskStats& tile)
+{
+    total.strategy = total.receiverTiles == 0 || std::string_view(total.strategy) == tile.strategy ? tile.strategy : "mixed";
+    total.swappedRoles = total.swappedRoles || tile.swappedRoles;
+    ++total.receiverTiles;
+    total.setupMs += tile.setupMs, total.sampleMs += tile.sampleMs, total.rayMs += tile.rayMs;
+    total.trianglesInShaft = std::max(total.trianglesInShaft, tile.trianglesInShaft);
+    total.smallTriangles += tile.smallTriangles, total.pairs += tile.pairs, total.floatPairs += tile.floatPairs;
+    total.floatFallbacks += tile.floatFallbacks, total.raysCast += tile.raysCast, total.provenHits += tile.provenHits;
+    total.exactHitTests += tile.exactHitTests, total.raysConfirmed += tile.raysConfirmed;
+    total.rayFloatMs += tile.rayFloatMs, total.rayConfirmMs += tile.rayConfirmMs;
+    total.rayPackets = total.rayPackets || tile.rayPackets;
+    total.culledFrontFaces += tile.culledFrontFaces, total.proxyFaces += tile.proxyFaces;
+    total.proxyBlocked += tile.proxyBlocked, total.proxyMs += tile.proxyMs, total.proxiesBuilt += tile.proxiesBuilt;
+    total.narrowedAway += tile.narrowedAway, total.tableMs += tile.tableMs;
+    total.estimatedPairs += tile.estimatedPairs, total.estimatedTriangles += tile.estimatedTriangles;
+    total.predictedBitmaskMs += tile.predictedBitmaskMs, total.predictedRayMs += tile.predictedRayMs;
+    total.probed = total.probed || tile.probed;
+    total.reusedChoice = total.reusedChoice || tile.reusedChoice;
+    total.reusedProbe = total.reusedProbe || tile.reusedProbe;
+}
+
+} // namespace
+
+HiddenSampleMap CpuBitmaskSampler::sampleByReceiverTiles(const Patch& source, const Patch& receiver,
+                                                         const BitmaskOptions& options, BitmaskStats* stats, int columns,
+                                                         int rows) const
+{
+    // Each tile a patch of its own whose samples are the receiver's (up to rounding in the last
+    // bits of their positions, far inside the tie distance), sampled with the roles swapped.
+    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+    BitmaskOptions tileOptions = options;
+    tileOptions.heights = nullptr;   // none, or all zero: the flat receiver
+    BitmaskStats total;
+    total.receiverTiles = 0;
+    for (int tb = 0; tb < rows; ++tb)
+        for (int ta = 0; ta < columns; ++ta) {
+            const int a0 = ta * receiver.na / columns, a1 = (ta + 1) * receiver.na / columns;
+            const int b0 = tb * receiver.nb / rows, b1 = (tb + 1) * receiver.nb / rows;
+            Patch tile = receiver;
+            tile.corner = receiver.corner + double(a0) / receiver.na * receiver.u + double(b0) / receiver.nb * receiver.v;
+            tile.u = receiver.u * (double(a1 - a0) / receiver.na);
+            tile.v = receiver.v * (double(b1 - b0) / receiver.nb);
+            tile.na = a1 - a0, tile.nb = b1 - b0;
+            BitmaskStats part;
+            const HiddenSampleMap tileMap = sample(source, tile, tileOptions, &part);
+            for (int b = 0; b < tile.nb; ++b)
+                for (int a = 0; a < tile.na; ++a) {
+                    const std::span<const std::uint64_t> from = tileMap.row(b * tile.na + a);
+                    std::ranges::copy(from, map.row((b0 + b) * receiver.na + a0 + a).begin());
+                }
+            addTileStats(total, part);
+        }
+    if (stats)
+        *stats = total;
+    return map;
 }
 
 HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,

@@ -95,8 +95,10 @@ struct BitmaskOptions {
     /// source may have (kMaxSourceSamples, at most 32 columns), no jitter and no heights: the
     /// patches swap roles, so the bitmask backprojects onto the grid with more samples (its work
     /// follows (triangle, receiver sample) pairs: 1.4-53x fewer at 32-128 source samples against a
-    /// 32x32 receiver), and the map comes back transposed. Not with the RayCast strategy, whose
-    /// answer is the reference's bit for bit. The answer never changes but for ties.
+    /// 32x32 receiver), and the map comes back transposed. A larger receiver is split into tiles
+    /// of up to 32x32 samples, each swapped, where each has more samples than the source. Not
+    /// with the RayCast strategy, whose answer is the reference's bit for bit. The answer never
+    /// changes but for ties.
     bool swapRoles = true;
     /// Exact mode: run well-conditioned occluders (projection factors up to 16, source grids up
     /// to 32 columns) through the single-precision AVX2 kernel, eight receiver samples at a time,
@@ -116,6 +118,8 @@ struct BitmaskStats {
     const char* strategy = "";        ///< "bitmask", "hybrid" or "raycast"
     bool swappedRoles = false;        ///< sampled with the patches' roles swapped (BitmaskOptions::swapRoles);
                                       ///< the other counts are the swapped call's
+    int receiverTiles = 1;            ///< receiver tiles sampled one by one, each swapped (times and counts
+                                      ///< summed; "mixed" strategy where they chose differently)
     double setupMs = 0.0;             ///< clipping, influence regions, binning
     double sampleMs = 0.0;            ///< backprojection and bit setting
     double rayMs = 0.0;               ///< ray casting: hybrid's BVH build of the small triangles and
@@ -179,6 +183,10 @@ private:
     /// is `source` here, for Auto's choice).
     HiddenSampleMap sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
                                    BitmaskStats* stats, bool swappedRoles) const;
+    /// sample() on a validated pair whose receiver is split into columns x rows tiles
+    /// (bitmask::receiverTilesToSwap), each sampled on its own, and the maps put together.
+    HiddenSampleMap sampleByReceiverTiles(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
+                                          BitmaskStats* stats, int columns, int rows) const;
     /// Per instance: may watertight culling skip its front faces with this receiver? With a
     /// bumpy receiver, `displacedBox` bounds its displaced samples (null: the flat patch).
     std::vector<char> cullableInstances(const Patch& receiver, const Bounds* displacedBox = nullptr) const;

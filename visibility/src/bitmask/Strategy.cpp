@@ -87,6 +87,21 @@ bool swapPatchRoles(const Patch& source, const Patch& receiver, const RoleSwapOp
            receiver.na <= kSwapMaxColumns;
 }
 
+std::optional<std::pair<int, int>> receiverTilesToSwap(const Patch& source, const Patch& receiver,
+                                                       const RoleSwapOptions& options)
+{
+    if (receiver.sampleCount() <= kMaxSourceSamples)
+        return std::nullopt;
+    const int columns = (receiver.na + kSwapMaxColumns - 1) / kSwapMaxColumns;
+    const int rows = (receiver.nb + kSwapMaxColumns - 1) / kSwapMaxColumns;
+    // The smallest tile: the sides split as evenly as they go.
+    Patch smallest = receiver;
+    smallest.na = receiver.na / columns, smallest.nb = receiver.nb / rows;
+    if (!swapPatchRoles(source, smallest, options))
+        return std::nullopt;
+    return std::pair(columns, rows);
+}
+
 void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vector<int>& rest)
 {
     std::vector<int> all(std::size_t(std::max(receiverSamples, 0)));
