@@ -359,6 +359,34 @@ TEST(CpuBitmaskSampler, AutoTakesTheBitmaskWithSwappedRolesByItsOwnRule)
     EXPECT_GT(timed, 0);
 }
 
+namespace {
+
+/// Samples the pair with the patches' roles swapped where BitmaskOptions allows and with them
+/// kept; expects the two maps to agree but for ties (judged by the exact brute force) and
+/// returns the swapped call's stats.
+BitmaskStats expectSwapChangesOnlyTies(const Scene& scene, const CpuBitmaskSampler& sampler, const Patch& source,
+                                       const Patch& receiver, CpuStrategy strategy)
+{
+    BitmaskOptions swapped, kept;
+    swapped.strategy = kept.strategy = strategy;
+    kept.swapRoles = false;
+    BitmaskStats swappedStats, keptStats;
+    const HiddenSampleMap a = sampler.sample(source, receiver, swapped, &swappedStats);
+    const HiddenSampleMap b = sampler.sample(source, receiver, kept, &keptStats);
+    EXPECT_FALSE(keptStats.swappedRoles);
+    EXPECT_EQ(keptStats.receiverTiles, 1);
+    EXPECT_EQ(a.sourceCount(), source.sampleCount());
+    EXPECT_EQ(a.receiverNa(), receiver.na);
+    EXPECT_EQ(a.receiverNb(), receiver.nb);
+    const ExactJudge judge(worldTriangles(scene), source, receiver);
+    EXPECT_EQ(judge.judge(a, raysToJudge({&a, &b}, 8192, 1u)).nonTie(), 0u);
+    EXPECT_GT(a.blockedCount(), a.rayCount() / 10);
+    EXPECT_LT(a.differenceCount(b), a.rayCount() / 1000);
+    return swappedStats;
+}
+
+} // namespace
+
 TEST(CpuBitmaskSampler, PatchesSwapRolesOnlyWhereTheAnswerCannotChange)
 {
     // The same rays either way round (DESIGN.md §2's test does not tell a segment's ends apart):
@@ -371,17 +399,9 @@ TEST(CpuBitmaskSampler, PatchesSwapRolesOnlyWhereTheAnswerCannotChange)
     const CpuBitmaskSampler sampler(scene);
     const Patch source = xyPatch(0, 16, 8), receiver = xyPatch(2, 32, 32);
     for (CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::Bitmask, CpuStrategy::Hybrid}) {
-        BitmaskOptions swapped, kept;
-        swapped.strategy = kept.strategy = strategy;
-        kept.swapRoles = false;
-        BitmaskStats swappedStats, keptStats;
-        const HiddenSampleMap a = sampler.sample(source, receiver, swapped, &swappedStats);
-        const HiddenSampleMap b = sampler.sample(source, receiver, kept, &keptStats);
-        EXPECT_TRUE(swappedStats.swappedRoles);
-        EXPECT_FALSE(keptStats.swappedRoles);
-        const ExactJudge judge(worldTriangles(scene), source, receiver);
-        EXPECT_EQ(judge.judge(a, raysToJudge({&a, &b}, 8192, 1u)).nonTie(), 0u);
-        EXPECT_GT(a.blockedCount(), a.rayCount() / 10);
+        const BitmaskStats stats = expectSwapChangesOnlyTies(scene, sampler, source, receiver, strategy);
+        EXPECT_TRUE(stats.swappedRoles);
+        EXPECT_EQ(stats.receiverTiles, 1);
     }
     const auto swaps = [&](const Patch& s, const Patch& r, BitmaskOptions options) {
         BitmaskStats stats;
@@ -418,22 +438,9 @@ TEST(CpuBitmaskSampler, ReceiversPastASourcesSamplesAreSampledInSwappedTiles)
     const CpuBitmaskSampler sampler(scene);
     const Patch source = xyPatch(0, 16, 8), receiver = xyPatch(2, 70, 45);
     for (CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::Bitmask}) {
-        BitmaskOptions tiled, whole;
-        tiled.strategy = whole.strategy = strategy;
-        whole.swapRoles = false;
-        BitmaskStats tiledStats, wholeStats;
-        const HiddenSampleMap a = sampler.sample(source, receiver, tiled, &tiledStats);
-        const HiddenSampleMap b = sampler.sample(source, receiver, whole, &wholeStats);
-        EXPECT_EQ(tiledStats.receiverTiles, 6);
-        EXPECT_TRUE(tiledStats.swappedRoles);
-        EXPECT_EQ(wholeStats.receiverTiles, 1);
-        EXPECT_EQ(a.sourceCount(), source.sampleCount());
-        EXPECT_EQ(a.receiverNa(), 70);
-        EXPECT_EQ(a.receiverNb(), 45);
-        const ExactJudge judge(worldTriangles(scene), source, receiver);
-        EXPECT_EQ(judge.judge(a, raysToJudge({&a, &b}, 8192, 1u)).nonTie(), 0u);
-        EXPECT_GT(a.blockedCount(), a.rayCount() / 10);
-        EXPECT_LT(a.differenceCount(b), a.rayCount() / 1000);
+        const BitmaskStats stats = expectSwapChangesOnlyTies(scene, sampler, source, receiver, strategy);
+        EXPECT_TRUE(stats.swappedRoles);
+        EXPECT_EQ(stats.receiverTiles, 6);
     }
 }
 
