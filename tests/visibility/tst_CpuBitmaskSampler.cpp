@@ -1,5 +1,6 @@
 // The exact CPU bitmask sampler against closed forms, the brute-force caster and the Embree reference.
 #include <cmath>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -7,6 +8,7 @@
 #include "ExactJudge.h"
 #include "TestScenes.h"
 #include "bitmask/Strategy.h"
+#include "bitmask/TilePass.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/RayCastSampler.h"
@@ -628,4 +630,43 @@ TEST(RayCastSampler, JitteredHalfPlaneMatchesTheFormula)
         }
     EXPECT_EQ(mismatches, 0u);
     EXPECT_EQ(cpuMismatches, 0u);
+}
+
+TEST(TileBins, SortLargestFirstIsStableAndOrdersSizesToTheirRank)
+{
+    // Sizes as the bins meet them: zeros (edge-on), the whole-region marker 1e300, near-equal
+    // sizes, repeats, and random magnitudes over thirty octaves.
+    std::mt19937 rng(11);
+    std::vector<double> cells = {0.0, 1e300, 3.0, 3.0, 3.0 * (1.0 + 1e-9), 3.0 * (1.0 + 1e-3), 0.5, 1e300, 0.0};
+    std::uniform_real_distribution<double> exponent(-10.0, 20.0);
+    for (int i = 0; i < 5000; ++i)
+        cells.push_back(std::exp2(exponent(rng)));
+    std::vector<bitmask::SizeKey> keys, scratch;
+    for (std::size_t i = 0; i < cells.size(); ++i)
+        keys.push_back({bitmask::sizeRank(cells[i]), std::uint32_t(i)});
+    bitmask::sortLargestFirst(keys, scratch);
+    ASSERT_EQ(keys.size(), cells.size());
+    std::vector<char> seen(cells.size(), 0);
+    for (std::size_t n = 0; n < keys.size(); ++n) {
+        ASSERT_FALSE(seen[keys[n].occluder]) << "a permutation";
+        seen[keys[n].occluder] = 1;
+        if (n == 0)
+            continue;
+        const bitmask::SizeKey& before = keys[n - 1];
+        const bitmask::SizeKey& after = keys[n];
+        ASSERT_LE(before.rank, after.rank);
+        if (before.rank == after.rank) {
+            ASSERT_LT(before.occluder, after.occluder) << "equal ranks keep their order";
+        }
+        // Never a size more than 2^-12 larger after a smaller one.
+        ASSERT_GE(cells[before.occluder] * (1.0 + std::exp2(-12.0)), cells[after.occluder]) << n;
+    }
+    EXPECT_EQ(keys.front().occluder, 1u);   // 1e300, then its repeat
+    EXPECT_EQ(keys[1].occluder, 7u);
+    EXPECT_EQ(keys[keys.size() - 2].occluder, 0u);   // the zeros last, in order
+    EXPECT_EQ(keys.back().occluder, 8u);
+    // 3.0 and 3.0 (1 + 1e-9) share a rank; 3.0 (1 + 1e-3) does not.
+    EXPECT_EQ(bitmask::sizeRank(3.0), bitmask::sizeRank(3.0 * (1.0 + 1e-9)));
+    EXPECT_LT(bitmask::sizeRank(3.0 * (1.0 + 1e-3)), bitmask::sizeRank(3.0));
+    EXPECT_EQ(bitmask::sizeRank(std::nan("")), bitmask::sizeRank(0.0)) << "no NaN reaches here; if one did, last";
 }

@@ -43,3 +43,32 @@ TEST(ShaftHull, NeverExcludesAPointOnASegment)
     }
     EXPECT_GE(checked, 30);
 }
+
+TEST(ClipPolygon, KeepsAPolygonWhollyInsideAndCutsOneThatCrosses)
+{
+    // Wholly on the kept side (z > 0.25): unchanged, vertex for vertex.
+    ClippedPolygon inside;
+    inside.vertices[0] = {0.1, 0.2, 0.3};
+    inside.vertices[1] = {1.7, -0.4, 0.9};
+    inside.vertices[2] = {-2.3, 5.1, 0.25000000000001};
+    inside.count = 3;
+    const ClippedPolygon before = inside;
+    clipPolygon(inside, {0.0, 0.0, 1.0}, 0.25);
+    ASSERT_EQ(inside.count, 3);
+    for (int i = 0; i < 3; ++i)
+        EXPECT_EQ(inside.vertices[std::size_t(i)], before.vertices[std::size_t(i)]);
+
+    // A vertex on the plane counts as outside; one below it is cut away: the triangle
+    // (0,0,1) (2,0,1) (0,0,-1) against z > 0 keeps the quad with the cuts at (0,0,0) and (1,0,0).
+    ClippedPolygon crossing;
+    crossing.vertices[0] = {0.0, 0.0, 1.0};
+    crossing.vertices[1] = {2.0, 0.0, 1.0};
+    crossing.vertices[2] = {0.0, 0.0, -1.0};
+    crossing.count = 3;
+    clipPolygon(crossing, {0.0, 0.0, 1.0}, 0.0);
+    ASSERT_EQ(crossing.count, 4);
+    EXPECT_EQ(crossing.vertices[0], glm::dvec3(0.0, 0.0, 1.0));
+    EXPECT_EQ(crossing.vertices[1], glm::dvec3(2.0, 0.0, 1.0));
+    EXPECT_EQ(crossing.vertices[2], glm::dvec3(1.0, 0.0, 0.0));
+    EXPECT_EQ(crossing.vertices[3], glm::dvec3(0.0, 0.0, 0.0));
+}

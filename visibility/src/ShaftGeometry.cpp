@@ -27,11 +27,22 @@ PatchFrame::PatchFrame(const Patch& patch, const glm::dvec3& towards) : origin(p
 
 void clipPolygon(ClippedPolygon& polygon, const glm::dvec3& normal, double offset)
 {
+    std::array<double, ClippedPolygon::kMaxVertices> distance;
+    bool allInside = true;
+    for (int i = 0; i < polygon.count; ++i) {
+        distance[std::size_t(i)] = glm::dot(polygon.vertices[std::size_t(i)], normal) - offset;
+        allInside = allInside && distance[std::size_t(i)] > 0.0;
+    }
+    // Most triangles in a shaft lie wholly between its planes: left as they are, without the
+    // copy (a tenth of a swapped bitmask call's setup in profiles went to building `out`).
+    if (allInside)
+        return;
     ClippedPolygon out;
     for (int i = 0; i < polygon.count; ++i) {
+        const int next = (i + 1) % polygon.count;
         const glm::dvec3& p = polygon.vertices[std::size_t(i)];
-        const glm::dvec3& q = polygon.vertices[std::size_t((i + 1) % polygon.count)];
-        const double dp = glm::dot(p, normal) - offset, dq = glm::dot(q, normal) - offset;
+        const glm::dvec3& q = polygon.vertices[std::size_t(next)];
+        const double dp = distance[std::size_t(i)], dq = distance[std::size_t(next)];
         if (dp > 0.0)
             out.vertices[std::size_t(out.count++)] = p;
         // Interpolated from the inside end, whichever way the edge is walked: two triangles

@@ -34,6 +34,20 @@ struct TileOccluder {
 };
 static_assert(kMaxReceiverSide <= 32767, "TileOccluder's sample range");
 
+/// An occluder's place in the largest-first order: `rank` from sizeRank, smaller first.
+struct SizeKey {
+    std::uint32_t rank;
+    std::uint32_t occluder;
+};
+
+/// A 24-bit rank that orders sizes (backprojected cells, >= 0) largest first, to within 2^-12 of
+/// each other: sizes that close may share a rank.
+std::uint32_t sizeRank(double cells);
+
+/// Sorts by rank, equal ranks keeping their order (stable): two counting passes of 12 bits, where
+/// a comparison sort took a tenth of a swapped call's setup. `scratch` is working storage.
+void sortLargestFirst(std::vector<SizeKey>& keys, std::vector<SizeKey>& scratch);
+
 /// Per tile, the occluders whose region meets it, largest first: they block the most, and what
 /// they block narrows the shaft for the small ones that follow. One global sort, then binning in
 /// that order, keeps every bin sorted. Storage is kept between calls.
@@ -52,12 +66,8 @@ public:
     void tileSamples(std::size_t tile, int receiverNa, int receiverNb, std::vector<int>& out) const;
 
 private:
-    struct Key {
-        double cells;
-        std::uint32_t occluder;
-    };
     int tilesA_ = 0;
-    std::vector<Key> keys_;
+    std::vector<SizeKey> keys_, keysScratch_;
     std::vector<std::uint32_t> order_;
     std::vector<TileOccluder> tileOccluders_;   // in order_
     std::vector<std::vector<std::uint32_t>> bins_;   // positions in tileOccluders_
