@@ -132,22 +132,57 @@ TEST(Strategy, AProbeTimesOneTileInEightButAtLeastFour)
 
 TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)
 {
-    // 64 tiles, batches of 4: not before two batches of the bitmask.
-    EXPECT_FALSE(probeIsDecided(4, 4.0, 4, 10.0, 64, 4));
+    // Tiles' shares (no units probed): 4 of 64 tiles each, batches of 4: not before two batches
+    // of the bitmask.
+    const double quarter = probeShare(0.0, 100.0, 16, 64);
+    EXPECT_DOUBLE_EQ(quarter, 0.25);
+    EXPECT_FALSE(probeIsDecided({4.0, 4.0 / 64}, 4, {10.0, 4.0 / 64}, 4, 4));
     // Ray tiles at 2.5 ms against bitmask tiles at 1 ms: decided.
-    EXPECT_TRUE(probeIsDecided(8, 8.0, 4, 10.0, 64, 4));
+    EXPECT_TRUE(probeIsDecided({8.0, 8.0 / 64}, 8, {10.0, 4.0 / 64}, 4, 4));
     // Within a factor of two, and the probe has cost under a tenth of the faster whole: go on.
-    EXPECT_FALSE(probeIsDecided(8, 8.0, 8, 12.0, 1000, 4));
+    EXPECT_FALSE(probeIsDecided({8.0, 8.0 / 1000}, 8, {12.0, 8.0 / 1000}, 8, 4));
     // ... and once it has cost a tenth of it: stop.
-    EXPECT_TRUE(probeIsDecided(8, 8.0, 8, 12.0, 100, 4));
-    // 64 tiles; no setup: per tile decides.
-    EXPECT_TRUE(probeChoosesRays(8, 10.0, 8, 8.0, 64, 0.0));
-    EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 0.0));
-    EXPECT_FALSE(probeChoosesRays(8, 8.0, 4, 4.0, 64, 0.0));   // per tile: equal, the bitmask
-    // Rays 25% dearer per tile (80 against 64 ms for the receiver), but the bitmask's setup took
-    // 20 ms: rays, which later calls take without that setup.
-    EXPECT_TRUE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 20.0));
-    EXPECT_FALSE(probeChoosesRays(8, 8.0, 8, 10.0, 64, 10.0));
+    EXPECT_TRUE(probeIsDecided({8.0, 8.0 / 100}, 8, {12.0, 8.0 / 100}, 8, 4));
+    // No setup: the wholes decide.
+    EXPECT_TRUE(probeChoosesRays({10.0, 0.125}, {8.0, 0.125}, 0.0));
+    EXPECT_FALSE(probeChoosesRays({8.0, 0.125}, {10.0, 0.125}, 0.0));
+    EXPECT_FALSE(probeChoosesRays({8.0, 0.125}, {4.0, 0.0625}, 0.0));   // equal wholes: the bitmask
+    // Rays 25% dearer (80 against 64 ms for the receiver), but the bitmask's setup took 20 ms:
+    // rays, which later calls take without that setup.
+    EXPECT_TRUE(probeChoosesRays({8.0, 0.125}, {10.0, 0.125}, 20.0));
+    EXPECT_FALSE(probeChoosesRays({8.0, 0.125}, {10.0, 0.125}, 10.0));
+}
+
+TEST(Strategy, AProbeScalesEachMethodByTheWorkItsTilesHold)
+{
+    // Measured (rounded), whole calls taking 200-290 ms by rays and 280-340 by the bitmask: a
+    // dense mesh at 1024 x 64x64, whose eight ray tiles of 64 held a fifth of the free rays and
+    // took 35 ms, and whose eight bitmask tiles held a ninth of the bin entries and took 36 ms.
+    // By tiles alone (an eighth each) the rays looked dearer: 280 against 288 + setup.
+    {
+        const ProbePart rays{35.0, probeShare(278000.0, 1400000.0, 8, 64)};
+        const ProbePart bitmask{36.0, probeShare(91000.0, 853000.0, 8, 64)};
+        EXPECT_NEAR(rays.share, 0.5 * (0.1986 + 0.125), 1e-3);
+        EXPECT_NEAR(rays.wholeMs(), 216.0, 2.0);
+        EXPECT_NEAR(bitmask.wholeMs(), 311.0, 2.0);
+        EXPECT_TRUE(probeChoosesRays(bitmask, rays, 14.0));
+        EXPECT_TRUE(probeVerdict(bitmask, rays, 14.0, true).restByRays);
+    }
+    // Another at 1024 x 32x32 (whole calls: rays 26-37 ms, bitmask 31-42): four ray tiles of 16
+    // held a tenth of the free rays and took 5 ms, four bitmask tiles a quarter of the entries
+    // and 5.6 ms, with a 9 ms setup. By units alone the rays came out at 48 ms and lost.
+    {
+        const ProbePart rays{5.0, probeShare(0.105, 1.0, 4, 16)};
+        const ProbePart bitmask{5.6, probeShare(0.261, 1.0, 4, 16)};
+        EXPECT_NEAR(rays.wholeMs(), 28.1, 0.5);
+        EXPECT_TRUE(probeChoosesRays(bitmask, rays, 9.0));
+        EXPECT_FALSE(probeChoosesRays(bitmask, ProbePart{5.0, 0.105}, 9.0));
+    }
+    // Tiles with no units probed (the bitmask's tiles held no occluder): the tiles' share.
+    EXPECT_DOUBLE_EQ(probeShare(0.0, 500.0, 8, 64), 0.125);
+    // No work anywhere: the tiles' share, and a whole of nothing costs nothing.
+    EXPECT_DOUBLE_EQ(probeShare(0.0, 0.0, 4, 16), 0.25);
+    EXPECT_DOUBLE_EQ((ProbePart{0.0, 0.0}).wholeMs(), 0.0);
 }
 
 TEST(Strategy, AProbeTimesBothMethodsOnNeighbouringTilesOverTheWholeReceiver)
@@ -193,17 +228,17 @@ TEST(Strategy, AColdProbeDecidesItsOwnCallOnly)
 {
     // Rays 1 ms a tile, the bitmask 0.8 and a 20 ms setup, over 16 tiles: this call has paid its
     // setup, so its other tiles go by bitmask; later calls go by rays (16 ms against 32.8).
-    const ProbeVerdict warm = probeVerdict(4, 3.2, 4, 4.0, 16, 20.0, true);
+    const ProbeVerdict warm = probeVerdict({3.2, 0.25}, {4.0, 0.25}, 20.0, true);
     EXPECT_FALSE(warm.restByRays);
     EXPECT_TRUE(warm.memoRays);
     EXPECT_EQ(warm.memoCalls, kProbeReuse);
     // The same times measured on grids the sampler had not sampled before: the choice serves
     // no later call (the next one probes again, warm).
-    const ProbeVerdict cold = probeVerdict(4, 3.2, 4, 4.0, 16, 20.0, false);
+    const ProbeVerdict cold = probeVerdict({3.2, 0.25}, {4.0, 0.25}, 20.0, false);
     EXPECT_FALSE(cold.restByRays);
     EXPECT_EQ(cold.memoCalls, 0);
     // Rays cheaper per tile: the rest by rays as well.
-    EXPECT_TRUE(probeVerdict(4, 4.0, 4, 3.2, 16, 0.0, true).restByRays);
+    EXPECT_TRUE(probeVerdict({4.0, 0.25}, {3.2, 0.25}, 0.0, true).restByRays);
 }
 
 TEST(Strategy, AChoiceServesSimilarConfigurationsOnly)

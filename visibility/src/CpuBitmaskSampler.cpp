@@ -559,32 +559,54 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
             std::size_t bitmaskDone = 0, rayDone = 0;
             double bitmaskMs = 0.0, rayMs = 0.0;
+            // Each method's work per tile (Strategy.h, probeShare): the bitmask's bin entries, and
+            // the rays still free (the inner proxies may have answered many).
+            std::vector<double> bitmaskUnits(bins.tileCount()), rayUnits(bins.tileCount());
+            double bitmaskTotal = 0.0, rayTotal = 0.0;
+            for (std::size_t t = 0; t < bins.tileCount(); ++t) {
+                bitmaskUnits[t] = double(bins.bin(t).size());
+                samples.clear();
+                bins.tileSamples(t, receiver.na, receiver.nb, samples);
+                for (int j : samples)
+                    rayUnits[t] += double(source.sampleCount() - std::as_const(map).blockedCount(j));
+                bitmaskTotal += bitmaskUnits[t], rayTotal += rayUnits[t];
+            }
+            double bitmaskProbed = 0.0, rayProbed = 0.0;
+            const auto parts = [&] {
+                return std::pair(
+                    ProbePart{bitmaskMs, probeShare(bitmaskProbed, bitmaskTotal, bitmaskDone, bins.tileCount())},
+                    ProbePart{rayMs, probeShare(rayProbed, rayTotal, rayDone, bins.tileCount())});
+            };
             while (bitmaskDone < bitmaskTiles.size() || rayDone < rayTiles.size()) {
                 if (bitmaskDone < bitmaskTiles.size()) {
                     const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
                     const std::vector<std::uint32_t> part(bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone),
                                                           bitmaskTiles.begin() + std::ptrdiff_t(end));
                     bitmaskMs += onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow, &part)); });
+                    for (std::uint32_t t : part)
+                        bitmaskProbed += bitmaskUnits[t];
                     bitmaskDone = end;
                 }
                 if (rayDone < rayTiles.size()) {
                     const std::size_t end = std::min(rayDone + batch, rayTiles.size());
                     samples.clear();
-                    for (std::size_t k = rayDone; k < end; ++k)
+                    for (std::size_t k = rayDone; k < end; ++k) {
                         bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
+                        rayProbed += rayUnits[rayTiles[k]];
+                    }
                     const auto start = Clock::now();
                     rayMs += onOneThread([&] { castRays(rayOptions); });
                     local.rayMs += msSince(start);
                     rayDone = end;
                 }
-                if (probeIsDecided(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), batch))
+                if (const auto [bitmask, rays] = parts(); probeIsDecided(bitmask, bitmaskDone, rays, rayDone, batch))
                     break;
             }
             rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
             rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
             local.probed = true;
-            const ProbeVerdict verdict =
-                probeVerdict(bitmaskDone, bitmaskMs, rayDone, rayMs, bins.tileCount(), setupThreadMs, warmGrids);
+            const auto [bitmaskPart, rayPart] = parts();
+            const ProbeVerdict verdict = probeVerdict(bitmaskPart, rayPart, setupThreadMs, warmGrids);
             {
                 std::lock_guard lock(probeMutex_);
                 probeMemo_ = std::make_unique<StrategyMemo>(

@@ -144,24 +144,29 @@ Plan planFor(const CostEstimate& e, const CostModel& m)
     return bitmask <= rays ? Plan::Bitmask : Plan::RayCast;
 }
 
-bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
+double probeShare(double probedUnits, double totalUnits, std::size_t probedTiles, std::size_t tiles)
+{
+    const double byTiles = double(probedTiles) / double(std::max<std::size_t>(tiles, 1));
+    if (!(probedUnits > 0.0 && totalUnits >= probedUnits))
+        return byTiles;
+    return 0.5 * (probedUnits / totalUnits + byTiles);
+}
+
+bool probeIsDecided(const ProbePart& bitmask, std::size_t bitmaskTiles, const ProbePart& rays, std::size_t rayTiles,
                     std::size_t batch)
 {
     if (bitmaskTiles < 2 * batch || rayTiles == 0)
         return false;
-    // Once one method costs twice the other per tile, or the probe has cost a tenth of what the
-    // faster would take for the whole receiver.
-    const double perBitmask = bitmaskMs / double(bitmaskTiles), perRay = rayMs / double(rayTiles);
-    const double wholeFaster = std::min(perBitmask, perRay) * double(tiles);
-    return perBitmask > 2.0 * perRay || perRay > 2.0 * perBitmask || bitmaskMs + rayMs > 0.1 * wholeFaster;
+    // Once one method costs twice the other, or the probe has cost a tenth of what the faster
+    // would take for the whole receiver.
+    const double wholeBitmask = bitmask.wholeMs(), wholeRays = rays.wholeMs();
+    return wholeBitmask > 2.0 * wholeRays || wholeRays > 2.0 * wholeBitmask ||
+           bitmask.ms + rays.ms > 0.1 * std::min(wholeBitmask, wholeRays);
 }
 
-bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
-                      double bitmaskSetupMs)
+bool probeChoosesRays(const ProbePart& bitmask, const ProbePart& rays, double bitmaskSetupMs)
 {
-    const double perBitmask = bitmaskMs / double(std::max<std::size_t>(bitmaskTiles, 1));
-    const double perRay = rayMs / double(std::max<std::size_t>(rayTiles, 1));
-    return perRay * double(tiles) < bitmaskSetupMs + perBitmask * double(tiles);
+    return rays.wholeMs() < bitmaskSetupMs + bitmask.wholeMs();
 }
 
 ProbeTiles probeTiles(std::size_t tiles, std::size_t tilesA, std::size_t perMethod)
@@ -193,13 +198,10 @@ ProbeTiles probeTiles(std::size_t tiles, std::size_t tilesA, std::size_t perMeth
     return out;
 }
 
-ProbeVerdict probeVerdict(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs,
-                          std::size_t tiles, double bitmaskSetupMs, bool warm)
+ProbeVerdict probeVerdict(const ProbePart& bitmask, const ProbePart& rays, double bitmaskSetupMs, bool warm)
 {
-    const double perBitmask = bitmaskMs / double(std::max<std::size_t>(bitmaskTiles, 1));
-    const double perRay = rayMs / double(std::max<std::size_t>(rayTiles, 1));
-    return {.restByRays = perRay < perBitmask,
-            .memoRays = probeChoosesRays(bitmaskTiles, bitmaskMs, rayTiles, rayMs, tiles, bitmaskSetupMs),
+    return {.restByRays = rays.wholeMs() < bitmask.wholeMs(),
+            .memoRays = probeChoosesRays(bitmask, rays, bitmaskSetupMs),
             .memoCalls = warm ? kProbeReuse : 0};
 }
 

@@ -113,19 +113,37 @@ void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vect
 inline constexpr double kSwappedBitmaskThreadFactor = 2.0;
 bool swappedProbeChoosesRays(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples);
 
-/// While probing: whether enough is known to stop, from the tiles done by each method and their
-/// times, and the whole receiver's tile count and the batch size.
-bool probeIsDecided(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
+/// One method's part of a probe: one thread's processor time, and the share of the whole
+/// receiver's work for that method it covered (probeShare).
+struct ProbePart {
+    double ms = 0.0;
+    double share = 0.0;
+    /// The whole receiver by this method, at the probe's rate.
+    double wholeMs() const { return share > 0.0 ? ms / share : 0.0; }
+};
+
+/// The share of a method's work that its probed tiles hold: the mean of their share of the tiles
+/// and of `probedUnits` of `totalUnits`, units being what its cost follows across tiles (the
+/// bitmask: bin entries, i.e. occluders over the tile; rays: rays still free when the probe
+/// starts). Tiles differ in work far more than a unit does (a statue fills a few of them): by
+/// tiles alone the eight of a 64-tile dense mesh misjudged its rays by a third and its bitmask by
+/// a sixth, both the wrong way. By units alone another dense mesh's rays came out 1.5 times too
+/// dear: per-call and per-tile costs do not follow the units, nor do rays of different kinds (a
+/// tile whose rays the inner proxies mostly answered keeps the dear ones, near the surface).
+/// docs/benchmarks.md, "Auto's probe". Where no unit was probed the tiles' share stands in.
+double probeShare(double probedUnits, double totalUnits, std::size_t probedTiles, std::size_t tiles);
+
+/// While probing: whether enough is known to stop, from each method's part so far, the tiles it
+/// has done and the batch size.
+bool probeIsDecided(const ProbePart& bitmask, std::size_t bitmaskTiles, const ProbePart& rays, std::size_t rayTiles,
                     std::size_t batch);
 
-/// The probe's verdict: ray casting when a whole call by rays (its cost per tile times the
-/// receiver's `tiles`) would cost less than a whole call by the bitmask, which is its cost per
-/// tile times the tiles plus its setup (`bitmaskSetupMs`: clipping, regions, binning). The choice
-/// serves later calls (ProbeMemo), which by rays skip that setup altogether. The sampler measures
-/// all of these as one thread's processor time (the probe's setup and batches run on one thread),
-/// which other jobs sharing the machine do not stretch as they stretch the wall time.
-bool probeChoosesRays(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs, std::size_t tiles,
-                      double bitmaskSetupMs);
+/// The probe's verdict: ray casting when a whole call by rays would cost less than a whole call
+/// by the bitmask plus its setup (`bitmaskSetupMs`: clipping, regions, binning). The choice serves
+/// later calls (ProbeMemo), which by rays skip that setup altogether. The sampler measures all of
+/// these as one thread's processor time (the probe's setup and batches run on one thread), which
+/// other jobs sharing the machine do not stretch as they stretch the wall time.
+bool probeChoosesRays(const ProbePart& bitmask, const ProbePart& rays, double bitmaskSetupMs);
 
 /// The tiles a probe times (each method's, in the order it does them) and those it leaves.
 struct ProbeTiles {
@@ -143,7 +161,7 @@ ProbeTiles probeTiles(std::size_t tiles, std::size_t tilesA, std::size_t perMeth
 
 /// What a probe decides, for the call that made it and for later ones.
 struct ProbeVerdict {
-    bool restByRays = false;   ///< this call's untimed tiles: its setup is paid, so per tile
+    bool restByRays = false;   ///< this call's untimed tiles: its setup is paid, so the wholes without it
     bool memoRays = false;     ///< later calls on a similar configuration (probeChoosesRays)
     int memoCalls = 0;         ///< how many later calls that choice serves
 };
@@ -153,8 +171,7 @@ struct ProbeVerdict {
 /// buffers (a fresh sampler's setup took 22 ms on the demo at 32 sources x 32x32, against 3-5
 /// warm, and 85 ms against 24-39 on a dense mesh) and on the float BVH (its first rays cost twice
 /// the later ones), so its choice serves this call only and the next similar call probes again.
-ProbeVerdict probeVerdict(std::size_t bitmaskTiles, double bitmaskMs, std::size_t rayTiles, double rayMs,
-                          std::size_t tiles, double bitmaskSetupMs, bool warm);
+ProbeVerdict probeVerdict(const ProbePart& bitmask, const ProbePart& rays, double bitmaskSetupMs, bool warm);
 
 /// What decides whether the patches may swap roles (BitmaskOptions::swapRoles).
 struct RoleSwapOptions {
