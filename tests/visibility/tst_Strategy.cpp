@@ -155,7 +155,7 @@ TEST(Strategy, AProbeStopsOnceOneMethodIsClearlyFasterOrItHasCostEnough)
 
 TEST(Strategy, AProbeScalesEachMethodByTheWorkItsTilesHold)
 {
-    // Measured (rounded), whole calls taking 200-290 ms by rays and 280-340 by the bitmask: a
+    // Measured (rounded), whole calls taking 200-290 ms by rays and 260-340 by the bitmask: a
     // dense mesh at 1024 x 64x64, whose eight ray tiles of 64 held a fifth of the free rays and
     // took 35 ms, and whose eight bitmask tiles held a ninth of the bin entries and took 36 ms.
     // By tiles alone (an eighth each) the rays looked dearer: 280 against 288 + setup.

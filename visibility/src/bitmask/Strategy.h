@@ -130,7 +130,8 @@ struct ProbePart {
 /// a sixth, both the wrong way. By units alone another dense mesh's rays came out 1.5 times too
 /// dear: per-call and per-tile costs do not follow the units, nor do rays of different kinds (a
 /// tile whose rays the inner proxies mostly answered keeps the dear ones, near the surface).
-/// docs/benchmarks.md, "Auto's probe". Where no unit was probed the tiles' share stands in.
+/// (docs/benchmarks.md, "The swapped setup, and Auto's probe by work"). Where no unit was probed
+/// the tiles' share stands in.
 double probeShare(double probedUnits, double totalUnits, std::size_t probedTiles, std::size_t tiles);
 
 /// While probing: whether enough is known to stop, from each method's part so far, the tiles it
