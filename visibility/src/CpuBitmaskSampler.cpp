@@ -561,15 +561,14 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             double bitmaskMs = 0.0, rayMs = 0.0;
             // Each method's work per tile (Strategy.h, probeShare): the bitmask's bin entries, and
             // the rays still free (the inner proxies may have answered many).
-            std::vector<double> bitmaskUnits(bins.tileCount()), rayUnits(bins.tileCount());
+            std::vector<double> rayUnits(bins.tileCount());
             double bitmaskTotal = 0.0, rayTotal = 0.0;
             for (std::size_t t = 0; t < bins.tileCount(); ++t) {
-                bitmaskUnits[t] = double(bins.bin(t).size());
                 samples.clear();
                 bins.tileSamples(t, receiver.na, receiver.nb, samples);
                 for (int j : samples)
                     rayUnits[t] += double(source.sampleCount() - std::as_const(map).blockedCount(j));
-                bitmaskTotal += bitmaskUnits[t], rayTotal += rayUnits[t];
+                bitmaskTotal += double(bins.bin(t).size()), rayTotal += rayUnits[t];
             }
             double bitmaskProbed = 0.0, rayProbed = 0.0;
             const auto parts = [&] {
@@ -584,7 +583,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
                                                           bitmaskTiles.begin() + std::ptrdiff_t(end));
                     bitmaskMs += onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow, &part)); });
                     for (std::uint32_t t : part)
-                        bitmaskProbed += bitmaskUnits[t];
+                        bitmaskProbed += double(bins.bin(t).size());
                     bitmaskDone = end;
                 }
                 if (rayDone < rayTiles.size()) {

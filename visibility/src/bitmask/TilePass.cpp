@@ -92,10 +92,6 @@ bool mayHitFrom(const Shaft& shaft, const TileOccluder& o, Path path, int a0, in
     return mayHit(shaft, *o.occluder, path, samples.data(), count, open);
 }
 
-} // namespace
-
-namespace {
-
 constexpr int kRankDigitBits = 12;
 
 /// One stable counting-sort pass on the rank's digit at `shift`.

@@ -562,21 +562,12 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
             castAll(all, packets, nullptr);
             return;
         }
-        std::vector<std::uint32_t> pairs(items / 2);
-        std::iota(pairs.begin(), pairs.end(), 0u);
-        std::mt19937 scramble(12345);
-        std::shuffle(pairs.begin(), pairs.end(), scramble);
-        const std::size_t probe = std::max(items / 8, std::min<std::size_t>(8, items / 4));
-        std::vector<std::uint32_t> first, second, rest;
-        std::vector<char> inProbe(items, 0);
-        for (std::size_t k = 0; k < probe; ++k) {
-            first.push_back(2 * pairs[k]);
-            second.push_back(2 * pairs[k] + 1);
-            inProbe[2 * pairs[k]] = inProbe[2 * pairs[k] + 1] = 1;
-        }
-        for (std::uint32_t item = 0; item < items; ++item)
-            if (!inProbe[item])
-                rest.push_back(item);
+        // The pairs as Auto's tile probe draws them, on a grid one item wide.
+        const bitmask::ProbeTiles split =
+            bitmask::probeTiles(items, 1, std::max(items / 8, std::min<std::size_t>(8, items / 4)));
+        const std::vector<std::uint32_t>& first = split.bitmask;
+        const std::vector<std::uint32_t>& second = split.rays;
+        const std::vector<std::uint32_t>& rest = split.rest;
         std::uint64_t packetRays = 0, occludedRays = 0;
         const double packetNs = double(castAll(first, true, &packetRays));
         const double occludedNs = double(castAll(second, false, &occludedRays));
