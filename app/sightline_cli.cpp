@@ -570,7 +570,7 @@ int main(int argc, char** argv)
         ->delimiter(',')
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
-    benchCmd->add_option("--repeat", benchArgs.settings.repeat, "Timed runs after one warm-up (median reported)")
+    benchCmd->add_option("--repeat", benchArgs.settings.repeat, "Rounds: each method runs twice a round, the second run timed; methods interleaved (median reported)")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
     benchCmd->add_option("--threads", benchArgs.settings.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));

@@ -4,7 +4,8 @@
 
 - errors outside ties and tie differences per method, summed over the runs;
 - Auto (`cpu`) against the better of `cpu-bitmask` and `cpu-raycast`, by the medians of the runs'
-  thread_ms: how many configurations are within 10%, and every one that is not;
+  thread_ms: how many configurations are within 10%, and every one that is not, with the strategy
+  Auto ran (`variant`; bench records it since 2026-12-04) and whether it is the better one's;
 - where ray casting is the right strategy (`cpu-raycast` faster than `cpu-bitmask`), the tuned
   tracer's time over `cpu-raycast`'s and over `cpu`'s, by scene kind and sample counts;
 - the tuned tracer over `cpu` (Auto) on every scene kind and sample count, worst scene first, and
@@ -22,12 +23,15 @@ import sys
 
 def main(paths):
     times = collections.defaultdict(lambda: collections.defaultdict(list))
+    ran = collections.defaultdict(lambda: collections.defaultdict(collections.Counter))   # strategies run
     errors, ties, variants = collections.Counter(), collections.Counter(), collections.Counter()
     for path in paths:
         for row in csv.DictReader(open(path)):
             key = (os.path.basename(row['project']).removesuffix('.json'), int(row['source_samples']),
                    int(row['receiver'].split('x')[0]))
             times[key][row['method']].append(float(row['thread_ms']))
+            if row['method'].startswith('cpu') and row.get('variant'):
+                ran[key][row['method']][row['variant']] += 1
             if row['method'] == 'embree-tuned':
                 variants[row.get('variant') or '(not recorded)'] += 1
             else:
@@ -36,14 +40,24 @@ def main(paths):
     print(f'{len(paths)} runs; errors outside ties: {dict(errors)}; tie differences: {dict(ties)}')
     median = {k: {m: statistics.median(v) for m, v in methods.items()} for k, methods in times.items()}
 
-    misses = []
+    misses, chose = [], collections.Counter()
     for key, m in sorted(median.items()):
-        ratio = m['cpu'] / min(m['cpu-bitmask'], m['cpu-raycast'])
+        better = 'cpu-bitmask' if m['cpu-bitmask'] <= m['cpu-raycast'] else 'cpu-raycast'
+        auto, best = ran[key]['cpu'], ran[key][better]
+        same = None   # unknown: CSVs from before the strategy was recorded
+        if auto and best:
+            same = auto.most_common(1)[0][0] == best.most_common(1)[0][0]
+            chose[same] += 1
+        ratio = m['cpu'] / m[better]
         if ratio > 1.1:
-            misses.append((ratio, key, m))
+            misses.append((ratio, key, m, same, '/'.join(sorted(auto))))
     print(f'Auto within 10% of the better strategy: {len(median) - len(misses)} of {len(median)}')
-    for ratio, key, m in sorted(misses, reverse=True):
-        print(f'  {ratio:.2f} {key[0]} {key[1]} x {key[2]}²: ' + ', '.join(f'{n} {t:.2f}' for n, t in sorted(m.items())))
+    if chose:
+        print(f'Auto ran the better strategy on {chose[True]} of {sum(chose.values())} '
+              '(the strategy most runs took, swapped or not)')
+    for ratio, key, m, same, auto in sorted(misses, reverse=True):
+        verdict = '' if same is None else (f' [ran {auto}, the better one]' if same else f' [ran {auto}, not the better one]')
+        print(f'  {ratio:.2f} {key[0]} {key[1]} x {key[2]}²: ' + ', '.join(f'{n} {t:.2f}' for n, t in sorted(m.items())) + verdict)
 
     groups = collections.defaultdict(list)
     for key, m in median.items():

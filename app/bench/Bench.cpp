@@ -35,23 +35,60 @@ double threadMs()
     return double(now.tv_sec) * 1e3 + double(now.tv_nsec) * 1e-6;
 }
 
-/// The lower medians (an even count never reports the slower middle run) of the wall time and
-/// of the calling thread's processor time over `repeat` runs, after one warm-up (thread pools,
-/// page faults, shader compilation).
-std::pair<double, double> medianMs(int repeat, const std::function<void()>& f)
+/// The lower median (an even count never reports the slower middle run).
+double lowerMedian(std::vector<double> values)
 {
-    f();
+    std::sort(values.begin(), values.end());
+    return values[(values.size() - 1) / 2];
+}
+
+/// One way of answering a configuration (a method; the tuned tracer has one per traversal), its
+/// answer and the wall and processor times of its timed runs. All of a configuration's
+/// candidates are timed in interleaved rounds, not one after another: this machine has slow and
+/// fast spells of seconds (the same call 26 ms in one and 33 ms in the next, processor time too),
+/// and rounds let them fall on every method alike instead of deciding a ratio.
+struct Candidate {
+    std::string variant;
+    std::function<void()> run;   ///< fills map (or counts) and, for the CPU sampler, variant
+    HiddenSampleMap map;
+    std::vector<std::uint32_t> counts;   ///< hh: blocked source samples per receiver sample
     std::vector<double> wall, thread;
-    for (int k = 0; k < std::max(1, repeat); ++k) {
+
+    void timeOnce()
+    {
         const auto start = std::chrono::steady_clock::now();
         const double threadStart = threadMs();
-        f();
+        run();
         thread.push_back(threadMs() - threadStart);
         wall.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     }
-    std::sort(wall.begin(), wall.end());
-    std::sort(thread.begin(), thread.end());
-    return {wall[(wall.size() - 1) / 2], thread[(thread.size() - 1) / 2]};
+    double medianMs() const { return lowerMedian(wall); }
+    double medianThreadMs() const { return lowerMedian(thread); }
+};
+
+/// A method's candidates (heap-held: their runs capture them by reference).
+struct MethodRuns {
+    std::string method;
+    bool jittered = false;
+    std::vector<std::unique_ptr<Candidate>> candidates;
+
+    Candidate& add(std::string variant = {})
+    {
+        candidates.push_back(std::make_unique<Candidate>());
+        candidates.back()->variant = std::move(variant);
+        return *candidates.back();
+    }
+};
+
+/// The CPU sampler's `variant`: the strategy its last run took ("bitmask", "raycast", "hybrid",
+/// "mixed" over swapped tiles), with " swapped" where the patches swapped roles, so that Auto's
+/// rows say what it chose.
+std::string strategyVariant(const BitmaskStats& stats)
+{
+    std::string out = stats.strategy;
+    if (stats.swappedRoles)
+        out += " swapped";
+    return out;
 }
 
 /// "<prefix>WxH" with a table resolution HoughMaskTable accepts.
@@ -188,60 +225,56 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 if (settings.denseSide > 0 && dense.values.empty())
                     dense = denseLightFraction(reference, project.source, receiver, settings.denseSide,
                                                {.packets = true, .threads = settings.threads});
+                // Every method's runs are prepared first and timed in interleaved rounds (the
+                // Candidate comment says why); each is then judged and reported in method order.
+                std::vector<std::unique_ptr<MethodRuns>> methods;
                 for (const std::string& method : settings.methods) {
-                    const bool jittered = method.ends_with("-jitter");
-                    if (jittered && !jitteredTruth)
+                    auto& m = *methods.emplace_back(std::make_unique<MethodRuns>());
+                    m.method = method;
+                    m.jittered = method.ends_with("-jitter");
+                    if (m.jittered && !jitteredTruth)
                         jitteredTruth = std::make_unique<HiddenSampleMap>(
                             reference.sample(source, receiver, {.packets = true, .threads = settings.threads, .jitter = jitter}));
-                    const HiddenSampleMap& truth = jittered ? *jitteredTruth : regularTruth;
-                    HiddenSampleMap map;
-                    std::vector<std::uint32_t> counts;   // hh: blocked source samples per receiver sample
-                    std::function<void()> evaluate;
                     int w = 0, h = 0;
-                    std::optional<std::pair<double, double>> timing;   // set where `evaluate` is not
-                    std::string variant;
                     if (method == "embree-tuned") {
                         if (!tuned)
                             tuned = std::make_unique<TunedEmbree>(worldTriangles(scene));
-                        // Every traversal a user tuning it could pick, the fastest kept: by
-                        // processor time on one thread (Settings::threads), else by wall time.
-                        const auto cost = [&](const std::pair<double, double>& t) { return settings.threads == 1 ? t.second : t.first; };
+                        // Every traversal a user tuning it could pick; the fastest is kept.
                         for (const TunedTraversal& traversal : tunedTraversals()) {
-                            HiddenSampleMap answer;
-                            const auto t = medianMs(settings.repeat, [&] {
-                                answer = tuned->sample(source, receiver, settings.threads, traversal);
-                            });
-                            if (!timing || cost(t) < cost(*timing))
-                                timing = t, map = std::move(answer), variant = traversal.name();
+                            Candidate& c = m.add(traversal.name());
+                            c.run = [&, traversal] { c.map = tuned->sample(source, receiver, settings.threads, traversal); };
                         }
                     } else if (method == "raycast" || method == "raycast-jitter") {
                         const RayCastOptions options{.packets = true, .threads = settings.threads,
-                                                     .jitter = jittered ? jitter : SourceJitter{}};
-                        evaluate = [&, options] { map = reference.sample(source, receiver, options); };
+                                                     .jitter = m.jittered ? jitter : SourceJitter{}};
+                        Candidate& c = m.add();
+                        c.run = [&, options] { c.map = reference.sample(source, receiver, options); };
                     } else if (method == "gl" || method == "gl-jitter" || parseTable(method, "gl-table-", w, h)) {
                         if (!context)
                             context = gl::HeadlessContext::create(settings.glBackend);
                         if (!gpu)
                             gpu = std::make_unique<GlBitmaskSampler>(context->functions(), scene);
                         GlBitmaskOptions options;
-                        if (jittered)
+                        if (m.jittered)
                             options.jitter = jitter;
                         else if (method != "gl") {
                             options.mode = MaskMode::Table;
                             options.tableWidth = w;
                             options.tableHeight = h;
                         }
-                        evaluate = [&, options] { map = gpu->sample(source, receiver, options); };
+                        Candidate& c = m.add();
+                        c.run = [&, options] { c.map = gpu->sample(source, receiver, options); };
                     } else if (method == "hh") {
                         if (!context)
                             context = gl::HeadlessContext::create(settings.glBackend);
                         if (!heckbertHerf)
                             heckbertHerf = std::make_unique<HeckbertHerfSampler>(context->functions(), worldTriangles(scene));
-                        evaluate = [&] { counts = heckbertHerf->blockedCounts(source, receiver); };
+                        Candidate& c = m.add();
+                        c.run = [&] { c.counts = heckbertHerf->blockedCounts(source, receiver); };
                     } else {
                         BitmaskOptions options;
                         options.threads = settings.threads;
-                        if (jittered)
+                        if (m.jittered)
                             options.jitter = jitter;
                         else if (method == "cpu-bitmask")
                             options.strategy = CpuStrategy::Bitmask;
@@ -256,15 +289,46 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                             options.tableWidth = w;
                             options.tableHeight = h;
                         }
-                        evaluate = [&, options] { map = cpu.sample(source, receiver, options); };
+                        Candidate& c = m.add();
+                        c.run = [&, options] {
+                            BitmaskStats stats;
+                            c.map = cpu.sample(source, receiver, options, &stats);
+                            c.variant = strategyVariant(stats);
+                        };
                     }
+                }
+                // In each round every candidate runs twice and the second run is timed: the first
+                // warms what the previous candidate evicted (a sub-millisecond call right after
+                // the tuned tracer took 1.2-1.5 times as long as right after itself), so each is
+                // timed warm, as in the editor's repeated calls, and the first round's first run
+                // pays the page faults, thread pools and shader compilation.
+                for (int k = 0; k < std::max(1, settings.repeat); ++k)
+                    for (const auto& m : methods)
+                        for (const auto& c : m->candidates) {
+                            c->run();
+                            c->timeOnce();
+                        }
+
+                for (const auto& m : methods) {
+                    const std::string& method = m->method;
+                    // The tuned tracer keeps its fastest traversal: by processor time on one
+                    // thread (Settings::threads), else by wall time.
+                    const auto cost = [&](const Candidate& c) { return settings.threads == 1 ? c.medianThreadMs() : c.medianMs(); };
+                    const Candidate* best = m->candidates.front().get();
+                    for (const auto& c : m->candidates)
+                        if (cost(*c) < cost(*best))
+                            best = c.get();
+                    const HiddenSampleMap& map = best->map;
+                    const std::vector<std::uint32_t>& counts = best->counts;
+                    const HiddenSampleMap& truth = m->jittered ? *jitteredTruth : regularTruth;
                     Row row;
                     row.project = file;
                     row.method = method;
                     row.sourceSamples = count;
                     row.receiverSide = side;
-                    std::tie(row.ms, row.threadMs) = timing ? *timing : medianMs(settings.repeat, evaluate);
-                    row.variant = variant;
+                    row.ms = best->medianMs();
+                    row.threadMs = best->medianThreadMs();
+                    row.variant = best->variant;
                     row.rays = truth.rayCount();
                     if (method == "hh") {
                         // Counts only: per receiver sample, the excess or shortfall of blocked
@@ -281,7 +345,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     } else {
                         row.blocked = map.blockedCount();
                         judgeDifferences(row, map, truth, [&]() -> const ExactJudge& {
-                            return judges.forJitter(jittered ? jitter : SourceJitter{});
+                            return judges.forJitter(m->jittered ? jitter : SourceJitter{});
                         });
                     }
                     // Light fractions (§8): from the map, or from hh's counts.

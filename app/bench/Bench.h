@@ -1,7 +1,9 @@
 #pragma once
 // Benchmarks every sampler against the raycast reference, side by side (DESIGN.md §5): for each
 // project, source sample count, receiver grid and method configuration, the median time of
-// `repeat` runs after a warm-up and the rays it gets wrong in each direction.
+// `repeat` warm runs and the rays it gets wrong in each direction. A configuration's methods are
+// timed in interleaved rounds (in each, every method runs twice and its second run is timed), so
+// that the machine's slow and fast spells fall on all of them alike.
 
 #include <cstdint>
 #include <functional>
@@ -42,7 +44,7 @@ struct Settings {
 struct Row {
     std::string project, method;
     int sourceSamples = 0, receiverSide = 0;
-    double ms = 0.0;   ///< median of `repeat` runs after one warm-up
+    double ms = 0.0;   ///< median of `repeat` warm runs (each right after an untimed one)
     /// Median processor time of the calling thread over the same runs. With Settings::threads
     /// 1 every method runs on that thread, and the figure is its work: a shared machine, where
     /// other jobs take turns on the cores, disturbs it far less than the wall time.
@@ -65,6 +67,8 @@ struct Row {
     /// ... and against the dense reference (Settings::denseSide; -1 when not computed).
     double denseMae = -1.0;
     /// embree-tuned: the traversal it kept (TunedTraversal::name), the fastest of those it timed.
+    /// The CPU sampler: the strategy its last run took ("bitmask", "raycast", "hybrid", or
+    /// "mixed" over tiles), with " swapped" where the patches swapped roles.
     std::string variant;
 };
 

@@ -55,7 +55,18 @@ TEST(Bench, EveryMethodAgainstTheReference)
     const auto rows = bench::run(settings, [&](const bench::Row&) { ++progressCalls; });
     ASSERT_EQ(rows.size(), 5u * 2u * 2u);
     EXPECT_EQ(progressCalls, 20);
+    for (std::size_t k = 0; k < rows.size(); ++k)   // timed in rounds, reported in method order
+        EXPECT_EQ(rows[k].method, settings.methods[k % 5]);
     for (const bench::Row& r : rows) {
+        // The CPU sampler's rows name the strategy it ran; Auto's is one of the two it chooses from.
+        if (r.method == "raycast")
+            EXPECT_EQ(r.variant, "");
+        else if (r.method == "cpu-bitmask" || r.method == "cpu-table-16x8")
+            EXPECT_TRUE(r.variant.starts_with("bitmask")) << r.method << ' ' << r.variant;
+        else if (r.method == "cpu-hybrid")
+            EXPECT_TRUE(r.variant.starts_with("hybrid")) << r.variant;
+        else
+            EXPECT_TRUE(r.variant.starts_with("bitmask") || r.variant.starts_with("raycast")) << r.variant;
         EXPECT_EQ(r.rays, std::uint64_t(r.sourceSamples) * std::uint64_t(r.receiverSide * r.receiverSide));
         EXPECT_GT(r.ms, 0.0);
         EXPECT_GT(r.threadMs, 0.0);
