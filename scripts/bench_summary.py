@@ -46,7 +46,10 @@ def main(paths):
         auto, best = ran[key]['cpu'], ran[key][better]
         same = None   # unknown: CSVs from before the strategy was recorded
         if auto and best:
-            same = auto.most_common(1)[0][0] == best.most_common(1)[0][0]
+            # The strategy, swapped or not: the forced ray caster never swaps (Auto's swapped rays
+            # are its own, faster, way of casting them).
+            strategy = lambda runs: runs.most_common(1)[0][0].removesuffix(' swapped')
+            same = strategy(auto) == strategy(best)
             chose[same] += 1
         ratio = m['cpu'] / m[better]
         if ratio > 1.1:
@@ -55,6 +58,12 @@ def main(paths):
     if chose:
         print(f'Auto ran the better strategy on {chose[True]} of {sum(chose.values())} '
               '(the strategy most runs took, swapped or not)')
+        spread = sorted(m['cpu'] / m[b] for key, m in median.items() for b in ('cpu-bitmask', 'cpu-raycast')
+                        if ran[key]['cpu'] and ran[key]['cpu'] == ran[key][b])
+        if spread:
+            print(f'  where Auto ran exactly what a forced strategy ran ({len(spread)}), its time over that one\'s: '
+                  f'median {statistics.median(spread):.3f}, quartiles {spread[len(spread) // 4]:.3f}-'
+                  f'{spread[3 * len(spread) // 4]:.3f}, range {spread[0]:.2f}-{spread[-1]:.2f}')
     for ratio, key, m, same, auto in sorted(misses, reverse=True):
         verdict = '' if same is None else (f' [ran {auto}, the better one]' if same else f' [ran {auto}, not the better one]')
         print(f'  {ratio:.2f} {key[0]} {key[1]} x {key[2]}²: ' + ', '.join(f'{n} {t:.2f}' for n, t in sorted(m.items())) + verdict)
