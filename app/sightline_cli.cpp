@@ -573,6 +573,10 @@ int main(int argc, char** argv)
     benchCmd->add_option("--repeat", benchArgs.settings.repeat, "Rounds: each method runs twice a round, the second run timed; methods interleaved (median reported)")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
+    benchCmd->add_option("--min-time", benchArgs.settings.minRoundsMs,
+                         "More rounds past --repeat (at most 200) until a configuration's rounds took MS milliseconds")
+        ->check(CLI::Range(0.0, 600000.0))
+        ->capture_default_str();
     benchCmd->add_option("--threads", benchArgs.settings.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     benchCmd->add_option("--gl-backend", benchArgs.glBackend, "gl, gl-table-WxH, hh: headless context, osmesa (software) or egl (GPU)")
         ->check(CLI::IsMember({"osmesa", "egl"}))

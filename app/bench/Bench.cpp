@@ -302,12 +302,20 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 // the tuned tracer took 1.2-1.5 times as long as right after itself), so each is
                 // timed warm, as in the editor's repeated calls, and the first round's first run
                 // pays the page faults, thread pools and shader compilation.
-                for (int k = 0; k < std::max(1, settings.repeat); ++k)
+                // Rounds past `repeat` while they have taken less than minRoundsMs: sub-millisecond
+                // calls get dozens, so that their medians are not three draws of the noise.
+                const auto roundsStart = std::chrono::steady_clock::now();
+                for (int k = 0;; ++k) {
+                    const double elapsed =
+                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - roundsStart).count();
+                    if (k >= std::max(1, settings.repeat) && (elapsed >= settings.minRoundsMs || k >= kMaxRounds))
+                        break;
                     for (const auto& m : methods)
                         for (const auto& c : m->candidates) {
                             c->run();
                             c->timeOnce();
                         }
+                }
 
                 for (const auto& m : methods) {
                     const std::string& method = m->method;
@@ -329,6 +337,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     row.ms = best->medianMs();
                     row.threadMs = best->medianThreadMs();
                     row.variant = best->variant;
+                    row.rounds = int(best->wall.size());
                     row.rays = truth.rayCount();
                     if (method == "hh") {
                         // Counts only: per receiver sample, the excess or shortfall of blocked
@@ -371,7 +380,7 @@ std::string toCsv(const std::vector<Row>& rows)
 {
     std::ostringstream out;
     out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-           "light_mae,dense_light_mae,thread_ms,ties,variant\n";
+           "light_mae,dense_light_mae,thread_ms,ties,variant,rounds\n";
     for (const Row& r : rows) {
         out << '"' << r.project << "\"," << r.method << ',' << r.sourceSamples << ',' << r.receiverSide << 'x'
             << r.receiverSide << ',' << r.rays << ',' << r.ms << ',' << r.blocked << ',' << r.wronglyBlocked << ','
@@ -381,7 +390,7 @@ std::string toCsv(const std::vector<Row>& rows)
         out << ',' << r.threadMs << ',';
         if (r.judged)
             out << r.ties;
-        out << ',' << r.variant << '\n';
+        out << ',' << r.variant << ',' << r.rounds << '\n';
     }
     return out.str();
 }

@@ -159,7 +159,7 @@ TEST_F(Cli, GlTableModeAgreesWithCpuTableMode)
 TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
 {
     const std::string project = (folder / "p.json").string();
-    const CliRun run = runCli("bench " + project + " --sources 128 --receivers 12 --repeat 1 --gl-backend osmesa "
+    const CliRun run = runCli("bench " + project + " --sources 128 --receivers 12 --repeat 1 --min-time 0 --gl-backend osmesa "
                               "--methods cpu-table-64x32,gl-table-64x32 --csv " + (folder / "t.csv").string());
     if (run.code != 0 && run.err.find("OSMesa") != std::string::npos)
         GTEST_SKIP() << "no OpenGL context: " << run.err;
@@ -170,7 +170,7 @@ TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
     // Fields after the quoted project: method, source_samples, receiver, rays, ms, blocked,
     // wrongly_blocked, wrongly_free, error_fraction, light_mae, dense_light_mae (empty without
     // --shadow), thread_ms, ties (empty where the differences were too many to judge), variant
-    // (embree-tuned's traversal, the CPU sampler's strategy; empty for the other methods).
+    // (embree-tuned's traversal, the CPU sampler's strategy; empty for the other methods), rounds.
     std::vector<std::vector<std::string>> rows;
     for (std::string line; std::getline(csv, line);) {
         std::vector<std::string> fields;
@@ -179,7 +179,7 @@ TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
             fields.push_back(field);
         if (!line.empty() && line.back() == ',')
             fields.emplace_back();
-        ASSERT_EQ(fields.size(), 14u) << line;
+        ASSERT_EQ(fields.size(), 15u) << line;
         EXPECT_EQ(fields[10], "") << line;
         EXPECT_GT(std::stod(fields[11]), 0.0) << line;
         // A coarse table's few hundred differences are judged: every one is a real error here.
@@ -191,6 +191,7 @@ TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
     EXPECT_EQ(rows[1][0], "gl-table-64x32");
     EXPECT_EQ(rows[0][13], "bitmask");   // the table mode backprojects every triangle
     EXPECT_EQ(rows[1][13], "");
+    EXPECT_EQ(rows[0][14], "1");   // --repeat 1 --min-time 0: one timed round
     const double rays = std::stod(rows[0][3]);
     EXPECT_GT(std::stod(rows[0][8]), 0.0);   // the table's error against the reference
     EXPECT_LE(std::abs(std::stod(rows[0][5]) - std::stod(rows[1][5])), 1e-4 * rays);
