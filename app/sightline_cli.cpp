@@ -570,11 +570,11 @@ int main(int argc, char** argv)
         ->delimiter(',')
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
-    benchCmd->add_option("--repeat", benchArgs.settings.repeat, "Rounds: each method runs twice a round, the second run timed; methods interleaved (median reported)")
+    benchCmd->add_option("--repeat", benchArgs.settings.repeat, "Rounds: each method runs once untimed, then timed (--min-time); methods interleaved (median reported)")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    benchCmd->add_option("--min-time", benchArgs.settings.minRoundsMs,
-                         "More rounds past --repeat (at most 200) until a configuration's rounds took MS milliseconds")
+    benchCmd->add_option("--min-time", benchArgs.settings.minBatchMs,
+                         "In each round, a method's timed runs go on until they took MS milliseconds (at most 100 runs)")
         ->check(CLI::Range(0.0, 600000.0))
         ->capture_default_str();
     benchCmd->add_option("--threads", benchArgs.settings.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));

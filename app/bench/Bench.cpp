@@ -297,25 +297,25 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                         };
                     }
                 }
-                // In each round every candidate runs twice and the second run is timed: the first
-                // warms what the previous candidate evicted (a sub-millisecond call right after
-                // the tuned tracer took 1.2-1.5 times as long as right after itself), so each is
-                // timed warm, as in the editor's repeated calls, and the first round's first run
-                // pays the page faults, thread pools and shader compilation.
-                // Rounds past `repeat` while they have taken less than minRoundsMs: sub-millisecond
-                // calls get dozens, so that their medians are not three draws of the noise.
-                const auto roundsStart = std::chrono::steady_clock::now();
-                for (int k = 0;; ++k) {
-                    const double elapsed =
-                        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - roundsStart).count();
-                    if (k >= std::max(1, settings.repeat) && (elapsed >= settings.minRoundsMs || k >= kMaxRounds))
-                        break;
+                // In each round every candidate runs once untimed, then timed until its batch has
+                // taken minBatchMs. The untimed run warms what the previous candidate evicted (a
+                // sub-millisecond call right after the tuned tracer took 1.2-1.5 times as long as
+                // right after itself), so each is timed warm, as in the editor's repeated calls;
+                // the first round's pays the page faults, thread pools and shader compilation. A
+                // batch of at least minBatchMs gives a sub-millisecond call dozens of runs, where
+                // a median of three is mostly this machine's noise.
+                for (int k = 0; k < std::max(1, settings.repeat); ++k)
                     for (const auto& m : methods)
                         for (const auto& c : m->candidates) {
                             c->run();
-                            c->timeOnce();
+                            const auto batchStart = std::chrono::steady_clock::now();
+                            for (int n = 0; n < kMaxRunsPerRound; ++n) {
+                                c->timeOnce();
+                                if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - batchStart).count() >=
+                                    settings.minBatchMs)
+                                    break;
+                            }
                         }
-                }
 
                 for (const auto& m : methods) {
                     const std::string& method = m->method;
@@ -337,7 +337,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     row.ms = best->medianMs();
                     row.threadMs = best->medianThreadMs();
                     row.variant = best->variant;
-                    row.rounds = int(best->wall.size());
+                    row.runs = int(best->wall.size());
                     row.rays = truth.rayCount();
                     if (method == "hh") {
                         // Counts only: per receiver sample, the excess or shortfall of blocked
@@ -380,7 +380,7 @@ std::string toCsv(const std::vector<Row>& rows)
 {
     std::ostringstream out;
     out << "project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-           "light_mae,dense_light_mae,thread_ms,ties,variant,rounds\n";
+           "light_mae,dense_light_mae,thread_ms,ties,variant,runs\n";
     for (const Row& r : rows) {
         out << '"' << r.project << "\"," << r.method << ',' << r.sourceSamples << ',' << r.receiverSide << 'x'
             << r.receiverSide << ',' << r.rays << ',' << r.ms << ',' << r.blocked << ',' << r.wronglyBlocked << ','
@@ -390,7 +390,7 @@ std::string toCsv(const std::vector<Row>& rows)
         out << ',' << r.threadMs << ',';
         if (r.judged)
             out << r.ties;
-        out << ',' << r.variant << ',' << r.rounds << '\n';
+        out << ',' << r.variant << ',' << r.runs << '\n';
     }
     return out.str();
 }

@@ -1,9 +1,9 @@
 #pragma once
 // Benchmarks every sampler against the raycast reference, side by side (DESIGN.md §5): for each
 // project, source sample count, receiver grid and method configuration, the median time of
-// `repeat` warm runs and the rays it gets wrong in each direction. A configuration's methods are
-// timed in interleaved rounds (in each, every method runs twice and its second run is timed), so
-// that the machine's slow and fast spells fall on all of them alike.
+// warm runs and the rays it gets wrong in each direction. A configuration's methods are timed in
+// `repeat` interleaved rounds (in each, every method runs once untimed, then timed for at least
+// Settings::minBatchMs), so that the machine's slow and fast spells fall on all of them alike.
 
 #include <cstdint>
 #include <functional>
@@ -32,10 +32,9 @@ struct Settings {
     std::vector<int> sourceCounts = {32, 128, 1024};
     std::vector<int> receiverSides = {32, 128};
     int repeat = 5;
-    /// More rounds, past `repeat`, until a configuration's rounds have taken this long (no more
-    /// than kMaxRounds or `repeat`): a median of three sub-millisecond runs is mostly this
-    /// machine's noise.
-    double minRoundsMs = 200.0;
+    /// In each round, a method's timed runs go on until they have taken this long (at most
+    /// kMaxRunsPerRound): a median of three sub-millisecond runs is mostly this machine's noise.
+    double minBatchMs = 20.0;
     int threads = 0;
     gl::Backend glBackend = gl::Backend::OSMesa;   ///< headless context of "gl", "gl-table-WxH", "hh"
     /// Soft shadows (§8): when > 0, each receiver grid also gets a dense reference of the light
@@ -48,7 +47,7 @@ struct Settings {
 struct Row {
     std::string project, method;
     int sourceSamples = 0, receiverSide = 0;
-    double ms = 0.0;   ///< median of the warm runs (each right after an untimed one; `repeat` or more)
+    double ms = 0.0;   ///< median of the timed runs (`runs`, in `repeat` rounds, each batch after an untimed run)
     /// Median processor time of the calling thread over the same runs. With Settings::threads
     /// 1 every method runs on that thread, and the figure is its work: a shared machine, where
     /// other jobs take turns on the cores, disturbs it far less than the wall time.
@@ -74,15 +73,15 @@ struct Row {
     /// The CPU sampler: the strategy its last run took ("bitmask", "raycast", "hybrid", or
     /// "mixed" over tiles), with " swapped" where the patches swapped roles.
     std::string variant;
-    int rounds = 0;   ///< timed runs the medians are of (Settings::repeat, minRoundsMs)
+    int runs = 0;   ///< timed runs the medians are of (Settings::repeat, minBatchMs)
 };
 
 /// Rows with more differences from the reference than this are not judged ray by ray (the judge
 /// is a brute force; about 10 us a ray on the bench scenes).
 inline constexpr std::uint64_t kMaxJudgedRays = 50'000;
 
-/// The most rounds a configuration gets (Settings::minRoundsMs).
-inline constexpr int kMaxRounds = 200;
+/// The most timed runs a method gets in a round (Settings::minBatchMs).
+inline constexpr int kMaxRunsPerRound = 100;
 
 /// The most square na x nb grid with na * nb == count and na >= nb (32 -> 8x4, 1024 -> 32x32).
 std::pair<int, int> sourceGrid(int count);

@@ -51,7 +51,7 @@ TEST(Bench, EveryMethodAgainstTheReference)
     settings.sourceCounts = {32, 128};
     settings.receiverSides = {16, 24};
     settings.repeat = 1;
-    settings.minRoundsMs = 0.0;
+    settings.minBatchMs = 0.0;
     int progressCalls = 0;
     const auto rows = bench::run(settings, [&](const bench::Row&) { ++progressCalls; });
     ASSERT_EQ(rows.size(), 5u * 2u * 2u);
@@ -71,7 +71,7 @@ TEST(Bench, EveryMethodAgainstTheReference)
         EXPECT_EQ(r.rays, std::uint64_t(r.sourceSamples) * std::uint64_t(r.receiverSide * r.receiverSide));
         EXPECT_GT(r.ms, 0.0);
         EXPECT_GT(r.threadMs, 0.0);
-        EXPECT_EQ(r.rounds, 1);
+        EXPECT_EQ(r.runs, 1);
         EXPECT_EQ(r.referenceErrors, 0u) << r.method;
         if (r.method == "raycast") {
             EXPECT_TRUE(r.judged);
@@ -86,7 +86,7 @@ TEST(Bench, EveryMethodAgainstTheReference)
     const std::string csv = bench::toCsv(rows);
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 21);
     EXPECT_EQ(csv.rfind("project,method,source_samples,receiver,rays,ms,blocked,wrongly_blocked,wrongly_free,error_fraction,"
-                        "light_mae,dense_light_mae,thread_ms,ties,variant,rounds\n", 0), 0u);
+                        "light_mae,dense_light_mae,thread_ms,ties,variant,runs\n", 0), 0u);
 
     const fs::path png = folder / "chart.png";
     bench::writeChart(rows, png);
@@ -138,11 +138,11 @@ TEST(Bench, TheTunedTracerKeepsTheFastestOfItsTraversals)
         names.push_back(traversal.name());
     EXPECT_EQ(names.size(), 4u);
     EXPECT_NE(std::find(names.begin(), names.end(), rows[0].variant), names.end()) << rows[0].variant;
-    EXPECT_NE(bench::toCsv(rows).find("," + rows[0].variant + "," + std::to_string(rows[0].rounds) + "\n"), std::string::npos);
-    // A call of 512 rays: rounds past --repeat until they took Settings::minRoundsMs (200 ms by
-    // default), up to kMaxRounds.
-    EXPECT_GT(rows[0].rounds, 1);
-    EXPECT_LE(rows[0].rounds, bench::kMaxRounds);
+    EXPECT_NE(bench::toCsv(rows).find("," + rows[0].variant + "," + std::to_string(rows[0].runs) + "\n"), std::string::npos);
+    // A call of 512 rays: timed until its batch took Settings::minBatchMs (20 ms by default), up
+    // to kMaxRunsPerRound runs in the one round.
+    EXPECT_GT(rows[0].runs, 1);
+    EXPECT_LE(rows[0].runs, bench::kMaxRunsPerRound);
     fs::remove_all(folder);
 }
 

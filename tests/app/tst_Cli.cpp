@@ -170,7 +170,7 @@ TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
     // Fields after the quoted project: method, source_samples, receiver, rays, ms, blocked,
     // wrongly_blocked, wrongly_free, error_fraction, light_mae, dense_light_mae (empty without
     // --shadow), thread_ms, ties (empty where the differences were too many to judge), variant
-    // (embree-tuned's traversal, the CPU sampler's strategy; empty for the other methods), rounds.
+    // (embree-tuned's traversal, the CPU sampler's strategy; empty for the other methods), runs.
     std::vector<std::vector<std::string>> rows;
     for (std::string line; std::getline(csv, line);) {
         std::vector<std::string> fields;
@@ -191,7 +191,7 @@ TEST_F(Cli, BenchRunsGlTableModeOnTheChosenBackend)
     EXPECT_EQ(rows[1][0], "gl-table-64x32");
     EXPECT_EQ(rows[0][13], "bitmask");   // the table mode backprojects every triangle
     EXPECT_EQ(rows[1][13], "");
-    EXPECT_EQ(rows[0][14], "1");   // --repeat 1 --min-time 0: one timed round
+    EXPECT_EQ(rows[0][14], "1");   // --repeat 1 --min-time 0: one timed run
     const double rays = std::stod(rows[0][3]);
     EXPECT_GT(std::stod(rows[0][8]), 0.0);   // the table's error against the reference
     EXPECT_LE(std::abs(std::stod(rows[0][5]) - std::stod(rows[1][5])), 1e-4 * rays);
