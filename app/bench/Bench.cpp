@@ -65,7 +65,7 @@ struct Candidate {
     double medianThreadMs() const { return lowerMedian(thread); }
 };
 
-/// A method's candidates (heap-held: their runs capture them by reference).
+/// A method's candidates (each heap-held: its run captures it by reference).
 struct MethodRuns {
     std::string method;
     bool jittered = false;
@@ -226,9 +226,10 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                                                {.packets = true, .threads = settings.threads});
                 // Every method's runs are prepared first and timed in interleaved rounds (the
                 // Candidate comment says why); each is then judged and reported in method order.
-                std::vector<std::unique_ptr<MethodRuns>> methods;
+                std::vector<MethodRuns> methods;
+                methods.reserve(settings.methods.size());
                 for (const std::string& method : settings.methods) {
-                    auto& m = *methods.emplace_back(std::make_unique<MethodRuns>());
+                    MethodRuns& m = methods.emplace_back();
                     m.method = method;
                     m.jittered = method.ends_with("-jitter");
                     if (m.jittered && !jitteredTruth)
@@ -304,8 +305,8 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 // batch of at least minBatchMs gives a sub-millisecond call dozens of runs, where
                 // a median of three is mostly this machine's noise.
                 for (int k = 0; k < std::max(1, settings.repeat); ++k)
-                    for (const auto& m : methods)
-                        for (const auto& c : m->candidates) {
+                    for (const MethodRuns& m : methods)
+                        for (const auto& c : m.candidates) {
                             c->run();
                             const auto batchStart = std::chrono::steady_clock::now();
                             for (int n = 0; n < kMaxRunsPerRound; ++n) {
@@ -316,18 +317,18 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                             }
                         }
 
-                for (const auto& m : methods) {
-                    const std::string& method = m->method;
+                for (const MethodRuns& m : methods) {
+                    const std::string& method = m.method;
                     // The tuned tracer keeps its fastest traversal: by processor time on one
                     // thread (Settings::threads), else by wall time.
                     const auto cost = [&](const Candidate& c) { return settings.threads == 1 ? c.medianThreadMs() : c.medianMs(); };
-                    const Candidate* best = m->candidates.front().get();
-                    for (const auto& c : m->candidates)
+                    const Candidate* best = m.candidates.front().get();
+                    for (const auto& c : m.candidates)
                         if (cost(*c) < cost(*best))
                             best = c.get();
                     const HiddenSampleMap& map = best->map;
                     const std::vector<std::uint32_t>& counts = best->counts;
-                    const HiddenSampleMap& truth = m->jittered ? *jitteredTruth : regularTruth;
+                    const HiddenSampleMap& truth = m.jittered ? *jitteredTruth : regularTruth;
                     Row row;
                     row.project = file;
                     row.method = method;
@@ -353,7 +354,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     } else {
                         row.blocked = map.blockedCount();
                         judgeDifferences(row, map, truth, [&]() -> const ExactJudge& {
-                            return judges.forJitter(m->jittered ? jitter : SourceJitter{});
+                            return judges.forJitter(m.jittered ? jitter : SourceJitter{});
                         });
                     }
                     // Light fractions (§8): from the map, or from hh's counts.

@@ -8,7 +8,6 @@
 #include <limits>
 #include <mutex>
 #include <numeric>
-#include <random>
 #include <string>
 #include <utility>
 
