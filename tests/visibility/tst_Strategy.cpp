@@ -311,7 +311,7 @@ TEST(Strategy, WithSwappedRolesTheBitmaskWherePredictedNoDearerRaysWhereFarCheap
     EXPECT_EQ(planAt(0.9 * kSwappedRaysClearCut), Plan::RayCast);
 }
 
-TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverAndWeighsItAgainstThePrediction)
+TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverThenTheBitmaskUnlessRaysAreClearlyCheaper)
 {
     std::vector<int> probe, rest;
     swappedProbeSamples(128, probe, rest);
@@ -330,10 +330,18 @@ TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverAndWeighsItAgainstThePre
     swappedProbeSamples(5, probe, rest);
     EXPECT_EQ(probe.size(), 1u);
     EXPECT_EQ(rest.size(), 4u);
-    // 16 of 128 samples in 1 ms: 8 ms for all, against the bitmask predicted at 3 ms (two
-    // threads' units: 6 ms of one) and at 5 ms (10 ms).
-    EXPECT_FALSE(swappedProbeChoosesRays(3.0, 1.0, 16, 128));
-    EXPECT_TRUE(swappedProbeChoosesRays(5.0, 1.0, 16, 128));
+    // 16 of 128 samples in 1 ms: 8 ms for all. Rays without timing the bitmask only where that is
+    // under kSwappedRaysSure of the bitmask's prediction.
+    EXPECT_DOUBLE_EQ(swappedRaysWholeMs(1.0, 16, 128), 8.0);
+    EXPECT_DOUBLE_EQ(swappedRaysWholeMs(1.0, 0, 128), 128.0);   // nothing probed: no division by zero
+    EXPECT_EQ(swappedProbeVerdict(1.01 * 8.0 / kSwappedRaysSure, 1.0, 16, 128), SwappedVerdict::Rays);
+    EXPECT_EQ(swappedProbeVerdict(0.99 * 8.0 / kSwappedRaysSure, 1.0, 16, 128), SwappedVerdict::TimeBitmask);
+    EXPECT_EQ(swappedProbeVerdict(1.0, 1.0, 16, 128), SwappedVerdict::TimeBitmask);   // predicted cheap
+    // Timed: rays for later calls only where cheaper than the bitmask's setup and pass together
+    // (cluttered-rooms-12 at 32 x 32²: rays 5.0 ms, bitmask 1.6 + 1.0).
+    EXPECT_FALSE(swappedMeasuredChoosesRays(5.0, 1.6, 1.0));
+    EXPECT_TRUE(swappedMeasuredChoosesRays(5.0, 3.0, 2.5));
+    EXPECT_FALSE(swappedMeasuredChoosesRays(5.0, 2.5, 2.5));   // a tie goes to the bitmask
 }
 
 TEST(Strategy, ReceiversPastASourcesSamplesSplitIntoTilesThatEachSwap)

@@ -465,9 +465,11 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             }
         }
         // With the roles swapped the receiver has too few tiles to time the bitmask on: the rays
-        // of a few receiver samples are timed instead (their rows are final either way) and
-        // weighed against the bitmask's prediction (swappedProbeChoosesRays).
+        // of a few receiver samples are timed (their rows are final either way) and, unless they
+        // are clearly cheaper than the bitmask's prediction, the bitmask is timed on this call's
+        // whole answer (swappedProbeVerdict, swappedMeasuredChoosesRays).
         std::vector<int> raySamples;   // the receiver samples left to cast, when not all
+        double swappedRaysMs = -1.0;   // >= 0: the bitmask's whole call is to be timed against this
         if (plan == Plan::Probe && swappedRoles) {
             std::vector<int> probe;
             swappedProbeSamples(receiver.sampleCount(), probe, raySamples);
@@ -477,12 +479,16 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
                 onOneThread([&] { castRays({.jitter = options.jitter, .receiverSubset = &probe}); });
             local.rayMs += msSince(probeStart);
             local.probed = true;
-            const bool rays =
-                swappedProbeChoosesRays(local.predictedBitmaskMs, probeMs, probe.size(), std::size_t(receiver.sampleCount()));
-            plan = rays ? Plan::RayCast : Plan::Bitmask;
-            std::lock_guard lock(probeMutex_);
-            probeMemo_ = std::make_unique<StrategyMemo>(
-                StrategyMemo{{configuration, rays, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
+            const std::size_t samples = std::size_t(receiver.sampleCount());
+            if (swappedProbeVerdict(local.predictedBitmaskMs, probeMs, probe.size(), samples) == SwappedVerdict::Rays) {
+                plan = Plan::RayCast;
+                std::lock_guard lock(probeMutex_);
+                probeMemo_ = std::make_unique<StrategyMemo>(
+                    StrategyMemo{{configuration, true, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
+            } else {
+                plan = Plan::Bitmask;
+                swappedRaysMs = swappedRaysWholeMs(probeMs, probe.size(), samples);
+            }
         }
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
             local.strategy = "raycast";
@@ -496,8 +502,9 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             return;
         }
         const bool probing = plan == Plan::Probe;
+        const bool timed = probing || swappedRaysMs >= 0.0;   // one thread's processor time, for a verdict
         double setupThreadMs = 0.0;
-        if (probing)
+        if (timed)
             setupThreadMs += onOneThread([&] { work->occluders.prepare(shaft, filter); });
         else
             work->occluders.prepare(shaft, filter);
@@ -529,7 +536,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
         local.smallTriangles = smallTriangles.size();
 
         TileBins& bins = work->bins;
-        if (probing)
+        if (timed)
             setupThreadMs += onOneThread([&] { bins.build(shaft, work->occluders, small, closedInstance, triangles_); });
         else
             bins.build(shaft, work->occluders, small, closedInstance, triangles_);
@@ -626,7 +633,15 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             local.sampleMs = msSince(sampleStart) - local.rayMs;
             return;
         }
-        addCounts(bitmaskPass(shaft, bins, map, narrow));
+        if (swappedRaysMs >= 0.0) {
+            const double passMs = onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow)); });
+            const bool rays = swappedMeasuredChoosesRays(swappedRaysMs, setupThreadMs, passMs);
+            std::lock_guard lock(probeMutex_);
+            probeMemo_ = std::make_unique<StrategyMemo>(
+                StrategyMemo{{configuration, rays, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
+        } else {
+            addCounts(bitmaskPass(shaft, bins, map, narrow));
+        }
         local.sampleMs = msSince(sampleStart);
         if (!smallTriangles.empty()) {
             // The still-unblocked rays against a BVH of the small triangles only.

@@ -116,10 +116,21 @@ void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vect
     std::sort(rest.begin(), rest.end());
 }
 
-bool swappedProbeChoosesRays(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples)
+double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t samples)
 {
-    const double raysMs = probeMs * double(samples) / double(std::max<std::size_t>(probed, 1));
-    return raysMs < kSwappedBitmaskThreadFactor * bitmaskPredictedMs;
+    return probeMs * double(samples) / double(std::max<std::size_t>(probed, 1));
+}
+
+SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples)
+{
+    return swappedRaysWholeMs(probeMs, probed, samples) < kSwappedRaysSure * bitmaskPredictedMs
+               ? SwappedVerdict::Rays
+               : SwappedVerdict::TimeBitmask;
+}
+
+bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs)
+{
+    return raysWholeMs < bitmaskSetupMs + bitmaskPassMs;
 }
 
 std::size_t probeTilesPerMethod(std::size_t tiles)

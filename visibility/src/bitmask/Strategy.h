@@ -94,12 +94,11 @@ Plan planFor(const CostEstimate& estimate, const CostModel& model);
 /// With the patches' roles swapped the receiver has at most 1023 samples, too few tiles to time
 /// the bitmask on, and the ray model's inputs (the swapped call's pairs per ray, a coarse
 /// receiver) lie outside the range it was fitted on: against one thread's times it predicts
-/// rays 2.2-8 times too cheap (cluttered rooms worst), the bitmask 1.3-2.3 times
-/// (docs/benchmarks.md, "Swapped roles"). So the plan is the bitmask where its prediction is no
-/// more than the rays' (interiors, halls, cluttered rooms at 128 source samples: the rays would
-/// only be dearer still), rays where it is over kSwappedRaysClearCut times (dense meshes at 32
-/// source samples), and in between the rays of a few receiver samples are timed
-/// (swappedProbeChoosesRays).
+/// rays 2.2-8 times too cheap (cluttered rooms worst) (docs/benchmarks.md, "Swapped roles"). So
+/// the plan is the bitmask where its prediction is no more than the rays' (interiors, halls,
+/// cluttered rooms at 128 source samples: the rays would only be dearer still), rays where it is
+/// over kSwappedRaysClearCut times (dense meshes at 32 source samples), and in between the rays
+/// of a few receiver samples are timed (swappedProbeVerdict).
 inline constexpr double kSwappedBitmaskClearCut = 1.0;
 inline constexpr double kSwappedRaysClearCut = 8.0;
 
@@ -107,11 +106,26 @@ inline constexpr double kSwappedRaysClearCut = 8.0;
 /// `probe`, and the others in `rest`, both in increasing order.
 void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vector<int>& rest);
 
-/// The swapped probe's verdict: rays where the timed samples' cost, `probeMs` of one thread for
-/// `probed` of `samples` receiver samples, scaled to all, is under kSwappedBitmaskThreadFactor
-/// times the bitmask's prediction (the model's units are two threads' milliseconds).
-inline constexpr double kSwappedBitmaskThreadFactor = 2.0;
-bool swappedProbeChoosesRays(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples);
+/// The swapped probe's first verdict, from the rays timed on `probed` of `samples` receiver
+/// samples (`probeMs`, one thread), scaled to all: rays where that is under kSwappedRaysSure
+/// times the bitmask's prediction; otherwise the bitmask is timed too, on this call's whole
+/// answer (swappedMeasuredChoosesRays). Of the 100 swapped calls of seeds 1-12 at 32 and 128
+/// source samples against 32x32 (docs/benchmarks.md, "The swapped probe times the bitmask"), 18
+/// fall between the clear-cut rules: there a whole bitmask call took 0.79-1.52 times its
+/// prediction on one thread, and where rays were the better strategy they took 0.27-0.66 times
+/// it. Rays under 0.75 times the prediction are so taken without timing the bitmask (no dense
+/// mesh pays for a bitmask setup it does not use); a fixed weight alone (the rays against twice
+/// the prediction, 2026-12-03) lost 1.9x on an unseen cluttered room once a cheaper setup had
+/// brought the bitmask down to about its prediction.
+inline constexpr double kSwappedRaysSure = 0.75;
+enum class SwappedVerdict { Rays, TimeBitmask };
+SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples);
+/// The rays' whole call, one thread, from the probe's part (`probeMs` for `probed` of `samples`).
+double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t samples);
+
+/// After a swapped probe that timed the bitmask's whole call (its setup and pass, one thread):
+/// whether later calls go by rays. This call's answer is the bitmask's, already paid.
+bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs);
 
 /// One method's part of a probe: one thread's processor time, and the share of the whole
 /// receiver's work for that method it covered (probeShare).
