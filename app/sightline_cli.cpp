@@ -251,7 +251,7 @@ int runShaft(const ShaftArgs& args)
                  {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
                  {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
                  {"proxies_built", stats.proxiesBuilt}, {"swapped_roles", stats.swappedRoles}, {"receiver_tiles", stats.receiverTiles},
-                 {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed},
+                 {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed}, {"probe_ray_ms", stats.probeRayMs}, {"probe_bitmask_ms", stats.probeBitmaskMs},
                  {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
     }
 

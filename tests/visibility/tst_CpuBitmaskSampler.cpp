@@ -324,9 +324,10 @@ TEST(CpuBitmaskSampler, AutoTakesTheBitmaskWithSwappedRolesByItsOwnRule)
 {
     // Fewer source samples than receiver samples, at most 1024 of those: the patches swap roles.
     // Auto takes the bitmask where its prediction is no dearer than the rays', rays where it is
-    // far dearer, and in between times the rays of an eighth of the (swapped) receiver samples
-    // (bitmask/Strategy.h). The comb and a soup of 20,000 triangles at 1-16x16 source samples
-    // give all three. Every answer is exact.
+    // far dearer, and in between times the rays of an eighth of the (swapped) receiver samples,
+    // then, unless those are clearly cheaper, the bitmask's whole call (bitmask/Strategy.h). The
+    // comb and a soup of 20,000 triangles at 1-16x16 source samples give all three. Every answer
+    // is exact, whichever method gave it.
     const Scene comb = sceneOf({combWall(120)});
     const Scene soup = sceneOf({randomSoup(3, 20000, -0.5f, 1.5f, 0.2f, 1.8f, 0.05f)});
     int byBitmask = 0, byRays = 0, timed = 0;

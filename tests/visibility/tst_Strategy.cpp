@@ -344,6 +344,20 @@ TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverThenTheBitmaskUnlessRays
     EXPECT_FALSE(swappedMeasuredChoosesRays(5.0, 2.5, 2.5));   // a tie goes to the bitmask
 }
 
+TEST(Strategy, ARaysVerdictThatCostABitmaskCallServesLongEnoughToSpreadIt)
+{
+    // The timed bitmask (15 ms) spread over later calls by rays (6 ms each) at most 5% of theirs:
+    // ceil(15 / 0.3) = 50 calls.
+    EXPECT_EQ(swappedRaysMemoCalls(6.0, 15.0), 50);
+    const double spread = 15.0 / (double(swappedRaysMemoCalls(6.0, 15.0)) * 6.0);
+    EXPECT_LE(spread, kSwappedProbeShare);
+    // A bitmask barely dearer than the rays: never fewer than the usual reuse.
+    EXPECT_EQ(swappedRaysMemoCalls(6.0, 0.1), kProbeReuse);
+    // One far dearer, or rays that cost nothing: capped, so a drifting configuration is looked at again.
+    EXPECT_EQ(swappedRaysMemoCalls(1.0, 1000.0), kMaxSwappedReuse);
+    EXPECT_EQ(swappedRaysMemoCalls(0.0, 5.0), kMaxSwappedReuse);
+}
+
 TEST(Strategy, ReceiversPastASourcesSamplesSplitIntoTilesThatEachSwap)
 {
     const Patch source = xyPatch(0, 8, 4);

@@ -254,6 +254,7 @@ void addTileStats(BitmaskStats& total, const BitmaskStats& tile)
     total.estimatedPairs += tile.estimatedPairs, total.estimatedTriangles += tile.estimatedTriangles;
     total.predictedBitmaskMs += tile.predictedBitmaskMs, total.predictedRayMs += tile.predictedRayMs;
     total.probed = total.probed || tile.probed;
+    total.probeRayMs += tile.probeRayMs, total.probeBitmaskMs += tile.probeBitmaskMs;
     total.reusedChoice = total.reusedChoice || tile.reusedChoice;
     total.reusedProbe = total.reusedProbe || tile.reusedProbe;
 }
@@ -480,6 +481,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             local.rayMs += msSince(probeStart);
             local.probed = true;
             const std::size_t samples = std::size_t(receiver.sampleCount());
+            local.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), samples);
             if (swappedProbeVerdict(local.predictedBitmaskMs, probeMs, probe.size(), samples) == SwappedVerdict::Rays) {
                 plan = Plan::RayCast;
                 std::lock_guard lock(probeMutex_);
@@ -487,7 +489,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
                     StrategyMemo{{configuration, true, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
             } else {
                 plan = Plan::Bitmask;
-                swappedRaysMs = swappedRaysWholeMs(probeMs, probe.size(), samples);
+                swappedRaysMs = local.probeRayMs;
             }
         }
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
@@ -635,10 +637,11 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
         }
         if (swappedRaysMs >= 0.0) {
             const double passMs = onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow)); });
+            local.probeBitmaskMs = setupThreadMs + passMs;
             const bool rays = swappedMeasuredChoosesRays(swappedRaysMs, setupThreadMs, passMs);
+            const int calls = !warmGrids ? 0 : rays ? swappedRaysMemoCalls(swappedRaysMs, local.probeBitmaskMs) : kProbeReuse;
             std::lock_guard lock(probeMutex_);
-            probeMemo_ = std::make_unique<StrategyMemo>(
-                StrategyMemo{{configuration, rays, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
+            probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, calls, /*measured=*/true}});
         } else {
             addCounts(bitmaskPass(shaft, bins, map, narrow));
         }

@@ -148,6 +148,9 @@ struct BitmaskStats {
     double predictedBitmaskMs = 0.0;  ///< Auto: its cost model's predictions (0 when not estimated)
     double predictedRayMs = 0.0;
     bool probed = false;              ///< Auto: chose by timing both methods on a few tiles
+    /// Auto, roles swapped, probed: the rays' whole call as the probe's samples scaled it, and
+    /// the bitmask's whole call where it was timed too (0 where not); one thread's ms.
+    double probeRayMs = 0.0, probeBitmaskMs = 0.0;
     bool reusedChoice = false;        ///< Auto: took an earlier call's choice, without estimating
     bool reusedProbe = false;         ///< ... and that choice was timed (a probe's)
 };

@@ -133,6 +133,12 @@ bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, doubl
     return raysWholeMs < bitmaskSetupMs + bitmaskPassMs;
 }
 
+int swappedRaysMemoCalls(double raysWholeMs, double bitmaskWholeMs)
+{
+    const double calls = std::ceil(bitmaskWholeMs / (kSwappedProbeShare * std::max(raysWholeMs, 1e-6)));
+    return int(std::clamp(calls, double(kProbeReuse), double(kMaxSwappedReuse)));
+}
+
 std::size_t probeTilesPerMethod(std::size_t tiles)
 {
     return std::max(tiles / 8, std::min<std::size_t>(4, tiles / 4));

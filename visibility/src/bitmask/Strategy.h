@@ -127,6 +127,16 @@ double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t sample
 /// whether later calls go by rays. This call's answer is the bitmask's, already paid.
 bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs);
 
+/// How many later calls a rays verdict of a swapped probe that timed the bitmask serves. That
+/// probe paid a whole bitmask call where rays would have cost less (dense-mesh-8 at 128 x 32²:
+/// 13.5-17.5 ms against 6.2), so its choice serves enough calls that the bitmask's time adds at
+/// most kSwappedProbeShare of theirs by rays: at least kProbeReuse, at most kMaxSwappedReuse.
+/// (The probe's scaled rays run high, 1.2-1.8 times a whole call's on dense meshes: per-call
+/// costs counted eight times. So the count errs long.)
+inline constexpr double kSwappedProbeShare = 0.05;
+inline constexpr int kMaxSwappedReuse = 64;
+int swappedRaysMemoCalls(double raysWholeMs, double bitmaskWholeMs);
+
 /// One method's part of a probe: one thread's processor time, and the share of the whole
 /// receiver's work for that method it covered (probeShare).
 struct ProbePart {
