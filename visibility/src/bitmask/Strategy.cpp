@@ -130,7 +130,7 @@ SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double probeMs, st
 
 bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs)
 {
-    return raysWholeMs < bitmaskSetupMs + bitmaskPassMs;
+    return raysWholeMs < kSwappedProbeRayBias * (bitmaskSetupMs + bitmaskPassMs);
 }
 
 int swappedRaysMemoCalls(double raysWholeMs, double bitmaskWholeMs)

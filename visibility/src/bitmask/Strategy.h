@@ -112,27 +112,32 @@ void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vect
 /// answer (swappedMeasuredChoosesRays). Of the 100 swapped calls of seeds 1-12 at 32 and 128
 /// source samples against 32x32 (docs/benchmarks.md, "The swapped probe times the bitmask"), 18
 /// fall between the clear-cut rules: there a whole bitmask call took 0.79-1.52 times its
-/// prediction on one thread, and where rays were the better strategy they took 0.27-0.66 times
-/// it. Rays under 0.75 times the prediction are so taken without timing the bitmask (no dense
-/// mesh pays for a bitmask setup it does not use); a fixed weight alone (the rays against twice
-/// the prediction, 2026-12-03) lost 1.9x on an unseen cluttered room once a cheaper setup had
-/// brought the bitmask down to about its prediction.
-inline constexpr double kSwappedRaysSure = 0.75;
+/// prediction on one thread; where the bitmask was the better strategy the probe's rays came to
+/// 1.74-3.68 times it, and where rays were, 0.28-0.45 times it but for dense-mesh-8 at 128
+/// sources (1.07-1.27); tiles of 64x64 receivers where rays were better, 0.49-0.91. Rays under
+/// the prediction are so taken without timing the bitmask: were the bitmask as cheap as 0.79 of
+/// its prediction, the rays' probe runs high (below), so the loss would be a few percent. A
+/// fixed weight alone (the rays against twice the prediction, 2026-12-03) lost 1.9x on an unseen
+/// cluttered room once a cheaper setup had brought the bitmask down to about its prediction.
+inline constexpr double kSwappedRaysSure = 1.0;
 enum class SwappedVerdict { Rays, TimeBitmask };
 SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples);
 /// The rays' whole call, one thread, from the probe's part (`probeMs` for `probed` of `samples`).
 double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t samples);
 
 /// After a swapped probe that timed the bitmask's whole call (its setup and pass, one thread):
-/// whether later calls go by rays. This call's answer is the bitmask's, already paid.
+/// whether later calls go by rays. This call's answer is the bitmask's, already paid. The probe's
+/// rays, scaled from an eighth of the samples, run 1.17-1.9 times a whole call's by rays (per-call
+/// costs counted eight times, and a probe too small for the ray caster to choose its traversal:
+/// raycast/ProvenRayCaster.h), so they are weighed at 1/kSwappedProbeRayBias, the least of that.
+inline constexpr double kSwappedProbeRayBias = 1.17;
 bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs);
 
 /// How many later calls a rays verdict of a swapped probe that timed the bitmask serves. That
 /// probe paid a whole bitmask call where rays would have cost less (dense-mesh-8 at 128 x 32²:
 /// 13.5-17.5 ms against 6.2), so its choice serves enough calls that the bitmask's time adds at
 /// most kSwappedProbeShare of theirs by rays: at least kProbeReuse, at most kMaxSwappedReuse.
-/// (The probe's scaled rays run high, 1.2-1.8 times a whole call's on dense meshes: per-call
-/// costs counted eight times. So the count errs long.)
+/// (The probe's scaled rays run high, so the count errs long.)
 inline constexpr double kSwappedProbeShare = 0.05;
 inline constexpr int kMaxSwappedReuse = 64;
 int swappedRaysMemoCalls(double raysWholeMs, double bitmaskWholeMs);
