@@ -342,7 +342,7 @@ TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverThenTheBitmaskUnlessRays
     // probe's rays 5.9 ms, the bitmask 1.6 + 1.1; dense-mesh-8 at 128 x 32²: 10.1 against 13.6).
     EXPECT_FALSE(swappedMeasuredChoosesRays(5.9, 1.6, 1.1));
     EXPECT_TRUE(swappedMeasuredChoosesRays(10.1, 4.1, 9.5));
-    EXPECT_TRUE(swappedMeasuredChoosesRays(5.5, 2.5, 2.5));    // within the probe's bias: rays
+    EXPECT_TRUE(swappedMeasuredChoosesRays(5.4, 2.5, 2.5));    // within the probe's bias: rays
     EXPECT_FALSE(swappedMeasuredChoosesRays(kSwappedProbeRayBias * 5.0, 2.5, 2.5));   // a tie: the bitmask
 }
 

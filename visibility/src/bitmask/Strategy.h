@@ -127,10 +127,13 @@ double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t sample
 
 /// After a swapped probe that timed the bitmask's whole call (its setup and pass, one thread):
 /// whether later calls go by rays. This call's answer is the bitmask's, already paid. The probe's
-/// rays, scaled from an eighth of the samples, run 1.17-1.9 times a whole call's by rays (per-call
-/// costs counted eight times, and a probe too small for the ray caster to choose its traversal:
-/// raycast/ProvenRayCaster.h), so they are weighed at 1/kSwappedProbeRayBias, the least of that.
-inline constexpr double kSwappedProbeRayBias = 1.17;
+/// rays, scaled from an eighth of the samples, ran 0.98-1.9 times a whole call's by rays: true on
+/// most dense meshes, 1.16-1.40 on cluttered-rooms-12 at 32 x 32², 1.6-1.9 on dense-mesh-8 at 128
+/// x 32² (per-call costs counted eight times, and a probe too small for the ray caster to choose
+/// its traversal: raycast/ProvenRayCaster.h), and high in a cold call. So the bitmask is kept only
+/// where it beats the probe's rays by more than kSwappedProbeRayBias: where they run true, rays
+/// then lose at most 10%, Auto's bar.
+inline constexpr double kSwappedProbeRayBias = 1.10;
 bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs);
 
 /// How many later calls a rays verdict of a swapped probe that timed the bitmask serves. That
