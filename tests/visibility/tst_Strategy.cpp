@@ -334,9 +334,10 @@ TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverThenTheBitmaskUnlessRays
     // under kSwappedRaysSure of the bitmask's prediction.
     EXPECT_DOUBLE_EQ(swappedRaysWholeMs(1.0, 16, 128), 8.0);
     EXPECT_DOUBLE_EQ(swappedRaysWholeMs(1.0, 0, 128), 128.0);   // nothing probed: no division by zero
-    EXPECT_EQ(swappedProbeVerdict(1.01 * 8.0 / kSwappedRaysSure, 1.0, 16, 128), SwappedVerdict::Rays);
-    EXPECT_EQ(swappedProbeVerdict(0.99 * 8.0 / kSwappedRaysSure, 1.0, 16, 128), SwappedVerdict::TimeBitmask);
-    EXPECT_EQ(swappedProbeVerdict(1.0, 1.0, 16, 128), SwappedVerdict::TimeBitmask);   // predicted cheap
+    const double raysMs = swappedRaysWholeMs(1.0, 16, 128);
+    EXPECT_EQ(swappedProbeVerdict(1.01 * 8.0 / kSwappedRaysSure, raysMs), SwappedVerdict::Rays);
+    EXPECT_EQ(swappedProbeVerdict(0.99 * 8.0 / kSwappedRaysSure, raysMs), SwappedVerdict::TimeBitmask);
+    EXPECT_EQ(swappedProbeVerdict(1.0, raysMs), SwappedVerdict::TimeBitmask);   // predicted cheap
     // Timed: rays for later calls only where cheaper than the bitmask's setup and pass together,
     // the probe's rays weighed down by what they run high (cluttered-rooms-12 at 32 x 32²: the
     // probe's rays 5.9 ms, the bitmask 1.6 + 1.1; dense-mesh-8 at 128 x 32²: 10.1 against 13.6).

@@ -427,6 +427,11 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
         Plan plan = Plan::Bitmask;
         const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy, shaft.floatKernel};
         bool warmGrids = false;   // Auto sampled these grids before: a probe's times are what later calls pay
+        // A choice for later calls on a similar configuration (ProbeMemo).
+        const auto remember = [&](bool rays, int calls, bool measured) {
+            std::lock_guard lock(probeMutex_);
+            probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, calls, measured}});
+        };
         if (strategy == CpuStrategy::Auto) {
             bool remembered = false;
             {
@@ -458,11 +463,8 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
                 plan = planFor(cost, model);
                 local.predictedBitmaskMs = predictedBitmaskMs(cost, model);
                 local.predictedRayMs = predictedRayMs(cost, model);
-                if (plan != Plan::Probe) {
-                    std::lock_guard lock(probeMutex_);
-                    probeMemo_ = std::make_unique<StrategyMemo>(
-                        StrategyMemo{{configuration, plan == Plan::RayCast, kProbeReuse, /*measured=*/false}});
-                }
+                if (plan != Plan::Probe)
+                    remember(plan == Plan::RayCast, kProbeReuse, /*measured=*/false);
             }
         }
         // With the roles swapped the receiver has too few tiles to time the bitmask on: the rays
@@ -470,7 +472,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
         // are clearly cheaper than the bitmask's prediction, the bitmask is timed on this call's
         // whole answer (swappedProbeVerdict, swappedMeasuredChoosesRays).
         std::vector<int> raySamples;   // the receiver samples left to cast, when not all
-        double swappedRaysMs = -1.0;   // >= 0: the bitmask's whole call is to be timed against this
+        bool timeSwappedBitmask = false;   // against the probe's rays, local.probeRayMs
         if (plan == Plan::Probe && swappedRoles) {
             std::vector<int> probe;
             swappedProbeSamples(receiver.sampleCount(), probe, raySamples);
@@ -480,16 +482,13 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
                 onOneThread([&] { castRays({.jitter = options.jitter, .receiverSubset = &probe}); });
             local.rayMs += msSince(probeStart);
             local.probed = true;
-            const std::size_t samples = std::size_t(receiver.sampleCount());
-            local.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), samples);
-            if (swappedProbeVerdict(local.predictedBitmaskMs, probeMs, probe.size(), samples) == SwappedVerdict::Rays) {
+            local.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), std::size_t(receiver.sampleCount()));
+            if (swappedProbeVerdict(local.predictedBitmaskMs, local.probeRayMs) == SwappedVerdict::Rays) {
                 plan = Plan::RayCast;
-                std::lock_guard lock(probeMutex_);
-                probeMemo_ = std::make_unique<StrategyMemo>(
-                    StrategyMemo{{configuration, true, warmGrids ? kProbeReuse : 0, /*measured=*/true}});
+                remember(true, warmGrids ? kProbeReuse : 0, /*measured=*/true);
             } else {
                 plan = Plan::Bitmask;
-                swappedRaysMs = local.probeRayMs;
+                timeSwappedBitmask = true;
             }
         }
         if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
@@ -504,7 +503,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             return;
         }
         const bool probing = plan == Plan::Probe;
-        const bool timed = probing || swappedRaysMs >= 0.0;   // one thread's processor time, for a verdict
+        const bool timed = probing || timeSwappedBitmask;   // one thread's processor time, for a verdict
         double setupThreadMs = 0.0;
         if (timed)
             setupThreadMs += onOneThread([&] { work->occluders.prepare(shaft, filter); });
@@ -615,11 +614,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             local.probed = true;
             const auto [bitmaskPart, rayPart] = parts();
             const ProbeVerdict verdict = probeVerdict(bitmaskPart, rayPart, setupThreadMs, warmGrids);
-            {
-                std::lock_guard lock(probeMutex_);
-                probeMemo_ = std::make_unique<StrategyMemo>(
-                    StrategyMemo{{configuration, verdict.memoRays, verdict.memoCalls, /*measured=*/true}});
-            }
+            remember(verdict.memoRays, verdict.memoCalls, /*measured=*/true);
             if (!verdict.restByRays) {
                 local.strategy = "bitmask";
                 addCounts(bitmaskPass(shaft, bins, map, narrow, &rest));
@@ -635,13 +630,12 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             local.sampleMs = msSince(sampleStart) - local.rayMs;
             return;
         }
-        if (swappedRaysMs >= 0.0) {
+        if (timeSwappedBitmask) {
             const double passMs = onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow)); });
             local.probeBitmaskMs = setupThreadMs + passMs;
-            const bool rays = swappedMeasuredChoosesRays(swappedRaysMs, setupThreadMs, passMs);
-            const int calls = !warmGrids ? 0 : rays ? swappedRaysMemoCalls(swappedRaysMs, local.probeBitmaskMs) : kProbeReuse;
-            std::lock_guard lock(probeMutex_);
-            probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, calls, /*measured=*/true}});
+            const bool rays = swappedMeasuredChoosesRays(local.probeRayMs, setupThreadMs, passMs);
+            remember(rays, !warmGrids ? 0 : rays ? swappedRaysMemoCalls(local.probeRayMs, local.probeBitmaskMs) : kProbeReuse,
+                     /*measured=*/true);
         } else {
             addCounts(bitmaskPass(shaft, bins, map, narrow));
         }

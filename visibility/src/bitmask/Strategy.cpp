@@ -121,9 +121,9 @@ double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t sample
     return probeMs * double(samples) / double(std::max<std::size_t>(probed, 1));
 }
 
-SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples)
+SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double raysWholeMs)
 {
-    return swappedRaysWholeMs(probeMs, probed, samples) < kSwappedRaysSure * bitmaskPredictedMs
+    return raysWholeMs < kSwappedRaysSure * bitmaskPredictedMs
                ? SwappedVerdict::Rays
                : SwappedVerdict::TimeBitmask;
 }

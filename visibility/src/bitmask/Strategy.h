@@ -106,9 +106,9 @@ inline constexpr double kSwappedRaysClearCut = 8.0;
 /// `probe`, and the others in `rest`, both in increasing order.
 void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vector<int>& rest);
 
-/// The swapped probe's first verdict, from the rays timed on `probed` of `samples` receiver
-/// samples (`probeMs`, one thread), scaled to all: rays where that is under kSwappedRaysSure
-/// times the bitmask's prediction; otherwise the bitmask is timed too, on this call's whole
+/// The swapped probe's first verdict, from the rays timed on a few receiver samples and scaled
+/// to the whole call (`raysWholeMs`, swappedRaysWholeMs): rays where that is under
+/// kSwappedRaysSure times the bitmask's prediction; otherwise the bitmask is timed too, on this call's whole
 /// answer (swappedMeasuredChoosesRays). Of the 100 swapped calls of seeds 1-12 at 32 and 128
 /// source samples against 32x32 (docs/benchmarks.md, "The swapped probe times the bitmask"), 18
 /// fall between the clear-cut rules: there a whole bitmask call took 0.79-1.52 times its
@@ -121,7 +121,7 @@ void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vect
 /// cluttered room once a cheaper setup had brought the bitmask down to about its prediction.
 inline constexpr double kSwappedRaysSure = 1.0;
 enum class SwappedVerdict { Rays, TimeBitmask };
-SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double probeMs, std::size_t probed, std::size_t samples);
+SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double raysWholeMs);
 /// The rays' whole call, one thread, from the probe's part (`probeMs` for `probed` of `samples`).
 double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t samples);
 
