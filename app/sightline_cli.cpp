@@ -6,6 +6,7 @@
 //   sightline-cli importance PROJECT.json --out MAP.png [--npy MAP.npy] [--frames N]   (cli/LightingCommands)
 //   sightline-cli shadow PROJECT.json --out SHADOW.png
 //   sightline-cli ao MESH_OR_PROJECT [--k 258] [--npy OUT.npy] [--json] ...             (cli/AoCommand, docs/ao.md)
+//   sightline-cli lights PROJECT.json [--points P.npy] [--npy OUT.npy] [--json]   (cli/LightsCommand, docs/lights.md)
 //   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
@@ -29,6 +30,7 @@
 #include "bench/BenchChart.h"
 #include "cli/AoCommand.h"
 #include "cli/LightingCommands.h"
+#include "cli/LightsCommand.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
@@ -597,6 +599,8 @@ int main(int argc, char** argv)
     CLI::App* shadowCmd = cli::addShadowCommand(app, shadow);
     cli::AoArgs ao;
     CLI::App* aoCmd = cli::addAoCommand(app, ao);
+    cli::LightsArgs lights;
+    CLI::App* lightsCmd = cli::addLightsCommand(app, lights);
 
     cli::PvsArgs pvsArgs;
     CLI::App* pvsCmd = cli::addPvsCommand(app, pvsArgs);
@@ -667,6 +671,8 @@ int main(int argc, char** argv)
             cli::checkAoOptions(*aoCmd, ao);
             return cli::runAo(ao);
         }
+        if (*lightsCmd)
+            return cli::runLights(lights);
         if (*pvsCmd)
             return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {

@@ -1,6 +1,10 @@
 #pragma once
 // Runs sightline-cli as a user does (a child process), and the scene file the app tests share.
 #include <array>
+#include <cstdint>
+#include <cstring>
+#include <regex>
+#include <vector>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -63,6 +67,42 @@ inline void writeWallWithHoleObj(const fs::path& file)
     std::ofstream(file) << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
                            "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
                            "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+}
+
+inline std::string readAll(const fs::path& file)
+{
+    std::stringstream s;
+    s << std::ifstream(file, std::ios::binary).rdbuf();
+    return s.str();
+}
+
+/// A float32 .npy's shape and values (the test's own small reader: header text, then data).
+struct Npy {
+    std::vector<std::size_t> shape;
+    std::vector<float> values;
+};
+
+inline Npy readNpy(const fs::path& file)
+{
+    const std::string bytes = readAll(file);
+    Npy npy;
+    if (bytes.size() < 10 || bytes.compare(0, 6, "\x93NUMPY") != 0)
+        return npy;
+    const std::size_t headerLength = std::size_t(std::uint8_t(bytes[8])) | std::size_t(std::uint8_t(bytes[9])) << 8;
+    const std::string header = bytes.substr(10, headerLength);
+    EXPECT_NE(header.find("'descr': '<f4'"), std::string::npos) << header;
+    std::smatch m;
+    const std::regex shapeRe(R"('shape': \(([0-9, ]*)\))");
+    if (!std::regex_search(header, m, shapeRe))
+        return npy;
+    std::stringstream dims(m[1].str());
+    std::string dim;
+    while (std::getline(dims, dim, ','))
+        if (dim.find_first_of("0123456789") != std::string::npos)
+            npy.shape.push_back(std::stoul(dim));
+    npy.values.resize((bytes.size() - 10 - headerLength) / 4);
+    std::memcpy(npy.values.data(), bytes.data() + 10 + headerLength, npy.values.size() * 4);
+    return npy;
 }
 
 } // namespace sightline::test

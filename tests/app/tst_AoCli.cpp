@@ -19,42 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string readAll(const fs::path& file)
-{
-    std::stringstream s;
-    s << std::ifstream(file, std::ios::binary).rdbuf();
-    return s.str();
-}
-
-/// A float32 .npy's shape and values (the test's own small reader: header text, then data).
-struct Npy {
-    std::vector<std::size_t> shape;
-    std::vector<float> values;
-};
-
-Npy readNpy(const fs::path& file)
-{
-    const std::string bytes = readAll(file);
-    Npy npy;
-    if (bytes.size() < 10 || bytes.compare(0, 6, "\x93NUMPY") != 0)
-        return npy;
-    const std::size_t headerLength = std::size_t(std::uint8_t(bytes[8])) | std::size_t(std::uint8_t(bytes[9])) << 8;
-    const std::string header = bytes.substr(10, headerLength);
-    EXPECT_NE(header.find("'descr': '<f4'"), std::string::npos) << header;
-    std::smatch m;
-    const std::regex shapeRe(R"('shape': \(([0-9, ]*)\))");
-    if (!std::regex_search(header, m, shapeRe))
-        return npy;
-    std::stringstream dims(m[1].str());
-    std::string dim;
-    while (std::getline(dims, dim, ','))
-        if (dim.find_first_of("0123456789") != std::string::npos)
-            npy.shape.push_back(std::stoul(dim));
-    npy.values.resize((bytes.size() - 10 - headerLength) / 4);
-    std::memcpy(npy.values.data(), bytes.data() + 10 + headerLength, npy.values.size() * 4);
-    return npy;
-}
-
 class AoCli : public ::testing::Test {
 protected:
     fs::path folder;

@@ -145,6 +145,31 @@ void writeFloatNpy(const std::vector<float>& values, int rows, int columns, cons
     writeFileAtomically(file, encodeFloatNpy(values, rows, columns));
 }
 
+std::string encodeFloatNpy(const std::vector<float>& values, const std::vector<std::size_t>& shape)
+{
+    std::size_t count = 1;
+    std::string text;   // "2, 3, 3"; a 1-D shape keeps Python's comma: "5,"
+    for (std::size_t k = 0; k < shape.size(); ++k) {
+        count *= shape[k];
+        text += (k ? ", " : "") + std::to_string(shape[k]);
+    }
+    if (shape.size() == 1)
+        text += ",";
+    if (shape.empty() || count != values.size())
+        throw std::invalid_argument("encodeFloatNpy: shape does not match the value count");
+    std::string out = npyPreamble("<f4", text);
+    const std::size_t dataStart = out.size();
+    out.resize(dataStart + values.size() * sizeof(float));
+    if (!values.empty())
+        std::memcpy(out.data() + dataStart, values.data(), values.size() * sizeof(float));
+    return out;
+}
+
+void writeFloatNpy(const std::vector<float>& values, const std::vector<std::size_t>& shape, const std::filesystem::path& file)
+{
+    writeFileAtomically(file, encodeFloatNpy(values, shape));
+}
+
 FloatArray readFloatNpy(const std::filesystem::path& file)
 {
     const NpyFile npy = readNpy(file);

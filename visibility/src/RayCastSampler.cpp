@@ -92,6 +92,20 @@ struct RayCastScene::Embree {
         buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
 
+    /// Widens the boxes (rebuilds) when a call's float rays may stray `needed` metres from its
+    /// exact segments, more than the build allowed for.
+    void cover(double needed)
+    {
+        {
+            std::shared_lock check(lock);
+            if (needed <= pad)
+                return;
+        }
+        std::unique_lock rebuild(lock);
+        if (needed > pad)
+            build(2.0 * needed);
+    }
+
     static void bounds(const RTCBoundsFunctionArguments* args)
     {
         const Embree& self = *static_cast<const Embree*>(args->geometryUserPtr);
@@ -107,8 +121,6 @@ struct RayCastScene::Embree {
         b->upper_z = up(double(hi.z) + self.pad);
     }
 
-    /// What one call's rays carry to the primitive test: the exact segment ends. Embree passes
-    /// this context (its first member) to every callback of the call.
     /// What one receiver sample's rays carry to the primitive test: their exact common start and
     /// directions, by source index (the ray's id). Embree passes this context (its first member)
     /// to every callback of the call.
@@ -224,17 +236,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
         for (int j = 0; j < receiver.sampleCount(); ++j)
             farthest = std::max(farthest, maxAbs(receiverEnd(j)));
     // Jitter moves a source sample by under a cell.
-    const double needed = kStrayPerMetre * (farthest + 2.0 * longest + maxAbs(source.u) + maxAbs(source.v));
-    {
-        std::unique_lock lock(embree_->lock, std::defer_lock);
-        std::shared_lock check(embree_->lock);
-        if (needed > embree_->pad) {
-            check.unlock();
-            lock.lock();
-            if (needed > embree_->pad)
-                embree_->build(2.0 * needed);
-        }
-    }
+    embree_->cover(kStrayPerMetre * (farthest + 2.0 * longest + maxAbs(source.u) + maxAbs(source.v)));
     std::shared_lock lock(embree_->lock);
     RTCScene scene = embree_->scene;
     const std::vector<int> order = raycast::packetOrder(source);
@@ -392,6 +394,97 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
     if (!embree_->error.empty())
         throw Error("Embree: " + embree_->error);
     return cast;
+}
+
+namespace {
+
+/// Lane k of a packet: the float ray org + t dir, 0 <= t <= 1, with id k (its exact segment in the
+/// call's context by that id).
+void setLane(RTCRay16& rays, int k, const glm::vec3& org, const glm::vec3& dir)
+{
+    rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
+    rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
+    rays.tnear[k] = 0.0f;
+    rays.tfar[k] = 1.0f;
+    rays.time[k] = 0.0f;
+    rays.mask[k] = 0xffffffffu;
+    rays.id[k] = unsigned(k);
+    rays.flags[k] = 0;
+}
+
+} // namespace
+
+void RayCastScene::segmentsBlocked(const glm::dvec3& start, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const
+{
+    std::fill(blocked, blocked + ends.size(), std::uint8_t(0));
+    if (embree_->triangles == 0 || ends.empty())
+        return;
+    double farthest = maxAbs(start), longest = 0.0;
+    for (const glm::dvec3& end : ends)
+        farthest = std::max(farthest, maxAbs(end)), longest = std::max(longest, maxAbs(end - start));
+    embree_->cover(kStrayPerMetre * (farthest + 2.0 * longest));
+    std::shared_lock lock(embree_->lock);
+    Embree::SegmentContext context;
+    rtcInitIntersectContext(&context.base);
+    context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    context.self = embree_.get();
+    context.receiverEnd = start;   // every lane is tested from the shared start
+    glm::dvec3 directions[16];
+    context.directions = directions;
+    const glm::vec3 org(start);
+    alignas(64) RTCRay16 rays;
+    alignas(64) int valid[16];
+    for (std::size_t first = 0; first < ends.size(); first += 16) {
+        for (int k = 0; k < 16; ++k) {
+            const std::size_t i = first + std::size_t(k);
+            valid[k] = i < ends.size() ? -1 : 0;
+            directions[k] = i < ends.size() ? ends[i] - start : glm::dvec3(1.0, 0.0, 0.0);
+            setLane(rays, k, org, glm::vec3(directions[k]));
+        }
+        rtcOccluded16(valid, embree_->scene, &context.base, &rays);
+        for (int k = 0; k < 16 && first + std::size_t(k) < ends.size(); ++k)
+            blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
+    }
+    if (!embree_->error.empty())
+        throw Error("Embree: " + embree_->error);
+}
+
+void RayCastScene::segmentsBlocked(std::span<const glm::dvec3> starts, std::span<const glm::dvec3> ends,
+                                   std::uint8_t* blocked) const
+{
+    if (starts.size() != ends.size())
+        throw Error("RayCastScene::segmentsBlocked: as many starts as ends are needed");
+    std::fill(blocked, blocked + ends.size(), std::uint8_t(0));
+    if (embree_->triangles == 0 || ends.empty())
+        return;
+    double farthest = 0.0, longest = 0.0;
+    for (std::size_t i = 0; i < ends.size(); ++i)
+        farthest = std::max({farthest, maxAbs(starts[i]), maxAbs(ends[i])}),
+        longest = std::max(longest, maxAbs(ends[i] - starts[i]));
+    embree_->cover(kStrayPerMetre * (farthest + 2.0 * longest));
+    std::shared_lock lock(embree_->lock);
+    Embree::SegmentContext context;
+    rtcInitIntersectContext(&context.base);
+    context.self = embree_.get();
+    glm::dvec3 from[16], directions[16];
+    context.ends = from;   // each lane tested from its own start
+    context.directions = directions;
+    alignas(64) RTCRay16 rays;
+    alignas(64) int valid[16];
+    for (std::size_t first = 0; first < ends.size(); first += 16) {
+        for (int k = 0; k < 16; ++k) {
+            const std::size_t i = first + std::size_t(k);
+            valid[k] = i < ends.size() ? -1 : 0;
+            from[k] = i < ends.size() ? starts[i] : glm::dvec3(0.0);
+            directions[k] = i < ends.size() ? ends[i] - starts[i] : glm::dvec3(1.0, 0.0, 0.0);
+            setLane(rays, k, glm::vec3(from[k]), glm::vec3(directions[k]));
+        }
+        rtcOccluded16(valid, embree_->scene, &context.base, &rays);
+        for (int k = 0; k < 16 && first + std::size_t(k) < ends.size(); ++k)
+            blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
+    }
+    if (!embree_->error.empty())
+        throw Error("Embree: " + embree_->error);
 }
 
 } // namespace sightline

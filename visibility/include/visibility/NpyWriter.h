@@ -26,6 +26,11 @@ std::string encodeFloatNpy(const std::vector<float>& values, int rows, int colum
 /// Writes atomically; throws sightline::Error on failure.
 void writeFloatNpy(const std::vector<float>& values, int rows, int columns, const std::filesystem::path& file);
 
+/// A float32 array of any shape (dtype '<f4', C order): per-point irradiance (N, 3), per-sample
+/// colours (nb, na, 3). `values` holds the product of `shape` floats.
+std::string encodeFloatNpy(const std::vector<float>& values, const std::vector<std::size_t>& shape);
+void writeFloatNpy(const std::vector<float>& values, const std::vector<std::size_t>& shape, const std::filesystem::path& file);
+
 struct FloatArray {
     int rows = 0, columns = 0;
     std::vector<float> values;

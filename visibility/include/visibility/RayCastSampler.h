@@ -22,7 +22,9 @@
 // float triangles, proves or tests every hit, and confirms with this class the rays it leaves
 // free, so that it answers as this class does, bit for bit.
 
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "visibility/HiddenSampleMap.h"
@@ -74,6 +76,16 @@ public:
     /// of rays cast.
     std::uint64_t sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
                                   const RayCastOptions& options = {}) const;
+
+    /// Segments from `start` to each of `ends`: blocked[k] is 1 where the contract's test
+    /// (segmentCrossesTriangle, ExactSegment.h) finds a triangle that start -> ends[k] crosses
+    /// strictly between its ends, else 0. Packets of 16 lanes sharing their start (a shaded point
+    /// and its light samples, or a light and the points it shines on). Thread-safe. Coordinates
+    /// must be finite and within DESIGN.md §2's range (callers validate them).
+    void segmentsBlocked(const glm::dvec3& start, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const;
+    /// The same for segments starts[k] -> ends[k] (the spans must have one size).
+    void segmentsBlocked(std::span<const glm::dvec3> starts, std::span<const glm::dvec3> ends,
+                         std::uint8_t* blocked) const;
 
 private:
     struct Embree;

@@ -1,0 +1,214 @@
+#include "cli/LightsCommand.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli/OptionRules.h"
+#include "cli/OutputPaths.h"
+#include "lighting/DirectLight.h"
+#include "project/Project.h"
+#include "project/ProjectLights.h"
+#include "visibility/Error.h"
+#include "visibility/NpyWriter.h"
+
+namespace sightline::cli {
+
+using nlohmann::json;
+
+namespace {
+
+/// (point, light sample) pairs one call may ask for: past this a run would take hours, and a
+/// mistyped file should say so rather than appear to hang.
+constexpr double kMaxTerms = 1e11;
+
+std::vector<ShadingPoint> readPoints(const std::string& file)
+{
+    const FloatArray array = readFloatNpy(file);
+    if (array.columns != 6)
+        throw Error(file + ": --points must have shape (N, 6): rows x, y, z, nx, ny, nz (got " +
+                    std::to_string(array.rows) + " x " + std::to_string(array.columns) + ")");
+    std::vector<ShadingPoint> points(std::size_t(array.rows));
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        const float* row = &array.values[6 * j];
+        points[j].position = glm::dvec3(row[0], row[1], row[2]);
+        points[j].normal = glm::dvec3(row[3], row[4], row[5]);
+    }
+    validateShadingPoints(points, file);
+    return points;
+}
+
+std::string lightSummary(const std::vector<Light>& lights)
+{
+    std::size_t counts[4] = {0, 0, 0, 0};
+    for (const Light& light : lights)
+        ++counts[int(light.type)];
+    std::string text;
+    for (int t = 0; t < 4; ++t)
+        if (counts[t])
+            text += (text.empty() ? "" : ", ") + std::to_string(counts[t]) + " " + toString(LightType(t));
+    return text.empty() ? "none" : text;
+}
+
+/// The largest difference between two answers, relative to the larger value at the point (with a
+/// floor of 1e-12 W/m², so that dark points compare absolutely), and how many points differ by
+/// more than 1e-12 of it. Both paths sum the same terms in the same order, so a point differs only
+/// where a shadow segment is a tie.
+double largestRelativeDifference(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b, std::size_t* differing)
+{
+    double worst = 0.0;
+    *differing = 0;
+    for (std::size_t j = 0; j < a.size(); ++j) {
+        double here = 0.0;
+        for (int c = 0; c < 3; ++c)
+            here = std::max(here, std::abs(a[j][c] - b[j][c]) / std::max({std::abs(a[j][c]), std::abs(b[j][c]), 1e-12}));
+        *differing += here > 1e-12;
+        worst = std::max(worst, here);
+    }
+    return worst;
+}
+
+} // namespace
+
+CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
+{
+    CLI::App* command = app.add_subcommand(
+        "lights", "Direct irradiance (W/m² per colour channel) from the project's \"lights\", shadowed exactly, at "
+                  "--points or over the receiver patch's samples (docs/lights.md)");
+    command->add_option("project", args.project, "Project file (JSON) with a \"lights\" list")->required();
+    command->add_option("--points", args.points,
+                        "float32 .npy of shape (N, 6): rows x, y, z, nx, ny, nz (normals are normalised; lift "
+                        "surface points off their surface). Default: the receiver patch's samples, with its normal");
+    command->add_option("--npy", args.npy, "Write the irradiance as float32 .npy: (N, 3) with --points, else (nb, na, 3)")
+        ->check(outputFile());
+    command->add_flag("--json", args.json, "Print one JSON object instead of text");
+    command->add_flag("--reference", args.reference,
+                      "Brute force: every light sample at every point by exact ray casting (the fast path answers the "
+                      "same sum, with area lights facing the receiver by the bitmask sampler)");
+    command->add_flag("--compare", args.compare,
+                      "Also run the other path in the same run: its time, the speed-up and the largest difference");
+    command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+    addAllowOutsidePaths(command, args.allowOutsidePaths);
+    return command;
+}
+
+int runLights(const LightsArgs& args)
+{
+    const auto start = std::chrono::steady_clock::now();
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    const std::string what = std::filesystem::path(args.project).filename().string();
+    std::vector<Light> lights = projectLights(project);
+    std::vector<FileRole> inputs = projectInputs(args.project, project);
+    if (!args.points.empty())
+        inputs.push_back({"--points", args.points});
+    checkOutputs({{"--npy", args.npy}}, inputs);
+
+    std::vector<ShadingPoint> points;
+    const bool onReceiver = args.points.empty();
+    if (onReceiver) {
+        validatePatch(project.receiver, "receiver");
+        points = patchShadingPoints(project.receiver);
+    } else {
+        points = readPoints(args.points);
+    }
+    std::size_t lightSamples = 0;
+    for (const Light& light : lights)
+        lightSamples += std::size_t(light.sampleCount());
+    if (double(points.size()) * double(lightSamples) > kMaxTerms)
+        throw Error(what + ": " + std::to_string(points.size()) + " points x " + std::to_string(lightSamples) +
+                    " light samples is more than " + std::to_string(std::uint64_t(kMaxTerms)) +
+                    " shadow rays; use fewer points or coarser area lights");
+    if (lights.empty())
+        std::cerr << "sightline-cli: warning: " << what << " has no \"lights\"; every irradiance is 0\n";
+
+    std::vector<std::string> warnings;
+    const Scene scene = buildScene(project, &warnings);
+    for (const std::string& w : warnings)
+        std::cerr << "sightline-cli: warning: " << w << "\n";
+    const auto setupStart = std::chrono::steady_clock::now();
+    const LightingScene lighting(scene);
+    const double setupMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setupStart).count();
+
+    DirectLightOptions options;
+    options.path = args.reference ? LightingPath::Reference : LightingPath::Fast;
+    options.threads = args.threads;
+    options.receiverGrid = onReceiver ? &project.receiver : nullptr;
+    DirectLightStats stats;
+    const std::vector<glm::dvec3> irradiance = directIrradiance(lighting, lights, points, options, &stats);
+
+    json comparison;
+    if (args.compare) {
+        DirectLightOptions other = options;
+        other.path = args.reference ? LightingPath::Fast : LightingPath::Reference;
+        DirectLightStats otherStats;
+        const std::vector<glm::dvec3> second = directIrradiance(lighting, lights, points, other, &otherStats);
+        std::size_t differing = 0;
+        const double worst = largestRelativeDifference(irradiance, second, &differing);
+        const double fastMs = args.reference ? otherStats.ms : stats.ms, referenceMs = args.reference ? stats.ms : otherStats.ms;
+        comparison = {{"reference_ms", referenceMs},
+                      {"fast_ms", fastMs},
+                      {"speedup", fastMs > 0.0 ? referenceMs / fastMs : 0.0},
+                      {"max_relative_difference", worst},
+                      {"points_differing", differing}};
+    }
+
+    std::vector<float> values(3 * irradiance.size());
+    glm::dvec3 mean(0.0), peak(0.0);
+    for (std::size_t j = 0; j < irradiance.size(); ++j) {
+        for (int c = 0; c < 3; ++c)
+            values[3 * j + std::size_t(c)] = float(irradiance[j][c]);
+        mean += irradiance[j];
+        peak = glm::max(peak, irradiance[j]);
+    }
+    if (!irradiance.empty())
+        mean /= double(irradiance.size());
+    if (!args.npy.empty()) {
+        const std::vector<std::size_t> shape = onReceiver ? std::vector<std::size_t>{std::size_t(project.receiver.nb), std::size_t(project.receiver.na), 3}
+                                                          : std::vector<std::size_t>{points.size(), 3};
+        writeFloatNpy(values, shape, args.npy);
+    }
+
+    const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    if (args.json) {
+        json out = {{"lights", stats.lights},
+                    {"light_samples", stats.lightSamples},
+                    {"points", stats.points},
+                    {"path", args.reference ? "reference" : "fast"},
+                    {"ms", stats.ms},
+                    {"setup_ms", setupMs},
+                    {"total_ms", totalMs},
+                    {"terms", stats.terms},
+                    {"segments_cast", stats.segmentsCast},
+                    {"bitmask_lights", stats.bitmaskLights},
+                    {"bitmask_rays", stats.bitmaskRays},
+                    {"triangles", scene.triangleCount()},
+                    {"irradiance_mean", {mean.x, mean.y, mean.z}},
+                    {"irradiance_max", {peak.x, peak.y, peak.z}}};
+        if (args.compare)
+            out["compare"] = comparison;
+        std::cout << out.dump() << "\n";
+        return 0;
+    }
+    std::printf("lights     %zu (%s), %zu light samples\n", lights.size(), lightSummary(lights).c_str(), stats.lightSamples);
+    if (onReceiver)
+        std::printf("points     %zu (the receiver's %dx%d samples)\n", points.size(), project.receiver.na, project.receiver.nb);
+    else
+        std::printf("points     %zu (%s)\n", points.size(), args.points.c_str());
+    std::printf("path       %s: %llu shadow segments cast, %zu area lights by the bitmask\n",
+                args.reference ? "reference" : "fast", (unsigned long long)stats.segmentsCast, stats.bitmaskLights);
+    std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
+    std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());
+    if (args.compare)
+        std::printf("compare    reference %.2f ms, fast %.2f ms: %.2fx; largest relative difference %.3g, %zu points differ\n",
+                    comparison["reference_ms"].get<double>(), comparison["fast_ms"].get<double>(),
+                    comparison["speedup"].get<double>(), comparison["max_relative_difference"].get<double>(),
+                    comparison["points_differing"].get<std::size_t>());
+    return 0;
+}
+
+} // namespace sightline::cli

@@ -1,0 +1,93 @@
+#pragma once
+// Direct irradiance from many lights, shadowed exactly (docs/lights.md; the contract of
+// `sightline-cli lights`).
+//
+// E(x, n) = sum over the lights' emitters s of colour * term(s, x, n) * [segment x s unblocked],
+// the terms of LightEmission.h, visibility by DESIGN.md §2's segment test (ties either way).
+// Two paths answer the same sum, term by term in the same order (light by light, an area light's
+// samples in bit order), so they differ only where a segment is a tie:
+//
+// - Reference: per point, every emitter with a non-zero term, one shadow segment each, cast from
+//   the point in packets of 16 (RayCastScene::segmentsBlocked: Embree finds candidates, the
+//   contract's double test decides).
+// - Fast: per light. An area light whose samples face a planar receiver grid (the receiver patch's
+//   samples) is the bitmask method's source patch (Eisemann & Décoret §8): one call of the exact
+//   CPU bitmask sampler answers all its samples against all the grid's points. A point or spot
+//   light casts from the light to the points it reaches (coherent packets sharing the light's
+//   end); a directional light casts parallel segments; both skip every point its term leaves at
+//   zero (behind the receiver's tangent plane, outside the cone or the range).
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "lighting/Light.h"
+#include "lighting/LightEmission.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Patch.h"
+#include "visibility/RayCastSampler.h"
+#include "visibility/Scene.h"
+
+namespace sightline {
+
+struct ShadingPoint {
+    glm::dvec3 position{0.0};
+    glm::dvec3 normal{0.0, 1.0, 0.0};   ///< unit length
+};
+
+/// Throws sightline::Error naming the point for a non-finite position or normal, a position beyond
+/// DESIGN.md §2's range, or a zero normal; normalises the normals.
+void validateShadingPoints(std::span<ShadingPoint> points, const std::string& what);
+
+/// The scene as lighting asks about it, built once: exact segment queries, the bitmask sampler,
+/// the scene's bounds (where a directional light's segments end).
+class LightingScene {
+public:
+    /// Throws sightline::Error for coordinates beyond DESIGN.md §2's range, or if Embree fails.
+    explicit LightingScene(const Scene& scene);
+
+    const RayCastScene& rays() const { return *rays_; }
+    const CpuBitmaskSampler& bitmask() const { return *bitmask_; }
+    const DirectionalReach& reach() const { return reach_; }
+
+private:
+    std::unique_ptr<RayCastScene> rays_;
+    std::unique_ptr<CpuBitmaskSampler> bitmask_;
+    DirectionalReach reach_;
+};
+
+enum class LightingPath { Fast, Reference };
+
+struct DirectLightOptions {
+    LightingPath path = LightingPath::Fast;
+    int threads = 0;                     ///< 0 = all cores
+    /// When the points are exactly this patch's samples in bit order, with its normal: area
+    /// lights that form a valid pair with it (DESIGN.md §2) take the bitmask. Not owned.
+    const Patch* receiverGrid = nullptr;
+};
+
+struct DirectLightStats {
+    std::size_t lights = 0;
+    std::size_t lightSamples = 0;        ///< emitters: one per point, spot or directional light, na x nb per area light
+    std::size_t points = 0;
+    std::uint64_t terms = 0;             ///< (point, emitter) pairs with a non-zero unshadowed term
+    std::uint64_t segmentsCast = 0;      ///< of those, decided by ray casting
+    std::size_t bitmaskLights = 0;       ///< area lights decided by the bitmask sampler
+    std::uint64_t bitmaskRays = 0;       ///< rays those calls answered
+    double ms = 0.0;
+};
+
+/// Direct irradiance (W/m² per channel) at each point, in the points' order. `lights` must have
+/// passed validateLights and `points` validateShadingPoints.
+std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::vector<Light>& lights,
+                                         std::span<const ShadingPoint> points, const DirectLightOptions& options = {},
+                                         DirectLightStats* stats = nullptr);
+
+/// The receiver patch's samples with its normal, in bit order (the points of `lights` without
+/// --points).
+std::vector<ShadingPoint> patchShadingPoints(const Patch& patch);
+
+} // namespace sightline

@@ -1,0 +1,51 @@
+#pragma once
+// What each light gives a point before shadows: the contract's formulas (docs/lights.md), one
+// function per light type, shared by the reference and the fast path so that both sum the same
+// terms and differ only in how they decide visibility.
+//
+// A light is a set of emitters: one for a point, spot or directional light, an area light's
+// na x nb samples (placed as a patch's samples, DESIGN.md §2). At a point x with unit normal n,
+// emitter s at distance d along unit l = (s - x) / d gives
+//     point        I max(0, n.l) / d^2, times clamp(1 - (d/R)^4, 0, 1)^2 with a range R
+//     spot         the point's term times clamp((cos t - cos b) / (cos a - cos b), 0, 1)^2,
+//                  t the angle between the spot's direction and -l
+//     directional  E max(0, n.(-d)), d the way the light travels
+//     area sample  L (A / (na nb)) max(0, m.(-l)) max(0, n.l) / d^2, A = |u x v|,
+//                  m = normalize(u x v) (|m.(-l)| when two-sided)
+// times the light's colour, and counts only when the segment from x to s is unblocked. A
+// directional light's segment runs from x along -d to beyond the scene's bounds.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "lighting/Light.h"
+#include "visibility/Scene.h"
+
+namespace sightline {
+
+/// One point a light's shadow rays run to.
+struct Emitter {
+    glm::dvec3 position{0.0};   ///< unused for a directional light (its end depends on the point)
+    std::uint32_t light = 0;    ///< index into the light list
+};
+
+/// The emitters of `lights` in order (a light's samples in bit order, b * na + a).
+std::vector<Emitter> lightEmitters(const std::vector<Light>& lights);
+
+/// The scalar term (W/m² per unit colour) emitter `position` of `light` gives at x with unit
+/// normal n, before shadows; 0 where x coincides with the emitter.
+double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n);
+
+/// Where a directional light's segment from x ends: along -direction, beyond every point of
+/// `bounds` (the scene's), so that no triangle past it could matter.
+struct DirectionalReach {
+    explicit DirectionalReach(const Bounds& bounds);
+    glm::dvec3 end(const Light& light, const glm::dvec3& x) const;
+
+    glm::dvec3 centre{0.0};
+    double radius = 0.0;   ///< of a sphere around the bounds, plus a metre
+};
+
+} // namespace sightline

@@ -1,0 +1,79 @@
+#include "lighting/LightEmission.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace sightline {
+
+std::vector<Emitter> lightEmitters(const std::vector<Light>& lights)
+{
+    std::size_t total = 0;
+    for (const Light& light : lights)
+        total += std::size_t(light.sampleCount());
+    std::vector<Emitter> emitters;
+    emitters.reserve(total);
+    for (std::size_t k = 0; k < lights.size(); ++k) {
+        const Light& light = lights[k];
+        if (light.type == LightType::Area) {
+            for (int i = 0; i < light.area.sampleCount(); ++i)
+                emitters.push_back({light.area.sample(i), std::uint32_t(k)});
+        } else {
+            emitters.push_back({light.position, std::uint32_t(k)});
+        }
+    }
+    return emitters;
+}
+
+double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n)
+{
+    if (light.type == LightType::Directional)
+        return light.intensity * std::max(0.0, -glm::dot(n, light.direction));
+    const glm::dvec3 toLight = position - x;
+    const double d2 = glm::dot(toLight, toLight);
+    if (!(d2 > 0.0))
+        return 0.0;
+    const double d = std::sqrt(d2);
+    const glm::dvec3 l = toLight / d;
+    const double cosReceiver = glm::dot(n, l);
+    if (!(cosReceiver > 0.0))
+        return 0.0;
+    if (light.type == LightType::Area) {
+        const glm::dvec3 cross = glm::cross(light.area.u, light.area.v);
+        const double area = glm::length(cross);
+        const double cosLight = -glm::dot(cross / area, l);
+        const double facing = light.twoSided ? std::abs(cosLight) : std::max(0.0, cosLight);
+        return light.radiance * (area / double(light.area.sampleCount())) * facing * cosReceiver / d2;
+    }
+    double term = light.intensity * cosReceiver / d2;
+    if (light.range > 0.0) {
+        const double ratio = d / light.range;
+        const double window = std::clamp(1.0 - ratio * ratio * ratio * ratio, 0.0, 1.0);
+        term *= window * window;
+    }
+    if (light.type == LightType::Spot) {
+        const double cosT = -glm::dot(light.direction, l);
+        const double cosA = std::cos(light.innerAngle), cosB = std::cos(light.outerAngle);
+        const double cone = std::clamp((cosT - cosB) / (cosA - cosB), 0.0, 1.0);
+        term *= cone * cone;
+    }
+    return term;
+}
+
+DirectionalReach::DirectionalReach(const Bounds& bounds)
+{
+    if (bounds.empty()) {
+        radius = 1.0;
+        return;
+    }
+    centre = 0.5 * (glm::dvec3(bounds.min) + glm::dvec3(bounds.max));
+    radius = 0.5 * glm::length(glm::dvec3(bounds.max) - glm::dvec3(bounds.min)) + 1.0;
+}
+
+glm::dvec3 DirectionalReach::end(const Light& light, const glm::dvec3& x) const
+{
+    return x - light.direction * (glm::length(x - centre) + radius);
+}
+
+} // namespace sightline

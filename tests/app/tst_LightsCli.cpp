@@ -1,0 +1,217 @@
+// sightline-cli lights (docs/lights.md, a contract): its .npy shapes and --json keys, its values
+// judged point by point by the independent brute force (LightsJudge.h), the fast path against
+// --reference, bad lights and bad points refused in one line, and the "lights" key kept on save.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "CliRunner.h"
+#include "LightsJudge.h"
+#include "project/Project.h"
+#include "project/ProjectLights.h"
+#include "visibility/Error.h"
+#include "visibility/NpyWriter.h"
+
+using namespace sightline;
+using namespace sightline::test;
+using nlohmann::json;
+
+namespace {
+
+class LightsCli : public ::testing::Test {
+protected:
+    fs::path folder;
+
+    void SetUp() override
+    {
+        folder = uniqueFolder();
+        fs::remove_all(folder);
+        fs::create_directories(folder);
+        // A 6 x 6 m floor, a table (a slab on nothing: its top 0.8 m up) and a wall with a doorway.
+        std::ofstream(folder / "room.obj") << "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
+                                              "v -0.6 0.8 -0.4\nv 0.6 0.8 -0.4\nv 0.6 0.8 0.4\nv -0.6 0.8 0.4\n"
+                                              "v -3 0 1.5\nv -0.5 0 1.5\nv -0.5 2.5 1.5\nv -3 2.5 1.5\n"
+                                              "v 0.5 0 1.5\nv 3 0 1.5\nv 3 2.5 1.5\nv 0.5 2.5 1.5\n"
+                                              "f 1 3 2\nf 1 4 3\nf 5 7 6\nf 5 8 7\n"
+                                              "f 9 10 11\nf 9 11 12\nf 13 14 15\nf 13 15 16\n";
+    }
+    void TearDown() override { fs::remove_all(folder); }
+
+    json project(const json& lights) const
+    {
+        return {{"version", 1},
+                {"scene", "room.obj"},
+                {"source", {{"corner", {-1, 2, -1}}, {"u", {2, 0, 0}}, {"v", {0, 0, 2}}, {"samples", {8, 8}}}},
+                {"receiver", {{"corner", {-2.5, 0.01, 2.5}}, {"u", {5, 0, 0}}, {"v", {0, 0, -5}}, {"samples", {20, 16}}}},
+                {"lights", lights}};
+    }
+    fs::path write(const std::string& name, const json& document) const
+    {
+        std::ofstream(folder / name) << document.dump(2);
+        return folder / name;
+    }
+    static json lights()
+    {
+        return json::array({
+            {{"type", "area"}, {"name", "ceiling"}, {"corner", {-1, 2.4, -1}}, {"u", {2, 0, 0}}, {"v", {0, 0, 2}},
+             {"samples", {6, 5}}, {"radiance", 4}, {"colour", {1, 0.9, 0.8}}},
+            {{"type", "point"}, {"name", "lamp"}, {"position", {0.3, 1.5, -2}}, {"intensity", 6}, {"range", 8}},
+            {{"type", "spot"}, {"position", {0, 2.2, 2.4}}, {"direction", {0, -1, -1}}, {"inner_angle", 0.2},
+             {"outer_angle", 0.7}, {"intensity", 9}, {"colour", {0.2, 0.4, 1}}},
+            {{"type", "directional"}, {"direction", {0.4, -1, -0.3}}, {"intensity", 2}},
+        });
+    }
+    std::vector<Light> parsed() const { return parseLights(lights(), "test"); }
+    Scene scene() const { return buildScene(loadProject(folder / "p.json")); }
+};
+
+} // namespace
+
+TEST_F(LightsCli, PointsGiveShapeNx3AndTheExactIrradiance)
+{
+    write("p.json", project(lights()));
+    std::vector<float> rows;
+    std::vector<ShadingPoint> points;
+    for (int k = 0; k < 150; ++k) {
+        const double x = -2.8 + 0.037 * k, z = -2.7 + 0.036 * k;
+        const bool onTable = std::abs(x) < 0.55 && std::abs(z) < 0.35;
+        const ShadingPoint p{{x, onTable ? 0.801 : 0.001, z}, {0.0, 2.0, 0.0}};   // a normal the tool normalises
+        points.push_back({p.position, {0.0, 1.0, 0.0}});
+        rows.insert(rows.end(), {float(p.position.x), float(p.position.y), float(p.position.z), 0.0f, 2.0f, 0.0f});
+        points.back().position = glm::dvec3(glm::vec3(p.position));   // what the float32 file holds
+    }
+    writeFloatNpy(rows, 150, 6, folder / "points.npy");
+    const CliRun run = runCli("lights " + (folder / "p.json").string() + " --points " + (folder / "points.npy").string() +
+                              " --npy " + (folder / "e.npy").string() + " --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_EQ(out["lights"], 4);
+    EXPECT_EQ(out["light_samples"], 33);
+    EXPECT_EQ(out["points"], 150);
+    EXPECT_TRUE(out["ms"].is_number());
+    const Npy npy = readNpy(folder / "e.npy");
+    ASSERT_EQ(npy.shape, (std::vector<std::size_t>{150, 3}));
+    const LightsJudge judge(scene());
+    const std::vector<Light> lightList = parsed();
+    int lit = 0;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        const LitInterval exact = judge.at(lightList, points[j]);
+        const glm::dvec3 value(npy.values[3 * j], npy.values[3 * j + 1], npy.values[3 * j + 2]);
+        EXPECT_TRUE(LightsJudge::agrees(exact, value, 1e-6)) << "point " << j << ": " << value.x << " vs [" << exact.lit.x
+                                                             << ", " << exact.lit.x + exact.ties.x << "]";
+        lit += exact.lit.x > 0.0;
+    }
+    EXPECT_GT(lit, 100);
+}
+
+TEST_F(LightsCli, ReceiverSamplesGiveShapeNbNa3AndTheReferenceAgrees)
+{
+    write("p.json", project(lights()));
+    const std::string base = "lights " + (folder / "p.json").string();
+    const CliRun fast = runCli(base + " --npy " + (folder / "f.npy").string() + " --json --compare");
+    ASSERT_EQ(fast.code, 0) << fast.err;
+    const CliRun reference = runCli(base + " --reference --npy " + (folder / "r.npy").string() + " --json");
+    ASSERT_EQ(reference.code, 0) << reference.err;
+    const json out = json::parse(fast.out);
+    EXPECT_EQ(out["points"], 320);
+    EXPECT_EQ(out["bitmask_lights"], 1);   // the ceiling panel faces the receiver: the bitmask
+    EXPECT_EQ(json::parse(reference.out)["path"], "reference");
+    const Npy f = readNpy(folder / "f.npy"), r = readNpy(folder / "r.npy");
+    ASSERT_EQ(f.shape, (std::vector<std::size_t>{16, 20, 3}));
+    ASSERT_EQ(f.values.size(), r.values.size());
+    // Sample (a, b) at [b][a]. Both paths sum the same terms in the same order: they may differ
+    // only where a shadow segment is a tie, and both lie in the exact interval everywhere.
+    const Project p = loadProject(folder / "p.json");
+    const LightsJudge judge(scene());
+    const std::vector<Light> lightList = parsed();
+    int tiedPoints = 0, differing = 0;
+    for (int b = 0; b < 16; ++b)
+        for (int a = 0; a < 20; ++a) {
+            const LitInterval exact = judge.at(lightList, {p.receiver.sample(a, b), p.receiver.normal()});
+            const std::size_t at = 3 * std::size_t(b * 20 + a);
+            const glm::dvec3 byFast(f.values[at], f.values[at + 1], f.values[at + 2]);
+            const glm::dvec3 byReference(r.values[at], r.values[at + 1], r.values[at + 2]);
+            EXPECT_TRUE(LightsJudge::agrees(exact, byFast, 1e-6)) << a << ", " << b;
+            EXPECT_TRUE(LightsJudge::agrees(exact, byReference, 1e-6)) << a << ", " << b;
+            const bool tied = exact.ties != glm::dvec3(0.0);
+            tiedPoints += tied;
+            differing += byFast != byReference;
+            if (!tied) {
+                EXPECT_EQ(byFast, byReference) << a << ", " << b;
+            }
+        }
+    EXPECT_EQ(out["compare"]["points_differing"], differing);
+    EXPECT_LE(differing, tiedPoints);
+}
+
+TEST_F(LightsCli, BadLightsAndPointsGetOneLineErrors)
+{
+    const auto refused = [&](const json& lightList, const std::string& needle, const std::string& extra = "") {
+        write("bad.json", project(lightList));
+        const CliRun run = runCli("lights " + (folder / "bad.json").string() + extra);
+        EXPECT_EQ(run.code, 1) << needle;
+        EXPECT_TRUE(oneLine(run.err)) << run.err;
+        EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
+    };
+    refused(json::array({{{"type", "point"}, {"position", {0, 1, 0}}, {"intensity", -1}}}), "'lights[0].intensity'");
+    refused(json::array({{{"type", "point"}, {"position", {0, 1, 0}}, {"intensity", "bright"}}}), "'lights[0].intensity' must be a number");
+    refused(json::array({{{"type", "candle"}, {"position", {0, 1, 0}}}}), "'lights[0].type'");
+    refused(json::array({{{"type", "point"}}}), "'lights[0].position' is missing");
+    refused(json::array({{{"type", "spot"}, {"position", {0, 1, 0}}, {"direction", {0, -1, 0}}, {"inner_angle", 0.9},
+                          {"outer_angle", 0.5}}}),
+            "'lights[0].inner_angle'");
+    refused(json::array({{{"type", "area"}, {"corner", {0, 2, 0}}, {"u", {0, 0, 0}}, {"v", {1, 0, 0}}}}), "degenerate area light");
+    refused(json::array({{{"type", "area"}, {"corner", {0, 2, 0}}, {"u", {1, 0, 0}}, {"v", {0, 0, 1}}, {"samples", {0, 4}}}}),
+            "'lights[0].samples'");
+    refused(json::array({{{"type", "point"}, {"position", {0, 1, 0}}, {"range", 0}}}), "'lights[0].range'");
+    refused(json::object(), "'lights' must be an array");
+    // Points: a zero normal, a wrong shape, NaN; outputs that would replace an input.
+    write("p.json", project(lights()));
+    writeFloatNpy({0, 1, 0, 0, 0, 0}, 1, 6, folder / "zero.npy");
+    writeFloatNpy({0, 1, 0, 0, 1}, 1, 5, folder / "five.npy");
+    writeFloatNpy({0, NAN, 0, 0, 1, 0}, 1, 6, folder / "nan.npy");
+    refused(lights(), "has a zero normal", " --points " + (folder / "zero.npy").string());
+    refused(lights(), "shape (N, 6)", " --points " + (folder / "five.npy").string());
+    refused(lights(), "non-finite", " --points " + (folder / "nan.npy").string());
+    const CliRun clobber = runCli("lights " + (folder / "p.json").string() + " --npy " + (folder / "p.json").string());
+    EXPECT_EQ(clobber.code, 1);
+    EXPECT_NE(clobber.err.find("would replace"), std::string::npos) << clobber.err;
+    EXPECT_NO_THROW(loadProject(folder / "p.json"));
+}
+
+TEST_F(LightsCli, LightsRoundTripAndSurviveASave)
+{
+    const std::vector<Light> lightList = parsed();
+    json written = json::array();
+    for (const Light& light : lightList)
+        written.push_back(lightJson(light));
+    const std::vector<Light> again = parseLights(written, "again");
+    ASSERT_EQ(again.size(), lightList.size());
+    for (std::size_t k = 0; k < again.size(); ++k) {
+        // The same light, but for a direction normalised twice (the last bit may differ).
+        EXPECT_EQ(again[k].name, lightList[k].name);
+        EXPECT_EQ(again[k].type, lightList[k].type);
+        EXPECT_EQ(again[k].colour, lightList[k].colour);
+        EXPECT_EQ(again[k].position, lightList[k].position);
+        EXPECT_EQ(again[k].intensity, lightList[k].intensity);
+        EXPECT_EQ(again[k].range, lightList[k].range);
+        EXPECT_LT(glm::length(again[k].direction - lightList[k].direction), 1e-15);
+        EXPECT_EQ(again[k].innerAngle, lightList[k].innerAngle);
+        EXPECT_EQ(again[k].outerAngle, lightList[k].outerAngle);
+        EXPECT_EQ(again[k].area.corner, lightList[k].area.corner);
+        EXPECT_EQ(again[k].area.u, lightList[k].area.u);
+        EXPECT_EQ(again[k].area.v, lightList[k].area.v);
+        EXPECT_EQ(again[k].area.sampleCount(), lightList[k].area.sampleCount());
+        EXPECT_EQ(again[k].radiance, lightList[k].radiance);
+    }
+    json document = project(lights());
+    document["lights"][0]["editor_colour_temperature"] = 3200;   // a key we do not know is kept
+    const Project p = parseProject(document, folder, "p.json");
+    saveProject(p, folder / "saved.json");
+    std::ifstream in(folder / "saved.json");
+    const json saved = json::parse(in);
+    EXPECT_EQ(saved["lights"], document["lights"]);
+}
