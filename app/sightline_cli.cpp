@@ -37,9 +37,11 @@
 #include "cli/PvsCommands.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
+#include "demo/DemoLights.h"
 #include "plugins/SceneFormats.h"
 #include "project/LightingSetup.h"
 #include "project/Project.h"
+#include "project/ProjectLights.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
@@ -477,6 +479,14 @@ int runDemo(const std::string& folder, int firstSeed, int lastSeed)
     floor.na = floor.nb = 128;
     writeDemoProject(folder, "demo_level", "demo_floor", nullptr, view.source, floor,
                      "Sightline demo: the conservatory floor (128x128 samples) seen from the gallery's source patch");
+    // The level lit by 300 light samples (demo/DemoLights.h) over its whole floor at 256x256:
+    // `sightline-cli lights build/demo/demo_lights.json --compare` (docs/lights.md).
+    json lights = json::array();
+    for (const Light& light : demo::demoLights())
+        lights.push_back(lightJson(light));
+    writeDemoProject(folder, "demo_level", "demo_lights", nullptr, view.source, demo::demoFloor(256),
+                     "Sightline demo lit: 10 ceiling panels, 100 lamps, 39 spots and the sun over the floor",
+                     {{"lights", lights}});
     for (const demo::BenchScene& bench : {demo::makeFewOccludersScene(), demo::makeDenseMeshScene()})
         writeDemoProject(folder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
                          "Sightline benchmark scene '" + bench.name + "' (data/demo/DemoLevel.h)");

@@ -92,6 +92,9 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                       "same sum, with area lights facing the receiver by the bitmask sampler)");
     command->add_flag("--compare", args.compare,
                       "Also run the other path in the same run: its time, the speed-up and the largest difference");
+    command->add_flag("--bitmask-area", args.bitmaskArea,
+                      "Without --points: area lights facing the receiver by the exact bitmask sampler (Eisemann & "
+                      "Décoret §8) instead of tiles of rays");
     command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
@@ -138,6 +141,7 @@ int runLights(const LightsArgs& args)
     options.path = args.reference ? LightingPath::Reference : LightingPath::Fast;
     options.threads = args.threads;
     options.receiverGrid = onReceiver ? &project.receiver : nullptr;
+    options.bitmaskAreaLights = args.bitmaskArea;
     DirectLightStats stats;
     const std::vector<glm::dvec3> irradiance = directIrradiance(lighting, lights, points, options, &stats);
 
@@ -184,6 +188,9 @@ int runLights(const LightsArgs& args)
                     {"total_ms", totalMs},
                     {"terms", stats.terms},
                     {"segments_cast", stats.segmentsCast},
+                    {"tiles_unreached", stats.tilesUnreached},
+                    {"tiles_proven_shadowed", stats.tilesProvenShadowed},
+                    {"tiles_cast", stats.tilesCast},
                     {"bitmask_lights", stats.bitmaskLights},
                     {"bitmask_rays", stats.bitmaskRays},
                     {"triangles", scene.triangleCount()},
@@ -199,8 +206,11 @@ int runLights(const LightsArgs& args)
         std::printf("points     %zu (the receiver's %dx%d samples)\n", points.size(), project.receiver.na, project.receiver.nb);
     else
         std::printf("points     %zu (%s)\n", points.size(), args.points.c_str());
-    std::printf("path       %s: %llu shadow segments cast, %zu area lights by the bitmask\n",
-                args.reference ? "reference" : "fast", (unsigned long long)stats.segmentsCast, stats.bitmaskLights);
+    std::printf("path       %s: %llu of %llu shadow segments cast; (tile, light) pairs: %llu out of reach, %llu shadowed "
+                "by one triangle, %llu cast; %zu area lights by the bitmask\n",
+                args.reference ? "reference" : "fast", (unsigned long long)stats.segmentsCast, (unsigned long long)stats.terms,
+                (unsigned long long)stats.tilesUnreached, (unsigned long long)stats.tilesProvenShadowed,
+                (unsigned long long)stats.tilesCast, stats.bitmaskLights);
     std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
     std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());
     if (args.compare)

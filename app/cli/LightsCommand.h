@@ -14,7 +14,8 @@ struct LightsArgs {
     std::string project, points, npy;
     bool json = false;
     bool reference = false;   ///< brute force: every light sample at every point by ray casting
-    bool compare = false;     ///< also run the other path, report its time and the largest difference
+    bool compare = false;
+    bool bitmaskArea = false; ///< area lights facing the receiver grid by the bitmask sampler     ///< also run the other path, report its time and the largest difference
     int threads = 0;
     bool allowOutsidePaths = false;
 };

@@ -1,10 +1,12 @@
 #include "lighting/DirectLight.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
 #include <string>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -12,6 +14,8 @@
 
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
+#include "lights/PointTiles.h"
+#include "lights/ShaftBlocker.h"
 
 namespace sightline {
 
@@ -46,12 +50,23 @@ struct Scratch {
 
 thread_local Scratch scratch;
 
+/// What a task reuses between tiles of the fast path.
+struct TileScratch {
+    std::vector<glm::dvec3> sums, starts, ends;
+    std::vector<double> weights;           ///< [point k in tile][emitter i]
+    std::vector<std::uint8_t> blocked;     ///< likewise
+    std::vector<std::uint32_t> index;
+    std::vector<std::uint8_t> answer;
+};
+
+thread_local TileScratch tileScratch;
+
 struct Run {
     const LightingScene& scene;
     const std::vector<Light>& lights;
     std::span<const ShadingPoint> points;
     std::vector<glm::dvec3>& sums;
-    std::atomic<std::uint64_t> terms{0}, cast{0};
+    std::atomic<std::uint64_t> terms{0}, cast{0}, unreachedTiles{0}, provenTiles{0}, castTiles{0};
 
     void addTerms(std::uint64_t t, std::uint64_t c)
     {
@@ -88,123 +103,191 @@ struct Run {
         });
     }
 
-    /// A point or spot light: from the light to every point it reaches.
-    void fromLight(const Light& light)
+    /// The fast path over one tile: light by light, a box test, then a proof or the segments.
+    /// `maps[l]`: light l's hidden-samples map over the receiver grid, or null.
+    void tile(const lights::PointTile& t, const std::vector<std::vector<glm::dvec3>>& samples,
+              const std::vector<std::unique_ptr<HiddenSampleMap>>& maps)
     {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kPointGrain), [&](const auto& range) {
-            Scratch& s = scratch;
-            s.clear();
-            for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                const double w = emitterTerm(light, light.position, points[j].position, points[j].normal);
-                if (!(w > 0.0))
-                    continue;
-                s.ends.push_back(points[j].position);
-                s.weights.push_back(w);
-                s.index.push_back(std::uint32_t(j));
+        TileScratch& s = tileScratch;
+        const std::size_t n = t.points.size();
+        s.sums.assign(n, glm::dvec3(0.0));
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            const Light& light = lights[l];
+            if (unreached(light, t)) {
+                ++unreachedTiles;
+                continue;
             }
-            s.blocked.resize(s.ends.size());
-            scene.rays().segmentsBlocked(light.position, s.ends, s.blocked.data());
-            for (std::size_t k = 0; k < s.ends.size(); ++k)
-                if (!s.blocked[k])
-                    sums[s.index[k]] += light.colour * s.weights[k];
-            addTerms(s.ends.size(), s.ends.size());
-        });
-    }
-
-    /// A directional light: parallel segments from the points.
-    void directional(const Light& light)
-    {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kPointGrain), [&](const auto& range) {
-            Scratch& s = scratch;
-            s.clear();
-            for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                const double w = emitterTerm(light, light.position, points[j].position, points[j].normal);
-                if (!(w > 0.0))
-                    continue;
-                s.starts.push_back(points[j].position);
-                s.ends.push_back(scene.reach().end(light, points[j].position));
-                s.weights.push_back(w);
-                s.index.push_back(std::uint32_t(j));
-            }
-            s.blocked.resize(s.ends.size());
-            scene.rays().segmentsBlocked(s.starts, s.ends, s.blocked.data());
-            for (std::size_t k = 0; k < s.ends.size(); ++k)
-                if (!s.blocked[k])
-                    sums[s.index[k]] += light.colour * s.weights[k];
-            addTerms(s.ends.size(), s.ends.size());
-        });
-    }
-
-    /// An area light by rays: each point casts to the samples that light it.
-    void areaByRays(const Light& light)
-    {
-        const int count = light.area.sampleCount();
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 4), [&](const auto& range) {
-            Scratch& s = scratch;
-            for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                const ShadingPoint& p = points[j];
-                s.clear();
-                for (int i = 0; i < count; ++i) {
-                    const glm::dvec3 sample = light.area.sample(i);
-                    const double w = emitterTerm(light, sample, p.position, p.normal);
-                    if (!(w > 0.0))
-                        continue;
-                    s.ends.push_back(sample);
-                    s.weights.push_back(w);
+            const std::vector<glm::dvec3>& emitters = samples[l];
+            const std::size_t count = light.type == LightType::Directional ? 1 : emitters.size();
+            s.weights.assign(n * count, 0.0);
+            std::uint64_t nonZero = 0;
+            for (std::size_t k = 0; k < n; ++k) {
+                const ShadingPoint& p = points[t.points[k]];
+                for (std::size_t i = 0; i < count; ++i) {
+                    const double w = emitterTerm(light, light.type == LightType::Directional ? p.position : emitters[i],
+                                                 p.position, p.normal);
+                    if (w > 0.0)
+                        s.weights[k * count + i] = w, ++nonZero;
                 }
-                s.blocked.resize(s.ends.size());
-                scene.rays().segmentsBlocked(p.position, s.ends, s.blocked.data());
-                for (std::size_t k = 0; k < s.ends.size(); ++k)
-                    if (!s.blocked[k])
-                        sums[j] += light.colour * s.weights[k];
-                addTerms(s.ends.size(), s.ends.size());
             }
-        });
+            if (nonZero == 0)
+                continue;
+            terms += nonZero;
+            s.blocked.assign(n * count, 0);
+            if (maps[l]) {
+                for (std::size_t k = 0; k < n; ++k)
+                    for (std::size_t i = 0; i < count; ++i)
+                        s.blocked[k * count + i] = maps[l]->blocked(int(t.points[k]), int(i));
+            } else if (provenShadowed(light, emitters, t)) {
+                ++provenTiles;
+                continue;
+            } else {
+                cast += castTile(light, emitters, t, count);
+                ++castTiles;
+            }
+            for (std::size_t k = 0; k < n; ++k)
+                for (std::size_t i = 0; i < count; ++i)
+                    if (s.weights[k * count + i] > 0.0 && !s.blocked[k * count + i])
+                        s.sums[k] += light.colour * s.weights[k * count + i];
+        }
+        for (std::size_t k = 0; k < n; ++k)
+            sums[t.points[k]] = s.sums[k];
+    }
+
+    /// Whether no point of the tile's box can get light: beyond a point or spot light's range, or
+    /// behind (or in) a one-sided area light's plane.
+    static bool unreached(const Light& light, const lights::PointTile& t)
+    {
+        if ((light.type == LightType::Point || light.type == LightType::Spot) && light.range > 0.0) {
+            const glm::dvec3 nearest = glm::clamp(light.position, t.lo, t.hi);
+            return glm::length(nearest - light.position) >= light.range;
+        }
+        if (light.type == LightType::Area && !light.twoSided) {
+            const glm::dvec3 m = glm::cross(light.area.u, light.area.v);
+            double most = -1.0;   // the largest m.(x - corner) over the box's corners
+            for (int c = 0; c < 8; ++c)
+                most = std::max(most, glm::dot(m, boxCorner(t, c) - light.area.corner));
+            return most <= 0.0;
+        }
+        return false;
+    }
+
+    static glm::dvec3 boxCorner(const lights::PointTile& t, int c)
+    {
+        return {(c & 1) ? t.hi.x : t.lo.x, (c & 2) ? t.hi.y : t.lo.y, (c & 4) ? t.hi.z : t.lo.z};
+    }
+
+    /// Whether one triangle shadows the whole tile from the light (lights/ShaftBlocker.h), trying
+    /// the first triangles met from the light's centre towards the tile's centre and back.
+    bool provenShadowed(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t) const
+    {
+        glm::dvec3 corners[8];
+        for (int c = 0; c < 8; ++c)
+            corners[c] = boxCorner(t, c);
+        const glm::dvec3 centre = 0.5 * (t.lo + t.hi);
+        const auto vertex = [&](std::int64_t triangle, int k) {
+            return glm::dvec3(scene.triangles().vertices[3 * std::size_t(triangle) + std::size_t(k)]);
+        };
+        if (light.type == LightType::Directional) {
+            glm::dvec3 ends[8];
+            for (int c = 0; c < 8; ++c)
+                ends[c] = scene.reach().end(light, corners[c]);
+            const glm::dvec3 far = scene.reach().end(light, centre);
+            const pvs::RayHit hit = scene.firstHits().cast(glm::vec3(centre), glm::vec3(far - centre), 1.0f);
+            return hit.triangle >= 0 &&
+                   lights::triangleBlocksParallel(vertex(hit.triangle, 0), vertex(hit.triangle, 1), vertex(hit.triangle, 2), corners, ends);
+        }
+        glm::dvec3 from[4];
+        std::size_t fromCount = 1;
+        glm::dvec3 origin = emitters[0];
+        if (light.type == LightType::Area) {
+            for (int c = 0; c < 4; ++c)
+                from[c] = light.area.cornerPoint(c);
+            fromCount = 4;
+            origin = light.area.centre();
+        } else {
+            from[0] = light.position;
+        }
+        const std::span<const glm::dvec3> fromSpan(from, fromCount), toSpan(corners, 8);
+        // Candidates: the first triangles met from the light's centre towards the tile's centre
+        // and corners, and from the tile's centre back towards the light.
+        std::int64_t tried[10];
+        int triedCount = 0;
+        const auto attempt = [&](const glm::dvec3& a, const glm::dvec3& b) {
+            const std::int64_t triangle = scene.firstHits().cast(glm::vec3(a), glm::vec3(b - a), 1.0f).triangle;
+            if (triangle < 0 || std::find(tried, tried + triedCount, triangle) != tried + triedCount)
+                return false;
+            tried[triedCount++] = triangle;
+            return lights::triangleBlocksShaft(vertex(triangle, 0), vertex(triangle, 1), vertex(triangle, 2), fromSpan, toSpan);
+        };
+        if (attempt(origin, centre) || attempt(centre, origin))
+            return true;
+        if (triedCount == 0)
+            return false;   // the centre's segment is free as far as float rays see: cast
+        for (int c = 0; c < 8; ++c)
+            if (attempt(origin, corners[c]))
+                return true;
+        return false;
+    }
+
+    /// The tile's segments with non-zero terms, cast in packets sharing the emitter's end (a
+    /// directional light's from each point); fills the scratch's `blocked`. Returns the count.
+    std::uint64_t castTile(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t, std::size_t count)
+    {
+        TileScratch& s = tileScratch;
+        const std::size_t n = t.points.size();
+        std::uint64_t total = 0;
+        if (light.type == LightType::Directional) {
+            s.starts.clear(), s.ends.clear(), s.index.clear();
+            for (std::size_t k = 0; k < n; ++k)
+                if (s.weights[k] > 0.0) {
+                    const glm::dvec3& x = points[t.points[k]].position;
+                    s.starts.push_back(x);
+                    s.ends.push_back(scene.reach().end(light, x));
+                    s.index.push_back(std::uint32_t(k));
+                }
+            s.answer.resize(s.ends.size());
+            scene.rays().segmentsBlocked(s.starts, s.ends, s.answer.data());
+            for (std::size_t e = 0; e < s.ends.size(); ++e)
+                s.blocked[s.index[e]] = s.answer[e];
+            return s.ends.size();
+        }
+        for (std::size_t i = 0; i < count; ++i) {
+            s.ends.clear(), s.index.clear();
+            for (std::size_t k = 0; k < n; ++k)
+                if (s.weights[k * count + i] > 0.0) {
+                    s.ends.push_back(points[t.points[k]].position);
+                    s.index.push_back(std::uint32_t(k * count + i));
+                }
+            s.answer.resize(s.ends.size());
+            scene.rays().segmentsBlocked(emitters[i], s.ends, s.answer.data());
+            for (std::size_t e = 0; e < s.ends.size(); ++e)
+                s.blocked[s.index[e]] = s.answer[e];
+            total += s.ends.size();
+        }
+        return total;
     }
 
     /// An area light over the receiver grid the points are (Eisemann & Décoret §8): the bitmask
-    /// sampler's hidden-samples map, then the terms of the samples each point sees. False when the
-    /// light and the grid do not form a valid pair (the caller casts rays instead).
-    bool areaByBitmask(const Light& light, const Patch& grid, int threads, std::uint64_t& rays)
+    /// sampler's hidden-samples map. Null when the light and the grid do not form a valid pair,
+    /// or face away from each other (the tiles then cast, or find every term zero).
+    std::unique_ptr<HiddenSampleMap> areaMap(const Light& light, const Patch& grid, int threads) const
     {
         if (light.area.sampleCount() > kMaxSourceSamples || grid.na > kMaxReceiverSide || grid.nb > kMaxReceiverSide)
-            return false;
+            return nullptr;
         try {
             validatePatchPair(light.area, grid);
         } catch (const Error&) {
-            return false;
+            return nullptr;
         }
         // The pair is valid, so each lies wholly on one side of the other's plane: on a back side
         // every term is zero.
         const glm::dvec3 between = grid.centre() - light.area.centre();
         if ((!light.twoSided && glm::dot(light.area.normal(), between) <= 0.0) || glm::dot(grid.normal(), between) >= 0.0)
-            return true;
+            return nullptr;
         BitmaskOptions options;
         options.threads = threads;
-        const HiddenSampleMap map = scene.bitmask().sample(light.area, grid, options);
-        const int count = light.area.sampleCount();
-        std::vector<glm::dvec3> samples(static_cast<std::size_t>(count));
-        for (int i = 0; i < count; ++i)
-            samples[std::size_t(i)] = light.area.sample(i);
-        std::atomic<std::uint64_t> nonZero{0};
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 16), [&](const auto& range) {
-            std::uint64_t local = 0;
-            for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                const ShadingPoint& p = points[j];
-                for (int i = 0; i < count; ++i) {
-                    const double w = emitterTerm(light, samples[std::size_t(i)], p.position, p.normal);
-                    if (!(w > 0.0))
-                        continue;
-                    ++local;
-                    if (!map.blocked(int(j), i))
-                        sums[j] += light.colour * w;
-                }
-            }
-            nonZero += local;
-        });
-        terms += nonZero.load();
-        rays = std::uint64_t(count) * points.size();
-        return true;
+        return std::make_unique<HiddenSampleMap>(scene.bitmask().sample(light.area, grid, options));
     }
 };
 
@@ -229,9 +312,17 @@ void validateShadingPoints(std::span<ShadingPoint> points, const std::string& wh
 }
 
 LightingScene::LightingScene(const Scene& scene)
-    : rays_(std::make_unique<RayCastScene>(scene)), bitmask_(std::make_unique<CpuBitmaskSampler>(scene)),
-      reach_(scene.bounds())
+    : scene_(scene), triangles_(worldTriangles(scene)), rays_(std::make_unique<RayCastScene>(triangles_)),
+      firstHits_(std::make_unique<pvs::FirstHitCaster>(scene)), reach_(scene.bounds())
 {
+}
+
+LightingScene::~LightingScene() = default;
+
+const CpuBitmaskSampler& LightingScene::bitmask() const
+{
+    std::call_once(bitmaskOnce_, [&] { bitmask_ = std::make_unique<CpuBitmaskSampler>(scene_); });
+    return *bitmask_;
 }
 
 std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::vector<Light>& lights,
@@ -250,23 +341,28 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
             run.reference(lightEmitters(lights));
             return;
         }
-        for (const Light& light : lights) {
-            switch (light.type) {
-            case LightType::Point:
-            case LightType::Spot: run.fromLight(light); break;
-            case LightType::Directional: run.directional(light); break;
-            case LightType::Area: {
-                std::uint64_t rays = 0;
-                if (options.receiverGrid && run.areaByBitmask(light, *options.receiverGrid, options.threads, rays)) {
-                    bitmaskLights += rays > 0;   // none where the pair faces away
-                    bitmaskRays += rays;
-                } else {
-                    run.areaByRays(light);
+        std::vector<std::unique_ptr<HiddenSampleMap>> maps(lights.size());
+        std::vector<std::vector<glm::dvec3>> samples(lights.size());
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            const Light& light = lights[l];
+            if (light.type == LightType::Area) {
+                for (int i = 0; i < light.area.sampleCount(); ++i)
+                    samples[l].push_back(light.area.sample(i));
+                if (options.receiverGrid && options.bitmaskAreaLights)
+                    maps[l] = run.areaMap(light, *options.receiverGrid, options.threads);
+                if (maps[l]) {
+                    ++bitmaskLights;
+                    bitmaskRays += std::uint64_t(light.area.sampleCount()) * points.size();
                 }
-                break;
-            }
+            } else {
+                samples[l].push_back(light.position);
             }
         }
+        const std::vector<lights::PointTile> tiles = lights::makePointTiles(points);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
+            for (std::size_t t = range.begin(); t != range.end(); ++t)
+                run.tile(tiles[t], samples, maps);
+        });
     });
     if (stats) {
         stats->lights = lights.size();
@@ -278,6 +374,9 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
         stats->segmentsCast = run.cast.load();
         stats->bitmaskLights = bitmaskLights;
         stats->bitmaskRays = bitmaskRays;
+        stats->tilesUnreached = run.unreachedTiles.load();
+        stats->tilesProvenShadowed = run.provenTiles.load();
+        stats->tilesCast = run.castTiles.load();
         stats->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
     return sums;

@@ -111,7 +111,7 @@ TEST_F(LightsCli, ReceiverSamplesGiveShapeNbNa3AndTheReferenceAgrees)
 {
     write("p.json", project(lights()));
     const std::string base = "lights " + (folder / "p.json").string();
-    const CliRun fast = runCli(base + " --npy " + (folder / "f.npy").string() + " --json --compare");
+    const CliRun fast = runCli(base + " --bitmask-area --npy " + (folder / "f.npy").string() + " --json --compare");
     ASSERT_EQ(fast.code, 0) << fast.err;
     const CliRun reference = runCli(base + " --reference --npy " + (folder / "r.npy").string() + " --json");
     ASSERT_EQ(reference.code, 0) << reference.err;

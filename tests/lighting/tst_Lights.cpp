@@ -65,6 +65,7 @@ std::vector<glm::dvec3> irradiance(const LightingScene& scene, std::vector<Light
     DirectLightOptions options;
     options.path = path;
     options.receiverGrid = grid;
+    options.bitmaskAreaLights = grid != nullptr;
     return directIrradiance(scene, lights, points, options, stats);
 }
 
@@ -79,25 +80,28 @@ Mesh room(const glm::vec3& lo, const glm::vec3& hi)
     return m;
 }
 
-/// Judges both paths at every point; returns the number of points outside the exact interval.
+/// Judges every path at every point: the reference, the fast path's tiles, and with a receiver
+/// grid the fast path with area lights by the bitmask. Returns the number of points where some
+/// path lies outside the exact interval; `fastStats` gets the tiles' counts, `bitmaskStats` the
+/// bitmask run's.
 int disagreements(const Scene& scene, std::vector<Light> lights, std::vector<ShadingPoint> points, const Patch* grid,
-                  DirectLightStats* fastStats = nullptr)
+                  DirectLightStats* bitmaskStats = nullptr, DirectLightStats* fastStats = nullptr)
 {
     validateLights(lights, "test");
     validateShadingPoints(points, "test");
     const LightingScene lighting(scene);
     const test::LightsJudge judge(scene);
-    const auto fast = irradiance(lighting, lights, points, LightingPath::Fast, grid, fastStats);
+    const auto tiles = irradiance(lighting, lights, points, LightingPath::Fast, nullptr, fastStats);
+    const auto bitmask = irradiance(lighting, lights, points, LightingPath::Fast, grid, bitmaskStats);
     const auto reference = irradiance(lighting, lights, points, LightingPath::Reference);
     int wrong = 0;
     for (std::size_t j = 0; j < points.size(); ++j) {
         const test::LitInterval exact = judge.at(lights, points[j]);
-        const bool fastOk = test::LightsJudge::agrees(exact, fast[j]);
-        const bool referenceOk = test::LightsJudge::agrees(exact, reference[j]);
-        if (!fastOk || !referenceOk) {
+        if (!test::LightsJudge::agrees(exact, tiles[j]) || !test::LightsJudge::agrees(exact, bitmask[j]) ||
+            !test::LightsJudge::agrees(exact, reference[j])) {
             ++wrong;
-            ADD_FAILURE() << "point " << j << ": exact [" << exact.lit.x << ", " << exact.lit.x + exact.ties.x << "], fast "
-                          << fast[j].x << ", reference " << reference[j].x;
+            ADD_FAILURE() << "point " << j << ": exact [" << exact.lit.x << ", " << exact.lit.x + exact.ties.x << "], tiles "
+                          << tiles[j].x << ", bitmask " << bitmask[j].x << ", reference " << reference[j].x;
         }
     }
     return wrong;

@@ -10,15 +10,19 @@
 // - Reference: per point, every emitter with a non-zero term, one shadow segment each, cast from
 //   the point in packets of 16 (RayCastScene::segmentsBlocked: Embree finds candidates, the
 //   contract's double test decides).
-// - Fast: per light. An area light whose samples face a planar receiver grid (the receiver patch's
-//   samples) is the bitmask method's source patch (Eisemann & Décoret §8): one call of the exact
-//   CPU bitmask sampler answers all its samples against all the grid's points. A point or spot
-//   light casts from the light to the points it reaches (coherent packets sharing the light's
-//   end); a directional light casts parallel segments; both skip every point its term leaves at
-//   zero (behind the receiver's tangent plane, outside the cone or the range).
+// - Fast: per tile of 64 nearby points (lights/PointTiles.h) and per light (Barczak's tiles x
+//   lights). A tile the light cannot reach (out of its range, behind an area light) costs a box
+//   test; a tile one triangle shadows whole (lights/ShaftBlocker.h: a proof from the corners of
+//   the light and of the tile's box, with the triangles the rays from the light's centre to the
+//   tile's centre meet first as candidates) costs two float rays and the proof; the rest cast
+//   their shadow segments in coherent packets sharing the light's end (a directional light's are
+//   parallel). Optionally, an area light whose samples face a planar receiver grid (the receiver
+//   patch's samples) is the bitmask method's source patch (Eisemann & Décoret §8): one call of the
+//   exact CPU bitmask sampler answers all its samples against all the grid's points.
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -30,6 +34,7 @@
 #include "visibility/Patch.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/Scene.h"
+#include "visibility/pvs/FirstHitCaster.h"
 
 namespace sightline {
 
@@ -48,15 +53,23 @@ class LightingScene {
 public:
     /// Throws sightline::Error for coordinates beyond DESIGN.md §2's range, or if Embree fails.
     explicit LightingScene(const Scene& scene);
+    ~LightingScene();
 
     const RayCastScene& rays() const { return *rays_; }
-    const CpuBitmaskSampler& bitmask() const { return *bitmask_; }
+    const pvs::FirstHitCaster& firstHits() const { return *firstHits_; }
+    const WorldTriangles& triangles() const { return triangles_; }
     const DirectionalReach& reach() const { return reach_; }
+    /// Built on first use (its set-up is not free, and only area lights over a grid ask for it).
+    const CpuBitmaskSampler& bitmask() const;
 
 private:
+    Scene scene_;
+    WorldTriangles triangles_;
     std::unique_ptr<RayCastScene> rays_;
-    std::unique_ptr<CpuBitmaskSampler> bitmask_;
+    std::unique_ptr<pvs::FirstHitCaster> firstHits_;
     DirectionalReach reach_;
+    mutable std::once_flag bitmaskOnce_;
+    mutable std::unique_ptr<CpuBitmaskSampler> bitmask_;
 };
 
 enum class LightingPath { Fast, Reference };
@@ -64,9 +77,12 @@ enum class LightingPath { Fast, Reference };
 struct DirectLightOptions {
     LightingPath path = LightingPath::Fast;
     int threads = 0;                     ///< 0 = all cores
-    /// When the points are exactly this patch's samples in bit order, with its normal: area
-    /// lights that form a valid pair with it (DESIGN.md §2) take the bitmask. Not owned.
+    /// The points are exactly this patch's samples in bit order, with its normal. Not owned.
     const Patch* receiverGrid = nullptr;
+    /// Fast path with a receiver grid: area lights that form a valid pair with it (DESIGN.md §2)
+    /// take the bitmask sampler. Off by default: on one call its set-up costs more than the rays
+    /// it saves on the levels measured (docs/lights.md).
+    bool bitmaskAreaLights = false;
 };
 
 struct DirectLightStats {
@@ -75,6 +91,9 @@ struct DirectLightStats {
     std::size_t points = 0;
     std::uint64_t terms = 0;             ///< (point, emitter) pairs with a non-zero unshadowed term
     std::uint64_t segmentsCast = 0;      ///< of those, decided by ray casting
+    std::uint64_t tilesUnreached = 0;    ///< fast: (tile, light) pairs skipped by a box test
+    std::uint64_t tilesProvenShadowed = 0;   ///< fast: (tile, light) pairs one triangle shadows whole
+    std::uint64_t tilesCast = 0;         ///< fast: (tile, light) pairs whose segments were cast
     std::size_t bitmaskLights = 0;       ///< area lights decided by the bitmask sampler
     std::uint64_t bitmaskRays = 0;       ///< rays those calls answered
     double ms = 0.0;

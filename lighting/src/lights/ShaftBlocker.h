@@ -1,0 +1,34 @@
+#pragma once
+// A proof that one triangle shadows a whole tile of points from a light (Barczak's "not lit"
+// class, proved rather than read off a shadow map).
+//
+// Let A be the light's convex extent (a point, or an area light's rectangle) and B the tile's box.
+// If a plane separates A from B strictly, every segment from A to B crosses it, and the set of
+// crossings is conv(A ∪ B) ∩ plane: the convex hull of where the segments between the corners of
+// A and the corners of B cross it (the plane cuts no edge within A or within B). A triangle in that
+// plane holding every corner crossing holds every crossing, so it blocks every segment from A to
+// B. The corner segments are judged by the contract's own test (segmentCrossesTriangle), and the
+// separation is asked to exceed kSeparationMetres, so no crossing lies near a segment's end.
+//
+// A directional light's segments are parallel: from each point x to x - d L. Their crossings are
+// the parallel projection of B, the hull of its corners' projections: the same test with the
+// corner segments (c, c - d L).
+
+#include <span>
+
+#include <glm/vec3.hpp>
+
+namespace sightline::lights {
+
+inline constexpr double kSeparationMetres = 1e-6;
+
+/// Whether triangle (a, b, c) blocks every segment from conv(`from`) to conv(`to`), by the argument
+/// above. False proves nothing.
+bool triangleBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::span<const glm::dvec3> from,
+                         std::span<const glm::dvec3> to);
+
+/// The same for parallel segments starts[k] -> ends[k] (a directional light's, from a box's corners).
+bool triangleBlocksParallel(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::span<const glm::dvec3> starts,
+                            std::span<const glm::dvec3> ends);
+
+} // namespace sightline::lights
