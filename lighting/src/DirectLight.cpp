@@ -14,6 +14,7 @@
 
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
+#include "lights/EdgeNeighbours.h"
 #include "lights/PointTiles.h"
 #include "lights/ShaftBlocker.h"
 
@@ -213,12 +214,30 @@ struct Run {
         // and corners, and from the tile's centre back towards the light.
         std::int64_t tried[10];
         int triedCount = 0;
-        const auto attempt = [&](const glm::dvec3& a, const glm::dvec3& b) {
-            const std::int64_t triangle = scene.firstHits().cast(glm::vec3(a), glm::vec3(b - a), 1.0f).triangle;
+        const auto attempt = [&](const glm::dvec3& rayFrom, const glm::dvec3& rayTo) {
+            const std::int64_t triangle = scene.firstHits().cast(glm::vec3(rayFrom), glm::vec3(rayTo - rayFrom), 1.0f).triangle;
             if (triangle < 0 || std::find(tried, tried + triedCount, triangle) != tried + triedCount)
                 return false;
             tried[triedCount++] = triangle;
-            return lights::triangleBlocksShaft(vertex(triangle, 0), vertex(triangle, 1), vertex(triangle, 2), fromSpan, toSpan);
+            const glm::dvec3 v[3] = {vertex(triangle, 0), vertex(triangle, 1), vertex(triangle, 2)};
+            if (lights::triangleBlocksShaft(v[0], v[1], v[2], fromSpan, toSpan))
+                return true;
+            // Fused with the triangle across an edge (a wall face's other half).
+            for (int e = 0; e < 3; ++e) {
+                const std::int64_t other = scene.neighbours()[std::size_t(triangle)][std::size_t(e)];
+                if (other < 0)
+                    continue;
+                const glm::dvec3& b = v[e];
+                const glm::dvec3& c = v[(e + 1) % 3];
+                const glm::dvec3& a = v[(e + 2) % 3];
+                glm::dvec3 d = vertex(other, 0);   // the neighbour's vertex off the shared edge
+                for (int k = 1; k < 3; ++k)
+                    if (d == b || d == c)
+                        d = vertex(other, k);
+                if (lights::quadBlocksShaft(a, b, c, d, fromSpan, toSpan))
+                    return true;
+            }
+            return false;
         };
         if (attempt(origin, centre) || attempt(centre, origin))
             return true;
@@ -312,7 +331,7 @@ void validateShadingPoints(std::span<ShadingPoint> points, const std::string& wh
 }
 
 LightingScene::LightingScene(const Scene& scene)
-    : scene_(scene), triangles_(worldTriangles(scene)), rays_(std::make_unique<RayCastScene>(triangles_)),
+    : scene_(scene), triangles_(worldTriangles(scene)), neighbours_(lights::edgeNeighbours(triangles_)), rays_(std::make_unique<RayCastScene>(triangles_)),
       firstHits_(std::make_unique<pvs::FirstHitCaster>(scene)), reach_(scene.bounds())
 {
 }

@@ -262,15 +262,53 @@ TEST(Lights, LightBehindAWallLightsNothingThroughIt)
     const LightingScene lighting(scene);
     const glm::dvec3 light(0.0, 1.0, -2.0);
     std::vector<ShadingPoint> points;
-    for (int k = 0; k < 40; ++k)   // behind the wall's middle, and past its end (x > 1 + shadow spread)
-        points.push_back({{-0.5 + 0.025 * k, 0.01, 1.0}, {0.0, 1.0, 0.0}});
+    for (int k = 0; k < 128; ++k)   // behind the wall's middle (two tiles), and past its end
+        points.push_back({{-0.5 + 0.0625 * (k % 16), 0.01, 0.5 + 0.125 * (k / 16)}, {0.0, 1.0, 0.0}});
     points.push_back({{4.0, 0.01, 1.0}, {0.0, 1.0, 0.0}});
     for (const LightingPath path : {LightingPath::Fast, LightingPath::Reference}) {
-        const auto e = irradiance(lighting, {pointLight(light, 10.0)}, points, path);
-        for (int k = 0; k < 40; ++k)
+        DirectLightStats stats;
+        const auto e = irradiance(lighting, {pointLight(light, 10.0)}, points, path, nullptr, &stats);
+        for (int k = 0; k < 128; ++k)
             EXPECT_EQ(e[std::size_t(k)].x, 0.0) << k;
         EXPECT_GT(e.back().x, 0.0);
+        if (path == LightingPath::Fast) {   // the wall's two triangles, fused, shadow tiles whole
+            EXPECT_GE(stats.tilesProvenShadowed, 1u);
+        }
     }
+}
+
+// A wall face split around a doorway (coplanar triangles sharing edges whose union is not convex):
+// fusing neighbours must not close the doorway. Lights behind it, points on the floor beyond.
+TEST(Lights, AWallWithADoorwayIsNotProvedShut)
+{
+    // The wall z = 0, x in [-3, 3], y in [0, 3], with a doorway x in [-0.5, 0.5], y in [0, 2.2]:
+    // left, right and lintel rectangles, each two triangles, sharing edges at the lintel's ends.
+    Mesh wall;
+    wall.name = "wall";
+    const float xs[4] = {-3.0f, -0.5f, 0.5f, 3.0f};
+    for (int i = 0; i < 4; ++i)
+        for (const float y : {0.0f, 2.2f, 3.0f})
+            wall.positions.emplace_back(xs[i], y, 0.0f);
+    const auto at = [](int i, int j) { return std::uint32_t(3 * i + j); };   // column i, row j
+    const auto rect = [&](int i0, int i1, int j0, int j1) {
+        wall.indices.insert(wall.indices.end(), {at(i0, j0), at(i1, j0), at(i1, j1), at(i0, j0), at(i1, j1), at(i0, j1)});
+    };
+    rect(0, 1, 0, 1), rect(0, 1, 1, 2), rect(1, 2, 1, 2), rect(2, 3, 0, 1), rect(2, 3, 1, 2);
+    const Scene scene = test::sceneOf({wall});
+    std::vector<ShadingPoint> points;
+    for (int i = 0; i < 24; ++i)
+        for (int j = 0; j < 16; ++j)
+            points.push_back({{-3.0 + 0.25 * i, 0.01, 0.2 + 0.25 * j}, {0.0, 1.0, 0.0}});
+    Patch panel;
+    panel.corner = {-0.5, 2.6, -2.0};
+    panel.u = {1.0, 0.0, 0.0};
+    panel.v = {0.0, 0.0, 1.0};   // facing down
+    panel.na = 4, panel.nb = 4;
+    DirectLightStats stats;
+    EXPECT_EQ(disagreements(scene, {pointLight({0.2, 1.5, -1.5}, 20.0), areaLight(panel, 10.0), directionalLight({0.1, -0.6, 1.0}, 2.0)},
+                            points, nullptr, nullptr, &stats),
+              0);
+    EXPECT_GE(stats.tilesCast, 1u);
 }
 
 // Random soups between an area light and a receiver grid (the bitmask's case, E&D §8), with point,

@@ -20,6 +20,7 @@
 //   patch's samples) is the bitmask method's source patch (Eisemann & Décoret §8): one call of the
 //   exact CPU bitmask sampler answers all its samples against all the grid's points.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -58,6 +59,8 @@ public:
     const RayCastScene& rays() const { return *rays_; }
     const pvs::FirstHitCaster& firstHits() const { return *firstHits_; }
     const WorldTriangles& triangles() const { return triangles_; }
+    /// The triangle across each edge of each triangle (-1: none, or a non-manifold edge).
+    const std::vector<std::array<std::int64_t, 3>>& neighbours() const { return neighbours_; }
     const DirectionalReach& reach() const { return reach_; }
     /// Built on first use (its set-up is not free, and only area lights over a grid ask for it).
     const CpuBitmaskSampler& bitmask() const;
@@ -65,6 +68,7 @@ public:
 private:
     Scene scene_;
     WorldTriangles triangles_;
+    std::vector<std::array<std::int64_t, 3>> neighbours_;
     std::unique_ptr<RayCastScene> rays_;
     std::unique_ptr<pvs::FirstHitCaster> firstHits_;
     DirectionalReach reach_;

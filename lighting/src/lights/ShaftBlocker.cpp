@@ -53,6 +53,28 @@ bool triangleBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
     return true;
 }
 
+bool quadBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d,
+                     std::span<const glm::dvec3> from, std::span<const glm::dvec3> to)
+{
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    if (glm::dot(n, d - a) != 0.0)
+        return false;   // not exactly coplanar: no fusion
+    // Convex: a and d on opposite sides of bc, b and c on opposite sides of ad.
+    const double sa = glm::dot(n, glm::cross(c - b, a - b)), sd = glm::dot(n, glm::cross(c - b, d - b));
+    const double sb = glm::dot(n, glm::cross(d - a, b - a)), sc = glm::dot(n, glm::cross(d - a, c - a));
+    if (!((sa > 0.0 && sd < 0.0) || (sa < 0.0 && sd > 0.0)) || !((sb > 0.0 && sc < 0.0) || (sb < 0.0 && sc > 0.0)))
+        return false;
+    if (from.empty() || to.empty() || !separates(a, b, c, from, to))
+        return false;
+    for (const glm::dvec3& p : from) {
+        const TriangleSeenFrom first(p, a, b, c), second(p, d, c, b);
+        for (const glm::dvec3& q : to)
+            if (!first.crossedBy(q - p) && !second.crossedBy(q - p))
+                return false;
+    }
+    return true;
+}
+
 bool triangleBlocksParallel(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::span<const glm::dvec3> starts,
                             std::span<const glm::dvec3> ends)
 {

@@ -10,6 +10,11 @@
 // B. The corner segments are judged by the contract's own test (segmentCrossesTriangle), and the
 // separation is asked to exceed kSeparationMetres, so no crossing lies near a segment's end.
 //
+// Two triangles sharing an edge, exactly coplanar and forming a convex quadrilateral (a wall's
+// face between its openings, split along a diagonal), block together: the crossings' hull lies in
+// the quadrilateral, which the two cover (their shared edge inclusive in both, as the contract's
+// test has it), so every corner segment crossing one of the two suffices.
+//
 // A directional light's segments are parallel: from each point x to x - d L. Their crossings are
 // the parallel projection of B, the hull of its corners' projections: the same test with the
 // corner segments (c, c - d L).
@@ -26,6 +31,11 @@ inline constexpr double kSeparationMetres = 1e-6;
 /// above. False proves nothing.
 bool triangleBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::span<const glm::dvec3> from,
                          std::span<const glm::dvec3> to);
+
+/// The same for the convex quadrilateral of two exactly coplanar triangles sharing edge (b, c):
+/// (a, b, c) and (d, c, b) in either winding. False when they are not such a pair.
+bool quadBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d,
+                     std::span<const glm::dvec3> from, std::span<const glm::dvec3> to);
 
 /// The same for parallel segments starts[k] -> ends[k] (a directional light's, from a box's corners).
 bool triangleBlocksParallel(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::span<const glm::dvec3> starts,

@@ -1,0 +1,66 @@
+#!/usr/bin/env python3
+"""The lighting benchmark's light-count sweep (docs/lights.md): the demo level lit by N light
+samples over its floor, the fast path against the brute-force reference in the same run.
+
+For each N it writes a project beside the demo's demo_lights.json whose lights are the demo's
+first N light samples' worth (panels, lamps, spots and the sun in their order; past the demo's
+300, more lamps with seeded positions in the level's rooms), runs
+`sightline-cli lights PROJECT --compare --json` and prints one row: N, both times, the ratio,
+the points that differ (ties only) and how the fast path settled its (tile, light) pairs.
+
+    scripts/lights_sweep.py build/demo/demo_lights.json 10,30,100,300,1000,3000 [--side 256]
+"""
+import json
+import os
+import random
+import subprocess
+import sys
+
+
+def lights_for(base, count, rng):
+    out, samples = [], 0
+    for light in base:
+        n = light["samples"][0] * light["samples"][1] if light["type"] == "area" else 1
+        if samples + n > count:
+            continue
+        out.append(light)
+        samples += n
+    rooms = [((0.4, 0.4), (9.6, 9.6)), ((10.4, 0.4), (21.6, 9.6)), ((22.4, 0.4), (29.6, 9.6)),
+             ((0.4, 10.4), (13.6, 19.6)), ((14.4, 10.4), (29.6, 19.6))]
+    while samples < count:
+        lo, hi = rooms[rng.randrange(len(rooms))]
+        out.append({"type": "point", "name": "extra lamp %d" % samples,
+                    "position": [rng.uniform(lo[0], hi[0]), rng.uniform(1.6, 2.8), rng.uniform(lo[1], hi[1])],
+                    "intensity": rng.uniform(1.0, 4.0), "range": 8.0, "colour": [1.0, 0.85, 0.6]})
+        samples += 1
+    return out
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    project_file, counts = sys.argv[1], [int(n) for n in sys.argv[2].split(",")]
+    side = int(sys.argv[sys.argv.index("--side") + 1]) if "--side" in sys.argv else 256
+    cli = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "app", "sightline-cli")
+    with open(project_file) as f:
+        project = json.load(f)
+    base = project["lights"]
+    folder = os.path.dirname(os.path.abspath(project_file))
+    print("samples  lights  fast_ms  reference_ms  speedup  differing  unreached  shadowed  cast")
+    for count in counts:
+        document = dict(project)
+        document["lights"] = lights_for(base, count, random.Random(count))
+        document["receiver"] = dict(project["receiver"], samples=[side, side])
+        path = os.path.join(folder, "lights_sweep_%d.json" % count)
+        with open(path, "w") as f:
+            json.dump(document, f)
+        run = subprocess.run([cli, "lights", path, "--compare", "--json"], capture_output=True, text=True, check=True)
+        r = json.loads(run.stdout)
+        c = r["compare"]
+        print("%7d  %6d  %7.0f  %12.0f  %6.2fx  %9d  %9d  %8d  %5d" % (
+            r["light_samples"], r["lights"], c["fast_ms"], c["reference_ms"], c["speedup"], c["points_differing"],
+            r["tiles_unreached"], r["tiles_proven_shadowed"], r["tiles_cast"]))
+
+
+if __name__ == "__main__":
+    main()
