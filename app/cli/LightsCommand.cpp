@@ -105,7 +105,11 @@ int runLights(const LightsArgs& args)
     const auto start = std::chrono::steady_clock::now();
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     const std::string what = std::filesystem::path(args.project).filename().string();
-    std::vector<Light> lights = projectLights(project);
+    bool fromScene = false;
+    std::vector<Light> lights = lightsToUse(project, &fromScene);
+    if (fromScene && !lights.empty())
+        std::cerr << "sightline-cli: note: " << what << " has no \"lights\"; using the " << lights.size()
+                  << " KHR_lights_punctual lights of its scene file\n";
     std::vector<FileRole> inputs = projectInputs(args.project, project);
     if (!args.points.empty())
         inputs.push_back({"--points", args.points});
@@ -127,7 +131,7 @@ int runLights(const LightsArgs& args)
                     " light samples is more than " + std::to_string(std::uint64_t(kMaxTerms)) +
                     " shadow rays; use fewer points or coarser area lights");
     if (lights.empty())
-        std::cerr << "sightline-cli: warning: " << what << " has no \"lights\"; every irradiance is 0\n";
+        std::cerr << "sightline-cli: warning: " << what << " has no \"lights\" (nor its scene file); every irradiance is 0\n";
 
     std::vector<std::string> warnings;
     const Scene scene = buildScene(project, &warnings);

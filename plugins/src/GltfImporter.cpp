@@ -15,6 +15,8 @@
 // references it becomes an Instance, so instancing survives the import.
 
 #include <algorithm>
+#include <cctype>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -28,6 +30,7 @@
 
 #include "BuiltinFormats.h"
 #include "GltfValidation.h"
+#include "plugins/GltfLights.h"
 #include "plugins/JsonText.h"
 #include "visibility/Error.h"
 #include "visibility/PathRule.h"
@@ -777,5 +780,70 @@ public:
 } // namespace
 
 std::unique_ptr<SceneImporter> makeGltfImporter() { return std::make_unique<GltfImporter>(); }
+
+std::vector<PunctualLight> loadGltfLights(const fs::path& file, std::vector<std::string>* warnings)
+{
+    std::string extension = file.extension().string();
+    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (extension != ".gltf" && extension != ".glb")
+        return {};
+    std::vector<std::string> ignored;
+    std::vector<PunctualLight> lights;
+    try {
+        const tinygltf::Model model = parseModel(file, warnings ? *warnings : ignored);
+        const std::vector<int> roots = rootNodes(model);
+        checkExpansion(model, roots, file.string());   // the preflight's trees: the walk ends
+        struct Pending {
+            int node;
+            glm::dmat4 parent;
+        };
+        std::vector<Pending> stack;
+        for (auto root = roots.rbegin(); root != roots.rend(); ++root)
+            stack.push_back({*root, glm::dmat4(1.0)});
+        std::vector<bool> reached(model.nodes.size(), false);
+        while (!stack.empty()) {
+            const Pending next = stack.back();
+            stack.pop_back();
+            if (next.node < 0 || std::size_t(next.node) >= model.nodes.size() || reached[std::size_t(next.node)])
+                throw Error(file.string() + ": node " + std::to_string(next.node) + " is missing or reached twice");
+            reached[std::size_t(next.node)] = true;
+            const tinygltf::Node& node = model.nodes[std::size_t(next.node)];
+            const std::string what = file.string() + ": node " + std::to_string(next.node);
+            const glm::dmat4 world = next.parent * glm::dmat4(localTransform(node, what));
+            if (const auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end()) {
+                const tinygltf::Value& light = ext->second.Get("light");
+                if (!light.IsInt() || light.GetNumberAsInt() < 0 || std::size_t(light.GetNumberAsInt()) >= model.lights.size())
+                    throw Error(what + ": KHR_lights_punctual.light must index the file's " +
+                                std::to_string(model.lights.size()) + " lights");
+                const tinygltf::Light& source = model.lights[std::size_t(light.GetNumberAsInt())];
+                PunctualLight out;
+                out.type = source.type;
+                if (out.type != "point" && out.type != "spot" && out.type != "directional")
+                    throw Error(what + ": unknown KHR_lights_punctual type '" + source.type + "'");
+                out.name = !source.name.empty() ? source.name : node.name;
+                if (source.color.size() == 3)
+                    out.colour = {source.color[0], source.color[1], source.color[2]};
+                out.intensity = source.intensity;
+                out.range = source.range;
+                out.innerAngle = source.spot.innerConeAngle;
+                out.outerAngle = source.spot.outerConeAngle;
+                out.position = glm::dvec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+                const glm::dvec3 direction(world * glm::dvec4(0.0, 0.0, -1.0, 0.0));
+                const double length = glm::length(direction);
+                if (!(length > 0.0) || !std::isfinite(length))
+                    throw Error(what + ": its transform collapses the light's direction");
+                out.direction = direction / length;
+                lights.push_back(out);
+            }
+            for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
+                stack.push_back({*child, world});
+        }
+    } catch (const Error&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw Error(file.string() + ": " + firstLine(e.what()));
+    }
+    return lights;
+}
 
 } // namespace sightline

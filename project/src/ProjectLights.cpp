@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "plugins/GltfLights.h"
 #include "visibility/Error.h"
 
 namespace sightline {
@@ -153,6 +154,37 @@ std::vector<Light> projectLights(const Project& project)
     if (!project.extra.contains("lights"))
         return {};
     return parseLights(project.extra.at("lights"), project.name);
+}
+
+std::vector<Light> sceneFileLights(const Project& project, std::vector<std::string>* warnings)
+{
+    if (project.scene.empty())
+        return {};
+    const std::filesystem::path file = project.resolve(project.scene, "scene");
+    std::vector<Light> lights;
+    for (const PunctualLight& source : loadGltfLights(file, warnings)) {
+        Light light;
+        light.type = source.type == "spot" ? LightType::Spot : source.type == "directional" ? LightType::Directional : LightType::Point;
+        light.name = source.name;
+        light.colour = source.colour;
+        light.intensity = source.intensity;
+        light.range = source.range;
+        light.innerAngle = source.innerAngle;
+        light.outerAngle = source.outerAngle;
+        light.position = source.position;
+        light.direction = source.direction;
+        lights.push_back(light);
+    }
+    validateLights(lights, file.filename().string() + " (KHR_lights_punctual)");
+    return lights;
+}
+
+std::vector<Light> lightsToUse(const Project& project, bool* fromScene)
+{
+    const bool useScene = !project.extra.contains("lights");
+    if (fromScene)
+        *fromScene = useScene;
+    return useScene ? sceneFileLights(project) : projectLights(project);
 }
 
 json lightJson(const Light& light)

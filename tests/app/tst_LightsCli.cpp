@@ -215,3 +215,70 @@ TEST_F(LightsCli, LightsRoundTripAndSurviveASave)
     const json saved = json::parse(in);
     EXPECT_EQ(saved["lights"], document["lights"]);
 }
+
+// A level exported with KHR_lights_punctual lights itself: a point light at the root and a spot
+// under a translated parent, rotated to shine down; the project has no "lights" key.
+TEST_F(LightsCli, GltfPunctualLightsAreImportedWhenTheProjectHasNone)
+{
+    const json gltf = {
+        {"asset", {{"version", "2.0"}}},
+        {"extensionsUsed", {"KHR_lights_punctual"}},
+        {"extensions",
+         {{"KHR_lights_punctual",
+           {{"lights", {{{"type", "point"}, {"name", "bulb"}, {"intensity", 8.0}, {"color", {1.0, 0.5, 0.25}}},
+                        {{"type", "spot"}, {"intensity", 20.0}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.6}}}}}}}}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0, 1, 2}}}}},
+        {"nodes",
+         {{{"mesh", 0}},
+          {{"name", "bulb node"}, {"translation", {0.0, 2.0, 0.0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
+          {{"translation", {1.0, 0.0, 0.0}}, {"children", {3}}},
+          {{"name", "spot node"}, {"translation", {0.0, 3.0, 0.0}}, {"rotation", {-0.7071067811865476, 0.0, 0.0, 0.7071067811865476}},
+           {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}}}},
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+        {"buffers", {{{"byteLength", 60},
+                      {"uri", "data:application/octet-stream;base64,AACgwAAAAAAAAKDAAACgQAAAAAAAAKDAAACgQAAAAAAAAKBAAACgwAAAAAAAAKBAAAACAAEAAAADAAIA"}}}},
+        {"bufferViews", {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}}, {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 12}}}},
+        {"accessors",
+         {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {-5, 0, -5}}, {"max", {5, 0, 5}}},
+          {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}}};
+    write("lit.gltf", gltf);
+    json document = project(json::array());
+    document.erase("lights");
+    document["scene"] = "lit.gltf";
+    write("p.json", document);
+    const Project p = loadProject(folder / "p.json");
+    bool fromScene = false;
+    const std::vector<Light> lights = lightsToUse(p, &fromScene);
+    EXPECT_TRUE(fromScene);
+    ASSERT_EQ(lights.size(), 2u);
+    EXPECT_EQ(lights[0].type, LightType::Point);
+    EXPECT_EQ(lights[0].name, "bulb");
+    EXPECT_EQ(lights[0].colour, glm::dvec3(1.0, 0.5, 0.25));
+    EXPECT_LT(glm::length(lights[0].position - glm::dvec3(0, 2, 0)), 1e-12);
+    EXPECT_EQ(lights[1].type, LightType::Spot);
+    EXPECT_EQ(lights[1].name, "spot node");
+    EXPECT_LT(glm::length(lights[1].position - glm::dvec3(1, 3, 0)), 1e-12);
+    EXPECT_LT(glm::length(lights[1].direction - glm::dvec3(0, -1, 0)), 1e-6);
+    EXPECT_EQ(lights[1].outerAngle, 0.6);
+
+    std::vector<float> rows;
+    for (int k = 0; k < 5; ++k)
+        rows.insert(rows.end(), {float(0.5 * k), 0.01f, 0.0f, 0.0f, 1.0f, 0.0f});
+    writeFloatNpy(rows, 5, 6, folder / "pts.npy");
+    const CliRun run = runCli("lights " + (folder / "p.json").string() + " --points " + (folder / "pts.npy").string() +
+                              " --npy " + (folder / "e.npy").string() + " --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_NE(run.err.find("KHR_lights_punctual"), std::string::npos) << run.err;
+    EXPECT_EQ(json::parse(run.out)["lights"], 2);
+    const Npy e = readNpy(folder / "e.npy");
+    const LightsJudge judge(scene());
+    for (int k = 0; k < 5; ++k) {
+        const ShadingPoint point{glm::dvec3(glm::vec3(float(0.5 * k), 0.01f, 0.0f)), {0.0, 1.0, 0.0}};
+        const std::size_t at = 3 * std::size_t(k);
+        EXPECT_TRUE(LightsJudge::agrees(judge.at(lights, point), {e.values[at], e.values[at + 1], e.values[at + 2]}, 1e-6)) << k;
+    }
+    // A "lights" key, even empty, is the designer's list: the scene's lights are not added.
+    write("p.json", project(json::array()));
+    EXPECT_TRUE(lightsToUse(loadProject(folder / "p.json")).empty());
+}

@@ -30,6 +30,14 @@ std::vector<Light> parseLights(const nlohmann::json& value, const std::string& w
 /// The project's lights (none without the key), validated.
 std::vector<Light> projectLights(const Project& project);
 
+/// The lights a glTF scene file places with KHR_lights_punctual (plugins/GltfLights.h), as lights
+/// of the project, validated (keys "<file>: KHR light i"); none for other formats.
+std::vector<Light> sceneFileLights(const Project& project, std::vector<std::string>* warnings = nullptr);
+
+/// The project's "lights" when it has the key, else the scene file's own lights (a level exported
+/// with its lights lights itself until the designer writes a list). `fromScene` says which.
+std::vector<Light> lightsToUse(const Project& project, bool* fromScene = nullptr);
+
 /// One light as the "lights" key writes it (defaults written out, so the file says what it means).
 nlohmann::json lightJson(const Light& light);
 
