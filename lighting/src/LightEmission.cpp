@@ -44,7 +44,8 @@ double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dv
         const double area = glm::length(cross);
         const double cosLight = -glm::dot(cross / area, l);
         const double facing = light.twoSided ? std::abs(cosLight) : std::max(0.0, cosLight);
-        return light.radiance * (area / double(light.area.sampleCount())) * facing * cosReceiver / d2;
+        const double clamped = std::max(d2, light.clampMetres * light.clampMetres);
+        return light.radiance * (area / double(light.area.sampleCount())) * facing * cosReceiver / clamped;
     }
     double term = light.intensity * cosReceiver / d2;
     if (light.range > 0.0) {

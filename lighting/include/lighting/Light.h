@@ -43,6 +43,9 @@ struct Light {
     Patch area;
     double radiance = 1.0;         ///< W/m²/sr
     bool twoSided = false;
+    /// Area lights standing for virtual point lights (Indirect.h) only, never read from a file:
+    /// distances below this count as this in the 1/d² (the VPL clamp); 0 for every real light.
+    double clampMetres = 0.0;
 
     /// Samples this light contributes: na x nb for an area light, else 1.
     int sampleCount() const { return type == LightType::Area ? area.sampleCount() : 1; }
