@@ -681,8 +681,10 @@ int main(int argc, char** argv)
             cli::checkAoOptions(*aoCmd, ao);
             return cli::runAo(ao);
         }
-        if (*lightsCmd)
+        if (*lightsCmd) {
+            cli::checkLightsOptions(*lightsCmd, lights);
             return cli::runLights(lights);
+        }
         if (*pvsCmd)
             return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {

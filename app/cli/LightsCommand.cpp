@@ -12,6 +12,7 @@
 #include "cli/OptionRules.h"
 #include "cli/OutputPaths.h"
 #include "lighting/DirectLight.h"
+#include "lighting/Indirect.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
@@ -95,9 +96,31 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
     command->add_flag("--bitmask-area", args.bitmaskArea,
                       "Without --points: area lights facing the receiver by the exact bitmask sampler (Eisemann & "
                       "Décoret §8) instead of tiles of rays");
+    command->add_option("--indirect", args.vpls,
+                        "Add one bounce of indirect light from N virtual point lights (instant radiosity; "
+                        "output beyond the contract: direct + indirect)")
+        ->check(CLI::Range(1, 1000000));
+    command->add_option("--seed", args.seed, "--indirect: the photons' seed")->capture_default_str();
+    command->add_option("--albedo", args.albedo, "--indirect: every surface's diffuse reflectance, in [0, 1)")
+        ->capture_default_str();
+    command->add_option("--clamp", args.clamp, "--indirect: VPL distances below this count as this (metres; 0: none)")
+        ->capture_default_str();
+    command->add_option("--indirect-reference", args.gatherSamples,
+                        "--indirect: also gather the bounce by Monte Carlo with N directions a point, and report "
+                        "the VPLs' error against it")
+        ->check(CLI::Range(1, 100000));
     command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
+}
+
+void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
+{
+    if (args.vpls > 0)
+        return;
+    for (const char* option : {"--seed", "--albedo", "--clamp", "--indirect-reference"})
+        if (given(command, option))
+            throw Error(std::string(option) + " needs --indirect N (the VPL count)");
 }
 
 int runLights(const LightsArgs& args)
@@ -110,6 +133,8 @@ int runLights(const LightsArgs& args)
     if (fromScene && !lights.empty())
         std::cerr << "sightline-cli: note: " << what << " has no \"lights\"; using the " << lights.size()
                   << " KHR_lights_punctual lights of its scene file\n";
+    if (args.vpls > 0)
+        validateIndirectOptions({.vpls = args.vpls, .seed = args.seed, .albedo = args.albedo, .clampMetres = args.clamp});
     std::vector<FileRole> inputs = projectInputs(args.project, project);
     if (!args.points.empty())
         inputs.push_back({"--points", args.points});
@@ -165,16 +190,60 @@ int runLights(const LightsArgs& args)
                       {"points_differing", differing}};
     }
 
+    json indirectJson;
+    std::vector<glm::dvec3> total = irradiance;
+    if (args.vpls > 0) {
+        IndirectOptions indirect;
+        indirect.vpls = args.vpls;
+        indirect.seed = args.seed;
+        indirect.albedo = args.albedo;
+        indirect.clampMetres = args.clamp;
+        indirect.threads = args.threads;
+        const VplSet vpls = traceVpls(lighting, lights, indirect);
+        const IndirectResult bounce = vplIrradiance(lighting, vpls, points, indirect);
+        glm::dvec3 mean(0.0);
+        for (std::size_t j = 0; j < points.size(); ++j) {
+            total[j] += bounce.irradiance[j];
+            mean += bounce.irradiance[j] / double(points.size());
+        }
+        indirectJson = {{"vpls", vpls.vpls.size()},
+                        {"photons", vpls.photons},
+                        {"emitted_w", {vpls.emitted.x, vpls.emitted.y, vpls.emitted.z}},
+                        {"trace_ms", vpls.ms},
+                        {"ms", bounce.stats.ms},
+                        {"clamp_loss", bounce.clampLoss},
+                        {"mean", {mean.x, mean.y, mean.z}}};
+        if (args.gatherSamples > 0) {
+            const auto gatherStart = std::chrono::steady_clock::now();
+            const std::vector<glm::dvec3> gathered = gatheredIndirect(lighting, lights, points, args.gatherSamples, indirect);
+            double squared = 0.0, reference = 0.0;
+            for (std::size_t j = 0; j < points.size(); ++j)
+                for (int c = 0; c < 3; ++c) {
+                    const double d = bounce.irradiance[j][c] - gathered[j][c];
+                    squared += d * d;
+                    reference += gathered[j][c];
+                }
+            const double rmse = std::sqrt(squared / double(3 * points.size()));
+            const double meanReference = reference / double(3 * points.size());
+            indirectJson["reference"] = {
+                {"samples", args.gatherSamples},
+                {"ms", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - gatherStart).count()},
+                {"rmse", rmse},
+                {"relative_rmse", meanReference > 0.0 ? rmse / meanReference : 0.0},
+                {"mean", meanReference}};
+        }
+    }
+
     std::vector<float> values(3 * irradiance.size());
     glm::dvec3 mean(0.0), peak(0.0);
-    for (std::size_t j = 0; j < irradiance.size(); ++j) {
+    for (std::size_t j = 0; j < total.size(); ++j) {
         for (int c = 0; c < 3; ++c)
-            values[3 * j + std::size_t(c)] = float(irradiance[j][c]);
-        mean += irradiance[j];
-        peak = glm::max(peak, irradiance[j]);
+            values[3 * j + std::size_t(c)] = float(total[j][c]);
+        mean += total[j];
+        peak = glm::max(peak, total[j]);
     }
-    if (!irradiance.empty())
-        mean /= double(irradiance.size());
+    if (!total.empty())
+        mean /= double(total.size());
     if (!args.npy.empty()) {
         const std::vector<std::size_t> shape = onReceiver ? std::vector<std::size_t>{std::size_t(project.receiver.nb), std::size_t(project.receiver.na), 3}
                                                           : std::vector<std::size_t>{points.size(), 3};
@@ -202,6 +271,8 @@ int runLights(const LightsArgs& args)
                     {"irradiance_max", {peak.x, peak.y, peak.z}}};
         if (args.compare)
             out["compare"] = comparison;
+        if (args.vpls > 0)
+            out["indirect"] = indirectJson;
         std::cout << out.dump() << "\n";
         return 0;
     }
@@ -217,6 +288,15 @@ int runLights(const LightsArgs& args)
                 (unsigned long long)stats.tilesCast, stats.bitmaskLights);
     std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
     std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());
+    if (args.vpls > 0) {
+        std::printf("indirect   %zu VPLs from %d photons (%.1f ms) in %.1f ms, clamp loss %.3g%%",
+                    indirectJson["vpls"].get<std::size_t>(), indirectJson["photons"].get<int>(), indirectJson["trace_ms"].get<double>(),
+                    indirectJson["ms"].get<double>(), 100.0 * indirectJson["clamp_loss"].get<double>());
+        if (indirectJson.contains("reference"))
+            std::printf("; against %d-direction gathering: relative RMSE %.3g", args.gatherSamples,
+                        indirectJson["reference"]["relative_rmse"].get<double>());
+        std::printf("\n");
+    }
     if (args.compare)
         std::printf("compare    reference %.2f ms, fast %.2f ms: %.2fx; largest relative difference %.3g, %zu points differ\n",
                     comparison["reference_ms"].get<double>(), comparison["fast_ms"].get<double>(),

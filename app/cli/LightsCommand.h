@@ -2,6 +2,7 @@
 // sightline-cli lights (docs/lights.md, a contract): direct irradiance from the project's lights,
 // shadowed exactly, at given points or over the receiver patch's samples.
 
+#include <cstdint>
 #include <string>
 
 namespace CLI {
@@ -18,9 +19,17 @@ struct LightsArgs {
     bool bitmaskArea = false; ///< area lights facing the receiver grid by the bitmask sampler     ///< also run the other path, report its time and the largest difference
     int threads = 0;
     bool allowOutsidePaths = false;
+    // One bounce of indirect light (lighting/Indirect.h), added to the direct light when vpls > 0.
+    int vpls = 0;
+    std::uint64_t seed = 1;
+    double albedo = 0.5;
+    double clamp = 0.1;
+    int gatherSamples = 0;    ///< > 0: also the Monte-Carlo gathering reference, for its error
 };
 
 CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args);
+/// Throws sightline::Error for indirect-light options given without --indirect.
+void checkLightsOptions(const CLI::App& command, const LightsArgs& args);
 int runLights(const LightsArgs& args);
 
 } // namespace sightline::cli

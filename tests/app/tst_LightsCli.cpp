@@ -282,3 +282,41 @@ TEST_F(LightsCli, GltfPunctualLightsAreImportedWhenTheProjectHasNone)
     write("p.json", project(json::array()));
     EXPECT_TRUE(lightsToUse(loadProject(folder / "p.json")).empty());
 }
+
+TEST_F(LightsCli, IndirectAddsOneBounceOfVplsAndReportsItsError)
+{
+    write("p.json", project(lights()));
+    const std::string base = "lights " + (folder / "p.json").string();
+    const CliRun direct = runCli(base + " --npy " + (folder / "d.npy").string());
+    ASSERT_EQ(direct.code, 0) << direct.err;
+    const CliRun lit = runCli(base + " --indirect 3000 --albedo 0.4 --indirect-reference 128 --json --npy " + (folder / "i.npy").string());
+    ASSERT_EQ(lit.code, 0) << lit.err;
+    const json indirect = json::parse(lit.out).at("indirect");
+    EXPECT_EQ(indirect["photons"], 3000);
+    EXPECT_GT(indirect["vpls"].get<int>(), 500);   // photons that meet the floor, the table or the wall (the rest leave)
+    EXPECT_GE(indirect["clamp_loss"].get<double>(), 0.0);
+    // Against the gathering reference: the same mean bounce (the VPLs' noise is in the RMSE).
+    const json reference = indirect["reference"];
+    const double vplMean = (indirect["mean"][0].get<double>() + indirect["mean"][1].get<double>() + indirect["mean"][2].get<double>()) / 3.0;
+    EXPECT_GT(reference["mean"].get<double>(), 0.0);
+    EXPECT_NEAR(vplMean, reference["mean"].get<double>(), 0.15 * reference["mean"].get<double>());
+    EXPECT_LT(reference["relative_rmse"].get<double>(), 1.0);
+    // Direct plus a bounce: never less than the direct light alone, and more somewhere.
+    const Npy d = readNpy(folder / "d.npy"), i = readNpy(folder / "i.npy");
+    ASSERT_EQ(d.values.size(), i.values.size());
+    int brighter = 0;
+    for (std::size_t k = 0; k < d.values.size(); ++k) {
+        EXPECT_GE(i.values[k], d.values[k] * (1.0f - 1e-6f)) << k;
+        brighter += i.values[k] > d.values[k] * 1.001f;
+    }
+    EXPECT_GT(brighter, 100);
+    // The same seed gives the same answer; options of the bounce need it.
+    const CliRun again = runCli(base + " --indirect 3000 --albedo 0.4 --npy " + (folder / "j.npy").string());
+    ASSERT_EQ(again.code, 0) << again.err;
+    EXPECT_EQ(readAll(folder / "j.npy"), readAll(folder / "i.npy"));
+    for (const std::string bad : {" --albedo 0.5", " --indirect 10 --albedo 1.5", " --indirect 10 --clamp -1", " --indirect 0"}) {
+        const CliRun run = runCli(base + bad);
+        EXPECT_NE(run.code, 0) << bad;
+        EXPECT_TRUE(oneLine(run.err)) << bad << ": " << run.err;
+    }
+}
