@@ -13,10 +13,13 @@
 #include "cli/OutputPaths.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Indirect.h"
+#include "lighting/LightSets.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
+#include "Camera.h"
+#include "ViewSettings.h"
 
 namespace sightline::cli {
 
@@ -109,13 +112,71 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                         "--indirect: also gather the bounce by Monte Carlo with N directions a point, and report "
                         "the VPLs' error against it")
         ->check(CLI::Range(1, 100000));
+    command->add_flag("--sets", args.sets,
+                      "Print O'Rorke's light visibility sets instead: per light V (instances seen from the project's "
+                      "camera), L (those it reaches), I = V and L, S (those casting shadows onto I); instance indices "
+                      "as in info --json");
     command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
 }
 
+namespace {
+
+/// Instances seen from the project's camera (its saved editor view, else the editor's view across
+/// the shaft): first hits of a kSetsViewWidth x kSetsViewHeight grid of rays through pixel centres.
+constexpr int kSetsViewWidth = 640, kSetsViewHeight = 360;
+
+std::vector<std::uint32_t> cameraVisibleInstances(const Project& project, const LightingScene& lighting)
+{
+    const json editor = project.extra.value("editor", json::object());
+    const ui::Camera camera = ui::projectView(editor, project.source, project.receiver);
+    const double reach = 4.0 * lighting.reach().radius + glm::length(camera.eye() - lighting.reach().centre);
+    std::vector<std::uint32_t> seen;
+    for (int y = 0; y < kSetsViewHeight; ++y)
+        for (int x = 0; x < kSetsViewWidth; ++x) {
+            const ui::Ray ray = ui::pixelRay(camera, x + 0.5, y + 0.5, kSetsViewWidth, kSetsViewHeight);
+            const pvs::RayHit hit = lighting.firstHits().cast(glm::vec3(ray.origin), glm::vec3(ray.direction * reach), 1.0f);
+            if (hit.instance >= 0)
+                seen.push_back(std::uint32_t(hit.instance));
+        }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    return seen;
+}
+
+int printSets(const LightsArgs& args, const Project& project, const std::vector<Light>& lights)
+{
+    std::vector<std::string> warnings;
+    const Scene scene = buildScene(project, &warnings);
+    for (const std::string& w : warnings)
+        std::cerr << "sightline-cli: warning: " << w << "\n";
+    const LightingScene lighting(scene);
+    LightSetOptions options;
+    options.threads = args.threads;
+    const std::vector<LightSets> sets = lightSets(lighting, scene, lights, cameraVisibleInstances(project, lighting), options);
+    json list = json::array();
+    for (std::size_t l = 0; l < sets.size(); ++l)
+        list.push_back({{"light", displayName(lights, l)}, {"V", sets[l].V}, {"L", sets[l].L}, {"I", sets[l].I}, {"S", sets[l].S}});
+    if (args.json) {
+        std::cout << json{{"sets", list}}.dump() << "\n";
+        return 0;
+    }
+    std::printf("%-24s %6s %6s %6s %6s\n", "light", "V", "L", "I", "S");
+    for (std::size_t l = 0; l < sets.size(); ++l)
+        std::printf("%-24s %6zu %6zu %6zu %6zu\n", displayName(lights, l).c_str(), sets[l].V.size(), sets[l].L.size(),
+                    sets[l].I.size(), sets[l].S.size());
+    return 0;
+}
+
+} // namespace
+
 void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
 {
+    if (args.sets)
+        for (const char* option : {"--points", "--npy", "--reference", "--compare", "--bitmask-area", "--indirect"})
+            if (given(command, option))
+                throw Error(std::string(option) + " does not apply to --sets (it prints the sets, no irradiance)");
     if (args.vpls > 0)
         return;
     for (const char* option : {"--seed", "--albedo", "--clamp", "--indirect-reference"})
@@ -133,6 +194,8 @@ int runLights(const LightsArgs& args)
     if (fromScene && !lights.empty())
         std::cerr << "sightline-cli: note: " << what << " has no \"lights\"; using the " << lights.size()
                   << " KHR_lights_punctual lights of its scene file\n";
+    if (args.sets)
+        return printSets(args, project, lights);
     if (args.vpls > 0)
         validateIndirectOptions({.vpls = args.vpls, .seed = args.seed, .albedo = args.albedo, .clampMetres = args.clamp});
     std::vector<FileRole> inputs = projectInputs(args.project, project);

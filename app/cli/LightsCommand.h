@@ -25,6 +25,7 @@ struct LightsArgs {
     double albedo = 0.5;
     double clamp = 0.1;
     int gatherSamples = 0;    ///< > 0: also the Monte-Carlo gathering reference, for its error
+    bool sets = false;        ///< O'Rorke's sets per light instead of irradiance
 };
 
 CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args);

@@ -320,3 +320,41 @@ TEST_F(LightsCli, IndirectAddsOneBounceOfVplsAndReportsItsError)
         EXPECT_TRUE(oneLine(run.err)) << bad << ": " << run.err;
     }
 }
+
+// --sets --json (DESIGN.md §4): V from the project's saved camera, looking down at the room's
+// middle; a spot over a pillar that the camera sees; a crate out of view and out of the cone.
+TEST_F(LightsCli, SetsFollowTheContract)
+{
+    json document = project(json::array({{{"type", "spot"}, {"name", "over the pillar"}, {"position", {1.5, 3.0, -1.0}},
+                                          {"direction", {0, -1, 0}}, {"outer_angle", 0.6}, {"intensity", 5}},
+                                         {{"type", "point"}, {"position", {0, 1.5, 0}}}}));
+    document["occluders"] = {{{"name", "pillar"}, {"mesh", "box"}, {"transform", {0.3, 0, 0, 0, 0, 1.6, 0, 0, 0, 0, 0.3, 0, 1.5, 0.81, -1.0, 1}}},
+                             {{"name", "crate"}, {"mesh", "box"}, {"transform", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 9, 0.5, 9, 1}}}};
+    document["editor"] = {{"camera", {{"target", {0.5, 0, -0.5}}, {"distance", 4.0}, {"yaw", 0.0}, {"pitch", -1.4}}}};
+    write("p.json", document);
+    const CliRun run = runCli("lights " + (folder / "p.json").string() + " --sets --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json sets = json::parse(run.out).at("sets");
+    ASSERT_EQ(sets.size(), 2u);
+    EXPECT_EQ(sets[0]["light"], "over the pillar");
+    EXPECT_EQ(sets[1]["light"], "light 1");
+    // Instances: 0 the room (one OBJ), 1 the pillar, 2 the crate (info --json's instance_list).
+    const auto list = [](const json& value) { return value.get<std::vector<std::uint32_t>>(); };
+    EXPECT_EQ(list(sets[0]["V"]), (std::vector<std::uint32_t>{0, 1}));
+    EXPECT_EQ(list(sets[0]["L"]), (std::vector<std::uint32_t>{0, 1}));
+    EXPECT_EQ(list(sets[0]["I"]), (std::vector<std::uint32_t>{0, 1}));
+    // The pillar shadows the floor, the room's table its floor too; the crate, out of the cone, nothing.
+    EXPECT_EQ(list(sets[0]["S"]), (std::vector<std::uint32_t>{0, 1}));
+    for (const json& entry : sets) {
+        std::vector<std::uint32_t> both;
+        const auto V = list(entry["V"]), L = list(entry["L"]);
+        std::set_intersection(V.begin(), V.end(), L.begin(), L.end(), std::back_inserter(both));
+        EXPECT_EQ(list(entry["I"]), both);
+    }
+    const auto bulbReaches = list(sets[1]["L"]);
+    // The bulb reaches the room and the pillar, not the crate behind the wall.
+    EXPECT_EQ(bulbReaches, (std::vector<std::uint32_t>{0, 1}));
+    const CliRun bad = runCli("lights " + (folder / "p.json").string() + " --sets --npy " + (folder / "x.npy").string());
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("--sets"), std::string::npos) << bad.err;
+}
