@@ -1,0 +1,305 @@
+#include "lighting/TexelCharts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "lights/EdgeNeighbours.h"
+#include "visibility/Error.h"
+
+namespace sightline {
+
+namespace {
+
+glm::dvec3 corner(const AoOccluders& occluders, std::size_t t, int c)
+{
+    return glm::dvec3(occluders.vertices[occluders.indices[3 * t + std::size_t(c)]]);
+}
+
+/// The point of triangle (a, b, c) nearest p (Ericson, Real-Time Collision Detection §5.1.5).
+glm::dvec3 nearestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+{
+    const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0)
+        return a;
+    const glm::dvec3 bp = p - b;
+    const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3)
+        return b;
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        return a + ab * (d1 / (d1 - d3));
+    const glm::dvec3 cp = p - c;
+    const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6)
+        return c;
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        return a + ac * (d2 / (d2 - d6));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const double denom = 1.0 / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct UnionFind {
+    std::vector<std::uint32_t> parent;
+    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+    std::uint32_t find(std::uint32_t x)
+    {
+        while (parent[x] != x)
+            x = parent[x] = parent[parent[x]];
+        return x;
+    }
+    void join(std::uint32_t a, std::uint32_t b)
+    {
+        a = find(a), b = find(b);
+        if (a != b)
+            parent[std::max(a, b)] = std::min(a, b);   // the smallest index roots: deterministic
+    }
+};
+
+/// Triangles grouped into charts (by their smallest triangle index, in order); -1 for degenerate.
+std::vector<std::int32_t> groupCharts(const AoOccluders& occluders, std::vector<glm::dvec3>& normals, std::int32_t& count)
+{
+    const std::size_t nt = occluders.triangleCount();
+    WorldTriangles flat;
+    flat.vertices.reserve(3 * nt);
+    for (std::size_t t = 0; t < nt; ++t)
+        for (int c = 0; c < 3; ++c)
+            flat.vertices.push_back(occluders.vertices[occluders.indices[3 * t + std::size_t(c)]]);
+    flat.instanceOf.assign(nt, 0);
+    const auto neighbours = lights::edgeNeighbours(flat);
+    normals.assign(nt, glm::dvec3(0.0));
+    std::vector<char> valid(nt, 0);
+    for (std::size_t t = 0; t < nt; ++t) {
+        const glm::dvec3 a = corner(occluders, t, 0), n = glm::cross(corner(occluders, t, 1) - a, corner(occluders, t, 2) - a);
+        const double length = glm::length(n), edge = glm::length(corner(occluders, t, 1) - a);
+        if (length > 1e-12 * edge * edge && std::isfinite(length)) {
+            normals[t] = n / length;
+            valid[t] = 1;
+        }
+    }
+    UnionFind sets(nt);
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!valid[t])
+            continue;
+        for (int e = 0; e < 3; ++e) {
+            const std::int64_t u = neighbours[t][std::size_t(e)];
+            if (u < 0 || !valid[std::size_t(u)] || glm::dot(normals[t], normals[std::size_t(u)]) < kChartCosine)
+                continue;
+            double off = 0.0;
+            for (int c = 0; c < 3; ++c)
+                off = std::max(off, std::abs(glm::dot(normals[t], corner(occluders, std::size_t(u), c) - corner(occluders, t, 0))));
+            if (off <= kChartPlaneMetres)
+                sets.join(std::uint32_t(t), std::uint32_t(u));
+        }
+    }
+    std::vector<std::int32_t> chartOf(nt, -1), chartOfRoot(nt, -1);
+    count = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+        if (!valid[t])
+            continue;
+        const std::uint32_t root = sets.find(std::uint32_t(t));
+        if (chartOfRoot[root] < 0)
+            chartOfRoot[root] = count++;
+        chartOf[t] = chartOfRoot[root];
+    }
+    return chartOf;
+}
+
+/// The chart's plane frame and its rectangle (texels, with a one-texel border).
+void frameChart(const AoOccluders& occluders, const std::vector<glm::dvec3>& normals, double density, TexelChart& chart)
+{
+    std::uint32_t largest = chart.triangles.front();
+    double largestArea = -1.0;
+    for (const std::uint32_t t : chart.triangles) {
+        const double area = glm::length(glm::cross(corner(occluders, t, 1) - corner(occluders, t, 0), corner(occluders, t, 2) - corner(occluders, t, 0)));
+        if (area > largestArea)
+            largestArea = area, largest = t;
+    }
+    chart.normal = normals[largest];
+    const glm::dvec3 base = corner(occluders, largest, 0);
+    // u along whichever edge of the largest triangle gives the chart the smallest rectangle (a
+    // floor's grid follows its quads, not their diagonals).
+    double lo[2] = {0.0, 0.0}, hi[2] = {0.0, 0.0}, bestArea = INFINITY;
+    for (int e = 0; e < 3; ++e) {
+        const glm::dvec3 edge = corner(occluders, largest, (e + 1) % 3) - corner(occluders, largest, e);
+        const glm::dvec3 u = glm::normalize(edge - chart.normal * glm::dot(chart.normal, edge)), v = glm::cross(chart.normal, u);
+        double l[2] = {INFINITY, INFINITY}, h[2] = {-INFINITY, -INFINITY};
+        for (const std::uint32_t t : chart.triangles)
+            for (int c = 0; c < 3; ++c) {
+                const glm::dvec3 d = corner(occluders, t, c) - base;
+                const double s = glm::dot(d, u), q = glm::dot(d, v);
+                l[0] = std::min(l[0], s), h[0] = std::max(h[0], s), l[1] = std::min(l[1], q), h[1] = std::max(h[1], q);
+            }
+        const double area = (h[0] - l[0]) * (h[1] - l[1]);
+        if (area < bestArea) {
+            bestArea = area;
+            chart.axisU = u, chart.axisV = v;
+            lo[0] = l[0], lo[1] = l[1], hi[0] = h[0], hi[1] = h[1];
+        }
+    }
+    chart.origin = base + (lo[0] - 1.0 / density) * chart.axisU + (lo[1] - 1.0 / density) * chart.axisV;
+    // In double first: a kilometre chart at a high density must be refused, not wrap an int.
+    const double width = std::ceil((hi[0] - lo[0]) * density) + 2.0, height = std::ceil((hi[1] - lo[1]) * density) + 2.0;
+    const bool fits = width * height <= double(std::uint64_t(1) << 40);
+    chart.width = fits ? int(width) : -1;
+    chart.height = fits ? int(height) : -1;
+}
+
+/// Shelf packing, tallest first, one-texel gutter; returns the atlas's width and height.
+std::pair<int, int> pack(std::vector<TexelChart>& charts, std::uint64_t texels)
+{
+    std::vector<std::size_t> order(charts.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::sort(order.begin(), order.end(), [&](std::size_t l, std::size_t r) {
+        return charts[l].height != charts[r].height ? charts[l].height > charts[r].height : l < r;
+    });
+    int widest = 1;
+    for (const TexelChart& chart : charts)
+        widest = std::max(widest, chart.width + 1);
+    const int atlasWidth = std::max(widest, int(std::ceil(std::sqrt(double(texels) * 1.3))) + 1);
+    int x = 0, y = 0, shelf = 0;
+    for (const std::size_t k : order) {
+        TexelChart& chart = charts[k];
+        if (x + chart.width + 1 > atlasWidth) {
+            x = 0;
+            y += shelf + 1;
+            shelf = 0;
+        }
+        chart.x = x, chart.y = y;
+        x += chart.width + 1;
+        shelf = std::max(shelf, chart.height);
+    }
+    return {atlasWidth, std::max(1, y + shelf)};
+}
+
+/// The chart's texel points: on a triangle where the centre falls in one, the nearest point of a
+/// neighbouring texel's triangle next to one, NoFace elsewhere.
+void chartPoints(const AoOccluders& occluders, double density, const TexelChart& chart, const std::vector<glm::dvec3>& normals,
+                 AoPoints& points)
+{
+    const int w = chart.width, h = chart.height;
+    std::vector<std::int64_t> owner(std::size_t(w) * std::size_t(h), -1);
+    std::vector<glm::dvec3> position(owner.size());
+    const auto centre = [&](int s, int q) {
+        return chart.origin + ((s + 0.5) / density) * chart.axisU + ((q + 0.5) / density) * chart.axisV;
+    };
+    for (const std::uint32_t t : chart.triangles) {
+        glm::dvec2 p[3];
+        for (int c = 0; c < 3; ++c) {
+            const glm::dvec3 d = corner(occluders, t, c) - chart.origin;
+            p[c] = {glm::dot(d, chart.axisU) * density, glm::dot(d, chart.axisV) * density};
+        }
+        const double area = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
+        if (area == 0.0)
+            continue;
+        const int s0 = std::max(0, int(std::floor(std::min({p[0].x, p[1].x, p[2].x}) - 0.5)));
+        const int s1 = std::min(w - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}) - 0.5)));
+        const int q0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}) - 0.5)));
+        const int q1 = std::min(h - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}) - 0.5)));
+        for (int q = q0; q <= q1; ++q)
+            for (int s = s0; s <= s1; ++s) {
+                const glm::dvec2 c(s + 0.5, q + 0.5);
+                const double l1 = ((p[2].x - c.x) * (p[0].y - c.y) - (p[0].x - c.x) * (p[2].y - c.y)) / area;
+                const double l2 = ((p[0].x - c.x) * (p[1].y - c.y) - (p[1].x - c.x) * (p[0].y - c.y)) / area;
+                const double l0 = 1.0 - l1 - l2;
+                if (l0 < 0.0 || l1 < 0.0 || l2 < 0.0)
+                    continue;
+                const std::size_t k = std::size_t(q) * std::size_t(w) + std::size_t(s);
+                owner[k] = t;
+                position[k] = l0 * corner(occluders, t, 0) + l1 * corner(occluders, t, 1) + l2 * corner(occluders, t, 2);
+            }
+    }
+    for (int q = 0; q < h; ++q)
+        for (int s = 0; s < w; ++s) {
+            const std::size_t k = std::size_t(q) * std::size_t(w) + std::size_t(s);
+            std::int64_t t = owner[k];
+            glm::dvec3 at = position[k];
+            if (t < 0) {   // the nearest point of a neighbouring texel's triangle, if any
+                double best = INFINITY;
+                for (int dq = -1; dq <= 1; ++dq)
+                    for (int ds = -1; ds <= 1; ++ds) {
+                        const int nq = q + dq, ns = s + ds;
+                        if (nq < 0 || ns < 0 || nq >= h || ns >= w)
+                            continue;
+                        const std::int64_t u = owner[std::size_t(nq) * std::size_t(w) + std::size_t(ns)];
+                        if (u < 0)
+                            continue;
+                        const glm::dvec3 c = centre(s, q);
+                        const glm::dvec3 p = nearestOnTriangle(c, corner(occluders, std::size_t(u), 0), corner(occluders, std::size_t(u), 1),
+                                                               corner(occluders, std::size_t(u), 2));
+                        const double d = glm::length(p - c);
+                        if (d < best)
+                            best = d, at = p, t = u;
+                    }
+            }
+            if (t >= 0) {
+                points.positions.push_back(glm::vec3(at));
+                points.normals.push_back(glm::vec3(normals[std::size_t(t)]));
+                points.status.push_back(AoPointStatus::Ok);
+            } else {
+                points.positions.push_back(glm::vec3(centre(s, q)));
+                points.normals.push_back(glm::vec3(0.0f));
+                points.status.push_back(AoPointStatus::NoFace);
+            }
+        }
+}
+
+} // namespace
+
+glm::vec2 ChartLayout::uv(const AoOccluders& occluders, std::uint32_t t, int c) const
+{
+    if (chartOf[t] < 0)
+        return glm::vec2(0.0f);
+    const TexelChart& chart = charts[std::size_t(chartOf[t])];
+    const glm::dvec3 d = corner(occluders, t, c) - chart.origin;
+    return {float((chart.x + glm::dot(d, chart.axisU) * density) / width), float((chart.y + glm::dot(d, chart.axisV) * density) / height)};
+}
+
+ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoints& points, std::uint64_t maxPixels)
+{
+    if (!(density > 0.0) || !std::isfinite(density))
+        throw Error("--texel " + std::to_string(density) + ": the light-map density must be a positive number of texels per metre");
+    ChartLayout layout;
+    layout.density = density;
+    std::vector<glm::dvec3> normals;
+    std::int32_t count = 0;
+    layout.chartOf = groupCharts(occluders, normals, count);
+    layout.charts.resize(std::size_t(count));
+    for (std::size_t t = 0; t < layout.chartOf.size(); ++t)
+        if (layout.chartOf[t] >= 0)
+            layout.charts[std::size_t(layout.chartOf[t])].triangles.push_back(std::uint32_t(t));
+    std::uint64_t texels = 0;
+    const auto refuse = [&](std::uint64_t needed) {
+        const double fit = density * std::sqrt(double(maxPixels) / double(needed) * 0.7);
+        throw Error("--texel " + std::to_string(density) + ": the light map would need more than " + std::to_string(maxPixels >> 20) +
+                    " Mpixels; try --texel " + std::to_string(fit) + " or less");
+    };
+    for (TexelChart& chart : layout.charts) {
+        frameChart(occluders, normals, density, chart);
+        // Refused before anything is allocated: a huge chart's size alone overflows nothing here.
+        if (!(chart.width > 0 && chart.height > 0) || double(chart.width) * double(chart.height) > double(maxPixels))
+            refuse(maxPixels + 1);
+        texels += std::uint64_t(chart.width) * std::uint64_t(chart.height);
+        if (texels > maxPixels)
+            refuse(texels);
+    }
+    const auto [width, height] = pack(layout.charts, texels);
+    layout.width = width, layout.height = height;
+    if (std::uint64_t(width) * std::uint64_t(height) > maxPixels)
+        refuse(std::uint64_t(width) * std::uint64_t(height));
+    for (TexelChart& chart : layout.charts) {
+        chart.firstPoint = points.size();
+        chartPoints(occluders, density, chart, normals, points);
+    }
+    return layout;
+}
+
+} // namespace sightline
