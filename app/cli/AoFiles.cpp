@@ -166,23 +166,21 @@ void writeColouredGltf(const AoOccluders& occluders, const std::vector<glm::vec3
     saveModel(model, primitive, file);
 }
 
-void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& layout, const std::string& lightmapUri,
-                          const std::filesystem::path& file)
+void writeLightmappedGltf(const AoOccluders& occluders, const std::vector<glm::vec2>& cornerUvs, const std::string& lightmapUri,
+                          const std::filesystem::path& file, LightmapUse use)
 {
     if (occluders.indices.empty())
         throw Error(file.string() + ": nothing to write (no triangles)");
     std::vector<glm::vec3> positions;
-    std::vector<glm::vec2> uv0, uv1;
     for (std::uint32_t t = 0; t < occluders.triangleCount(); ++t)
-        for (int c = 0; c < 3; ++c) {
+        for (int c = 0; c < 3; ++c)
             positions.push_back(occluders.vertices[occluders.indices[3 * std::size_t(t) + std::size_t(c)]]);
-            uv1.push_back(layout.tiles[t].width ? layout.uv(occluders, t, c) : glm::vec2(0.0f));
-        }
+    std::vector<glm::vec2> uv1 = cornerUvs;
     tinygltf::Model model;
     model.buffers.emplace_back();
     tinygltf::Primitive primitive;
     primitive.attributes["POSITION"] = addPositions(model, positions);
-    uv0.assign(uv1.size(), glm::vec2(0.0f));   // occlusionTexture may use set 1 only where set 0 exists
+    std::vector<glm::vec2> uv0(uv1.size(), glm::vec2(0.0f));   // occlusionTexture may use set 1 only where set 0 exists
     primitive.attributes["TEXCOORD_0"] = addAccessor(model, uv0.data(), uv0.size(), TINYGLTF_TYPE_VEC2, 2,
                                                      TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
     primitive.attributes["TEXCOORD_1"] = addAccessor(model, uv1.data(), uv1.size(), TINYGLTF_TYPE_VEC2, 2,
@@ -201,33 +199,59 @@ void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& lay
     texture.sampler = 0;
     model.textures.push_back(texture);
     tinygltf::Material material;
-    material.name = "baked-ambient-occlusion";
-    material.occlusionTexture.index = 0;
-    material.occlusionTexture.texCoord = 1;
+    if (use == LightmapUse::Occlusion) {
+        material.name = "baked-ambient-occlusion";
+        material.occlusionTexture.index = 0;
+        material.occlusionTexture.texCoord = 1;
+    } else {
+        // glTF has no light-map slot; an emissive texture shows the bake in any viewer.
+        material.name = "baked-irradiance";
+        material.emissiveTexture.index = 0;
+        material.emissiveTexture.texCoord = 1;
+        material.emissiveFactor = {1.0, 1.0, 1.0};
+        material.pbrMetallicRoughness.baseColorFactor = {0.0, 0.0, 0.0, 1.0};
+    }
     model.materials.push_back(material);
     primitive.material = 0;
     saveModel(model, primitive, file);
 }
 
-void writeLightmapPng(const AoTexelLayout& layout, const std::vector<glm::vec3>& texelColours, const std::filesystem::path& file)
+void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& layout, const std::string& lightmapUri,
+                          const std::filesystem::path& file)
 {
-    std::vector<unsigned char> rgb(std::size_t(layout.width) * std::size_t(layout.height) * 3, 0);
-    for (const AoTexelTile& tile : layout.tiles)
-        for (int t = 0; t < tile.height; ++t)
-            for (int s = 0; s < tile.width; ++s) {
-                const glm::vec3 c = texelColours[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
-                const std::size_t px = (std::size_t(tile.y + t) * std::size_t(layout.width) + std::size_t(tile.x + s)) * 3;
-                rgb[px] = srgbByte(c.r);
-                rgb[px + 1] = srgbByte(c.g);
-                rgb[px + 2] = srgbByte(c.b);
-            }
+    std::vector<glm::vec2> uvs;
+    for (std::uint32_t t = 0; t < occluders.triangleCount(); ++t)
+        for (int c = 0; c < 3; ++c)
+            uvs.push_back(layout.tiles[t].width ? layout.uv(occluders, t, c) : glm::vec2(0.0f));
+    writeLightmappedGltf(occluders, uvs, lightmapUri, file, LightmapUse::Occlusion);
+}
+
+void writeAtlasPng(int width, int height, const std::vector<glm::vec3>& pixels, const std::filesystem::path& file)
+{
+    std::vector<unsigned char> rgb(std::size_t(width) * std::size_t(height) * 3, 0);
+    for (std::size_t k = 0; k < pixels.size() && k < std::size_t(width) * std::size_t(height); ++k) {
+        rgb[3 * k] = srgbByte(pixels[k].r);
+        rgb[3 * k + 1] = srgbByte(pixels[k].g);
+        rgb[3 * k + 2] = srgbByte(pixels[k].b);
+    }
     std::string bytes;
     auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
     };
-    if (!stbi_write_png_to_func(append, &bytes, layout.width, layout.height, 3, rgb.data(), layout.width * 3))
+    if (!stbi_write_png_to_func(append, &bytes, width, height, 3, rgb.data(), width * 3))
         throw Error(file.string() + ": PNG encoding failed");
     writeFileAtomically(file, bytes);
+}
+
+void writeLightmapPng(const AoTexelLayout& layout, const std::vector<glm::vec3>& texelColours, const std::filesystem::path& file)
+{
+    std::vector<glm::vec3> pixels(std::size_t(layout.width) * std::size_t(layout.height), glm::vec3(0.0f));
+    for (const AoTexelTile& tile : layout.tiles)
+        for (int t = 0; t < tile.height; ++t)
+            for (int s = 0; s < tile.width; ++s)
+                pixels[std::size_t(tile.y + t) * std::size_t(layout.width) + std::size_t(tile.x + s)] =
+                    texelColours[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
+    writeAtlasPng(layout.width, layout.height, pixels, file);
 }
 
 } // namespace sightline::cli

@@ -26,10 +26,18 @@ void writeAoNpy(const std::vector<float>& values, const std::filesystem::path& f
 void writeColouredPly(const AoOccluders& occluders, const std::vector<glm::vec3>& colours, const std::filesystem::path& file);
 /// glTF (.glb or .gltf): one mesh, world-space positions, COLOR_0 per vertex.
 void writeColouredGltf(const AoOccluders& occluders, const std::vector<glm::vec3>& colours, const std::filesystem::path& file);
-/// glTF with the light map: every triangle's corners unshared, TEXCOORD_1 from `layout`, a
-/// material whose occlusionTexture (texCoord 1) is the PNG `lightmapUri` (relative to the glTF).
+/// What a baked map stands for in the glTF's material: AO (occlusionTexture) or irradiance
+/// (emissiveTexture over a black base colour: glTF has no light-map slot).
+enum class LightmapUse { Occlusion, Emissive };
+/// glTF with a baked map: every triangle's corners unshared, TEXCOORD_1 from `cornerUvs` (three a
+/// triangle, in order), a material using the PNG `lightmapUri` (relative to the glTF) as `use` says.
+void writeLightmappedGltf(const AoOccluders& occluders, const std::vector<glm::vec2>& cornerUvs, const std::string& lightmapUri,
+                          const std::filesystem::path& file, LightmapUse use);
+/// The AO light map's glTF: TEXCOORD_1 from `layout`, the occlusionTexture.
 void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& layout, const std::string& lightmapUri,
                           const std::filesystem::path& file);
+/// An atlas of linear [0, 1] colours (row-major, row 0 at the top) as an 8-bit sRGB PNG.
+void writeAtlasPng(int width, int height, const std::vector<glm::vec3>& pixels, const std::filesystem::path& file);
 /// The atlas as an 8-bit sRGB PNG: RGB colours per texel (gutter black), row 0 at the top.
 void writeLightmapPng(const AoTexelLayout& layout, const std::vector<glm::vec3>& texelColours, const std::filesystem::path& file);
 

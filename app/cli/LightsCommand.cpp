@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,9 @@
 #include "lighting/DirectLight.h"
 #include "lighting/Indirect.h"
 #include "lighting/LightSets.h"
+#include "lighting/TexelCharts.h"
+#include "cli/AoFiles.h"
+#include "cli/OutputLimits.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
@@ -77,6 +81,83 @@ double largestRelativeDifference(const std::vector<glm::dvec3>& a, const std::ve
     return worst;
 }
 
+/// Light-map texels as shading points (lighting/TexelCharts.h): the charts' texels on the surface,
+/// lifted off it as the AO texels are (kAoOffsetRelative of the scene's diagonal).
+struct TexelBake {
+    AoOccluders occluders;
+    ChartLayout layout;
+    AoPoints texels;
+    std::vector<ShadingPoint> points;
+    std::vector<std::size_t> texelOf;   ///< per point, its texel in `texels`
+};
+
+TexelBake texelBake(const Scene& scene, double density)
+{
+    TexelBake bake;
+    bake.occluders = aoOccluders(scene);
+    bake.layout = chartTexelPoints(bake.occluders, density, bake.texels, kMaxImagePixels);
+    const double lift = kAoOffsetRelative * bake.occluders.diagonal();
+    for (std::size_t k = 0; k < bake.texels.size(); ++k)
+        if (bake.texels.status[k] == AoPointStatus::Ok) {
+            const glm::dvec3 n(bake.texels.normals[k]);
+            bake.points.push_back({glm::dvec3(bake.texels.positions[k]) + lift * n, n});
+            bake.texelOf.push_back(k);
+        }
+    return bake;
+}
+
+/// The bake's atlas: .npy (H, W, 3) float32 irradiance, NaN where no texel; PNG scaled so that the
+/// 99th percentile of texels' brightest channel is white; glTF with TEXCOORD_1 and the PNG.
+json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std::vector<glm::dvec3>& irradiance)
+{
+    const ChartLayout& layout = bake.layout;
+    std::vector<std::size_t> pixelOf(bake.texels.size(), 0);   // texel -> atlas pixel
+    for (const TexelChart& chart : layout.charts)
+        for (int t = 0; t < chart.height; ++t)
+            for (int s = 0; s < chart.width; ++s)
+                pixelOf[chart.firstPoint + std::size_t(t) * std::size_t(chart.width) + std::size_t(s)] =
+                    std::size_t(chart.y + t) * std::size_t(layout.width) + std::size_t(chart.x + s);
+    const std::size_t pixels = std::size_t(layout.width) * std::size_t(layout.height);
+    std::vector<float> atlas(3 * pixels, std::nanf(""));
+    std::vector<double> brightest;
+    for (std::size_t j = 0; j < irradiance.size(); ++j) {
+        const std::size_t px = pixelOf[bake.texelOf[j]];
+        for (int c = 0; c < 3; ++c)
+            atlas[3 * px + std::size_t(c)] = float(irradiance[j][c]);
+        brightest.push_back(std::max({irradiance[j].x, irradiance[j].y, irradiance[j].z}));
+    }
+    double white = 0.0;
+    if (!brightest.empty()) {
+        const std::size_t at = std::min(brightest.size() - 1, brightest.size() * 99 / 100);
+        std::nth_element(brightest.begin(), brightest.begin() + std::ptrdiff_t(at), brightest.end());
+        white = brightest[at];
+    }
+    const double exposure = white > 0.0 ? 1.0 / white : 1.0;
+    if (!args.npy.empty())
+        writeFloatNpy(atlas, {std::size_t(layout.height), std::size_t(layout.width), 3}, args.npy);
+    if (!args.lightmap.empty()) {
+        std::vector<glm::vec3> image(pixels, glm::vec3(0.0f));
+        for (std::size_t px = 0; px < pixels; ++px)
+            if (std::isfinite(atlas[3 * px]))
+                image[px] = glm::clamp(glm::vec3(atlas[3 * px], atlas[3 * px + 1], atlas[3 * px + 2]) * float(exposure), 0.0f, 1.0f);
+        writeAtlasPng(layout.width, layout.height, image, args.lightmap);
+    }
+    if (!args.gltf.empty()) {
+        std::vector<glm::vec2> uvs;
+        for (std::uint32_t t = 0; t < bake.occluders.triangleCount(); ++t)
+            for (int c = 0; c < 3; ++c)
+                uvs.push_back(layout.uv(bake.occluders, t, c));
+        const std::filesystem::path png = std::filesystem::absolute(args.lightmap);
+        const std::string uri = std::filesystem::relative(png, std::filesystem::absolute(args.gltf).parent_path()).generic_string();
+        writeLightmappedGltf(bake.occluders, uvs, uri, args.gltf, LightmapUse::Emissive);
+    }
+    return {{"density", args.texel},
+            {"atlas", {layout.width, layout.height}},
+            {"charts", layout.charts.size()},
+            {"texels", bake.points.size()},
+            {"exposure", exposure}};
+}
+
 } // namespace
 
 CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
@@ -112,6 +193,14 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                         "--indirect: also gather the bounce by Monte Carlo with N directions a point, and report "
                         "the VPLs' error against it")
         ->check(CLI::Range(1, 100000));
+    command->add_option("--texel", args.texel,
+                        "Bake a light map instead of --points: the irradiance at DENSITY texels a metre over every "
+                        "surface, on charts of connected coplanar faces (--npy: the atlas, shape (H, W, 3), NaN "
+                        "where no texel)")
+        ->check(CLI::PositiveNumber);
+    command->add_option("--lightmap", args.lightmap, "--texel: the atlas as a PNG (the 99th percentile white)")->check(outputFile());
+    command->add_option("--gltf", args.gltf, "--texel: the level as glTF with TEXCOORD_1 and the --lightmap PNG as its emissive map")
+        ->check(outputFile());
     command->add_flag("--sets", args.sets,
                       "Print O'Rorke's light visibility sets instead: per light V (instances seen from the project's "
                       "camera), L (those it reaches), I = V and L, S (those casting shadows onto I); instance indices "
@@ -173,8 +262,19 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
 
 void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
 {
+    if (args.texel <= 0.0) {
+        for (const char* option : {"--lightmap", "--gltf"})
+            if (given(command, option))
+                throw Error(std::string(option) + " needs --texel DENSITY (a light map to write)");
+    } else {
+        for (const char* option : {"--points", "--bitmask-area"})
+            if (given(command, option))
+                throw Error(std::string(option) + " does not apply to --texel (the points are the light map's texels)");
+        if (given(command, "--gltf") && !given(command, "--lightmap"))
+            throw Error("--gltf needs --lightmap PNG (the image the glTF refers to)");
+    }
     if (args.sets)
-        for (const char* option : {"--points", "--npy", "--reference", "--compare", "--bitmask-area", "--indirect"})
+        for (const char* option : {"--points", "--npy", "--reference", "--compare", "--bitmask-area", "--indirect", "--texel"})
             if (given(command, option))
                 throw Error(std::string(option) + " does not apply to --sets (it prints the sets, no irradiance)");
     if (args.vpls > 0)
@@ -201,11 +301,20 @@ int runLights(const LightsArgs& args)
     std::vector<FileRole> inputs = projectInputs(args.project, project);
     if (!args.points.empty())
         inputs.push_back({"--points", args.points});
-    checkOutputs({{"--npy", args.npy}}, inputs);
+    checkOutputs({{"--npy", args.npy}, {"--lightmap", args.lightmap}, {"--gltf", args.gltf}}, inputs);
+
+    std::vector<std::string> warnings;
+    const Scene scene = buildScene(project, &warnings);
+    for (const std::string& w : warnings)
+        std::cerr << "sightline-cli: warning: " << w << "\n";
 
     std::vector<ShadingPoint> points;
-    const bool onReceiver = args.points.empty();
-    if (onReceiver) {
+    std::optional<TexelBake> bake;
+    const bool onReceiver = args.points.empty() && args.texel <= 0.0;
+    if (args.texel > 0.0) {
+        bake = texelBake(scene, args.texel);
+        points = bake->points;
+    } else if (onReceiver) {
         validatePatch(project.receiver, "receiver");
         points = patchShadingPoints(project.receiver);
     } else {
@@ -221,10 +330,6 @@ int runLights(const LightsArgs& args)
     if (lights.empty())
         std::cerr << "sightline-cli: warning: " << what << " has no \"lights\" (nor its scene file); every irradiance is 0\n";
 
-    std::vector<std::string> warnings;
-    const Scene scene = buildScene(project, &warnings);
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
     const auto setupStart = std::chrono::steady_clock::now();
     const LightingScene lighting(scene);
     const double setupMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setupStart).count();
@@ -307,7 +412,10 @@ int runLights(const LightsArgs& args)
     }
     if (!total.empty())
         mean /= double(total.size());
-    if (!args.npy.empty()) {
+    json texelJson;
+    if (bake) {
+        texelJson = writeTexelOutputs(args, *bake, total);
+    } else if (!args.npy.empty()) {
         const std::vector<std::size_t> shape = onReceiver ? std::vector<std::size_t>{std::size_t(project.receiver.nb), std::size_t(project.receiver.na), 3}
                                                           : std::vector<std::size_t>{points.size(), 3};
         writeFloatNpy(values, shape, args.npy);
@@ -336,11 +444,16 @@ int runLights(const LightsArgs& args)
             out["compare"] = comparison;
         if (args.vpls > 0)
             out["indirect"] = indirectJson;
+        if (bake)
+            out["texel"] = texelJson;
         std::cout << out.dump() << "\n";
         return 0;
     }
     std::printf("lights     %zu (%s), %zu light samples\n", lights.size(), lightSummary(lights).c_str(), stats.lightSamples);
-    if (onReceiver)
+    if (bake)
+        std::printf("points     %zu light-map texels (%zu charts, a %dx%d atlas at %g texels a metre)\n", points.size(),
+                    bake->layout.charts.size(), bake->layout.width, bake->layout.height, args.texel);
+    else if (onReceiver)
         std::printf("points     %zu (the receiver's %dx%d samples)\n", points.size(), project.receiver.na, project.receiver.nb);
     else
         std::printf("points     %zu (%s)\n", points.size(), args.points.c_str());

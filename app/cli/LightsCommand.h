@@ -26,6 +26,8 @@ struct LightsArgs {
     double clamp = 0.1;
     int gatherSamples = 0;    ///< > 0: also the Monte-Carlo gathering reference, for its error
     bool sets = false;        ///< O'Rorke's sets per light instead of irradiance
+    double texel = 0.0;       ///< > 0: bake a light map at this many texels a metre
+    std::string lightmap, gltf;
 };
 
 CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args);

@@ -204,6 +204,7 @@ void chartPoints(const AoOccluders& occluders, double density, const TexelChart&
         const int s1 = std::min(w - 1, int(std::ceil(std::max({p[0].x, p[1].x, p[2].x}) - 0.5)));
         const int q0 = std::max(0, int(std::floor(std::min({p[0].y, p[1].y, p[2].y}) - 0.5)));
         const int q1 = std::min(h - 1, int(std::ceil(std::max({p[0].y, p[1].y, p[2].y}) - 0.5)));
+        bool claimed = false;
         for (int q = q0; q <= q1; ++q)
             for (int s = s0; s <= s1; ++s) {
                 const glm::dvec2 c(s + 0.5, q + 0.5);
@@ -215,7 +216,19 @@ void chartPoints(const AoOccluders& occluders, double density, const TexelChart&
                 const std::size_t k = std::size_t(q) * std::size_t(w) + std::size_t(s);
                 owner[k] = t;
                 position[k] = l0 * corner(occluders, t, 0) + l1 * corner(occluders, t, 1) + l2 * corner(occluders, t, 2);
+                claimed = true;
             }
+        if (!claimed) {
+            // Smaller than a texel (a leaf): the texel under its centroid samples it, unless a
+            // larger triangle of the chart holds that texel already.
+            const glm::dvec2 centroid = (p[0] + p[1] + p[2]) / 3.0;
+            const int s = std::clamp(int(std::floor(centroid.x)), 0, w - 1), q = std::clamp(int(std::floor(centroid.y)), 0, h - 1);
+            const std::size_t k = std::size_t(q) * std::size_t(w) + std::size_t(s);
+            if (owner[k] < 0) {
+                owner[k] = t;
+                position[k] = nearestOnTriangle(centre(s, q), corner(occluders, t, 0), corner(occluders, t, 1), corner(occluders, t, 2));
+            }
+        }
     }
     for (int q = 0; q < h; ++q)
         for (int s = 0; s < w; ++s) {

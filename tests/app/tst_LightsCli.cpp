@@ -358,3 +358,42 @@ TEST_F(LightsCli, SetsFollowTheContract)
     EXPECT_EQ(bad.code, 1);
     EXPECT_NE(bad.err.find("--sets"), std::string::npos) << bad.err;
 }
+
+// --texel: a light map over the level's charts, as an atlas .npy, a PNG and a glTF using it.
+TEST_F(LightsCli, TexelBakesALightMapOnCharts)
+{
+    write("p.json", project(lights()));
+    const std::string base = "lights " + (folder / "p.json").string();
+    const CliRun run = runCli(base + " --texel 8 --json --npy " + (folder / "atlas.npy").string() + " --lightmap " +
+                              (folder / "lm.png").string() + " --gltf " + (folder / "lit.glb").string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json out = json::parse(run.out);
+    const json texel = out.at("texel");
+    const int width = texel["atlas"][0], height = texel["atlas"][1];
+    // The floor, the table's slab and the wall's two pieces (each two faces' worth of charts:
+    // one chart per connected coplanar set, here one per rectangle).
+    EXPECT_EQ(texel["charts"], 4);
+    EXPECT_EQ(out["points"], texel["texels"]);
+    const Npy atlas = readNpy(folder / "atlas.npy");
+    ASSERT_EQ(atlas.shape, (std::vector<std::size_t>{std::size_t(height), std::size_t(width), 3}));
+    std::size_t filled = 0, lit = 0;
+    for (std::size_t px = 0; px < atlas.values.size() / 3; ++px)
+        if (std::isfinite(atlas.values[3 * px])) {
+            ++filled;
+            EXPECT_GE(atlas.values[3 * px], 0.0f);
+            lit += atlas.values[3 * px] > 0.0f;
+        }
+    EXPECT_EQ(filled, texel["texels"].get<std::size_t>());
+    EXPECT_GT(lit, filled / 4);
+    EXPECT_EQ(readAll(folder / "lm.png").substr(1, 3), "PNG");
+    const std::string glb = readAll(folder / "lit.glb");
+    EXPECT_NE(glb.find("TEXCOORD_1"), std::string::npos);
+    EXPECT_NE(glb.find("emissiveTexture"), std::string::npos);
+    EXPECT_NE(glb.find("lm.png"), std::string::npos);
+    for (const std::string bad : {" --lightmap x.png", " --texel 8 --points p.npy", " --texel 8 --gltf x.glb", " --texel 1e9",
+                                  " --texel nan", " --texel 0"}) {
+        const CliRun refused = runCli(base + bad);
+        EXPECT_NE(refused.code, 0) << bad;
+        EXPECT_TRUE(oneLine(refused.err)) << bad << ": " << refused.err;
+    }
+}

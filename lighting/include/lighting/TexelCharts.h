@@ -12,7 +12,8 @@
 // density v. A vertex p's uv is ((x + (p - origin).u density) / W, (y + (p - origin).v density) / H).
 //
 // Every texel of a chart's rectangle is a point: a texel whose centre lies in one of the chart's
-// triangles samples the surface there; a texel next to one (8-neighbours) samples the nearest
+// triangles samples the surface there (a triangle holding no texel centre, smaller than a texel,
+// takes the texel under its centroid); a texel next to one (8-neighbours) samples the nearest
 // point of that triangle (so bilinear filtering at an edge reads the surface, not a gutter); the
 // rest (outside an L-shaped chart, in a doorway's hole) are marked NoFace and sample nothing.
 
