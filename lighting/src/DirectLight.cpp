@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "TaskArena.h"
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
 #include "lights/EdgeNeighbours.h"
@@ -22,30 +23,17 @@ namespace sightline {
 
 namespace {
 
-constexpr std::size_t kPointGrain = 64;   ///< points per task: a few packets each
-
-/// Runs `body` in an arena of `threads` (0: the default arena).
-template <typename Body>
-void inArena(int threads, Body&& body)
-{
-    if (threads > 0) {
-        tbb::task_arena arena(threads);
-        arena.execute(body);
-    } else {
-        body();
-    }
-}
 
 /// What each task reuses between calls.
 struct Scratch {
-    std::vector<glm::dvec3> starts, ends;
+    std::vector<glm::dvec3> ends;
     std::vector<double> weights;
     std::vector<std::uint32_t> index;
     std::vector<std::uint8_t> blocked;
 
     void clear()
     {
-        starts.clear(), ends.clear(), weights.clear(), index.clear();
+        ends.clear(), weights.clear(), index.clear();
     }
 };
 

@@ -9,6 +9,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "TaskArena.h"
+
 namespace sightline {
 
 namespace {
@@ -68,16 +70,6 @@ void reachingEnds(const LightingScene& lighting, const Light& light, const std::
     }
 }
 
-template <typename Body>
-void inArena(int threads, Body&& body)
-{
-    if (threads > 0) {
-        tbb::task_arena arena(threads);
-        arena.execute(body);
-    } else {
-        body();
-    }
-}
 
 } // namespace
 

@@ -536,67 +536,62 @@ glm::mat4 localTransform(const tinygltf::Node& node, const std::string& what)
     return glm::mat4(trs);
 }
 
-/// Walks the node hierarchy from the roots, accumulating transforms and emitting one Instance per
-/// mesh reference, in depth-first pre-order (a node before its children, children in their order).
-/// An explicit stack instead of recursion: a legal chain of nodes is as deep as the file is long.
+/// Walks the node hierarchy from the roots in depth-first pre-order (a node before its children,
+/// children in their order), calling visit(node index, node, world transform) once a node. An
+/// explicit stack instead of recursion: a legal chain of nodes is as deep as the file is long. The
+/// preflight refused anything but disjoint trees with distinct roots, so a node reached twice (or
+/// missing) means that check was bypassed: refused rather than looped over.
+template <typename Visit>
+void walkNodes(const tinygltf::Model& model, const std::vector<int>& roots, const std::string& file, Visit&& visit)
+{
+    struct Pending {
+        int node;
+        glm::dmat4 parent;
+    };
+    std::vector<bool> reached(model.nodes.size(), false);
+    std::vector<Pending> stack;
+    for (auto root = roots.rbegin(); root != roots.rend(); ++root)
+        stack.push_back({*root, glm::dmat4(1.0)});
+    while (!stack.empty()) {
+        const Pending next = stack.back();
+        stack.pop_back();
+        if (next.node < 0 || static_cast<std::size_t>(next.node) >= model.nodes.size())
+            throw Error(file + ": reference to missing node " + std::to_string(next.node));
+        const auto n = static_cast<std::size_t>(next.node);
+        if (reached[n])
+            throw Error(file + ": node " + std::to_string(next.node) + " is reached twice; glTF nodes must form strict trees");
+        reached[n] = true;
+        const tinygltf::Node& node = model.nodes[n];
+        const glm::dmat4 world = next.parent * glm::dmat4(localTransform(node, file + ": node " + std::to_string(next.node)));
+        visit(next.node, node, world);
+        for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
+            stack.push_back({*child, world});
+    }
+}
+
+/// Emits one Instance per mesh reference, in walkNodes' order, placed by the accumulated transforms.
 class SceneBuilder {
 public:
     SceneBuilder(const tinygltf::Model& model, std::string file, std::vector<std::string>& warnings)
-        : model_(model), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1),
-          reached_(model.nodes.size(), false)
+        : model_(model), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1)
     {
     }
 
     void build(const std::vector<int>& roots)
     {
-        struct Pending {
-            int node;
-            glm::dmat4 parent;
-        };
-        std::vector<Pending> stack;
-        for (auto root = roots.rbegin(); root != roots.rend(); ++root)
-            stack.push_back({*root, glm::dmat4(1.0)});
-        while (!stack.empty()) {
-            const Pending next = stack.back();
-            stack.pop_back();
-            const tinygltf::Node& node = reach(next.node);
-            const glm::dmat4 world = visit(next.node, node, next.parent);
-            for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
-                stack.push_back({*child, world});
-        }
+        walkNodes(model_, roots, file_, [&](int nodeIndex, const tinygltf::Node& node, const glm::dmat4& world) {
+            if (node.mesh < 0)
+                return;
+            if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
+                throw Error(file_ + ": node " + std::to_string(nodeIndex) + " names missing mesh " + std::to_string(node.mesh));
+            const std::string name = node.name.empty() ? "node " + std::to_string(nodeIndex) : node.name;
+            scene_.instances.push_back(Instance{name, meshSlot(static_cast<std::size_t>(node.mesh)), glm::mat4(world)});
+        });
     }
 
     Scene take() { return std::move(scene_); }
 
 private:
-    /// The node, reached for the first time. The preflight refused anything but disjoint trees with
-    /// distinct roots, so a second arrival means that check was bypassed: refuse rather than loop.
-    const tinygltf::Node& reach(int nodeIndex)
-    {
-        if (nodeIndex < 0 || static_cast<std::size_t>(nodeIndex) >= model_.nodes.size())
-            throw Error(file_ + ": reference to missing node " + std::to_string(nodeIndex));
-        const auto n = static_cast<std::size_t>(nodeIndex);
-        if (reached_[n])
-            throw Error(file_ + ": node " + std::to_string(nodeIndex) +
-                        " is reached twice; glTF nodes must form strict trees");
-        reached_[n] = true;
-        return model_.nodes[n];
-    }
-
-    /// Emits the node's instance, if it has a mesh; returns its world transform.
-    glm::dmat4 visit(int nodeIndex, const tinygltf::Node& node, const glm::dmat4& parent)
-    {
-        const std::string what = file_ + ": node " + std::to_string(nodeIndex);
-        const glm::dmat4 world = parent * glm::dmat4(localTransform(node, what));
-        if (node.mesh >= 0) {
-            if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
-                throw Error(what + " names missing mesh " + std::to_string(node.mesh));
-            const std::string name = node.name.empty() ? "node " + std::to_string(nodeIndex) : node.name;
-            scene_.instances.push_back(Instance{name, meshSlot(static_cast<std::size_t>(node.mesh)), glm::mat4(world)});
-        }
-        return world;
-    }
-
     /// Converts each referenced glTF mesh once; later references reuse it (instancing).
     std::uint32_t meshSlot(std::size_t gltfMesh)
     {
@@ -609,7 +604,6 @@ private:
     std::string file_;
     std::vector<std::string>& warnings_;
     std::vector<std::int64_t> meshSlot_;
-    std::vector<bool> reached_;
     Scene scene_;
 };
 
@@ -792,52 +786,36 @@ std::vector<PunctualLight> loadGltfLights(const fs::path& file, std::vector<std:
     try {
         const tinygltf::Model model = parseModel(file, warnings ? *warnings : ignored);
         const std::vector<int> roots = rootNodes(model);
-        checkExpansion(model, roots, file.string());   // the preflight's trees: the walk ends
-        struct Pending {
-            int node;
-            glm::dmat4 parent;
-        };
-        std::vector<Pending> stack;
-        for (auto root = roots.rbegin(); root != roots.rend(); ++root)
-            stack.push_back({*root, glm::dmat4(1.0)});
-        std::vector<bool> reached(model.nodes.size(), false);
-        while (!stack.empty()) {
-            const Pending next = stack.back();
-            stack.pop_back();
-            if (next.node < 0 || std::size_t(next.node) >= model.nodes.size() || reached[std::size_t(next.node)])
-                throw Error(file.string() + ": node " + std::to_string(next.node) + " is missing or reached twice");
-            reached[std::size_t(next.node)] = true;
-            const tinygltf::Node& node = model.nodes[std::size_t(next.node)];
-            const std::string what = file.string() + ": node " + std::to_string(next.node);
-            const glm::dmat4 world = next.parent * glm::dmat4(localTransform(node, what));
-            if (const auto ext = node.extensions.find("KHR_lights_punctual"); ext != node.extensions.end()) {
-                const tinygltf::Value& light = ext->second.Get("light");
-                if (!light.IsInt() || light.GetNumberAsInt() < 0 || std::size_t(light.GetNumberAsInt()) >= model.lights.size())
-                    throw Error(what + ": KHR_lights_punctual.light must index the file's " +
-                                std::to_string(model.lights.size()) + " lights");
-                const tinygltf::Light& source = model.lights[std::size_t(light.GetNumberAsInt())];
-                PunctualLight out;
-                out.type = source.type;
-                if (out.type != "point" && out.type != "spot" && out.type != "directional")
-                    throw Error(what + ": unknown KHR_lights_punctual type '" + source.type + "'");
-                out.name = !source.name.empty() ? source.name : node.name;
-                if (source.color.size() == 3)
-                    out.colour = {source.color[0], source.color[1], source.color[2]};
-                out.intensity = source.intensity;
-                out.range = source.range;
-                out.innerAngle = source.spot.innerConeAngle;
-                out.outerAngle = source.spot.outerConeAngle;
-                out.position = glm::dvec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
-                const glm::dvec3 direction(world * glm::dvec4(0.0, 0.0, -1.0, 0.0));
-                const double length = glm::length(direction);
-                if (!(length > 0.0) || !std::isfinite(length))
-                    throw Error(what + ": its transform collapses the light's direction");
-                out.direction = direction / length;
-                lights.push_back(out);
-            }
-            for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
-                stack.push_back({*child, world});
-        }
+        checkExpansion(model, roots, file.string());
+        walkNodes(model, roots, file.string(), [&](int nodeIndex, const tinygltf::Node& node, const glm::dmat4& world) {
+            const auto ext = node.extensions.find("KHR_lights_punctual");
+            if (ext == node.extensions.end())
+                return;
+            const std::string what = file.string() + ": node " + std::to_string(nodeIndex);
+            const tinygltf::Value& light = ext->second.Get("light");
+            if (!light.IsInt() || light.GetNumberAsInt() < 0 || std::size_t(light.GetNumberAsInt()) >= model.lights.size())
+                throw Error(what + ": KHR_lights_punctual.light must index the file's " + std::to_string(model.lights.size()) +
+                            " lights");
+            const tinygltf::Light& source = model.lights[std::size_t(light.GetNumberAsInt())];
+            PunctualLight out;
+            out.type = source.type;
+            if (out.type != "point" && out.type != "spot" && out.type != "directional")
+                throw Error(what + ": unknown KHR_lights_punctual type '" + source.type + "'");
+            out.name = !source.name.empty() ? source.name : node.name;
+            if (source.color.size() == 3)
+                out.colour = {source.color[0], source.color[1], source.color[2]};
+            out.intensity = source.intensity;
+            out.range = source.range;
+            out.innerAngle = source.spot.innerConeAngle;
+            out.outerAngle = source.spot.outerConeAngle;
+            out.position = glm::dvec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+            const glm::dvec3 direction(world * glm::dvec4(0.0, 0.0, -1.0, 0.0));
+            const double length = glm::length(direction);
+            if (!(length > 0.0) || !std::isfinite(length))
+                throw Error(what + ": its transform collapses the light's direction");
+            out.direction = direction / length;
+            lights.push_back(out);
+        });
     } catch (const Error&) {
         throw;
     } catch (const std::exception& e) {

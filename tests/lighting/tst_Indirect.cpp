@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "TestLights.h"
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Indirect.h"
@@ -49,22 +50,13 @@ std::vector<ShadingPoint> insidePoints()
     return points;
 }
 
-Light pointLight(const glm::dvec3& at, double intensity)
-{
-    Light light;
-    light.type = LightType::Point;
-    light.position = at;
-    light.intensity = intensity;
-    return light;
-}
-
 } // namespace
 
 TEST(Indirect, VplsInsideASphereGiveTheClosedForm)
 {
     const Scene scene = test::sceneOf({sphere(96, 192)});
     const LightingScene lighting(scene);
-    std::vector<Light> lights = {pointLight({0.5, 0.3, -0.2}, 10.0)};
+    std::vector<Light> lights = {test::pointLight({0.5, 0.3, -0.2}, 10.0)};
     validateLights(lights, "test");
     IndirectOptions options;
     options.vpls = 2000;
@@ -103,7 +95,7 @@ TEST(Indirect, VplsAreDeterministicPerSeedAndOptionsAreChecked)
 {
     const Scene scene = test::sceneOf({sphere(16, 32)});
     const LightingScene lighting(scene);
-    std::vector<Light> lights = {pointLight({0.0, 0.5, 0.0}, 1.0)};
+    std::vector<Light> lights = {test::pointLight({0.0, 0.5, 0.0}, 1.0)};
     validateLights(lights, "test");
     IndirectOptions options;
     options.vpls = 50;

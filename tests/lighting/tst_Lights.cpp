@@ -10,52 +10,16 @@
 #include <gtest/gtest.h>
 
 #include "LightsJudge.h"
+#include "TestLights.h"
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
 #include "visibility/Error.h"
 
 using namespace sightline;
+using namespace sightline::test;
 
 namespace {
-
-Light pointLight(const glm::dvec3& position, double intensity, glm::dvec3 colour = glm::dvec3(1.0))
-{
-    Light light;
-    light.type = LightType::Point;
-    light.position = position;
-    light.intensity = intensity;
-    light.colour = colour;
-    return light;
-}
-
-Light areaLight(const Patch& patch, double radiance)
-{
-    Light light;
-    light.type = LightType::Area;
-    light.area = patch;
-    light.radiance = radiance;
-    return light;
-}
-
-Light directionalLight(const glm::dvec3& direction, double intensity)
-{
-    Light light;
-    light.type = LightType::Directional;
-    light.direction = direction;
-    light.intensity = intensity;
-    return light;
-}
-
-Light spotLight(const glm::dvec3& position, const glm::dvec3& direction, double inner, double outer, double intensity)
-{
-    Light light = pointLight(position, intensity);
-    light.type = LightType::Spot;
-    light.direction = direction;
-    light.innerAngle = inner;
-    light.outerAngle = outer;
-    return light;
-}
 
 std::vector<glm::dvec3> irradiance(const LightingScene& scene, std::vector<Light> lights, std::vector<ShadingPoint> points,
                                    LightingPath path, const Patch* grid = nullptr, DirectLightStats* stats = nullptr)

@@ -10,6 +10,7 @@
 #include <mutex>
 #include <shared_mutex>
 #include <string>
+#include <utility>
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
@@ -412,6 +413,27 @@ void setLane(RTCRay16& rays, int k, const glm::vec3& org, const glm::vec3& dir)
     rays.flags[k] = 0;
 }
 
+/// `count` segments in packets of 16: `fill(k, i)` puts segment i's exact ends in the context's
+/// arrays at lane k and returns its float ray (i == count for an idle lane, which it fills
+/// harmlessly); blocked[i] gets the packet's answer.
+template <typename Fill>
+void castPackets(RTCScene scene, RTCIntersectContext* context, std::size_t count, Fill&& fill, std::uint8_t* blocked)
+{
+    alignas(64) RTCRay16 rays;
+    alignas(64) int valid[16];
+    for (std::size_t first = 0; first < count; first += 16) {
+        for (int k = 0; k < 16; ++k) {
+            const std::size_t i = std::min(first + std::size_t(k), count);
+            valid[k] = i < count ? -1 : 0;
+            const auto [org, dir] = fill(k, i);
+            setLane(rays, k, org, dir);
+        }
+        rtcOccluded16(valid, scene, context, &rays);
+        for (int k = 0; k < 16 && first + std::size_t(k) < count; ++k)
+            blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
+    }
+}
+
 } // namespace
 
 void RayCastScene::segmentsBlocked(const glm::dvec3& start, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const
@@ -432,19 +454,10 @@ void RayCastScene::segmentsBlocked(const glm::dvec3& start, std::span<const glm:
     glm::dvec3 directions[16];
     context.directions = directions;
     const glm::vec3 org(start);
-    alignas(64) RTCRay16 rays;
-    alignas(64) int valid[16];
-    for (std::size_t first = 0; first < ends.size(); first += 16) {
-        for (int k = 0; k < 16; ++k) {
-            const std::size_t i = first + std::size_t(k);
-            valid[k] = i < ends.size() ? -1 : 0;
-            directions[k] = i < ends.size() ? ends[i] - start : glm::dvec3(1.0, 0.0, 0.0);
-            setLane(rays, k, org, glm::vec3(directions[k]));
-        }
-        rtcOccluded16(valid, embree_->scene, &context.base, &rays);
-        for (int k = 0; k < 16 && first + std::size_t(k) < ends.size(); ++k)
-            blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
-    }
+    castPackets(embree_->scene, &context.base, ends.size(), [&](int k, std::size_t i) {
+        directions[k] = i < ends.size() ? ends[i] - start : glm::dvec3(1.0, 0.0, 0.0);
+        return std::pair{org, glm::vec3(directions[k])};
+    }, blocked);
     if (!embree_->error.empty())
         throw Error("Embree: " + embree_->error);
 }
@@ -469,20 +482,11 @@ void RayCastScene::segmentsBlocked(std::span<const glm::dvec3> starts, std::span
     glm::dvec3 from[16], directions[16];
     context.ends = from;   // each lane tested from its own start
     context.directions = directions;
-    alignas(64) RTCRay16 rays;
-    alignas(64) int valid[16];
-    for (std::size_t first = 0; first < ends.size(); first += 16) {
-        for (int k = 0; k < 16; ++k) {
-            const std::size_t i = first + std::size_t(k);
-            valid[k] = i < ends.size() ? -1 : 0;
-            from[k] = i < ends.size() ? starts[i] : glm::dvec3(0.0);
-            directions[k] = i < ends.size() ? ends[i] - starts[i] : glm::dvec3(1.0, 0.0, 0.0);
-            setLane(rays, k, glm::vec3(from[k]), glm::vec3(directions[k]));
-        }
-        rtcOccluded16(valid, embree_->scene, &context.base, &rays);
-        for (int k = 0; k < 16 && first + std::size_t(k) < ends.size(); ++k)
-            blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
-    }
+    castPackets(embree_->scene, &context.base, ends.size(), [&](int k, std::size_t i) {
+        from[k] = i < ends.size() ? starts[i] : glm::dvec3(0.0);
+        directions[k] = i < ends.size() ? ends[i] - starts[i] : glm::dvec3(1.0, 0.0, 0.0);
+        return std::pair{glm::vec3(from[k]), glm::vec3(directions[k])};
+    }, blocked);
     if (!embree_->error.empty())
         throw Error("Embree: " + embree_->error);
 }
