@@ -15,6 +15,7 @@
 #include "lighting/DirectLight.h"
 #include "lighting/Indirect.h"
 #include "lighting/LightSets.h"
+#include "lighting/LightingCache.h"
 #include "lighting/TexelCharts.h"
 #include "cli/AoFiles.h"
 #include "cli/OutputLimits.h"
@@ -158,6 +159,47 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
             {"exposure", exposure}};
 }
 
+/// A designer dragging one light (lighting/LightingCache.h): the first point or spot light moves
+/// 5 cm along x a frame and each frame refreshes it alone; the last frame is checked against the
+/// reference (the largest relative difference, which float fields bound at about 1e-7).
+json timeDrag(const LightingScene& lighting, const std::vector<Light>& lights, const std::vector<ShadingPoint>& points,
+              const LightsArgs& args)
+{
+    const auto dragged = std::find_if(lights.begin(), lights.end(), [](const Light& l) {
+        return l.type == LightType::Point || l.type == LightType::Spot;
+    });
+    if (dragged == lights.end())
+        throw Error("--drag needs a point or spot light to drag");
+    const std::size_t index = std::size_t(dragged - lights.begin());
+    LightingCache cache(points, lights);
+    const auto fullStart = std::chrono::steady_clock::now();
+    while (!cache.update(lighting, ~std::uint64_t(0), args.threads).exact) {
+    }
+    const double fullMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - fullStart).count();
+    std::vector<Light> moved = lights;
+    std::vector<double> times;
+    for (int f = 0; f < args.drag; ++f) {
+        moved[index].position.x += 0.05;
+        cache.setLight(index, moved[index]);
+        times.push_back(cache.update(lighting, 1, args.threads).ms);
+    }
+    const std::vector<glm::dvec3> reference = directIrradiance(lighting, moved, points, {.path = LightingPath::Reference, .threads = args.threads});
+    double worst = 0.0;
+    for (std::size_t j = 0; j < points.size(); ++j)
+        for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(cache.irradiance()[j][c] - reference[j][c]) /
+                                        std::max({std::abs(reference[j][c]), std::abs(cache.irradiance()[j][c]), 1e-12}));
+    std::vector<double> sorted = times;
+    std::sort(sorted.begin(), sorted.end());
+    return {{"frames", args.drag},
+            {"light", displayName(lights, index)},
+            {"full_ms", fullMs},
+            {"median_ms", sorted[sorted.size() / 2]},
+            {"max_ms", sorted.back()},
+            {"max_relative_difference", worst},
+            {"exact", worst < 1e-5}};
+}
+
 } // namespace
 
 CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
@@ -201,6 +243,11 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
     command->add_option("--lightmap", args.lightmap, "--texel: the atlas as a PNG (the 99th percentile white)")->check(outputFile());
     command->add_option("--gltf", args.gltf, "--texel: the level as glTF with TEXCOORD_1 and the --lightmap PNG as its emissive map")
         ->check(outputFile());
+    command->add_option("--drag", args.drag,
+                        "Also time N frames of a designer dragging the first point or spot light 5 cm a frame, each "
+                        "frame refreshing that light alone (amortised updates), and check the last against the "
+                        "reference")
+        ->check(CLI::Range(1, 10000));
     command->add_flag("--sets", args.sets,
                       "Print O'Rorke's light visibility sets instead: per light V (instances seen from the project's "
                       "camera), L (those it reaches), I = V and L, S (those casting shadows onto I); instance indices "
@@ -402,6 +449,10 @@ int runLights(const LightsArgs& args)
         }
     }
 
+    json dragJson;
+    if (args.drag > 0)
+        dragJson = timeDrag(lighting, lights, points, args);
+
     std::vector<float> values(3 * irradiance.size());
     glm::dvec3 mean(0.0), peak(0.0);
     for (std::size_t j = 0; j < total.size(); ++j) {
@@ -446,6 +497,8 @@ int runLights(const LightsArgs& args)
             out["indirect"] = indirectJson;
         if (bake)
             out["texel"] = texelJson;
+        if (args.drag > 0)
+            out["drag"] = dragJson;
         std::cout << out.dump() << "\n";
         return 0;
     }
@@ -473,6 +526,10 @@ int runLights(const LightsArgs& args)
                         indirectJson["reference"]["relative_rmse"].get<double>());
         std::printf("\n");
     }
+    if (args.drag > 0)
+        std::printf("drag       %d frames of one light: median %.2f ms, slowest %.2f ms a frame (%.1f Hz); exact at the end: %s\n",
+                    args.drag, dragJson["median_ms"].get<double>(), dragJson["max_ms"].get<double>(),
+                    1000.0 / std::max(dragJson["median_ms"].get<double>(), 1e-9), dragJson["exact"].get<bool>() ? "yes" : "NO");
     if (args.compare)
         std::printf("compare    reference %.2f ms, fast %.2f ms: %.2fx; largest relative difference %.3g, %zu points differ\n",
                     comparison["reference_ms"].get<double>(), comparison["fast_ms"].get<double>(),

@@ -27,6 +27,7 @@ struct LightsArgs {
     int gatherSamples = 0;    ///< > 0: also the Monte-Carlo gathering reference, for its error
     bool sets = false;        ///< O'Rorke's sets per light instead of irradiance
     double texel = 0.0;       ///< > 0: bake a light map at this many texels a metre
+    int drag = 0;             ///< > 0: time this many frames of dragging one light (LightingCache)
     std::string lightmap, gltf;
 };
 

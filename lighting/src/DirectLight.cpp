@@ -352,6 +352,8 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
     std::uint64_t bitmaskRays = 0;
     if (options.receiverGrid && std::size_t(options.receiverGrid->sampleCount()) != points.size())
         throw Error("directIrradiance: the receiver grid's samples and the points differ in number");
+    if (options.tiling && options.tiling->pointCount() != points.size())
+        throw Error("directIrradiance: the tiling was built for other points");
     inArena(options.threads, [&] {
         if (options.path == LightingPath::Reference) {
             run.reference(lightEmitters(lights));
@@ -374,7 +376,10 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
                 samples[l].push_back(light.position);
             }
         }
-        const std::vector<lights::PointTile> tiles = lights::makePointTiles(points);
+        std::vector<lights::PointTile> own;
+        if (!options.tiling)
+            own = lights::makePointTiles(points);
+        const std::vector<lights::PointTile>& tiles = options.tiling ? options.tiling->tiles() : own;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
             for (std::size_t t = range.begin(); t != range.end(); ++t)
                 run.tile(tiles[t], samples, maps);
@@ -397,6 +402,13 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
     }
     return sums;
 }
+
+PointTiling::PointTiling(std::span<const ShadingPoint> points)
+    : tiles_(std::make_unique<std::vector<lights::PointTile>>(lights::makePointTiles(points))), points_(points.size())
+{
+}
+
+PointTiling::~PointTiling() = default;
 
 std::vector<ShadingPoint> patchShadingPoints(const Patch& patch)
 {

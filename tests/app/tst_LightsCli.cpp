@@ -397,3 +397,21 @@ TEST_F(LightsCli, TexelBakesALightMapOnCharts)
         EXPECT_TRUE(oneLine(refused.err)) << bad << ": " << refused.err;
     }
 }
+
+// --drag: frames of one light moving, each refreshing that light alone, exact at the end.
+TEST_F(LightsCli, DragTimesOneLightMovingAndEndsExact)
+{
+    write("p.json", project(lights()));
+    const CliRun run = runCli("lights " + (folder / "p.json").string() + " --drag 5 --json");
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json drag = json::parse(run.out).at("drag");
+    EXPECT_EQ(drag["frames"], 5);
+    EXPECT_EQ(drag["light"], "lamp");   // the first point or spot light
+    EXPECT_TRUE(drag["exact"].get<bool>());
+    EXPECT_LT(drag["max_relative_difference"].get<double>(), 1e-5);
+    EXPECT_GT(drag["median_ms"].get<double>(), 0.0);
+    write("sun.json", project(json::array({{{"type", "directional"}, {"direction", {0, -1, 0}}}})));
+    const CliRun none = runCli("lights " + (folder / "sun.json").string() + " --drag 5");
+    EXPECT_EQ(none.code, 1);
+    EXPECT_NE(none.err.find("--drag needs a point or spot light"), std::string::npos) << none.err;
+}

@@ -78,6 +78,27 @@ private:
 
 enum class LightingPath { Fast, Reference };
 
+namespace lights {
+struct PointTile;
+}
+
+/// The fast path's tiles of a set of points (Morton order, 64 a tile), built once where the same
+/// points are lit again and again (a live view, amortised updates).
+class PointTiling {
+public:
+    explicit PointTiling(std::span<const ShadingPoint> points);
+    ~PointTiling();
+    PointTiling(const PointTiling&) = delete;
+    PointTiling& operator=(const PointTiling&) = delete;
+
+    const std::vector<lights::PointTile>& tiles() const { return *tiles_; }
+    std::size_t pointCount() const { return points_; }
+
+private:
+    std::unique_ptr<std::vector<lights::PointTile>> tiles_;
+    std::size_t points_ = 0;
+};
+
 struct DirectLightOptions {
     LightingPath path = LightingPath::Fast;
     int threads = 0;                     ///< 0 = all cores
@@ -87,6 +108,8 @@ struct DirectLightOptions {
     /// take the bitmask sampler. Off by default: on one call its set-up costs more than the rays
     /// it saves on the levels measured (docs/lights.md).
     bool bitmaskAreaLights = false;
+    /// Fast path: tiles built once for these same points (else built per call). Not owned.
+    const PointTiling* tiling = nullptr;
 };
 
 struct DirectLightStats {

@@ -1,0 +1,84 @@
+#pragma once
+// Amortised many-light updates for a live view (Barczak 2006 §4: shadow maps refreshed by
+// priority within a budget per frame): each light's shadowed contribution at the view's points is
+// kept, so that moving one light costs that light's shadow rays alone, and after an occluder moves
+// only the lights it may affect go stale and are refreshed, the brightest and longest stale first,
+// until a frame's budget of shadow segments is spent. The view converges to the exact answer and
+// says when it has.
+//
+// A light's contribution is its colour times a scalar field (the shadowed sum of its terms with a
+// white colour, computed by the exact fast path of DirectLight.h), kept in float per point. The
+// shown irradiance is updated by differences as lights refresh; once none is stale it is summed
+// again from the kept fields in double, light by light, so an exact frame is the reference's
+// answer up to the fields' float rounding (below 1e-6 relative).
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "lighting/DirectLight.h"
+#include "lighting/Light.h"
+#include "visibility/Scene.h"
+
+namespace sightline {
+
+class LightingCache {
+public:
+    /// Every light starts stale. `lights` must have passed validateLights, `points`
+    /// validateShadingPoints.
+    LightingCache(std::vector<ShadingPoint> points, std::vector<Light> lights);
+
+    /// Light `index` moved or changed: stale until refreshed; the view shows its old light until then.
+    void setLight(std::size_t index, const Light& light);
+    /// Something in `region` moved (an occluder, a level object): every light whose shadows could
+    /// change goes stale (a point or spot light only when the region comes within its range).
+    void sceneChanged(const Bounds& region);
+
+    struct Frame {
+        std::size_t refreshed = 0;      ///< lights refreshed this frame
+        std::vector<std::size_t> lights;   ///< which, in the order refreshed
+        std::size_t stale = 0;          ///< lights still stale after it
+        std::uint64_t segments = 0;     ///< shadow segments those refreshes could cast (points x samples)
+        bool exact = false;             ///< no light stale: the view is the exact answer
+        double ms = 0.0;
+    };
+    /// Refreshes stale lights by priority (brightness x (1 + frames stale); a light never computed
+    /// first) until `budget` segments are spent, at least one light a frame. `scene` is the scene as
+    /// it is now.
+    Frame update(const LightingScene& scene, std::uint64_t budget, int threads = 0);
+
+    const std::vector<glm::dvec3>& irradiance() const { return shown_; }
+    /// Per point, the share of its shown irradiance that comes from stale lights (0 to 1): the
+    /// staleness overlay.
+    std::vector<float> staleness() const;
+    std::size_t staleCount() const;
+    bool isStale(std::size_t index) const { return kept_.at(index).stale; }
+    /// The light's shown energy over the points (its field's sum times its mean colour): the
+    /// priority's weight; 0 before it is first computed.
+    double brightness(std::size_t index) const { return kept_.at(index).brightness; }
+    const std::vector<Light>& lights() const { return lights_; }
+
+private:
+    struct Kept {
+        std::vector<float> field;       ///< shadowed white contribution per point, as last computed
+        glm::dvec3 colour{0.0};         ///< the colour that field was shown with
+        double brightness = 0.0;        ///< sum of field x mean colour: the priority's weight
+        bool computed = false;
+        bool stale = true;
+        std::uint64_t staleSince = 0;   ///< frame it went stale
+    };
+
+    void resum();
+    void markStale(std::size_t index);
+
+    std::vector<ShadingPoint> points_;
+    std::unique_ptr<PointTiling> tiling_;
+    std::vector<Light> lights_;
+    std::vector<Kept> kept_;
+    std::vector<glm::dvec3> shown_;
+    std::uint64_t frame_ = 0;
+};
+
+} // namespace sightline
