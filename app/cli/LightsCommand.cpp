@@ -159,6 +159,52 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
             {"exposure", exposure}};
 }
 
+/// One bounce of VPLs added to `total` (lighting/Indirect.h); with --indirect-reference, the
+/// gathering reference's mean and the VPLs' error against it. Returns the `indirect` JSON.
+json addIndirectBounce(const LightingScene& lighting, const std::vector<Light>& lights, const std::vector<ShadingPoint>& points,
+                       const LightsArgs& args, std::vector<glm::dvec3>& total)
+{
+    IndirectOptions indirect;
+    indirect.vpls = args.vpls;
+    indirect.seed = args.seed;
+    indirect.albedo = args.albedo;
+    indirect.clampMetres = args.clamp;
+    indirect.threads = args.threads;
+    const VplSet vpls = traceVpls(lighting, lights, indirect);
+    const IndirectResult bounce = vplIrradiance(lighting, vpls, points, indirect);
+    glm::dvec3 mean(0.0);
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        total[j] += bounce.irradiance[j];
+        mean += bounce.irradiance[j] / double(points.size());
+    }
+    json out = {{"vpls", vpls.vpls.size()},
+                {"photons", vpls.photons},
+                {"emitted_w", {vpls.emitted.x, vpls.emitted.y, vpls.emitted.z}},
+                {"trace_ms", vpls.ms},
+                {"ms", bounce.stats.ms},
+                {"clamp_loss", bounce.clampLoss},
+                {"mean", {mean.x, mean.y, mean.z}}};
+    if (args.gatherSamples > 0) {
+        const auto gatherStart = std::chrono::steady_clock::now();
+        const std::vector<glm::dvec3> gathered = gatheredIndirect(lighting, lights, points, args.gatherSamples, indirect);
+        double squared = 0.0, reference = 0.0;
+        for (std::size_t j = 0; j < points.size(); ++j)
+            for (int c = 0; c < 3; ++c) {
+                const double d = bounce.irradiance[j][c] - gathered[j][c];
+                squared += d * d;
+                reference += gathered[j][c];
+            }
+        const double rmse = std::sqrt(squared / double(3 * points.size()));
+        const double meanReference = reference / double(3 * points.size());
+        out["reference"] = {{"samples", args.gatherSamples},
+                            {"ms", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - gatherStart).count()},
+                            {"rmse", rmse},
+                            {"relative_rmse", meanReference > 0.0 ? rmse / meanReference : 0.0},
+                            {"mean", meanReference}};
+    }
+    return out;
+}
+
 /// A designer dragging one light (lighting/LightingCache.h): the first point or spot light moves
 /// 5 cm along x a frame and each frame refreshes it alone; the last frame is checked against the
 /// reference (the largest relative difference, which float fields bound at about 1e-7).
@@ -407,47 +453,8 @@ int runLights(const LightsArgs& args)
 
     json indirectJson;
     std::vector<glm::dvec3> total = irradiance;
-    if (args.vpls > 0) {
-        IndirectOptions indirect;
-        indirect.vpls = args.vpls;
-        indirect.seed = args.seed;
-        indirect.albedo = args.albedo;
-        indirect.clampMetres = args.clamp;
-        indirect.threads = args.threads;
-        const VplSet vpls = traceVpls(lighting, lights, indirect);
-        const IndirectResult bounce = vplIrradiance(lighting, vpls, points, indirect);
-        glm::dvec3 mean(0.0);
-        for (std::size_t j = 0; j < points.size(); ++j) {
-            total[j] += bounce.irradiance[j];
-            mean += bounce.irradiance[j] / double(points.size());
-        }
-        indirectJson = {{"vpls", vpls.vpls.size()},
-                        {"photons", vpls.photons},
-                        {"emitted_w", {vpls.emitted.x, vpls.emitted.y, vpls.emitted.z}},
-                        {"trace_ms", vpls.ms},
-                        {"ms", bounce.stats.ms},
-                        {"clamp_loss", bounce.clampLoss},
-                        {"mean", {mean.x, mean.y, mean.z}}};
-        if (args.gatherSamples > 0) {
-            const auto gatherStart = std::chrono::steady_clock::now();
-            const std::vector<glm::dvec3> gathered = gatheredIndirect(lighting, lights, points, args.gatherSamples, indirect);
-            double squared = 0.0, reference = 0.0;
-            for (std::size_t j = 0; j < points.size(); ++j)
-                for (int c = 0; c < 3; ++c) {
-                    const double d = bounce.irradiance[j][c] - gathered[j][c];
-                    squared += d * d;
-                    reference += gathered[j][c];
-                }
-            const double rmse = std::sqrt(squared / double(3 * points.size()));
-            const double meanReference = reference / double(3 * points.size());
-            indirectJson["reference"] = {
-                {"samples", args.gatherSamples},
-                {"ms", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - gatherStart).count()},
-                {"rmse", rmse},
-                {"relative_rmse", meanReference > 0.0 ? rmse / meanReference : 0.0},
-                {"mean", meanReference}};
-        }
-    }
+    if (args.vpls > 0)
+        indirectJson = addIndirectBounce(lighting, lights, points, args, total);
 
     json dragJson;
     if (args.drag > 0)
