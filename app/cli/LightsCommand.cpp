@@ -492,6 +492,7 @@ int runLights(const LightsArgs& args)
                     {"segments_cast", stats.segmentsCast},
                     {"tiles_unreached", stats.tilesUnreached},
                     {"tiles_proven_shadowed", stats.tilesProvenShadowed},
+                    {"tiles_proven_lit", stats.tilesProvenLit},
                     {"tiles_cast", stats.tilesCast},
                     {"bitmask_lights", stats.bitmaskLights},
                     {"bitmask_rays", stats.bitmaskRays},
@@ -518,9 +519,10 @@ int runLights(const LightsArgs& args)
     else
         std::printf("points     %zu (%s)\n", points.size(), args.points.c_str());
     std::printf("path       %s: %llu of %llu shadow segments cast; (tile, light) pairs: %llu out of reach, %llu shadowed "
-                "by one triangle, %llu cast; %zu area lights by the bitmask\n",
+                "by one triangle, %llu lit through an empty shaft, %llu cast; %zu area lights by the bitmask\n",
                 args.reference ? "reference" : "fast", (unsigned long long)stats.segmentsCast, (unsigned long long)stats.terms,
                 (unsigned long long)stats.tilesUnreached, (unsigned long long)stats.tilesProvenShadowed,
+                (unsigned long long)stats.tilesProvenLit,
                 (unsigned long long)stats.tilesCast, stats.bitmaskLights);
     std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
     std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());

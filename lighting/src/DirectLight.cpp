@@ -18,6 +18,8 @@
 #include "lights/EdgeNeighbours.h"
 #include "lights/PointTiles.h"
 #include "lights/ShaftBlocker.h"
+#include "lights/TriangleBoxTree.h"
+#include "visibility/ShaftGeometry.h"
 
 namespace sightline {
 
@@ -55,7 +57,7 @@ struct Run {
     const std::vector<Light>& lights;
     std::span<const ShadingPoint> points;
     std::vector<glm::dvec3>& sums;
-    std::atomic<std::uint64_t> terms{0}, cast{0}, unreachedTiles{0}, provenTiles{0}, castTiles{0};
+    std::atomic<std::uint64_t> terms{0}, cast{0}, unreachedTiles{0}, provenTiles{0}, litTiles{0}, castTiles{0};
 
     void addTerms(std::uint64_t t, std::uint64_t c)
     {
@@ -130,6 +132,8 @@ struct Run {
             } else if (provenShadowed(light, emitters, t)) {
                 ++provenTiles;
                 continue;
+            } else if (count > 1 && provenLit(light, t)) {   // worth its cost where a pair holds many segments
+                ++litTiles;   // every segment free: `blocked` stays all zero
             } else {
                 cast += castTile(light, emitters, t, count);
                 ++castTiles;
@@ -231,6 +235,33 @@ struct Run {
         return attempt(origin, centre) || attempt(centre, origin);
     }
 
+    /// Whether no triangle enters the shaft between the light's extent and the tile's box (the
+    /// hull of their corners; a directional light's segments run to beyond the scene): every
+    /// segment is free (lights/TriangleBoxTree.h).
+    bool provenLit(const Light& light, const lights::PointTile& t) const
+    {
+        // A flat or single-point tile's box gets a micrometre of thickness: the hull needs volume.
+        const glm::dvec3 pad = glm::dvec3(1e-6) * glm::dvec3(glm::lessThan(t.hi - t.lo, glm::dvec3(1e-6)));
+        lights::PointTile box = t;
+        box.lo -= pad, box.hi += pad;
+        std::vector<glm::dvec3> hullPoints;
+        for (int c = 0; c < 8; ++c)
+            hullPoints.push_back(boxCorner(box, c));
+        if (light.type == LightType::Directional)
+            for (int c = 0; c < 8; ++c)
+                hullPoints.push_back(scene.reach().end(light, boxCorner(box, c)));
+        else if (light.type == LightType::Area)
+            for (int c = 0; c < 4; ++c)
+                hullPoints.push_back(light.area.cornerPoint(c));
+        else
+            hullPoints.push_back(light.position);
+        glm::dvec3 lo = hullPoints[0], hi = hullPoints[0];
+        for (const glm::dvec3& p : hullPoints)
+            lo = glm::min(lo, p), hi = glm::max(hi, p);
+        const ShaftHull hull(hullPoints);
+        return !scene.boxTree().anyInside(hull, lo, hi);
+    }
+
     /// The tile's segments with non-zero terms, cast in packets sharing the emitter's end (a
     /// directional light's from each point); fills the scratch's `blocked`. Returns the count.
     std::uint64_t castTile(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t, std::size_t count)
@@ -329,7 +360,8 @@ void validateShadingPoints(std::span<ShadingPoint> points, const std::string& wh
 
 LightingScene::LightingScene(const Scene& scene)
     : scene_(scene), triangles_(worldTriangles(scene)), neighbours_(lights::edgeNeighbours(triangles_)), rays_(std::make_unique<RayCastScene>(triangles_)),
-      firstHits_(std::make_unique<pvs::FirstHitCaster>(scene)), reach_(scene.bounds())
+      firstHits_(std::make_unique<pvs::FirstHitCaster>(scene)),
+      boxTree_(std::make_unique<lights::TriangleBoxTree>(triangles_)), reach_(scene.bounds())
 {
 }
 
@@ -397,6 +429,7 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
         stats->bitmaskRays = bitmaskRays;
         stats->tilesUnreached = run.unreachedTiles.load();
         stats->tilesProvenShadowed = run.provenTiles.load();
+        stats->tilesProvenLit = run.litTiles.load();
         stats->tilesCast = run.castTiles.load();
         stats->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }

@@ -384,3 +384,26 @@ TEST(Lights, BadLightsAreRefusedNamingTheKey)
     std::vector<Light> tooManySamples = {dense, dense};
     EXPECT_THROW(validateLights(tooManySamples, "p.json"), Error);
 }
+
+// The fully-lit class: under a panel, floor tiles whose shaft holds no triangle are proved lit
+// without a ray, those whose shaft a crate enters are cast; every path stays exact.
+TEST(Lights, EmptyShaftsAreProvedLitAndTheRestCast)
+{
+    Mesh crate = test::closedBox();
+    crate.watertight = false;
+    Scene scene = test::sceneOf({test::quad({-4, 0, -4}, {8, 0, 0}, {0, 0, 8}, "floor")});
+    scene.addMeshInstance(crate, glm::translate(glm::mat4(1.0f), glm::vec3(1.5f, 0.5f, 0.0f)));
+    Patch panel;
+    panel.corner = {-0.5, 3.0, -0.5};
+    panel.u = {1.0, 0.0, 0.0};
+    panel.v = {0.0, 0.0, 1.0};   // facing down
+    panel.na = panel.nb = 4;
+    std::vector<ShadingPoint> points;
+    for (int i = 0; i < 32; ++i)
+        for (int j = 0; j < 32; ++j)
+            points.push_back({{-3.9 + 0.25 * i, 0.01, -3.9 + 0.25 * j}, {0.0, 1.0, 0.0}});
+    DirectLightStats stats;
+    EXPECT_EQ(disagreements(scene, {areaLight(panel, 10.0)}, points, nullptr, nullptr, &stats), 0);
+    EXPECT_GE(stats.tilesProvenLit, 1u);
+    EXPECT_GE(stats.tilesCast, 1u);
+}

@@ -48,6 +48,10 @@ struct ShadingPoint {
 /// DESIGN.md §2's range, or a zero normal; normalises the normals.
 void validateShadingPoints(std::span<ShadingPoint> points, const std::string& what);
 
+namespace lights {
+class TriangleBoxTree;
+}
+
 /// The scene as lighting asks about it, built once: exact segment queries, the bitmask sampler,
 /// the scene's bounds (where a directional light's segments end).
 class LightingScene {
@@ -62,6 +66,8 @@ public:
     /// The triangle across each edge of each triangle (-1: none, or a non-manifold edge).
     const std::vector<std::array<std::int64_t, 3>>& neighbours() const { return neighbours_; }
     const DirectionalReach& reach() const { return reach_; }
+    /// The triangles' box tree (lights/TriangleBoxTree.h): which shafts are empty.
+    const lights::TriangleBoxTree& boxTree() const { return *boxTree_; }
     /// Built on first use (its set-up is not free, and only area lights over a grid ask for it).
     const CpuBitmaskSampler& bitmask() const;
 
@@ -71,6 +77,7 @@ private:
     std::vector<std::array<std::int64_t, 3>> neighbours_;
     std::unique_ptr<RayCastScene> rays_;
     std::unique_ptr<pvs::FirstHitCaster> firstHits_;
+    std::unique_ptr<lights::TriangleBoxTree> boxTree_;
     DirectionalReach reach_;
     mutable std::once_flag bitmaskOnce_;
     mutable std::unique_ptr<CpuBitmaskSampler> bitmask_;
@@ -120,6 +127,7 @@ struct DirectLightStats {
     std::uint64_t segmentsCast = 0;      ///< of those, decided by ray casting
     std::uint64_t tilesUnreached = 0;    ///< fast: (tile, light) pairs skipped by a box test
     std::uint64_t tilesProvenShadowed = 0;   ///< fast: (tile, light) pairs one triangle shadows whole
+    std::uint64_t tilesProvenLit = 0;    ///< fast: (tile, light) pairs whose shaft no triangle enters
     std::uint64_t tilesCast = 0;         ///< fast: (tile, light) pairs whose segments were cast
     std::size_t bitmaskLights = 0;       ///< area lights decided by the bitmask sampler
     std::uint64_t bitmaskRays = 0;       ///< rays those calls answered
