@@ -10,7 +10,7 @@ OUT=${2:-/tmp/sightline-pvs-bench}
 CLI="$BUILD/app/sightline-cli"
 mkdir -p "$OUT"
 "$CLI" demo "$OUT/demo" > /dev/null
-"$CLI" pvs level "$OUT/level" > /dev/null
+"$CLI" pvs level "$OUT/level" --force > /dev/null
 run() {
   echo "$1 ${2:-default}: $(uptime)"
   /usr/bin/time -f "cpu %U s user, %S s system, %e s wall" \

@@ -1,6 +1,8 @@
 #include "cli/PvsCommands.h"
 
+#include <charconv>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -41,37 +43,85 @@ std::string bytesOf(const std::vector<glm::vec3>& v)
     return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(glm::vec3));
 }
 
-/// "I/N" -> (I, N); throws for anything else.
+/// "I/N" -> (I, N) with 0 <= I < N <= kMaxShards; throws for anything else. Digits only, read as
+/// integers with their range checked before any narrowing.
 std::pair<std::uint32_t, std::uint32_t> parseShard(const std::string& text)
 {
-    unsigned long i = 0, n = 0;
-    char slash = 0, extra = 0;
-    if (std::sscanf(text.c_str(), "%lu%c%lu%c", &i, &slash, &n, &extra) != 3 || slash != '/' || n == 0 || i >= n ||
-        n > 1000000)
-        throw Error("--shard: expected I/N with 0 <= I < N (e.g. 0/4), not '" + text + "'");
+    const auto fail = [&]() -> Error {
+        return Error("--shard: expected I/N with 0 <= I < N <= " + std::to_string(pvs::kMaxShards) + " (e.g. 0/4), not '" +
+                     text + "'");
+    };
+    const std::size_t slash = text.find('/');
+    if (slash == std::string::npos)
+        throw fail();
+    auto whole = [&](std::string_view digits, std::uint64_t& value) {
+        const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+        return !digits.empty() && ec == std::errc() && end == digits.data() + digits.size();
+    };
+    std::uint64_t i = 0, n = 0;
+    const std::string_view view(text);
+    if (!whole(view.substr(0, slash), i) || !whole(view.substr(slash + 1), n) || n == 0 || i >= n || n > pvs::kMaxShards)
+        throw fail();
     return {std::uint32_t(i), std::uint32_t(n)};
+}
+
+/// The manifest written beside a part: an output of its own, checked like the others.
+std::string manifestOf(const std::string& part) { return part + ".manifest.json"; }
+
+/// Whether `part`'s manifest, when there, names these bytes. A part and a manifest out of step
+/// (another bake's, or edited) are refused: a missing manifest is allowed (parts may travel alone,
+/// and carry their own SHA-256).
+void checkAgainstManifest(const std::string& part, const std::string& bytes)
+{
+    const std::string manifest = manifestOf(part);
+    std::error_code ec;
+    if (!fs::exists(manifest, ec))
+        return;
+    json m;
+    try {
+        m = json::parse(readInputFile(manifest, manifest));
+    } catch (const json::exception&) {
+        throw Error(manifest + ": not a part manifest (not JSON); bake the shard again or remove it");
+    }
+    if (!m.is_object() || !m.contains("part_sha256") || !m["part_sha256"].is_string())
+        throw Error(manifest + ": has no part_sha256; bake the shard again or remove it");
+    if (m["part_sha256"].get<std::string>() != pvs::sha256Hex(bytes))
+        throw Error(part + ": does not match its manifest " + manifest + " (another bake's, or changed since); bake the shard again");
+}
+
+/// A file name that must not be empty: "--shard ''" or "--out ''" was taken for "not given".
+CLI::Validator nonEmpty(const std::string& what)
+{
+    return CLI::Validator([what](std::string& value) { return value.empty() ? "an empty " + what : std::string(); },
+                          "TEXT");
 }
 
 void writeText(const std::string& path, const std::string& bytes) { writeFileAtomically(path, bytes); }
 
 /// What a PVS command writes never replaces what it reads, nor another of its outputs
-/// (cli/OutputPaths.h): `pvs bake p.json --out p.json` replaced the project with the rows.
-void checkPvsOutputs(const PvsOutputs& o, const std::string& gaps, const std::vector<FileRole>& inputs)
+/// (cli/OutputPaths.h): `pvs bake p.json --out p.json` replaced the project with the rows, and a
+/// part's implicit manifest (PART.manifest.json) is an output too.
+void checkPvsOutputs(const PvsOutputs& o, const std::string& gaps, const std::vector<FileRole>& inputs,
+                     const std::string& manifest = {})
 {
+    if (!std::isfinite(o.prtScale) || o.prtScale < 1e-6 || o.prtScale > 1e6)
+        throw Error("--prt-scale: units per metre must be a number in [1e-6, 1e6]");
     checkOutputs({{"--out", o.out}, {"--json", o.json}, {"--quake1", o.quake1}, {"--quake2", o.quake2}, {"--prt", o.prt},
-                  {"--gaps", gaps}},
+                  {"--gaps", gaps}, {"the part's manifest (--out + .manifest.json)", manifest}},
                  inputs);
 }
 
 void addOutputOptions(CLI::App* cmd, PvsOutputs& o, bool outRequired)
 {
-    auto* out = cmd->add_option("--out", o.out, "Write the binary .pvs (docs/pvs.md)");
+    auto* out = cmd->add_option("--out", o.out, "Write the binary .pvs (docs/pvs.md)")->check(outputFile());
     if (outRequired)
         out->required();
-    cmd->add_option("--json", o.json, "Also write DESIGN.md §4's .pvs.json");
-    cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style cell-to-cell rows: numleafs, visofs[], zero-run-length rows");
-    cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump of cell-to-cell rows: numclusters, bitofs[n][2], rows");
-    cmd->add_option("--prt", o.prt, "Also write the cells' shared faces as a PRT1 portal file (TrenchBroom)");
+    cmd->add_option("--json", o.json, "Also write DESIGN.md §4's .pvs.json")->check(outputFile());
+    cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style cell-to-cell rows: numleafs, visofs[], zero-run-length rows")
+        ->check(outputFile());
+    cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump of cell-to-cell rows: numclusters, bitofs[n][2], rows")
+        ->check(outputFile());
+    cmd->add_option("--prt", o.prt, "Also write the cells' shared faces as a PRT1 portal file (TrenchBroom)")->check(outputFile());
     cmd->add_option("--prt-scale", o.prtScale, "PRT1 units per metre (1 keeps metres; 39.37 gives Quake units)")
         ->check(CLI::Range(1e-6, 1e6));
     cmd->add_flag("--raw", o.raw, "Store .pvs rows raw instead of zero-run-length encoded");
@@ -122,15 +172,17 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
         const auto cells = pvs::shardCells(job.data.cells.size(), shard, count);
         if (args.resume && fs::exists(args.outputs.out)) {
             try {
-                const pvs::PvsPart old = pvs::decodePart(readInputFile(args.outputs.out, args.outputs.out), args.outputs.out);
+                const std::string bytes = readInputFile(args.outputs.out, args.outputs.out);
+                const pvs::PvsPart old = pvs::decodePart(bytes, args.outputs.out);
+                checkAgainstManifest(args.outputs.out, bytes);
                 if (old.data.sceneSha256 == job.data.sceneSha256 && old.data.settingsSha256 == job.data.settingsSha256 &&
-                    old.shard == shard && old.shardCount == count) {
+                    old.shard == shard && old.shardCount == count && fs::exists(manifestOf(args.outputs.out))) {
                     std::printf("kept       %s (shard %u/%u already baked with these settings)\n", args.outputs.out.c_str(),
                                 shard, count);
                     return 0;
                 }
-            } catch (const Error&) {
-                // A damaged part is baked again.
+            } catch (const Error& e) {
+                std::fprintf(stderr, "sightline-cli: baking %s again: %s\n", args.outputs.out.c_str(), e.what());
             }
         }
         pvs::PvsStats stats;
@@ -153,7 +205,7 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
         for (std::size_t c : cells)
             part.cellIndices.push_back(std::uint32_t(c));
         const std::string bytes = pvs::encodePart(part);
-        writeText(args.outputs.out + ".manifest.json", pvs::partManifest(part, pvs::sha256Hex(bytes), job.settingsText));
+        writeText(manifestOf(args.outputs.out), pvs::partManifest(part, pvs::sha256Hex(bytes), job.settingsText));
         writeText(args.outputs.out, bytes);   // last: a part that exists is complete
         if (args.printJson)
             std::cout << dumpJson(json{{"shard", shard}, {"shards", count}, {"cells_in_part", cells.size()},
@@ -186,12 +238,17 @@ int runBake(const PvsBakeArgs& args, int argc, char** argv)
 int runMerge(const PvsMergeArgs& args)
 {
     std::vector<FileRole> inputs;
-    for (const std::string& name : args.parts)
+    for (const std::string& name : args.parts) {
         inputs.push_back({"the part file", name});
+        inputs.push_back({"the part's manifest", manifestOf(name)});
+    }
     checkPvsOutputs(args.outputs, {}, inputs);
     std::vector<pvs::PvsPart> parts;
-    for (const std::string& name : args.parts)
-        parts.push_back(pvs::decodePart(readInputFile(name, name), name));
+    for (const std::string& name : args.parts) {
+        const std::string bytes = readInputFile(name, name);
+        parts.push_back(pvs::decodePart(bytes, name));
+        checkAgainstManifest(name, bytes);
+    }
     const pvs::PvsData data = pvs::mergeParts(parts, args.parts);
     const json sizes = writePvsOutputs(data, args.outputs);
     if (args.printJson)
@@ -236,12 +293,16 @@ int runCheck(const PvsCheckArgs& args)
 
 int runLevel(const PvsLevelArgs& args)
 {
+    const fs::path sceneFile = fs::path(args.folder) / "pvs_level.glb";
+    const fs::path projectFile = fs::path(args.folder) / "pvs_level.json";
     std::error_code ec;
+    for (const fs::path& file : {sceneFile, projectFile})
+        if (!args.force && fs::exists(file, ec))
+            throw Error(file.string() + " already exists; choose another folder, or add --force to replace it");
     fs::create_directories(args.folder, ec);
     if (ec)
         throw Error(args.folder + ": cannot create folder (" + ec.message() + ")");
     const demo::PvsLevel level = demo::makePvsLevel(args.roomsX, args.roomsZ, args.objects, std::uint64_t(args.seed));
-    const fs::path sceneFile = fs::path(args.folder) / "pvs_level.glb";
     saveScene(level.scene, sceneFile);
     Project project;
     project.folder = fs::absolute(args.folder);
@@ -254,7 +315,6 @@ int runLevel(const PvsLevelArgs& args)
     project.extra["pvs"] = {{"cells", cells}};
     project.extra["description"] = "Sightline PVS benchmark level: " + std::to_string(args.roomsX) + " x " +
                                    std::to_string(args.roomsZ) + " rooms (data/demo/PvsLevel.h)";
-    const fs::path projectFile = fs::path(args.folder) / "pvs_level.json";
     saveProject(project, projectFile);
     std::printf("wrote %s (%zu instances, %zu triangles) and %s (%zu cells)\n", sceneFile.c_str(), level.scene.instances.size(),
                 level.scene.triangleCount(), projectFile.c_str(), level.cells.size());
@@ -270,9 +330,13 @@ PvsBakeJob prepareBakeJob(const PvsBakeArgs& args, const std::vector<FileRole>& 
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     std::vector<FileRole> inputs = projectInputs(args.project, project);
     inputs.insert(inputs.end(), alsoRead.begin(), alsoRead.end());
-    checkPvsOutputs(args.outputs, args.gaps, inputs);
+    checkPvsOutputs(args.outputs, args.gaps, inputs, args.shard.empty() ? std::string() : manifestOf(args.outputs.out));
     const std::string what = fs::path(args.project).filename().string();
     PvsSetup setup = parsePvsSetup(project, what);
+    // CLI11's ranges let NaN through, and a NaN here would read as "not given".
+    if (!std::isfinite(args.smallestGap) || !std::isfinite(args.maxDistance))
+        throw Error(std::string(std::isfinite(args.smallestGap) ? "--max-distance" : "--smallest-gap") +
+                    ": must be a finite number of metres");
     if (args.coarse > 0)
         setup.settings.coarseShafts = args.coarse;
     if (args.fine > 0)
@@ -440,24 +504,26 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     bake->add_option("project", b.project, "Project file (JSON, DESIGN.md §3; its \"pvs\" key sets cells and objects)")
         ->required();
     addOutputOptions(bake, b.outputs, true);
-    bake->add_option("--shard", b.shard, "Bake the I-th of N shares of the cells into a part file (--out PART)");
+    bake->add_option("--shard", b.shard, "Bake the I-th of N shares of the cells into a part file (--out PART)")
+        ->check(nonEmpty("shard; give I/N, e.g. 0/4"));
     bake->add_flag("--resume", b.resume, "--shard: keep an existing part of the same scene and settings");
     bake->add_flag("--mpi", b.mpi, "Under mpirun: the ranks share the cells, rank 0 writes the outputs");
     bake->add_option("--threads", b.threads, "Worker threads (0 = all cores; the output never depends on it)")
         ->check(CLI::Range(0, 1024));
     bake->add_flag("--safe", b.safe, "Safe mode: cull only pairs proven hidden (docs/pvs.md)");
-    bake->add_option("--coarse", b.coarse, "Sub-shafts per (cell, target), coarse pass")->check(CLI::Range(1, 1 << 20));
-    bake->add_option("--fine", b.fine, "Sub-shafts per (cell, target), refine pass")->check(CLI::Range(1, 1 << 24));
+    bake->add_option("--coarse", b.coarse, "Sub-shafts per (cell, target), coarse pass")->check(CLI::Range(1, pvs::kMaxCoarseShafts));
+    bake->add_option("--fine", b.fine, "Sub-shafts per (cell, target), refine pass")->check(CLI::Range(1, pvs::kMaxFineShafts));
     bake->add_option("--smallest-gap", b.smallestGap, "Metres: the refine pass splits shafts down to this spread")
         ->check(CLI::Range(1e-4, 100.0));
     bake->add_option("--residue-rays", b.residueRays, "Default mode: rays per pair over what no proof or witness settled")
-        ->check(CLI::Range(0, 1 << 20));
+        ->check(CLI::Range(0, pvs::kMaxResidueRays));
     bake->add_option("--max-distance", b.maxDistance, "Metres: cull what is farther from the cell (0: no cut-off)")
         ->check(CLI::Range(0.0, 1e7));
     bake->add_flag("--cell-rows", b.cellRows, "Also bake cell-to-cell rows (--quake1 and --quake2 write them)");
     bake->add_flag("--no-refine", b.noRefine, "Coarse pass only");
     bake->add_flag("--check", b.check, "Measure accuracy against the dense reference in the same run");
-    bake->add_option("--gaps", b.gaps, "--check: write the gap list (missed pairs with the reference's witness ray) as JSON");
+    bake->add_option("--gaps", b.gaps, "--check: write the gap list (missed pairs with the reference's witness ray) as JSON")
+        ->check(outputFile());
     bake->add_flag("--print-json", b.printJson, "Print the summary as one JSON object");
     bake->add_flag("--allow-outside-paths", b.allowOutsidePaths,
                    "Read files the project names by a relative path that leaves its folder");
@@ -480,7 +546,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     check->add_option("--object-points", c.objectPoints, "Points per object")->check(CLI::Range(1, 65536))->capture_default_str();
     check->add_option("--views", c.views, "Panoramas per cell (pixel error)")->check(CLI::Range(0, 4096))->capture_default_str();
     check->add_option("--threads", c.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-    check->add_option("--gaps", c.gaps, "Write the gap list as JSON");
+    check->add_option("--gaps", c.gaps, "Write the gap list as JSON")->check(outputFile());
     check->add_flag("--print-json", c.printJson, "Print one JSON object");
     check->add_flag("--allow-outside-paths", c.allowOutsidePaths,
                     "Read files the project names by a relative path that leaves its folder");
@@ -488,7 +554,8 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
 
     PvsLevelArgs& l = args.level;
     CLI::App* level = pvsCmd->add_subcommand("level", "Write a generated PVS benchmark level (pvs_level.glb, pvs_level.json)");
-    level->add_option("folder", l.folder, "Output folder")->required();
+    level->add_option("folder", l.folder, "Output folder")->required()->check(nonEmpty("folder name; name the folder to write"));
+    level->add_flag("--force", l.force, "Replace a pvs_level.glb / pvs_level.json already in the folder");
     level->add_option("--rooms", l.roomsX, "Rooms along x and z (16 gives 4,096 cells)")->check(CLI::Range(1, 256))->capture_default_str();
     level->add_option("--objects", l.objects, "Instances in all (walls, floor, props)")->check(CLI::Range(1, 1000000))->capture_default_str();
     level->add_option("--seed", l.seed, "Layout seed")->check(CLI::Range(0, 1000000))->capture_default_str();

@@ -56,6 +56,7 @@ struct PvsLevelArgs {
     std::string folder;
     int roomsX = 16, roomsZ = 16, objects = 2000;
     int seed = 1;
+    bool force = false;   ///< replace pvs_level.glb / pvs_level.json already in the folder
 };
 
 struct PvsArgs {

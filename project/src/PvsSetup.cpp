@@ -1,6 +1,7 @@
 #include "project/PvsSetup.h"
 
 #include <cmath>
+#include <cstdint>
 
 #include "visibility/Error.h"
 
@@ -15,11 +16,22 @@ float number(const nlohmann::json& j, const std::string& key, const std::string&
     return j.get<float>();
 }
 
-int integer(const nlohmann::json& j, const std::string& key, const std::string& what)
+/// An integer in [lo, hi], its range checked on the JSON's own 64-bit value before it narrows to
+/// int: 4294967296 must not bake as 0.
+int integer(const nlohmann::json& j, const std::string& key, const std::string& what, int lo, int hi)
 {
-    if (!j.is_number_integer())
-        throw Error(what + ": pvs." + key + " must be an integer");
-    return j.get<int>();
+    bool inRange = false;
+    if (j.is_number_unsigned()) {
+        const std::uint64_t u = j.get<std::uint64_t>();
+        inRange = u <= std::uint64_t(hi) && std::int64_t(u) >= lo;
+    } else if (j.is_number_integer()) {
+        const std::int64_t i = j.get<std::int64_t>();
+        inRange = i >= lo && i <= hi;
+    }
+    if (!inRange)
+        throw Error(what + ": pvs." + key + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                    "], got " + j.dump());
+    return int(j.get<std::int64_t>());
 }
 
 glm::vec3 point(const nlohmann::json& j, const std::string& key, const std::string& what)
@@ -78,11 +90,11 @@ PvsSetup parsePvsSetup(const Project& project, const std::string& what)
             throw Error(what + ": pvs." + gone + " is gone: the bake now splits shafts adaptively; use coarse_shafts, "
                                               "fine_shafts and smallest_gap (docs/pvs.md)");
     if (p.contains("coarse_shafts"))
-        setup.settings.coarseShafts = integer(p["coarse_shafts"], "coarse_shafts", what);
+        setup.settings.coarseShafts = integer(p["coarse_shafts"], "coarse_shafts", what, 1, pvs::kMaxCoarseShafts);
     if (p.contains("fine_shafts"))
-        setup.settings.fineShafts = integer(p["fine_shafts"], "fine_shafts", what);
+        setup.settings.fineShafts = integer(p["fine_shafts"], "fine_shafts", what, 1, pvs::kMaxFineShafts);
     if (p.contains("residue_rays"))
-        setup.settings.residueRays = integer(p["residue_rays"], "residue_rays", what);
+        setup.settings.residueRays = integer(p["residue_rays"], "residue_rays", what, 0, pvs::kMaxResidueRays);
     if (p.contains("smallest_gap"))
         setup.settings.smallestGap = number(p["smallest_gap"], "smallest_gap", what);
     if (p.contains("max_distance"))

@@ -4,7 +4,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <algorithm>
+#include <cmath>
+#include <cstring>
 #include <fstream>
+#include <limits>
+#include <random>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -110,7 +114,7 @@ TEST_F(PvsCli, AShardKilledAndRerunGivesTheSameOutput)
     // A part cut short (as a killed copy would leave it) is refused by merge...
     const std::string good = slurp(dir / "p1");
     std::ofstream(dir / "p1", std::ios::binary | std::ios::trunc) << good.substr(0, good.size() / 2);
-    expectOneLineError(runCli("pvs merge" + parts + " --out " + (dir / "m.pvs").string()), "truncated");
+    expectOneLineError(runCli("pvs merge" + parts + " --out " + (dir / "m.pvs").string()), "damaged");
     // ... and --resume bakes it again, while it keeps a complete one.
     const CliRun kept = runCli("pvs bake " + project + " --shard 0/3 --resume --out " + (dir / "p0").string());
     EXPECT_EQ(kept.code, 0) << kept.err;
@@ -120,6 +124,132 @@ TEST_F(PvsCli, AShardKilledAndRerunGivesTheSameOutput)
     EXPECT_EQ(rerun.out.find("kept"), std::string::npos) << rerun.out;
     ASSERT_EQ(runCli("pvs merge" + parts + " --out " + (dir / "m.pvs").string()).code, 0);
     EXPECT_EQ(sha(dir / "m.pvs"), reference);
+}
+
+TEST_F(PvsCli, ShardsKilledWithSignalNineAtAnyMomentResumeToTheSameOutput)
+{
+    const std::string reference = sha(bake("whole.pvs", "--cell-rows"));
+    std::string parts;
+    for (int i = 0; i < 3; ++i)
+        parts += " " + (dir / ("p" + std::to_string(i))).string();
+    // Killed at several moments (loading, baking, writing): whatever a kill leaves, --resume keeps
+    // only a part that is whole and matches its manifest, and the merge equals the one-process bake.
+    for (const char* after : {"0.05", "0.2", "0.5", "1"}) {
+        for (int i = 0; i < 3; ++i)
+            runProgram(std::string("timeout -s KILL ") + after, std::string(SIGHTLINE_CLI) + " pvs bake " + project +
+                                                                     " --cell-rows --resume --shard " + std::to_string(i) +
+                                                                     "/3 --out " + (dir / ("p" + std::to_string(i))).string());
+        for (int i = 0; i < 3; ++i) {
+            const CliRun rerun = runCli("pvs bake " + project + " --cell-rows --resume --shard " + std::to_string(i) +
+                                        "/3 --out " + (dir / ("p" + std::to_string(i))).string());
+            ASSERT_EQ(rerun.code, 0) << rerun.err;
+        }
+        const CliRun merged = runCli("pvs merge" + parts + " --out " + (dir / "m.pvs").string());
+        ASSERT_EQ(merged.code, 0) << merged.err;
+        EXPECT_EQ(sha(dir / "m.pvs"), reference) << "killed after " << after << " s";
+        for (int i = 0; i < 3; ++i) {   // the next round starts from nothing again
+            fs::remove(dir / ("p" + std::to_string(i)));
+            fs::remove(dir / ("p" + std::to_string(i) + ".manifest.json"));
+        }
+    }
+}
+
+TEST_F(PvsCli, DamagedPartsAreRefusedByMergeAndBakedAgainByResume)
+{
+    const std::string reference = sha(bake("whole.pvs"));
+    const fs::path p0 = bake("p0", "--shard 0/2"), p1 = bake("p1", "--shard 1/2");
+    const std::string good = slurp(p1);
+    const std::string merge = "pvs merge " + p0.string() + " " + p1.string() + " --out " + (dir / "m.pvs").string();
+    std::mt19937 random(11);
+    for (int k = 0; k < 30; ++k) {
+        std::string flipped = good;
+        const std::size_t at = random() % good.size();
+        flipped[at] = char(flipped[at] ^ (1 << (random() % 8)));
+        std::ofstream(p1, std::ios::binary | std::ios::trunc) << flipped;
+        expectOneLineError(runCli(merge), p1.string());
+        EXPECT_FALSE(fs::exists(dir / "m.pvs")) << "merged a part flipped at byte " << at;
+    }
+    // --resume bakes the damaged part again instead of keeping it.
+    const CliRun rerun = runCli("pvs bake " + project + " --shard 1/2 --resume --out " + p1.string());
+    ASSERT_EQ(rerun.code, 0) << rerun.err;
+    EXPECT_EQ(rerun.out.find("kept"), std::string::npos) << rerun.out;
+    EXPECT_EQ(slurp(p1), good);
+    // A part that does not match the manifest beside it (another bake's part copied over it).
+    const fs::path fine = bake("fine1", "--shard 1/2 --fine 4");
+    fs::copy_file(fine, p1, fs::copy_options::overwrite_existing);
+    expectOneLineError(runCli(merge), "does not match its manifest");
+    const CliRun again = runCli("pvs bake " + project + " --shard 1/2 --resume --out " + p1.string());
+    ASSERT_EQ(again.code, 0) << again.err;
+    EXPECT_EQ(again.out.find("kept"), std::string::npos) << again.out;
+    ASSERT_EQ(runCli(merge).code, 0);
+    EXPECT_EQ(sha(dir / "m.pvs"), reference);
+}
+
+TEST_F(PvsCli, NoPvsCommandWritesOverWhatItReadsOrWhatItWasNotAskedToWrite)
+{
+    // The implicit PART.manifest.json is an output: here it would have replaced the project.
+    const fs::path level = dir / "level" / "level";
+    fs::copy_file(project, level.string() + ".manifest.json");
+    const std::string before = slurp(level.string() + ".manifest.json");
+    expectOneLineError(runCli("pvs bake " + level.string() + ".manifest.json --shard 0/1 --out " + level.string()),
+                       "the part's manifest");
+    EXPECT_EQ(slurp(level.string() + ".manifest.json"), before);
+    EXPECT_FALSE(fs::exists(level));
+    // merge reads the manifests beside its parts: --out may not name one.
+    const fs::path p0 = bake("p0", "--shard 0/1");
+    const std::string manifest = slurp(p0.string() + ".manifest.json");
+    expectOneLineError(runCli("pvs merge " + p0.string() + " --out " + p0.string() + ".manifest.json"), "would replace");
+    EXPECT_EQ(slurp(p0.string() + ".manifest.json"), manifest);
+    // pvs level does not replace a level already in the folder, unless told to.
+    const std::string projectBefore = slurp(project);
+    expectOneLineError(runCli("pvs level " + (dir / "level").string() + " --rooms 3"), "already exists");
+    EXPECT_EQ(slurp(project), projectBefore);
+    ASSERT_EQ(runCli("pvs level " + (dir / "level").string() + " --rooms 2 --objects 24 --force").code, 0);
+    EXPECT_EQ(slurp(project), projectBefore);   // the same level, written again
+}
+
+TEST_F(PvsCli, EmptyNamesNaNsAndWrappedIntegersAreRefusedInOneLine)
+{
+    const std::string out = " --out " + (dir / "x.pvs").string();
+    expectOneLineError(runCli("pvs bake " + project + " --out \"\""), "empty file name");
+    expectOneLineError(runCli("pvs bake " + project + " --shard \"\"" + out), "empty shard");
+    expectOneLineError(runCli("pvs bake " + project + " --json \"\"" + out), "empty file name");
+    expectOneLineError(runCli("pvs level \"\""), "empty folder name");
+    expectOneLineError(runCli("pvs bake " + project + " --prt-scale nan --prt " + (dir / "x.prt").string() + out),
+                       "--prt-scale");
+    expectOneLineError(runCli("pvs bake " + project + " --smallest-gap nan" + out), "--smallest-gap");
+    expectOneLineError(runCli("pvs bake " + project + " --max-distance nan" + out), "--max-distance");
+    for (const char* shard : {"4294967296/4294967297", "-1/4", "1/0", "0/1000001", "0x1/4", "1/2/3", " 0/2"})
+        expectOneLineError(runCli("pvs bake " + project + " --shard '" + shard + "'" + out), "--shard");
+    EXPECT_FALSE(fs::exists(dir / "x.pvs"));
+    // Integers in the project are range-checked as integers: 2^32 must not wrap to 0.
+    for (const auto& [key, value] : std::vector<std::pair<std::string, std::uint64_t>>{
+             {"residue_rays", 4294967296ull}, {"coarse_shafts", 4294967296ull + 16}, {"fine_shafts", 4294967296ull + 4},
+             {"residue_rays", 18446744073709551615ull}})
+        expectOneLineError(runCli("pvs bake " + editedProject("wrapped.json", [&](nlohmann::json& p) { p[key] = value; }) + out),
+                           "pvs." + key + " must be an integer in");
+    expectOneLineError(
+        runCli("pvs bake " + editedProject("negative.json", [](nlohmann::json& p) { p["fine_shafts"] = -4294967295ll; }) + out),
+        "pvs.fine_shafts must be an integer in");
+    EXPECT_FALSE(fs::exists(dir / "x.pvs"));
+}
+
+TEST_F(PvsCli, CheckRefusesAPvsWithBadCellBoxes)
+{
+    const fs::path good = bake("good.pvs", "--raw");
+    const std::string bytes = slurp(good);
+    // The first cell's min x (docs/pvs.md: the cell table starts at byte 160).
+    for (const float bad : {std::nanf(""), std::numeric_limits<float>::infinity(), 1e30f, 1e9f}) {
+        std::string damaged = bytes;
+        std::memcpy(damaged.data() + 160, &bad, 4);
+        std::ofstream(dir / "bad.pvs", std::ios::binary | std::ios::trunc) << damaged;
+        expectOneLineError(runCli("pvs check " + project + " " + (dir / "bad.pvs").string() + " --cells 1"), "cell[0]");
+    }
+    std::string inverted = bytes;   // min x above max x
+    const float above = 1e5f;
+    std::memcpy(inverted.data() + 160, &above, 4);
+    std::ofstream(dir / "bad.pvs", std::ios::binary | std::ios::trunc) << inverted;
+    expectOneLineError(runCli("pvs check " + project + " " + (dir / "bad.pvs").string() + " --cells 1"), "inverted");
 }
 
 TEST_F(PvsCli, MpiBakeOverThreeRanksIsByteIdentical)

@@ -7,9 +7,11 @@
 #include <cstring>
 #include <mutex>
 #include <limits>
+#include <random>
 #include <string>
 
 #include <glm/gtc/matrix_transform.hpp>
+
 #include <gtest/gtest.h>
 
 #include "TestScenes.h"
@@ -422,6 +424,109 @@ TEST(PvsFiles, DamagedPvsFilesAreRefusedNotRead)
         EXPECT_NE(std::string(e.what()).find("version 9"), std::string::npos);
     }
     EXPECT_THROW(decodePvs("not a pvs file at all", "x.pvs"), Error);
+}
+
+/// The message of the Error `f` throws, or a failure when it throws none.
+template <class F>
+std::string refusal(F&& f)
+{
+    try {
+        f();
+    } catch (const Error& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "accepted";
+    return {};
+}
+
+void put32At(std::string& s, std::size_t at, std::uint32_t v)
+{
+    for (int k = 0; k < 4; ++k)
+        s[at + std::size_t(k)] = char((v >> (8 * k)) & 0xff);
+}
+
+TEST(PvsFiles, DeclaredCountsAreCheckedAgainstTheBytesBeforeAnythingIsAllocated)
+{
+    // 200,000 cells x 180,000 objects would take 4.5 GB of rows: refused from the header, at once.
+    std::string bytes = encodePvs(sampleData());
+    put32At(bytes, 16, 200000);
+    put32At(bytes, 20, 180000);
+    put32At(bytes, 24, 22500);
+    EXPECT_NE(refusal([&] { decodePvs(bytes, "x.pvs"); }).find("truncated"), std::string::npos);
+    // Row offsets that declare more row data than follows, or rows too short for their size.
+    const PvsData d = sampleData();
+    std::size_t offsets = 160 + 24 * d.cells.size();   // docs/pvs.md's layout: the row offsets follow the object table
+    for (const PvsObject& o : d.objects)
+        offsets += 4 + 4 + 4 * o.instances.size() + 24 + 4 + o.name.size();
+    for (RowEncoding e : {RowEncoding::Raw, RowEncoding::ZeroRuns}) {
+        const std::string good = encodePvs(d, e);
+        if (e == RowEncoding::Raw) {
+            std::string cut = good;
+            cut[offsets + 8] = char(87);   // the second row starts one byte early
+            EXPECT_NE(refusal([&] { decodePvs(cut, "x.pvs"); }).find("bytes for a row of 88"), std::string::npos);
+        }
+        std::string huge = good;
+        huge[offsets + 5 * 8 + 7] = char(0x7f);   // the last offset: 2^62 bytes of rows
+        EXPECT_NE(refusal([&] { decodePvs(huge, "x.pvs"); }).find("truncated"), std::string::npos);
+    }
+    // A table past kMaxRowTableBytes is refused by the rows themselves (bake and read alike).
+    EXPECT_THROW(VisibilityRows(std::size_t(1) << 20, std::size_t(1) << 14), Error);
+}
+
+TEST(PvsFiles, CellsAndObjectBoxesMustBeFiniteOrderedAndNear)
+{
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (const Bounds& bad : {box({nan, 0, 0}, {1, 1, 1}), box({0, 0, 0}, {inf, 1, 1}), box({0, 2, 0}, {1, 1, 1}),
+                              box({-1e30f, 0, 0}, {1, 1, 1})}) {
+        PvsData d = sampleData();
+        d.cells[2] = bad;
+        EXPECT_NE(refusal([&] { decodePvs(encodePvs(d), "x.pvs"); }).find("x.pvs: cell[2]"), std::string::npos);
+        d = sampleData();
+        d.objects[4].bounds = bad;
+        EXPECT_NE(refusal([&] { decodePvs(encodePvs(d), "x.pvs"); }).find("x.pvs: object 4"), std::string::npos);
+    }
+    PvsData d = sampleData();
+    d.objects[4].bounds = Bounds();   // an object without triangles: its empty box is kept
+    EXPECT_EQ(decodePvs(encodePvs(d), "x.pvs").rows, d.rows);
+    d.objects[4].instances = {9, 4};
+    EXPECT_NE(refusal([&] { decodePvs(encodePvs(d), "x.pvs"); }).find("instance list"), std::string::npos);
+}
+
+TEST(PvsFiles, APartCarriesItsOwnHashAndEveryFlippedBitIsRefused)
+{
+    PvsPart p;
+    p.data = sampleData();
+    p.shard = 1;
+    p.shardCount = 2;
+    for (std::size_t c = 1; c < p.data.cells.size(); c += 2)
+        p.cellIndices.push_back(std::uint32_t(c));
+    const std::string bytes = encodePart(p);
+    ASSERT_EQ(encodePvs(decodePart(bytes, "p").data), encodePvs(p.data));
+    std::mt19937 random(7);
+    for (int k = 0; k < 300; ++k) {
+        std::string flipped = bytes;
+        const std::size_t at = random() % bytes.size();
+        flipped[at] = char(flipped[at] ^ (1 << (random() % 8)));
+        EXPECT_THROW(decodePart(flipped, "p"), Error) << "bit flipped at byte " << at;
+    }
+    // A part from an older build (no hash) is told to bake again.
+    std::string old = bytes;
+    put32At(old, 8, 2);
+    EXPECT_NE(refusal([&] { decodePart(old, "p"); }).find("bake the shard again"), std::string::npos);
+}
+
+TEST(PvsFiles, AShardCountFromAFileAllocatesNothing)
+{
+    PvsPart p;
+    p.data = sampleData();
+    p.shard = 0;
+    p.shardCount = kMaxShards + 1;
+    p.cellIndices = {0};
+    EXPECT_NE(refusal([&] { decodePart(encodePart(p), "p"); }).find("is not valid"), std::string::npos);
+    // The most shards allowed, one part given: the missing shard is named without a table of them.
+    p.shardCount = kMaxShards;
+    const PvsPart one = decodePart(encodePart(p), "p");
+    EXPECT_NE(refusal([&] { mergeParts({one}, {"p"}); }).find("shard 1/1000000 is missing"), std::string::npos);
 }
 
 TEST(PvsFiles, QuakeOneRowsDecodeWithAnIndependentDecoder)

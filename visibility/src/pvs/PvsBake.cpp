@@ -133,10 +133,10 @@ void PvsSettings::validate() const
             throw Error(m.str());
         }
     };
-    range("coarse shafts", coarseShafts, 1, 1 << 20);
-    range("fine shafts", fineShafts, 1, 1 << 24);
+    range("coarse shafts", coarseShafts, 1, kMaxCoarseShafts);
+    range("fine shafts", fineShafts, 1, kMaxFineShafts);
     range("smallest gap", smallestGap, 1e-4, 100.0);
-    range("residue rays", residueRays, 0, 1 << 20);
+    range("residue rays", residueRays, 0, kMaxResidueRays);
     range("direct cell points", directCellPoints, 1, 4096);
     range("direct object points", directObjectPoints, 1, 4096);
     range("max distance", maxDistance, 0.0, 1e7);

@@ -1,11 +1,28 @@
 #include "visibility/pvs/PvsData.h"
 
 #include <bit>
+#include <string>
+
+#include "visibility/Error.h"
 
 namespace sightline::pvs {
 
+namespace {
+
+std::size_t checkedTableBytes(std::size_t cellCount, std::size_t objectCount)
+{
+    const std::size_t rowBytes = (objectCount + 7) / 8;
+    if (rowBytes != 0 && cellCount > kMaxRowTableBytes / rowBytes)
+        throw Error("pvs: " + std::to_string(cellCount) + " cells x " + std::to_string(objectCount) +
+                    " objects need more than the 1 GiB a table of rows may take; use fewer or larger cells, or group "
+                    "objects by name");
+    return cellCount * rowBytes;
+}
+
+} // namespace
+
 VisibilityRows::VisibilityRows(std::size_t cellCount, std::size_t objectCount)
-    : cells_(cellCount), objects_(objectCount), bytes_(cellCount * ((objectCount + 7) / 8), 0)
+    : cells_(cellCount), objects_(objectCount), bytes_(checkedTableBytes(cellCount, objectCount), 0)
 {
 }
 

@@ -10,6 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "visibility/Error.h"
+#include "visibility/ExactSegment.h"
+#include "visibility/pvs/Sha256.h"
+#include "visibility/pvs/ViewCells.h"
 
 namespace sightline::pvs {
 
@@ -18,6 +21,8 @@ namespace {
 constexpr char kPvsMagic[8] = {'S', 'L', 'P', 'V', 'S', 0, 0, 0};
 constexpr char kPartMagic[8] = {'S', 'L', 'P', 'V', 'S', 'P', 'R', 'T'};
 constexpr std::size_t kHashChars = 64;
+/// An object's entry without instances or name: instance, count, box, name length.
+constexpr std::size_t kFewestObjectBytes = 4 + 4 + 24 + 4;
 
 void put32(std::string& out, std::uint32_t v)
 {
@@ -145,7 +150,7 @@ std::vector<std::uint8_t> compressZeroRuns(const std::uint8_t* row, std::size_t 
     return out;
 }
 
-std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t offset, std::size_t rowBytes)
+std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t offset, std::size_t rowBytes, std::size_t* end)
 {
     std::vector<std::uint8_t> row;
     row.reserve(rowBytes);
@@ -166,6 +171,8 @@ std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t 
             throw Error("zero-run-length row: a run of " + std::to_string(run) + " zeros does not fit the row");
         row.insert(row.end(), run, 0);
     }
+    if (end)
+        *end = k;
     return row;
 }
 
@@ -191,34 +198,84 @@ void putRows(std::string& out, const VisibilityRows& rows, RowEncoding encoding)
     out += rowData;
 }
 
+/// Fewest encoded bytes a row of `rowBytes` bytes can take: raw rows are stored whole; a
+/// zero-run pair (2 bytes) stands for at most 255 bytes and a literal byte for one, so a byte of
+/// encoding never stands for more than 255 bytes of row.
+std::size_t fewestEncodedBytes(std::size_t rowBytes, std::uint32_t encoding)
+{
+    return encoding == 0 ? rowBytes : (rowBytes + 254) / 255;
+}
+
+/// Reads the offsets, then checks every row's span against the data and the encoding's fewest
+/// bytes before the table is allocated: a file's declared counts never drive memory beyond what
+/// its size (255 bytes of rows per byte at most) and kMaxRowTableBytes allow.
 VisibilityRows readRows(Reader& r, std::uint32_t cells, std::size_t columns, std::uint32_t encoding, const char* what)
 {
     const std::size_t rowBytes = (columns + 7) / 8;
-    std::vector<std::uint64_t> offsets;
     r.need((std::size_t(cells) + 1) * 8, what);
+    std::vector<std::uint64_t> offsets;
+    offsets.reserve(std::size_t(cells) + 1);
     for (std::uint32_t c = 0; c <= cells; ++c)
         offsets.push_back(r.u64(what));
-    const std::string_view rowData = r.take(std::size_t(std::min<std::uint64_t>(offsets.back(), r.bytes.size())), what);
+    if (offsets.front() != 0)
+        throw Error(r.what + ": " + what + " do not start at 0");
+    if (offsets.back() > r.bytes.size() - r.at)
+        throw Error(r.what + ": truncated (" + what + " declare " + std::to_string(offsets.back()) + " bytes of rows, " +
+                    std::to_string(r.bytes.size() - r.at) + " follow)");
+    const std::size_t fewest = fewestEncodedBytes(rowBytes, encoding);
+    for (std::uint32_t c = 0; c < cells; ++c)
+        if (offsets[c] > offsets[c + 1] || offsets[c + 1] - offsets[c] < fewest ||
+            (encoding == 0 && offsets[c + 1] - offsets[c] != rowBytes))
+            throw Error(r.what + ": " + what + " at cell " + std::to_string(c) + " give " +
+                        (offsets[c] > offsets[c + 1] ? std::string("a negative") : std::to_string(offsets[c + 1] - offsets[c])) +
+                        " bytes for a row of " + std::to_string(rowBytes) + (encoding == 0 ? " raw" : " encoded") + " bytes");
+    const std::string_view rowData = r.take(std::size_t(offsets.back()), what);
     VisibilityRows rows(cells, columns);
     for (std::uint32_t c = 0; c < cells; ++c) {
-        if (offsets[c] > offsets[c + 1] || offsets[c + 1] > rowData.size())
-            throw Error(r.what + ": " + what + " decrease or overrun at cell " + std::to_string(c));
         const std::string_view one = rowData.substr(offsets[c], offsets[c + 1] - offsets[c]);
-        std::vector<std::uint8_t> row;
         if (encoding == 0) {
-            if (one.size() != rowBytes)
-                throw Error(r.what + ": raw row " + std::to_string(c) + " has " + std::to_string(one.size()) + " bytes");
-            row.assign(one.begin(), one.end());
-        } else {
-            try {
-                row = decompressZeroRuns(one, 0, rowBytes);
-            } catch (const Error& e) {
-                throw Error(r.what + ": cell " + std::to_string(c) + ": " + e.what());
-            }
+            std::copy(one.begin(), one.end(), rows.row(c));
+            continue;
         }
+        std::vector<std::uint8_t> row;
+        std::size_t end = 0;
+        try {
+            row = decompressZeroRuns(one, 0, rowBytes, &end);
+        } catch (const Error& e) {
+            throw Error(r.what + ": cell " + std::to_string(c) + ": " + e.what());
+        }
+        if (end != one.size())
+            throw Error(r.what + ": cell " + std::to_string(c) + ": the row has bytes after its end");
         std::copy(row.begin(), row.end(), rows.row(c));
     }
     return rows;
+}
+
+/// An object's box is either empty (no triangles: +inf min, -inf max, as Bounds starts) or
+/// finite, ordered and within the exact contract's coordinates.
+bool sameBox(const Bounds& a, const Bounds& b) { return a.min == b.min && a.max == b.max; }
+
+bool sameCells(const std::vector<Bounds>& a, const std::vector<Bounds>& b)
+{
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), sameBox);
+}
+
+bool sameObjects(const std::vector<PvsObject>& a, const std::vector<PvsObject>& b)
+{
+    return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](const PvsObject& x, const PvsObject& y) {
+        return x.name == y.name && x.instance == y.instance && x.instances == y.instances && sameBox(x.bounds, y.bounds);
+    });
+}
+
+void checkObjectBounds(const Bounds& b, const std::string& what)
+{
+    const Bounds empty;
+    if (b.min == empty.min && b.max == empty.max)
+        return;
+    for (int k = 0; k < 3; ++k)
+        if (!std::isfinite(b.min[k]) || !std::isfinite(b.max[k]) || b.min[k] > b.max[k] ||
+            std::abs(b.min[k]) > kMaxCoordinateMetres || std::abs(b.max[k]) > kMaxCoordinateMetres)
+            throw Error(what + ": a box that is not finite, inverted or beyond 1e6 m");
 }
 
 } // namespace
@@ -280,14 +337,22 @@ PvsData decodePvs(std::string_view bytes, const std::string& what)
     r.need(std::size_t(cells) * 24, "cell table");
     for (std::uint32_t c = 0; c < cells; ++c)
         data.cells.push_back(readBounds(r, "cell table"));
+    validateCells(data.cells, what + ": cell");
+    r.need(std::size_t(objects) * kFewestObjectBytes, "object table");
     for (std::uint32_t o = 0; o < objects; ++o) {
+        const std::string key = what + ": object " + std::to_string(o);
         PvsObject object;
         object.instance = r.u32("object instance");
         const std::uint32_t n = r.u32("object instance count");
         r.need(std::size_t(n) * 4, "object instances");
         for (std::uint32_t k = 0; k < n; ++k)
             object.instances.push_back(r.u32("object instances"));
+        if (n > 0 && (object.instances.front() != object.instance ||
+                      std::adjacent_find(object.instances.begin(), object.instances.end(), std::greater_equal<>()) !=
+                          object.instances.end()))
+            throw Error(key + ": its instance list is not sorted from its first instance");
         object.bounds = readBounds(r, "object bounds");
+        checkObjectBounds(object.bounds, key);
         const std::uint32_t length = r.u32("object name length");
         object.name = std::string(r.take(length, "object name"));
         data.objects.push_back(std::move(object));
@@ -449,16 +514,19 @@ std::vector<std::size_t> shardCells(std::size_t cellCount, std::uint32_t shard, 
 
 std::string encodePart(const PvsPart& part)
 {
-    std::string out(kPartMagic, 8);
-    put32(out, kPvsFileVersion);
-    put32(out, part.shard);
-    put32(out, part.shardCount);
-    put32(out, std::uint32_t(part.cellIndices.size()));
+    std::string rest;
+    put32(rest, part.shard);
+    put32(rest, part.shardCount);
+    put32(rest, std::uint32_t(part.cellIndices.size()));
     for (std::uint32_t c : part.cellIndices)
-        put32(out, c);
+        put32(rest, c);
     const std::string body = encodePvs(part.data);
-    put64(out, body.size());
-    return out + body;
+    put64(rest, body.size());
+    rest += body;
+    std::string out(kPartMagic, 8);
+    put32(out, kPartFileVersion);
+    putHash(out, sha256Hex(rest));
+    return out + rest;
 }
 
 PvsPart decodePart(std::string_view bytes, const std::string& what)
@@ -467,13 +535,19 @@ PvsPart decodePart(std::string_view bytes, const std::string& what)
     if (r.take(8, "magic") != std::string_view(kPartMagic, 8))
         throw Error(what + ": not a PVS part file (bad magic)");
     const std::uint32_t version = r.u32("version");
-    if (version != kPvsFileVersion)
-        throw Error(what + ": part version " + std::to_string(version) + ", this build reads " + std::to_string(kPvsFileVersion));
+    if (version != kPartFileVersion)
+        throw Error(what + ": part version " + std::to_string(version) + ", this build reads " +
+                    std::to_string(kPartFileVersion) + "; bake the shard again");
+    // Verified before anything else is read: a part is a file that travels between machines.
+    const std::string declared = r.hash("part SHA-256");
+    if (declared != sha256Hex(bytes.substr(r.at)))
+        throw Error(what + ": damaged (its bytes do not match the SHA-256 it was written with); bake the shard again");
     PvsPart part;
     part.shard = r.u32("shard");
     part.shardCount = r.u32("shard count");
-    if (part.shardCount == 0 || part.shard >= part.shardCount)
-        throw Error(what + ": shard " + std::to_string(part.shard) + "/" + std::to_string(part.shardCount) + " is not valid");
+    if (part.shardCount == 0 || part.shard >= part.shardCount || part.shardCount > kMaxShards)
+        throw Error(what + ": shard " + std::to_string(part.shard) + "/" + std::to_string(part.shardCount) +
+                    " is not valid (0 <= I < N <= " + std::to_string(kMaxShards) + ")");
     const std::uint32_t n = r.u32("cell count");
     r.need(std::size_t(n) * 4, "cell list");
     for (std::uint32_t k = 0; k < n; ++k)
@@ -510,7 +584,7 @@ PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::str
     if (parts.empty())
         throw Error("pvs merge: no part files");
     const PvsPart& first = parts.front();
-    std::vector<int> seen(first.shardCount, -1);
+    std::map<std::uint32_t, std::size_t> seen;   // shard -> part; the count comes from a file, so no table of it
     PvsData out = first.data;
     out.rows = VisibilityRows(first.data.cells.size(), first.data.objects.size());
     if (first.data.hasCellRows())
@@ -528,12 +602,12 @@ PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::str
         if (p.shardCount != first.shardCount)
             throw Error("pvs merge: " + name + " is shard " + std::to_string(p.shard) + "/" + std::to_string(p.shardCount) +
                         ", " + names[0] + " is one of " + std::to_string(first.shardCount));
-        if (p.data.cells.size() != first.data.cells.size() || p.data.objects.size() != first.data.objects.size())
-            throw Error("pvs merge: " + name + " has another cell or object count");
-        if (seen[p.shard] >= 0)
-            throw Error("pvs merge: shard " + std::to_string(p.shard) + " given twice (" + names[std::size_t(seen[p.shard])] +
-                        " and " + name + ")");
-        seen[p.shard] = int(k);
+        if (!sameCells(p.data.cells, first.data.cells) || !sameObjects(p.data.objects, first.data.objects))
+            throw Error("pvs merge: " + name + " has another cell or object table than " + names[0]);
+        if (const auto twice = seen.find(p.shard); twice != seen.end())
+            throw Error("pvs merge: shard " + std::to_string(p.shard) + " given twice (" + names[twice->second] + " and " +
+                        name + ")");
+        seen[p.shard] = k;
         if (p.data.hasCellRows() != first.data.hasCellRows())
             throw Error("pvs merge: " + name + (p.data.hasCellRows() ? " has" : " has no") + " cell-to-cell rows, " + names[0] +
                         (first.data.hasCellRows() ? " has" : " has none"));
@@ -543,10 +617,13 @@ PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::str
                 std::copy(p.data.cellRows.row(c), p.data.cellRows.row(c) + p.data.cellRows.rowBytes(), out.cellRows.row(c));
         }
     }
-    for (std::uint32_t s = 0; s < first.shardCount; ++s)
-        if (seen[s] < 0)
-            throw Error("pvs merge: shard " + std::to_string(s) + "/" + std::to_string(first.shardCount) +
-                        " is missing (bake it with --shard " + std::to_string(s) + "/" + std::to_string(first.shardCount) + ")");
+    if (seen.size() != first.shardCount) {
+        std::uint32_t missing = 0;
+        while (seen.count(missing))
+            ++missing;
+        throw Error("pvs merge: shard " + std::to_string(missing) + "/" + std::to_string(first.shardCount) +
+                    " is missing (bake it with --shard " + std::to_string(missing) + "/" + std::to_string(first.shardCount) + ")");
+    }
     return out;
 }
 

@@ -56,6 +56,12 @@ namespace sightline::pvs {
 
 class FirstHitCaster;
 
+/// The settings' integer ranges (PvsSettings::validate; the project's "pvs" key is checked
+/// against them before narrowing to int).
+inline constexpr int kMaxCoarseShafts = 1 << 20;
+inline constexpr int kMaxFineShafts = 1 << 24;
+inline constexpr int kMaxResidueRays = 1 << 20;
+
 struct PvsSettings {
     int coarseShafts = 16;      ///< sub-shafts per (cell, target) at first (a block: kBlockShafts times more)
     int fineShafts = 512;       ///< sub-shafts per (cell, target) still Unknown after the coarse budget

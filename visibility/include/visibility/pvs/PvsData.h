@@ -23,10 +23,16 @@ struct PvsObject {
     Bounds bounds;
 };
 
+/// The most bytes one table of rows may take (cells x ceil(objects / 8)): 1 GiB, 8.6e9 pairs.
+/// Bakes beyond it are refused before they start, and files declaring more are refused before
+/// anything is allocated.
+inline constexpr std::size_t kMaxRowTableBytes = std::size_t(1) << 30;
+
 /// One bit row per cell over `objectCount` objects.
 class VisibilityRows {
 public:
     VisibilityRows() = default;
+    /// Throws sightline::Error when the table would pass kMaxRowTableBytes.
     VisibilityRows(std::size_t cellCount, std::size_t objectCount);
 
     std::size_t cellCount() const { return cells_; }

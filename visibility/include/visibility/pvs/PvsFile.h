@@ -20,18 +20,25 @@
 namespace sightline::pvs {
 
 inline constexpr std::uint32_t kPvsFileVersion = 2;   ///< 2 adds the optional cell-to-cell rows; 1 is read too
+inline constexpr std::uint32_t kPartFileVersion = 3;  ///< 3 carries the SHA-256 of its own bytes
+inline constexpr std::uint32_t kMaxShards = 1000000;   ///< the most shards a bake may be split into
 
 /// Quake's visibility row compression. `decompress` expands one row of `rowBytes` bytes starting
-/// at `data[offset]` and throws sightline::Error when the data runs out or a run overflows the row.
+/// at `data[offset]` and throws sightline::Error when the data runs out or a run overflows the row;
+/// `end`, when given, receives the offset just past the row's encoding.
 std::vector<std::uint8_t> compressZeroRuns(const std::uint8_t* row, std::size_t rowBytes);
-std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t offset, std::size_t rowBytes);
+std::vector<std::uint8_t> decompressZeroRuns(std::string_view data, std::size_t offset, std::size_t rowBytes,
+                                             std::size_t* end = nullptr);
 
 enum class RowEncoding : std::uint32_t { Raw = 0, ZeroRuns = 1 };
 
 /// The .pvs file's bytes. Deterministic: only the data, no times or paths.
 std::string encodePvs(const PvsData& data, RowEncoding encoding = RowEncoding::ZeroRuns);
 /// Parses a .pvs; `what` names it in errors. Throws sightline::Error on a bad magic, another
-/// version, or any size or offset that does not fit.
+/// version, any size or offset that does not fit, cells that validateCells refuses, object boxes
+/// that are neither empty nor finite and ordered, or a row that does not decode to its size.
+/// Declared counts are checked against the bytes that follow before anything is allocated for
+/// them (at most 255 row bytes per byte of encoded rows, and kMaxRowTableBytes).
 PvsData decodePvs(std::string_view bytes, const std::string& what);
 
 /// DESIGN.md §4's JSON text (sorted keys as listed, one cell or object per line: diffable).
@@ -70,13 +77,16 @@ struct PvsPart {
 /// shards of a level with dense and empty regions cost about the same).
 std::vector<std::size_t> shardCells(std::size_t cellCount, std::uint32_t shard, std::uint32_t shardCount);
 
+/// A part carries the SHA-256 of its own bytes; `decodePart` verifies it before reading anything
+/// else, so a damaged part (a flipped bit, a cut copy) is refused, not merged.
 std::string encodePart(const PvsPart& part);
 PvsPart decodePart(std::string_view bytes, const std::string& what);
 /// The manifest beside a part (JSON): scene and settings hashes, shard, cell count, the part's
-/// SHA-256; read by people and scripts (merge trusts the part's own header).
+/// SHA-256 (of the whole file); merge and --resume check a part against it when it is there.
 std::string partManifest(const PvsPart& part, const std::string& partSha256, const std::string& settingsText);
 
-/// Joins parts into one PVS: all of one scene and settings, shards 0..N-1 of one N, each once.
+/// Joins parts into one PVS: all of one scene and settings, one cell and object table, shards
+/// 0..N-1 of one N, each once.
 /// Throws sightline::Error naming the first part that does not fit (`names` are their files).
 PvsData mergeParts(const std::vector<PvsPart>& parts, const std::vector<std::string>& names);
 
