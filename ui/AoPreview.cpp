@@ -8,12 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#ifdef __linux__
-#include <sys/resource.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-#endif
-
+#include "TexelAtlas.h"
 #include "lighting/ao/AoBinnedCaster.h"
 #include "lighting/ao/AoComputation.h"
 #include "lighting/ao/AoShading.h"
@@ -31,66 +26,6 @@ AoPreviewLevel failed(std::uint64_t generation, std::string error)
     level.generation = generation;
     level.error = std::move(error);
     return level;
-}
-
-/// The surfaces that get texels: the world triangles of the instances asked for (all when none
-/// is named), as occluders of their own for aoTexelPoints (three vertices a triangle), with each
-/// one's world-triangle index.
-struct TexelSurfaces {
-    AoOccluders surfaces;
-    std::vector<std::uint32_t> worldTriangle;
-};
-
-TexelSurfaces texelSurfaces(const WorldTriangles& triangles, const std::vector<std::uint32_t>& instances)
-{
-    std::vector<std::uint8_t> wanted;
-    for (std::uint32_t i : instances) {
-        if (i >= wanted.size())
-            wanted.resize(std::size_t(i) + 1, 0);
-        wanted[i] = 1;
-    }
-    TexelSurfaces out;
-    for (std::size_t t = 0; t < triangles.size(); ++t) {
-        const std::uint32_t instance = triangles.instanceOf[t];
-        if (!instances.empty() && (instance >= wanted.size() || !wanted[instance]))
-            continue;
-        for (std::size_t c = 0; c < 3; ++c) {
-            out.surfaces.indices.push_back(std::uint32_t(out.surfaces.vertices.size()));
-            out.surfaces.vertices.push_back(triangles.vertices[3 * t + c]);
-            out.surfaces.bounds.extend(triangles.vertices[3 * t + c]);
-        }
-        out.worldTriangle.push_back(std::uint32_t(t));
-    }
-    return out;
-}
-
-/// Each corner's uv in the atlas, from its position in its triangle's tile frame (AoTexels.h),
-/// so the mapping does not depend on the corner order of a mirrored instance; -1 for triangles
-/// without texels.
-std::vector<glm::vec2> cornerUvs(const WorldTriangles& triangles, const TexelSurfaces& sampled, const AoTexelLayout& layout)
-{
-    std::vector<glm::vec2> uvs(triangles.vertices.size(), glm::vec2(-1.0f));
-    for (const AoTexelTile& tile : layout.tiles) {
-        if (tile.width == 0 || tile.triangle >= sampled.worldTriangle.size())
-            continue;
-        const std::size_t t = sampled.worldTriangle[tile.triangle];
-        for (std::size_t c = 0; c < 3; ++c) {
-            const glm::vec3 d = triangles.vertices[3 * t + c] - tile.origin;
-            const double s = double(tile.x) + double(glm::dot(d, tile.axisU)) * layout.density;
-            const double r = double(tile.y) + double(glm::dot(d, tile.axisV)) * layout.density;
-            uvs[3 * t + c] = glm::vec2(float(s / layout.width), float(r / layout.height));
-        }
-    }
-    return uvs;
-}
-
-/// The worker yields to the GUI thread and the sampler's worker (issue 18: the editor stays live
-/// while k = 258 completes); Linux gives each thread its own nice value.
-void lowerThisThreadsPriority()
-{
-#ifdef __linux__
-    setpriority(PRIO_PROCESS, pid_t(syscall(SYS_gettid)), 10);
-#endif
 }
 
 } // namespace
@@ -218,29 +153,7 @@ void AoPreview::start(std::uint64_t generation, AoPreviewRequest request)
                 level.height = layout.height;
                 level.texels = points.size();
                 level.density = density;
-                level.map.assign(std::size_t(layout.width) * std::size_t(layout.height), glm::vec3(1.0f));
-                const auto at = [&](int x, int y) -> glm::vec3& { return level.map[std::size_t(y) * std::size_t(layout.width) + std::size_t(x)]; };
-                for (const AoTexelTile& tile : layout.tiles)
-                    for (int t = 0; t < tile.height; ++t)
-                        for (int s = 0; s < tile.width; ++s) {
-                            const glm::vec3 v = colour[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
-                            at(tile.x + s, tile.y + t) = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : glm::vec3(1.0f);
-                        }
-                // The one-texel gutter around each tile takes its nearest texel: filtering at a
-                // triangle's edge would otherwise mix in the gutter's 1 (bright lines along edges).
-                for (const AoTexelTile& tile : layout.tiles) {
-                    if (tile.width == 0)
-                        continue;
-                    for (int t = -1; t <= tile.height; ++t)
-                        for (int s = -1; s <= tile.width; ++s) {
-                            if (t >= 0 && t < tile.height && s >= 0 && s < tile.width)
-                                continue;
-                            const int gx = tile.x + s, gy = tile.y + t;
-                            if (gx < 0 || gy < 0 || gx >= layout.width || gy >= layout.height)
-                                continue;
-                            at(gx, gy) = at(tile.x + std::clamp(s, 0, tile.width - 1), tile.y + std::clamp(t, 0, tile.height - 1));
-                        }
-                }
+                level.map = atlasImage(layout, colour, glm::vec3(1.0f));
                 level.uvs = uvs;   // every level carries them: the first one seen may be any
                 // A level: time since the start; a relighting: its own time.
                 level.ms = relit ? std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begun).count() : ms();

@@ -10,7 +10,9 @@
 #include <glm/geometric.hpp>
 
 #include "EditCommands.h"
+#include "LightObjects.h"
 #include "plugins/SceneFormats.h"
+#include "project/ProjectLights.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
 
@@ -233,6 +235,17 @@ void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std:
     selection_ = {};
     isolated_ = {};
     instanceFlags_.assign(sceneFile_.instances.size(), {});
+    levelBounds_ = sceneFile_.bounds();
+    sceneFileLights_ = nlohmann::json::array();
+    if (!project_.extra.contains("lights") && !project_.scene.empty()) {
+        // Checked by open(); a level without a glTF's lights has none.
+        try {
+            for (const Light& light : sceneFileLights(project_))
+                sceneFileLights_.push_back(lightJson(light));
+        } catch (const Error&) {
+        }
+    }
+    refreshLights();
     const nlohmann::json editor = editorSettings();
     for (std::size_t i = 0; i < instanceFlags_.size(); ++i)
         instanceFlags_[i] = settingsFlags(editor, {ObjectKind::SceneObject, i});
@@ -270,6 +283,7 @@ void EditorDocument::open(const fs::path& file)
     }
     Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_});
     Scene scene = project.scene.empty() ? Scene{} : loadScene(project.resolve(project.scene, "scene"));
+    (void)lightsToUse(project);   // bad lights refuse the file as a whole, naming the key
     // Checks the occluders and moved objects now, so a broken file is refused as a whole; the
     // occluder meshes loaded for the check are kept.
     Scene check = scene;
@@ -316,6 +330,7 @@ ObjectState EditorDocument::state(ObjectRef object) const
     case ObjectKind::Receiver: return project_.receiver;
     case ObjectKind::Occluder: return project_.occluders.at(object.index).transform;
     case ObjectKind::SceneObject: return sceneFile_.instances.at(object.index).transform;
+    case ObjectKind::Light: return lightTransform(lights_.at(object.index), levelBounds_);
     case ObjectKind::None: break;
     }
     throw Error("no object selected");
@@ -351,6 +366,18 @@ void EditorDocument::applyState(ObjectRef object, const ObjectState& state)
         sceneFile_.instances.at(object.index).transform = std::get<glm::mat4>(state);
         invalidate(SceneFileChanged);
         break;
+    case ObjectKind::Light: {
+        nlohmann::json lights = lightsJson();
+        lights.at(object.index) = placedLightJson(lights.at(object.index), lights_.at(object.index).type, std::get<glm::mat4>(state));
+        try {
+            lights_ = parseLights(lights, "lights");
+        } catch (const Error&) {
+            break;   // a place that would break the light (a flattened area light) is not taken
+        }
+        project_.extra["lights"] = std::move(lights);
+        invalidate(LightsChanged);
+        break;
+    }
     case ObjectKind::None: break;
     }
 }
@@ -361,7 +388,54 @@ void EditorDocument::applyProjectKey(const std::string& key, const nlohmann::jso
         project_.extra.erase(key);
     else
         project_.extra[key] = value;
+    if (key == "lights") {
+        refreshLights();
+        if (selection_.kind == ObjectKind::Light && selection_.index >= lights_.size())
+            select({});   // undone or deleted: nothing left to show in the panel or the gizmo
+        invalidate(LightsChanged);
+        return;
+    }
     invalidate(ProjectKeysChanged);
+}
+
+nlohmann::json EditorDocument::lightsJson() const
+{
+    const auto it = project_.extra.find("lights");
+    return it != project_.extra.end() ? *it : sceneFileLights_;
+}
+
+void EditorDocument::refreshLights()
+{
+    try {
+        lights_ = parseLights(lightsJson(), displayName().toStdString());
+    } catch (const Error&) {
+        lights_.clear();   // open() and every edit check first: only a hand-made document gets here
+    }
+}
+
+void EditorDocument::setLightsJson(const nlohmann::json& lights, const QString& text)
+{
+    (void)parseLights(lights, "lights");   // throws, naming the key, before anything changes
+    const auto it = project_.extra.find("lights");
+    undo_.push(new SetProjectKeyCommand(*this, "lights", it != project_.extra.end() ? *it : nlohmann::json(), lights, text));
+}
+
+void EditorDocument::addLight(const nlohmann::json& light)
+{
+    nlohmann::json lights = lightsJson();
+    lights.push_back(light);
+    const std::string name = light.contains("name") && light["name"].is_string() ? light["name"].get<std::string>() : "light";
+    setLightsJson(lights, tr("Add %1").arg(QString::fromStdString(name)));
+    select({ObjectKind::Light, lights_.size() - 1});
+}
+
+void EditorDocument::editLight(std::size_t index, const nlohmann::json& light, const QString& text)
+{
+    nlohmann::json lights = lightsJson();
+    if (index >= lights.size() || lights[index] == light)
+        return;
+    lights[index] = light;
+    setLightsJson(lights, text);
 }
 
 void EditorDocument::addOccluder(const OccluderSpec& spec)
@@ -373,6 +447,14 @@ void EditorDocument::addOccluder(const OccluderSpec& spec)
 
 void EditorDocument::removeSelected()
 {
+    if (selection_.kind == ObjectKind::Light) {
+        nlohmann::json lights = lightsJson();
+        const QString name = objectName(selection_);
+        lights.erase(lights.begin() + std::ptrdiff_t(selection_.index));
+        select({});
+        setLightsJson(lights, tr("Delete %1").arg(name));
+        return;
+    }
     if (selection_.kind != ObjectKind::Occluder)
         return;
     const std::size_t index = selection_.index;
@@ -382,6 +464,16 @@ void EditorDocument::removeSelected()
 
 void EditorDocument::duplicateSelected()
 {
+    if (selection_.kind == ObjectKind::Light) {
+        const Light& light = lights_.at(selection_.index);
+        nlohmann::json copy = lightsJson().at(selection_.index);
+        copy["name"] = sightline::displayName(lights_, selection_.index) + " copy";
+        // Beside the original: half a metre along its transform's first axis.
+        glm::mat4 t = lightTransform(light, levelBounds_);
+        t[3] += 0.5f * glm::vec4(glm::normalize(glm::vec3(t[0])), 0.0f);
+        addLight(placedLightJson(copy, light.type, t));
+        return;
+    }
     if (selection_.kind != ObjectKind::Occluder)
         return;
     OccluderSpec copy = project_.occluders.at(selection_.index);
@@ -434,6 +526,7 @@ ObjectFlags EditorDocument::flags(ObjectRef object) const
     case ObjectKind::SceneObject: return object.index < instanceFlags_.size() ? instanceFlags_[object.index] : ObjectFlags{};
     case ObjectKind::Source:
     case ObjectKind::Receiver: return settingsFlags(editorSettings(), object);
+    case ObjectKind::Light:   // lights are neither hidden nor locked: the lit view shows them all
     case ObjectKind::None: break;
     }
     return {};
@@ -442,7 +535,7 @@ ObjectFlags EditorDocument::flags(ObjectRef object) const
 void EditorDocument::setFlags(ObjectRef object, ObjectFlags after, const QString& text)
 {
     const ObjectFlags before = flags(object);
-    if (object && before != after)
+    if (object && object.kind != ObjectKind::Light && before != after)
         undo_.push(new SetFlagsCommand(*this, object, before, after, text));
 }
 
@@ -531,6 +624,8 @@ QString EditorDocument::objectName(ObjectRef object) const
         const Instance& instance = sceneFile_.instances.at(object.index);
         return instance.name.empty() ? tr("Object %1").arg(object.index) : QString::fromStdString(instance.name);
     }
+    case ObjectKind::Light:
+        return object.index < lights_.size() ? QString::fromStdString(sightline::displayName(lights_, object.index)) : QString();
     case ObjectKind::None: break;
     }
     return {};

@@ -18,6 +18,7 @@
 
 #include "ObjectEdits.h"
 #include "ObjectFlags.h"
+#include "lighting/Light.h"
 #include "project/Project.h"
 
 namespace sightline::ui {
@@ -31,6 +32,7 @@ enum Change : unsigned {
     NamesChanged = 1u << 4,       ///< an occluder renamed: nothing to sample or draw again
     ProjectKeysChanged = 1u << 5, ///< a top-level key ("recorded_path", "pvs" overrides): no geometry
     FlagsChanged = 1u << 6,       ///< hidden, locked or isolated: what is drawn and picked, no ray
+    LightsChanged = 1u << 7,      ///< a light added, removed, moved or edited: the lit view, no ray
 };
 
 class EditorDocument : public QObject {
@@ -88,6 +90,19 @@ public:
     void duplicateSelected();
     /// Renames placed occluder `index` (the level's own objects keep the file's names).
     void renameOccluder(std::size_t index, const std::string& name);
+
+    // ---- lights (the project's "lights"; a level whose glTF places lights and whose project
+    // names none shows the file's lights, written into "lights" at the first edit) ----
+    const std::vector<Light>& lights() const { return lights_; }
+    /// The "lights" array as it would be saved.
+    nlohmann::json lightsJson() const;
+    /// The level's box (the scene file's), where a sun is drawn (LightObjects.h).
+    const Bounds& levelBounds() const { return levelBounds_; }
+    /// Adds a light (one entry of "lights") and selects it. Throws sightline::Error, naming the
+    /// key, for a light that is not valid; the document is unchanged then.
+    void addLight(const nlohmann::json& light);
+    /// Replaces light `index` with `light`, one undoable step; throws like addLight.
+    void editLight(std::size_t index, const nlohmann::json& light, const QString& text);
 
     // ---- hide, isolate, lock (ObjectFlags.h says what each means) ----
     ObjectFlags flags(ObjectRef object) const;
@@ -147,6 +162,13 @@ private:
     bool allowOutsidePaths_ = false;
     ObjectRef isolated_;
     std::vector<ObjectFlags> instanceFlags_;   ///< of the level's instances, read from the settings
+    std::vector<Light> lights_;                ///< parsed from lightsJson(), validated
+    nlohmann::json sceneFileLights_;           ///< the glTF's own lights, as "lights" entries
+    Bounds levelBounds_;
+
+    /// Pushes one undoable change of the whole "lights" array (validated first).
+    void setLightsJson(const nlohmann::json& lights, const QString& text);
+    void refreshLights();
 };
 
 /// Patches across a level: a source and a receiver of `side` metres, 1.5 m above the floor,

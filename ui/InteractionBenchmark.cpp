@@ -14,6 +14,7 @@
 #include "MainWindow.h"
 #include "PathPlayback.h"
 #include "Viewport.h"
+#include "ViewportController.h"
 #include "project/ProjectMotion.h"
 #include "visibility/Error.h"
 
@@ -205,6 +206,110 @@ InteractionFigures runInteractionBenchmark(MainWindow& window, const Interaction
     figures.rays = viewport.visibility().rays;
     figures.raysDrawn = viewport.raysDrawn();
     figures.backend = viewport.backendName();
+    return figures;
+}
+
+LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height)
+{
+    EditorDocument& document = window.document();
+    if (document.lights().empty())
+        throw Error(document.displayName().toStdString() + " has no lights to drag: add one (Create > Add Point Light) or a \"lights\" key");
+    window.viewportContainer()->setFixedSize(width, height);
+    window.show();
+    Viewport& viewport = window.viewport();
+    QElapsedTimer clock;
+    clock.start();
+    while (!viewport.isExposed() && clock.elapsed() < 10'000)
+        QApplication::processEvents(QEventLoop::AllEvents, 50);
+
+    LitFigures figures;
+    figures.lights = document.lights().size();
+    figures.dragged = displayName(document.lights(), 0);
+    constexpr int kExactWithinMs = 300'000;
+    clock.restart();
+    viewport.setLitView(true);
+    runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+    if (viewport.litExact())
+        figures.firstExactMs = double(clock.nsecsElapsed()) * 1e-6;
+    figures.texels = viewport.litTexels();
+
+    // The camera orbits, one step a frame drawn, the lit view shown exact all the while.
+    {
+        ViewportController& controller = window.controller();
+        const Camera camera = controller.camera();
+        std::vector<double> drawnMs;
+        QEventLoop orbitLoop;
+        QElapsedTimer frameClock;
+        const auto swapped = QObject::connect(&viewport, &QOpenGLWindow::frameSwapped, &viewport, [&] {
+            drawnMs.push_back(double(frameClock.nsecsElapsed()) * 1e-6);
+            frameClock.restart();
+            if (int(drawnMs.size()) > frames) {
+                orbitLoop.quit();
+                return;
+            }
+            Camera next = controller.camera();
+            orbit(next, 6.0, 0.0);
+            controller.setCamera(next);
+            viewport.update();
+        });
+        frameClock.start();
+        viewport.update();
+        QTimer::singleShot(std::min(frames, 100'000) * 2'000, &orbitLoop, &QEventLoop::quit);
+        orbitLoop.exec();
+        QObject::disconnect(swapped);
+        controller.setCamera(camera);
+        if (!drawnMs.empty())
+            drawnMs.erase(drawnMs.begin());   // from the request, not a frame interval
+        figures.orbitFrames = int(drawnMs.size());
+        const double median = percentile(drawnMs, 0.5);
+        figures.orbitHz = median > 0.0 ? 1000.0 / median : 0.0;
+        figures.orbitP90FrameMs = percentile(drawnMs, 0.9);
+    }
+
+    // Each lit frame shown moves the light on: 1 m across and 0.5 m along, a Lissajous figure.
+    const ObjectRef light{ObjectKind::Light, 0};
+    const ObjectState start = document.state(light);
+    int step = 0;
+    std::vector<double> frameMs;
+    QEventLoop loop;
+    QElapsedTimer interval;
+    const auto moveOn = [&] {
+        const double t = 2.0 * std::numbers::pi * double(step) / double(std::max(frames, 1));
+        document.applyState(light, translated(start, {0.5 * std::sin(t), 0.0, 0.25 * std::sin(2.0 * t)}));
+        ++step;
+    };
+    const auto arrived = QObject::connect(&viewport, &Viewport::litUpdated, &viewport, [&](const QString&, bool, const QString& error) {
+        if (!error.isEmpty()) {
+            loop.quit();
+            return;
+        }
+        if (step > 0)
+            frameMs.push_back(double(interval.nsecsElapsed()) * 1e-6);
+        interval.restart();
+        if (int(frameMs.size()) >= frames) {
+            loop.quit();
+            return;
+        }
+        moveOn();
+    });
+    interval.start();
+    moveOn();
+    QTimer::singleShot(std::min(frames, 100'000) * 20'000, &loop, &QEventLoop::quit);
+    loop.exec();
+    QObject::disconnect(arrived);
+    figures.frames = int(frameMs.size());
+    figures.medianFrameMs = percentile(frameMs, 0.5);
+    figures.p90FrameMs = percentile(frameMs, 0.9);
+    figures.medianHz = figures.medianFrameMs > 0.0 ? 1000.0 / figures.medianFrameMs : 0.0;
+
+    // Let go where it started: the view refines to the exact answer.
+    clock.restart();
+    document.applyState(light, start);
+    runUntil([&] { return !viewport.litExact(); }, 2'000);   // the move's first frame is not exact
+    runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+    if (viewport.litExact())
+        figures.exactAgainMs = double(clock.nsecsElapsed()) * 1e-6;
+    viewport.setLitView(false);
     return figures;
 }
 

@@ -61,6 +61,25 @@ struct InteractionFigures {
     double aoDoneMs = 0.0;
 };
 
+/// The lit view measured as a designer uses it (View > Lit View): turned on (its first exact frame),
+/// the camera orbited around the lit level, the project's first light dragged along a scripted path (lit frames shown a second while it
+/// moves: each refreshes the lights the budget allows, the moved one first), then let go (how soon
+/// the view is exact again).
+struct LitFigures {
+    std::size_t lights = 0, texels = 0;
+    std::string dragged;          ///< the light's name
+    double firstExactMs = 0.0;    ///< lit view on -> its first exact frame shown (0: not within 5 min)
+    /// The camera orbiting the exact lit view (the texels' light does not depend on the camera, so
+    /// every frame drawn is exact): frames drawn a second, median and 90th percentile frame.
+    int orbitFrames = 0;
+    double orbitHz = 0.0, orbitP90FrameMs = 0.0;
+    int frames = 0;               ///< lit frames shown while dragging
+    double medianHz = 0.0, medianFrameMs = 0.0, p90FrameMs = 0.0;
+    double exactAgainMs = 0.0;    ///< let go -> an exact frame shown (0: not within 5 min)
+};
+/// Throws sightline::Error when the project has no light to drag.
+LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height);
+
 /// Frame `frame` of `frames` of the scripted drag: the receiver slides within its own plane
 /// (so a valid pair stays valid), a Lissajous figure of 30% of its width and 20% of its height.
 Patch scriptedReceiver(const Patch& start, int frame, int frames);

@@ -1,5 +1,7 @@
 #include "MainWindow.h"
 
+#include "LightObjects.h"
+
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
@@ -398,6 +400,27 @@ void MainWindow::createActions()
         }
     });
 
+    create->addSeparator();
+    // Lights at the orbit target, half a metre up (in a room the target is usually on or over
+    // the floor), selected so that the gizmo and the properties take them at once.
+    auto addLight = [this](LightType type, const QString& kind) {
+        const glm::dvec3 at = controller_->camera().target + glm::dvec3(0.0, 0.5, 0.0);
+        const std::string name = kind.toStdString() + " " + std::to_string(document_.lights().size() + 1);
+        try {
+            document_.addLight(newLightJson(type, at, name));
+        } catch (const std::exception& e) {
+            QMessageBox::warning(this, tr("Add Light"), QString::fromUtf8(e.what()));
+        }
+    };
+    action(create, tr("Add Point &Light"), QKeySequence(Qt::CTRL | Qt::Key_3), [=] { addLight(LightType::Point, tr("Point light")); })
+        ->setObjectName("addPointLight");
+    action(create, tr("Add Sp&ot Light"), QKeySequence(Qt::CTRL | Qt::Key_4), [=] { addLight(LightType::Spot, tr("Spot light")); })
+        ->setObjectName("addSpotLight");
+    action(create, tr("Add &Area Light"), QKeySequence(Qt::CTRL | Qt::Key_5), [=] { addLight(LightType::Area, tr("Area light")); })
+        ->setObjectName("addAreaLight");
+    action(create, tr("Add S&un"), QKeySequence(Qt::CTRL | Qt::Key_6), [=] { addLight(LightType::Directional, tr("Sun")); })
+        ->setObjectName("addSun");
+
     QMenu* transform = menuBar()->addMenu(tr("&Transform"));
     auto* modes = new QActionGroup(this);
     const std::pair<QString, GizmoMode> modeList[] = {{tr("&Move"), GizmoMode::Move}, {tr("&Rotate"), GizmoMode::Rotate}, {tr("&Scale"), GizmoMode::Scale}};
@@ -515,6 +538,20 @@ void MainWindow::createActions()
     });
     ao->setCheckable(true);
     ao->setObjectName("ambientOcclusion");
+    // The lit view: the project's lights on the level's light-map texels, exact once converged.
+    QAction* lit = action(view, tr("&Lit View (Lights)"), QKeySequence(Qt::Key_I), [this](bool on) {
+        viewport_->setLitView(on);
+        if (!on)
+            statusBar()->showMessage(tr("Lit view off"), 3000);
+    });
+    lit->setCheckable(true);
+    lit->setObjectName("litView");
+    connect(viewport_, &Viewport::litUpdated, this, [this](const QString& status, bool exact, const QString& error) {
+        if (!error.isEmpty())
+            statusBar()->showMessage(tr("Lit view failed: %1").arg(error), 10000);
+        else
+            statusBar()->showMessage(status, exact ? 8000 : 0);
+    });
     // AO of chosen objects: the selected object only, at finer texels, the level still occluding.
     QAction* aoSelection = action(view, tr("AO of Selected &Object Only"), QKeySequence(Qt::ALT | Qt::Key_O), [this, ao](bool on) {
         viewport_->setAoOfSelection(on);
@@ -701,6 +738,7 @@ void MainWindow::createActions()
                                     "Wireframe: Z; rays: V; blocked rays: B; add a box: Ctrl+B\n"
                                     "Hide / show the selection: H; isolate it: Shift+H; show all: Ctrl+Shift+H; lock it: Ctrl+L\n"
                                     "Place source / receiver on a surface: Ctrl+1 / Ctrl+2, then click\n"
+                                    "Add a point / spot / area light / sun: Ctrl+3 / Ctrl+4 / Ctrl+5 / Ctrl+6; lit view: I\n"
                                     "Record video (camera and edits) / stop: F9; play the recorded path: Shift+F9"));
     });
 }

@@ -14,9 +14,10 @@
 
 namespace sightline::ui {
 
-enum class ObjectKind { None, Source, Receiver, Occluder, SceneObject };
+enum class ObjectKind { None, Source, Receiver, Occluder, SceneObject, Light };
 
-/// Which object: a patch, occluder `index` of the project, or instance `index` of the scene file.
+/// Which object: a patch, occluder `index` of the project, instance `index` of the scene file, or
+/// light `index` of the project's "lights" (LightObjects.h).
 struct ObjectRef {
     ObjectKind kind = ObjectKind::None;
     std::size_t index = 0;

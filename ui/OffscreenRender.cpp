@@ -1,6 +1,7 @@
 #include "OffscreenRender.h"
 
 #include "EditorDocument.h"
+#include "LitPreview.h"
 #include "RayEnds.h"
 #include "visibility/Error.h"
 
@@ -24,6 +25,12 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         ViewportRenderer renderer(gl);
         renderer.setSceneFile(document.sceneFile());
         renderer.setOccluders(document.occluderScene(), document.occluderOfInstance());
+        if (style.litView) {   // the exact lit view, as the editor shows it once converged
+            const LitPreviewFrame lit = exactLitFrame(std::make_shared<const Scene>(document.scene()), document.lights());
+            if (!lit.error.empty())
+                throw Error("lit view: " + lit.error);
+            renderer.setAmbientOcclusion(lit.uvs, lit.width, lit.height, lit.map);
+        }
         LiveVisibility visibility;
         visibility.setScene(document.scene());
         const Project& project = document.project();
@@ -55,6 +62,8 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         frame.receiver = project.receiver;
         frame.pairValid = result.visibility.valid;
         frame.selection = document.selection();   // the image shows what the editor shows
+        frame.lights = document.lights();
+        frame.sunLevel = document.levelBounds();
         frame.style = style;
         renderer.render(frame);
         result.raysDrawn = renderer.raysDrawn();

@@ -63,7 +63,7 @@ OutlinePanel::OutlinePanel(EditorDocument& document, QWidget* parent) : QWidget(
     tree_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
     connect(search_, &QLineEdit::textChanged, this, &OutlinePanel::setFilter);
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
-        if (changes & (OccludersChanged | DocumentReset | NamesChanged))
+        if (changes & (OccludersChanged | DocumentReset | NamesChanged | LightsChanged))
             rebuild();
         else if (changes & FlagsChanged)
             refreshFlags();
@@ -136,7 +136,8 @@ void OutlinePanel::rebuild()
             auto* item = new QTreeWidgetItem(parent, {shown[i]});
             item->setData(0, kKindRole, int(kind));
             item->setData(0, kIndexRole, qulonglong(i));
-            checkable(item);
+            if (kind != ObjectKind::Light)   // lights are neither hidden nor locked
+                checkable(item);
             if (kind == ObjectKind::Occluder) {
                 item->setText(0, names[i]);   // edited as the name itself; numbered in the tooltip
                 item->setFlags(item->flags() | Qt::ItemIsEditable);
@@ -155,6 +156,8 @@ void OutlinePanel::rebuild()
     }
     occluders_ = group(tr("Occluders (%1)").arg(document_.project().occluders.size()));
     addAll(occluders_, ObjectKind::Occluder, document_.project().occluders.size());
+    lights_ = group(tr("Lights (%1)").arg(document_.lights().size()));
+    addAll(lights_, ObjectKind::Light, document_.lights().size());
     const std::size_t objects = document_.sceneFile().instances.size();
     sceneFile_ = group(tr("Scene (%1 objects)").arg(objects));
     sceneFile_->setExpanded(objects <= 200);
@@ -212,7 +215,7 @@ void OutlinePanel::setContextActions(const QList<QAction*>& actions)
 void OutlinePanel::setFilter(const QString& text)
 {
     const QString needle = text.trimmed();
-    for (QTreeWidgetItem* group : {patches_, occluders_, sceneFile_}) {
+    for (QTreeWidgetItem* group : {patches_, occluders_, lights_, sceneFile_}) {
         if (!group)
             continue;
         int shown = 0;
@@ -231,7 +234,10 @@ void OutlinePanel::setFilter(const QString& text)
 
 QTreeWidgetItem* OutlinePanel::itemFor(ObjectRef object) const
 {
-    QTreeWidgetItem* parent = object.isPatch() ? patches_ : object.kind == ObjectKind::Occluder ? occluders_ : sceneFile_;
+    QTreeWidgetItem* parent = object.isPatch()                       ? patches_
+                              : object.kind == ObjectKind::Occluder ? occluders_
+                              : object.kind == ObjectKind::Light    ? lights_
+                                                                    : sceneFile_;
     const int row = object.kind == ObjectKind::Receiver ? 1 : object.isPatch() ? 0 : int(object.index);
     return parent && row < parent->childCount() ? parent->child(row) : nullptr;
 }

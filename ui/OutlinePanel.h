@@ -51,6 +51,7 @@ private:
     QTreeWidget* tree_ = nullptr;
     QTreeWidgetItem* patches_ = nullptr;
     QTreeWidgetItem* occluders_ = nullptr;
+    QTreeWidgetItem* lights_ = nullptr;
     QTreeWidgetItem* sceneFile_ = nullptr;
     bool updating_ = false;
 };

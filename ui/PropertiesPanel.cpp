@@ -1,16 +1,24 @@
 #include "PropertiesPanel.h"
 
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGroupBox>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QSpinBox>
 #include <QVBoxLayout>
 
+#include <cmath>
+#include <numbers>
+
 #include "EditorDocument.h"
+#include "LightObjects.h"
 #include "PatchPresets.h"
+#include "project/ProjectLights.h"
+#include "visibility/Error.h"
 
 namespace sightline::ui {
 
@@ -64,6 +72,63 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     pairError_->setStyleSheet("color: #e05050");
     patchForm->addRow(pairError_);
     layout->addWidget(patchBox_);
+
+    lightBox_ = new QGroupBox(tr("Light"), this);
+    lightForm_ = new QFormLayout(lightBox_);
+    lightName_ = new QLineEdit(lightBox_);
+    lightName_->setObjectName("lightName");
+    connect(lightName_, &QLineEdit::editingFinished, this, &PropertiesPanel::commitLight);
+    lightForm_->addRow(tr("Name"), lightName_);
+    colour_ = addVec3(lightForm_, tr("Colour"), 0.05, "");
+    for (QDoubleSpinBox* field : colour_) {
+        field->setRange(0.0, 1000.0);
+        disconnect(field, &QDoubleSpinBox::editingFinished, this, &PropertiesPanel::commit);
+        connect(field, &QDoubleSpinBox::editingFinished, this, &PropertiesPanel::commitLight);
+    }
+    auto spin = [this](double lo, double hi, double step, const QString& suffix, const char* name) {
+        auto* box = new QDoubleSpinBox(lightBox_);
+        box->setObjectName(name);
+        box->setRange(lo, hi);
+        box->setDecimals(3);
+        box->setSingleStep(step);
+        box->setSuffix(suffix);
+        box->setKeyboardTracking(false);
+        connect(box, &QDoubleSpinBox::editingFinished, this, &PropertiesPanel::commitLight);
+        return box;
+    };
+    intensity_ = spin(0.0, 1e7, 1.0, "", "lightIntensity");
+    intensityLabel_ = new QLabel(tr("Intensity"), lightBox_);
+    lightForm_->addRow(intensityLabel_, intensity_);
+    range_ = spin(0.0, 1e5, 0.5, " m", "lightRange");
+    range_->setSpecialValueText(tr("none"));
+    range_->setToolTip(tr("The distance where the light fades to nothing (glTF's range); none: inverse square only"));
+    lightForm_->addRow(tr("Range"), range_);
+    inner_ = spin(0.0, 90.0, 1.0, QString::fromUtf8("°"), "lightInner");
+    outer_ = spin(0.0, 90.0, 1.0, QString::fromUtf8("°"), "lightOuter");
+    lightForm_->addRow(tr("Inner cone"), inner_);
+    lightForm_->addRow(tr("Outer cone"), outer_);
+    auto* lightSamples = new QWidget(lightBox_);
+    auto* lightSamplesRow = new QHBoxLayout(lightSamples);
+    lightSamplesRow->setContentsMargins(0, 0, 0, 0);
+    lightNa_ = new QSpinBox(lightSamples);
+    lightNb_ = new QSpinBox(lightSamples);
+    for (QSpinBox* box : {lightNa_, lightNb_}) {
+        box->setRange(1, 1024);
+        box->setKeyboardTracking(false);
+        lightSamplesRow->addWidget(box);
+        connect(box, &QSpinBox::editingFinished, this, &PropertiesPanel::commitLight);
+    }
+    lightSamples->setToolTip(tr("Point lights the area light is sampled into (its soft shadows' steps)"));
+    lightForm_->addRow(tr("Samples"), lightSamples);
+    twoSided_ = new QCheckBox(tr("Emits on both sides"), lightBox_);
+    connect(twoSided_, &QCheckBox::toggled, this, &PropertiesPanel::commitLight);
+    lightForm_->addRow(twoSided_);
+    lightError_ = new QLabel(lightBox_);
+    lightError_->setWordWrap(true);
+    lightError_->setStyleSheet("color: #e05050");
+    lightError_->setVisible(false);
+    lightForm_->addRow(lightError_);
+    layout->addWidget(lightBox_);
 
     transformBox_ = new QGroupBox(tr("Transform"), this);
     auto* transformForm = new QFormLayout(transformBox_);
@@ -126,7 +191,9 @@ void PropertiesPanel::refresh()
     patchBox_->setEnabled(!locked);
     transformBox_->setEnabled(!locked);
     patchBox_->setVisible(selection.isPatch());
-    transformBox_->setVisible(selection.kind == ObjectKind::Occluder || selection.kind == ObjectKind::SceneObject);
+    lightBox_->setVisible(selection.kind == ObjectKind::Light);
+    transformBox_->setVisible(selection.kind == ObjectKind::Occluder || selection.kind == ObjectKind::SceneObject ||
+                              selection.kind == ObjectKind::Light);
     auto set = [](const Vec3Fields& fields, const glm::dvec3& value) {
         for (int i = 0; i < 3; ++i)
             fields[std::size_t(i)]->setValue(value[i]);
@@ -148,8 +215,101 @@ void PropertiesPanel::refresh()
         set(position_, parts.position);
         set(rotation_, parts.rotationDegrees);
         set(scale_, parts.scale);
+        // A light shows the rows that mean something for its type: a point light has no turn,
+        // only an area light a size, and a sun no place (it is drawn above the level).
+        const LightType type = selection.kind == ObjectKind::Light && selection.index < document_.lights().size()
+                                   ? document_.lights()[selection.index].type
+                                   : LightType::Area;
+        const bool light = selection.kind == ObjectKind::Light;
+        const auto showRow = [](const Vec3Fields& fields, bool shown) {
+            QWidget* row = fields[0]->parentWidget();
+            row->setVisible(shown);
+            if (auto* form = qobject_cast<QFormLayout*>(row->parentWidget()->layout()))
+                if (QWidget* label = form->labelForField(row))
+                    label->setVisible(shown);
+        };
+        showRow(position_, !light || type != LightType::Directional);
+        showRow(rotation_, !light || type != LightType::Point);
+        showRow(scale_, !light || type == LightType::Area);
+        if (light)
+            refreshLight();
     }
     refreshing_ = false;
+}
+
+void PropertiesPanel::refreshLight()
+{
+    const ObjectRef selection = document_.selection();
+    if (selection.index >= document_.lights().size())
+        return;
+    const Light& light = document_.lights()[selection.index];
+    const bool area = light.type == LightType::Area, spot = light.type == LightType::Spot;
+    const bool punctual = light.type == LightType::Point || spot;
+    lightName_->setText(QString::fromStdString(light.name));
+    for (int i = 0; i < 3; ++i)
+        colour_[std::size_t(i)]->setValue(light.colour[i]);
+    intensityLabel_->setText(area ? tr("Radiance") : tr("Intensity"));
+    intensity_->setSuffix(area ? tr(" W/m²/sr") : light.type == LightType::Directional ? tr(" W/m²") : tr(" W/sr"));
+    intensity_->setValue(area ? light.radiance : light.intensity);
+    range_->setValue(light.range);
+    inner_->setValue(light.innerAngle * 180.0 / std::numbers::pi);
+    outer_->setValue(light.outerAngle * 180.0 / std::numbers::pi);
+    lightNa_->setValue(light.area.na);
+    lightNb_->setValue(light.area.nb);
+    twoSided_->setChecked(light.twoSided);
+    for (QWidget* w : std::initializer_list<QWidget*>{range_, lightForm_->labelForField(range_)})
+        w->setVisible(punctual);
+    for (QWidget* w : std::initializer_list<QWidget*>{inner_, outer_, lightForm_->labelForField(inner_), lightForm_->labelForField(outer_)})
+        w->setVisible(spot);
+    for (QWidget* w : std::initializer_list<QWidget*>{lightNa_->parentWidget(), lightForm_->labelForField(lightNa_->parentWidget()), twoSided_})
+        w->setVisible(area);
+    lightError_->setVisible(false);
+}
+
+void PropertiesPanel::commitLight()
+{
+    const ObjectRef selection = document_.selection();
+    if (refreshing_ || selection.kind != ObjectKind::Light || selection.index >= document_.lights().size())
+        return;
+    const Light& light = document_.lights()[selection.index];
+    nlohmann::json entry = document_.lightsJson().at(selection.index);
+    const std::string name = lightName_->text().trimmed().toStdString();
+    if (name.empty())
+        entry.erase("name");
+    else
+        entry["name"] = name;
+    // Fields the user did not touch keep their exact values (the boxes round to 3 decimals).
+    auto kept = [](double field, double old) { return std::abs(field - old) <= 5e-4 ? old : field; };
+    entry["colour"] = {kept(colour_[0]->value(), light.colour.r), kept(colour_[1]->value(), light.colour.g),
+                       kept(colour_[2]->value(), light.colour.b)};
+    if (light.type == LightType::Area) {
+        entry["radiance"] = kept(intensity_->value(), light.radiance);
+        entry["samples"] = {lightNa_->value(), lightNb_->value()};
+        if (twoSided_->isChecked())
+            entry["two_sided"] = true;
+        else
+            entry.erase("two_sided");
+    } else {
+        entry["intensity"] = kept(intensity_->value(), light.intensity);
+    }
+    if (light.type == LightType::Point || light.type == LightType::Spot) {
+        if (range_->value() > 0.0)
+            entry["range"] = kept(range_->value(), light.range);
+        else
+            entry.erase("range");
+    }
+    if (light.type == LightType::Spot) {
+        const double toRadians = std::numbers::pi / 180.0;
+        entry["inner_angle"] = kept(inner_->value() * toRadians, light.innerAngle);
+        entry["outer_angle"] = kept(outer_->value() * toRadians, light.outerAngle);
+    }
+    try {
+        document_.editLight(selection.index, entry, tr("Edit %1").arg(document_.objectName(selection)));
+        lightError_->setVisible(false);
+    } catch (const Error& e) {
+        lightError_->setText(QString::fromStdString(e.what()));
+        lightError_->setVisible(true);
+    }
 }
 
 void PropertiesPanel::commit()
@@ -188,6 +348,18 @@ void PropertiesPanel::commit()
         if (same(parts.position, old.position) && same(parts.rotationDegrees, old.rotationDegrees) && same(parts.scale, old.scale))
             return;
         after = compose(parts);
+        if (selection.kind == ObjectKind::Light) {
+            nlohmann::json lights = document_.lightsJson();
+            lights.at(selection.index) =
+                placedLightJson(lights.at(selection.index), document_.lights().at(selection.index).type, std::get<glm::mat4>(after));
+            try {
+                (void)parseLights(lights, "lights");
+            } catch (const Error& e) {
+                lightError_->setText(QString::fromStdString(e.what()));
+                lightError_->setVisible(true);
+                return;
+            }
+        }
     }
     document_.editState(selection, before, after, tr("Edit %1").arg(document_.objectName(selection)));
 }

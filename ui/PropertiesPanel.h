@@ -1,7 +1,10 @@
 #pragma once
 // Numeric editing of the selected object: a patch's size preset (PatchPresets.h), centre, edge
-// vectors and sample grid, or an object's position, rotation (degrees) and scale. Each finished
-// field, and each preset chosen, is one undo command. A locked object's fields are greyed.
+// vectors and sample grid, or an object's position, rotation (degrees) and scale; a light's name,
+// colour, intensity (radiance for an area light), range, spot angles, samples and sides besides
+// its transform (LightObjects.h). Each finished field, and each preset chosen, is one undo
+// command; a light's field that would make it invalid is refused with the reason shown. A locked
+// object's fields are greyed.
 
 #include <array>
 
@@ -11,7 +14,9 @@ class QComboBox;
 class QDoubleSpinBox;
 class QFormLayout;
 class QGroupBox;
+class QCheckBox;
 class QLabel;
+class QLineEdit;
 class QSpinBox;
 
 namespace sightline::ui {
@@ -36,7 +41,9 @@ private:
     using Vec3Fields = std::array<QDoubleSpinBox*, 3>;
     Vec3Fields addVec3(QFormLayout* form, const QString& label, double step, const QString& suffix);
     void refresh();
+    void refreshLight();
     void commit();
+    void commitLight();
 
     EditorDocument& document_;
     QLabel* title_ = nullptr;
@@ -48,6 +55,19 @@ private:
     QSpinBox* nb_ = nullptr;
     Vec3Fields position_{}, rotation_{}, scale_{};
     QLabel* pairError_ = nullptr;
+    QGroupBox* lightBox_ = nullptr;
+    QLineEdit* lightName_ = nullptr;
+    Vec3Fields colour_{};
+    QDoubleSpinBox* intensity_ = nullptr;
+    QLabel* intensityLabel_ = nullptr;
+    QDoubleSpinBox* range_ = nullptr;
+    QDoubleSpinBox* inner_ = nullptr;
+    QDoubleSpinBox* outer_ = nullptr;
+    QSpinBox* lightNa_ = nullptr;
+    QSpinBox* lightNb_ = nullptr;
+    QCheckBox* twoSided_ = nullptr;
+    QLabel* lightError_ = nullptr;
+    QFormLayout* lightForm_ = nullptr;
     bool refreshing_ = false;
     int width_ = 0;   // the widest content's width, measured once with every group shown
 };

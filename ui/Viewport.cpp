@@ -57,6 +57,14 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             update();
             return;
         }
+        if (changes == LightsChanged) {
+            // The markers; the lights change no ray between the patches. The lit view refreshes
+            // the lights that changed, by priority (LitPreview.h).
+            if (style_.litView && lit_ && !litStale_)
+                lit_->setLights(document_.lights());
+            update();
+            return;
+        }
         if (changes == ProjectKeysChanged) {
             // Overrides and the distance cut-off are shown anew over the same bake; other PVS
             // settings (cells, sample budgets, the mode) need a new one.
@@ -73,6 +81,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             update();
             return;
         }
+        if (changes & (SceneFileChanged | OccludersChanged | DocumentReset))
+            litStale_ = style_.litView;   // new shadows: the lit view starts again
         if (changes & (SceneFileChanged | OccludersChanged | DocumentReset)) {
             // Placed occluders darken the level around them and get AO of their own.
             aoStale_ = style_.ambientOcclusion;
@@ -145,6 +155,7 @@ Viewport::~Viewport()
 {
     pvs_.reset();      // joins, as the ones below
     ao_.reset();       // joins, as the sampler below
+    lit_.reset();
     worker_.reset();   // joins: no answer arrives for a viewport being destroyed
     if (levelPrepared_.valid())
         levelPrepared_.wait();   // its posted update() is dropped with this object
@@ -320,10 +331,43 @@ void Viewport::paintGL()
         aoInstances_ = aoOfSelection_ ? selectedInstances() : std::vector<std::uint32_t>{};
         ao_->start(++aoGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()), .instances = aoInstances_});
     }
+    if (litStale_) {
+        litStale_ = false;
+        litExact_ = false;
+        if (!lit_)
+            lit_ = std::make_unique<LitPreview>([this](LitPreviewFrame frame) {
+                QMetaObject::invokeMethod(
+                    this, [this, f = std::move(frame)]() mutable {
+                        if (f.generation != litGeneration_)
+                            return;   // for a level since replaced
+                        litArrived_ = std::move(f);
+                        update();
+                    },
+                    Qt::QueuedConnection);
+            });
+        lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()), .lights = document_.lights()});
+    }
+    if (litArrived_) {
+        LitPreviewFrame f = std::move(*litArrived_);
+        litArrived_.reset();
+        if (f.error.empty()) {
+            renderer_->setAmbientOcclusion(f.uvs, f.width, f.height, f.map);
+            litExact_ = f.exact;
+            litTexels_ = f.texels;
+            ++litFrames_;
+        }
+        const QString status = f.lights == 0 ? tr("Lit view: no lights yet (Create > Add Point Light, Ctrl+3)")
+                               : f.exact    ? tr("Lit view: %1 lights, exact (%2 texels, %3 s)").arg(f.lights).arg(f.texels).arg(f.ms / 1000.0, 0, 'f', 1)
+                                            : tr("Lit view: %1 lights, %2 stale, refining... (%3 refreshed in %4 ms)")
+                                                  .arg(f.lights).arg(f.stale).arg(f.refreshed).arg(f.frameMs, 0, 'f', 0);
+        emit litUpdated(status, f.exact, QString::fromStdString(f.error));
+    }
     if (aoArrived_) {
         AoPreviewLevel level = std::move(*aoArrived_);
         aoArrived_.reset();
-        if (level.error.empty()) {
+        if (level.error.empty() && style_.litView) {
+            aoShownK_ = 0;   // the lit view holds the map; AO is computed again when it ends
+        } else if (level.error.empty()) {
             renderer_->setAmbientOcclusion(level.uvs, level.width, level.height, level.map);
             aoShownK_ = level.k;
         }
@@ -393,6 +437,8 @@ void Viewport::paintGL()
     frame.cutHandle = controller_.cutHandle();
     frame.cutHandleHovered = controller_.cutHandleHovered() || controller_.isDraggingCut();
     frame.levelBounds = controller_.levelBounds();
+    frame.lights = document_.lights();
+    frame.sunLevel = document_.levelBounds();
     frame.style = style_;
     if (style_.pvsDebugger)
         for (const pvs::Gap& gap : pvsGaps_)
@@ -429,6 +475,29 @@ void Viewport::setAmbientOcclusion(bool on)
         // shown again) if the environment changes meanwhile.
     } else if (aoShownK_ < 258) {
         aoStale_ = true;   // never computed, or stopped part way: again from the start
+    }
+    update();
+}
+
+void Viewport::setLitView(bool on)
+{
+    if (on == style_.litView)
+        return;
+    style_.litView = on;
+    if (on) {
+        litStale_ = true;
+    } else {
+        litStale_ = false;
+        if (lit_)
+            lit_->cancel();
+        ++litGeneration_;
+        litFrames_ = 0;
+        litExact_ = false;
+        // The map was the lights'; AO, when on, is shown again.
+        if (style_.ambientOcclusion) {
+            aoStale_ = true;
+            aoShownK_ = 0;
+        }
     }
     update();
 }

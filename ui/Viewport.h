@@ -20,6 +20,7 @@
 #include <utility>
 
 #include "AoPreview.h"
+#include "LitPreview.h"
 #include "PvsDebugger.h"
 #include "BackgroundSampler.h"
 #include "LiveVisibility.h"
@@ -80,6 +81,15 @@ public:
     void setAoLighting(const AoLighting& lighting);
     const AoLighting& aoLighting() const { return aoLighting_; }
 
+    /// The lit view (LitPreview.h): the level lit by the project's lights, live while lights move
+    /// (amortised), exact once no light is stale; restarted when the scene changes while it is on.
+    void setLitView(bool on);
+    bool litView() const { return style_.litView; }
+    /// The last lit frame shown: whether it was exact, and its status line.
+    bool litExact() const { return litExact_; }
+    std::size_t litFramesShown() const { return litFrames_; }
+    std::size_t litTexels() const { return litTexels_; }
+
     /// The PVS debugger (issue 17 §5): bakes the project's PVS in the background and tints the
     /// level's objects the camera's cell cannot see. Restarted when the scene changes while on.
     void setPvsDebugger(bool on);
@@ -118,6 +128,8 @@ signals:
     /// anew), or the computation failed.
     /// A level of AO arrived (k of `target` directions; aoInstances() says for what), or failed.
     void aoUpdated(int k, int target, double ms, const QString& error, bool relit);
+    /// A lit frame arrived and is shown (its status line), or lighting failed (`error`).
+    void litUpdated(const QString& status, bool exact, const QString& error);
     /// After every frame that re-sampled.
     void visibilityUpdated();
     /// After every frame whose overlay colours changed.
@@ -180,6 +192,13 @@ private:
     QString pvsError_, pvsOverrideError_;
     pvs::VisibilityRows pvsShown_;
     std::unique_ptr<AoPreview> ao_;
+    std::unique_ptr<LitPreview> lit_;
+    std::uint64_t litGeneration_ = 0;
+    std::optional<LitPreviewFrame> litArrived_;
+    bool litStale_ = false;   ///< the level changed while the lit view is on: restart at the next frame
+    bool litExact_ = false;
+    std::size_t litFrames_ = 0;
+    std::size_t litTexels_ = 0;
     AoLighting aoLighting_;
     std::uint64_t aoGeneration_ = 0;
     std::optional<AoPreviewLevel> aoArrived_;

@@ -1,5 +1,7 @@
 #include "ViewportController.h"
 
+#include "LightObjects.h"
+
 #include <cmath>
 
 namespace sightline::ui {
@@ -206,8 +208,21 @@ ObjectRef ViewportController::objectAt(QPointF position) const
         }
     }
     // Locked objects let the click through to what is behind them (and hidden ones are not there).
-    if (auto hit = surfaceHit(ray, true); hit && hit->distance < bestDistance)
+    if (auto hit = surfaceHit(ray, true); hit && hit->distance < bestDistance) {
         best = objectOfTriangle(hit->triangle);
+        bestDistance = hit->distance;
+    }
+    // Lights are drawn over everything, so they are picked through walls too: the nearest marker
+    // within a steady on-screen radius wins over any surface.
+    std::optional<double> nearestLight;
+    for (std::size_t k = 0; k < document_.lights().size(); ++k) {
+        const Light& light = document_.lights()[k];
+        const double radius = std::max(0.03 * glm::length(lightPivot(light, document_.levelBounds()) - ray.origin), 0.05);
+        if (const auto d = pickLight(light, document_.levelBounds(), ray, radius); d && (!nearestLight || *d < *nearestLight)) {
+            nearestLight = d;
+            best = {ObjectKind::Light, k};
+        }
+    }
     return best;
 }
 

@@ -1,5 +1,7 @@
 #include "ViewportRenderer.h"
 
+#include "LightObjects.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -53,6 +55,7 @@ uniform vec3 eye;
 uniform vec3 viewForward;
 uniform int orthographic;    // the headlight is the view direction, the same over the whole view
 uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
+uniform int litOn;           // the lit view: the light map is the light (LitPreview.h)
 layout(binding = 3) uniform sampler2D aoMap;
 uniform int pvsOn;           // the PVS debugger: scene-file objects the current cell cannot see
 layout(binding = 4) uniform usamplerBuffer pvsCulled;
@@ -75,6 +78,12 @@ void main() {
     vec3 c = baseColour;
     if (pvsOn != 0 && texelFetch(pvsCulled, int(vObject)).r != 0u) c = mix(c, vec3(0.85, 0.1, 0.45), 0.7);
     if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
+    if (litOn != 0 && aoOn != 0) {
+        // A faint headlight keeps unlit geometry readable; texels outside the map stay dark.
+        vec3 lit = vAoUv.x >= 0.0 ? texture(aoMap, vAoUv).rgb : vec3(0.0);
+        colour = vec4(c * (0.06 * light + 1.25 * lit), 1.0);
+        return;
+    }
     colour = vec4(c * light * ambient, 1.0);
 }
 )";
@@ -449,6 +458,7 @@ struct ViewportRenderer::Impl {
         int selected = -1;
         std::uint64_t sceneVersion = 0;
         bool ao = false;
+        bool lit = false;
         bool pvs = false;
         bool operator==(const BackgroundKey&) const = default;
     };
@@ -721,6 +731,82 @@ void ViewportRenderer::setOverlay(ObjectKind patch, const OverlayTexels* texels)
     d.overlaySmooth = texels->smooth;
 }
 
+namespace {
+
+/// FrameState::lights as lines; each marker keeps a steady size on screen.
+void appendLightMarkers(std::vector<LineVertex>& lines, const FrameState& f)
+{
+    for (std::size_t k = 0; k < f.lights.size(); ++k) {
+        const Light& light = f.lights[k];
+        const bool selected = f.selection.kind == ObjectKind::Light && f.selection.index == k;
+        const double brightest = std::max({light.colour.r, light.colour.g, light.colour.b, 1e-9});
+        const glm::vec4 colour = selected ? glm::vec4(1.0f, 0.6f, 0.1f, 1.0f)
+                                          : glm::vec4(glm::mix(glm::vec3(light.colour / brightest), glm::vec3(1.0f, 0.95f, 0.6f), 0.5f), 0.95f);
+        const glm::dvec3 pivot = lightPivot(light, f.sunLevel);
+        const double arm = std::max(0.008 * glm::length(pivot - f.camera.eye()), 0.02) * (selected ? 1.6 : 1.0);
+        auto line = [&](const glm::dvec3& a, const glm::dvec3& b) {
+            lines.push_back({glm::vec3(a), colour});
+            lines.push_back({glm::vec3(b), colour});
+        };
+        auto star = [&](const glm::dvec3& at) {
+            for (int axis = 0; axis < 3; ++axis) {
+                glm::dvec3 reach(0.0);
+                reach[axis] = arm;
+                line(at - reach, at + reach);
+            }
+            const double diagonal = arm / std::sqrt(3.0);
+            line(at - glm::dvec3(diagonal), at + glm::dvec3(diagonal));
+            line(at - glm::dvec3(diagonal, -diagonal, diagonal), at + glm::dvec3(diagonal, -diagonal, diagonal));
+        };
+        const glm::dvec3 d = glm::length(light.direction) > 0.0 ? glm::normalize(light.direction) : glm::dvec3(0.0, -1.0, 0.0);
+        switch (light.type) {
+        case LightType::Point: star(pivot); break;
+        case LightType::Spot: {
+            star(pivot);
+            // The outer cone, 4 arms long: four edges and the rim.
+            const glm::dvec3 x = glm::normalize(glm::cross(std::abs(d.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0), d));
+            const glm::dvec3 y = glm::cross(d, x);
+            const double length = 4.0 * arm, radius = length * std::tan(light.outerAngle);
+            glm::dvec3 previous{};
+            for (int s = 0; s <= 16; ++s) {
+                const double a = 2.0 * 3.141592653589793 * s / 16.0;
+                const glm::dvec3 rim = pivot + length * d + radius * (std::cos(a) * x + std::sin(a) * y);
+                if (s > 0)
+                    line(previous, rim);
+                if (s % 4 == 0 && s < 16)
+                    line(pivot, rim);
+                previous = rim;
+            }
+            break;
+        }
+        case LightType::Directional: {
+            star(pivot);
+            const glm::dvec3 tip = pivot + 8.0 * arm * d;
+            line(pivot, tip);
+            const glm::dvec3 side = glm::normalize(glm::cross(std::abs(d.y) < 0.9 ? glm::dvec3(0, 1, 0) : glm::dvec3(1, 0, 0), d));
+            line(tip, tip - 2.0 * arm * d + arm * side);
+            line(tip, tip - 2.0 * arm * d - arm * side);
+            break;
+        }
+        case LightType::Area: {
+            const Patch& a = light.area;
+            const int around[4] = {0, 1, 3, 2};   // cornerPoint's order is c, c+u, c+v, c+u+v
+            for (int c = 0; c < 4; ++c)
+                line(a.cornerPoint(around[c]), a.cornerPoint(around[(c + 1) % 4]));
+            line(a.cornerPoint(0), a.cornerPoint(3));
+            line(a.cornerPoint(1), a.cornerPoint(2));
+            const glm::dvec3 n = glm::normalize(glm::cross(a.u, a.v));
+            line(pivot, pivot + 4.0 * arm * n);
+            if (light.twoSided)
+                line(pivot, pivot - 4.0 * arm * n);
+            break;
+        }
+        }
+    }
+}
+
+} // namespace
+
 void ViewportRenderer::render(const FrameState& f)
 {
     Impl& d = *impl_;
@@ -780,15 +866,16 @@ void ViewportRenderer::render(const FrameState& f)
         gl.Disable(GL_CLIP_DISTANCE1);
         gl.Disable(GL_CLIP_DISTANCE2);
     };
-    const bool ao = f.style.ambientOcclusion && d.aoReady;
+    const bool ao = (f.style.ambientOcclusion || f.style.litView) && d.aoReady;
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), ao ? 1 : 0);
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "litOn"), f.style.litView ? 1 : 0);
     if (ao)
         gl.BindTextureUnit(3, d.aoTexture);
     const bool pvs = f.style.pvsDebugger && d.pvsReady;
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "pvsOn"), pvs ? 1 : 0);
     if (pvs)
         gl.BindTextureUnit(4, d.pvsTexture);
-    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao, pvs};
+    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao, f.style.litView, pvs};
     bool drawn = false;
     GLuint target = f.framebuffer;   // where the frame is composed
     d.resizeCache(f.width, f.height);
@@ -1027,6 +1114,7 @@ void ViewportRenderer::render(const FrameState& f)
             overlay.push_back({to + reach, ray});
         }
     }
+    appendLightMarkers(overlay, f);
     std::vector<LineVertex> handles;   // triangles, over everything
     if (f.cutHandle)
         appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);

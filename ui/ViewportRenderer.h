@@ -29,6 +29,7 @@
 #include "ObjectEdits.h"
 #include "OverlayTexels.h"
 #include "SectionCutHandle.h"
+#include "lighting/Light.h"
 #include "visibility/HiddenSampleMap.h"
 
 #include "visibility/Patch.h"
@@ -62,6 +63,9 @@ struct ViewStyle {
     glm::vec4 stopColour{1.0f, 1.0f, 1.0f, 0.9f};
     /// Shade the scene file with its ambient occlusion (setAmbientOcclusion), once there is one.
     bool ambientOcclusion = false;
+    /// Shade the level by the lit view's light map (LitPreview.h) alone, no headlight: what the
+    /// lights give, tone-mapped; set with the map through setAmbientOcclusion.
+    bool litView = false;
     /// Tint the scene file's objects the PVS debugger says are culled (setPvsCulled).
     bool pvsDebugger = false;
 };
@@ -126,6 +130,11 @@ struct FrameState {
     };
     std::vector<GapMarker> gapMarkers;
     int gapSelected = -1;
+    /// The project's lights, drawn over everything as markers in their colour (orange when
+    /// selected): a star at a point light, a star and its outer cone at a spot, an arrow from the
+    /// sun's anchor (LightObjects.h), an area light's rectangle and normal.
+    std::vector<Light> lights;
+    Bounds sunLevel;   ///< the box a sun is drawn above (EditorDocument::levelBounds)
 };
 
 /// The section cut's colour: cyan, apart from the patches, the rays, the selection and the axes.

@@ -1039,6 +1039,59 @@ private slots:
         waitForUpdate();
     }
 
+    // Lights are placed from the Create menu, listed, edited like objects; the lit view shows what
+    // they give, live while one moves, and exact once no light is stale.
+    void lightsArePlacedAndTheLitViewBecomesExact()
+    {
+        Viewport& viewport = window_->viewport();
+        EditorDocument& document = window_->document();
+        waitForUpdate();
+        const QImage plain = viewport.grabFramebuffer();
+        window_->findChild<QAction*>("addPointLight")->trigger();
+        QCOMPARE(document.lights().size(), std::size_t(1));
+        QCOMPARE(document.selection(), (ObjectRef{ObjectKind::Light, 0}));
+        auto* outline = window_->findChild<OutlinePanel*>();
+        bool listed = false;
+        for (int i = 0; i < outline->tree()->topLevelItemCount(); ++i)
+            listed = listed || outline->tree()->topLevelItem(i)->text(0) == "Lights (1)";
+        QVERIFY(listed);
+        waitForUpdate();
+        saveWindowShot("light-placed");
+
+        QSignalSpy frames(&viewport, &Viewport::litUpdated);
+        window_->findChild<QAction*>("litView")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact(), 180000);
+        for (const QList<QVariant>& frame : frames)
+            QVERIFY2(frame.at(2).toString().isEmpty(), qPrintable(frame.at(2).toString()));
+        QVERIFY2(window_->statusBar()->currentMessage().contains("exact"), qPrintable(window_->statusBar()->currentMessage()));
+        QTest::qWait(100);
+        const QImage lit = viewport.grabFramebuffer();
+        saveWindowShot("lit-view");
+        // One lamp in a large level: most of it dark, the lamp's surroundings bright.
+        double sumPlain = 0.0, sumLit = 0.0;
+        int brightest = 0;
+        for (int y = 0; y < lit.height(); y += 4)
+            for (int x = 0; x < lit.width(); x += 4) {
+                sumPlain += qGray(plain.pixel(x, y));
+                sumLit += qGray(lit.pixel(x, y));
+                brightest = std::max(brightest, qGray(lit.pixel(x, y)));
+            }
+        QVERIFY2(sumLit < 0.9 * sumPlain && brightest > 120, qPrintable(QString("lit %1, plain %2, brightest %3").arg(sumLit).arg(sumPlain).arg(brightest)));
+
+        // Moved (as the gizmo moves it), the light is refreshed and the view is exact again.
+        const std::size_t before = viewport.litFramesShown();
+        const ObjectRef light{ObjectKind::Light, 0};
+        document.setState(light, translated(document.state(light), {1.0, 0.0, 0.5}), "move light");
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.litFramesShown() > before && viewport.litExact(), 120000);
+        // Undone to no light: the view says how to add one.
+        document.undoStack()->undo();
+        document.undoStack()->undo();
+        QCOMPARE(document.lights().size(), std::size_t(0));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains("no lights"), 60000);
+        window_->findChild<QAction*>("litView")->trigger();   // off
+        waitForUpdate();
+    }
+
     // Issue 18 §5: a placed box takes part in the level's AO (it is shaded and darkens the floor
     // around it), and View > AO of Selected Object Only shades the chosen object alone, finer, the
     // level still occluding it and left unshaded itself.

@@ -1,0 +1,277 @@
+// Lights in the editor: placed, moved, edited, undone and saved as the "lights" key
+// (ui/LightObjects.h, EditorDocument), and the lit view (ui/LitPreview.h) whose exact frame is
+// the reference's irradiance, tone-mapped, also after amortised updates.
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <filesystem>
+#include <mutex>
+
+#include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "EditorDocument.h"
+#include "LightObjects.h"
+#include "LitPreview.h"
+#include "TestScenes.h"
+#include "UiTestScene.h"
+#include "lighting/DirectLight.h"
+#include "project/ProjectLights.h"
+#include "visibility/Error.h"
+
+using namespace sightline;
+using namespace sightline::ui;
+
+namespace {
+
+std::filesystem::path freshFolder(const std::string& name)
+{
+    const auto folder = std::filesystem::temp_directory_path() / ("sightline_editor_lights_" + name + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    return folder;
+}
+
+Light parsedOne(const nlohmann::json& entry)
+{
+    return parseLights(nlohmann::json::array({entry}), "test").front();
+}
+
+void expectNear(const glm::dvec3& a, const glm::dvec3& b, double tolerance = 1e-5)
+{
+    EXPECT_LE(glm::length(a - b), tolerance) << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x << ", " << b.y << ", "
+                                            << b.z << ")";
+}
+
+TEST(LightObjects, TheGizmosTransformRoundTripsEveryTypeAndKeepsOtherKeys)
+{
+    const Bounds level{{-5.0f, 0.0f, -5.0f}, {5.0f, 3.0f, 5.0f}};
+    for (LightType type : {LightType::Point, LightType::Spot, LightType::Directional, LightType::Area}) {
+        nlohmann::json entry = newLightJson(type, {1.0, 2.0, -1.0}, "lamp");
+        entry["note"] = "kept";   // a key another tool wrote
+        const Light light = parsedOne(entry);
+        const nlohmann::json back = placedLightJson(entry, type, lightTransform(light, level));
+        EXPECT_EQ(back["note"], "kept");
+        const Light again = parsedOne(back);
+        expectNear(again.position, light.position);
+        expectNear(again.direction, light.direction);
+        expectNear(again.area.corner, light.area.corner);
+        expectNear(again.area.u, light.area.u);
+        expectNear(again.area.v, light.area.v);
+        // Moved 1 m along x: a point or spot light's position, an area light's corner; a sun has no place.
+        const Light moved = parsedOne(placedLightJson(entry, type, std::get<glm::mat4>(translated(lightTransform(light, level), {1.0, 0.0, 0.0}))));
+        if (type == LightType::Area)
+            expectNear(moved.area.corner, light.area.corner + glm::dvec3(1.0, 0.0, 0.0));
+        else if (type != LightType::Directional)
+            expectNear(moved.position, light.position + glm::dvec3(1.0, 0.0, 0.0));
+        else
+            expectNear(moved.direction, light.direction);
+    }
+    // A spot turned a quarter about x shines along the turned direction.
+    const nlohmann::json spot = newLightJson(LightType::Spot, {0.0, 2.0, 0.0}, "spot");
+    const Light turned = parsedOne(placedLightJson(
+        spot, LightType::Spot, std::get<glm::mat4>(rotated(lightTransform(parsedOne(spot), level), {1.0, 0.0, 0.0}, 0.5 * std::acos(-1.0)))));
+    expectNear(turned.direction, {0.0, 0.0, -1.0});
+    // An area light's first scale handle stretches its u edge.
+    const nlohmann::json area = newLightJson(LightType::Area, {0.0, 2.0, 0.0}, "panel");
+    const Light stretched = parsedOne(placedLightJson(area, LightType::Area, std::get<glm::mat4>(scaled(lightTransform(parsedOne(area), level), 0, 2.0))));
+    expectNear(stretched.area.u, 2.0 * parsedOne(area).area.u);
+    expectNear(stretched.area.centre(), parsedOne(area).area.centre());
+}
+
+TEST(LightObjects, AClickNearAMarkerPicksItsLight)
+{
+    const Light lamp = parsedOne(newLightJson(LightType::Point, {0.0, 2.0, 0.0}, "lamp"));
+    const Bounds level{{-5.0f, 0.0f, -5.0f}, {5.0f, 3.0f, 5.0f}};
+    const auto hit = pickLight(lamp, level, Ray{{0.0, 2.0, 5.0}, {0.0, 0.0, -1.0}}, 0.1);
+    ASSERT_TRUE(hit);
+    EXPECT_NEAR(*hit, 5.0, 1e-9);
+    EXPECT_FALSE(pickLight(lamp, level, Ray{{0.0, 2.5, 5.0}, {0.0, 0.0, -1.0}}, 0.1));
+    EXPECT_FALSE(pickLight(lamp, level, Ray{{0.0, 2.0, 5.0}, {0.0, 0.0, 1.0}}, 0.1)) << "behind the eye";
+}
+
+TEST(EditorDocumentLights, LightsArePlacedMovedEditedUndoneAndSaved)
+{
+    const auto folder = freshFolder("document");
+    EditorDocument document;
+    document.open(test::writeFloorObj(folder));
+    ASSERT_TRUE(document.lights().empty());
+    QUndoStack& undo = *document.undoStack();
+
+    document.addLight(newLightJson(LightType::Point, {0.0, 2.0, 0.0}, "Point light 1"));
+    ASSERT_EQ(document.lights().size(), 1u);
+    EXPECT_EQ(document.selection(), (ObjectRef{ObjectKind::Light, 0}));
+    EXPECT_EQ(document.objectName(document.selection()).toStdString(), "Point light 1");
+    // Moved as the gizmo moves it: one undoable step.
+    const ObjectRef light{ObjectKind::Light, 0};
+    document.setState(light, translated(document.state(light), {1.0, 0.5, 0.0}), "move");
+    expectNear(document.lights()[0].position, {1.0, 2.5, 0.0});
+    undo.undo();
+    expectNear(document.lights()[0].position, {0.0, 2.0, 0.0});
+    undo.redo();
+    expectNear(document.lights()[0].position, {1.0, 2.5, 0.0});
+    // An edit that would break the light is refused with the key, and changes nothing.
+    nlohmann::json bad = document.lightsJson()[0];
+    bad["intensity"] = -1.0;
+    EXPECT_THROW(document.editLight(0, bad, "bad"), Error);
+    EXPECT_EQ(document.lights()[0].intensity, parsedOne(document.lightsJson()[0]).intensity);
+    nlohmann::json brighter = document.lightsJson()[0];
+    brighter["intensity"] = 50.0;
+    document.editLight(0, brighter, "brighter");
+    EXPECT_EQ(document.lights()[0].intensity, 50.0);
+    // Duplicated beside the original, then a spot added and deleted.
+    document.duplicateSelected();
+    ASSERT_EQ(document.lights().size(), 2u);
+    EXPECT_EQ(document.lights()[1].name, "Point light 1 copy");
+    EXPECT_GT(glm::length(document.lights()[1].position - document.lights()[0].position), 0.1);
+    document.addLight(newLightJson(LightType::Spot, {0.0, 2.0, 1.0}, "spot"));
+    document.removeSelected();
+    ASSERT_EQ(document.lights().size(), 2u);
+    undo.undo();
+    ASSERT_EQ(document.lights().size(), 3u);
+    undo.redo();
+
+    document.save(folder / "lit.json");
+    EditorDocument again;
+    again.open(folder / "lit.json");
+    ASSERT_EQ(again.lights().size(), 2u);
+    EXPECT_EQ(again.lightsJson(), document.lightsJson());
+    EXPECT_EQ(projectLights(loadProject(folder / "lit.json")).size(), 2u) << "the CLI reads what the editor wrote";
+    // Back to the start: no light, no key written.
+    while (undo.canUndo())
+        undo.undo();
+    EXPECT_TRUE(document.lights().empty());
+    EXPECT_FALSE(document.project().extra.contains("lights"));
+}
+
+TEST(EditorDocumentLights, AProjectWithABadLightIsRefusedNamingTheKey)
+{
+    const auto folder = freshFolder("bad");
+    EditorDocument document;
+    document.open(test::writeFloorObj(folder));
+    Project project = document.project();
+    project.extra["lights"] = nlohmann::json::array({{{"type", "spot"}, {"position", {0, 2, 0}}, {"intensity", 1.0},
+                                                      {"inner_angle", 0.8}, {"outer_angle", 0.4}}});
+    saveProject(project, folder / "bad.json");
+    try {
+        EditorDocument other;
+        other.open(folder / "bad.json");
+        ADD_FAILURE() << "opened";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("lights[0]"), std::string::npos) << e.what();
+    }
+}
+
+/// A 10 x 10 m floor with a unit box on it: shadows on the floor, light on the box.
+std::shared_ptr<const Scene> boxOnAFloor()
+{
+    Scene scene = test::sceneOf({test::quad({-5.0f, 0.0f, -5.0f}, {0.0f, 0.0f, 10.0f}, {10.0f, 0.0f, 0.0f}, "floor")});
+    scene.addMeshInstance(test::closedBox(), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.5f, 0.0f)));
+    return std::make_shared<const Scene>(std::move(scene));
+}
+
+std::vector<Light> someLights()
+{
+    return parseLights(nlohmann::json::array({newLightJson(LightType::Point, {1.5, 2.0, 0.5}, "a"),
+                                              newLightJson(LightType::Spot, {-2.0, 3.0, -1.0}, "b"),
+                                              newLightJson(LightType::Area, {0.5, 2.5, -2.0}, "c")}),
+                       "test");
+}
+
+/// The colour the map holds for texel point k of the layout.
+glm::vec3 mapAt(const LitPreviewFrame& frame, const LitTexels& texels, std::size_t k)
+{
+    for (const AoTexelTile& tile : texels.layout.tiles)
+        if (k >= tile.firstPoint && k < tile.firstPoint + std::size_t(tile.width) * std::size_t(tile.height)) {
+            const std::size_t local = k - tile.firstPoint;
+            const int s = int(local % std::size_t(tile.width)), t = int(local / std::size_t(tile.width));
+            return frame.map[std::size_t(tile.y + t) * std::size_t(frame.width) + std::size_t(tile.x + s)];
+        }
+    ADD_FAILURE() << "texel " << k << " in no tile";
+    return glm::vec3(0.0f);
+}
+
+TEST(LitPreview, TheExactFrameIsTheReferencesIrradianceToneMapped)
+{
+    const auto scene = boxOnAFloor();
+    const std::vector<Light> lights = someLights();
+    const LitPreviewFrame frame = exactLitFrame(scene, lights);
+    ASSERT_TRUE(frame.error.empty()) << frame.error;
+    ASSERT_TRUE(frame.exact);
+    const LitTexels texels = litTexels(*scene);
+    EXPECT_EQ(frame.texels, texels.points.size());
+    const LightingScene lighting(*scene);
+    const std::vector<glm::dvec3> reference =
+        directIrradiance(lighting, lights, texels.points, DirectLightOptions{.path = LightingPath::Reference});
+    std::size_t shadowed = 0, lit = 0;
+    for (std::size_t k = 0; k < texels.pointOfTexel.size(); ++k) {
+        if (texels.pointOfTexel[k] == SIZE_MAX)
+            continue;
+        const glm::dvec3 e = reference[texels.pointOfTexel[k]];
+        const glm::vec3 expected = toneMapped(e, frame.exposure), shown = mapAt(frame, texels, k);
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(shown[c], expected[c], 1e-5) << "texel " << k;
+        (e.r > 0.0 ? lit : shadowed) += 1;
+    }
+    EXPECT_GT(lit, 1000u);
+    EXPECT_GT(shadowed, 100u) << "the box's shadow and its undersides";
+}
+
+TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
+{
+    const auto scene = boxOnAFloor();
+    std::vector<Light> lights = someLights();
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::vector<LitPreviewFrame> frames;
+    LitPreview preview([&](LitPreviewFrame frame) {
+        std::lock_guard lock(mutex);
+        frames.push_back(std::move(frame));
+        arrived.notify_all();
+    });
+    // A small budget: one light a frame, so the updates are amortised.
+    preview.start(7, {.scene = scene, .lights = lights, .segmentsPerFrame = 1});
+    const auto waitExact = [&](std::size_t after) {
+        std::unique_lock lock(mutex);
+        return arrived.wait_for(lock, std::chrono::seconds(120), [&] {
+            return frames.size() > after && (frames.back().exact || !frames.back().error.empty());
+        });
+    };
+    ASSERT_TRUE(waitExact(0));
+    std::size_t seen = 0;
+    {
+        std::lock_guard lock(mutex);
+        ASSERT_TRUE(frames.back().error.empty()) << frames.back().error;
+        EXPECT_GE(frames.size(), 3u) << "three lights, one refreshed a frame";
+        EXPECT_FALSE(frames.front().exact);
+        seen = frames.size();
+    }
+    lights[0].position += glm::dvec3(-1.0, 0.2, 0.0);
+    preview.setLights(lights);
+    ASSERT_TRUE(waitExact(seen));
+    LitPreviewFrame last;
+    {
+        std::lock_guard lock(mutex);
+        EXPECT_EQ(frames[seen].refreshed, 1u) << "the moved light alone";
+        EXPECT_EQ(frames[seen].stale, 0u);
+        last = frames.back();
+    }
+    preview.stop();
+    // The same irradiance as a fresh exact frame of the moved lights (each with its own exposure).
+    const LitPreviewFrame fresh = exactLitFrame(scene, lights);
+    ASSERT_EQ(fresh.map.size(), last.map.size());
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < fresh.map.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double a = last.map[i][c], b = fresh.map[i][c];
+            if (a > 0.95 || b > 0.95)
+                continue;   // the tone map's flat end: no digits left to compare
+            const double ea = -std::log1p(-a) / last.exposure, eb = -std::log1p(-b) / fresh.exposure;
+            ASSERT_NEAR(ea, eb, 1e-4 * std::max(eb, 1e-3)) << "pixel " << i;
+            ++compared;
+        }
+    EXPECT_GT(compared, 1000u);
+}
+
+} // namespace

@@ -1,0 +1,107 @@
+#pragma once
+// The editor's lit view: the level's light-map texels lit by the project's lights (direct light,
+// shadowed exactly: lighting/DirectLight.h), computed on a worker thread and kept live with
+// Barczak's amortised updates (lighting/LightingCache.h): every frame refreshes the stale lights,
+// brightest and longest stale first, within a budget of shadow segments, and delivers the map; the
+// view is the exact answer once no light is stale, and says so. Moving or editing a light stales
+// that light alone (setLights); a new scene (an occluder moved) starts again. Plain C++ (no Qt):
+// the caller decides how an answer reaches its thread.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "lighting/DirectLight.h"
+#include "lighting/Light.h"
+#include "lighting/ao/AoTexels.h"
+#include "visibility/Scene.h"
+
+namespace sightline::ui {
+
+struct LitPreviewFrame {
+    std::uint64_t generation = 0;
+    /// As AoPreviewLevel: per world-triangle corner of the scene its place in the map, and a
+    /// width x height map (row 0 at the top) of tone-mapped colours in [0, 1].
+    std::vector<glm::vec2> uvs;
+    int width = 0, height = 0;
+    std::vector<glm::vec3> map;
+    std::size_t texels = 0;
+    std::size_t lights = 0;            ///< lights in the view
+    std::size_t refreshed = 0;         ///< lights refreshed for this frame
+    std::size_t stale = 0;             ///< lights still stale: their old light is shown
+    bool exact = false;                ///< no light stale: the exact irradiance, tone-mapped
+    double exposure = 0.0;             ///< colour = 1 - exp(-exposure x E / pi), E in W/m²
+    double frameMs = 0.0;              ///< this frame's refresh
+    double ms = 0.0;                   ///< since start()
+    std::string error;                 ///< non-empty: nothing else is set
+};
+
+/// The lit view's texels: the atlas of the level's triangles (previewTexelDensity, as the AO
+/// preview), each texel's shading point lifted off its surface as `lights --texel` lifts them,
+/// and the corners' uvs.
+struct LitTexels {
+    AoTexelLayout layout;
+    std::vector<glm::vec2> uvs;
+    std::vector<ShadingPoint> points;
+    std::vector<std::size_t> pointOfTexel;   ///< per texel point of the layout; SIZE_MAX: none (degenerate)
+};
+LitTexels litTexels(const Scene& scene);
+
+/// The lit view's tone map: 1 - exp(-exposure x E / pi) per channel.
+glm::vec3 toneMapped(const glm::dvec3& irradiance, double exposure);
+
+struct LitPreviewRequest {
+    std::shared_ptr<const Scene> scene;
+    std::vector<Light> lights;              ///< validated (validateLights)
+    std::uint64_t segmentsPerFrame = 4'000'000;   ///< a frame's budget (LightingCache::update)
+};
+
+class LitPreview {
+public:
+    using Deliver = std::function<void(LitPreviewFrame frame)>;   ///< called on the worker thread
+    explicit LitPreview(Deliver deliver);
+    ~LitPreview();
+    LitPreview(const LitPreview&) = delete;
+    LitPreview& operator=(const LitPreview&) = delete;
+
+    /// Cancels the running computation (without waiting) and starts `request`.
+    void start(std::uint64_t generation, LitPreviewRequest request);
+    /// The lights changed (same scene): lights whose entry differs go stale and are refreshed by
+    /// priority; a changed count starts the lights' fields again over the same texels.
+    void setLights(std::vector<Light> lights);
+    void cancel();
+    void stop();
+
+private:
+    struct Worker {
+        std::thread thread;
+        std::shared_ptr<std::atomic<bool>> cancel, done;
+    };
+    void reap(bool wait);
+
+    Deliver deliver_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::vector<Light> lights_;
+    std::uint64_t lightsVersion_ = 0;
+    Worker current_;
+    std::vector<Worker> retired_;
+};
+
+/// Runs a LitPreview to its exact frame and returns it (or the failed frame): the headless
+/// screenshot's lit view, and tests.
+LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights);
+
+/// Whether two lights give the same light (every field the formulas read).
+bool sameLight(const Light& a, const Light& b);
+
+} // namespace sightline::ui

@@ -1,0 +1,42 @@
+#pragma once
+// The level's surfaces as a light-map atlas for the editor's previews (AoPreview.h, LitPreview.h):
+// which triangles get texels, where each triangle corner lands in the atlas, and an atlas image
+// filled from one value per texel point. Plain C++ (no Qt).
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "lighting/ao/AoGeometry.h"
+#include "lighting/ao/AoTexels.h"
+#include "visibility/Scene.h"
+
+namespace sightline::ui {
+
+/// The surfaces that get texels: the world triangles of the instances asked for (all when none
+/// is named), as occluders of their own for aoTexelPoints (three vertices a triangle), with each
+/// one's world-triangle index.
+struct TexelSurfaces {
+    AoOccluders surfaces;
+    std::vector<std::uint32_t> worldTriangle;
+};
+TexelSurfaces texelSurfaces(const WorldTriangles& triangles, const std::vector<std::uint32_t>& instances);
+
+/// Each corner's uv in the atlas, from its position in its triangle's tile frame (AoTexels.h),
+/// so the mapping does not depend on the corner order of a mirrored instance; -1 for triangles
+/// without texels.
+std::vector<glm::vec2> cornerUvs(const WorldTriangles& triangles, const TexelSurfaces& sampled, const AoTexelLayout& layout);
+
+/// The atlas image (width x height, row 0 at the top) of one colour per texel point; texels of no
+/// point, and non-finite colours, are `blank`. The one-texel gutter around each tile takes its
+/// nearest texel: filtering at a triangle's edge would otherwise mix in the blank (bright or dark
+/// lines along edges).
+std::vector<glm::vec3> atlasImage(const AoTexelLayout& layout, const std::vector<glm::vec3>& colour, glm::vec3 blank);
+
+/// Lowers the calling thread's scheduling priority (Linux gives each thread its own nice value),
+/// so that a preview's worker yields to the GUI thread and the live rays.
+void lowerThisThreadsPriority();
+
+} // namespace sightline::ui
