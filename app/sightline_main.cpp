@@ -4,9 +4,14 @@
 // (--benchmark-interaction, optionally with an overlay on).
 
 #include <algorithm>
-#include <optional>
+#include <charconv>
+#include <climits>
+#include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -61,13 +66,29 @@ struct Arguments {
     std::string statistic = "mean";
     bool accumulate = false;
     bool ao = false;
+    bool lit = false;
+    std::string litShows = "light";
+    int litBudget = 4;
     bool allowOutsidePaths = false;
 };
 
+/// "WxH" with decimal sides in [1, INT_MAX], nothing else (no sign, space or suffix). Each side is
+/// read as a 64-bit integer and range-checked before it becomes an int: "4294967312x16" is
+/// refused, not wrapped to 16x16.
 bool parseSize(const std::string& text, int& width, int& height)
 {
-    char extra = 0;
-    return std::sscanf(text.c_str(), "%dx%d%c", &width, &height, &extra) == 2 && width > 0 && height > 0;
+    const auto side = [](std::string_view digits, int& out) {
+        std::uint64_t value = 0;
+        const char* end = digits.data() + digits.size();
+        const auto [stop, error] = std::from_chars(digits.data(), end, value);
+        if (digits.empty() || error != std::errc() || stop != end || value < 1 || value > std::uint64_t(INT_MAX))
+            return false;
+        out = int(value);
+        return true;
+    };
+    const std::string_view all(text);
+    const std::size_t x = all.find('x');
+    return x != std::string_view::npos && side(all.substr(0, x), width) && side(all.substr(x + 1), height);
 }
 
 /// The overlay a screenshot shows: importance over the project's animation when it has one (the
@@ -103,6 +124,9 @@ int screenshot(const Arguments& args, int width, int height)
     ViewStyle style;
     style.rayCap = args.rays;
     style.showBlocked = args.showBlocked;
+    style.litView = args.lit;
+    style.litShading = parseLitShading(args.litShows);
+    style.litBudget = args.litBudget;
     PatchOverlay overlay;
     overlay.setKind(parseOverlayKind(args.overlay));
     overlay.setStatistic(parseImportanceStatistic(args.statistic));
@@ -184,6 +208,21 @@ int benchmark(const Arguments& args, int width, int height)
     window.overlayControls().setKind(parseOverlayKind(args.overlay));
     window.overlayControls().setStatistic(parseImportanceStatistic(args.statistic));
     window.overlayControls().setAccumulating(args.accumulate);
+    if (args.lit) {
+        const LitFigures f = runLitBenchmark(window, args.frames, width, height);
+        std::printf("lit view benchmark: %s, %zu lights over %zu light-map texels at %dx%d\n", args.file.c_str(), f.lights,
+                    f.texels, width, height);
+        std::printf("  first exact    %.0f ms after the lit view was turned on%s\n", f.firstExactMs,
+                    f.firstExactMs > 0.0 ? "" : " (not within 5 minutes)");
+        std::printf("  camera orbit   %.1f Hz median, exact all the while (frame %.1f ms 90th percentile; %d frames)\n",
+                    f.orbitHz, f.orbitP90FrameMs, f.orbitFrames);
+        std::printf("  update rate    %.1f Hz median while dragging '%s' (interval %.1f ms median, %.1f ms 90th percentile; "
+                    "%d frames)\n",
+                    f.medianHz, f.dragged.c_str(), f.medianFrameMs, f.p90FrameMs, f.frames);
+        std::printf("  exact again    %.0f ms after the light was let go%s\n", f.exactAgainMs,
+                    f.exactAgainMs > 0.0 ? "" : " (not within 5 minutes)");
+        return 0;
+    }
     InteractionOptions options;
     options.width = width;
     options.height = height;
@@ -327,6 +366,15 @@ int main(int argc, char** argv)
     app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging; recording: over the video's frames");
     app.add_flag("--ao", args.ao, "Benchmark: start the level's ambient occlusion preview with the drag and report the "
                                   "update rate while it computes (to k = 258)");
+    app.add_flag("--lit", args.lit, "The lit view (the project's lights on the level's light-map texels, shadowed exactly). "
+                                    "Screenshot: lit and exact; benchmark: drag the first light with the lit view on and "
+                                    "print the lit view's update rate and how soon it is exact again");
+    auto* litShows = app.add_option("--lit-shows", args.litShows,
+                                    "Screenshot with --lit: what the lit view shows: light, complexity (shadow complexity), "
+                                    "overlap (lights a texel against --lit-budget) or staleness")
+                         ->check(CLI::IsMember({"light", "complexity", "overlap", "staleness"}));
+    auto* litBudget = app.add_option("--lit-budget", args.litBudget, "Screenshot with --lit: the overlapping lights a texel may take (default 4)")
+                          ->check(CLI::Range(1, 1000));
     app.add_option("--gl-backend", args.glBackend, "Screenshot and recording: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_flag("--allow-outside-paths", args.allowOutsidePaths,
                  "Read files the project names by a relative path that leaves its folder (refused otherwise; "
@@ -341,9 +389,15 @@ int main(int argc, char** argv)
         return 2;
     }
     args.framesGiven = frames->count() > 0;
+    // An empty name would read as "option not given" below and open the editor instead.
+    for (const auto& [option, output] : {std::pair{"--record", &args.record}, std::pair{"--screenshot", &args.screenshot}})
+        if (app.get_option(option)->count() > 0 && output->empty()) {
+            std::fprintf(stderr, "sightline: %s needs an output file name, got ''\n", option);
+            return 2;
+        }
     int width = 0, height = 0;
     if (!parseSize(args.size, width, height)) {
-        std::fprintf(stderr, "sightline: --size must be WxH with positive sides, got '%s'\n", args.size.c_str());
+        std::fprintf(stderr, "sightline: --size must be WxH with whole positive sides, got '%s'\n", args.size.c_str());
         return 2;
     }
     try {
@@ -357,6 +411,14 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "sightline: --screenshot, --record, --benchmark-interaction and --benchmark-stalls need a project file\n");
         return 2;
     }
+    if ((litShows->count() > 0 || litBudget->count() > 0) && (!args.lit || args.screenshot.empty())) {
+        std::fprintf(stderr, "sightline: --lit-shows and --lit-budget apply to --screenshot --lit\n");
+        return 2;
+    }
+    if (args.lit && !args.benchmark && args.screenshot.empty()) {
+        std::fprintf(stderr, "sightline: --lit applies to --screenshot and --benchmark-interaction (the editor's lit view is View > Lit View, I)\n");
+        return 2;
+    }
     if (args.ao && !args.benchmark) {
         std::fprintf(stderr, "sightline: --ao applies to --benchmark-interaction only (the editor's AO is View > Ambient Occlusion, O)\n");
         return 2;
@@ -364,6 +426,7 @@ int main(int argc, char** argv)
     if (!args.record.empty()) {
         // Checked before the project loads: a bad name or size costs nothing.
         try {
+            cli::checkOutputs({{"--record", args.record}}, {{"the opened file", args.file}});
             videoFormatFor(args.record);
             VideoSettings video;
             video.width = width;

@@ -8,6 +8,7 @@
 #include "LiveVisibility.h"
 #include "RayEnds.h"
 #include "plugins/VideoEncoder.h"
+#include "project/ProjectMotion.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
@@ -78,8 +79,16 @@ double defaultRecordingFps(const RecordingScene& scene) { return scene.path.empt
 
 int defaultRecordingFrames(const RecordingScene& scene, double fps)
 {
-    if (!scene.path.empty())
-        return std::max(1, int(std::lround(scene.path.seconds() * fps)));
+    if (!scene.path.empty()) {
+        // In double: a slow path played fast overflows an int (1e6 frames at 0.001 fps, at 240 fps).
+        const double frames = std::round(scene.path.seconds() * fps);
+        if (!(frames <= double(kMaxRecordedFrames)))
+            throw Error(scene.what + ": the recorded path (" + std::to_string(scene.path.frames) + " frames at " +
+                        std::to_string(scene.path.fps) + " fps) would take " + std::to_string(frames) + " video frames at " +
+                        std::to_string(fps) + " fps; at most " + std::to_string(kMaxRecordedFrames) +
+                        " are recorded (give --frames or a higher path fps)");
+        return std::max(1, int(frames));
+    }
     return defaultFrameCount(scene.animation);   // 1 without tracks
 }
 
@@ -99,6 +108,11 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
     const Clock::time_point start = Clock::now();
     if (options.frames < 1)
         throw Error("a recording needs at least one frame");
+    // The checks `importance` makes on the same motion: a frame it refuses is not rendered either.
+    if (!scene.path.empty())
+        validateMotionFrames(withoutMotionKeys(scene.project), ProjectMotion::of(scene.path), scene.path.frames);
+    else
+        validateMotionFrames(withoutMotionKeys(scene.project), ProjectMotion::of(scene.animation), options.frames);
     VideoSettings settings;
     settings.width = options.width;
     settings.height = options.height;

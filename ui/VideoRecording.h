@@ -51,7 +51,8 @@ RecordingScene recordingScene(const EditorDocument& document, const Camera& came
 /// The rate a recording uses unless told: the path's, else 30 frames per second.
 double defaultRecordingFps(const RecordingScene& scene);
 /// The frames a recording renders unless told: the path's length at `fps` (at least 1), else the
-/// animation's frame count (defaultFrameCount: the demo's 40), else 1.
+/// animation's frame count (defaultFrameCount: the demo's 40), else 1. Throws sightline::Error when
+/// the path's length comes to more than kMaxRecordedFrames video frames.
 int defaultRecordingFrames(const RecordingScene& scene, double fps);
 
 /// The project and camera of video frame `k` at `fps`.
@@ -86,7 +87,8 @@ struct RecordingFigures {
 /// Renders `options.frames` frames to `options.output` (atomically: the file appears complete or
 /// not at all). `progress(done, total)` after each frame; returning false cancels, and the function
 /// then returns with figures.frames < options.frames and no file written. Throws sightline::Error
-/// (bad size, unknown extension, unwritable folder, no GL context).
+/// (bad size, unknown extension, unwritable folder, no GL context, or patches that are not a valid
+/// pair at some frame of the path or animation: validateMotionFrames, before any file is opened).
 RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions& options,
                              const std::function<bool(int, int)>& progress = {});
 

@@ -83,8 +83,8 @@ CLI::App* addAoCommand(CLI::App& app, AoArgs& args)
     command->add_option("--rotate", args.rotate, "--env: turn the environment about +Y by DEG degrees");
     command->add_option("--exposure", args.exposure, "--env: scale its radiance by 2^EV");
     command->add_option("--texel", args.texel,
-                        "Texel mode: sample points on a grid of M texels per metre over each triangle (light maps)")
-        ->check(CLI::PositiveNumber);
+                        "Texel mode: sample points on a grid of M texels per metre over each triangle (light maps; "
+                        "M in (0, 1000])");
     command->add_option("--lightmap", args.lightmap, "Texel mode: write the light-map atlas PNG (sRGB)")->check(outputFile());
     command->add_option("--gltf", args.gltf,
                         "Write glTF (.glb/.gltf): AO (or --env colour) in COLOR_0; with --texel, TEXCOORD_1 and an "
@@ -105,6 +105,8 @@ void checkAoOptions(const CLI::App& command, const AoArgs& args)
     for (const char* option : {"--rotate", "--exposure"})
         if (given(command, option) && args.env.empty())
             throw Error(std::string(option) + " applies to an environment; add --env FILE.hdr");
+    if (given(command, "--texel"))
+        checkTexelDensity(args.texel);   // before the mode is chosen by it: NaN is not "no --texel"
     if (args.texel > 0.0 && !args.ply.empty())
         throw Error("--ply writes vertex colours; in texel mode (--texel) write --lightmap PNG and --gltf instead");
     if (args.texel <= 0.0 && !args.lightmap.empty())

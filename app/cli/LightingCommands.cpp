@@ -147,18 +147,7 @@ int runImportance(const ImportanceArgs& args)
         std::cerr << "sightline-cli: warning: the project has no animation; all " << frames << " frames are the same\n";
     // Refuse an invalid pair at any frame before the expensive work (never a wrong answer).
     const Project base = withoutMotionKeys(project);
-    for (int f = 0; f < frames; ++f) {
-        if (!motion.mayChangeAt(f))
-            continue;   // as the frame before
-        const Project frame = motion.at(base, f);
-        try {
-            validatePatchPair(frame.source, frame.receiver);
-        } catch (const Error& e) {
-            throw Error(frames > 1 ? "frame " + std::to_string(f) + ": " + e.what() : std::string(e.what()));
-        }
-        if (motion.empty())
-            break;
-    }
+    validateMotionFrames(base, motion, frames);
 
     std::vector<std::string> warnings;
     SamplerSettings settings;

@@ -6,6 +6,7 @@
 
 #include <stb/stb_image.h>
 
+#include "ImageCheck.h"
 #include "visibility/Error.h"
 #include "visibility/InputFile.h"
 
@@ -36,23 +37,32 @@ glm::vec3 RgbImage::bilinear(double s, double t) const
 
 RgbImage loadRgbImage(const std::filesystem::path& file)
 {
-    // stb opens whatever it is given: a FIFO would block, a folder read as garbage.
-    checkInputFile(file, "image");
+    // Read whole (a FIFO or a folder is refused by readInputFile), checked, then decoded from these
+    // very bytes: stb trusts a header's size and reads missing data as black (ImageCheck.h).
+    const std::string name = file.string();
+    const std::string bytes = readInputFile(file, "image", kMaxImageFileBytes);
+    const auto* data8 = reinterpret_cast<const stbi_uc*>(bytes.data());
+    const int size = int(bytes.size());
     int width = 0, height = 0, channels = 0;
-    if (!stbi_info(file.string().c_str(), &width, &height, &channels))
-        throw Error(file.string() + ": not a readable image (unknown format)");
-    if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
-        throw Error(file.string() + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
-                    " is outside 1.." + std::to_string(kMaxImageSide) + " pixels a side");
-    // Each pixel costs 3 decoded bytes plus 12 as floats; refuse before stb allocates.
-    const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
-    if (pixels > kMaxImagePixels)
-        throw Error(file.string() + ": image " + std::to_string(width) + "x" + std::to_string(height) + " would take " +
-                    std::to_string(pixels * 15 >> 20) + " MB to load; at most " + std::to_string(kMaxImagePixels >> 20) +
-                    " Mpixels are read (light textures and height maps need far fewer)");
-    unsigned char* data = stbi_load(file.string().c_str(), &width, &height, &channels, 3);
+    if (image::isRadianceHdr(bytes)) {
+        image::checkRadianceHdr(bytes, name, width, height);
+    } else {
+        if (!stbi_info_from_memory(data8, size, &width, &height, &channels))
+            throw Error(name + ": not a readable image (unknown format)");
+        if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide)
+            throw Error(name + ": image size " + std::to_string(width) + "x" + std::to_string(height) +
+                        " is outside 1.." + std::to_string(kMaxImageSide) + " pixels a side");
+        // Each pixel costs 3 decoded bytes plus 12 as floats; refuse before stb allocates.
+        const std::uint64_t pixels = std::uint64_t(width) * std::uint64_t(height);
+        if (pixels > kMaxImagePixels)
+            throw Error(name + ": image " + std::to_string(width) + "x" + std::to_string(height) + " would take " +
+                        std::to_string(pixels * 15 >> 20) + " MB to load; at most " + std::to_string(kMaxImagePixels >> 20) +
+                        " Mpixels are read (light textures and height maps need far fewer)");
+        image::checkNotTruncated(bytes, name, width, height);
+    }
+    unsigned char* data = stbi_load_from_memory(data8, size, &width, &height, &channels, 3);
     if (!data)
-        throw Error(file.string() + ": cannot decode image: " + stbi_failure_reason());
+        throw Error(name + ": cannot decode image: " + stbi_failure_reason());
     RgbImage image;
     image.width = width;
     image.height = height;

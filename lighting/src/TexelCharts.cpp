@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "lighting/ao/AoTexels.h"
 #include "lights/EdgeNeighbours.h"
 #include "NearestOnTriangle.h"
 #include "visibility/Error.h"
@@ -122,7 +123,7 @@ void frameChart(const AoOccluders& occluders, const std::vector<glm::dvec3>& nor
     chart.origin = base + (lo[0] - 1.0 / density) * chart.axisU + (lo[1] - 1.0 / density) * chart.axisV;
     // In double first: a kilometre chart at a high density must be refused, not wrap an int.
     const double width = std::ceil((hi[0] - lo[0]) * density) + 2.0, height = std::ceil((hi[1] - lo[1]) * density) + 2.0;
-    const bool fits = width * height <= double(std::uint64_t(1) << 40);
+    const bool fits = width <= double(1 << 30) && height <= double(1 << 30) && width * height <= double(std::uint64_t(1) << 40);
     chart.width = fits ? int(width) : -1;
     chart.height = fits ? int(height) : -1;
 }
@@ -252,8 +253,7 @@ glm::vec2 ChartLayout::uv(const AoOccluders& occluders, std::uint32_t t, int c) 
 
 ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoints& points, std::uint64_t maxPixels)
 {
-    if (!(density > 0.0) || !std::isfinite(density))
-        throw Error("--texel " + std::to_string(density) + ": the light-map density must be a positive number of texels per metre");
+    checkTexelDensity(density);
     ChartLayout layout;
     layout.density = density;
     std::vector<glm::dvec3> normals;

@@ -1,5 +1,8 @@
 #include "plugins/JsonText.h"
 
+#include <iterator>
+#include <new>
+
 #include "visibility/Error.h"
 #include "visibility/JsonDepth.h"
 
@@ -44,6 +47,28 @@ private:
     std::string message_;
 };
 
+/// Frees a DOM leaves first. nlohmann's own destructor first reserves a stack as long as the
+/// largest array it holds, and a bad_alloc there, inside a destructor, terminates the program: the
+/// usual state right after a huge file ran the parser out of memory. Emptied containers reserve
+/// nothing. Recursion is bounded by checkJsonDepth.
+void releaseLeavesFirst(json& value)
+{
+    if (value.is_array()) {
+        auto& array = value.get_ref<json::array_t&>();
+        while (!array.empty()) {
+            releaseLeavesFirst(array.back());
+            array.pop_back();
+        }
+    } else if (value.is_object()) {
+        auto& object = value.get_ref<json::object_t&>();
+        while (!object.empty()) {
+            const auto last = std::prev(object.end());
+            releaseLeavesFirst(last->second);
+            object.erase(last);
+        }
+    }
+}
+
 } // namespace
 
 json parseJsonText(std::string_view text, const std::string& what)
@@ -56,6 +81,9 @@ json parseJsonText(std::string_view text, const std::string& what)
         ok = json::sax_parse(text, &dom);
     } catch (const json::exception& e) { // anything nlohmann raises outside its parse_error path
         throw Error(what + ": invalid JSON: " + words(e.what()));
+    } catch (const std::bad_alloc&) {
+        releaseLeavesFirst(result);   // then the caller reports "out of memory" (describeFailure)
+        throw;
     }
     if (!ok)
         throw Error(what + ": invalid JSON: " + (dom.message().empty() ? "malformed" : dom.message()) +

@@ -101,6 +101,8 @@ RecordedPath parseRecordedPath(const Project& project, const std::string& what)
         const json& keys = object.at("camera");
         if (!keys.is_array())
             fail(what, root + ".camera", "must be an array of camera keys");
+        if (keys.size() > kMaxPathKeys)
+            fail(what, root + ".camera", "has " + std::to_string(keys.size()) + " keys; at most " + std::to_string(kMaxPathKeys) + " are read");
         for (std::size_t k = 0; k < keys.size(); ++k) {
             const std::string key = root + ".camera[" + std::to_string(k) + "]";
             if (!keys[k].is_object())
@@ -133,6 +135,8 @@ RecordedPath parseRecordedPath(const Project& project, const std::string& what)
         const json& keys = object.at("edits");
         if (!keys.is_array())
             fail(what, root + ".edits", "must be an array of edit keys");
+        if (keys.size() > kMaxPathKeys)
+            fail(what, root + ".edits", "has " + std::to_string(keys.size()) + " keys; at most " + std::to_string(kMaxPathKeys) + " are read");
         for (std::size_t k = 0; k < keys.size(); ++k) {
             const std::string key = root + ".edits[" + std::to_string(k) + "]";
             if (!keys[k].is_object())
@@ -162,6 +166,10 @@ RecordedPath parseRecordedPath(const Project& project, const std::string& what)
                         fail(what, key + ".transform", "must be an array of 16 finite numbers");
                     edit.transform[i / 4][i % 4] = m[std::size_t(i)].get<float>();
                 }
+                // Occluders move rigidly or scale; a projective last row would warp them.
+                if (edit.transform[0][3] != 0.0f || edit.transform[1][3] != 0.0f || edit.transform[2][3] != 0.0f ||
+                    edit.transform[3][3] != 1.0f)
+                    fail(what, key + ".transform", "must be affine: its last row (elements 3, 7, 11, 15) must be 0, 0, 0, 1");
             } else {
                 fail(what, key + ".object", "must be \"source\", \"receiver\" or \"occluder\"");
             }

@@ -189,5 +189,6 @@ TEST_F(AoCli, BadInputGetsOneLineErrors)
     expectError(runCli("ao " + room() + " --threads 2 --method gl"), "--threads");
     expectError(runCli("ao " + room() + " --gl-simplify 0.5"), "--gl-simplify");   // cpu, the default
     expectError(runCli("ao " + room() + " --method gl --gl-simplify 2"), "--gl-simplify");
-    expectError(runCli("ao " + room() + " --texel 100000 --lightmap x.png"), "light map");
+    expectError(runCli("ao " + room() + " --texel 1000 --lightmap x.png"), "light map");   // the atlas limit
+    expectError(runCli("ao " + room() + " --texel 100000 --lightmap x.png"), "(0, 1000]");   // the density range
 }

@@ -258,3 +258,62 @@ TEST_F(BadInputs, AnOutputNeverReplacesAnInputOrAnotherOutput)
     EXPECT_EQ(empty.code, 2) << empty.err;
     EXPECT_TRUE(contains(empty.err, "--mask") && contains(empty.err, "empty file name")) << empty.err;
 }
+
+// Category: light-map densities and environment images are checked before any work.
+TEST_F(BadInputs, TexelDensitiesOutsideTheirRangeAreRefused)
+{
+    const std::string p = write(project()).string();
+    const std::string map = (folder / "map.png").string();
+    for (const char* density : {"nan", "1e308", "inf", "1001", "0"}) {
+        for (const std::string& command : {"lights " + p + " --texel " + density + " --lightmap " + map,
+                                          "ao " + p + " --texel " + density + " --lightmap " + map}) {
+            const CliRun run = runCli(command, 60);
+            EXPECT_NE(run.code, 0) << command;
+            EXPECT_TRUE(oneLine(run.err)) << command << " -> [" << run.err << "]";
+            EXPECT_TRUE(contains(run.err, "(0, 1000]")) << command << ": " << run.err;
+        }
+    }
+    EXPECT_FALSE(fs::exists(map));
+}
+
+TEST_F(BadInputs, AnEnvironmentThatWouldHangOrAllocateGigabytesIsRefused)
+{
+    const std::string p = write(project()).string();
+    const std::string header = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n";
+    // A run-length count of 0 (stb's decoder never ends), a header alone, a header declaring 16384x8192.
+    std::ofstream(folder / "zero.hdr", std::ios::binary) << header << "-Y 4 +X 8\n" << std::string{2, 2, 0, 8, 0} << std::string(60, '\0');
+    std::ofstream(folder / "empty.hdr", std::ios::binary) << header << "-Y 4 +X 8\n";
+    std::ofstream(folder / "huge.hdr", std::ios::binary) << header << "-Y 8192 +X 16384\n";
+    const std::pair<const char*, const char*> cases[] = {{"zero.hdr", "run of 0"}, {"empty.hdr", "truncated"}, {"huge.hdr", "Mpixels"}};
+    for (const auto& [file, says] : cases) {
+        const std::string command = "ao " + p + " --env " + (folder / file).string();
+        expectRefused(runCli(command, 60), command, {file, says});
+    }
+}
+
+// Category: running out of memory while reading a project is one line, never an abort. nlohmann's
+// destructor allocates as it frees a huge array; the reader frees such a DOM without allocating.
+TEST_F(BadInputs, AProjectTooLargeForMemoryIsOneLineNotAnAbort)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "the address sanitizer reserves more address space than the limit below";
+#else
+    std::string document = project().dump();
+    document.pop_back();
+    document += R"(,"recorded_path":{"fps":30,"frames":10,"edits":[)";
+    const std::string key = R"({"frame":0,"object":"receiver","corner":[0,1,8],"u":[1,0,0],"v":[0,0,1]})";
+    document.reserve(document.size() + 1'000'000 * (key.size() + 1) + 4);
+    for (int k = 0; k < 1'000'000; ++k)
+        document += (k ? "," : "") + key;
+    document += "]}}";
+    const fs::path file = projectFolder / "huge.json";
+    std::ofstream(file) << document;
+    document.clear();
+    // 800 MB of address space: the program loads, the million keys' DOM (about 1 GB) does not fit.
+    for (const std::string& arguments : {"shaft " + file.string(), "importance " + file.string() + " --path --out " +
+                                                                      (folder / "i.png").string()}) {
+        const CliRun run = runProgram("ulimit -v 800000; " + std::string(SIGHTLINE_CLI), arguments);
+        expectRefused(run, arguments, {"out of memory while running"});
+    }
+#endif
+}

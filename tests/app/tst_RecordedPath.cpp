@@ -8,8 +8,10 @@
 #include <unistd.h>
 
 #include "project/Project.h"
+#include "project/ProjectMotion.h"
 #include "project/RecordedPath.h"
 #include "visibility/Error.h"
+#include "visibility/Patch.h"
 
 using namespace sightline;
 using nlohmann::json;
@@ -162,6 +164,10 @@ TEST(RecordedPath, AMalformedPathIsRefusedNamingTheKey)
         {with(json::json_pointer("/edits/2/frame"), 5), "'recorded_path.edits[2].frame' must not be less"},
         {with(json::json_pointer("/edits/2/transform"), json::array({1, 2, 3})), "'recorded_path.edits[2].transform' must be an array of 16"},
         {with(json::json_pointer("/edits/2/index"), -1), "'recorded_path.edits[2].index' must be an occluder's index"},
+        {with(json::json_pointer("/edits/2/transform/3"), 0.5), "'recorded_path.edits[2].transform' must be affine"},
+        {with(json::json_pointer("/edits/2/transform/15"), 2), "'recorded_path.edits[2].transform' must be affine"},
+        {with(json::json_pointer("/edits"), json::array_t(kMaxPathKeys + 1)), "'recorded_path.edits' has 100001 keys; at most 100000"},
+        {with(json::json_pointer("/camera"), json::array_t(kMaxPathKeys + 1)), "'recorded_path.camera' has 100001 keys"},
     };
     for (const auto& [document, says] : cases) {
         const std::string error = errorOf(document);
@@ -169,6 +175,46 @@ TEST(RecordedPath, AMalformedPathIsRefusedNamingTheKey)
         EXPECT_EQ(error.find('\n'), std::string::npos);
     }
     EXPECT_EQ(errorOf(good), "");
+}
+
+// Every run over a path checks its patches at each frame the same way (validateMotionFrames), and
+// the state it checks at a frame is the one projectAtPathFrame plays.
+TEST(RecordedPath, InvalidPatchesAtAnyFrameAreRefusedNamingTheFrame)
+{
+    const Project base = withoutMotionKeys(twoPatchProject());
+    RecordedPath path = samplePath();
+    EXPECT_NO_THROW(validateMotionFrames(base, ProjectMotion::of(path), path.frames));
+    for (const int f : {0, 5, 21})
+        EXPECT_NO_THROW(validatePatchPair(projectAtPathFrame(base, path, f).source, projectAtPathFrame(base, path, f).receiver));
+
+    auto errorAt = [&](const PathEdit& bad) {
+        RecordedPath p = samplePath();
+        p.edits.push_back(bad);
+        try {
+            validateMotionFrames(base, ProjectMotion::of(p), p.frames);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    PathEdit flat;
+    flat.frame = 25;
+    flat.object = PathEdit::Object::Receiver;
+    flat.patch.corner = {0.0, 1.0, 8.0};
+    flat.patch.u = {0.0, 0.0, 0.0};   // degenerate
+    EXPECT_EQ(errorAt(flat).rfind("frame 25: ", 0), 0u) << errorAt(flat);
+    PathEdit across = flat;
+    across.patch = Patch{};
+    across.patch.corner = {0.0, 1.0, 0.0};   // on the source's plane
+    EXPECT_EQ(errorAt(across).rfind("frame 25: ", 0), 0u) << errorAt(across);
+    PathEdit far = flat;
+    far.patch = Patch{};
+    far.patch.corner = {1e6, 1.0, 8.0};
+    EXPECT_EQ(errorAt(far).rfind("frame 25: ", 0), 0u) << errorAt(far);
+    // Beyond the frames asked for, an edit is not checked.
+    RecordedPath late = samplePath();
+    late.edits.push_back(flat);
+    EXPECT_NO_THROW(validateMotionFrames(base, ProjectMotion::of(late), 25));
 }
 
 } // namespace

@@ -1,8 +1,10 @@
-// libFuzzer harness for the image reader (light textures, height images; stb_image). Bad input
-// must end in sightline::Error; anything else is a finding.
+// libFuzzer harness for the image readers (light textures, height images, and AO environments:
+// Radiance HDR; stb_image behind lighting/src/ImageCheck.h). Bad input must end in
+// sightline::Error; anything else (a hang, a crash, an allocation past the limit) is a finding.
 
 #include "FuzzInput.h"
 #include "lighting/ImageFile.h"
+#include "lighting/ao/AoEnvironment.h"
 #include "visibility/Error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
@@ -10,6 +12,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto file = sightline::fuzz::inputFile("input.png", data, size);
     try {
         (void)sightline::loadRgbImage(file);
+    } catch (const sightline::Error&) {
+    }
+    try {
+        (void)sightline::AoEnvironment::load(file);
     } catch (const sightline::Error&) {
     }
     return 0;

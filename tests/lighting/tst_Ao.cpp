@@ -8,12 +8,14 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <string>
 
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "TestScenes.h"
+#include "lighting/ImageFile.h"
 #include "lighting/ao/AoBinnedCaster.h"
 #include "lighting/ao/AoComputation.h"
 #include "lighting/ao/AoEmbree.h"
@@ -440,6 +442,148 @@ TEST(AoBadInput, EnvironmentFilesAreCheckedWithOneLineErrors)
     EXPECT_EQ(sky.width(), 8);
     EXPECT_NEAR(sky.radiance({0, 1, 0}).g, 1.0f, 0.02f);
     std::filesystem::remove_all(folder);
+}
+
+namespace {
+
+std::string hdrHeader(int width, int height)
+{
+    return "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(height) + " +X " + std::to_string(width) + "\n";
+}
+
+/// One run-length scanline of `width` pixels, every channel a single run of `value` (width <= 127).
+std::string rleRow(int width, unsigned char value)
+{
+    std::string row = {2, 2, char(width >> 8), char(width & 0xff)};
+    for (int c = 0; c < 4; ++c)
+        row += {char(128 + width), char(value)};
+    return row;
+}
+
+} // namespace
+
+TEST(AoBadInput, EnvironmentDataIsCheckedBeforeDecoding)
+{
+    const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("sightline_ao_hdr_" + std::to_string(getpid()));
+    std::filesystem::create_directories(folder);
+    auto write = [&](const std::string& name, const std::string& bytes) {
+        std::ofstream(folder / name, std::ios::binary) << bytes;
+        return folder / name;
+    };
+    auto expectError = [](const std::filesystem::path& file, const std::string& words) {
+        for (int reader = 0; reader < 2; ++reader)   // the environment and the 8-bit image reader
+            try {
+                if (reader == 0)
+                    AoEnvironment::load(file);
+                else
+                    loadRgbImage(file);
+                ADD_FAILURE() << file << " was accepted";
+            } catch (const Error& e) {
+                const std::string message = e.what();
+                EXPECT_NE(message.find(words), std::string::npos) << message;
+                EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+            }
+    };
+    // A run-length count of 0 made stb loop forever; padded so that the file is long enough.
+    expectError(write("zero.hdr", hdrHeader(8, 4) + std::string{2, 2, 0, 8, 0} + std::string(60, '\0')), "run of 0");
+    // A run past the end of the scanline, a row of the wrong length, a flat row among RLE ones.
+    expectError(write("long.hdr", hdrHeader(8, 4) + std::string{2, 2, 0, 8, char(128 + 9), 1} + std::string(60, '\0')), "run of 9");
+    expectError(write("width.hdr", hdrHeader(8, 4) + std::string{2, 2, 0, 9} + std::string(60, '\0')), "declares 9 pixels");
+    expectError(write("mixed.hdr", hdrHeader(8, 4) + rleRow(8, 128) + std::string(64, '\x40')), "scanline 1 is flat");
+    // Header only, or the data cut short: an error, not a black sky.
+    expectError(write("header.hdr", hdrHeader(8, 4)), "truncated");
+    expectError(write("short.hdr", hdrHeader(8, 4) + rleRow(8, 128) + rleRow(8, 128) + rleRow(8, 128) + rleRow(8, 128).substr(0, 6)),
+                "truncated");
+    expectError(write("flat.hdr", hdrHeader(4, 2) + std::string(31, '\x80')), "truncated");
+    // Declared sizes are refused before anything is allocated.
+    expectError(write("huge.hdr", hdrHeader(16384, 8192)), "Mpixels");
+    expectError(write("wide.hdr", hdrHeader(16385, 1)), "outside 1..16384");
+    expectError(write("flip.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n+Y 4 +X 8\n" + std::string(128, '\x80')), "only '-Y H +X W'");
+    expectError(write("xyze.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_xyze\n\n-Y 4 +X 8\n" + std::string(128, '\x80')), "FORMAT");
+    expectError(write("noend.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe"), "header");
+
+    // Valid run-length and flat files read whole: RGBE 128, 128, 128, 129 is 1.0.
+    std::string rle = hdrHeader(8, 4);
+    for (int y = 0; y < 4; ++y) {
+        std::string row = {2, 2, 0, 8};
+        for (int c = 0; c < 3; ++c)
+            row += {char(4), char(128), char(128), char(128), char(128), char(128 + 4), char(128)};   // a dump, then a run
+        row += {char(128 + 8), char(129)};
+        rle += row;
+    }
+    const AoEnvironment sky = AoEnvironment::load(write("rle.hdr", rle));
+    EXPECT_EQ(sky.width(), 8);
+    EXPECT_NEAR(sky.radiance({0, 1, 0}).g, 1.0f, 0.02f);
+    std::string flat = hdrHeader(4, 2);
+    for (int i = 0; i < 8; ++i)
+        flat += "\x80\x80\x80\x81";
+    const RgbImage image = loadRgbImage(write("flat-ok.hdr", flat));
+    EXPECT_EQ(image.width, 4);
+    EXPECT_NEAR(image.pixels[7].r, 1.0f, 0.01f);
+    std::filesystem::remove_all(folder);
+}
+
+TEST(AoBadInput, TruncatedImagesAreErrorsNotBlack)
+{
+    const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("sightline_image_" + std::to_string(getpid()));
+    std::filesystem::create_directories(folder);
+    auto write = [&](const std::string& name, const std::string& bytes) {
+        std::ofstream(folder / name, std::ios::binary) << bytes;
+        return folder / name;
+    };
+    auto expectError = [](const std::filesystem::path& file, const std::string& words) {
+        try {
+            loadRgbImage(file);
+            ADD_FAILURE() << file << " was accepted";
+        } catch (const Error& e) {
+            const std::string message = e.what();
+            EXPECT_NE(message.find(words), std::string::npos) << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        }
+    };
+    // Binary PPM: 2x2 needs 12 pixel bytes.
+    const std::string ppm = "P6\n2 2\n255\n" + std::string(12, '\x7f');
+    EXPECT_EQ(loadRgbImage(write("ok.ppm", ppm)).width, 2);
+    expectError(write("short.ppm", ppm.substr(0, ppm.size() - 1)), "truncated PNM");
+    // 24-bit BMP, 2x2: rows padded to 8 bytes, pixels at offset 54.
+    std::string bmp(54, '\0');
+    auto put32 = [&](std::size_t at, std::uint32_t v) {
+        for (int b = 0; b < 4; ++b)
+            bmp[at + std::size_t(b)] = char(v >> (8 * b));
+    };
+    bmp[0] = 'B', bmp[1] = 'M';
+    put32(2, 54 + 16), put32(10, 54), put32(14, 40), put32(18, 2), put32(22, 2);
+    bmp[26] = 1, bmp[28] = 24;
+    bmp += std::string(16, '\x40');
+    EXPECT_EQ(loadRgbImage(write("ok.bmp", bmp)).height, 2);
+    expectError(write("short.bmp", bmp.substr(0, bmp.size() - 3)), "truncated BMP");
+    // A 1x1 RGB PNG cut before its IEND chunk.
+    const unsigned char png[] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a, 0, 0, 0, 0x0d, 'I', 'H', 'D', 'R', 0, 0, 0, 1,
+                                 0, 0, 0, 1, 8, 2, 0, 0, 0, 0x90, 0x77, 0x53, 0xde, 0, 0, 0, 0x0c, 'I', 'D', 'A', 'T',
+                                 0x08, 0xd7, 0x63, 0xf8, 0xcf, 0xc0, 0x00, 0x00, 0x03, 0x01, 0x01, 0x00};
+    expectError(write("short.png", std::string(reinterpret_cast<const char*>(png), sizeof png)), "truncated PNG");
+    // A GIF is not read at all (its data cannot be checked).
+    expectError(write("a.gif", std::string("GIF89a\x01\x00\x01\x00\x00\x00\x00", 13) + std::string(20, '\0')), "GIF");
+    std::filesystem::remove_all(folder);
+}
+
+TEST(AoTexels, DensitiesOutsideTheRangeAreRefused)
+{
+    const AoOccluders occluders = aoOccluders(clutter());
+    for (const double density : {std::numeric_limits<double>::quiet_NaN(), 0.0, -1.0, 1001.0, 1e308,
+                                 std::numeric_limits<double>::infinity()}) {
+        AoPoints points;
+        try {
+            aoTexelPoints(occluders, density, points);
+            ADD_FAILURE() << density << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_NE(std::string(e.what()).find("(0, 1000]"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(points.size(), 0u);
+    }
+    // The largest density is refused by the atlas limit, not by an overflowing tile size.
+    AoPoints points;
+    EXPECT_THROW(aoTexelPoints(occluders, kMaxTexelDensity, points, 1u << 20), Error);
 }
 
 TEST(AoTexels, GridsCoverEachTriangleAndMapToTheAtlas)

@@ -279,6 +279,67 @@ TEST(RecordCommand, BadArgumentsGiveOneLineErrorsAndNoFile)
     EXPECT_EQ(std::distance(fs::directory_iterator(folder), fs::directory_iterator()), 2);   // demo.json, demo_level.glb
 }
 
+TEST(RecordCommand, BadNamesSizesAndPathsAreRefusedBeforeAnyWindow)
+{
+    fs::create_directories(test::uniqueFolder());
+    const fs::path folder = test::freshFolder("record-bad-path");
+    const fs::path project = test::copyDemoProject(folder);
+    const std::string p = project.string(), out = (folder / "a.mp4").string();
+    // The offscreen platform: a window, were one created, would not crash the test's run.
+    const std::string editor = std::string("env QT_QPA_PLATFORM=offscreen ") + SIGHTLINE_EDITOR;
+    const json original = json::parse(std::ifstream(project));
+    auto withPath = [&](const std::string& name, const json& path) {
+        json document = original;
+        document[kRecordedPathKey] = path;
+        std::ofstream(folder / name) << document.dump();
+        return (folder / name).string();
+    };
+    const json receiver = original.at("receiver");
+    json crossing = receiver;
+    crossing["corner"] = original.at("source").at("corner");   // on the source's plane
+    json far = receiver;
+    far["corner"] = {2e6, 0, 0};   // beyond kMaxCoordinateMetres
+    json flat = receiver;
+    flat["u"] = {0, 0, 0};
+    json projective = json::array();
+    for (int i = 0; i < 16; ++i)
+        projective.push_back(i % 5 == 0 ? 1.0 : i == 3 ? 0.5 : 0.0);
+    auto edit = [&](const json& patch) {
+        return json{{"fps", 30}, {"frames", 10},
+                    {"edits", {{{"frame", 0}, {"object", "receiver"}, {"corner", receiver.at("corner")}, {"u", receiver.at("u")},
+                                {"v", receiver.at("v")}},
+                               {{"frame", 4}, {"object", "receiver"}, {"corner", patch.at("corner")}, {"u", patch.at("u")},
+                                {"v", patch.at("v")}}}}};
+    };
+    const std::string crossingFile = withPath("crossing.json", edit(crossing));
+    const std::string farFile = withPath("far.json", edit(far));
+    const std::string flatFile = withPath("flat.json", edit(flat));
+    const std::string projectiveFile = withPath(
+        "projective.json", {{"fps", 30}, {"frames", 10},
+                            {"edits", {{{"frame", 2}, {"object", "occluder"}, {"index", 0}, {"name", "x"}, {"transform", projective}}}}});
+    const std::string slowFile = withPath("slow.json", {{"fps", 0.001}, {"frames", 1000000}});
+    const std::pair<std::string, std::string> cases[] = {
+        {"--record \"\" " + p, "--record needs an output file name"},
+        {"--screenshot \"\" " + p, "--screenshot needs an output file name"},
+        {"--record " + p + " " + p, "the opened file"},
+        {"--record " + out + " " + p + " --size 4294967312x16", "--size must be WxH"},
+        {"--record " + out + " " + p + " --size 16x99999999999999999999", "--size must be WxH"},
+        {"--record " + out + " " + crossingFile, "frame 4: "},
+        {"--record " + out + " " + farFile, "frame 4: "},
+        {"--record " + out + " " + flatFile, "frame 4: "},
+        {"--record " + out + " " + projectiveFile, "'recorded_path.edits[0].transform' must be affine"},
+        {"--record " + out + " " + slowFile + " --fps 240", "at most 1000000 are recorded"},
+    };
+    for (const auto& [arguments, says] : cases) {
+        const test::CliRun run = test::runProgram(editor, arguments, 120);
+        EXPECT_TRUE(run.code == 1 || run.code == 2) << arguments << ": " << run.code << " " << run.err;
+        EXPECT_NE(run.err.find(says), std::string::npos) << arguments << ": " << run.err;
+        EXPECT_TRUE(test::oneLine(run.err)) << arguments << ": " << run.err;
+    }
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_EQ(json::parse(std::ifstream(project)), original);   // the opened file is untouched
+}
+
 } // namespace
 } // namespace sightline::ui
 

@@ -25,9 +25,14 @@ struct RgbImage {
 /// The largest image read: a side, and pixels in all (each costs 15 bytes while loading).
 inline constexpr int kMaxImageSide = 16384;
 inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t(1) << 25;
+/// The largest image file read (also for AO environments): the largest image at 4 bytes a pixel
+/// (flat RGBE, 32-bit BMP) with room for compression overhead and metadata.
+inline constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(192) << 20;
 
 /// Throws sightline::Error with the file name when the file is missing, not a regular file
-/// (visibility/InputFile.h), not a readable image, or larger than the limits above.
+/// (visibility/InputFile.h), not a readable image, larger than the limits above, or shorter than
+/// its header declares (a truncated file is an error, never black pixels). A Radiance HDR is
+/// read too (its RGBE values clamped to [0, 1]), checked as AoEnvironment's are.
 RgbImage loadRgbImage(const std::filesystem::path& file);
 
 } // namespace sightline

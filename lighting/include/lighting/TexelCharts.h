@@ -48,7 +48,8 @@ struct ChartLayout {
 };
 
 /// Charts over every triangle at `density` texels per metre, their texel points appended to
-/// `points`. Throws sightline::Error when the density is not positive and finite, or when the
+/// `points`. Throws sightline::Error when checkTexelDensity (lighting/ao/AoTexels.h) refuses the
+/// density, or when the
 /// atlas would exceed `maxPixels` (naming a density that would fit).
 ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoints& points,
                              std::uint64_t maxPixels = std::uint64_t(1) << 25);

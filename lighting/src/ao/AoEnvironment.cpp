@@ -8,6 +8,8 @@
 #include <glm/geometric.hpp>
 #include <stb/stb_image.h>
 
+#include "ImageCheck.h"
+#include "lighting/ImageFile.h"
 #include "visibility/Error.h"
 #include "visibility/InputFile.h"
 
@@ -64,18 +66,22 @@ AoEnvironment AoEnvironment::fromPixels(int width, int height, std::vector<glm::
 
 AoEnvironment AoEnvironment::load(const std::filesystem::path& file)
 {
-    checkInputFile(file, "environment");
+    // Read whole, checked, then decoded from these very bytes: stb's HDR decoder trusts the header
+    // and loops forever on some run-length data (ImageCheck.h).
     const std::string name = file.string();
-    if (!stbi_is_hdr(name.c_str()))
+    const std::string bytes = readInputFile(file, "environment", kMaxImageFileBytes);
+    if (!image::isRadianceHdr(bytes))
         throw Error(name + ": not a Radiance HDR image (.hdr, RGBE); environments must be high dynamic range lat-long maps");
     int width = 0, height = 0, channels = 0;
-    if (!stbi_info(name.c_str(), &width, &height, &channels) || width < 2 || height < 1 || width > 16384 || height > 16384)
-        throw Error(name + ": unreadable Radiance HDR header or image size out of range (2..16384 a side)");
+    image::checkRadianceHdr(bytes, name, width, height);
+    if (width < 2)
+        throw Error(name + ": a Radiance HDR environment needs at least 2 pixels a row");
     const double aspect = double(width) / double(height);
     if (aspect < 2.0 / 1.5 || aspect > 2.0 * 1.5)
         throw Error(name + ": " + std::to_string(width) + "x" + std::to_string(height) +
                     " is not a latitude-longitude map (width should be twice the height)");
-    float* data = stbi_loadf(name.c_str(), &width, &height, &channels, 3);
+    float* data = stbi_loadf_from_memory(reinterpret_cast<const stbi_uc*>(bytes.data()), int(bytes.size()), &width, &height,
+                                         &channels, 3);
     if (!data)
         throw Error(name + ": cannot decode Radiance HDR: " + stbi_failure_reason());
     std::vector<glm::vec3> pixels(std::size_t(width) * std::size_t(height));

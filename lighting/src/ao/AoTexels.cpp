@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <string>
 
@@ -26,10 +27,19 @@ glm::vec2 AoTexelLayout::uv(const AoOccluders& occluders, std::uint32_t t, int c
     return {float((tile.x + s) / width), float((tile.y + q) / height)};
 }
 
+void checkTexelDensity(double density)
+{
+    if (density > 0.0 && density <= kMaxTexelDensity)   // false for NaN
+        return;
+    char text[64];
+    std::snprintf(text, sizeof text, "--texel %g: ", density);
+    throw Error(text + std::string("the light-map density must be a number of texels per metre in (0, ") +
+                std::to_string(int(kMaxTexelDensity)) + "]");
+}
+
 AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoints& points, std::uint64_t maxPixels)
 {
-    if (!(density > 0.0) || !std::isfinite(density))
-        throw Error("--texel " + std::to_string(density) + ": the light-map density must be a positive number of texels per metre");
+    checkTexelDensity(density);
     AoTexelLayout layout;
     layout.density = density;
     const std::size_t nt = occluders.triangleCount();
@@ -50,8 +60,14 @@ AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoin
         tile.origin = glm::vec3(a + u0 * u);
         tile.axisU = glm::vec3(u);
         tile.axisV = glm::vec3(v);
-        tile.width = std::max(1, int(std::ceil((u1 - u0) * density)));
-        tile.height = std::max(1, int(std::ceil(cv * density)));
+        // Sized in double first: a tile past the limit must not reach an int.
+        const double width = std::max(1.0, std::ceil((u1 - u0) * density)), height = std::max(1.0, std::ceil(cv * density));
+        if (!(width * height <= double(maxPixels))) {
+            texels = maxPixels + 1;
+            break;
+        }
+        tile.width = int(width);
+        tile.height = int(height);
         texels += std::uint64_t(tile.width) * std::uint64_t(tile.height);
         if (texels > maxPixels)
             break;

@@ -42,6 +42,13 @@ struct ProjectMotion {
 /// a run copies for each frame (a long recorded path is most of the document).
 Project withoutMotionKeys(Project project);
 
+/// Throws sightline::Error when the patches at any of frames [0, frames) of `motion` over `base`
+/// are not a valid pair (validatePatchPair: degenerate, a receiver across the source's plane, out
+/// of range), naming the frame ("frame 12: ...") when there is more than one. What every run over a
+/// motion checks before its expensive work (`importance`, `sightline --record`), so that no run
+/// renders or accumulates what another refuses. `base` is withoutMotionKeys of the project.
+void validateMotionFrames(const Project& base, const ProjectMotion& motion, int frames);
+
 /// The project's motion of `kind`: parseAnimation or parseRecordedPath (throws sightline::Error
 /// naming the key when it is malformed; an absent key gives an empty motion).
 ProjectMotion parseProjectMotion(const Project& project, ProjectMotion::Kind kind, const std::string& what);

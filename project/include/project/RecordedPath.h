@@ -41,6 +41,9 @@ namespace sightline {
 
 inline constexpr const char* kRecordedPathKey = "recorded_path";
 inline constexpr int kMaxRecordedFrames = 1'000'000;   ///< about 9 hours at 30 fps
+/// The most keys in each of "camera" and "edits" (a key where something changed: a long session of
+/// constant dragging at 30 fps is about 20,000), checked on the arrays' sizes before a key is read.
+inline constexpr std::size_t kMaxPathKeys = 100'000;
 
 /// An orbit camera, in the fields of ui::Camera (target, eye distance, yaw, pitch, vertical fov).
 struct PathCamera {
@@ -83,7 +86,10 @@ struct RecordedPath {
 };
 
 /// project.extra["recorded_path"], or an empty path when absent. Throws sightline::Error naming
-/// the key: "demo.json: 'recorded_path.camera[3].frame' must be greater than the previous key's".
+/// the key: "demo.json: 'recorded_path.camera[3].frame' must be greater than the previous key's";
+/// also for more than kMaxPathKeys keys, and an occluder transform that is not affine (last row
+/// 0, 0, 0, 1: a projective one would warp the occluder). The patches' validity per frame is
+/// checked where a run plays the path (validateMotionFrames, project/ProjectMotion.h).
 RecordedPath parseRecordedPath(const Project& project, const std::string& what);
 nlohmann::json toJson(const RecordedPath& path);
 /// Stores the path under "recorded_path" (an empty path removes the key).

@@ -27,7 +27,9 @@ public:
     static AoEnvironment uniform(const glm::vec3& radiance = glm::vec3(1.0f));
     /// Reads a Radiance .hdr (RGBE) file. Throws sightline::Error with the file name for a missing
     /// or unreadable file, an image that is not Radiance HDR (PNG, JPEG, ...), or one that is not
-    /// 2:1 latitude-longitude within a factor of 1.5, or larger than 16384 a side.
+    /// 2:1 latitude-longitude within a factor of 1.5, larger than the image limits (16384 a side,
+    /// 32 Mpixels: lighting/ImageFile.h), or whose data is truncated or corrupt (every byte is
+    /// checked before decoding: lighting/src/ImageCheck.h).
     static AoEnvironment load(const std::filesystem::path& file);
     /// The same environment from pixels (row-major, top row first), for tests.
     static AoEnvironment fromPixels(int width, int height, std::vector<glm::vec3> pixels);

@@ -38,8 +38,17 @@ struct AoTexelLayout {
     glm::vec2 uv(const AoOccluders& occluders, std::uint32_t t, int c) const;
 };
 
+/// The densest light map baked (`ao --texel`, `lights --texel`): 1 mm texels. Beyond it the
+/// atlas of any real level exceeds the pixel limit anyway, and a huge density overflows a tile's
+/// texel count.
+inline constexpr double kMaxTexelDensity = 1000.0;
+
+/// Throws sightline::Error ("--texel nan: ...") unless `density` is finite and in
+/// (0, kMaxTexelDensity] texels per metre.
+void checkTexelDensity(double density);
+
 /// Texel points of every triangle at `density` texels per metre (points with status Ok, origins
-/// not yet offset). Throws sightline::Error when the density is not positive and finite, or when
+/// not yet offset). Throws sightline::Error when checkTexelDensity refuses the density, or when
 /// the atlas would exceed `maxPixels` (naming the texel count and a density that would fit).
 AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoints& points,
                             std::uint64_t maxPixels = std::uint64_t(1) << 25);
