@@ -9,10 +9,13 @@
 #include <optional>
 
 #include "AoPreview.h"
+#include "CameraVisibility.h"
 #include "TexelAtlas.h"
 #include "lighting/DirectLight.h"
+#include "lighting/LightEmission.h"
 #include "lighting/LightingCache.h"
 #include "lighting/ao/AoTexels.h"
+#include "visibility/Error.h"
 
 namespace sightline::ui {
 
@@ -39,6 +42,111 @@ double autoExposure(const std::vector<glm::dvec3>& irradiance)
     const std::size_t at = std::min(lit.size() - 1, std::size_t(0.95 * double(lit.size())));
     std::nth_element(lit.begin(), lit.begin() + std::ptrdiff_t(at), lit.end());
     return 2.0 / lit[at];
+}
+
+/// Per point, how many computed lights give it light (their kept field > 0).
+std::vector<std::size_t> lightsReaching(const LightingCache& cache, std::size_t lights)
+{
+    std::vector<std::size_t> count(cache.points().size(), 0);
+    for (std::size_t l = 0; l < lights; ++l) {
+        const std::vector<float>& field = cache.field(l);
+        for (std::size_t j = 0; j < field.size(); ++j)
+            count[j] += field[j] > 0.0f ? 1 : 0;
+    }
+    return count;
+}
+
+/// Per point, of the lights whose unshadowed terms reach it: which light it wholly, partly or not
+/// at all once shadowed (their kept field against the unshadowed sum of their emitters' terms).
+/// A light not yet computed counts as shadowed. Unshadowed sums are summed in the same order as
+/// the field's, so "wholly" allows float rounding alone.
+std::vector<TexelLightCounts> lightCounts(const LightingCache& cache, const std::vector<Light>& lights, const LightingScene& scene)
+{
+    const std::vector<ShadingPoint>& points = cache.points();
+    std::vector<TexelLightCounts> counts(points.size());
+    const std::vector<Emitter> emitters = lightEmitters(lights);
+    std::size_t first = 0;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        std::size_t last = first;
+        while (last < emitters.size() && emitters[last].light == l)
+            ++last;
+        const std::vector<float>& field = cache.field(l);
+        for (std::size_t j = 0; j < points.size(); ++j) {
+            double open = 0.0;
+            for (std::size_t e = first; e < last; ++e) {
+                const glm::dvec3 at = lights[l].type == LightType::Directional ? scene.reach().end(lights[l], points[j].position)
+                                                                               : emitters[e].position;
+                open += emitterTerm(lights[l], at, points[j].position, points[j].normal);
+            }
+            if (open <= 0.0)
+                continue;
+            const double shadowed = field.empty() ? 0.0 : double(field[j]);
+            TexelLightCounts& c = counts[j];
+            if (shadowed <= 0.0)
+                ++c.shadowed;
+            else if (shadowed >= open * (1.0 - 1e-5))
+                ++c.lit;
+            else
+                ++c.partial;
+        }
+        first = last;
+    }
+    return counts;
+}
+
+/// The texels' colours for `frame.shading`, and the frame's counts.
+std::vector<glm::vec3> shadeTexels(const LitTexels& texels, const LightingCache& cache, const std::vector<Light>& lights,
+                                   const LightingScene& scene, LitPreviewFrame& frame)
+{
+    std::vector<glm::vec3> colour(texels.pointOfTexel.size(), glm::vec3(0.0f));
+    const std::vector<glm::dvec3>& e = cache.irradiance();
+    std::vector<glm::vec3> perPoint(texels.points.size());
+    switch (frame.shading) {
+    case LitShading::Light:
+        for (std::size_t j = 0; j < perPoint.size(); ++j)
+            perPoint[j] = toneMapped(e[j], frame.exposure);
+        break;
+    case LitShading::Staleness: {
+        const std::vector<float> stale = cache.staleness();
+        for (std::size_t j = 0; j < perPoint.size(); ++j) {
+            const glm::vec3 grey(toneMapped(e[j], frame.exposure).g);
+            perPoint[j] = glm::mix(0.3f + 0.7f * grey, glm::vec3(0.95f, 0.1f, 0.1f), stale[j]);
+        }
+        break;
+    }
+    case LitShading::Overlap: {
+        const std::vector<std::size_t> count = lightsReaching(cache, lights.size());
+        std::size_t lit = 0, over = 0;
+        for (std::size_t j = 0; j < perPoint.size(); ++j) {
+            perPoint[j] = overlapColour(count[j], frame.budget);
+            lit += count[j] > 0 ? 1 : 0;
+            over += count[j] > std::size_t(frame.budget) ? 1 : 0;
+            frame.mostLights = std::max(frame.mostLights, count[j]);
+        }
+        frame.overBudget = lit > 0 ? double(over) / double(lit) : 0.0;
+        break;
+    }
+    case LitShading::Complexity: {
+        const std::vector<TexelLightCounts> counts = lightCounts(cache, lights, scene);
+        double shadowedSum = 0.0;
+        std::size_t reached = 0;
+        for (std::size_t j = 0; j < perPoint.size(); ++j) {
+            perPoint[j] = complexityColour(counts[j], frame.budget);
+            const std::size_t all = std::size_t(counts[j].lit) + counts[j].partial + counts[j].shadowed;
+            if (all > 0) {
+                ++reached;
+                shadowedSum += double(counts[j].partial) + double(counts[j].shadowed);
+            }
+            frame.mostLights = std::max(frame.mostLights, all);
+        }
+        frame.meanShadowed = reached > 0 ? shadowedSum / double(reached) : 0.0;
+        break;
+    }
+    }
+    for (std::size_t k = 0; k < colour.size(); ++k)
+        if (texels.pointOfTexel[k] != SIZE_MAX)
+            colour[k] = perPoint[texels.pointOfTexel[k]];
+    return colour;
 }
 
 } // namespace
@@ -69,6 +177,50 @@ glm::vec3 toneMapped(const glm::dvec3& irradiance, double exposure)
 {
     const glm::dvec3 x = irradiance * (exposure / std::numbers::pi);
     return glm::vec3(1.0 - std::exp(-x.r), 1.0 - std::exp(-x.g), 1.0 - std::exp(-x.b));
+}
+
+glm::vec3 overlapColour(std::size_t lights, int budget)
+{
+    if (lights == 0)
+        return glm::vec3(0.08f, 0.08f, 0.1f);
+    if (lights > std::size_t(budget))   // over: red, brighter the further over
+        return glm::mix(glm::vec3(0.6f, 0.05f, 0.05f), glm::vec3(1.0f, 0.2f, 0.6f),
+                        std::min(1.0f, float(lights - std::size_t(budget)) / float(std::max(budget, 1))));
+    const float t = budget > 1 ? float(lights - 1) / float(budget - 1) : 1.0f;
+    return glm::mix(glm::vec3(0.15f, 0.7f, 0.3f), glm::vec3(1.0f, 0.85f, 0.2f), t);
+}
+
+glm::vec3 complexityColour(const TexelLightCounts& counts, int budget)
+{
+    const float all = float(counts.lit) + float(counts.partial) + float(counts.shadowed);
+    if (all == 0.0f)
+        return glm::vec3(0.08f, 0.08f, 0.1f);
+    const glm::vec3 mix = (float(counts.lit) * glm::vec3(0.2f, 0.85f, 0.3f) + float(counts.partial) * glm::vec3(0.25f, 0.45f, 1.0f) +
+                           float(counts.shadowed) * glm::vec3(0.9f, 0.15f, 0.1f)) /
+                          all;
+    // Brighter with more lights, full at the budget.
+    return mix * (0.35f + 0.65f * std::min(1.0f, all / float(std::max(budget, 1))));
+}
+
+void LitPreview::requestSets(std::optional<SetsRequest> request)
+{
+    {
+        std::lock_guard lock(mutex_);
+        setsRequest_ = std::move(request);
+        ++setsVersion_;
+    }
+    wake_.notify_all();
+}
+
+void LitPreview::setShading(LitShading shading, int budget)
+{
+    {
+        std::lock_guard lock(mutex_);
+        shading_ = shading;
+        budget_ = std::max(budget, 1);
+        ++shadingVersion_;
+    }
+    wake_.notify_all();
 }
 
 bool sameLight(const Light& a, const Light& b)
@@ -131,6 +283,8 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
         std::lock_guard lock(mutex_);
         lights_ = request.lights;
         ++lightsVersion_;
+        shading_ = request.shading;
+        budget_ = std::max(request.budget, 1);
     }
     current_.cancel = std::make_shared<std::atomic<bool>>(false);
     current_.done = std::make_shared<std::atomic<bool>>(false);
@@ -164,20 +318,53 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
             }
             auto cache = std::make_unique<LightingCache>(texels.points, lights);
             double exposure = 0.0;   // fixed once every light has been computed once
+            LightingCache::Frame step;
+            bool refresh = true;
+            std::uint64_t shadingSeen = 0, setsSeen = 0;
+            std::optional<LightSets> sets;
+            std::size_t setsLight = 0;
+            bool setsStale = false;   // the lights changed since the sets were computed
             for (;;) {
-                const LightingCache::Frame step = cache->update(scene, request.segmentsPerFrame, 1);
+                if (refresh) {
+                    step = cache->update(scene, request.segmentsPerFrame, 1);
+                } else {   // the same light shown otherwise: nothing refreshed
+                    const bool exact = step.exact;
+                    step = {};
+                    step.exact = exact;
+                }
                 if (cancel->load())
                     return;
-                const std::vector<glm::dvec3>& e = cache->irradiance();
-                const double shownExposure = exposure > 0.0 ? exposure : autoExposure(e);
+                LitPreviewFrame frame;
+                std::optional<SetsRequest> setsWanted;
+                bool setsChanged = false;
+                {
+                    std::lock_guard lock(mutex_);
+                    frame.shading = shading_;
+                    frame.budget = budget_;
+                    shadingSeen = shadingVersion_;
+                    setsWanted = setsRequest_;
+                    setsChanged = setsVersion_ != setsSeen || (setsStale && setsWanted);
+                    setsSeen = setsVersion_;
+                }
+                if (setsChanged) {
+                    setsStale = false;
+                    sets.reset();
+                    if (setsWanted && setsWanted->light < lights.size()) {
+                        const std::vector<std::uint32_t> seen = visibleInstances(setsWanted->camera, scene);
+                        sets = lightSets(scene, *request.scene, {lights[setsWanted->light]}, seen, LightSetOptions{.threads = 1}).front();
+                        setsLight = setsWanted->light;
+                    }
+                    if (cancel->load())
+                        return;
+                }
+                frame.sets = sets;
+                frame.setsLight = setsLight;
+                const double shownExposure = exposure > 0.0 ? exposure : autoExposure(cache->irradiance());
                 if (exposure == 0.0 && step.exact)
                     exposure = shownExposure;
-                std::vector<glm::vec3> colour(texels.pointOfTexel.size(), glm::vec3(0.0f));
-                for (std::size_t k = 0; k < colour.size(); ++k)
-                    if (texels.pointOfTexel[k] != SIZE_MAX)
-                        colour[k] = toneMapped(e[texels.pointOfTexel[k]], shownExposure);
-                LitPreviewFrame frame;
                 frame.generation = generation;
+                frame.exposure = shownExposure;
+                const std::vector<glm::vec3> colour = shadeTexels(texels, *cache, lights, scene, frame);
                 frame.uvs = texels.uvs;
                 frame.width = texels.layout.width;
                 frame.height = texels.layout.height;
@@ -185,18 +372,21 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
                 frame.texels = texels.points.size();
                 frame.lights = lights.size();
                 frame.refreshed = step.refreshed;
-                frame.stale = step.stale;
+                frame.stale = cache->staleCount();
                 frame.exact = step.exact;
-                frame.exposure = shownExposure;
                 frame.frameMs = step.ms;
                 frame.ms = since(start);
                 deliver_(std::move(frame));
-                // Exact: wait for new lights (or the end); else refresh the next stale ones.
+                // Exact: wait for new lights, another shading or the end; else refresh the next
+                // stale lights.
                 std::unique_lock lock(mutex_);
                 if (step.exact)
-                    wake_.wait(lock, [&] { return cancel->load() || lightsVersion_ != version; });
+                    wake_.wait(lock, [&] {
+                        return cancel->load() || lightsVersion_ != version || shadingVersion_ != shadingSeen || setsVersion_ != setsSeen;
+                    });
                 if (cancel->load())
                     return;
+                refresh = !step.exact || lightsVersion_ != version;
                 if (lightsVersion_ != version) {
                     version = lightsVersion_;
                     std::vector<Light> next = lights_;
@@ -209,6 +399,7 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
                                 cache->setLight(k, next[k]);
                     }
                     lights = std::move(next);
+                    setsStale = true;
                 }
             }
         } catch (const std::bad_alloc&) {
@@ -219,7 +410,20 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
     });
 }
 
-LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights)
+LitShading parseLitShading(const std::string& name)
+{
+    if (name == "light")
+        return LitShading::Light;
+    if (name == "complexity")
+        return LitShading::Complexity;
+    if (name == "overlap")
+        return LitShading::Overlap;
+    if (name == "staleness")
+        return LitShading::Staleness;
+    throw Error("the lit view shows light, complexity, overlap or staleness, not '" + name + "'");
+}
+
+LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights, LitShading shading, int budget)
 {
     std::mutex mutex;
     std::condition_variable arrived;
@@ -230,7 +434,11 @@ LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Li
             last = std::move(frame);
         arrived.notify_all();
     });
-    preview.start(1, {.scene = std::move(scene), .lights = std::move(lights), .segmentsPerFrame = std::uint64_t(1) << 40});
+    preview.start(1, {.scene = std::move(scene),
+                      .lights = std::move(lights),
+                      .segmentsPerFrame = std::uint64_t(1) << 40,
+                      .shading = shading,
+                      .budget = budget});
     std::unique_lock lock(mutex);
     arrived.wait(lock, [&] { return last.has_value(); });
     LitPreviewFrame out = std::move(*last);

@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -20,12 +21,22 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "Camera.h"
+#include "LitShading.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
+#include "lighting/LightSets.h"
 #include "lighting/ao/AoTexels.h"
 #include "visibility/Scene.h"
 
 namespace sightline::ui {
+
+/// The overlays' colours and counts for one texel point (tested as a contract).
+struct TexelLightCounts {
+    std::uint16_t lit = 0, partial = 0, shadowed = 0;   ///< of the lights whose unshadowed term is > 0
+};
+glm::vec3 overlapColour(std::size_t lights, int budget);
+glm::vec3 complexityColour(const TexelLightCounts& counts, int budget);
 
 struct LitPreviewFrame {
     std::uint64_t generation = 0;
@@ -39,6 +50,17 @@ struct LitPreviewFrame {
     std::size_t refreshed = 0;         ///< lights refreshed for this frame
     std::size_t stale = 0;             ///< lights still stale: their old light is shown
     bool exact = false;                ///< no light stale: the exact irradiance, tone-mapped
+    LitShading shading = LitShading::Light;
+    int budget = 4;                    ///< Overlap, Complexity: the lights a texel may take
+    /// Overlap: the share of lit texels over the budget and the most lights on one texel;
+    /// Complexity: the mean lights partly or wholly shadowed per lit texel.
+    double overBudget = 0.0;
+    std::size_t mostLights = 0;
+    double meanShadowed = 0.0;
+    /// O'Rorke's sets of light `setsLight` seen from the requested camera (requestSets), once
+    /// computed; every frame after carries the latest.
+    std::optional<LightSets> sets;
+    std::size_t setsLight = 0;
     double exposure = 0.0;             ///< colour = 1 - exp(-exposure x E / pi), E in W/m²
     double frameMs = 0.0;              ///< this frame's refresh
     double ms = 0.0;                   ///< since start()
@@ -63,6 +85,8 @@ struct LitPreviewRequest {
     std::shared_ptr<const Scene> scene;
     std::vector<Light> lights;              ///< validated (validateLights)
     std::uint64_t segmentsPerFrame = 4'000'000;   ///< a frame's budget (LightingCache::update)
+    LitShading shading = LitShading::Light;
+    int budget = 4;
 };
 
 class LitPreview {
@@ -78,6 +102,15 @@ public:
     /// The lights changed (same scene): lights whose entry differs go stale and are refreshed by
     /// priority; a changed count starts the lights' fields again over the same texels.
     void setLights(std::vector<Light> lights);
+    /// Shows the same light otherwise (no shadow ray cast again): a frame is delivered anew.
+    void setShading(LitShading shading, int budget);
+    /// Computes O'Rorke's sets (V from `camera`, lighting/LightSets.h) of light `light` between
+    /// frames, and again when the lights change; nullopt stops.
+    struct SetsRequest {
+        std::size_t light = 0;
+        Camera camera;
+    };
+    void requestSets(std::optional<SetsRequest> request);
     void cancel();
     void stop();
 
@@ -93,13 +126,22 @@ private:
     std::condition_variable wake_;
     std::vector<Light> lights_;
     std::uint64_t lightsVersion_ = 0;
+    LitShading shading_ = LitShading::Light;
+    int budget_ = 4;
+    std::uint64_t shadingVersion_ = 0;
+    std::optional<SetsRequest> setsRequest_;
+    std::uint64_t setsVersion_ = 0;
     Worker current_;
     std::vector<Worker> retired_;
 };
 
 /// Runs a LitPreview to its exact frame and returns it (or the failed frame): the headless
 /// screenshot's lit view, and tests.
-LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights);
+LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights,
+                              LitShading shading = LitShading::Light, int budget = 4);
+
+/// "light", "complexity", "overlap" or "staleness"; throws sightline::Error for anything else.
+LitShading parseLitShading(const std::string& name);
 
 /// Whether two lights give the same light (every field the formulas read).
 bool sameLight(const Light& a, const Light& b);

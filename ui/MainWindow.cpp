@@ -546,6 +546,53 @@ void MainWindow::createActions()
     });
     lit->setCheckable(true);
     lit->setObjectName("litView");
+    // What the lit view shows: Barczak's and the engines' questions (how many lights overlap, where
+    // shadows are partial, what is stale) over the same computed light; switching casts no ray.
+    QMenu* litShows = view->addMenu(tr("Lit View Shows"));
+    litShows->setObjectName("litShows");
+    auto* litModes = new QActionGroup(this);
+    const std::pair<QString, LitShading> shadings[] = {{tr("&Light"), LitShading::Light},
+                                                       {tr("Shadow &Complexity"), LitShading::Complexity},
+                                                       {tr("Light &Overlap Against the Budget"), LitShading::Overlap},
+                                                       {tr("&Staleness"), LitShading::Staleness}};
+    const char* shadingNames[] = {"litLight", "litComplexity", "litOverlap", "litStaleness"};
+    for (std::size_t k = 0; k < std::size(shadings); ++k) {
+        QAction* a = litShows->addAction(shadings[k].first, this, [this, lit, shading = shadings[k].second] {
+            viewport_->setLitShading(shading, viewport_->litBudget());
+            if (!lit->isChecked())
+                lit->trigger();
+        });
+        a->setCheckable(true);
+        a->setChecked(k == 0);
+        a->setObjectName(shadingNames[k]);
+        litModes->addAction(a);
+    }
+    QAction* sets = action(view, tr("Light &Sets of the Selected Light"), QKeySequence(Qt::SHIFT | Qt::Key_I), [this, lit](bool on) {
+        if (on && !lit->isChecked())
+            lit->trigger();
+        viewport_->setLightSetsShown(on);
+        if (on && document_.selection().kind != ObjectKind::Light)
+            statusBar()->showMessage(tr("Light sets: select a light (its sets show over the lit view)"), 5000);
+    });
+    sets->setCheckable(true);
+    sets->setObjectName("lightSets");
+    connect(lit, &QAction::toggled, this, [sets](bool on) {
+        if (!on)
+            sets->setChecked(false);   // the sets live on the lit view's worker
+    });
+    connect(viewport_, &Viewport::lightSetsUpdated, this, [this](const QString& status) {
+        if (!status.isEmpty())
+            statusBar()->showMessage(status, 0);
+    });
+    QMenu* budget = litShows->addMenu(tr("Overlapping Lights &Budget"));
+    auto* budgets = new QActionGroup(this);
+    for (int n : {1, 2, 3, 4, 6, 8, 16}) {
+        QAction* a = budget->addAction(QString::number(n), this, [this, n] { viewport_->setLitShading(viewport_->litShading(), n); });
+        a->setCheckable(true);
+        a->setChecked(n == viewport_->litBudget());
+        a->setObjectName("litBudget-" + QString::number(n));
+        budgets->addAction(a);
+    }
     connect(viewport_, &Viewport::litUpdated, this, [this](const QString& status, bool exact, const QString& error) {
         if (!error.isEmpty())
             statusBar()->showMessage(tr("Lit view failed: %1").arg(error), 10000);

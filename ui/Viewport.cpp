@@ -139,7 +139,12 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             aoStale_ = true;
             update();
         }
+        if (setsShown_)
+            requestLightSets();
     });
+    setsRest_.setSingleShot(true);
+    setsRest_.setInterval(400);
+    connect(&setsRest_, &QTimer::timeout, this, [this] { requestLightSets(); });
     connect(&controller_, &ViewportController::viewChanged, this, [this] { update(); });
     frameCap_.setSingleShot(true);
     connect(&frameCap_, &QTimer::timeout, this, [this] { requestUpdate(); });
@@ -345,22 +350,25 @@ void Viewport::paintGL()
                     },
                     Qt::QueuedConnection);
             });
-        lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()), .lights = document_.lights()});
+        lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
+                                       .lights = document_.lights(),
+                                       .shading = litShading_,
+                                       .budget = litBudget_});
+        if (setsShown_)
+            requestLightSets();
     }
     if (litArrived_) {
         LitPreviewFrame f = std::move(*litArrived_);
         litArrived_.reset();
+        if (f.error.empty() && setsShown_ && f.sets && (!sets_ || *sets_ != *f.sets || setsLight_ != f.setsLight))
+            showLightSets(*f.sets, f.setsLight);
         if (f.error.empty()) {
             renderer_->setAmbientOcclusion(f.uvs, f.width, f.height, f.map);
             litExact_ = f.exact;
             litTexels_ = f.texels;
             ++litFrames_;
         }
-        const QString status = f.lights == 0 ? tr("Lit view: no lights yet (Create > Add Point Light, Ctrl+3)")
-                               : f.exact    ? tr("Lit view: %1 lights, exact (%2 texels, %3 s)").arg(f.lights).arg(f.texels).arg(f.ms / 1000.0, 0, 'f', 1)
-                                            : tr("Lit view: %1 lights, %2 stale, refining... (%3 refreshed in %4 ms)")
-                                                  .arg(f.lights).arg(f.stale).arg(f.refreshed).arg(f.frameMs, 0, 'f', 0);
-        emit litUpdated(status, f.exact, QString::fromStdString(f.error));
+        emit litUpdated(litStatus(f), f.exact, QString::fromStdString(f.error));
     }
     if (aoArrived_) {
         AoPreviewLevel level = std::move(*aoArrived_);
@@ -439,6 +447,23 @@ void Viewport::paintGL()
     frame.levelBounds = controller_.levelBounds();
     frame.lights = document_.lights();
     frame.sunLevel = document_.levelBounds();
+    if (setsShown_ && sets_ && !setsLitBounds_.empty()) {
+        // O'Rorke's scissor: the screen box of what the light lights and the camera sees.
+        glm::dvec4 r(w, h, 0.0, 0.0);
+        bool behind = false;
+        for (const Bounds& b : setsLitBounds_)
+            for (int c = 0; c < 8; ++c) {
+                const glm::dvec3 corner((c & 1 ? b.max : b.min).x, (c & 2 ? b.max : b.min).y, (c & 4 ? b.max : b.min).z);
+                const glm::dvec3 p = toPixels(frame.camera, corner, w, h);
+                behind = behind || p.z <= 0.0;
+                r = {std::min(r.x, p.x), std::min(r.y, p.y), std::max(r.z, p.x), std::max(r.w, p.y)};
+            }
+        frame.scissor = behind ? glm::dvec4(0.0, 0.0, w, h)
+                               : glm::dvec4(std::clamp(r.x, 0.0, double(w)), std::clamp(r.y, 0.0, double(h)),
+                                            std::clamp(r.z, 0.0, double(w)), std::clamp(r.w, 0.0, double(h)));
+    }
+    if (setsShown_ && setsCamera_ && (setsCamera_->eye() != frame.camera.eye() || setsCamera_->target != frame.camera.target))
+        setsRest_.start();   // V follows the camera once it rests
     frame.style = style_;
     if (style_.pvsDebugger)
         for (const pvs::Gap& gap : pvsGaps_)
@@ -479,13 +504,117 @@ void Viewport::setAmbientOcclusion(bool on)
     update();
 }
 
+QString Viewport::litStatus(const LitPreviewFrame& f) const
+{
+    if (f.lights == 0)
+        return tr("Lit view: no lights yet (Create > Add Point Light, Ctrl+3)");
+    if (setsShown_ && sets_)
+        return setsStatus();   // the selected light's sets say more than the lit view's progress
+    const QString state = f.exact ? tr("exact") : tr("%1 stale, refining (%2 refreshed in %3 ms)").arg(f.stale).arg(f.refreshed).arg(f.frameMs, 0, 'f', 0);
+    switch (f.shading) {
+    case LitShading::Light: break;
+    case LitShading::Overlap:
+        return tr("Light overlap: green to yellow 1 to %1 lights a texel, red over; %2% of the lit texels over %1, at most %3 (%4)")
+            .arg(f.budget).arg(100.0 * f.overBudget, 0, 'f', 1).arg(f.mostLights).arg(state);
+    case LitShading::Complexity:
+        return tr("Shadow complexity: green fully lit, blue partly, red shadowed, brighter up to %1 lights; %2 lights shadowed "
+                  "a lit texel on average, at most %3 lights reach one (%4)")
+            .arg(f.budget).arg(f.meanShadowed, 0, 'f', 1).arg(f.mostLights).arg(state);
+    case LitShading::Staleness: return tr("Staleness: red where the light shown is from stale lights (%1)").arg(state);
+    }
+    return f.exact ? tr("Lit view: %1 lights, exact (%2 texels, %3 s)").arg(f.lights).arg(f.texels).arg(f.ms / 1000.0, 0, 'f', 1)
+                   : tr("Lit view: %1 lights, %2").arg(f.lights).arg(state);
+}
+
+void Viewport::setLightSetsShown(bool on)
+{
+    setsShown_ = on;
+    style_.lightSets = on;
+    sets_.reset();
+    setsLitBounds_.clear();
+    setsCamera_.reset();
+    if (on && !style_.litView)
+        setLitView(true);   // the sets are computed on the lit view's worker
+    requestLightSets();
+    if (!on && !style_.pvsDebugger && renderer_)
+        renderer_->setPvsCulled({});
+    update();
+}
+
+void Viewport::requestLightSets()
+{
+    if (!lit_ || !style_.litView || litStale_)
+        return;   // asked again when the lit view starts
+    const ObjectRef selected = document_.selection();
+    if (!setsShown_ || selected.kind != ObjectKind::Light) {
+        lit_->requestSets(std::nullopt);
+        setsCamera_.reset();
+        if (sets_) {
+            sets_.reset();
+            setsLitBounds_.clear();
+            if (!style_.pvsDebugger && renderer_)
+                renderer_->setPvsCulled({});
+            emit lightSetsUpdated(setsShown_ ? tr("Light sets: select a light") : QString());
+        }
+        return;
+    }
+    setsCamera_ = controller_.camera();
+    lit_->requestSets(LitPreview::SetsRequest{selected.index, *setsCamera_});
+}
+
+void Viewport::showLightSets(const LightSets& sets, std::size_t light)
+{
+    sets_ = sets;
+    setsLight_ = light;
+    const std::size_t fileObjects = document_.sceneFile().instances.size();
+    std::vector<std::uint8_t> classes(fileObjects, 0);
+    const auto has = [](const std::vector<std::uint32_t>& list, std::uint32_t i) { return std::binary_search(list.begin(), list.end(), i); };
+    setsLitBounds_.clear();
+    const Scene& scene = document_.scene();
+    for (std::uint32_t i = 0; i < scene.instances.size(); ++i) {
+        const bool lit = has(sets.I, i);
+        if (lit)
+            setsLitBounds_.push_back(scene.instanceBounds(scene.instances[i]));
+        if (i >= fileObjects)
+            continue;
+        classes[i] = lit ? 2 : has(sets.S, i) ? 3 : has(sets.V, i) && !has(sets.L, i) ? 4 : 0;
+    }
+    if (!style_.pvsDebugger && renderer_)
+        renderer_->setPvsCulled(classes);
+    emit lightSetsUpdated(setsStatus());
+}
+
+QString Viewport::setsStatus() const
+{
+    if (!sets_)
+        return {};
+    const QString name = setsLight_ < document_.lights().size() ? document_.objectName({ObjectKind::Light, setsLight_}) : QString();
+    return tr("%1: V %2 seen, L %3 reached, I %4 lit and seen (yellow), S %5 casting shadows into them "
+              "(violet); seen but out of reach darkened; the dashed frame is its scissor rectangle")
+        .arg(name).arg(sets_->V.size()).arg(sets_->L.size()).arg(sets_->I.size()).arg(sets_->S.size());
+}
+
+void Viewport::setLitShading(LitShading shading, int budget)
+{
+    litShading_ = shading;
+    litBudget_ = std::max(budget, 1);
+    if (lit_ && style_.litView && !litStale_)
+        lit_->setShading(litShading_, litBudget_);
+}
+
 void Viewport::setLitView(bool on)
 {
     if (on == style_.litView)
         return;
     style_.litView = on;
+    // The lit view and the AO share the renderer's light map: whichever shows next computes its own.
+    if (ao_)
+        ao_->cancel();
+    ++aoGeneration_;
+    aoShownK_ = 0;
     if (on) {
         litStale_ = true;
+        aoStale_ = false;
     } else {
         litStale_ = false;
         if (lit_)
@@ -493,11 +622,14 @@ void Viewport::setLitView(bool on)
         ++litGeneration_;
         litFrames_ = 0;
         litExact_ = false;
-        // The map was the lights'; AO, when on, is shown again.
-        if (style_.ambientOcclusion) {
-            aoStale_ = true;
-            aoShownK_ = 0;
+        if (setsShown_) {
+            setsShown_ = style_.lightSets = false;
+            sets_.reset();
+            setsLitBounds_.clear();
+            if (!style_.pvsDebugger && renderer_)
+                renderer_->setPvsCulled({});
         }
+        aoStale_ = style_.ambientOcclusion;   // the map was the lights': AO, when on, is computed again
     }
     update();
 }

@@ -85,6 +85,20 @@ public:
     /// (amortised), exact once no light is stale; restarted when the scene changes while it is on.
     void setLitView(bool on);
     bool litView() const { return style_.litView; }
+    /// What the lit view shows (LitPreview.h): the light, shadow complexity, light overlap against
+    /// `budget` lights a texel, or staleness; changed without casting a shadow ray again.
+    void setLitShading(LitShading shading, int budget);
+    LitShading litShading() const { return litShading_; }
+    int litBudget() const { return litBudget_; }
+    /// O'Rorke's sets of the selected light (lighting/LightSets.h) over the lit view: the level's
+    /// objects it lights that the camera sees (I) tinted yellow, those casting shadows into them
+    /// (S) violet, those seen but out of its reach (V \ L) darkened, and its scissor rectangle;
+    /// computed on the lit view's worker, again when the camera rests after a move.
+    void setLightSetsShown(bool on);
+    bool lightSetsShown() const { return setsShown_; }
+    /// The sets shown (for the light named by lightSetsLight()), once they arrived.
+    const std::optional<LightSets>& lightSets() const { return sets_; }
+    std::size_t lightSetsLight() const { return setsLight_; }
     /// The last lit frame shown: whether it was exact, and its status line.
     bool litExact() const { return litExact_; }
     std::size_t litFramesShown() const { return litFrames_; }
@@ -130,6 +144,8 @@ signals:
     void aoUpdated(int k, int target, double ms, const QString& error, bool relit);
     /// A lit frame arrived and is shown (its status line), or lighting failed (`error`).
     void litUpdated(const QString& status, bool exact, const QString& error);
+    /// The selected light's sets arrived (their status line).
+    void lightSetsUpdated(const QString& status);
     /// After every frame that re-sampled.
     void visibilityUpdated();
     /// After every frame whose overlay colours changed.
@@ -199,6 +215,16 @@ private:
     bool litExact_ = false;
     std::size_t litFrames_ = 0;
     std::size_t litTexels_ = 0;
+    LitShading litShading_ = LitShading::Light;
+    int litBudget_ = 4;
+    bool setsShown_ = false;
+    std::optional<LightSets> sets_;
+    std::size_t setsLight_ = 0;
+    std::vector<Bounds> setsLitBounds_;     ///< world boxes of I's scene instances: the scissor's
+    std::optional<Camera> setsCamera_;       ///< the camera the sets on their way or shown are for
+    QTimer setsRest_;                        ///< the camera rested: the sets again for it
+    void requestLightSets();
+    void showLightSets(const LightSets& sets, std::size_t light);
     AoLighting aoLighting_;
     std::uint64_t aoGeneration_ = 0;
     std::optional<AoPreviewLevel> aoArrived_;
@@ -208,6 +234,8 @@ private:
     std::vector<std::uint32_t> aoInstances_;
     /// The instances of document().scene() the selection stands for (none for a patch).
     std::vector<std::uint32_t> selectedInstances() const;
+    QString litStatus(const LitPreviewFrame& frame) const;
+    QString setsStatus() const;
     double dragBudgetMs_ = 150.0;
     /// The receiver grid the live sampler's heights were read for (re-read on a new document or
     /// a new grid: "receiver_heights" is resampled to the grid).

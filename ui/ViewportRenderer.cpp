@@ -76,7 +76,11 @@ void main() {
     if (aoOn != 0 && vAoUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
         ambient = 0.3 + 0.7 * min(texture(aoMap, vAoUv).rgb, vec3(1.5));
     vec3 c = baseColour;
-    if (pvsOn != 0 && texelFetch(pvsCulled, int(vObject)).r != 0u) c = mix(c, vec3(0.85, 0.1, 0.45), 0.7);
+    uint tint = pvsOn != 0 ? texelFetch(pvsCulled, int(vObject)).r : 0u;   // ViewportRenderer::setPvsCulled's classes
+    if (tint == 1u) c = mix(c, vec3(0.85, 0.1, 0.45), 0.7);
+    else if (tint == 2u) c = mix(c, vec3(1.0, 0.85, 0.2), 0.55);
+    else if (tint == 3u) c = mix(c, vec3(0.55, 0.35, 0.95), 0.6);
+    else if (tint == 4u) c *= 0.35;
     if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
     if (litOn != 0 && aoOn != 0) {
         // A faint headlight keeps unlit geometry readable; texels outside the map stay dark.
@@ -871,7 +875,7 @@ void ViewportRenderer::render(const FrameState& f)
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "litOn"), f.style.litView ? 1 : 0);
     if (ao)
         gl.BindTextureUnit(3, d.aoTexture);
-    const bool pvs = f.style.pvsDebugger && d.pvsReady;
+    const bool pvs = (f.style.pvsDebugger || f.style.lightSets) && d.pvsReady;
     gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "pvsOn"), pvs ? 1 : 0);
     if (pvs)
         gl.BindTextureUnit(4, d.pvsTexture);
@@ -1115,6 +1119,24 @@ void ViewportRenderer::render(const FrameState& f)
         }
     }
     appendLightMarkers(overlay, f);
+    if (f.scissor) {   // a dashed frame just beyond the near plane, over everything
+        const glm::dvec4 r = *f.scissor;
+        const glm::vec4 colour(1.0f, 0.85f, 0.2f, 0.9f);
+        const double depth = 0.02 * f.camera.distance;
+        auto at = [&](double x, double y) {
+            const Ray ray = pixelRay(f.camera, x, y, f.width, f.height);
+            return glm::vec3(ray.origin + ray.direction * (depth / std::max(glm::dot(ray.direction, f.camera.forward()), 1e-6)));
+        };
+        const glm::dvec2 corners[4] = {{r.x, r.y}, {r.z, r.y}, {r.z, r.w}, {r.x, r.w}};
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec2 a = corners[k], b = corners[(k + 1) % 4];
+            const int dashes = std::max(1, int(glm::length(b - a) / 12.0));
+            for (int i = 0; i < dashes; i += 2) {
+                overlay.push_back({at(glm::mix(a, b, double(i) / dashes).x, glm::mix(a, b, double(i) / dashes).y), colour});
+                overlay.push_back({at(glm::mix(a, b, double(i + 1) / dashes).x, glm::mix(a, b, double(i + 1) / dashes).y), colour});
+            }
+        }
+    }
     std::vector<LineVertex> handles;   // triangles, over everything
     if (f.cutHandle)
         appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);

@@ -29,6 +29,7 @@
 #include "ObjectEdits.h"
 #include "OverlayTexels.h"
 #include "SectionCutHandle.h"
+#include "LitShading.h"
 #include "lighting/Light.h"
 #include "visibility/HiddenSampleMap.h"
 
@@ -66,8 +67,13 @@ struct ViewStyle {
     /// Shade the level by the lit view's light map (LitPreview.h) alone, no headlight: what the
     /// lights give, tone-mapped; set with the map through setAmbientOcclusion.
     bool litView = false;
+    /// Headless renders (OffscreenRender.h): what the lit view shows, and the overlap budget.
+    LitShading litShading = LitShading::Light;
+    int litBudget = 4;
     /// Tint the scene file's objects the PVS debugger says are culled (setPvsCulled).
     bool pvsDebugger = false;
+    /// Tint the scene file's objects by the selected light's O'Rorke sets (setPvsCulled's classes).
+    bool lightSets = false;
 };
 
 /// Which rays the renderer draws for a map and a cap: every one of `sourcePerReceiver` source
@@ -135,6 +141,9 @@ struct FrameState {
     /// sun's anchor (LightObjects.h), an area light's rectangle and normal.
     std::vector<Light> lights;
     Bounds sunLevel;   ///< the box a sun is drawn above (EditorDocument::levelBounds)
+    /// The selected light's scissor rectangle (O'Rorke: the screen bounds of what it lights and
+    /// the camera sees), in pixels: min x, min y, max x, max y. Drawn as a dashed frame.
+    std::optional<glm::dvec4> scissor;
 };
 
 /// The section cut's colour: cyan, apart from the patches, the rays, the selection and the axes.
@@ -185,7 +194,9 @@ public:
     /// reaching each texel (AO in [0, 1] under a uniform sky, an environment's colour otherwise).
     /// Ignored when the uvs are not for the current scene. Drawn while the style asks.
     void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
-    /// The PVS debugger's answer: per instance of the scene file, 1 when culled. Empty: none.
+    /// Per instance of the scene file, a tint class: 0 none, 1 culled by the PVS debugger
+    /// (magenta), and for a light's O'Rorke sets 2 lit and visible (I, yellow), 3 a shadow caster
+    /// into I (S, violet), 4 visible but out of the light's reach (V \\ L, darkened). Empty: none.
     void setPvsCulled(const std::vector<std::uint8_t>& culled);
     /// Objects the designer hid (ObjectFlags.h): per scene-file instance and per placed occluder,
     /// 1 where not drawn (shorter or empty: the rest drawn).

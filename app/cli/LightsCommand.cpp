@@ -17,6 +17,7 @@
 #include "lighting/LightSets.h"
 #include "lighting/LightingCache.h"
 #include "lighting/TexelCharts.h"
+#include "lighting/ao/AoTexels.h"
 #include "cli/AoFiles.h"
 #include "cli/OutputLimits.h"
 #include "project/Project.h"
@@ -24,6 +25,7 @@
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
 #include "Camera.h"
+#include "CameraVisibility.h"
 #include "ViewSettings.h"
 
 namespace sightline::cli {
@@ -284,8 +286,7 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
     command->add_option("--texel", args.texel,
                         "Bake a light map instead of --points: the irradiance at DENSITY texels a metre over every "
                         "surface, on charts of connected coplanar faces (--npy: the atlas, shape (H, W, 3), NaN "
-                        "where no texel)")
-        ->check(CLI::PositiveNumber);
+                        "where no texel; DENSITY in (0, 1000])");
     command->add_option("--lightmap", args.lightmap, "--texel: the atlas as a PNG (the 99th percentile white)")->check(outputFile());
     command->add_option("--gltf", args.gltf, "--texel: the level as glTF with TEXCOORD_1 and the --lightmap PNG as its emissive map")
         ->check(outputFile());
@@ -305,26 +306,12 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
 
 namespace {
 
-/// Instances seen from the project's camera (its saved editor view, else the editor's view across
-/// the shaft): first hits of a kSetsViewWidth x kSetsViewHeight grid of rays through pixel centres.
-constexpr int kSetsViewWidth = 640, kSetsViewHeight = 360;
-
+/// O'Rorke's V: the instances seen from the project's camera (its saved editor view, else the
+/// editor's view across the shaft) in a 640 x 360 view.
 std::vector<std::uint32_t> cameraVisibleInstances(const Project& project, const LightingScene& lighting)
 {
     const json editor = project.extra.value("editor", json::object());
-    const ui::Camera camera = ui::projectView(editor, project.source, project.receiver);
-    const double reach = 4.0 * lighting.reach().radius + glm::length(camera.eye() - lighting.reach().centre);
-    std::vector<std::uint32_t> seen;
-    for (int y = 0; y < kSetsViewHeight; ++y)
-        for (int x = 0; x < kSetsViewWidth; ++x) {
-            const ui::Ray ray = ui::pixelRay(camera, x + 0.5, y + 0.5, kSetsViewWidth, kSetsViewHeight);
-            const pvs::RayHit hit = lighting.firstHits().cast(glm::vec3(ray.origin), glm::vec3(ray.direction * reach), 1.0f);
-            if (hit.instance >= 0)
-                seen.push_back(std::uint32_t(hit.instance));
-        }
-    std::sort(seen.begin(), seen.end());
-    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    return seen;
+    return ui::visibleInstances(ui::projectView(editor, project.source, project.receiver), lighting);
 }
 
 int printSets(const LightsArgs& args, const Project& project, const std::vector<Light>& lights)
@@ -355,6 +342,8 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
 
 void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
 {
+    if (given(command, "--texel"))
+        checkTexelDensity(args.texel);   // before the mode is chosen by it: NaN is not "no --texel"
     if (args.texel <= 0.0) {
         for (const char* option : {"--lightmap", "--gltf"})
             if (given(command, option))

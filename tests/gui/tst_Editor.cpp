@@ -914,7 +914,8 @@ private slots:
         QTRY_VERIFY(outline->searchField()->hasFocus());
         QTest::keyClicks(outline->searchField(), "PILLAR");
         QStringList shown;
-        QTreeWidgetItem* scene = outline->tree()->topLevelItem(2);
+        QTreeWidgetItem* scene = outline->tree()->topLevelItem(3);   // patches, occluders, lights, the scene
+        QVERIFY(scene->text(0).startsWith("Scene"));
         for (int i = 0; i < scene->childCount(); ++i)
             if (!scene->child(i)->isHidden())
                 shown << scene->child(i)->text(0);
@@ -1077,6 +1078,31 @@ private slots:
                 brightest = std::max(brightest, qGray(lit.pixel(x, y)));
             }
         QVERIFY2(sumLit < 0.9 * sumPlain && brightest > 120, qPrintable(QString("lit %1, plain %2, brightest %3").arg(sumLit).arg(sumPlain).arg(brightest)));
+
+        // The same light shown as shadow complexity, then as overlap against a budget: no ray
+        // cast again, the status bar says what the colours mean.
+        for (const auto& [mode, words] : {std::pair{"litComplexity", "Shadow complexity"}, std::pair{"litOverlap", "Light overlap"}}) {
+            window_->findChild<QAction*>(mode)->trigger();
+            QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains(words), 60000);
+            QTest::qWait(100);
+            saveWindowShot(QString("lit-view-") + mode);
+        }
+        window_->findChild<QAction*>("litLight")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().startsWith("Lit view"), 60000);
+
+        // O'Rorke's sets of the selected light: what it lights that the camera sees, what casts
+        // shadows into that, and its scissor rectangle, computed on the lit view's worker.
+        window_->findChild<QAction*>("lightSets")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.lightSets().has_value(), 120000);
+        const LightSets& sets = *viewport.lightSets();
+        QVERIFY(!sets.V.empty() && !sets.L.empty() && !sets.I.empty());
+        QVERIFY(std::includes(sets.V.begin(), sets.V.end(), sets.I.begin(), sets.I.end()));
+        QVERIFY(std::includes(sets.L.begin(), sets.L.end(), sets.I.begin(), sets.I.end()));
+        QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains("scissor"), 10000);
+        QTest::qWait(100);
+        saveWindowShot("lit-view-light-sets");
+        window_->findChild<QAction*>("lightSets")->trigger();   // off
+        QVERIFY(!viewport.lightSets());
 
         // Moved (as the gizmo moves it), the light is refreshed and the view is exact again.
         const std::size_t before = viewport.litFramesShown();

@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
@@ -17,6 +18,7 @@
 #include "TestScenes.h"
 #include "UiTestScene.h"
 #include "lighting/DirectLight.h"
+#include "lighting/LightEmission.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
 
@@ -272,6 +274,86 @@ TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
             ++compared;
         }
     EXPECT_GT(compared, 1000u);
+}
+
+/// The first frame of `shading` once exact.
+LitPreviewFrame exactFrameShowing(std::shared_ptr<const Scene> scene, const std::vector<Light>& lights, LitShading shading, int budget)
+{
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::optional<LitPreviewFrame> last;
+    LitPreview preview([&](LitPreviewFrame frame) {
+        std::lock_guard lock(mutex);
+        if ((frame.exact && frame.shading == shading) || !frame.error.empty())
+            last = std::move(frame);
+        arrived.notify_all();
+    });
+    preview.start(3, {.scene = std::move(scene), .lights = lights, .segmentsPerFrame = std::uint64_t(1) << 40});
+    preview.setShading(shading, budget);   // switched after the start, as the menu does
+    std::unique_lock lock(mutex);
+    EXPECT_TRUE(arrived.wait_for(lock, std::chrono::seconds(120), [&] { return last.has_value(); }));
+    LitPreviewFrame out = last ? *last : LitPreviewFrame{};
+    lock.unlock();
+    preview.stop();
+    return out;
+}
+
+TEST(LitPreview, OverlapAndComplexityCountEachLightAsTheReferenceLightsAlone)
+{
+    const auto scene = boxOnAFloor();
+    const std::vector<Light> lights = someLights();
+    const LitTexels texels = litTexels(*scene);
+    const LightingScene lighting(*scene);
+    // Each light alone, shadowed (the reference) and unshadowed (its emitters' terms).
+    std::vector<std::vector<glm::dvec3>> alone;
+    for (const Light& light : lights)
+        alone.push_back(directIrradiance(lighting, {light}, texels.points, DirectLightOptions{.path = LightingPath::Reference}));
+    const std::vector<Emitter> emitters = lightEmitters(lights);
+    const auto open = [&](std::size_t l, const ShadingPoint& p) {
+        double sum = 0.0;
+        for (const Emitter& e : emitters)
+            if (e.light == l)
+                sum += emitterTerm(lights[l], e.position, p.position, p.normal);
+        return sum;
+    };
+    const LitPreviewFrame overlap = exactFrameShowing(scene, lights, LitShading::Overlap, 2);
+    const LitPreviewFrame complexity = exactFrameShowing(scene, lights, LitShading::Complexity, 2);
+    ASSERT_TRUE(overlap.exact && complexity.exact);
+    std::size_t over = 0, lit = 0, partial = 0, shadowed = 0, most = 0;
+    for (std::size_t k = 0; k < texels.pointOfTexel.size(); ++k) {
+        const std::size_t j = texels.pointOfTexel[k];
+        if (j == SIZE_MAX)
+            continue;
+        std::size_t reaching = 0;
+        TexelLightCounts counts;
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            const double shadowedTerm = alone[l][j].r;   // white lights: every channel the same
+            reaching += shadowedTerm > 0.0 ? 1 : 0;
+            const double unshadowed = open(l, texels.points[j]);
+            if (unshadowed <= 0.0)
+                continue;
+            if (shadowedTerm <= 0.0)
+                ++counts.shadowed;
+            else if (shadowedTerm >= unshadowed * (1.0 - 1e-5))
+                ++counts.lit;
+            else
+                ++counts.partial;
+        }
+        const glm::vec3 wantOverlap = overlapColour(reaching, 2), wantComplexity = complexityColour(counts, 2);
+        const glm::vec3 shownOverlap = mapAt(overlap, texels, k), shownComplexity = mapAt(complexity, texels, k);
+        for (int c = 0; c < 3; ++c) {
+            ASSERT_EQ(shownOverlap[c], wantOverlap[c]) << "texel " << k << ": " << reaching << " lights";
+            ASSERT_EQ(shownComplexity[c], wantComplexity[c]) << "texel " << k;
+        }
+        over += reaching > 2 ? 1 : 0;
+        lit += counts.lit, partial += counts.partial, shadowed += counts.shadowed;
+        most = std::max(most, reaching);
+    }
+    EXPECT_GT(over, 0u) << "three lights over a budget of two somewhere";
+    EXPECT_EQ(overlap.mostLights, most);
+    EXPECT_GT(lit, 0u);
+    EXPECT_GT(partial, 0u) << "the area light's penumbra";
+    EXPECT_GT(shadowed, 0u);
 }
 
 } // namespace

@@ -22,6 +22,7 @@ namespace sightline {
 
 struct LightSets {
     std::vector<std::uint32_t> V, L, I, S;   ///< sorted instance indices
+    bool operator==(const LightSets&) const = default;
 };
 
 struct LightSetOptions {

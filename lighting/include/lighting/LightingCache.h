@@ -55,6 +55,11 @@ public:
     std::vector<float> staleness() const;
     std::size_t staleCount() const;
     bool isStale(std::size_t index) const { return kept_.at(index).stale; }
+    /// Light `index`'s kept field (its shadowed white contribution per point, as last computed);
+    /// empty before it is first computed. The overlays read it: how many lights reach a point,
+    /// and (against the unshadowed terms) which of them are fully lit, partial or shadowed there.
+    const std::vector<float>& field(std::size_t index) const { return kept_.at(index).field; }
+    const std::vector<ShadingPoint>& points() const { return points_; }
     /// The light's shown energy over the points (its field's sum times its mean colour): the
     /// priority's weight; 0 before it is first computed.
     double brightness(std::size_t index) const { return kept_.at(index).brightness; }
