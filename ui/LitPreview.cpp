@@ -14,12 +14,16 @@
 #include "lighting/DirectLight.h"
 #include "lighting/LightEmission.h"
 #include "lighting/LightingCache.h"
+#include "lighting/LowResolutionPass.h"
 #include "lighting/ao/AoTexels.h"
 #include "visibility/Error.h"
 
 namespace sightline::ui {
 
 namespace {
+
+/// Texels between the low-resolution pass's coarse points (LowResolutionPass.h).
+constexpr int kLowResolutionStride = 2;
 
 LitPreviewFrame failed(std::uint64_t generation, std::string error)
 {
@@ -266,23 +270,26 @@ void LitPreview::stop()
     reap(true);
 }
 
-void LitPreview::setLights(std::vector<Light> lights)
+std::uint64_t LitPreview::setLights(std::vector<Light> lights)
 {
+    std::uint64_t version = 0;
     {
         std::lock_guard lock(mutex_);
         lights_ = std::move(lights);
-        ++lightsVersion_;
+        version = ++lightsVersion_;
     }
     wake_.notify_all();
+    return version;
 }
 
-void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
+std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
 {
     cancel();
+    std::uint64_t started = 0;
     {
         std::lock_guard lock(mutex_);
         lights_ = request.lights;
-        ++lightsVersion_;
+        started = ++lightsVersion_;
         shading_ = request.shading;
         budget_ = std::max(request.budget, 1);
     }
@@ -316,7 +323,9 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
                 lights = lights_;
                 version = lightsVersion_;
             }
-            auto cache = std::make_unique<LightingCache>(texels.points, lights);
+            // Barczak's low-resolution pass for dragged lights: every other texel, edges refined.
+            const LowResolutionPlan plan = lowResolutionPlan(texels.layout, texels.pointOfTexel, kLowResolutionStride);
+            auto cache = std::make_unique<LightingCache>(texels.points, lights, plan);
             double exposure = 0.0;   // fixed once every light has been computed once
             LightingCache::Frame step;
             bool refresh = true;
@@ -372,8 +381,10 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
                 frame.texels = texels.points.size();
                 frame.lights = lights.size();
                 frame.refreshed = step.refreshed;
+                frame.rough = step.rough;
                 frame.stale = cache->staleCount();
                 frame.exact = step.exact;
+                frame.lightsVersion = version;
                 frame.frameMs = step.ms;
                 frame.ms = since(start);
                 deliver_(std::move(frame));
@@ -392,11 +403,11 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
                     std::vector<Light> next = lights_;
                     lock.unlock();
                     if (next.size() != lights.size()) {
-                        cache = std::make_unique<LightingCache>(texels.points, next);
+                        cache = std::make_unique<LightingCache>(texels.points, next, plan);
                     } else {
                         for (std::size_t k = 0; k < next.size(); ++k)
                             if (!sameLight(next[k], lights[k]))
-                                cache->setLight(k, next[k]);
+                                cache->setLight(k, next[k], /*rough=*/true);
                     }
                     lights = std::move(next);
                     setsStale = true;
@@ -408,6 +419,7 @@ void LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
             deliver_(failed(generation, e.what()));
         }
     });
+    return started;
 }
 
 LitShading parseLitShading(const std::string& name)

@@ -48,8 +48,10 @@ struct LitPreviewFrame {
     std::size_t texels = 0;
     std::size_t lights = 0;            ///< lights in the view
     std::size_t refreshed = 0;         ///< lights refreshed for this frame
+    std::size_t rough = 0;             ///< of those, by the low-resolution pass (still stale)
     std::size_t stale = 0;             ///< lights still stale: their old light is shown
     bool exact = false;                ///< no light stale: the exact irradiance, tone-mapped
+    std::uint64_t lightsVersion = 0;   ///< the lights it shows: start's or setLights' answer
     LitShading shading = LitShading::Light;
     int budget = 4;                    ///< Overlap, Complexity: the lights a texel may take
     /// Overlap: the share of lit texels over the budget and the most lights on one texel;
@@ -97,11 +99,13 @@ public:
     LitPreview(const LitPreview&) = delete;
     LitPreview& operator=(const LitPreview&) = delete;
 
-    /// Cancels the running computation (without waiting) and starts `request`.
-    void start(std::uint64_t generation, LitPreviewRequest request);
-    /// The lights changed (same scene): lights whose entry differs go stale and are refreshed by
-    /// priority; a changed count starts the lights' fields again over the same texels.
-    void setLights(std::vector<Light> lights);
+    /// Cancels the running computation (without waiting) and starts `request`. Returns the
+    /// lights' version: frames for these lights carry it.
+    std::uint64_t start(std::uint64_t generation, LitPreviewRequest request);
+    /// The lights changed (same scene): lights whose entry differs get the low-resolution pass
+    /// (LowResolutionPass.h), then go on stale and are refreshed exactly by priority; a changed
+    /// count starts the lights' fields again over the same texels. Returns the lights' version.
+    std::uint64_t setLights(std::vector<Light> lights);
     /// Shows the same light otherwise (no shadow ray cast again): a frame is delivered anew.
     void setShading(LitShading shading, int budget);
     /// Computes O'Rorke's sets (V from `camera`, lighting/LightSets.h) of light `light` between

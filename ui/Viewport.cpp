@@ -60,8 +60,10 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         if (changes == LightsChanged) {
             // The markers; the lights change no ray between the patches. The lit view refreshes
             // the lights that changed, by priority (LitPreview.h).
-            if (style_.litView && lit_ && !litStale_)
-                lit_->setLights(document_.lights());
+            if (style_.litView && lit_ && !litStale_) {
+                litWanted_ = lit_->setLights(document_.lights());
+                litExact_ = false;   // until a frame of these lights says so
+            }
             update();
             return;
         }
@@ -350,7 +352,7 @@ void Viewport::paintGL()
                     },
                     Qt::QueuedConnection);
             });
-        lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
+        litWanted_ = lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
                                        .lights = document_.lights(),
                                        .shading = litShading_,
                                        .budget = litBudget_});
@@ -364,7 +366,8 @@ void Viewport::paintGL()
             showLightSets(*f.sets, f.setsLight);
         if (f.error.empty()) {
             renderer_->setAmbientOcclusion(f.uvs, f.width, f.height, f.map);
-            litExact_ = f.exact;
+            litExact_ = f.exact && f.lightsVersion >= litWanted_;
+            f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
             litTexels_ = f.texels;
             ++litFrames_;
         }

@@ -212,7 +212,8 @@ private:
     std::uint64_t litGeneration_ = 0;
     std::optional<LitPreviewFrame> litArrived_;
     bool litStale_ = false;   ///< the level changed while the lit view is on: restart at the next frame
-    bool litExact_ = false;
+    bool litExact_ = false;   ///< the frame shown is exact for the lights as they are now
+    std::uint64_t litWanted_ = 0;   ///< LitPreview's version of the lights as they are now
     std::size_t litFrames_ = 0;
     std::size_t litTexels_ = 0;
     LitShading litShading_ = LitShading::Light;

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <numeric>
+#include <string>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+
+#include "visibility/Error.h"
 
 namespace sightline {
 
@@ -26,6 +29,17 @@ bool mayAffect(const Light& light, const Bounds& region)
 
 double meanColour(const glm::dvec3& c) { return (c.x + c.y + c.z) / 3.0; }
 
+/// The light at low resolution: an area light's sample grid halved each way (its samples share
+/// the area, so the unshadowed sum stays close: LightEmission.h).
+Light roughLight(Light light)
+{
+    if (light.type == LightType::Area) {
+        light.area.na = (light.area.na + 1) / 2;
+        light.area.nb = (light.area.nb + 1) / 2;
+    }
+    return light;
+}
+
 } // namespace
 
 LightingCache::LightingCache(std::vector<ShadingPoint> points, std::vector<Light> lights)
@@ -33,6 +47,22 @@ LightingCache::LightingCache(std::vector<ShadingPoint> points, std::vector<Light
       kept_(lights_.size()), shown_(points_.size(), glm::dvec3(0.0))
 {
 }
+
+LightingCache::LightingCache(std::vector<ShadingPoint> points, std::vector<Light> lights, LowResolutionPlan plan)
+    : LightingCache(std::move(points), std::move(lights))
+{
+    if (plan.points != points_.size())
+        throw Error("the low-resolution plan covers " + std::to_string(plan.points) + " points, the cache " +
+                    std::to_string(points_.size()));
+    plan_ = std::move(plan);
+    coarsePoints_.reserve(plan_.coarse.size());
+    for (const std::uint32_t p : plan_.coarse)
+        coarsePoints_.push_back(points_.at(p));
+    if (!coarsePoints_.empty())
+        coarseTiling_ = std::make_unique<PointTiling>(coarsePoints_);
+}
+
+LightingCache::~LightingCache() = default;
 
 void LightingCache::markStale(std::size_t index)
 {
@@ -42,10 +72,11 @@ void LightingCache::markStale(std::size_t index)
     kept.stale = true;
 }
 
-void LightingCache::setLight(std::size_t index, const Light& light)
+void LightingCache::setLight(std::size_t index, const Light& light, bool rough)
 {
     lights_.at(index) = light;
     markStale(index);
+    kept_[index].roughNext = rough && coarseTiling_ != nullptr;
 }
 
 void LightingCache::sceneChanged(const Bounds& region)
@@ -69,14 +100,89 @@ void LightingCache::resum()
                 shown_[j] += kept.colour * double(kept.field[j]);
 }
 
+void LightingCache::keep(std::size_t index, std::vector<float> field)
+{
+    Kept& kept = kept_[index];
+    kept.field.resize(points_.size(), 0.0f);   // a light never computed shows nothing: colour 0
+    double brightness = 0.0;
+    const glm::dvec3 colour = lights_[index].colour;
+    for (std::size_t j = 0; j < points_.size(); ++j) {
+        shown_[j] += colour * double(field[j]) - kept.colour * double(kept.field[j]);
+        brightness += double(field[j]);
+    }
+    kept.field = std::move(field);
+    kept.colour = colour;
+    kept.brightness = brightness * meanColour(colour);
+    kept.computed = true;
+}
+
+std::vector<float> LightingCache::roughField(const LightingScene& scene, const Light& exactLight, int threads,
+                                             std::uint64_t& segments) const
+{
+    const Light light = roughLight(exactLight);
+    DirectLightOptions options;
+    options.threads = threads;
+    options.tiling = coarseTiling_.get();
+    std::vector<float> field(points_.size(), 0.0f);
+    const std::vector<glm::dvec3> coarse = directIrradiance(scene, {light}, coarsePoints_, options);
+    for (std::size_t k = 0; k < coarse.size(); ++k)
+        field[plan_.coarse[k]] = float(coarse[k].x);
+    // Edge refinement: blocks whose corners disagree are computed exactly, the rest interpolated.
+    std::vector<ShadingPoint> refine;
+    std::vector<std::uint32_t> refined;
+    for (const LowResolutionPlan::Block& block : plan_.blocks) {
+        std::array<float, 4> corner{};
+        for (std::size_t c = 0; c < 4; ++c)
+            corner[c] = field[block.corners[c]];
+        const bool exact = cornersDisagree(corner);
+        for (std::uint32_t k = block.first; k < block.first + block.count; ++k) {
+            const LowResolutionPlan::Fine& fine = plan_.fine[k];
+            if (exact) {
+                refine.push_back(points_[fine.point]);
+                refined.push_back(fine.point);
+            } else {
+                field[fine.point] = std::max(0.0f, fine.weights[0] * corner[0] + fine.weights[1] * corner[1] +
+                                                       fine.weights[2] * corner[2] + fine.weights[3] * corner[3]);
+            }
+        }
+    }
+    if (!refine.empty()) {
+        options.tiling = nullptr;
+        const std::vector<glm::dvec3> exact = directIrradiance(scene, {light}, refine, options);
+        for (std::size_t k = 0; k < exact.size(); ++k)
+            field[refined[k]] = float(exact[k].x);
+    }
+    segments = std::uint64_t(light.sampleCount()) * (coarsePoints_.size() + refine.size());
+    return field;
+}
+
 LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint64_t budget, int threads)
 {
     const auto start = std::chrono::steady_clock::now();
     ++frame_;
     Frame frame;
+    const auto white = [&](std::size_t l) {
+        Light light = lights_[l];
+        light.colour = glm::dvec3(1.0);
+        return light;
+    };
+    // The lights being dragged first, at low resolution: they stay stale for the exact refresh.
+    std::vector<bool> roughNow(kept_.size(), false);
+    for (std::size_t l = 0; l < kept_.size(); ++l) {
+        if (!kept_[l].roughNext)
+            continue;
+        std::uint64_t segments = 0;
+        keep(l, roughField(scene, white(l), threads, segments));
+        kept_[l].roughNext = false;
+        roughNow[l] = true;
+        ++frame.refreshed;
+        ++frame.rough;
+        frame.lights.push_back(l);
+        frame.segments += segments;
+    }
     std::vector<std::size_t> order;
     for (std::size_t l = 0; l < kept_.size(); ++l)
-        if (kept_[l].stale)
+        if (kept_[l].stale && !roughNow[l])
             order.push_back(l);
     // Never computed first (their light is missing from the view), then brightness x age.
     const auto priority = [&](std::size_t l) {
@@ -91,22 +197,12 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
         const std::uint64_t cost = std::uint64_t(lights_[l].sampleCount()) * points_.size();
         if (frame.refreshed > 0 && frame.segments + cost > budget)
             break;
-        Light white = lights_[l];
-        white.colour = glm::dvec3(1.0);
-        const std::vector<glm::dvec3> field = directIrradiance(scene, {white}, points_, options);
-        Kept& kept = kept_[l];
-        kept.field.resize(points_.size(), 0.0f);   // a light never computed shows nothing: colour 0
-        double brightness = 0.0;
-        for (std::size_t j = 0; j < points_.size(); ++j) {
-            const float value = float(field[j].x);
-            shown_[j] += lights_[l].colour * double(value) - kept.colour * double(kept.field[j]);
-            brightness += double(value);
-            kept.field[j] = value;
-        }
-        kept.colour = lights_[l].colour;
-        kept.brightness = brightness * meanColour(kept.colour);
-        kept.computed = true;
-        kept.stale = false;
+        const std::vector<glm::dvec3> field = directIrradiance(scene, {white(l)}, points_, options);
+        std::vector<float> values(points_.size());
+        for (std::size_t j = 0; j < points_.size(); ++j)
+            values[j] = float(field[j].x);
+        keep(l, std::move(values));
+        kept_[l].stale = false;
         ++frame.refreshed;
         frame.lights.push_back(l);
         frame.segments += cost;

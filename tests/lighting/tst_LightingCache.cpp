@@ -2,6 +2,7 @@
 // irradiance, refreshes the brightest stale lights first within the budget, moving one light costs
 // that light alone, and after an occluder moves only the lights within reach of it go stale and
 // the view is exact again within the frames the budget allows.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -12,6 +13,8 @@
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/LightingCache.h"
+#include "lighting/LowResolutionPass.h"
+#include "visibility/Error.h"
 
 using namespace sightline;
 using namespace sightline::test;
@@ -144,4 +147,139 @@ TEST(LightingCache, AnOccluderMovingStalesTheLightsWithinReachAndTheViewConverge
     EXPECT_GE(dimmestRefreshed, brightestLeft);
     EXPECT_LE(std::size_t(frames), (stale + 1) / 2);
     expectExact(cache, newScene, after.lights, after.points);
+}
+
+namespace {
+
+/// One tile of `width` x `height` texels whose texel (s, t) is point t * width + s, and the
+/// texels' coordinates by point.
+struct Tiles {
+    AoTexelLayout layout;
+    std::vector<std::size_t> pointOfTexel;
+    std::vector<glm::vec2> texelOfPoint;
+
+    void add(int width, int height, std::size_t missing = SIZE_MAX)
+    {
+        AoTexelTile tile;
+        tile.width = width;
+        tile.height = height;
+        tile.firstPoint = pointOfTexel.size();
+        layout.tiles.push_back(tile);
+        for (int t = 0; t < height; ++t)
+            for (int s = 0; s < width; ++s) {
+                if (pointOfTexel.size() - tile.firstPoint == missing) {
+                    pointOfTexel.push_back(SIZE_MAX);
+                    continue;
+                }
+                pointOfTexel.push_back(texelOfPoint.size());
+                texelOfPoint.push_back({float(s), float(t)});
+            }
+    }
+};
+
+} // namespace
+
+TEST(LowResolutionPass, EveryTexelIsCoarseOrInterpolatedFromFourCoarseCornersOfItsTile)
+{
+    Tiles tiles;
+    tiles.add(30, 30);
+    tiles.add(1, 5);      // a line: all exact
+    tiles.add(3, 3, 4);   // its centre texel missing
+    tiles.add(7, 4);
+    tiles.add(0, 0);      // degenerate
+    for (const int stride : {2, 3, 5}) {
+        const LowResolutionPlan plan = lowResolutionPlan(tiles.layout, tiles.pointOfTexel, stride);
+        ASSERT_EQ(plan.points, tiles.texelOfPoint.size());
+        std::vector<int> seen(plan.points, 0);
+        std::vector<bool> coarse(plan.points, false);
+        for (const std::uint32_t p : plan.coarse) {
+            ++seen.at(p);
+            coarse[p] = true;
+        }
+        for (const LowResolutionPlan::Block& block : plan.blocks) {
+            ASSERT_GT(block.count, 0u);
+            for (const std::uint32_t c : block.corners)
+                EXPECT_TRUE(coarse.at(c));
+            for (std::uint32_t k = block.first; k < block.first + block.count; ++k) {
+                const LowResolutionPlan::Fine& fine = plan.fine.at(k);
+                ++seen.at(fine.point);
+                // Bilinear weights: they sum to one and give back the texel's own place.
+                glm::vec2 at(0.0f);
+                float sum = 0.0f;
+                for (std::size_t c = 0; c < 4; ++c) {
+                    EXPECT_GE(fine.weights[c], 0.0f);
+                    sum += fine.weights[c];
+                    at += fine.weights[c] * tiles.texelOfPoint[block.corners[c]];
+                }
+                EXPECT_NEAR(sum, 1.0f, 1e-6f);
+                EXPECT_NEAR(at.x, tiles.texelOfPoint[fine.point].x, 1e-5f);
+                EXPECT_NEAR(at.y, tiles.texelOfPoint[fine.point].y, 1e-5f);
+            }
+        }
+        for (std::size_t p = 0; p < plan.points; ++p)
+            EXPECT_EQ(seen[p], 1) << "point " << p << " at stride " << stride;
+        EXPECT_LT(plan.coarse.size(), plan.points / 2) << stride;   // the big tile is mostly interpolated
+    }
+    EXPECT_THROW(lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 1), Error);
+}
+
+TEST(LightingCache, ADraggedLightTakesTheLowResolutionPassThenTheExactOne)
+{
+    Room room({3.0f, 0.5f, 3.0f});
+    const LightingScene scene(room.scene);
+    Tiles tiles;
+    tiles.add(30, 30);   // the room's 30 x 30 floor points, row by row
+    ASSERT_EQ(tiles.texelOfPoint.size(), room.points.size());
+    LightingCache cache(room.points, room.lights, lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2));
+    const LowResolutionPlan plan = lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2);
+    while (!cache.update(scene, ~std::uint64_t(0)).exact) {
+    }
+
+    // The panel (3 x 3 samples) is dragged over the crate's shadow: its low-resolution pass
+    // samples it 2 x 2, exactly at the coarse points and in the blocks whose corners disagree.
+    const std::size_t panel = room.lights.size() - 1;
+    Light moved = room.lights[panel];
+    moved.area.corner += glm::dvec3(2.0, 0.0, 1.5);
+    room.lights[panel] = moved;
+    cache.setLight(panel, moved, /*rough=*/true);
+    LightingCache::Frame frame = cache.update(scene, ~std::uint64_t(0));
+    EXPECT_EQ(frame.rough, 1u);
+    EXPECT_EQ(frame.refreshed, 1u);
+    EXPECT_FALSE(frame.exact);
+    EXPECT_TRUE(cache.isStale(panel));
+    Light rough = moved;
+    rough.colour = glm::dvec3(1.0);
+    rough.area.na = rough.area.nb = 2;
+    const std::vector<glm::dvec3> reference = directIrradiance(scene, {rough}, room.points, {.path = LightingPath::Reference});
+    const std::vector<float>& field = cache.field(panel);
+    const auto near = [&](std::uint32_t p) { EXPECT_NEAR(field[p], reference[p].x, 1e-5 * std::max(reference[p].x, 1e-9)) << p; };
+    for (const std::uint32_t p : plan.coarse)
+        near(p);
+    std::size_t refined = 0, interpolated = 0;
+    for (const LowResolutionPlan::Block& block : plan.blocks) {
+        std::array<float, 4> corner{};
+        for (std::size_t c = 0; c < 4; ++c)
+            corner[c] = field[block.corners[c]];
+        const bool edge = cornersDisagree(corner);
+        for (std::uint32_t k = block.first; k < block.first + block.count; ++k) {
+            const std::uint32_t p = plan.fine[k].point;
+            if (edge) {
+                near(p);
+                ++refined;
+            } else {   // between its corners
+                EXPECT_GE(field[p], *std::min_element(corner.begin(), corner.end()) - 1e-6f);
+                EXPECT_LE(field[p], *std::max_element(corner.begin(), corner.end()) + 1e-6f);
+                ++interpolated;
+            }
+        }
+    }
+    EXPECT_GT(refined, 0u);        // the crate's shadow has edges
+    EXPECT_GT(interpolated, 0u);   // and the open floor is smooth
+    EXPECT_EQ(frame.segments, 4u * (plan.coarse.size() + refined));
+
+    // Let go: the next frame refreshes it exactly, and the view is the reference's.
+    frame = cache.update(scene, ~std::uint64_t(0));
+    EXPECT_EQ(frame.rough, 0u);
+    EXPECT_TRUE(frame.exact);
+    expectExact(cache, scene, room.lights, room.points);
 }

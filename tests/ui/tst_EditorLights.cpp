@@ -250,13 +250,22 @@ TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
         seen = frames.size();
     }
     lights[0].position += glm::dvec3(-1.0, 0.2, 0.0);
-    preview.setLights(lights);
+    const std::uint64_t moved = preview.setLights(lights);
     ASSERT_TRUE(waitExact(seen));
     LitPreviewFrame last;
     {
         std::lock_guard lock(mutex);
-        EXPECT_EQ(frames[seen].refreshed, 1u) << "the moved light alone";
-        EXPECT_EQ(frames[seen].stale, 0u);
+        // The moved light alone: first its low-resolution pass, then exactly.
+        ASSERT_EQ(frames.size(), seen + 2);
+        EXPECT_EQ(frames[seen].refreshed, 1u);
+        EXPECT_EQ(frames[seen].rough, 1u);
+        EXPECT_EQ(frames[seen].stale, 1u);
+        EXPECT_FALSE(frames[seen].exact);
+        EXPECT_EQ(frames[seen + 1].refreshed, 1u);
+        EXPECT_EQ(frames[seen + 1].rough, 0u);
+        EXPECT_EQ(frames[seen + 1].stale, 0u);
+        EXPECT_EQ(frames[seen + 1].lightsVersion, moved);
+        EXPECT_LT(frames[seen - 1].lightsVersion, moved);
         last = frames.back();
     }
     preview.stop();

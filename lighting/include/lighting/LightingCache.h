@@ -11,6 +11,10 @@
 // shown irradiance is updated by differences as lights refresh; once none is stale it is summed
 // again from the kept fields in double, light by light, so an exact frame is the reference's
 // answer up to the fields' float rounding (below 1e-6 relative).
+//
+// A light being dragged can take Barczak's low-resolution pass first (LowResolutionPass.h): its
+// field at the coarse points, interpolated between them where they agree and exact where they do
+// not. It stays stale after that pass, so the next frame refreshes it exactly unless it moved again.
 
 #include <cstdint>
 #include <memory>
@@ -20,6 +24,7 @@
 
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
+#include "lighting/LowResolutionPass.h"
 #include "visibility/Scene.h"
 
 namespace sightline {
@@ -29,9 +34,13 @@ public:
     /// Every light starts stale. `lights` must have passed validateLights, `points`
     /// validateShadingPoints.
     LightingCache(std::vector<ShadingPoint> points, std::vector<Light> lights);
+    /// With a plan over the same points for the low-resolution pass.
+    LightingCache(std::vector<ShadingPoint> points, std::vector<Light> lights, LowResolutionPlan plan);
+    ~LightingCache();
 
-    /// Light `index` moved or changed: stale until refreshed; the view shows its old light until then.
-    void setLight(std::size_t index, const Light& light);
+    /// Light `index` moved or changed: stale until refreshed; the view shows its old light until
+    /// then. `rough`: (with a plan) the next update gives it the low-resolution pass first.
+    void setLight(std::size_t index, const Light& light, bool rough = false);
     /// Something in `region` moved (an occluder, a level object): every light whose shadows could
     /// change goes stale (a point or spot light only when the region comes within its range).
     void sceneChanged(const Bounds& region);
@@ -39,14 +48,15 @@ public:
     struct Frame {
         std::size_t refreshed = 0;      ///< lights refreshed this frame
         std::vector<std::size_t> lights;   ///< which, in the order refreshed
+        std::size_t rough = 0;          ///< of those, by the low-resolution pass (still stale)
         std::size_t stale = 0;          ///< lights still stale after it
         std::uint64_t segments = 0;     ///< shadow segments those refreshes could cast (points x samples)
         bool exact = false;             ///< no light stale: the view is the exact answer
         double ms = 0.0;
     };
-    /// Refreshes stale lights by priority (brightness x (1 + frames stale); a light never computed
-    /// first) until `budget` segments are spent, at least one light a frame. `scene` is the scene as
-    /// it is now.
+    /// Gives the lights set rough their low-resolution pass, then refreshes stale lights by
+    /// priority (brightness x (1 + frames stale); a light never computed first) until `budget`
+    /// segments are spent, at least one light a frame. `scene` is the scene as it is now.
     Frame update(const LightingScene& scene, std::uint64_t budget, int threads = 0);
 
     const std::vector<glm::dvec3>& irradiance() const { return shown_; }
@@ -72,14 +82,22 @@ private:
         double brightness = 0.0;        ///< sum of field x mean colour: the priority's weight
         bool computed = false;
         bool stale = true;
+        bool roughNext = false;         ///< the next update gives it the low-resolution pass
         std::uint64_t staleSince = 0;   ///< frame it went stale
     };
 
     void resum();
     void markStale(std::size_t index);
+    /// Shows `field` as light `index`'s (by differences) and keeps it.
+    void keep(std::size_t index, std::vector<float> field);
+    /// The low-resolution pass's field of `light`; `segments` gets the points it cast to.
+    std::vector<float> roughField(const LightingScene& scene, const Light& light, int threads, std::uint64_t& segments) const;
 
     std::vector<ShadingPoint> points_;
     std::unique_ptr<PointTiling> tiling_;
+    LowResolutionPlan plan_;
+    std::vector<ShadingPoint> coarsePoints_;   ///< plan_.coarse's points, in its order
+    std::unique_ptr<PointTiling> coarseTiling_;
     std::vector<Light> lights_;
     std::vector<Kept> kept_;
     std::vector<glm::dvec3> shown_;
