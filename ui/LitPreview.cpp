@@ -382,6 +382,9 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                 frame.lights = lights.size();
                 frame.refreshed = step.refreshed;
                 frame.rough = step.rough;
+                frame.costs.reserve(lights.size());
+                for (std::size_t l = 0; l < lights.size(); ++l)
+                    frame.costs.push_back(cache->cost(l));
                 frame.stale = cache->staleCount();
                 frame.exact = step.exact;
                 frame.lightsVersion = version;

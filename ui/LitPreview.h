@@ -26,6 +26,7 @@
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
 #include "lighting/LightSets.h"
+#include "lighting/LightingCache.h"
 #include "lighting/ao/AoTexels.h"
 #include "visibility/Scene.h"
 
@@ -63,6 +64,7 @@ struct LitPreviewFrame {
     /// computed; every frame after carries the latest.
     std::optional<LightSets> sets;
     std::size_t setsLight = 0;
+    std::vector<LightingCache::LightCost> costs;   ///< per light, what its last refresh cost
     double exposure = 0.0;             ///< colour = 1 - exp(-exposure x E / pi), E in W/m²
     double frameMs = 0.0;              ///< this frame's refresh
     double ms = 0.0;                   ///< since start()

@@ -31,6 +31,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "EditCommands.h"
+#include "LightCostPanel.h"
 #include "OutlinePanel.h"
 #include "PatchPresets.h"
 #include "OverlayControls.h"
@@ -162,6 +163,35 @@ void MainWindow::createPanels()
     propertiesDock_->setObjectName("properties");
     propertiesDock_->setWidget(properties_);
     addDockWidget(Qt::RightDockWidgetArea, propertiesDock_);
+
+    lightCosts_ = new LightCostPanel(this);
+    lightCostsDock_ = new QDockWidget(tr("Light Costs"), this);
+    lightCostsDock_->setObjectName("lightCosts");
+    lightCostsDock_->setWidget(lightCosts_);
+    addDockWidget(Qt::RightDockWidgetArea, lightCostsDock_);
+    lightCostsDock_->hide();   // offered with the lit view (View > Lit View Shows > Light Costs Panel)
+    connect(lightCosts_, &LightCostPanel::lightChosen, this, [this](int index) {
+        if (index >= 0 && std::size_t(index) < document_.lights().size())
+            document_.select({ObjectKind::Light, std::size_t(index)});
+    });
+    connect(lightCostsDock_, &QDockWidget::visibilityChanged, this, [this](bool shown) {
+        if (shown)
+            showLightCosts();
+    });
+}
+
+void MainWindow::showLightCosts()
+{
+    if (!lightCostsDock_->isVisible())
+        return;
+    if (!viewport_->style().litView || viewport_->litCosts().empty()) {
+        lightCosts_->clear(tr("Turn on the lit view (View > Lit View, I) to see what each light costs."));
+        return;
+    }
+    std::vector<QString> names;
+    for (std::size_t l = 0; l < document_.lights().size(); ++l)
+        names.push_back(document_.objectName({ObjectKind::Light, l}));
+    lightCosts_->showCosts(viewport_->litCosts(), names);
 }
 
 bool MainWindow::eventFilter(QObject* watched, QEvent* event)
@@ -473,7 +503,7 @@ void MainWindow::createActions()
     viewMenu_ = view;
     // A closed panel comes back from here (issue 16 §2: once closed, it stayed closed).
     QMenu* panels = view->addMenu(tr("&Panels"));
-    for (QDockWidget* dock : {outlineDock_, propertiesDock_}) {
+    for (QDockWidget* dock : {outlineDock_, propertiesDock_, lightCostsDock_}) {
         QAction* toggle = dock->toggleViewAction();
         toggle->setObjectName("panel-" + dock->objectName());
         panels->addAction(toggle);
@@ -576,9 +606,10 @@ void MainWindow::createActions()
     });
     sets->setCheckable(true);
     sets->setObjectName("lightSets");
-    connect(lit, &QAction::toggled, this, [sets](bool on) {
+    connect(lit, &QAction::toggled, this, [this, sets](bool on) {
         if (!on)
             sets->setChecked(false);   // the sets live on the lit view's worker
+        showLightCosts();
     });
     connect(viewport_, &Viewport::lightSetsUpdated, this, [this](const QString& status) {
         if (!status.isEmpty())
@@ -593,11 +624,14 @@ void MainWindow::createActions()
         a->setObjectName("litBudget-" + QString::number(n));
         budgets->addAction(a);
     }
+    litShows->addSeparator();
+    litShows->addAction(lightCostsDock_->toggleViewAction());   // what each light costs
     connect(viewport_, &Viewport::litUpdated, this, [this](const QString& status, bool exact, const QString& error) {
         if (!error.isEmpty())
             statusBar()->showMessage(tr("Lit view failed: %1").arg(error), 10000);
         else
             statusBar()->showMessage(status, exact ? 8000 : 0);
+        showLightCosts();
     });
     // AO of chosen objects: the selected object only, at finer texels, the level still occluding.
     QAction* aoSelection = action(view, tr("AO of Selected &Object Only"), QKeySequence(Qt::ALT | Qt::Key_O), [this, ao](bool on) {

@@ -23,6 +23,7 @@ class QToolBar;
 
 namespace sightline::ui {
 
+class LightCostPanel;
 class OutlinePanel;
 class OverlayControls;
 class PropertiesPanel;
@@ -104,6 +105,10 @@ private:
     QDockWidget* propertiesDock_ = nullptr;
     OutlinePanel* outline_ = nullptr;
     PropertiesPanel* properties_ = nullptr;
+    LightCostPanel* lightCosts_ = nullptr;
+    QDockWidget* lightCostsDock_ = nullptr;
+    /// The cost panel from the lit view's latest frame (when the panel is shown).
+    void showLightCosts();
     QMenu* recentMenu_ = nullptr;
     QLabel* raysLabel_ = nullptr;
     QLabel* backendLabel_ = nullptr;

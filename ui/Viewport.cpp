@@ -369,6 +369,7 @@ void Viewport::paintGL()
             litExact_ = f.exact && f.lightsVersion >= litWanted_;
             f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
             litTexels_ = f.texels;
+            litCosts_ = std::move(f.costs);
             ++litFrames_;
         }
         emit litUpdated(litStatus(f), f.exact, QString::fromStdString(f.error));

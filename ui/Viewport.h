@@ -101,6 +101,8 @@ public:
     std::size_t lightSetsLight() const { return setsLight_; }
     /// The last lit frame shown: whether it was exact, and its status line.
     bool litExact() const { return litExact_; }
+    /// Per light, what its last refresh in the lit view cost (empty before the first frame).
+    const std::vector<LightingCache::LightCost>& litCosts() const { return litCosts_; }
     std::size_t litFramesShown() const { return litFrames_; }
     std::size_t litTexels() const { return litTexels_; }
 
@@ -213,7 +215,8 @@ private:
     std::optional<LitPreviewFrame> litArrived_;
     bool litStale_ = false;   ///< the level changed while the lit view is on: restart at the next frame
     bool litExact_ = false;   ///< the frame shown is exact for the lights as they are now
-    std::uint64_t litWanted_ = 0;   ///< LitPreview's version of the lights as they are now
+    std::uint64_t litWanted_ = 0;
+    std::vector<LightingCache::LightCost> litCosts_;   ///< LitPreview's version of the lights as they are now
     std::size_t litFrames_ = 0;
     std::size_t litTexels_ = 0;
     LitShading litShading_ = LitShading::Light;

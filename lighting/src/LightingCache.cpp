@@ -117,14 +117,14 @@ void LightingCache::keep(std::size_t index, std::vector<float> field)
 }
 
 std::vector<float> LightingCache::roughField(const LightingScene& scene, const Light& exactLight, int threads,
-                                             std::uint64_t& segments) const
+                                             std::uint64_t& segments, DirectLightStats& stats) const
 {
     const Light light = roughLight(exactLight);
     DirectLightOptions options;
     options.threads = threads;
     options.tiling = coarseTiling_.get();
     std::vector<float> field(points_.size(), 0.0f);
-    const std::vector<glm::dvec3> coarse = directIrradiance(scene, {light}, coarsePoints_, options);
+    const std::vector<glm::dvec3> coarse = directIrradiance(scene, {light}, coarsePoints_, options, &stats);
     for (std::size_t k = 0; k < coarse.size(); ++k)
         field[plan_.coarse[k]] = float(coarse[k].x);
     // Edge refinement: blocks whose corners disagree are computed exactly, the rest interpolated.
@@ -148,7 +148,10 @@ std::vector<float> LightingCache::roughField(const LightingScene& scene, const L
     }
     if (!refine.empty()) {
         options.tiling = nullptr;
-        const std::vector<glm::dvec3> exact = directIrradiance(scene, {light}, refine, options);
+        DirectLightStats more;
+        const std::vector<glm::dvec3> exact = directIrradiance(scene, {light}, refine, options, &more);
+        stats.terms += more.terms;
+        stats.segmentsCast += more.segmentsCast;
         for (std::size_t k = 0; k < exact.size(); ++k)
             field[refined[k]] = float(exact[k].x);
     }
@@ -172,7 +175,13 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
         if (!kept_[l].roughNext)
             continue;
         std::uint64_t segments = 0;
-        keep(l, roughField(scene, white(l), threads, segments));
+        DirectLightStats stats;
+        const auto began = std::chrono::steady_clock::now();
+        keep(l, roughField(scene, white(l), threads, segments, stats));
+        kept_[l].cost = {.terms = stats.terms,
+                         .rays = stats.segmentsCast,
+                         .ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count(),
+                         .rough = true};
         kept_[l].roughNext = false;
         roughNow[l] = true;
         ++frame.refreshed;
@@ -197,12 +206,18 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
         const std::uint64_t cost = std::uint64_t(lights_[l].sampleCount()) * points_.size();
         if (frame.refreshed > 0 && frame.segments + cost > budget)
             break;
-        const std::vector<glm::dvec3> field = directIrradiance(scene, {white(l)}, points_, options);
+        DirectLightStats stats;
+        const auto began = std::chrono::steady_clock::now();
+        const std::vector<glm::dvec3> field = directIrradiance(scene, {white(l)}, points_, options, &stats);
         std::vector<float> values(points_.size());
         for (std::size_t j = 0; j < points_.size(); ++j)
             values[j] = float(field[j].x);
         keep(l, std::move(values));
+        kept_[l].cost = {.terms = stats.terms,
+                         .rays = stats.segmentsCast,
+                         .ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count()};
         kept_[l].stale = false;
+        kept_[l].refreshedAt = frame_;
         ++frame.refreshed;
         frame.lights.push_back(l);
         frame.segments += cost;
@@ -213,6 +228,16 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
         resum();   // the differences' rounding gone: the kept fields summed light by light
     frame.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return frame;
+}
+
+LightingCache::LightCost LightingCache::cost(std::size_t index) const
+{
+    const Kept& kept = kept_.at(index);
+    LightCost cost = kept.cost;
+    cost.samples = lights_[index].sampleCount();
+    cost.stale = kept.stale;
+    cost.age = kept.computed ? frame_ - kept.refreshedAt : 0;
+    return cost;
 }
 
 std::vector<float> LightingCache::staleness() const

@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QLabel>
+#include <QTableWidget>
 #include <QLineEdit>
 #include <QMessageBox>
 #include <QPainter>
@@ -33,6 +34,7 @@
 #include "InteractionBenchmark.h"
 #include "EditCommands.h"
 #include "MainWindow.h"
+#include "LightCostPanel.h"
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
@@ -1109,6 +1111,35 @@ private slots:
         const ObjectRef light{ObjectKind::Light, 0};
         document.setState(light, translated(document.state(light), {1.0, 0.0, 0.5}), "move light");
         QTRY_VERIFY_WITH_TIMEOUT(viewport.litFramesShown() > before && viewport.litExact(), 120000);
+
+        // A second light, then the cost panel: a row per light with what it cost, the costliest
+        // first; a click on a row selects that light.
+        window_->findChild<QAction*>("addSpotLight")->trigger();
+        QCOMPARE(document.lights().size(), std::size_t(2));
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact() && viewport.litCosts().size() == 2, 120000);
+        window_->findChild<QAction*>("panel-lightCosts")->trigger();
+        auto* costs = window_->findChild<LightCostPanel*>();
+        QVERIFY(costs && costs->isVisible());
+        QTRY_COMPARE(costs->table()->rowCount(), 2);
+        QVERIFY2(costs->summary()->text().startsWith("2 lights, 0 stale"), qPrintable(costs->summary()->text()));
+        const auto cell = [&](int row, int column) { return costs->table()->item(row, column)->data(Qt::DisplayRole).toDouble(); };
+        QVERIFY(cell(0, LightCostPanel::TimeColumn) >= cell(1, LightCostPanel::TimeColumn));
+        for (int row = 0; row < 2; ++row) {
+            const int index = costs->table()->item(row, LightCostPanel::NameColumn)->data(Qt::UserRole).toInt();
+            QCOMPARE(cell(row, LightCostPanel::SamplesColumn), 1.0);
+            QVERIFY(cell(row, LightCostPanel::RaysColumn) <= cell(row, LightCostPanel::TermsColumn));
+            QVERIFY(cell(row, LightCostPanel::TermsColumn) > 0.0);
+            QCOMPARE(costs->table()->item(row, LightCostPanel::NameColumn)->text(), document.objectName({ObjectKind::Light, std::size_t(index)}));
+        }
+        const int second = costs->table()->item(1, LightCostPanel::NameColumn)->data(Qt::UserRole).toInt();
+        const QRect rowRect = costs->table()->visualItemRect(costs->table()->item(1, LightCostPanel::NameColumn));
+        QTest::mouseClick(costs->table()->viewport(), Qt::LeftButton, {}, rowRect.center());
+        QCOMPARE(document.selection(), (ObjectRef{ObjectKind::Light, std::size_t(second)}));
+        QTest::qWait(100);
+        saveWindowShot("lit-view-light-costs");
+        window_->findChild<QAction*>("panel-lightCosts")->trigger();   // closed again
+        document.undoStack()->undo();   // the spot light
+
         // Undone to no light: the view says how to add one.
         document.undoStack()->undo();
         document.undoStack()->undo();

@@ -12,6 +12,7 @@
 #include "TestLights.h"
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
+#include "lighting/LightEmission.h"
 #include "lighting/LightingCache.h"
 #include "lighting/LowResolutionPass.h"
 #include "visibility/Error.h"
@@ -282,4 +283,47 @@ TEST(LightingCache, ADraggedLightTakesTheLowResolutionPassThenTheExactOne)
     EXPECT_EQ(frame.rough, 0u);
     EXPECT_TRUE(frame.exact);
     expectExact(cache, scene, room.lights, room.points);
+}
+
+TEST(LightingCache, EachLightsCostCountsItsTermsAndRaysAndItsAge)
+{
+    Room room({3.0f, 0.5f, 3.0f});
+    const LightingScene scene(room.scene);
+    Tiles tiles;
+    tiles.add(30, 30);
+    LightingCache cache(room.points, room.lights, lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2));
+    while (!cache.update(scene, ~std::uint64_t(0)).exact) {
+    }
+    // Terms: the (point, sample) pairs each light reaches before shadows, counted independently.
+    const std::vector<Emitter> emitters = lightEmitters(room.lights);
+    std::vector<std::uint64_t> terms(room.lights.size(), 0);
+    for (const Emitter& e : emitters)
+        for (const ShadingPoint& p : room.points)
+            terms[e.light] += emitterTerm(room.lights[e.light], e.position, p.position, p.normal) > 0.0 ? 1 : 0;
+    std::uint64_t rays = 0;
+    for (std::size_t l = 0; l < room.lights.size(); ++l) {
+        const LightingCache::LightCost cost = cache.cost(l);
+        EXPECT_EQ(cost.samples, room.lights[l].sampleCount());
+        EXPECT_EQ(cost.terms, terms[l]) << l;
+        EXPECT_LE(cost.rays, cost.terms);
+        EXPECT_FALSE(cost.stale);
+        EXPECT_FALSE(cost.rough);
+        EXPECT_EQ(cost.age, 0u);   // all refreshed in the one frame an unlimited budget allows
+        EXPECT_GE(cost.ms, 0.0);
+        rays += cost.rays;
+    }
+    EXPECT_GT(rays, 0u);   // the soup and the crate are in the way of some
+
+    // Dragged, the panel shows the low-resolution pass; the others age a frame.
+    const std::size_t panel = room.lights.size() - 1;
+    cache.setLight(panel, room.lights[panel], /*rough=*/true);
+    cache.update(scene, ~std::uint64_t(0));
+    EXPECT_TRUE(cache.cost(panel).rough);
+    EXPECT_TRUE(cache.cost(panel).stale);
+    EXPECT_EQ(cache.cost(0).age, 1u);
+    cache.update(scene, ~std::uint64_t(0));
+    EXPECT_FALSE(cache.cost(panel).rough);
+    EXPECT_EQ(cache.cost(panel).age, 0u);
+    EXPECT_EQ(cache.cost(panel).terms, terms[panel]);
+    EXPECT_EQ(cache.cost(0).age, 2u);
 }

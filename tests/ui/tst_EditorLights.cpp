@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "EditorDocument.h"
+#include "LightCostPanel.h"
 #include "LightObjects.h"
 #include "LitPreview.h"
 #include "TestScenes.h"
@@ -366,3 +367,21 @@ TEST(LitPreview, OverlapAndComplexityCountEachLightAsTheReferenceLightsAlone)
 }
 
 } // namespace
+
+TEST(LightCostPanel, TheSummarySumsTheLightsAndTheCostliestShare)
+{
+    const auto cost = [](double ms, std::uint64_t rays, bool stale) {
+        LightingCache::LightCost c;
+        c.ms = ms;
+        c.rays = rays;
+        c.stale = stale;
+        return c;
+    };
+    const std::vector<LightingCache::LightCost> costs = {cost(10.0, 1'000'000, false), cost(60.0, 2'500'000, false),
+                                                         cost(30.0, 500'000, true), cost(0.0, 0, false)};
+    EXPECT_EQ(lightCostSummary(costs, 1).toStdString(),
+              "4 lights, 1 stale: 4.00 million shadow rays and 0.10 s to refresh them all; the 1 costliest take 60%");
+    EXPECT_TRUE(lightCostSummary(costs, 2).endsWith("the 2 costliest take 90%"));
+    EXPECT_TRUE(lightCostSummary(costs, 9).endsWith("the 4 costliest take 100%"));
+    EXPECT_EQ(lightCostSummary({}).toStdString(), "No lights in the lit view.");
+}

@@ -75,6 +75,19 @@ public:
     double brightness(std::size_t index) const { return kept_.at(index).brightness; }
     const std::vector<Light>& lights() const { return lights_; }
 
+    /// What a light cost when last refreshed (O'Rorke's and Barczak's question: which lights are
+    /// worth their shadows), for the editor's cost panel.
+    struct LightCost {
+        int samples = 0;               ///< point lights it is sampled into (an area light's grid)
+        std::uint64_t terms = 0;       ///< (point, sample) pairs it lights before shadowing
+        std::uint64_t rays = 0;        ///< shadow rays those cost (the rest decided by tile proofs)
+        double ms = 0.0;               ///< its last refresh
+        std::uint64_t age = 0;         ///< frames since it was last refreshed exactly
+        bool stale = true;
+        bool rough = false;            ///< last shown from the low-resolution pass
+    };
+    LightCost cost(std::size_t index) const;
+
 private:
     struct Kept {
         std::vector<float> field;       ///< shadowed white contribution per point, as last computed
@@ -84,14 +97,18 @@ private:
         bool stale = true;
         bool roughNext = false;         ///< the next update gives it the low-resolution pass
         std::uint64_t staleSince = 0;   ///< frame it went stale
+        std::uint64_t refreshedAt = 0;  ///< frame of its last exact refresh
+        LightCost cost;
     };
 
     void resum();
     void markStale(std::size_t index);
     /// Shows `field` as light `index`'s (by differences) and keeps it.
     void keep(std::size_t index, std::vector<float> field);
-    /// The low-resolution pass's field of `light`; `segments` gets the points it cast to.
-    std::vector<float> roughField(const LightingScene& scene, const Light& light, int threads, std::uint64_t& segments) const;
+    /// The low-resolution pass's field of `light`; `segments` gets the points it cast to,
+    /// `stats` what directIrradiance counted.
+    std::vector<float> roughField(const LightingScene& scene, const Light& light, int threads, std::uint64_t& segments,
+                                  DirectLightStats& stats) const;
 
     std::vector<ShadingPoint> points_;
     std::unique_ptr<PointTiling> tiling_;
