@@ -371,8 +371,8 @@ int main(int argc, char** argv)
                                     "print the lit view's update rate and how soon it is exact again");
     auto* litShows = app.add_option("--lit-shows", args.litShows,
                                     "Screenshot with --lit: what the lit view shows: light, complexity (shadow complexity), "
-                                    "overlap (lights a texel against --lit-budget) or staleness")
-                         ->check(CLI::IsMember({"light", "complexity", "overlap", "staleness"}));
+                                    "overlap (lights a texel against --lit-budget), staleness or error (against the reference path)")
+                         ->check(CLI::IsMember({"light", "complexity", "overlap", "staleness", "error"}));
     auto* litBudget = app.add_option("--lit-budget", args.litBudget, "Screenshot with --lit: the overlapping lights a texel may take (default 4)")
                           ->check(CLI::Range(1, 1000));
     app.add_option("--gl-backend", args.glBackend, "Screenshot and recording: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));

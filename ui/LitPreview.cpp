@@ -10,6 +10,7 @@
 
 #include "AoPreview.h"
 #include "CameraVisibility.h"
+#include "LitReference.h"
 #include "TexelAtlas.h"
 #include "lighting/DirectLight.h"
 #include "lighting/LightEmission.h"
@@ -24,6 +25,8 @@ namespace {
 
 /// Texels between the low-resolution pass's coarse points (LowResolutionPass.h).
 constexpr int kLowResolutionStride = 2;
+/// Error: the reference's lights computed between two frames (at least one).
+constexpr double kReferenceMsPerFrame = 250.0;
 
 LitPreviewFrame failed(std::uint64_t generation, std::string error)
 {
@@ -98,9 +101,10 @@ std::vector<TexelLightCounts> lightCounts(const LightingCache& cache, const std:
     return counts;
 }
 
-/// The texels' colours for `frame.shading`, and the frame's counts.
+/// The texels' colours for `frame.shading`, and the frame's counts. `reference`: Error's
+/// reference irradiance, empty while it is computed.
 std::vector<glm::vec3> shadeTexels(const LitTexels& texels, const LightingCache& cache, const std::vector<Light>& lights,
-                                   const LightingScene& scene, LitPreviewFrame& frame)
+                                   const LightingScene& scene, const std::vector<glm::dvec3>& reference, LitPreviewFrame& frame)
 {
     std::vector<glm::vec3> colour(texels.pointOfTexel.size(), glm::vec3(0.0f));
     const std::vector<glm::dvec3>& e = cache.irradiance();
@@ -144,6 +148,25 @@ std::vector<glm::vec3> shadeTexels(const LitTexels& texels, const LightingCache&
             frame.mostLights = std::max(frame.mostLights, all);
         }
         frame.meanShadowed = reached > 0 ? shadowedSum / double(reached) : 0.0;
+        break;
+    }
+    case LitShading::Error: {
+        if (reference.empty()) {   // still computing: the light in grey
+            for (std::size_t j = 0; j < perPoint.size(); ++j)
+                perPoint[j] = glm::vec3(0.15f + 0.5f * toneMapped(e[j], frame.exposure).g);
+            break;
+        }
+        const std::vector<float> error = relativeError(e, reference);
+        std::size_t lit = 0, over = 0;
+        for (std::size_t j = 0; j < perPoint.size(); ++j) {
+            perPoint[j] = errorColour(error[j]);
+            frame.errorMax = std::max(frame.errorMax, double(error[j]));
+            if (reference[j] != glm::dvec3(0.0) || e[j] != glm::dvec3(0.0)) {
+                ++lit;
+                over += error[j] > 0.01f ? 1 : 0;
+            }
+        }
+        frame.errorOverPercent = lit > 0 ? 100.0 * double(over) / double(lit) : 0.0;
         break;
     }
     }
@@ -331,6 +354,8 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
             bool refresh = true;
             std::uint64_t shadingSeen = 0, setsSeen = 0;
             std::optional<LightSets> sets;
+            LitReference reference;
+            bool referencePending = false;
             std::size_t setsLight = 0;
             bool setsStale = false;   // the lights changed since the sets were computed
             for (;;) {
@@ -373,7 +398,18 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                     exposure = shownExposure;
                 frame.generation = generation;
                 frame.exposure = shownExposure;
-                const std::vector<glm::vec3> colour = shadeTexels(texels, *cache, lights, scene, frame);
+                // Error: the reference of the lights as they are now, a few lights a frame.
+                std::vector<glm::dvec3> referenceShown;
+                referencePending = false;
+                if (frame.shading == LitShading::Error) {
+                    referencePending = !reference.update(scene, texels.points, lights, kReferenceMsPerFrame);
+                    frame.referenceLights = reference.current(lights);
+                    if (!referencePending)
+                        referenceShown = reference.irradiance(lights, texels.points.size());
+                    if (cancel->load())
+                        return;
+                }
+                const std::vector<glm::vec3> colour = shadeTexels(texels, *cache, lights, scene, referenceShown, frame);
                 frame.uvs = texels.uvs;
                 frame.width = texels.layout.width;
                 frame.height = texels.layout.height;
@@ -394,13 +430,13 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                 // Exact: wait for new lights, another shading or the end; else refresh the next
                 // stale lights.
                 std::unique_lock lock(mutex_);
-                if (step.exact)
+                if (step.exact && !referencePending)
                     wake_.wait(lock, [&] {
                         return cancel->load() || lightsVersion_ != version || shadingVersion_ != shadingSeen || setsVersion_ != setsSeen;
                     });
                 if (cancel->load())
                     return;
-                refresh = !step.exact || lightsVersion_ != version;
+                refresh = !step.exact || lightsVersion_ != version;   // (else only the reference goes on)
                 if (lightsVersion_ != version) {
                     version = lightsVersion_;
                     std::vector<Light> next = lights_;
@@ -435,7 +471,9 @@ LitShading parseLitShading(const std::string& name)
         return LitShading::Overlap;
     if (name == "staleness")
         return LitShading::Staleness;
-    throw Error("the lit view shows light, complexity, overlap or staleness, not '" + name + "'");
+    if (name == "error")
+        return LitShading::Error;
+    throw Error("the lit view shows light, complexity, overlap, staleness or error, not '" + name + "'");
 }
 
 LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights, LitShading shading, int budget)
@@ -445,7 +483,8 @@ LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Li
     std::optional<LitPreviewFrame> last;
     LitPreview preview([&](LitPreviewFrame frame) {
         std::lock_guard lock(mutex);
-        if (frame.exact || !frame.error.empty())
+        const bool referenced = frame.shading != LitShading::Error || frame.referenceLights == frame.lights;
+        if ((frame.exact && referenced) || !frame.error.empty())
             last = std::move(frame);
         arrived.notify_all();
     });

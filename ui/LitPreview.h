@@ -60,6 +60,11 @@ struct LitPreviewFrame {
     double overBudget = 0.0;
     std::size_t mostLights = 0;
     double meanShadowed = 0.0;
+    /// Error: lights whose reference is computed (all of them before errors are shown), the
+    /// largest relative error, and the share of lit texels off by more than 1%.
+    std::size_t referenceLights = 0;
+    double errorMax = 0.0;
+    double errorOverPercent = 0.0;
     /// O'Rorke's sets of light `setsLight` seen from the requested camera (requestSets), once
     /// computed; every frame after carries the latest.
     std::optional<LightSets> sets;
@@ -146,7 +151,7 @@ private:
 LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights,
                               LitShading shading = LitShading::Light, int budget = 4);
 
-/// "light", "complexity", "overlap" or "staleness"; throws sightline::Error for anything else.
+/// "light", "complexity", "overlap", "staleness" or "error"; throws sightline::Error for anything else.
 LitShading parseLitShading(const std::string& name);
 
 /// Whether two lights give the same light (every field the formulas read).

@@ -584,8 +584,9 @@ void MainWindow::createActions()
     const std::pair<QString, LitShading> shadings[] = {{tr("&Light"), LitShading::Light},
                                                        {tr("Shadow &Complexity"), LitShading::Complexity},
                                                        {tr("Light &Overlap Against the Budget"), LitShading::Overlap},
-                                                       {tr("&Staleness"), LitShading::Staleness}};
-    const char* shadingNames[] = {"litLight", "litComplexity", "litOverlap", "litStaleness"};
+                                                       {tr("&Staleness"), LitShading::Staleness},
+                                                       {tr("&Error Against the Reference"), LitShading::Error}};
+    const char* shadingNames[] = {"litLight", "litComplexity", "litOverlap", "litStaleness", "litError"};
     for (std::size_t k = 0; k < std::size(shadings); ++k) {
         QAction* a = litShows->addAction(shadings[k].first, this, [this, lit, shading = shadings[k].second] {
             viewport_->setLitShading(shading, viewport_->litBudget());

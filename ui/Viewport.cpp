@@ -525,6 +525,12 @@ QString Viewport::litStatus(const LitPreviewFrame& f) const
                   "a lit texel on average, at most %3 lights reach one (%4)")
             .arg(f.budget).arg(f.meanShadowed, 0, 'f', 1).arg(f.mostLights).arg(state);
     case LitShading::Staleness: return tr("Staleness: red where the light shown is from stale lights (%1)").arg(state);
+    case LitShading::Error:
+        if (f.referenceLights < f.lights)
+            return tr("Error against the reference: computing the reference, %1 of %2 lights").arg(f.referenceLights).arg(f.lights);
+        return tr("Error against the reference: green agrees (under 0.01%), blue to red 0.01% to 100%; largest %1%, "
+                  "%2% of the lit texels off by more than 1% (%3)")
+            .arg(100.0 * f.errorMax, 0, 'g', 2).arg(f.errorOverPercent, 0, 'f', 1).arg(state);
     }
     return f.exact ? tr("Lit view: %1 lights, exact (%2 texels, %3 s)").arg(f.lights).arg(f.texels).arg(f.ms / 1000.0, 0, 'f', 1)
                    : tr("Lit view: %1 lights, %2").arg(f.lights).arg(state);

@@ -1083,7 +1083,8 @@ private slots:
 
         // The same light shown as shadow complexity, then as overlap against a budget: no ray
         // cast again, the status bar says what the colours mean.
-        for (const auto& [mode, words] : {std::pair{"litComplexity", "Shadow complexity"}, std::pair{"litOverlap", "Light overlap"}}) {
+        for (const auto& [mode, words] : {std::pair{"litComplexity", "Shadow complexity"}, std::pair{"litOverlap", "Light overlap"},
+                                    std::pair{"litError", "0% of the lit texels off by more than 1%"}}) {
             window_->findChild<QAction*>(mode)->trigger();
             QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains(words), 60000);
             QTest::qWait(100);

@@ -16,6 +16,7 @@
 #include "LightCostPanel.h"
 #include "LightObjects.h"
 #include "LitPreview.h"
+#include "LitReference.h"
 #include "TestScenes.h"
 #include "UiTestScene.h"
 #include "lighting/DirectLight.h"
@@ -384,4 +385,72 @@ TEST(LightCostPanel, TheSummarySumsTheLightsAndTheCostliestShare)
     EXPECT_TRUE(lightCostSummary(costs, 2).endsWith("the 2 costliest take 90%"));
     EXPECT_TRUE(lightCostSummary(costs, 9).endsWith("the 4 costliest take 100%"));
     EXPECT_EQ(lightCostSummary({}).toStdString(), "No lights in the lit view.");
+}
+
+TEST(LitPreview, TheErrorViewAgreesWithTheReferenceOnceExactAndShowsTheLowResolutionPassesError)
+{
+    const auto scene = boxOnAFloor();
+    std::vector<Light> lights = someLights();
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::vector<LitPreviewFrame> frames;
+    LitPreview preview([&](LitPreviewFrame frame) {
+        std::lock_guard lock(mutex);
+        frames.push_back(std::move(frame));
+        arrived.notify_all();
+    });
+    preview.start(5, {.scene = scene, .lights = lights, .shading = LitShading::Error});
+    const auto waitReferenced = [&](std::size_t after) {
+        std::unique_lock lock(mutex);
+        return arrived.wait_for(lock, std::chrono::seconds(120), [&] {
+            const LitPreviewFrame& f = frames.back();
+            return frames.size() > after && ((f.exact && f.referenceLights == f.lights) || !f.error.empty());
+        });
+    };
+    ASSERT_TRUE(waitReferenced(0));
+    std::size_t seen = 0;
+    {
+        std::lock_guard lock(mutex);
+        const LitPreviewFrame& exact = frames.back();
+        ASSERT_TRUE(exact.error.empty()) << exact.error;
+        // The fast path is the reference up to float rounding: every texel agrees.
+        EXPECT_LT(exact.errorMax, double(kErrorAgrees));
+        EXPECT_EQ(exact.errorOverPercent, 0.0);
+        const LitTexels texels = litTexels(*scene);
+        for (std::size_t k = 0; k < texels.pointOfTexel.size(); k += 7)
+            if (texels.pointOfTexel[k] != SIZE_MAX)
+                ASSERT_EQ(mapAt(exact, texels, k), errorColour(0.0f)) << "texel " << k;
+        seen = frames.size();
+    }
+    // The area light moves: its low-resolution pass is shown against its new reference (errors
+    // where it interpolated), then its exact refresh agrees again.
+    lights[2].area.corner += glm::dvec3(0.7, 0.0, 0.4);
+    preview.setLights(lights);
+    ASSERT_TRUE(waitReferenced(seen));
+    {
+        std::lock_guard lock(mutex);
+        ASSERT_GE(frames.size(), seen + 2);
+        const LitPreviewFrame& rough = frames[seen];
+        EXPECT_EQ(rough.rough, 1u);
+        EXPECT_EQ(rough.referenceLights, rough.lights);
+        EXPECT_GT(rough.errorMax, double(kErrorAgrees));
+        EXPECT_LT(frames.back().errorMax, double(kErrorAgrees));
+    }
+    preview.stop();
+    EXPECT_EQ(parseLitShading("error"), LitShading::Error);
+}
+
+TEST(LitReference, ErrorsAreRelativeToTheReferenceWithAFloorAndColouredByDecade)
+{
+    const std::vector<glm::dvec3> reference = {glm::dvec3(100.0), glm::dvec3(10.0), glm::dvec3(0.0), glm::dvec3(1e-5)};
+    const std::vector<glm::dvec3> shown = {glm::dvec3(100.0), glm::dvec3(11.0), glm::dvec3(0.05), glm::dvec3(2e-5)};
+    const std::vector<float> error = relativeError(shown, reference);
+    EXPECT_FLOAT_EQ(error[0], 0.0f);
+    EXPECT_FLOAT_EQ(error[1], 0.1f);
+    EXPECT_FLOAT_EQ(error[2], 0.5f);    // against the floor: 1e-3 of the brightest (0.1)
+    EXPECT_FLOAT_EQ(error[3], 1e-4f);   // 1e-5 off, against the floor
+    EXPECT_EQ(errorColour(0.0f), errorColour(0.5f * kErrorAgrees));
+    EXPECT_NE(errorColour(0.0f), errorColour(kErrorAgrees));
+    EXPECT_EQ(errorColour(1.0f), errorColour(5.0f));   // 100% and over: red
+    EXPECT_EQ(errorColour(std::nanf("")), errorColour(1.0f));
 }
