@@ -13,6 +13,7 @@
 #include "LightObjects.h"
 #include "plugins/SceneFormats.h"
 #include "project/ProjectLights.h"
+#include "project/SceneImport.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
 
@@ -282,7 +283,7 @@ void EditorDocument::open(const fs::path& file)
         return;
     }
     Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_});
-    Scene scene = project.scene.empty() ? Scene{} : loadScene(project.resolve(project.scene, "scene"));
+    Scene scene = loadLevel(project);   // turned and scaled by the project's import settings
     (void)lightsToUse(project);   // bad lights refuse the file as a whole, naming the key
     // Checks the occluders and moved objects now, so a broken file is refused as a whole; the
     // occluder meshes loaded for the check are kept.

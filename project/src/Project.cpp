@@ -8,6 +8,7 @@
 
 #include "plugins/JsonText.h"
 #include "plugins/SceneFormats.h"
+#include "project/SceneImport.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
 #include "visibility/InputFile.h"
@@ -243,6 +244,7 @@ Project parseProject(const json& document, const std::filesystem::path& folder, 
     project.extra = document;
     for (const char* known : {"version", "scene", "source", "receiver", "occluders", "scene_transforms"})
         project.extra.erase(known);
+    (void)sceneImport(project);   // "scene_up" and "scene_scale" (kept in extra) checked now
     return project;
 }
 
@@ -364,8 +366,7 @@ void appendOccluder(Scene& scene, const Scene& mesh, const OccluderSpec& spec)
 ProjectMeshes loadProjectMeshes(const Project& project, std::vector<std::string>* warnings)
 {
     ProjectMeshes meshes;
-    if (!project.scene.empty())
-        meshes.level = loadScene(project.resolve(project.scene, "scene"), warnings);
+    meshes.level = loadLevel(project, warnings);   // turned and scaled first (SceneImport.h)
     applySceneTransforms(project, meshes.level);
     for (const OccluderSpec& spec : project.occluders)
         meshes.occluders.push_back(loadOccluderMesh(project, spec, warnings));

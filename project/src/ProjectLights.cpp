@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "plugins/GltfLights.h"
+#include "project/SceneImport.h"
 #include "visibility/Error.h"
 
 namespace sightline {
@@ -161,6 +162,8 @@ std::vector<Light> sceneFileLights(const Project& project, std::vector<std::stri
     if (project.scene.empty())
         return {};
     const std::filesystem::path file = project.resolve(project.scene, "scene");
+    const SceneImport settings = sceneImport(project);
+    const glm::dmat4 turn = settings.transform();
     std::vector<Light> lights;
     for (const PunctualLight& source : loadGltfLights(file, warnings)) {
         Light light;
@@ -171,8 +174,10 @@ std::vector<Light> sceneFileLights(const Project& project, std::vector<std::stri
         light.range = source.range;
         light.innerAngle = source.innerAngle;
         light.outerAngle = source.outerAngle;
-        light.position = source.position;
-        light.direction = source.direction;
+        // In the turned and scaled world, as the level's objects.
+        light.position = glm::dvec3(turn * glm::dvec4(source.position, 1.0));
+        light.direction = glm::dvec3(turn * glm::dvec4(source.direction, 0.0)) / settings.scale;
+        light.range = source.range * settings.scale;
         lights.push_back(light);
     }
     validateLights(lights, file.filename().string() + " (KHR_lights_punctual)");

@@ -564,3 +564,43 @@ TEST_F(Cli, DemoMaskAgreesWithAnIndependentCasterOnSampledRays)
     EXPECT_EQ(mismatches, 0) << "of " << checked << " rays";
     EXPECT_GT(blocked, checked / 10);
 }
+
+// DESIGN.md §3's import settings: the same wall written Z-up in half-metre units is, with
+// "scene_up": "+z" and "scene_scale": 0.5, the same world, so shaft gives the same mask (a scale
+// of a power of two keeps every coordinate exact, so not even a tie can differ).
+TEST_F(Cli, AZUpLevelInOtherUnitsGivesTheSameMaskAsItsYUpMetreCopy)
+{
+    std::ifstream in(folder / "wall.obj");
+    std::ofstream out(folder / "wall_zup.obj");
+    std::string line;
+    while (std::getline(in, line)) {
+        std::istringstream words(line);
+        std::string tag;
+        double x = 0, y = 0, z = 0;
+        if (words >> tag && tag == "v" && words >> x >> y >> z)   // world (x, y, z) = 0.5 (fx, fz, -fy)
+            out << "v " << x / 0.5 << ' ' << -z / 0.5 << ' ' << y / 0.5 << '\n';
+        else
+            out << line << '\n';
+    }
+    out.close();
+    json project = json::parse(std::ifstream(folder / "p.json"));
+    project["scene"] = "wall_zup.obj";
+    project["scene_up"] = "+z";
+    project["scene_scale"] = 0.5;
+    std::ofstream(folder / "p_zup.json") << project.dump(2);
+    const fs::path yUp = folder / "y.npy", zUp = folder / "z.npy";
+    const CliRun a = runCli("shaft " + (folder / "p.json").string() + " --method raycast --json --mask " + yUp.string());
+    const CliRun b = runCli("shaft " + (folder / "p_zup.json").string() + " --method raycast --json --mask " + zUp.string());
+    ASSERT_EQ(a.code, 0) << a.err;
+    ASSERT_EQ(b.code, 0) << b.err;
+    EXPECT_EQ(json::parse(a.out)["blocked"], json::parse(b.out)["blocked"]);
+    EXPECT_EQ(readMaskNpy(yUp, 128), readMaskNpy(zUp, 128));
+    EXPECT_GT(json::parse(b.out)["blocked"].get<std::uint64_t>(), 0u);
+
+    // A bad setting is one line naming the key.
+    project["scene_up"] = "up";
+    std::ofstream(folder / "p_bad.json") << project.dump(2);
+    const CliRun bad = runCli("shaft " + (folder / "p_bad.json").string());
+    EXPECT_NE(bad.code, 0);
+    EXPECT_NE(bad.err.find("'scene_up' must be one of +y, -y, +z, -z, +x, -x, not 'up'"), std::string::npos) << bad.err;
+}
