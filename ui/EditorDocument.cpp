@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include "EditCommands.h"
 #include "LightObjects.h"
@@ -227,8 +228,13 @@ QString EditorDocument::displayName() const
 void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std::map<std::string, Scene> occluderMeshes)
 {
     undo_.clear();
+    openNote_.clear();
     project_ = std::move(project);
     sceneFileOriginal_ = std::move(sceneFile);
+    fileTransforms_.clear();
+    const glm::mat4 unturn(glm::inverse(sceneImport(project_).transform()));
+    for (const Instance& instance : sceneFileOriginal_.instances)
+        fileTransforms_.push_back(unturn * instance.transform);
     sceneFile_ = sceneFileOriginal_;
     applySceneTransforms(project_, sceneFile_);
     occluderMeshes_ = std::move(occluderMeshes);
@@ -237,6 +243,18 @@ void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std:
     isolated_ = {};
     instanceFlags_.assign(sceneFile_.instances.size(), {});
     levelBounds_ = sceneFile_.bounds();
+    refreshSceneFileLights();
+    refreshLights();
+    const nlohmann::json editor = editorSettings();
+    for (std::size_t i = 0; i < instanceFlags_.size(); ++i)
+        instanceFlags_[i] = settingsFlags(editor, {ObjectKind::SceneObject, i});
+    invalidate(DocumentReset | PatchesChanged | OccludersChanged | SceneFileChanged);
+    emit selectionChanged(selection_);
+    emit fileChanged();
+}
+
+void EditorDocument::refreshSceneFileLights()
+{
     sceneFileLights_ = nlohmann::json::array();
     if (!project_.extra.contains("lights") && !project_.scene.empty()) {
         // Checked by open(); a level without a glTF's lights has none.
@@ -246,13 +264,45 @@ void EditorDocument::reset(Project project, Scene sceneFile, fs::path file, std:
         } catch (const Error&) {
         }
     }
+}
+
+SceneImport EditorDocument::sceneImportSettings() const { return sceneImport(project_); }
+
+std::string EditorDocument::guessedFileUp() const
+{
+    Scene file = sceneFileOriginal_;
+    for (std::size_t i = 0; i < file.instances.size() && i < fileTransforms_.size(); ++i)
+        file.instances[i].transform = fileTransforms_[i];
+    return guessSceneUp(file);
+}
+
+void EditorDocument::setSceneImportSettings(const SceneImport& settings)
+{
+    Project check = project_;
+    setSceneImport(check, settings);
+    (void)sceneImport(check);   // throws, naming the key, before anything changes
+    const auto value = [](const Project& p, const char* key) {
+        const auto it = p.extra.find(key);
+        return it != p.extra.end() ? *it : nlohmann::json();
+    };
+    undo_.beginMacro(tr("import settings"));
+    for (const char* key : {kSceneUpKey, kSceneScaleKey})
+        if (value(project_, key) != value(check, key))
+            undo_.push(new SetProjectKeyCommand(*this, key, value(project_, key), value(check, key), tr("import settings")));
+    undo_.endMacro();
+}
+
+void EditorDocument::reimportLevel()
+{
+    const glm::mat4 turn(sceneImport(project_).transform());
+    for (std::size_t i = 0; i < sceneFileOriginal_.instances.size() && i < fileTransforms_.size(); ++i)
+        sceneFileOriginal_.instances[i].transform = turn * fileTransforms_[i];
+    sceneFile_ = sceneFileOriginal_;
+    applySceneTransforms(project_, sceneFile_);
+    levelBounds_ = sceneFile_.bounds();
+    refreshSceneFileLights();
     refreshLights();
-    const nlohmann::json editor = editorSettings();
-    for (std::size_t i = 0; i < instanceFlags_.size(); ++i)
-        instanceFlags_[i] = settingsFlags(editor, {ObjectKind::SceneObject, i});
-    invalidate(DocumentReset | PatchesChanged | OccludersChanged | SceneFileChanged);
-    emit selectionChanged(selection_);
-    emit fileChanged();
+    invalidate(SceneFileChanged | LightsChanged);
 }
 
 void EditorDocument::setAllowOutsidePaths(bool allow)
@@ -278,8 +328,18 @@ void EditorDocument::open(const fs::path& file)
         project.folder = fs::absolute(file).parent_path();
         project.scene = file.filename().string();
         project.allowOutsidePaths = allowOutsidePaths_;
+        // A bare level says nothing of its up axis: guessed from its floors, used and said.
+        const SceneImport guessed{guessSceneUp(scene), 1.0};
+        applySceneImport(guessed, scene);
+        setSceneImport(project, guessed);
+        const QString note = guessed.up == "+y" ? QString()
+                                                : tr("%1 looks %2-up (most of its floor-like area faces that way): turned so that "
+                                                     "it stands upright; File > Import Settings changes it")
+                                                      .arg(QString::fromStdString(file.filename().string()),
+                                                           QString::fromStdString(guessed.up));
         std::tie(project.source, project.receiver) = defaultPatchesInOpenSpace(scene);
         reset(std::move(project), std::move(scene), {});
+        openNote_ = note;
         return;
     }
     Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_});
@@ -389,6 +449,10 @@ void EditorDocument::applyProjectKey(const std::string& key, const nlohmann::jso
         project_.extra.erase(key);
     else
         project_.extra[key] = value;
+    if (key == kSceneUpKey || key == kSceneScaleKey) {
+        reimportLevel();
+        return;
+    }
     if (key == "lights") {
         refreshLights();
         if (selection_.kind == ObjectKind::Light && selection_.index >= lights_.size())

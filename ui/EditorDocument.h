@@ -20,6 +20,7 @@
 #include "ObjectFlags.h"
 #include "lighting/Light.h"
 #include "project/Project.h"
+#include "project/SceneImport.h"
 
 namespace sightline::ui {
 
@@ -132,6 +133,17 @@ public:
     /// such as "recorded_path" (RecordingControls.h). Changes nothing the views draw.
     void applyProjectKey(const std::string& key, const nlohmann::json& value);
 
+    // ---- import settings (project/SceneImport.h) ----
+    SceneImport sceneImportSettings() const;
+    /// guessSceneUp of the level as its file has it (before the turn).
+    std::string guessedFileUp() const;
+    /// Turns and scales the level anew (undoable; one step). Patches, occluders and lights stay
+    /// where they are in the world. Throws sightline::Error for an invalid setting.
+    void setSceneImportSettings(const SceneImport& settings);
+    /// What opening the current file decided for the user to know (the up axis guessed for a bare
+    /// level), or empty.
+    QString openNote() const { return openNote_; }
+
     // ---- selection ----
     ObjectRef selection() const { return selection_; }
     void select(ObjectRef object);
@@ -150,7 +162,11 @@ private:
     void invalidate(unsigned changes);
 
     Project project_;
-    Scene sceneFileOriginal_;   ///< as loaded, before scene_transforms
+    Scene sceneFileOriginal_;   ///< as loaded and turned (SceneImport), before scene_transforms
+    std::vector<glm::mat4> fileTransforms_;   ///< each instance's transform in the file, before the turn
+    QString openNote_;
+    /// Turns sceneFileOriginal_ by the project's settings from fileTransforms_, then the rest.
+    void reimportLevel();
     Scene sceneFile_;
     std::filesystem::path file_;
     QUndoStack undo_;
@@ -169,6 +185,7 @@ private:
     /// Pushes one undoable change of the whole "lights" array (validated first).
     void setLightsJson(const nlohmann::json& lights, const QString& text);
     void refreshLights();
+    void refreshSceneFileLights();
 };
 
 /// Patches across a level: a source and a receiver of `side` metres, 1.5 m above the floor,

@@ -31,6 +31,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "EditCommands.h"
+#include "ImportSettingsDialog.h"
 #include "LightCostPanel.h"
 #include "OutlinePanel.h"
 #include "PatchPresets.h"
@@ -281,6 +282,17 @@ void MainWindow::createActions()
             screenshotTo(path);
     });
     file->addSeparator();
+    QAction* importSettings = action(file, tr("&Import Settings..."), QKeySequence(), [this] {
+        ImportSettingsDialog dialog(document_.sceneImportSettings(), document_.guessedFileUp(), this);
+        if (dialog.exec() != QDialog::Accepted)
+            return;
+        try {
+            document_.setSceneImportSettings(dialog.settings());
+        } catch (const std::exception& e) {
+            QMessageBox::warning(this, tr("Import Settings"), QString::fromStdString(e.what()));
+        }
+    });
+    importSettings->setObjectName("importSettingsAction");
     // The project-path rule (visibility/PathRule.h): a file someone sent must not read files
     // outside its folder unless the user says so; the choice is remembered.
     QAction* outside = file->addAction(tr("Allow Project Paths &Outside Its Folder"));
@@ -861,6 +873,8 @@ bool MainWindow::openFile(const QString& file)
         return false;
     }
     addRecentFile(QFileInfo(file).absoluteFilePath());
+    if (!document_.openNote().isEmpty())
+        statusBar()->showMessage(document_.openNote(), 20000);
     return true;
 }
 

@@ -34,6 +34,7 @@
 #include "InteractionBenchmark.h"
 #include "EditCommands.h"
 #include "MainWindow.h"
+#include "ImportSettingsDialog.h"
 #include "LightCostPanel.h"
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
@@ -47,8 +48,10 @@
 #include "VideoRecording.h"
 #include "ViewSettings.h"
 #include "Viewport.h"
+#include "plugins/SceneFormats.h"
 #include "project/Animation.h"
 #include "project/Project.h"
+#include "project/SceneImport.h"
 #include "project/PvsSetup.h"
 #include "visibility/pvs/PvsObjects.h"
 #include "project/RecordedPath.h"
@@ -2232,6 +2235,56 @@ private slots:
         QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
         waitForUpdate();
         QVERIFY(viewport.style().cutaway);
+    }
+
+    // A level another tool wrote Z-up (Blender's, Quake's way) opens upright: the up axis guessed
+    // from its floors, said in the status bar; File > Import Settings turns it (Y-up: it lies on
+    // its side) and Undo stands it up again.
+    void aLevelWrittenZUpOpensUprightAndImportSettingsTurnIt()
+    {
+        EditorDocument& document = window_->document();
+        Scene level = loadScene(project_.parent_path() / "demo_level.glb");
+        const Bounds upright = level.bounds();
+        const glm::mat4 toFile(glm::inverse(SceneImport{"+z", 1.0}.transform()));
+        for (Instance& instance : level.instances)
+            instance.transform = toFile * instance.transform;
+        const std::filesystem::path file = folder_ / "level_zup.glb";
+        saveScene(level, file);
+        QVERIFY(window_->openFile(QString::fromStdString(file.string())));
+        waitForUpdate();
+        QCOMPARE(document.sceneImportSettings().up, std::string("+z"));
+        QVERIFY2(window_->statusBar()->currentMessage().contains("looks +z-up"), qPrintable(window_->statusBar()->currentMessage()));
+        QVERIFY(std::abs(document.levelBounds().max.y - upright.max.y) < 1e-3f);
+        QVERIFY(window_->viewport().visibility().valid && window_->viewport().visibility().visibleFraction() > 0.25);
+        saveWindowShot("zup-level-opened");
+
+        bool shown = false;
+        QTimer timer;
+        timer.setInterval(50);
+        QObject::connect(&timer, &QTimer::timeout, [&] {
+            if (auto* dialog = qobject_cast<ImportSettingsDialog*>(QApplication::activeModalWidget())) {
+                shown = true;
+                if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+                    dialog->grab().save(QString::fromUtf8(shots) + "/window-import-settings.png");
+                auto* up = dialog->findChild<QComboBox*>("sceneUp");
+                up->setCurrentIndex(up->findData(QString("+y")));
+                dialog->accept();
+            }
+        });
+        timer.start();
+        window_->findChild<QAction*>("importSettingsAction")->trigger();
+        timer.stop();
+        QVERIFY(shown);
+        QCOMPARE(document.sceneImportSettings().up, std::string("+y"));
+        QVERIFY(std::abs(document.levelBounds().max.y - upright.max.y) > 1.0f);   // on its side
+        waitForUpdate();
+        saveWindowShot("zup-level-told-y-up");
+        document.undoStack()->undo();
+        QCOMPARE(document.sceneImportSettings().up, std::string("+z"));
+        QVERIFY(std::abs(document.levelBounds().max.y - upright.max.y) < 1e-3f);
+        document.undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
     }
 
     void cleanupTestCase()

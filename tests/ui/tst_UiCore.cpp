@@ -30,6 +30,7 @@
 #include "ViewportRenderer.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
+#include "project/SceneImport.h"
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/RayCastSampler.h"
@@ -1096,5 +1097,58 @@ TEST(BackgroundSampler, AnswersTheLatestRequestExactlyAndDropsTheOnesItReplaced)
     EXPECT_EQ(answers.back().second.error, "bumps.png: cannot be read");
 }
 
-} // namespace sightline::ui
 
+
+// A level written Z-up or upside down by another tool opens upright: the up axis is guessed from
+// its floors, used (the default patches stand in its rooms and see each other as on the upright
+// demo), saved as "scene_up", said to the user, and File > Import Settings changes it, undoably.
+TEST(EditorDocument, ALevelWrittenAnotherWayUpOpensUprightAndItsImportSettingsChangeUndoably)
+{
+    const std::filesystem::path demo = test::copyDemoProject(freshFolder("other-up"));
+    const std::filesystem::path folder = demo.parent_path();
+    Scene upright = loadScene(folder / "demo_level.glb");
+    const Bounds bounds = upright.bounds();
+    for (const char* up : {"+z", "-y", "-x"}) {
+        Scene written = upright;
+        const glm::mat4 toFile(glm::inverse(SceneImport{up, 1.0}.transform()));
+        for (Instance& instance : written.instances)
+            instance.transform = toFile * instance.transform;
+        const std::filesystem::path file = folder / (std::string("level_") + (up[0] == '+' ? "plus_" : "minus_") + up[1] + ".glb");
+        saveScene(written, file);
+        EditorDocument document;
+        document.open(file);
+        EXPECT_EQ(document.sceneImportSettings().up, up);
+        EXPECT_NE(document.openNote().toStdString().find(std::string("looks ") + up + "-up"), std::string::npos);
+        const Bounds opened = document.levelBounds();
+        for (int axis = 0; axis < 3; ++axis) {   // the demo's own box again
+            EXPECT_NEAR(opened.min[axis], bounds.min[axis], 1e-3f) << up << " axis " << axis;
+            EXPECT_NEAR(opened.max[axis], bounds.max[axis], 1e-3f) << up << " axis " << axis;
+        }
+        LiveVisibility live;
+        live.setScene(document.scene());
+        const VisibilityResult result = live.sample(document.project().source, document.project().receiver);
+        ASSERT_TRUE(result.valid) << result.error;
+        EXPECT_GT(result.visibleFraction(), 0.25) << up;
+
+        // Told it is Y-up after all: the level lies on its side; undone, it stands again.
+        document.setSceneImportSettings(SceneImport{"+y", 1.0});
+        EXPECT_GT(std::abs(document.levelBounds().max.y - bounds.max.y), 1.0f) << up;
+        document.undoStack()->undo();
+        EXPECT_NEAR(document.levelBounds().max.y, bounds.max.y, 1e-3f);
+        EXPECT_THROW(document.setSceneImportSettings(SceneImport{"up", 1.0}), Error);
+        // Saved, the setting goes with the project; reopened, the level stands as before.
+        document.save(folder / "saved.json");
+        EditorDocument reopened;
+        reopened.open(folder / "saved.json");
+        EXPECT_EQ(reopened.sceneImportSettings().up, up);
+        EXPECT_TRUE(reopened.openNote().isEmpty());
+        EXPECT_NEAR(reopened.levelBounds().max.y, bounds.max.y, 1e-3f);
+    }
+    // The upright demo is left as it is.
+    EditorDocument document;
+    document.open(folder / "demo_level.glb");
+    EXPECT_EQ(document.sceneImportSettings().up, "+y");
+    EXPECT_TRUE(document.openNote().isEmpty());
+}
+
+} // namespace sightline::ui
