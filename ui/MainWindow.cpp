@@ -10,6 +10,7 @@
 #include <QBuffer>
 #include <QDir>
 #include <QDockWidget>
+#include <QPushButton>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QInputDialog>
@@ -34,6 +35,7 @@
 #include "ImportSettingsDialog.h"
 #include "LightCostPanel.h"
 #include "OutlinePanel.h"
+#include "PatchPairFix.h"
 #include "PatchPresets.h"
 #include "OverlayControls.h"
 #include "Picking.h"
@@ -92,6 +94,21 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     viewLabel_->setObjectName("viewLabel");
     viewLabel_->setToolTip(tr("The projection (5 switches it)"));
     statusBar()->addWidget(raysLabel_, 1);
+    // An invalid pair's fix in one click (PatchPairFix.h), beside the message that says why.
+    fixPairButton_ = new QPushButton(this);
+    fixPairButton_->setObjectName("fixPatchPair");
+    fixPairButton_->setFlat(true);
+    fixPairButton_->hide();
+    statusBar()->addPermanentWidget(fixPairButton_);   // never hidden by a passing message
+    connect(fixPairButton_, &QPushButton::clicked, this, [this] {
+        const Project& project = document_.project();
+        const auto fix = fixPatchPair(project.source, project.receiver, document_.selection().kind == ObjectKind::Source);
+        if (!fix)
+            return;
+        const ObjectRef patch{fix->source ? ObjectKind::Source : ObjectKind::Receiver, 0};
+        document_.setState(patch, fix->patch, tr("Fix patch pair"));
+        statusBar()->showMessage(tr("Done: %1 (Ctrl+Z undoes)").arg(QString::fromStdString(fix->description)), 5000);
+    });
     spaceLabel_ = new QLabel(this);
     spaceLabel_->setObjectName("spaceLabel");
     spaceLabel_->setToolTip(tr("The gizmo's axes for moving and rotating (X switches world / local)"));
@@ -1018,6 +1035,17 @@ void MainWindow::updateStatus()
                             : summary);
     raysLabel_->setStyleSheet(result.valid ? QString() : QString("color: #e05050"));
     properties_->setPairError(result.valid ? QString() : QString::fromStdString(result.error));
+    std::optional<PatchPairFix> fix;
+    if (!result.valid) {
+        const Project& project = document_.project();
+        fix = fixPatchPair(project.source, project.receiver, document_.selection().kind == ObjectKind::Source);
+    }
+    if (fix) {
+        QString text = QString::fromStdString(fix->description);
+        text[0] = text[0].toUpper();
+        fixPairButton_->setText(tr("Fix: %1").arg(text));
+    }
+    fixPairButton_->setVisible(fix.has_value());
     updateRateLabel();
 }
 

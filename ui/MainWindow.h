@@ -18,6 +18,7 @@
 class QAction;
 class QDockWidget;
 class QLabel;
+class QPushButton;
 class QMenu;
 class QToolBar;
 
@@ -111,6 +112,7 @@ private:
     void showLightCosts();
     QMenu* recentMenu_ = nullptr;
     QLabel* raysLabel_ = nullptr;
+    QPushButton* fixPairButton_ = nullptr;
     QLabel* backendLabel_ = nullptr;
     QLabel* viewLabel_ = nullptr;
     QLabel* spaceLabel_ = nullptr;

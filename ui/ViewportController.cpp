@@ -1,6 +1,7 @@
 #include "ViewportController.h"
 
 #include "LightObjects.h"
+#include "PatchPairFix.h"
 
 #include <cmath>
 
@@ -244,6 +245,13 @@ std::optional<Patch> ViewportController::placementAt(ObjectKind which, QPointF p
         if (const auto floor = visibleSurface(Ray{start, glm::dvec3(0.0, -1.0, 0.0)}); floor && floor->point.y > lowest)
             placed.corner.y += floor->point.y - lowest + 0.01;
     }
+    // With the other patch: a wall patch standing on the floor crosses the plane of a floor patch
+    // 2 cm over it (the most natural pair); lifted off that plane, or shrunk to its side, it is valid.
+    const bool source = which == ObjectKind::Source;
+    const Project& project = document_.project();
+    if (const auto fix = fixPatchPair(source ? placed : project.source, source ? project.receiver : placed, source);
+        fix && fix->source == source)
+        placed = fix->patch;
     return placed;
 }
 

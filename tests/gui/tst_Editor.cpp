@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QComboBox>
 #include <QLabel>
+#include <QPushButton>
 #include <QTableWidget>
 #include <QLineEdit>
 #include <QMessageBox>
@@ -1325,6 +1326,45 @@ private slots:
         QVERIFY(!controller.placementGhost());
         QTRY_VERIFY(window_->statusBar()->currentMessage().contains("Receiver placed"));
         document.undoStack()->undo();
+
+        // The most natural pair: a floor source 2 cm over the floor in front of the wall, then the
+        // receiver placed on the wall by a click. It used to stand 1 cm over the floor, across the
+        // source's plane, and the pair was refused; it is placed above that plane.
+        const glm::dvec3 out = glm::normalize(glm::dvec3(before.normal().x, 0.0, before.normal().z));
+        Patch floorSource = document.project().source;
+        floorSource.u = {1.0, 0.0, 0.0};
+        floorSource.v = {0.0, 0.0, -1.0};   // facing up
+        floorSource.corner = glm::dvec3(before.centre().x, floor->point.y + 0.02, before.centre().z) + 1.5 * out -
+                             0.5 * (floorSource.u + floorSource.v);
+        document.setState({ObjectKind::Source, 0}, floorSource, "floor source");
+        controller.setTool(Tool::PlaceReceiver);
+        QTest::mouseMove(&window_->viewport(), at);
+        QTest::mouseClick(&window_->viewport(), Qt::LeftButton, {}, at);
+        QTRY_VERIFY(window_->statusBar()->currentMessage().contains("Receiver placed"));
+        const Patch onWall = document.project().receiver;
+        QVERIFY(std::abs(glm::dot(onWall.normal(), out)) > 0.9);   // on the wall
+        validatePatchPair(document.project().source, onWall);      // throws if refused
+        waitForUpdate();
+        QVERIFY(window_->viewport().visibility().valid);
+        auto* fixButton = window_->findChild<QPushButton*>("fixPatchPair");
+        QVERIFY(fixButton && !fixButton->isVisible());
+
+        // Pushed down across the floor patch's plane by hand: the status bar offers the fix.
+        Patch crossing = onWall;
+        crossing.corner.y = floor->point.y + 0.005 - std::min(0.0, crossing.v.y) - std::min(0.0, crossing.u.y);
+        document.setState({ObjectKind::Receiver, 0}, crossing, "receiver down");
+        waitForUpdate();
+        QTRY_VERIFY(!window_->viewport().visibility().valid);
+        QTRY_VERIFY(fixButton->isVisible());
+        QVERIFY2(fixButton->text().startsWith("Fix: Lift the receiver"), qPrintable(fixButton->text()));
+        saveWindowShot("invalid-pair-with-fix");
+        QTest::mouseClick(fixButton, Qt::LeftButton);
+        waitForUpdate();
+        QTRY_VERIFY(window_->viewport().visibility().valid);
+        QVERIFY(!fixButton->isVisible());
+        for (int k = 0; k < 4; ++k)   // the fix, the push, the placement, the floor source
+            document.undoStack()->undo();
+        QVERIFY(glm::length(document.project().receiver.centre() - before.centre()) < 1e-9);
         controller.setCamera(view);
         waitForUpdate();
     }

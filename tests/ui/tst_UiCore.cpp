@@ -19,6 +19,7 @@
 #include "LiveVisibility.h"
 #include "ObjectEdits.h"
 #include "ObjectFlags.h"
+#include "PatchPairFix.h"
 #include "PatchPresets.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
@@ -1149,6 +1150,67 @@ TEST(EditorDocument, ALevelWrittenAnotherWayUpOpensUprightAndItsImportSettingsCh
     document.open(folder / "demo_level.glb");
     EXPECT_EQ(document.sceneImportSettings().up, "+y");
     EXPECT_TRUE(document.openNote().isEmpty());
+}
+
+} // namespace sightline::ui
+
+namespace sightline::ui {
+
+// The most natural pair, a floor source 2 cm over the floor and a wall receiver standing on it,
+// crossed the floor patch's plane by a centimetre; a floor patch running up to the wall crosses a
+// wall patch's plane. Each gets a one-patch fix that makes the pair valid.
+TEST(PatchPairFix, AFloorAndAWallPairIsFixedByLiftingOrShrinkingOnePatch)
+{
+    Patch floor;   // 2 x 2 m, 2 cm over the floor (y = 0), half a metre in front of the wall at z = 0
+    floor.corner = {-1.0, 0.02, 2.5};
+    floor.u = {2.0, 0.0, 0.0};
+    floor.v = {0.0, 0.0, -2.0};   // facing up
+    Patch wall;    // 2 x 2 m, 1 cm out from the wall, from 1 cm over the floor
+    wall.corner = {-1.0, 0.01, 0.01};
+    wall.u = {2.0, 0.0, 0.0};
+    wall.v = {0.0, 2.0, 0.0};     // facing +z, into the room
+    EXPECT_THROW(validatePatchPair(floor, wall), Error);
+    const auto lift = fixPatchPair(floor, wall, /*preferSource=*/false);
+    ASSERT_TRUE(lift);
+    EXPECT_FALSE(lift->source);
+    EXPECT_EQ(lift->description, "lift the receiver 2 cm above the source's plane");
+    EXPECT_NO_THROW(validatePatchPair(floor, lift->patch));
+    EXPECT_NEAR(lift->patch.corner.y, 0.03, 1e-12);   // 1 cm above the floor patch's plane
+    EXPECT_EQ(lift->patch.u, wall.u);
+    EXPECT_EQ(lift->patch.v, wall.v);
+
+    // The wall patch already above it, the floor patch reaching the wall: moved into the room.
+    Patch high = wall;
+    high.corner.y = 0.1;
+    Patch reaching = floor;
+    reaching.corner.z = 2.0;
+    reaching.v = {0.0, 0.0, -2.0};   // z from 2 down to 0: behind the wall patch's plane (z = 0.01)
+    EXPECT_THROW(validatePatchPair(reaching, high), Error);
+    const auto moved = fixPatchPair(reaching, high, /*preferSource=*/true);
+    ASSERT_TRUE(moved);
+    EXPECT_TRUE(moved->source);
+    EXPECT_EQ(moved->description, "move the source 2 cm in front of the receiver's plane");
+    EXPECT_NO_THROW(validatePatchPair(moved->patch, high));
+    // Not allowed to move that far: shrunk to the room's side instead, by 2 cm.
+    const auto shrunk = fixPatchPair(reaching, high, /*preferSource=*/true, /*maxMove=*/0.001);
+    ASSERT_TRUE(shrunk);
+    EXPECT_TRUE(shrunk->source);
+    EXPECT_EQ(shrunk->description, "shrink the source by 2 cm to the receiver's front");
+    EXPECT_NO_THROW(validatePatchPair(shrunk->patch, high));
+    EXPECT_NEAR(glm::length(shrunk->patch.v), 1.98, 1e-9);
+    EXPECT_EQ(shrunk->patch.u, reaching.u);
+
+    // Nothing to fix, or nothing a fix can do.
+    EXPECT_FALSE(fixPatchPair(floor, lift->patch, false));
+    Patch flat = wall;
+    flat.v = wall.u;   // degenerate
+    EXPECT_FALSE(fixPatchPair(floor, flat, false));
+    Patch across = wall;   // reaching a metre below the floor patch's plane: too far to lift, shrunk
+    across.corner = {-1.0, -1.0, 0.01};
+    const auto cut = fixPatchPair(floor, across, false);
+    ASSERT_TRUE(cut);
+    EXPECT_EQ(cut->description, "shrink the receiver by 103 cm to the source's front");
+    EXPECT_NO_THROW(validatePatchPair(floor, cut->patch));
 }
 
 } // namespace sightline::ui
