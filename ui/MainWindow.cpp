@@ -286,6 +286,13 @@ void MainWindow::createActions()
     recentMenu_ = file->addMenu(tr("Open &Recent"));
     recentMenu_->setObjectName("recentMenu");
     rebuildRecentMenu();
+    QAction* openPvs = action(file, tr("Open &PVS..."), QKeySequence(), [this] {
+        const QString file = QFileDialog::getOpenFileName(this, tr("Open PVS"), QString::fromStdString(projectFolder().string()),
+                                                          tr("Baked PVS (*.pvs *.pvs.json)"));
+        if (!file.isEmpty())
+            openPvsFile(file);
+    });
+    openPvs->setObjectName("openPvs");
     action(file, tr("&Save"), QKeySequence::Save, [this] { save(); });
     // QKeySequence::SaveAs has no binding outside KDE and GNOME (e.g. under Xvfb): spelled out.
     action(file, tr("Save &As..."), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_S), [this] { saveAs(); });
@@ -882,6 +889,8 @@ void MainWindow::storeView()
 
 bool MainWindow::openFile(const QString& file)
 {
+    if (isPvsFile(file))
+        return openPvsFile(file);
     try {
         document_.open(file.toStdString());
     } catch (const std::exception& e) {
@@ -993,8 +1002,35 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* event)
 void MainWindow::dropEvent(QDropEvent* event)
 {
     const QList<QUrl> urls = event->mimeData()->urls();
-    if (!urls.isEmpty() && urls.front().isLocalFile() && maybeSave())
-        openFile(urls.front().toLocalFile());
+    if (urls.isEmpty() || !urls.front().isLocalFile())
+        return;
+    const QString file = urls.front().toLocalFile();
+    if (isPvsFile(file))
+        openPvsFile(file);   // shown over the open project: nothing to save first
+    else if (maybeSave())
+        openFile(file);
+}
+
+bool MainWindow::isPvsFile(const QString& file)
+{
+    return file.endsWith(".pvs", Qt::CaseInsensitive) || file.endsWith(".pvs.json", Qt::CaseInsensitive);
+}
+
+bool MainWindow::openPvsFile(const QString& file)
+{
+    try {
+        pvs::PvsData data = readBakedPvs(file.toStdString(), document_.project(), document_.scene());
+        const std::size_t cells = data.cells.size(), objects = data.objects.size();
+        viewport_->showBakedPvs(std::move(data), QFileInfo(file).fileName());
+        if (QAction* debugger = findChild<QAction*>("pvsDebugger"))
+            debugger->setChecked(true);
+        statusBar()->showMessage(tr("%1: %2 cells x %3 objects, shown in the PVS debugger").arg(QFileInfo(file).fileName()).arg(cells).arg(objects),
+                                 8000);
+        return true;
+    } catch (const std::exception& e) {
+        QMessageBox::warning(this, tr("Open PVS"), QString::fromStdString(describeFailure(e, "opening " + file.toStdString())));
+        return false;
+    }
 }
 
 void MainWindow::updateTitle()

@@ -56,6 +56,10 @@ public:
 
     /// Opens a project or mesh file; on failure shows the one-line error and returns false.
     bool openFile(const QString& file);
+    /// Shows a baked .pvs or .pvs.json of the open project in the PVS debugger (checked that it
+    /// belongs to the level; else a message says why).
+    bool openPvsFile(const QString& file);
+    static bool isPvsFile(const QString& file);
     bool saveTo(const QString& file);
     /// Lights the AO preview with a Radiance .hdr environment; an unreadable file is a message.
     bool setAoEnvironment(const QString& file);

@@ -6,7 +6,10 @@
 #include <new>
 
 #include "project/PvsSetup.h"
+#include "visibility/Error.h"
+#include "visibility/InputFile.h"
 #include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/PvsFile.h"
 #include "visibility/pvs/PvsObjects.h"
 #include "visibility/pvs/Sha256.h"
 #include "visibility/pvs/ViewCells.h"
@@ -176,6 +179,36 @@ void PvsDebugger::start(std::uint64_t generation, std::shared_ptr<const Scene> s
             fail(e.what());
         }
     });
+}
+
+pvs::PvsData readBakedPvs(const std::filesystem::path& file, const Project& project, const Scene& scene)
+{
+    const std::string name = file.filename().string();
+    const std::string bytes = readInputFile(file, name);
+    const bool json = bytes.find_first_not_of(" \t\r\n") != std::string::npos && bytes[bytes.find_first_not_of(" \t\r\n")] == '{';
+    pvs::PvsData data = json ? pvs::decodePvsJson(bytes, name) : pvs::decodePvs(bytes, name);
+    const std::string again = " (bake it again: P, or sightline-cli pvs bake)";
+    if (project.scene.empty())
+        throw Error(name + " is a PVS of a scene file; this project has none");
+    const std::filesystem::path sceneFile = project.resolve(project.scene, "scene");
+    if (pvs::sha256Hex(readInputFile(sceneFile, sceneFile.filename().string())) != data.sceneSha256)
+        throw Error(name + " was baked from another scene than " + sceneFile.filename().string() +
+                    " (its SHA-256 differs: the level was edited or is another one)" + again);
+    const PvsSetup setup = parsePvsSetup(project, project.name);
+    const std::vector<pvs::PvsObject> objects = pvs::sceneObjects(scene, setup.groupByName);
+    if (objects.size() != data.objects.size())
+        throw Error(name + " holds " + std::to_string(data.objects.size()) + " objects, the level as it is now " +
+                    std::to_string(objects.size()) + " (occluders added or removed since the bake, or other grouping)" + again);
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+        const Bounds &now = objects[o].bounds, &baked = data.objects[o].bounds;
+        bool moved = objects[o].name != data.objects[o].name || now.empty() != baked.empty();
+        for (int k = 0; k < 3 && !moved && !now.empty(); ++k)
+            moved = std::abs(now.min[k] - baked.min[k]) > 1e-3f || std::abs(now.max[k] - baked.max[k]) > 1e-3f;
+        if (moved)
+            throw Error(name + ": object " + std::to_string(o) + " ('" + objects[o].name +
+                        "') is not where the bake saw it (moved or renamed since)" + again);
+    }
+    return data;
 }
 
 } // namespace sightline::ui

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -82,6 +83,13 @@ std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::d
 /// from its row, as the bake culls them. 0 or less: nothing changes.
 void applyDistanceCutoff(const std::vector<Bounds>& cells, const std::vector<pvs::PvsObject>& objects, double maxDistance,
                          pvs::VisibilityRows& rows);
+
+/// A baked PVS (`pvs bake`'s .pvs or .pvs.json) read for the editor and checked against the open
+/// project: baked from its scene file (the file's SHA-256, as `pvs bake` records it), over the
+/// objects of the level as it is now (names and boxes: an object moved since the bake shows); its
+/// cells are the file's. Throws sightline::Error saying what differs and how to get a PVS that
+/// fits (bake again: P, or `sightline-cli pvs bake`).
+pvs::PvsData readBakedPvs(const std::filesystem::path& file, const Project& project, const Scene& scene);
 
 /// Per instance of the scene: 1 where the instance belongs to an object `row` does not see.
 std::vector<std::uint8_t> culledInstances(const std::vector<pvs::PvsObject>& objects, const std::uint8_t* row,

@@ -387,6 +387,7 @@ void Viewport::paintGL()
     }
     if (pvsStale_) {
         pvsStale_ = false;
+        pvsFromFile_.clear();
         pvsCells_.clear();
         pvsObjects_.clear();
         pvsRows_ = {};
@@ -700,6 +701,33 @@ const pvs::VisibilityRows& Viewport::pvsShownRows()
     return pvsShown_;
 }
 
+void Viewport::showBakedPvs(pvs::PvsData data, const QString& file)
+{
+    if (pvs_)
+        pvs_->stop();
+    ++pvsGeneration_;   // a bake on its way is dropped
+    pvsStale_ = false;
+    pvsError_.clear();
+    const std::size_t cells = data.cells.size();
+    pvsCells_ = std::move(data.cells);
+    pvsObjects_ = std::move(data.objects);
+    pvsRows_ = std::move(data.rows);
+    pvsCoarse_ = pvsRefined_ = cells;
+    pvsCellRefined_.assign(cells, 1);
+    pvsGaps_.clear();
+    pvsGapsReady_ = false;
+    pvsGapSelected_ = -1;
+    pvsFinished_ = true;
+    pvsFrozenCell_.reset();
+    pvsRowsChanged_ = true;
+    pvsUploaded_ = false;
+    pvsBakeKey_ = pvsBakeKey(document_.project());
+    pvsFromFile_ = file;
+    style_.pvsDebugger = true;
+    emit pvsUpdated(pvsStatus());
+    update();
+}
+
 void Viewport::setPvsFrozen(bool frozen)
 {
     pvsFrozen_ = frozen;
@@ -748,7 +776,9 @@ QString Viewport::pvsStatus() const
         progress = tr("coarse %1 of %2 cells").arg(pvsCoarse_).arg(cells);
     else
         progress = tr("refining: %1 of %2 cells refined, still coarse: %3").arg(pvsRefined_).arg(cells).arg(cellRuns(pvsCellRefined_, cells));
-    if (pvsFinished_)
+    if (!pvsFromFile_.isEmpty())
+        progress = tr("from %1").arg(pvsFromFile_);
+    else if (pvsFinished_)
         progress += pvsGapsReady_ ? tr(", %n gap(s) against the reference", "", int(pvsGaps_.size()))
                                   : tr(", checking against the reference...");
     if (pvsCutoff_ > 0.0)

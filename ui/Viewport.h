@@ -115,6 +115,9 @@ public:
     /// The cell whose answer is shown, if the camera is in one (or the frozen one).
     std::optional<std::size_t> pvsCell() const { return pvsShownCell_; }
     const std::vector<Bounds>& pvsCells() const { return pvsCells_; }
+    /// Shows a PVS read from a file (readBakedPvs) in the debugger instead of baking one; `file`
+    /// names it in the status. A change that needs a new bake bakes as usual.
+    void showBakedPvs(pvs::PvsData data, const QString& file);
     const pvs::VisibilityRows& pvsRows() const { return pvsRows_; }
     /// What is shown: the rows with the project's overrides applied.
     const pvs::VisibilityRows& pvsShown() const { return pvsShown_; }
@@ -208,6 +211,7 @@ private:
     /// The bake's rows with the project's overrides applied (kept in pvsShown_).
     const pvs::VisibilityRows& pvsShownRows();
     QString pvsError_, pvsOverrideError_;
+    QString pvsFromFile_;   ///< the file the shown PVS was read from; empty for the editor's bake
     pvs::VisibilityRows pvsShown_;
     std::unique_ptr<AoPreview> ao_;
     std::unique_ptr<LitPreview> lit_;

@@ -27,6 +27,7 @@
 #include <QTimer>
 #include <QTreeWidget>
 
+#include <cstdlib>
 #include <fstream>
 #include <numbers>
 
@@ -50,6 +51,8 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
+#include "visibility/pvs/PvsFile.h"
+#include "visibility/InputFile.h"
 #include "project/Animation.h"
 #include "project/Project.h"
 #include "project/SceneImport.h"
@@ -2324,6 +2327,43 @@ private slots:
         QVERIFY(std::abs(document.levelBounds().max.y - upright.max.y) < 1e-3f);
         document.undoStack()->setClean();
         QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+    }
+
+    // A PVS baked by the CLI opens in the PVS debugger (File > Open PVS, or dropped on the window),
+    // instead of "invalid JSON" and a bake of its own.
+    void aPvsBakedByTheCliOpensInTheDebugger()
+    {
+        Viewport& viewport = window_->viewport();
+        const std::filesystem::path baked = folder_ / "demo.pvs";
+        const std::string bake = std::string(SIGHTLINE_CLI) + " pvs bake " + project_.string() + " --out " + baked.string() + " > /dev/null 2>&1";
+        QCOMPARE(std::system(bake.c_str()), 0);
+        QVERIFY(window_->openPvsFile(QString::fromStdString(baked.string())));
+        QVERIFY(window_->findChild<QAction*>("pvsDebugger")->isChecked());
+        const pvs::PvsData data = pvs::decodePvs(readInputFile(baked, "demo.pvs"), "demo.pvs");
+        QVERIFY(viewport.pvsRows() == data.rows);
+        QCOMPARE(viewport.pvsCells().size(), data.cells.size());
+        QVERIFY(viewport.pvsFinished());
+        waitForUpdate();
+        QTRY_VERIFY(window_->statusBar()->currentMessage().contains("demo.pvs"));
+        saveWindowShot("pvs-opened-from-file");
+        // Another level's PVS: refused with the reason, the shown one kept.
+        bool warned = false;
+        QTimer timer;
+        timer.setInterval(50);
+        QObject::connect(&timer, &QTimer::timeout, [&] {
+            if (auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget())) {
+                warned = box->text().contains("not a Sightline .pvs");
+                box->accept();
+            }
+        });
+        timer.start();
+        std::ofstream(folder_ / "other.pvs") << "not a pvs";
+        QVERIFY(!window_->openPvsFile(QString::fromStdString((folder_ / "other.pvs").string())));
+        timer.stop();
+        QVERIFY(warned);
+        QVERIFY(viewport.pvsRows() == data.rows);
+        window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
         waitForUpdate();
     }
 

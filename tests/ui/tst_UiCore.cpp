@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <condition_variable>
+#include <cstdlib>
 #include <fstream>
 #include <mutex>
 #include <numbers>
@@ -20,6 +21,7 @@
 #include "ObjectEdits.h"
 #include "ObjectFlags.h"
 #include "PatchPairFix.h"
+#include "PvsDebugger.h"
 #include "PatchPresets.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
@@ -1211,6 +1213,61 @@ TEST(PatchPairFix, AFloorAndAWallPairIsFixedByLiftingOrShrinkingOnePatch)
     ASSERT_TRUE(cut);
     EXPECT_EQ(cut->description, "shrink the receiver by 103 cm to the source's front");
     EXPECT_NO_THROW(validatePatchPair(floor, cut->patch));
+}
+
+} // namespace sightline::ui
+
+namespace sightline::ui {
+
+// A PVS baked by the CLI opens in the editor (it said "invalid JSON: parse error" and baked again);
+// one of another level, or of a level whose objects moved since, is refused saying why.
+TEST(BakedPvs, TheClisPvsAndItsJsonOpenForTheirLevelAndNotForAnother)
+{
+    const std::filesystem::path folder = freshFolder("baked-pvs");
+    // A 3 x 2 m wall at z = 2 with a 1 m square hole (as the CLI tests' scene).
+    std::ofstream(folder / "wall.obj") << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\nv 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
+                                          "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+    const nlohmann::json project = {
+        {"version", 1},
+        {"scene", "wall.obj"},
+        {"source", {{"corner", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}}},
+        {"receiver", {{"corner", {0, 0, 4}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}}},
+        {"occluders", {{{"name", "crate"}, {"mesh", "box"}, {"transform", {0.4, 0, 0, 0, 0, 0.3, 0, 0, 0, 0, 0.4, 0, 0.5, 0.15, 2.2, 1}}}}},
+        {"pvs", {{"cells", {{{"min", {0, 0.1, -2}}, {"max", {1, 1, -1}}}, {{"min", {0, 0.1, 5}}, {"max", {1, 1, 6}}}}}}}};
+    std::ofstream(folder / "p.json") << project.dump(2);
+    const std::string bake = std::string(SIGHTLINE_CLI) + " pvs bake " + (folder / "p.json").string() + " --out " +
+                             (folder / "p.pvs").string() + " --json " + (folder / "p.pvs.json").string() + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(bake.c_str()), 0) << bake;
+
+    EditorDocument document;
+    document.open(folder / "p.json");
+    for (const char* file : {"p.pvs", "p.pvs.json"}) {
+        const pvs::PvsData data = readBakedPvs(folder / file, document.project(), document.scene());
+        EXPECT_EQ(data.cells.size(), 2u) << file;
+        EXPECT_EQ(data.objects.size(), document.scene().instances.size()) << file;   // the wall and the crate
+        EXPECT_GT(data.rows.visibleCount(), 0u) << file;
+    }
+    const auto refusal = [&](const std::filesystem::path& file) {
+        try {
+            readBakedPvs(file, document.project(), document.scene());
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    // The crate moved since the bake: refused, naming it.
+    ObjectRef crate{ObjectKind::Occluder, 0};
+    document.setState(crate, glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 1.0f)) * std::get<glm::mat4>(document.state(crate)),
+                      "move crate");
+    EXPECT_NE(refusal(folder / "p.pvs").find("('crate') is not where the bake saw it"), std::string::npos) << refusal(folder / "p.pvs");
+    document.undoStack()->undo();
+    EXPECT_EQ(refusal(folder / "p.pvs"), "accepted");
+    // Another level file under the same name: another SHA-256.
+    std::ofstream(folder / "wall.obj", std::ios::app) << "\n# edited\n";
+    EXPECT_NE(refusal(folder / "p.pvs").find("baked from another scene than wall.obj"), std::string::npos);
+    // Not a PVS at all.
+    std::ofstream(folder / "bad.pvs") << "hello";
+    EXPECT_NE(refusal(folder / "bad.pvs").find("bad.pvs"), std::string::npos);
 }
 
 } // namespace sightline::ui

@@ -671,5 +671,64 @@ TEST(PvsAccuracy, TheReferenceFindsWhatAnEmptyPvsMissesAndNothingInAFullOne)
     EXPECT_EQ(measureAccuracy(scene, d, r).missed, 0u);
 }
 
+
+// The editor opens `.pvs.json` files too: the text pvsJson writes reads back to the same data
+// (the binary encoding of both is byte-identical), and anything else is one error naming the key.
+TEST(PvsFiles, PvsJsonReadsBackAndRefusesWhatItWouldNotWrite)
+{
+    PvsData d = sampleData();
+    d.objects[5].bounds = Bounds{};   // an object without triangles: null corners
+    d.objects[6].instances = {6, 9, 12};
+    d.cellRows = VisibilityRows(d.cells.size(), d.cells.size());
+    d.cellRows.set(1, 3, true);
+    const std::string text = pvsJson(d);
+    const PvsData back = decodePvsJson(text, "x.pvs.json");
+    EXPECT_EQ(encodePvs(back), encodePvs(d));
+    EXPECT_EQ(back.objects[6].instances, d.objects[6].instances);
+    EXPECT_EQ(back.cellRows, d.cellRows);
+
+    const auto refusal = [](const std::string& json) {
+        try {
+            decodePvsJson(json, "x.pvs.json");
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    const std::string cell = R"({"min": [0, 0, 0], "max": [1, 1, 1]})";
+    const std::string object = R"({"name": "a", "instance": 0, "min": [0, 0, 0], "max": [1, 1, 1]})";
+    const auto doc = [&](const std::string& cells, const std::string& objects, const std::string& visible) {
+        return R"({"version": 1, "scene_sha256": "s", "cells": )" + cells + R"(, "objects": )" + objects + R"(, "visible": )" +
+               visible + "}";
+    };
+    EXPECT_EQ(refusal(doc("[" + cell + "]", "[" + object + "]", "[[0]]")), "accepted");
+    const std::pair<std::string, std::string> cases[] = {
+        {"not json", "invalid JSON"},
+        {"[1, 2]", "must be a JSON object"},
+        {R"({"version": 2})", "'version' must be 1"},
+        {R"({"version": 1, "cells": []})", "'scene_sha256' is missing"},
+        {doc("[" + cell + "]", "[" + object + "]", "[[1]]"), "'visible[0]' must list indices below 1"},
+        {doc("[" + cell + "]", "[" + object + "," + object + "]", "[[1, 0]]"), "sorted, each once"},
+        {doc("[" + cell + "]", "[" + object + "," + object + "]", "[[0, 0]]"), "sorted, each once"},
+        {doc("[" + cell + "]", "[" + object + "]", "[[0], [0]]"), "'visible' must hold one list per cell (1)"},
+        {doc("[" + cell + "]", "[" + object + "]", "[[-1]]"), "'visible[0][0]' must be a whole number"},
+        {doc("[" + cell + "]", "[" + object + "]", "[[4294967296]]"), "'visible[0][0]' must be a whole number"},
+        {doc(R"([{"min": [0, 0, 0], "max": [1, 1]}])", "[]", "[[]]"), "'cells[0].max' must be three numbers"},
+        {doc(R"([{"min": [0, 0, 0], "max": [null, null, null]}])", "[]", "[[]]"), "'cells[0]' must have a finite min and max"},
+        {doc(R"([{"min": [1, 0, 0], "max": [0, 1, 1]}])", "[]", "[[]]"), "x.pvs.json"},
+        {doc(R"([{"min": [0, 0, 0], "max": [1e30, 1, 1]}])", "[]", "[[]]"), "x.pvs.json"},
+        {doc("[" + cell + "]", R"([{"name": 3, "instance": 0, "min": [0, 0, 0], "max": [1, 1, 1]}])", "[[]]"), "'objects[0].name' must be a string"},
+        {doc("[" + cell + "]", R"([{"name": "a", "min": [0, 0, 0], "max": [1, 1, 1]}])", "[[]]"), "'objects[0].instance' is missing"},
+        {doc("[" + cell + "]", R"([{"name": "a", "instance": 0, "min": [2, 0, 0], "max": [1, 1, 1]}])", "[[]]"), "not finite, inverted"},
+        {doc("[" + cell + "]", "[" + object + "]", "[[0]]").insert(1, R"("visible_cells": [[5]], )"), "'visible_cells[0]' must list indices below 1"},
+        {std::string(5000, '['), "nested deeper"},
+    };
+    for (const auto& [json, expected] : cases) {
+        const std::string why = refusal(json);
+        EXPECT_NE(why.find(expected), std::string::npos) << json.substr(0, 120) << " -> " << why;
+        EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+    }
+}
+
 } // namespace
 } // namespace sightline::pvs

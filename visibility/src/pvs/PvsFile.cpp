@@ -11,6 +11,7 @@
 
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
+#include "visibility/JsonDepth.h"
 #include "visibility/pvs/Sha256.h"
 #include "visibility/pvs/ViewCells.h"
 
@@ -362,6 +363,150 @@ PvsData decodePvs(std::string_view bytes, const std::string& what)
         data.cellRows = readRows(r, cells, cells, encoding, "cell row offsets");
     if (r.at != bytes.size())
         throw Error(what + ": " + std::to_string(bytes.size() - r.at) + " bytes after the rows");
+    return data;
+}
+
+namespace {
+
+/// The JSON reader's checks, each naming the key: "x.pvs.json: 'cells[3].min' must be three numbers".
+struct JsonReader {
+    const std::string& what;
+    [[noreturn]] void fail(const std::string& key, const std::string& why) const { throw Error(what + ": '" + key + "' " + why); }
+    const nlohmann::json& at(const nlohmann::json& object, const char* key, const std::string& where) const
+    {
+        const auto it = object.find(key);
+        if (it == object.end())
+            fail(where.empty() ? key : where + "." + key, "is missing");
+        return *it;
+    }
+    /// Three numbers, or (`empty` allowed) three nulls for an empty box's corner.
+    glm::vec3 corner(const nlohmann::json& value, const std::string& key, bool& isNull) const
+    {
+        if (!value.is_array() || value.size() != 3)
+            fail(key, "must be three numbers");
+        isNull = value[0].is_null() && value[1].is_null() && value[2].is_null();
+        if (isNull)
+            return glm::vec3(0.0f);
+        glm::vec3 v(0.0f);
+        for (int k = 0; k < 3; ++k) {
+            if (!value[std::size_t(k)].is_number())
+                fail(key, "must be three numbers");
+            v[k] = value[std::size_t(k)].get<float>();
+        }
+        return v;
+    }
+    Bounds box(const nlohmann::json& object, const std::string& key, bool emptyAllowed) const
+    {
+        if (!object.is_object())
+            fail(key, "must be an object with \"min\" and \"max\"");
+        bool minNull = false, maxNull = false;
+        Bounds b;
+        const glm::vec3 lo = corner(at(object, "min", key), key + ".min", minNull);
+        const glm::vec3 hi = corner(at(object, "max", key), key + ".max", maxNull);
+        if (minNull || maxNull) {
+            if (!(minNull && maxNull && emptyAllowed))
+                fail(key, "must have a finite min and max");
+            return b;   // empty: no triangles
+        }
+        b.min = lo;
+        b.max = hi;
+        return b;
+    }
+    std::uint32_t index(const nlohmann::json& value, const std::string& key) const
+    {
+        if (!value.is_number_unsigned() || value.get<std::uint64_t>() > std::numeric_limits<std::uint32_t>::max())
+            fail(key, "must be a whole number from 0 to 4294967295");
+        return value.get<std::uint32_t>();
+    }
+    /// `lists[c]`: sorted distinct indices below `count`, one list per row of `rows`.
+    void rows(const nlohmann::json& lists, const std::string& key, std::size_t count, VisibilityRows& rows) const
+    {
+        if (!lists.is_array() || lists.size() != rows.cellCount())
+            fail(key, "must hold one list per cell (" + std::to_string(rows.cellCount()) + ")");
+        for (std::size_t c = 0; c < lists.size(); ++c) {
+            const std::string row = key + "[" + std::to_string(c) + "]";
+            if (!lists[c].is_array())
+                fail(row, "must be a list of indices");
+            std::int64_t previous = -1;
+            for (std::size_t k = 0; k < lists[c].size(); ++k) {
+                const std::uint32_t o = index(lists[c][k], row + "[" + std::to_string(k) + "]");
+                if (o >= count || std::int64_t(o) <= previous)
+                    fail(row, "must list indices below " + std::to_string(count) + ", sorted, each once");
+                previous = o;
+                rows.set(c, o, true);
+            }
+        }
+    }
+};
+
+} // namespace
+
+PvsData decodePvsJson(std::string_view text, const std::string& what)
+{
+    checkJsonDepth(text, what);
+    nlohmann::json doc;
+    try {
+        doc = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::exception& e) {
+        throw Error(what + ": not a .pvs.json (invalid JSON: " + std::string(e.what()).substr(0, 200) + ")");
+    }
+    const JsonReader read{what};
+    if (!doc.is_object())
+        throw Error(what + ": a .pvs.json must be a JSON object");
+    const nlohmann::json& version = read.at(doc, "version", "");
+    if (!version.is_number_integer() || version.get<std::int64_t>() != 1)
+        read.fail("version", "must be 1");
+    PvsData data;
+    const nlohmann::json& sha = read.at(doc, "scene_sha256", "");
+    if (!sha.is_string())
+        read.fail("scene_sha256", "must be a string");
+    data.sceneSha256 = sha.get<std::string>();
+    if (const auto it = doc.find("settings_sha256"); it != doc.end()) {
+        if (!it->is_string())
+            read.fail("settings_sha256", "must be a string");
+        data.settingsSha256 = it->get<std::string>();
+    }
+    const nlohmann::json& cells = read.at(doc, "cells", "");
+    const nlohmann::json& objects = read.at(doc, "objects", "");
+    if (!cells.is_array())
+        read.fail("cells", "must be an array of boxes");
+    if (!objects.is_array())
+        read.fail("objects", "must be an array of objects");
+    for (std::size_t c = 0; c < cells.size(); ++c)
+        data.cells.push_back(read.box(cells[c], "cells[" + std::to_string(c) + "]", false));
+    validateCells(data.cells, what);
+    for (std::size_t o = 0; o < objects.size(); ++o) {
+        const std::string key = "objects[" + std::to_string(o) + "]";
+        const nlohmann::json& object = objects[o];
+        PvsObject out;
+        if (!object.is_object())
+            read.fail(key, "must be an object");
+        const nlohmann::json& name = read.at(object, "name", key);
+        if (!name.is_string())
+            read.fail(key + ".name", "must be a string");
+        out.name = name.get<std::string>();
+        out.instance = read.index(read.at(object, "instance", key), key + ".instance");
+        out.instances = {out.instance};
+        if (const auto it = object.find("instances"); it != object.end()) {
+            if (!it->is_array() || it->empty())
+                read.fail(key + ".instances", "must be a list of instance indices");
+            out.instances.clear();
+            for (std::size_t k = 0; k < it->size(); ++k)
+                out.instances.push_back(read.index((*it)[k], key + ".instances[" + std::to_string(k) + "]"));
+        }
+        out.bounds = read.box(object, key, true);
+        checkObjectBounds(out.bounds, what + ": " + key);
+        data.objects.push_back(std::move(out));
+    }
+    if (data.cells.size() * ((data.objects.size() + 7) / 8) > kMaxRowTableBytes)
+        throw Error(what + ": " + std::to_string(data.cells.size()) + " cells x " + std::to_string(data.objects.size()) +
+                    " objects is past the largest table read");
+    data.rows = VisibilityRows(data.cells.size(), data.objects.size());
+    read.rows(read.at(doc, "visible", ""), "visible", data.objects.size(), data.rows);
+    if (const auto it = doc.find("visible_cells"); it != doc.end()) {
+        data.cellRows = VisibilityRows(data.cells.size(), data.cells.size());
+        read.rows(*it, "visible_cells", data.cells.size(), data.cellRows);
+    }
     return data;
 }
 

@@ -43,6 +43,12 @@ PvsData decodePvs(std::string_view bytes, const std::string& what);
 
 /// DESIGN.md §4's JSON text (sorted keys as listed, one cell or object per line: diffable).
 std::string pvsJson(const PvsData& data);
+/// Parses that text back (the editor opens a .pvs.json). Throws sightline::Error naming the key
+/// for anything pvsJson would not write: another version, a missing or mistyped key, cells that
+/// validateCells refuses, object boxes neither empty (null) nor finite and ordered, a row of
+/// another length than the cells, object indices unsorted, repeated or out of range, or a table
+/// past kMaxRowTableBytes (checked before it is allocated).
+PvsData decodePvsJson(std::string_view text, const std::string& what);
 
 struct EncodedSizes {
     std::size_t raw = 0;          ///< cells x row bytes
