@@ -1,4 +1,4 @@
-// libFuzzer harness for the PVS readers: .pvs files, part files and merging (docs/pvs.md). Bad
+// libFuzzer harness for the PVS readers: .pvs and .pvs.json files, part files and merging (docs/pvs.md). Bad
 // input must end in sightline::Error; anything else (a crash, a sanitizer report, a hang, memory
 // beyond the limit) is a finding.
 //
@@ -32,6 +32,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
     try {
         (void)pvs::decodePvs(bytes, "input.pvs");
+    } catch (const Error&) {
+    }
+    try {
+        (void)pvs::decodePvsJson(bytes, "input.pvs.json");
     } catch (const Error&) {
     }
     try {
