@@ -60,13 +60,22 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     samplesRow->setContentsMargins(0, 0, 0, 0);
     na_ = new QSpinBox(samples);
     nb_ = new QSpinBox(samples);
+    na_->setObjectName("samplesA");
+    nb_->setObjectName("samplesB");
+    // Any whole number may be typed: one out of range is refused with the reason (a spin box's own
+    // range turned "-5" into 5 and 100000 into the maximum without a word).
     for (QSpinBox* box : {na_, nb_}) {
-        box->setRange(1, kMaxReceiverSide);
+        box->setRange(-kTypedSamplesLimit, kTypedSamplesLimit);
         box->setKeyboardTracking(false);
         samplesRow->addWidget(box);
         connect(box, &QSpinBox::editingFinished, this, &PropertiesPanel::commit);
     }
     patchForm->addRow(tr("Samples"), samples);
+    samplesError_ = new QLabel(patchBox_);
+    samplesError_->setObjectName("samplesError");
+    samplesError_->setStyleSheet("color: #e05050");
+    patchForm->addRow(samplesError_);
+    samplesError_->hide();
     pairError_ = new QLabel(patchBox_);
     pairError_->setWordWrap(true);
     pairError_->setStyleSheet("color: #e05050");
@@ -113,7 +122,7 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     lightNa_ = new QSpinBox(lightSamples);
     lightNb_ = new QSpinBox(lightSamples);
     for (QSpinBox* box : {lightNa_, lightNb_}) {
-        box->setRange(1, 1024);
+        box->setRange(-kTypedSamplesLimit, kTypedSamplesLimit);   // refused by validateLights, with the reason
         box->setKeyboardTracking(false);
         lightSamplesRow->addWidget(box);
         connect(box, &QSpinBox::editingFinished, this, &PropertiesPanel::commitLight);
@@ -145,7 +154,10 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     setMinimumWidth(width_);
 
     connect(&document_, &EditorDocument::changed, this, &PropertiesPanel::refresh);
-    connect(&document_, &EditorDocument::selectionChanged, this, &PropertiesPanel::refresh);
+    connect(&document_, &EditorDocument::selectionChanged, this, [this] {
+        samplesError_->hide();   // said of the patch that was selected
+        refresh();
+    });
     refresh();
 }
 
@@ -203,9 +215,6 @@ void PropertiesPanel::refresh()
         set(centre_, p.centre());
         set(u_, p.u);
         set(v_, p.v);
-        const int limit = selection.kind == ObjectKind::Source ? kMaxSourceSamples : kMaxReceiverSide;
-        na_->setRange(1, limit);
-        nb_->setRange(1, limit);
         na_->setValue(p.na);
         nb_->setValue(p.nb);
         const std::optional<std::size_t> preset = presetOf(p);
@@ -337,6 +346,27 @@ void PropertiesPanel::commit()
         p.nb = nb_->value();
         if (p.corner == old.corner && p.u == old.u && p.v == old.v && p.na == old.na && p.nb == old.nb)
             return;
+        try {
+            Patch samples = old;   // the sample grid alone judged here; the pair's geometry below the fields
+            samples.na = p.na;
+            samples.nb = p.nb;
+            validatePatch(samples, selection.kind == ObjectKind::Source ? "source" : "receiver");
+            samplesError_->hide();
+        } catch (const Error& e) {
+            // One line that fits under the fields; the whole reason in the tooltip.
+            const bool few = p.na < 1 || p.nb < 1;
+            const QString limit = selection.kind == ObjectKind::Source ? tr("at most %1 samples in all").arg(kMaxSourceSamples)
+                                                                       : tr("at most %1 a side").arg(kMaxReceiverSide);
+            samplesError_->setText(tr("Refused %1 x %2: %3; kept %4 x %5")
+                                       .arg(p.na).arg(p.nb).arg(few ? tr("at least 1 a side") : limit).arg(old.na).arg(old.nb));
+            samplesError_->setToolTip(QString::fromUtf8(e.what()));
+            samplesError_->show();
+            refreshing_ = true;
+            na_->setValue(old.na);
+            nb_->setValue(old.nb);
+            refreshing_ = false;
+            return;
+        }
         after = p;
     } else {
         Decomposed parts;

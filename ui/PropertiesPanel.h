@@ -55,6 +55,8 @@ private:
     QSpinBox* nb_ = nullptr;
     Vec3Fields position_{}, rotation_{}, scale_{};
     QLabel* pairError_ = nullptr;
+    QLabel* samplesError_ = nullptr;   ///< a typed sample count refused, and why
+    static constexpr int kTypedSamplesLimit = 1'000'000'000;
     QGroupBox* lightBox_ = nullptr;
     QLineEdit* lightName_ = nullptr;
     Vec3Fields colour_{};

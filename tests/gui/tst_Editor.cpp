@@ -13,6 +13,7 @@
 #include <QPainter>
 #include <QScreen>
 #include <QSettings>
+#include <QSpinBox>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QStatusBar>
@@ -2365,6 +2366,40 @@ private slots:
         QVERIFY(viewport.pvsRows() == data.rows);
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
         waitForUpdate();
+    }
+
+    // A sample count typed out of range was changed without a word ("-5" became 5, 100000 the
+    // maximum, 0 ignored): it is refused, the reason shown under the fields, the count kept.
+    void aSampleCountOutOfRangeIsRefusedWithTheReason()
+    {
+        EditorDocument& document = window_->document();
+        document.select({ObjectKind::Receiver, 0});
+        auto* a = window_->findChild<QSpinBox*>("samplesA");
+        auto* error = window_->findChild<QLabel*>("samplesError");
+        QVERIFY(a && error);
+        const Patch before = document.project().receiver;
+        const auto type = [&](const QString& text) {
+            a->setFocus();
+            a->selectAll();
+            QTest::keyClicks(a, text);
+            QTest::keyClick(a, Qt::Key_Return);
+        };
+        for (const auto& [typed, reason] : {std::pair{"-5", "Refused -5 x 32: at least 1 a side"}, std::pair{"0", "at least 1 a side"},
+                                            std::pair{"100000", "at most 1024 a side; kept 32 x 32"}}) {
+            type(typed);
+            QVERIFY2(error->isVisible() && error->text().contains(reason), qPrintable(QString(typed) + ": " + error->text()));
+            QCOMPARE(document.project().receiver.na, before.na);
+            QCOMPARE(a->value(), before.na);
+        }
+        QTest::qWait(100);
+        QVERIFY2(error->isVisible() && error->height() > 10, "the reason stays shown, in a row of its own");
+        saveWindowShot("samples-refused");
+        type("16");
+        QVERIFY(!error->isVisible());
+        QCOMPARE(document.project().receiver.na, 16);
+        document.undoStack()->undo();
+        QCOMPARE(document.project().receiver.na, before.na);
+        document.select({});
     }
 
     void cleanupTestCase()
