@@ -125,6 +125,16 @@ void keepAbove(Camera& camera, double floorY, bool orbiting)
     camera.target.y += below;
 }
 
+Camera overviewCamera(const Bounds& bounds)
+{
+    Camera camera;
+    camera.yaw = -0.25 * std::numbers::pi;   // from -X, +Z towards the centre
+    camera.pitch = -0.6;
+    camera.orthographic = false;
+    frame(camera, bounds);
+    return camera;
+}
+
 Camera axisView(AxisView view, const Bounds& bounds)
 {
     Camera camera;

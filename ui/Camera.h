@@ -66,6 +66,11 @@ void keepAbove(Camera& camera, double floorY, bool orbiting);
 /// Looks at the whole box from the current direction.
 void frame(Camera& camera, const Bounds& bounds);
 
+/// Home: a fixed three-quarter view over the level (from the south-west, 35 degrees down, in
+/// perspective), whatever the camera was: Home from eye level framed an outside wall, and from
+/// an axis view stayed orthographic.
+Camera overviewCamera(const Bounds& bounds);
+
 /// The axis views of a level editor (Blender's numpad 7 / 1 / 3): straight down, along -Z, along -X.
 enum class AxisView { Top, Front, Side };
 /// The camera looking along `view` at the whole box, orthographic, framed as frame() does.

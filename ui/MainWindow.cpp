@@ -556,10 +556,8 @@ void MainWindow::createActions()
         return bounds;
     };
     action(cameraMenu, tr("Frame &All"), QKeySequence(Qt::Key_Home), [this, sceneBounds] {
-        Camera camera = controller_->camera();
-        camera.fovY = Camera{}.fovY;
-        frame(camera, sceneBounds());
-        controller_->setCamera(camera);
+        controller_->setCamera(overviewCamera(sceneBounds()));
+        viewport_->update();
     });
     const std::pair<QString, std::pair<AxisView, Qt::Key>> axes[] = {
         {tr("&Top"), {AxisView::Top, Qt::Key_7}}, {tr("&Front"), {AxisView::Front, Qt::Key_1}}, {tr("&Side"), {AxisView::Side, Qt::Key_3}}};

@@ -438,10 +438,14 @@ void ViewportController::frameSelection()
         for (std::size_t i = 0; i < occluders.instances.size(); ++i)
             if (document_.occluderOfInstance()[i] == selection.index)
                 bounds.extend(occluders.instanceBounds(occluders.instances[i]));
-    } else {
-        bounds = document_.scene().bounds();
-        if (bounds.empty())
-            bounds.extend(glm::vec3(0.0f));
+    } else if (selection.kind == ObjectKind::Light && selection.index < document_.lights().size()) {
+        const glm::dvec3 pivot = lightPivot(document_.lights()[selection.index], document_.levelBounds());
+        bounds.extend(glm::vec3(pivot - glm::dvec3(1.0)));
+        bounds.extend(glm::vec3(pivot + glm::dvec3(1.0)));
+    } else {   // nothing selected: the pair and the way between them
+        for (const Patch* p : {&document_.project().source, &document_.project().receiver})
+            for (int k = 0; k < 4; ++k)
+                bounds.extend(glm::vec3(p->cornerPoint(k)));
     }
     frame(camera_, bounds);
     emit viewChanged();

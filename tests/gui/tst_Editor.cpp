@@ -867,7 +867,12 @@ private slots:
         QVERIFY(controller.camera().forward().x < -0.99);   // along -X
         QTest::keyClick(window_.get(), Qt::Key_1);
         QVERIFY(controller.camera().forward().z < -0.99);   // along -Z
-        QTest::keyClick(window_.get(), Qt::Key_Home);   // the whole level in view
+        QTest::keyClick(window_.get(), Qt::Key_7);
+        QVERIFY(controller.camera().orthographic);
+        QTest::keyClick(window_.get(), Qt::Key_Home);   // the whole level in view, a fixed overview in perspective
+        QVERIFY(!controller.camera().orthographic);
+        QCOMPARE(controller.camera().pitch, overviewCamera(window_->document().scene().bounds()).pitch);
+        QCOMPARE(controller.camera().yaw, overviewCamera(window_->document().scene().bounds()).yaw);
         const Bounds bounds = window_->document().scene().bounds();
         for (const glm::vec3& corner : {bounds.min, bounds.max}) {
             const glm::dvec3 p = toPixels(controller.camera(), glm::dvec3(corner), controller.width(), controller.height());
@@ -893,6 +898,11 @@ private slots:
         QVERIFY2(yellow > 200, qPrintable(QString("%1 yellow samples").arg(yellow)));
         QTest::keyClick(window_.get(), Qt::Key_C);
         QVERIFY(window_->viewport().style().cutaway);
+        // F with nothing selected frames the pair.
+        window_->document().select({});
+        QTest::keyClick(window_.get(), Qt::Key_F);
+        const glm::dvec3 middle = 0.5 * (project.source.centre() + project.receiver.centre());
+        QVERIFY(glm::length(controller.camera().target - middle) < 0.5);
         controller.setCamera(before);
         waitForUpdate();
     }
