@@ -443,9 +443,23 @@ void MainWindow::createActions()
         OccluderSpec spec;
         spec.mesh = mesh;
         spec.name = mesh + " " + std::to_string(document_.project().occluders.size() + 1);
-        // In front of the camera, on the line of sight, one metre in size.
-        const glm::dvec3 at = controller_->camera().target;
+        // One metre in size, in the shaft halfway between the patches when that is on screen (a
+        // plane across it), else at the orbit target (it landed half inside a wall there).
+        const Project& project = document_.project();
+        const glm::dvec3 middle = 0.5 * (project.source.centre() + project.receiver.centre());
+        const glm::dvec3 pixel = toPixels(controller_->camera(), middle, controller_->width(), controller_->height());
+        const bool onScreen = pixel.z > 0.0 && pixel.x >= 0.0 && pixel.x <= controller_->width() && pixel.y >= 0.0 &&
+                              pixel.y <= controller_->height();
+        const glm::dvec3 at = onScreen ? middle : controller_->camera().target;
         spec.transform = glm::translate(glm::mat4(1.0f), glm::vec3(at));
+        const glm::dvec3 way = project.receiver.centre() - project.source.centre();
+        if (onScreen && mesh == "plane" && glm::length(way) > 1e-9) {   // its normal (+Y) along the shaft
+            const glm::dvec3 n = glm::normalize(way);
+            const glm::dvec3 axis = glm::cross(glm::dvec3(0.0, 1.0, 0.0), n);
+            const double angle = std::acos(std::clamp(n.y, -1.0, 1.0));
+            if (glm::length(axis) > 1e-9)
+                spec.transform = glm::rotate(spec.transform, float(angle), glm::vec3(glm::normalize(axis)));
+        }
         document_.addOccluder(spec);
     };
     action(create, tr("Add &Box Occluder"), QKeySequence(Qt::CTRL | Qt::Key_B), [=] { addBuiltin("box"); });

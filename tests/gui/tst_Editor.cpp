@@ -736,11 +736,18 @@ private slots:
         QTest::keyClick(window_.get(), Qt::Key_C);
         QVERIFY(window_->viewport().style().cutaway);
         controller.setCamera(before);
-        // The designer's task: Ctrl+B puts a box in front of the camera, drawn and selected.
+        // The designer's task: Ctrl+B puts a box in the shaft halfway between the patches (on
+        // screen here), drawn and selected, and it blocks rays at once.
         const std::size_t occluders = window_->document().project().occluders.size();
+        waitForUpdate();
+        const std::uint64_t blockedBefore = window_->viewport().visibility().blocked;
         QTest::keyClick(window_.get(), Qt::Key_B, Qt::ControlModifier);
         QCOMPARE(window_->document().project().occluders.size(), occluders + 1);
+        const Project& project = window_->document().project();
+        const glm::dvec3 middle = 0.5 * (project.source.centre() + project.receiver.centre());
+        QVERIFY(glm::length(glm::dvec3(project.occluders.back().transform[3]) - middle) < 1e-3);
         waitForUpdate();
+        QVERIFY(window_->viewport().visibility().blocked > blockedBefore);
         if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
             window_->screenshotTo(QString::fromUtf8(shots) + "/box-added.png");
         saveWindowShot("box-added");
