@@ -36,6 +36,7 @@
 #include "LightCostPanel.h"
 #include "OutlinePanel.h"
 #include "PatchPairFix.h"
+#include "PatchWarnings.h"
 #include "PatchPresets.h"
 #include "OverlayControls.h"
 #include "Picking.h"
@@ -89,6 +90,7 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     qApp->installEventFilter(this);
 
     raysLabel_ = new QLabel(this);
+    raysLabel_->setObjectName("raysLabel");
     backendLabel_ = new QLabel(this);
     viewLabel_ = new QLabel(this);
     viewLabel_->setObjectName("viewLabel");
@@ -1070,12 +1072,31 @@ QString MainWindow::enclosedPatchNote()
     return enclosedNote_;
 }
 
+QString MainWindow::patchWarningNote()
+{
+    // Remembered for the patches and the level it was found for: each check is a few brute-force picks.
+    const Project& project = document_.project();
+    const std::array<glm::dvec3, 7> key{project.source.corner,   project.source.u, project.source.v, project.receiver.corner,
+                                        project.receiver.u,      project.receiver.v,
+                                        glm::dvec3(document_.levelBounds().max) - glm::dvec3(document_.levelBounds().min)};
+    if (warningsFor_ && *warningsFor_ == key)
+        return warningNote_;
+    warningsFor_ = key;
+    warningNote_.clear();
+    for (const std::string& warning : patchWarnings(worldTriangles(document_.scene()), document_.levelBounds(), project.source,
+                                                    project.receiver))
+        warningNote_ += tr(" · %1").arg(QString::fromStdString(warning));
+    return warningNote_;
+}
+
 void MainWindow::updateStatus()
 {
     const VisibilityResult& result = viewport_->visibility();
     QString summary = visibilitySummary(result);
     if (result.valid && result.rays > 0 && result.unblocked() == 0)
         summary += enclosedPatchNote();
+    if (result.valid)
+        summary += patchWarningNote();
     // A slow update (a 512x512 floor: about a second) says that a newer answer is on its way;
     // a fast one would only flicker.
     raysLabel_->setText(viewport_->resultIsStale() && result.ms > 150.0

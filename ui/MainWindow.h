@@ -126,6 +126,10 @@ private:
     QAction* cutAction_ = nullptr;
     std::optional<std::array<glm::dvec3, 2>> enclosedFor_;   ///< patch centres enclosedNote_ was found for
     QString enclosedNote_;
+    /// Patches that look misplaced (PatchWarnings.h), as " · ..." for the status line.
+    QString patchWarningNote();
+    std::optional<std::array<glm::dvec3, 7>> warningsFor_;
+    QString warningNote_;
     QToolBar* toolbar_ = nullptr;
     OverlayControls* overlay_ = nullptr;
     RecordingControls* recorder_ = nullptr;

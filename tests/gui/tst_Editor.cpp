@@ -2417,6 +2417,19 @@ private slots:
         document.undoStack()->undo();
         QCOMPARE(document.project().receiver.na, before.na);
         document.select({});
+
+        // Turned to face away from the source (as on a wall's outside face): the status line says so.
+        auto* rays = window_->findChild<QLabel*>("raysLabel");
+        QVERIFY(rays && !rays->text().contains("faces away"));
+        Patch turned = before;
+        turned.corner += turned.u;
+        turned.u = -turned.u;   // the same rectangle, the other way round
+        document.setState({ObjectKind::Receiver, 0}, turned, "turn receiver");
+        waitForUpdate();
+        QTRY_VERIFY2(rays->text().contains("the receiver faces away from the source"), qPrintable(rays->text()));
+        document.undoStack()->undo();
+        waitForUpdate();
+        QTRY_VERIFY(!rays->text().contains("faces away"));
     }
 
     void cleanupTestCase()

@@ -21,12 +21,14 @@
 #include "ObjectEdits.h"
 #include "ObjectFlags.h"
 #include "PatchPairFix.h"
+#include "PatchWarnings.h"
 #include "PvsDebugger.h"
 #include "PatchPresets.h"
 #include "OffscreenRender.h"
 #include "Picking.h"
 #include "RayEnds.h"
 #include "SectionCutHandle.h"
+#include "TestScenes.h"
 #include "UiTestScene.h"
 #include "ViewSettings.h"
 #include "ViewportController.h"
@@ -1268,6 +1270,57 @@ TEST(BakedPvs, TheClisPvsAndItsJsonOpenForTheirLevelAndNotForAnother)
     // Not a PVS at all.
     std::ofstream(folder / "bad.pvs") << "hello";
     EXPECT_NE(refusal(folder / "bad.pvs").find("bad.pvs"), std::string::npos);
+}
+
+} // namespace sightline::ui
+
+namespace sightline::ui {
+
+// A click through the section cut could land a patch on a wall's outside face: outside the
+// building, facing the wall, below the floor; the status bar now says so.
+TEST(PatchWarnings, APatchOnTheWrongSideOfAWallOrUnderTheFloorIsCalledOut)
+{
+    // A floor (facing up) over x, z in [-3, 3] x [0, 6], and a wall in z = 0 facing into the room (+z).
+    const Scene room = test::sceneOf({test::quad({-3, 0, 0}, {0, 0, 6}, {6, 0, 0}, "floor"),
+                                      test::quad({-3, 0, 0}, {6, 0, 0}, {0, 3, 0}, "wall")});
+    const WorldTriangles triangles = worldTriangles(room);
+    const Bounds level = room.bounds();
+    const auto patch = [](glm::dvec3 centre, glm::dvec3 u, glm::dvec3 v) {
+        Patch p;
+        p.u = u;
+        p.v = v;
+        p.corner = centre - 0.5 * (u + v);
+        return p;
+    };
+    const Patch floorSource = patch({0.0, 0.02, 3.0}, {1, 0, 0}, {0, 0, -1});   // facing up
+    const Patch wallReceiver = patch({0.0, 1.0, 0.02}, {1, 0, 0}, {0, 1, 0});   // facing +z, into the room
+    EXPECT_TRUE(patchWarnings(triangles, level, floorSource, wallReceiver).empty());
+
+    const auto says = [&](const Patch& source, const Patch& receiver) {
+        std::string all;
+        for (const std::string& w : patchWarnings(triangles, level, source, receiver))
+            all += w + "; ";
+        return all;
+    };
+    // On the wall's outside, facing out: away from the source.
+    const Patch outsideFacingOut = patch({0.0, 1.0, -0.02}, {-1, 0, 0}, {0, 1, 0});
+    EXPECT_NE(says(floorSource, outsideFacingOut).find("the receiver faces away from the source"), std::string::npos);
+    // On the wall's outside, facing the wall from 2 cm.
+    const Patch outsideFacingWall = patch({0.0, 1.0, -0.02}, {1, 0, 0}, {0, 1, 0});
+    EXPECT_NE(says(floorSource, outsideFacingWall).find("the receiver faces a surface 2 cm in front of it"), std::string::npos)
+        << says(floorSource, outsideFacingWall);
+    // 14 cm below the floor.
+    const Patch underFloor = patch({0.0, -0.14, 3.0}, {1, 0, 0}, {0, 0, -1});
+    EXPECT_NE(says(underFloor, wallReceiver).find("the source is below a floor"), std::string::npos) << says(underFloor, wallReceiver);
+    // A ceiling wound upwards (a common export mistake) over a floor does not count.
+    const Scene wrongCeiling = test::sceneOf({test::quad({-3, 0, 0}, {0, 0, 6}, {6, 0, 0}, "floor"),
+                                              test::quad({-3, 3, 0}, {0, 0, 6}, {6, 0, 0}, "ceiling facing up")});
+    EXPECT_TRUE(patchWarnings(worldTriangles(wrongCeiling), wrongCeiling.bounds(), patch({0.0, 1.0, 1.0}, {0, 0, 1}, {0, 1, 0}),
+                              patch({0.0, 1.0, 5.0}, {0, 0, -1}, {0, 1, 0}))
+                    .empty());
+    // Far off.
+    const Patch away = patch({100.0, 1.0, 3.0}, {0, 0, 1}, {0, 1, 0});
+    EXPECT_NE(says(away, wallReceiver).find("the source is outside the level"), std::string::npos);
 }
 
 } // namespace sightline::ui
