@@ -537,6 +537,8 @@ void MainWindow::createActions()
     // Snapping (issue 16 §2): a world grid for moves ([ and ] halve and double it, as in
     // TrenchBroom), 15 degree steps for rotations, 10% steps for scaling.
     transform->addSeparator();
+    action(transform, tr("&Drop to Floor"), QKeySequence(Qt::Key_End), [this] { controller_->dropSelectionToFloor(); })
+        ->setObjectName("dropToFloor");
     snapAction_ = action(transform, tr("S&nap"), QKeySequence(Qt::Key_G), [this](bool) { applySnap(); });
     snapAction_->setCheckable(true);
     snapAction_->setObjectName("snap");

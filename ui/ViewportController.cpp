@@ -5,6 +5,8 @@
 
 #include <cmath>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 namespace sightline::ui {
 
 namespace {
@@ -425,6 +427,45 @@ void ViewportController::advanceFly(double seconds)
 
 void ViewportController::frameSelection()
 {
+    frame(camera_, selectionBounds());
+    emit viewChanged();
+}
+
+bool ViewportController::dropSelectionToFloor()
+{
+    const ObjectRef selection = document_.selection();
+    if (!selection || selection.kind == ObjectKind::Light || document_.flags(selection).locked) {
+        emit message(selection.kind == ObjectKind::Light ? tr("Lights hang where they are: move them with the gizmo")
+                                                         : tr("Select a patch or an object to drop to the floor"));
+        return false;
+    }
+    const Bounds bounds = selectionBounds();
+    const glm::dvec3 middle = 0.5 * (glm::dvec3(bounds.min) + glm::dvec3(bounds.max));
+    // From just under the object's middle (its own faces are not in the way), straight down; a
+    // floor it already sinks into is found from its top.
+    const WorldTriangles& all = triangles();
+    const auto notItself = [&](std::size_t triangle, const glm::dvec3&) { return objectOfTriangle(triangle) != selection && document_.isShown(objectOfTriangle(triangle)); };
+    std::optional<SurfaceHit> floor = pickSurface(all, Ray{{middle.x, double(bounds.max.y), middle.z}, {0.0, -1.0, 0.0}}, notItself);
+    if (!floor) {
+        emit message(tr("Nothing below the selection to drop it onto"));
+        return false;
+    }
+    const double lift = selection.isPatch() ? 0.02 : 0.0;
+    const double dy = floor->point.y + lift - double(bounds.min.y);
+    if (std::abs(dy) < 1e-9)
+        return true;
+    ObjectState state = document_.state(selection);
+    if (auto* patch = std::get_if<Patch>(&state))
+        patch->corner.y += dy;
+    else
+        std::get<glm::mat4>(state) = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, float(dy), 0.0f)) * std::get<glm::mat4>(state);
+    document_.setState(selection, state, tr("Drop to floor"));
+    emit message(tr("Dropped %1 cm onto the surface below (Ctrl+Z undoes)").arg(std::round(-100.0 * dy), 0, 'f', 0));
+    return true;
+}
+
+Bounds ViewportController::selectionBounds() const
+{
     Bounds bounds;
     const ObjectRef selection = document_.selection();
     if (selection.isPatch()) {
@@ -447,8 +488,7 @@ void ViewportController::frameSelection()
             for (int k = 0; k < 4; ++k)
                 bounds.extend(glm::vec3(p->cornerPoint(k)));
     }
-    frame(camera_, bounds);
-    emit viewChanged();
+    return bounds;
 }
 
 } // namespace sightline::ui

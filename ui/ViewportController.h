@@ -108,6 +108,12 @@ public:
     ObjectRef objectAt(QPointF position) const;
     /// Places the source or receiver on the surface under `position`; false when nothing is hit.
     bool placePatchAt(ObjectKind which, QPointF position);
+    /// The selected object's box (a patch's corners, a light's marker); the patches' when nothing is selected.
+    Bounds selectionBounds() const;
+    /// Transform > Drop to Floor (End): the selection moved straight down (or up, out of the
+    /// floor) until its lowest point rests on the first surface of the level below its middle, a
+    /// patch 2 cm over it; undoable. False, with a message, when nothing is below or nothing is selected.
+    bool dropSelectionToFloor();
 
 signals:
     void viewChanged();   ///< camera, hover or gizmo: repaint

@@ -2432,6 +2432,51 @@ private slots:
         QTRY_VERIFY(!rays->text().contains("faces away"));
     }
 
+    // Transform > Drop to Floor (End), as Unreal's End: a box floating over the floor lands on it,
+    // a patch lands 2 cm over it; undoable.
+    void dropToFloorLandsTheSelectionOnTheSurfaceBelow()
+    {
+        EditorDocument& document = window_->document();
+        const Patch source = document.project().source;
+        OccluderSpec crate;
+        crate.name = "floating crate";
+        crate.mesh = "box";
+        const glm::dvec3 over = source.centre() + 1.5 * source.normal();   // in the room, in front of the source
+        crate.transform = glm::translate(glm::mat4(1.0f), glm::vec3(over.x, 2.5, over.z));
+        document.addOccluder(crate);
+        const std::size_t index = document.project().occluders.size() - 1;
+        document.select({ObjectKind::Occluder, index});
+        const WorldTriangles level = worldTriangles(document.sceneFile());
+        const auto floor = pickSurface(level, Ray{{over.x, 2.0, over.z}, {0.0, -1.0, 0.0}});
+        QVERIFY(floor);
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_End);
+        const float bottom = document.project().occluders[index].transform[3][1] - 0.5f;   // the unit box's bottom
+        QVERIFY2(std::abs(bottom - float(floor->point.y)) < 1e-4f, qPrintable(QString("bottom %1, floor %2").arg(bottom).arg(floor->point.y)));
+        QVERIFY(window_->statusBar()->currentMessage().startsWith("Dropped"));
+        document.undoStack()->undo();
+        QCOMPARE(document.project().occluders[index].transform[3][1], 2.5f);
+
+        // The source patch, lifted 40 cm, comes back to 2 cm over the floor under it.
+        Patch lifted = source;
+        lifted.corner.y += 0.4;
+        document.setState({ObjectKind::Source, 0}, lifted, "lift source");
+        document.select({ObjectKind::Source, 0});
+        QTest::keyClick(window_.get(), Qt::Key_End);
+        const Patch dropped = document.project().source;
+        const double lowest = std::min({dropped.corner.y, (dropped.corner + dropped.u).y, (dropped.corner + dropped.v).y,
+                                        (dropped.corner + dropped.u + dropped.v).y});
+        const auto under = pickSurface(level, Ray{dropped.centre(), {0.0, -1.0, 0.0}});
+        QVERIFY(under);
+        QVERIFY2(std::abs(lowest - (under->point.y + 0.02)) < 1e-6, qPrintable(QString("lowest %1, floor %2").arg(lowest).arg(under->point.y)));
+        for (int k = 0; k < 3; ++k)   // the drop, the lift, the crate
+            document.undoStack()->undo();
+        QVERIFY(glm::length(document.project().source.corner - source.corner) < 1e-12);
+        document.select({});
+        waitForUpdate();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();
