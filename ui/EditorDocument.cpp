@@ -268,13 +268,7 @@ void EditorDocument::refreshSceneFileLights()
 
 SceneImport EditorDocument::sceneImportSettings() const { return sceneImport(project_); }
 
-std::string EditorDocument::guessedFileUp() const
-{
-    Scene file = sceneFileOriginal_;
-    for (std::size_t i = 0; i < file.instances.size() && i < fileTransforms_.size(); ++i)
-        file.instances[i].transform = fileTransforms_[i];
-    return guessSceneUp(file);
-}
+std::string EditorDocument::guessedFileUp() const { return guessSceneUp(sceneFileOriginal_, fileTransforms_); }
 
 void EditorDocument::setSceneImportSettings(const SceneImport& settings)
 {

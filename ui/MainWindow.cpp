@@ -89,6 +89,9 @@ MainWindow::MainWindow(const EditorOptions& options, QWidget* parent) : QMainWin
     createActions();
     qApp->installEventFilter(this);
 
+    warningTimer_.setSingleShot(true);
+    warningTimer_.setInterval(250);
+    connect(&warningTimer_, &QTimer::timeout, this, &MainWindow::updateStatus);
     raysLabel_ = new QLabel(this);
     raysLabel_->setObjectName("raysLabel");
     backendLabel_ = new QLabel(this);
@@ -289,10 +292,10 @@ void MainWindow::createActions()
     recentMenu_->setObjectName("recentMenu");
     rebuildRecentMenu();
     QAction* openPvs = action(file, tr("Open &PVS..."), QKeySequence(), [this] {
-        const QString file = QFileDialog::getOpenFileName(this, tr("Open PVS"), QString::fromStdString(projectFolder().string()),
-                                                          tr("Baked PVS (*.pvs *.pvs.json)"));
-        if (!file.isEmpty())
-            openPvsFile(file);
+        const QString chosen = QFileDialog::getOpenFileName(this, tr("Open PVS"), QString::fromStdString(projectFolder().string()),
+                                                            tr("Baked PVS (*.pvs *.pvs.json)"));
+        if (!chosen.isEmpty())
+            openPvsFile(chosen);
     });
     openPvs->setObjectName("openPvs");
     action(file, tr("&Save"), QKeySequence::Save, [this] { save(); });
@@ -1035,9 +1038,9 @@ bool MainWindow::isPvsFile(const QString& file)
 bool MainWindow::openPvsFile(const QString& file)
 {
     try {
-        pvs::PvsData data = readBakedPvs(file.toStdString(), document_.project(), document_.scene());
-        const std::size_t cells = data.cells.size(), objects = data.objects.size();
-        viewport_->showBakedPvs(std::move(data), QFileInfo(file).fileName());
+        pvs::PvsData baked = readBakedPvs(file.toStdString(), document_.project(), document_.scene());
+        const std::size_t cells = baked.cells.size(), objects = baked.objects.size();
+        viewport_->showBakedPvs(std::move(baked), QFileInfo(file).fileName());
         if (QAction* debugger = findChild<QAction*>("pvsDebugger"))
             debugger->setChecked(true);
         statusBar()->showMessage(tr("%1: %2 cells x %3 objects, shown in the PVS debugger").arg(QFileInfo(file).fileName()).arg(cells).arg(objects),
@@ -1066,7 +1069,7 @@ QString MainWindow::enclosedPatchNote()
     enclosedFor_ = centres;
     enclosedNote_.clear();
     const Scene& scene = document_.scene();
-    const WorldTriangles triangles = worldTriangles(scene);
+    const WorldTriangles& triangles = controller_->triangles();
     const char* names[] = {"source", "receiver"};
     for (int k = 0; k < 2; ++k)
         if (const auto instance = enclosingInstance(scene, triangles, centres[std::size_t(k)]))
@@ -1076,17 +1079,25 @@ QString MainWindow::enclosedPatchNote()
 
 QString MainWindow::patchWarningNote()
 {
-    // Remembered for the patches and the level it was found for: each check is a few brute-force picks.
+    // Each check is a few brute-force picks: found once the patches rest (not on every frame of a
+    // drag), and remembered for the patches and the level it was found for.
     const Project& project = document_.project();
     const std::array<glm::dvec3, 7> key{project.source.corner,   project.source.u, project.source.v, project.receiver.corner,
                                         project.receiver.u,      project.receiver.v,
                                         glm::dvec3(document_.levelBounds().max) - glm::dvec3(document_.levelBounds().min)};
     if (warningsFor_ && *warningsFor_ == key)
         return warningNote_;
+    if (warningsWanted_ != key) {
+        warningsWanted_ = key;
+        warningNote_.clear();
+        warningTimer_.start();   // then updateStatus() asks again
+        return {};
+    }
+    if (warningTimer_.isActive())
+        return {};
     warningsFor_ = key;
-    warningNote_.clear();
-    for (const std::string& warning : patchWarnings(worldTriangles(document_.scene()), document_.levelBounds(), project.source,
-                                                    project.receiver))
+    for (const std::string& warning :
+         patchWarnings(controller_->triangles(), document_.levelBounds(), project.source, project.receiver))
         warningNote_ += tr(" · %1").arg(QString::fromStdString(warning));
     return warningNote_;
 }

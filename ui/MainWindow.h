@@ -128,8 +128,9 @@ private:
     QString enclosedNote_;
     /// Patches that look misplaced (PatchWarnings.h), as " · ..." for the status line.
     QString patchWarningNote();
-    std::optional<std::array<glm::dvec3, 7>> warningsFor_;
+    std::optional<std::array<glm::dvec3, 7>> warningsFor_, warningsWanted_;
     QString warningNote_;
+    QTimer warningTimer_;   ///< the patches' rest before their warnings are looked for
     QToolBar* toolbar_ = nullptr;
     OverlayControls* overlay_ = nullptr;
     RecordingControls* recorder_ = nullptr;

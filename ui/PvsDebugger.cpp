@@ -185,7 +185,8 @@ pvs::PvsData readBakedPvs(const std::filesystem::path& file, const Project& proj
 {
     const std::string name = file.filename().string();
     const std::string bytes = readInputFile(file, name);
-    const bool json = bytes.find_first_not_of(" \t\r\n") != std::string::npos && bytes[bytes.find_first_not_of(" \t\r\n")] == '{';
+    const std::size_t first = bytes.find_first_not_of(" \t\r\n");
+    const bool json = first != std::string::npos && bytes[first] == '{';   // a .pvs starts with its magic
     pvs::PvsData data = json ? pvs::decodePvsJson(bytes, name) : pvs::decodePvs(bytes, name);
     const std::string again = " (bake it again: P, or sightline-cli pvs bake)";
     if (project.scene.empty())

@@ -386,19 +386,7 @@ void Viewport::paintGL()
         emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error), level.relit);
     }
     if (pvsStale_) {
-        pvsStale_ = false;
-        pvsFromFile_.clear();
-        pvsCells_.clear();
-        pvsObjects_.clear();
-        pvsRows_ = {};
-        pvsCoarse_ = pvsRefined_ = 0;
-        pvsCellRefined_.clear();
-        pvsGaps_.clear();
-        pvsGapsReady_ = false;
-        pvsGapSelected_ = -1;
-        pvsFinished_ = false;
-        pvsFrozenCell_.reset();
-        pvsRowsChanged_ = true;
+        resetPvs({}, {}, {}, false);
         if (!pvs_)
             pvs_ = std::make_unique<PvsDebugger>([this](PvsDebugEvent event) {
                 QMetaObject::invokeMethod(
@@ -701,25 +689,31 @@ const pvs::VisibilityRows& Viewport::pvsShownRows()
     return pvsShown_;
 }
 
+void Viewport::resetPvs(std::vector<Bounds> cells, std::vector<pvs::PvsObject> objects, pvs::VisibilityRows rows, bool finished)
+{
+    pvsStale_ = false;
+    pvsFromFile_.clear();
+    const std::size_t done = finished ? cells.size() : 0;
+    pvsCells_ = std::move(cells);
+    pvsObjects_ = std::move(objects);
+    pvsRows_ = std::move(rows);
+    pvsCoarse_ = pvsRefined_ = done;
+    pvsCellRefined_.assign(done, 1);
+    pvsGaps_.clear();
+    pvsGapsReady_ = false;
+    pvsGapSelected_ = -1;
+    pvsFinished_ = finished;
+    pvsFrozenCell_.reset();
+    pvsRowsChanged_ = true;
+}
+
 void Viewport::showBakedPvs(pvs::PvsData data, const QString& file)
 {
     if (pvs_)
         pvs_->stop();
     ++pvsGeneration_;   // a bake on its way is dropped
-    pvsStale_ = false;
     pvsError_.clear();
-    const std::size_t cells = data.cells.size();
-    pvsCells_ = std::move(data.cells);
-    pvsObjects_ = std::move(data.objects);
-    pvsRows_ = std::move(data.rows);
-    pvsCoarse_ = pvsRefined_ = cells;
-    pvsCellRefined_.assign(cells, 1);
-    pvsGaps_.clear();
-    pvsGapsReady_ = false;
-    pvsGapSelected_ = -1;
-    pvsFinished_ = true;
-    pvsFrozenCell_.reset();
-    pvsRowsChanged_ = true;
+    resetPvs(std::move(data.cells), std::move(data.objects), std::move(data.rows), true);
     pvsUploaded_ = false;
     pvsBakeKey_ = pvsBakeKey(document_.project());
     pvsFromFile_ = file;

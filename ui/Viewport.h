@@ -212,6 +212,9 @@ private:
     const pvs::VisibilityRows& pvsShownRows();
     QString pvsError_, pvsOverrideError_;
     QString pvsFromFile_;   ///< the file the shown PVS was read from; empty for the editor's bake
+    /// The debugger's state for these rows: a bake about to start (empty, not finished) or rows
+    /// read from a file (every cell done).
+    void resetPvs(std::vector<Bounds> cells, std::vector<pvs::PvsObject> objects, pvs::VisibilityRows rows, bool finished);
     pvs::VisibilityRows pvsShown_;
     std::unique_ptr<AoPreview> ao_;
     std::unique_ptr<LitPreview> lit_;

@@ -114,6 +114,8 @@ public:
     /// floor) until its lowest point rests on the first surface of the level below its middle, a
     /// patch 2 cm over it; undoable. False, with a message, when nothing is below or nothing is selected.
     bool dropSelectionToFloor();
+    /// The world triangles of the document's scene, built once per scene change (picking's).
+    const WorldTriangles& triangles() const;
 
 signals:
     void viewChanged();   ///< camera, hover or gizmo: repaint
@@ -125,7 +127,6 @@ signals:
     void cutMoved(double height);
 
 private:
-    const WorldTriangles& triangles() const;
     /// The object a triangle of document_.scene() belongs to.
     ObjectRef objectOfTriangle(std::size_t triangle) const;
     /// visibleSurface, passing through locked objects too when `pickableOnly` (a click selects).

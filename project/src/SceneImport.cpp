@@ -102,13 +102,14 @@ Scene loadLevel(const Project& project, std::vector<std::string>* warnings)
     return scene;
 }
 
-std::string guessSceneUp(const Scene& scene)
+std::string guessSceneUp(const Scene& scene, std::span<const glm::mat4> transforms)
 {
     // Area facing each of +x, -x, +y, -y, +z, -z (normals within about 30 degrees).
     std::array<double, 6> area{};
-    for (const Instance& instance : scene.instances) {
+    for (std::size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
         const Mesh& mesh = scene.meshes[instance.mesh];
-        const glm::dmat4 m(instance.transform);
+        const glm::dmat4 m(i < transforms.size() ? transforms[i] : instance.transform);
         for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3) {
             const glm::dvec3 a(m * glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[t]]), 1.0));
             const glm::dvec3 b(m * glm::dvec4(glm::dvec3(mesh.positions[mesh.indices[t + 1]]), 1.0));

@@ -9,6 +9,7 @@
 // (+z: (x, y, z) -> (x, z, -y), glTF's convention for a Z-up file; -z: (x, -z, y); -y: (x, -y, -z)),
 // about Z for ±x (+x: (-y, x, z); -x: (y, -x, z)). Every one is a proper rotation (no mirror).
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -47,7 +48,8 @@ void applySceneImport(const SceneImport& settings, Scene& scene);
 /// A guess of the up axis of a level from its geometry, for a level that says nothing: the axis
 /// along which the most triangle area faces (floors and ceilings, in a level whose walls spread
 /// over the other two), pointing the way more of that area faces (floors, table tops and terrain
-/// outweigh ceilings and undersides). "+y" for an empty scene.
-std::string guessSceneUp(const Scene& scene);
+/// outweigh ceilings and undersides). "+y" for an empty scene. `transforms`, when given (one per
+/// instance), stand for the instances' own: the level as its file has it, before the turn.
+std::string guessSceneUp(const Scene& scene, std::span<const glm::mat4> transforms = {});
 
 } // namespace sightline
