@@ -1,5 +1,5 @@
 #pragma once
-// The editor's ambient-occlusion preview (issue 18 §5): the level's AO in light-map texels
+// The editor's ambient-occlusion preview: the level's AO in light-map texels
 // (Sattler et al. 2004's visibility matrix over texel points, lighting/ao/AoTexels.h, so a room
 // gets contact shadows in its corners, which per-vertex AO on large wall faces would miss),
 // computed progressively on a worker thread: k = 6 arrives at once, then 18, 66 and 258, each
@@ -55,7 +55,7 @@ struct AoPreviewLevel {
 /// What to compute: the AO of `scene`'s surfaces, every triangle of it occluding.
 struct AoPreviewRequest {
     std::shared_ptr<const Scene> scene;
-    /// Which instances get texels (AO of chosen objects, issue 18 §5); empty: all of them. The
+    /// Which instances get texels (AO of chosen objects); empty: all of them. The
     /// texel density is chosen for the surfaces asked for, so a chosen object gets finer texels.
     std::vector<std::uint32_t> instances;
     int targetK = 258;   ///< 6, 18, 66, 258 or 1026

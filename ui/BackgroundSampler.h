@@ -1,5 +1,5 @@
 #pragma once
-// Live sampling off the GUI thread (issue 16 §1: opening a 512x512 floor froze the window for
+// Live sampling off the GUI thread (opening a 512x512 floor froze the window for
 // seconds an update). One worker thread owns a CPU bitmask sampler; the viewport posts the pair
 // it wants sampled and keeps drawing. The latest request wins: a request that arrives while one
 // is being sampled replaces any request still waiting, so a drag never queues stale work, and

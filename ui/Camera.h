@@ -60,7 +60,7 @@ void dolly(Camera& camera, double steps);
 void look(Camera& camera, double dxPixels, double dyPixels, double radiansPerPixel = kOrbitRadiansPerPixel);
 /// Fly mode: moves eye and target by `move` in camera axes (x right, y up, z forward), metres.
 void fly(Camera& camera, const glm::dvec3& move);
-/// Keeps the eye at or above `floorY` (issue 16 §2: navigation took the camera under the floor).
+/// Keeps the eye at or above `floorY` (navigation took the camera under the floor).
 /// Orbiting (and dollying) tilts the view up just enough; panning and flying lift eye and target.
 void keepAbove(Camera& camera, double floorY, bool orbiting);
 /// Looks at the whole box from the current direction.
@@ -75,7 +75,7 @@ Camera overviewCamera(const Bounds& bounds);
 enum class AxisView { Top, Front, Side };
 /// The camera looking along `view` at the whole box, orthographic, framed as frame() does.
 Camera axisView(AxisView view, const Bounds& bounds);
-/// The view from `from`'s centre towards `to`'s centre (issue 16 §2: "look through the source",
+/// The view from `from`'s centre towards `to`'s centre ("look through the source",
 /// the sniper's view of the doorway): the eye on the patch, 1 cm in front of it, the target at the
 /// other patch, a field of view that holds the other patch with a margin.
 Camera lookThrough(const glm::dvec3& from, const glm::dvec3& fromNormal, const glm::dvec3& to, double toRadius);

@@ -41,7 +41,7 @@ struct GizmoDrag {
     double startX = 0.0;       ///< Rotate: the cursor's start
 };
 
-/// Snapping (issue 16 §2), 0 = off for each: a move puts the pivot's coordinate along the axis
+/// Snapping, 0 = off for each: a move puts the pivot's coordinate along the axis
 /// on a multiple of `move` metres (a world grid; in local space, whose axes need not meet the grid,
 /// the distance moved is the multiple), a rotation turns by multiples of `angle` radians, a scale
 /// changes the size by multiples of `scale` (0.1 = steps of 10%).

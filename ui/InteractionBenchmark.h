@@ -26,7 +26,7 @@ struct InteractionOptions {
     InteractionReplay replay = InteractionReplay::Drag;
     /// RecordedPath: called once each path frame is shown (before it is drawn), with its index.
     std::function<void(int pathFrame)> posed;
-    /// The level's AO preview starts at the first counted frame (issue 18: the editor stays live
+    /// The level's AO preview starts at the first counted frame (the editor stays live
     /// while k = 258 completes).
     bool withAo = false;
 };

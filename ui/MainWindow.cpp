@@ -427,7 +427,7 @@ void MainWindow::createActions()
     QMenu* create = menuBar()->addMenu(tr("&Create"));
     action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
     action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
-    // The size placing gives a patch: its own, or a preset (issue 16 §2), checked in the menu.
+    // The size placing gives a patch: its own, or a preset, checked in the menu.
     QMenu* placingSize = create->addMenu(tr("Placing Si&ze"));
     placingSize->setObjectName("placingSize");
     auto* sizes = new QActionGroup(this);
@@ -520,7 +520,7 @@ void MainWindow::createActions()
         modes->addAction(a);
         toolbar->addAction(a);
     }
-    // World or local axes for moving and rotating (issue 16 §2; X, as Unity's pivot rotation toggle).
+    // World or local axes for moving and rotating (X, as Unity's pivot rotation toggle).
     transform->addSeparator();
     spaceAction_ = action(transform, tr("&Local Axes"), QKeySequence(Qt::Key_X), [this](bool local) {
         controller_->setGizmoSpace(local ? GizmoSpace::Local : GizmoSpace::World);
@@ -537,7 +537,7 @@ void MainWindow::createActions()
         spaceAction_->setChecked(space == GizmoSpace::Local);
         updateViewLabel();
     });
-    // Snapping (issue 16 §2): a world grid for moves ([ and ] halve and double it, as in
+    // Snapping: a world grid for moves ([ and ] halve and double it, as in
     // TrenchBroom), 15 degree steps for rotations, 10% steps for scaling.
     transform->addSeparator();
     action(transform, tr("&Drop to Floor"), QKeySequence(Qt::Key_End), [this] { controller_->dropSelectionToFloor(); })
@@ -558,7 +558,7 @@ void MainWindow::createActions()
 
     QMenu* view = menuBar()->addMenu(tr("&View"));
     viewMenu_ = view;
-    // A closed panel comes back from here (issue 16 §2: once closed, it stayed closed).
+    // A closed panel comes back from here (once closed, it stayed closed).
     QMenu* panels = view->addMenu(tr("&Panels"));
     for (QDockWidget* dock : {outlineDock_, propertiesDock_, lightCostsDock_}) {
         QAction* toggle = dock->toggleViewAction();
@@ -567,7 +567,7 @@ void MainWindow::createActions()
     }
     view->addSeparator();
     action(view, tr("&Frame Selection"), QKeySequence(Qt::Key_F), [this] { controller_->frameSelection(); });
-    // Camera presets (issue 16 §2). Looking through a patch puts the eye on it, where the section
+    // Camera presets. Looking through a patch puts the eye on it, where the section
     // cut (which hides the near half of the way) would hide the view: it is switched off.
     QMenu* cameraMenu = view->addMenu(tr("&Camera"));
     const auto sceneBounds = [this] {
@@ -614,7 +614,7 @@ void MainWindow::createActions()
         viewport_->requestUpdate();
     });
     wire->setCheckable(true);
-    // Ambient occlusion of the level (issue 18 §5): computed in the background, coarse at once
+    // Ambient occlusion of the level: computed in the background, coarse at once
     // (k = 6), refined to k = 258; the status bar follows it.
     QAction* ao = action(view, tr("&Ambient Occlusion"), QKeySequence(Qt::Key_O), [this](bool on) {
         viewport_->setAmbientOcclusion(on);
@@ -700,7 +700,7 @@ void MainWindow::createActions()
     });
     aoSelection->setCheckable(true);
     aoSelection->setObjectName("aoOfSelection");
-    // The PVS debugger (issue 17 §5): the project's PVS baked in the background, coarse for every
+    // The PVS debugger: the project's PVS baked in the background, coarse for every
     // cell first; the level's objects the camera's view cell cannot see are tinted magenta.
     QAction* pvsView = action(view, tr("&PVS Debugger"), QKeySequence(Qt::Key_P), [this](bool on) {
         viewport_->setPvsDebugger(on);
@@ -713,7 +713,7 @@ void MainWindow::createActions()
                              [this](bool on) { viewport_->setPvsFrozen(on); });
     freeze->setCheckable(true);
     freeze->setObjectName("pvsFreeze");
-    // Overrides (issue 17 §5): the designer's word over the bake for the selected level object in
+    // Overrides: the designer's word over the bake for the selected level object in
     // the shown cell, kept in the project's pvs.overrides (undoable), applied as `pvs bake` does.
     const auto overrideSelected = [this](const char* visible) {
         const ObjectRef selection = document_.selection();
@@ -743,7 +743,7 @@ void MainWindow::createActions()
         ->setObjectName("pvsNever");
     action(view, tr("PVS: Clear Override Here"), QKeySequence(), [overrideSelected] { overrideSelected(nullptr); })
         ->setObjectName("pvsClear");
-    // The gap list (issue 17 §5): where the dense reference saw an object the bake culls, drawn as
+    // The gap list: where the dense reference saw an object the bake culls, drawn as
     // markers (a click on one frames it); N and Shift+N step through them.
     const auto stepGap = [this](int step) {
         const std::size_t n = viewport_->pvsGaps().size();
@@ -1191,7 +1191,7 @@ void MainWindow::rebuildRecentMenu()
 {
     recentMenu_->clear();
     const QStringList files = QSettings().value("recentFiles").toStringList();
-    // "1 demo.json — /home/me/levels": the same name in two folders is told apart (issue 16 §2).
+    // "1 demo.json — /home/me/levels": the same name in two folders is told apart.
     int number = 0;
     for (const QString& file : files) {
         const QFileInfo info(file);

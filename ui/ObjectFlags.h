@@ -1,5 +1,5 @@
 #pragma once
-// Hide and lock, the outline's switches (issue 16 §2), and where a project keeps them.
+// Hide and lock, the outline's switches, and where a project keeps them.
 //
 // What they mean (docs/editor.md):
 //   - hidden: not drawn and not picked (clicks and placement go through it). It still blocks rays:

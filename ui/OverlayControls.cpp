@@ -246,7 +246,7 @@ bool OverlayControls::accumulate(ProjectMotion::Kind kind)
     progress.setMinimumDuration(300);
     progress.setValue(0);
     // The frames are sampled on a worker thread (a 512x512 floor takes about a second a frame);
-    // the event loop keeps running, so the window repaints and Cancel answers at once (issue 16 §1).
+    // the event loop keeps running, so the window repaints and Cancel answers at once.
     std::atomic<int> framesSampled{0};
     std::atomic<bool> cancel{false};
     std::optional<ImportanceRunResult> result;
@@ -321,7 +321,7 @@ void OverlayControls::updateWidgets()
         legend_->setCaption(overlay.legendCaption());
         legend_->show();
     } else if (overlay.kind() == OverlayKind::LightOnReceiver && overlay.light()) {
-        // Issue 16 §2: the light overlay had no legend.
+        // The light overlay had no legend.
         legend_->setCaption(tr("light from the source, of full (its colour scaled)"), LegendScale::Light);
         legend_->show();
     } else {

@@ -1,5 +1,5 @@
 #pragma once
-// Patch size presets (issue 16 §2): the openings and silhouettes a designer asks "who sees whom"
+// Patch size presets: the openings and silhouettes a designer asks "who sees whom"
 // about, so a patch is the size of a doorway or a player without typing edge vectors. Used by the
 // properties panel (one undoable resize) and by placement (Create > Placing Size).
 

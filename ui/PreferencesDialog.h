@@ -1,6 +1,6 @@
 #pragma once
 // Edit > Preferences: the designer's own settings, kept with QSettings (per user, not in the
-// project): how fast an orbit turns and how fast flying moves (issue 16 §2: "orbit speed as a
+// project): how fast an orbit turns and how fast flying moves ("orbit speed as a
 // setting"), as multiples of the defaults.
 
 #include <QDialog>

@@ -147,7 +147,7 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     layout->addWidget(transformBox_);
     layout->addStretch(1);
 
-    // Issue 16 §2: the panel's width followed its content (the patch fields are wider than "Nothing
+    // The panel's width followed its content (the patch fields are wider than "Nothing
     // selected"), and the viewport jumped between 745 and 1040 px as the selection changed. The widest
     // content is measured once, every group shown, and kept as the minimum and the preferred width.
     width_ = layout->sizeHint().width();

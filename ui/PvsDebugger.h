@@ -1,5 +1,5 @@
 #pragma once
-// The editor's PVS debugger (issue 17 §5): the project's PVS baked in the background (the coarse
+// The editor's PVS debugger: the project's PVS baked in the background (the coarse
 // pass over every cell first, then refinement, PvsBake.h), and, for the view cell the camera is
 // in, which objects of the level it may see. The viewport tints the culled ones; freezing keeps
 // the cell while the camera flies around it. Once the bake is over, the same worker measures it

@@ -1,5 +1,5 @@
 #pragma once
-// How the viewport draws many rays so that they stay readable and cheap (issue 16 §2: 1M rays drawn
+// How the viewport draws many rays so that they stay readable and cheap (1M rays drawn
 // were an opaque slab at 1-2 s a frame; the interaction targets are 30 Hz at 16,384 rays and 20 Hz
 // at 65,536 on llvmpipe).
 //

@@ -1,5 +1,5 @@
 #pragma once
-// The editor's recorder (issue 16 §3): Record (F9) captures the camera and the edits to the
+// The editor's recorder: Record (F9) captures the camera and the edits to the
 // patches and placed occluders at a fixed rate while the designer works, Stop (F9 again) keeps
 // them in the project as its recorded path (project/RecordedPath.h; one undoable edit) and renders
 // the video chosen at the start. The video is rendered frame by frame, headless, on a worker

@@ -1,5 +1,5 @@
 #pragma once
-// The section cut's handle (issue 16 §1: "give the cut its own toggle and height (menu, shortcut,
+// The section cut's handle ("give the cut its own toggle and height (menu, shortcut,
 // a handle)"): a grip on the cut plane, drawn a constant size on screen, that the designer drags
 // up and down to set the cut height. Pure geometry on a Camera, like the gizmo, so it is tested
 // without a window; the viewport draws it and the controller forwards the mouse.

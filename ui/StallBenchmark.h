@@ -1,7 +1,7 @@
 #pragma once
 // `sightline --benchmark-stalls PROJECT`: the longest time the editor's event loop goes without
 // running (a window that neither repaints nor answers input) while it opens a project, until the
-// first answer for it is shown, and while it accumulates the project's animation (issue 16: at
+// first answer for it is shown, and while it accumulates the project's animation (at
 // most 100 ms on the demo floor with a 512x512 receiver). A 1 ms timer ticks throughout; a stall
 // is the longest interval between two ticks. A benchmark (figures printed), not a test; the GUI
 // test `aSlowUpdateLeavesTheEventLoopFree` keeps a generous bound.

@@ -1,5 +1,5 @@
 #pragma once
-// Renders a project's view over time to a video (issue 16 §3): every frame is rendered headless
+// Renders a project's view over time to a video: every frame is rendered headless
 // (OSMesa or EGL, HeadlessContext) by the editor's own ViewportRenderer, after sampling the
 // hidden-samples map with the editor's LiveVisibility, so the video shows what the viewport shows
 // (level, occluders, patches, rays, the overlay) at a fixed frame rate whatever the editor's update

@@ -963,7 +963,7 @@ bool Viewport::event(QEvent* event)
 
 void Viewport::mousePressEvent(QMouseEvent* event)
 {
-    // A click on a PVS gap marker frames that gap (the gap list, issue 17 §5).
+    // A click on a PVS gap marker frames that gap (the gap list).
     if (event->button() == Qt::LeftButton && event->modifiers() == Qt::NoModifier)
         if (const std::optional<std::size_t> gap = pvsGapAt(event->position())) {
             framePvsGap(*gap);

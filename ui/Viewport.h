@@ -68,7 +68,7 @@ public:
     /// Shades the level with its ambient occlusion, computed progressively in the background
     /// (AoPreview.h); recomputed when the level changes while it is on.
     void setAmbientOcclusion(bool on);
-    /// AO of the selected object only (issue 18 §5: AO of chosen objects), at a finer texel
+    /// AO of the selected object only (AO of chosen objects), at a finer texel
     /// density, the whole level still occluding; with nothing (or a patch) selected, the level's.
     void setAoOfSelection(bool on);
     bool aoOfSelection() const { return aoOfSelection_; }
@@ -106,7 +106,7 @@ public:
     std::size_t litFramesShown() const { return litFrames_; }
     std::size_t litTexels() const { return litTexels_; }
 
-    /// The PVS debugger (issue 17 §5): bakes the project's PVS in the background and tints the
+    /// The PVS debugger: bakes the project's PVS in the background and tints the
     /// level's objects the camera's cell cannot see. Restarted when the scene changes while on.
     void setPvsDebugger(bool on);
     /// Keeps the current cell while the camera moves (fly around it and look at what it culls).

@@ -64,7 +64,7 @@ public:
     /// to keep the patch's own size.
     void setPlacementSize(std::optional<std::pair<double, double>> size) { placementSize_ = size; }
     const std::optional<std::pair<double, double>>& placementSize() const { return placementSize_; }
-    /// While placing a patch: where a click at the cursor would put it (issue 16 §2).
+    /// While placing a patch: where a click at the cursor would put it.
     const std::optional<Patch>& placementGhost() const { return ghost_; }
     /// Where a click at `position` would place patch `which` (fitted: on a wall, its bottom edge
     /// never goes through the floor below), or nothing when no visible surface is there.

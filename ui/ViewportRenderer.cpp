@@ -224,7 +224,7 @@ std::vector<MeshVertex> meshVertices(const WorldTriangles& triangles, const std:
     return vertices;
 }
 
-/// The gizmo's handles as triangles (issue 16 §2: one-pixel lines were hard to see and to grab):
+/// The gizmo's handles as triangles (one-pixel lines were hard to see and to grab):
 /// a shaft facing the eye, 4% of the handle's length wide, and a head that says what a drag does:
 /// an arrow (move), a ring about the axis (rotate), a box (scale). The hovered handle is white,
 /// unlike the rays' yellow.
@@ -988,7 +988,7 @@ void ViewportRenderer::render(const FrameState& f)
         gl.ProgramUniform1ui(p, d.loc(p, "receiverStride"), subset.receiverStride);
         gl.ProgramUniform1ui(p, d.loc(p, "sourceStride"), subset.sourceStride);
         gl.ProgramUniform1i(p, d.loc(p, "showBlocked"), f.style.showBlocked ? 1 : 0);
-        // Readable from 1k to 1M rays (issue 16 §2; RayLayer.h): each ray's opacity from how many
+        // Readable from 1k to 1M rays (RayLayer.h): each ray's opacity from how many
         // drawn rays cross a pixel of the bundle, so that an open shaft reaches the style's
         // coverage; dense bundles are drawn into a coarser coverage layer, then laid over the frame.
         const std::optional<BundleOnScreen> bundle = bundleOnScreen(viewProj, f.width, f.height, f.source, f.receiver);

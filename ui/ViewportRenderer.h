@@ -126,7 +126,7 @@ struct FrameState {
     bool cutHandleHovered = false;
     Bounds levelBounds;
     ViewStyle style;
-    /// The PVS debugger's gap list (issue 17 §5): where the reference saw an object through an
+    /// The PVS debugger's gap list: where the reference saw an object through an
     /// opening the bake culled it behind. Drawn over everything: a cross where the reference's
     /// witness ray meets the object, and for the gaps of the shown cell (`ray`) the ray itself,
     /// from its point in the cell; the selected one brighter and larger.

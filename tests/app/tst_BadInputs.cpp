@@ -1,4 +1,4 @@
-// Issue 15: every bad input gets a clear one-line error naming the file and what is wrong; never a
+// Every bad input gets a clear one-line error naming the file and what is wrong; never a
 // hang, a crash, a wrong answer, lost data or runaway memory. One case per category, run through
 // the CLI (and the editor's headless front end) as a user would.
 #include <filesystem>

@@ -81,7 +81,7 @@ TEST(Project, RoundTripKeepsUnknownKeysEverywhere)
     EXPECT_EQ(toJson(p), saved);
 }
 
-// Issue 16 §1: unknown keys inside scene_transforms entries were dropped, and transforms were
+// Unknown keys inside scene_transforms entries were dropped, and transforms were
 // written back as float32 (1234567.891 as 1234567.875, 0.1 as 0.10000000149).
 TEST(Project, SavingWritesBackWhatTheUserWrote)
 {

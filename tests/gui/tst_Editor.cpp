@@ -149,7 +149,7 @@ private slots:
                  qPrintable(QString("editor %1, reference %2").arg(result.blocked).arg(reference)));
     }
 
-    // Issue 16 §3: F9 records the camera and the edits at a fixed rate, Stop keeps them as the
+    // F9 records the camera and the edits at a fixed rate, Stop keeps them as the
     // project's recorded path (undoable) and renders the video off the GUI thread; the video
     // decodes to one frame per captured frame at the viewport's size, and the path plays back.
     void recordsTheCameraAndEditsThenRendersTheVideo()
@@ -238,7 +238,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §3: the interaction benchmark replays the project's recorded path (its camera and
+    // The interaction benchmark replays the project's recorded path (its camera and
     // edits, one path frame per frame drawn) instead of the scripted drag, and puts everything back.
     void interactionBenchmarkReplaysTheRecordedPath()
     {
@@ -363,7 +363,7 @@ private slots:
         QCOMPARE(window_->viewport().visibility().blocked, dragged);
     }
 
-    // Issue 16 §1: sampling ran on the GUI thread, so a 512x512 receiver froze the window for a
+    // Sampling ran on the GUI thread, so a 512x512 receiver froze the window for a
     // second an update (minutes while the GL sampler was timed on llvmpipe). It runs on a worker
     // now: the event loop keeps turning while a slow answer is on its way, and the answer arrives.
     void aSlowUpdateLeavesTheEventLoopFree()
@@ -499,8 +499,8 @@ private slots:
         QTest::mouseMove(&viewport, QPoint(5, 5));
         QTRY_VERIFY(controls.readOutLabel()->text().isEmpty());
 
-        // The toolbar's combo and the menu stay in step; the light has its own legend (a grey ramp,
-        // issue 16 §2: it had none) and a read-out.
+        // The toolbar's combo and the menu stay in step; the light has its own legend (a grey ramp:
+        // it had none) and a read-out.
         controls.kindCombo()->setCurrentIndex(3);
         waitForOverlay();
         QVERIFY(window_->findChild<QAction*>("overlayLight")->isChecked());
@@ -648,7 +648,7 @@ private slots:
         QVERIFY(viewport.overlay().texels().empty());
     }
 
-    // Issue 16 §1: Ctrl+Shift+S did nothing (QKeySequence::SaveAs is unbound outside KDE/GNOME).
+    // Ctrl+Shift+S did nothing (QKeySequence::SaveAs is unbound outside KDE/GNOME).
     void saveAsHasItsShortcut()
     {
         QAction* saveAs = nullptr;
@@ -673,7 +673,7 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(dialogShown, 3000);
     }
 
-    // Issue 16 §1: Ctrl+Z in a properties field undid the field's text, not the last edit.
+    // Ctrl+Z in a properties field undid the field's text, not the last edit.
     void undoWorksWhileAPropertiesFieldHasFocus()
     {
         EditorDocument& document = window_->document();
@@ -700,7 +700,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §1: the status bar said "Invalid patch pair: invalid patch pair: ...".
+    // The status bar said "Invalid patch pair: invalid patch pair: ...".
     void anInvalidPairIsReportedOnce()
     {
         VisibilityResult result;
@@ -709,7 +709,7 @@ private slots:
         QCOMPARE(visibilitySummary(result), QString("Invalid patch pair: the receiver touches or crosses the source's plane"));
     }
 
-    // Issue 16 §1: a middle-drag downwards moved the orbit target and with it the section cut, and
+    // A middle-drag downwards moved the orbit target and with it the section cut, and
     // the level disappeared. Panning now leaves the cut where it is; C switches it off and on.
     void panningLeavesTheSectionCutAndCTogglesIt()
     {
@@ -755,7 +755,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: Delete on an object of the level did nothing, without a word.
+    // Delete on an object of the level did nothing, without a word.
     void deletingALevelObjectSaysWhyNot()
     {
         EditorDocument& document = window_->document();
@@ -771,7 +771,7 @@ private slots:
         document.select({});
     }
 
-    // Issue 16 §1: a patch inside geometry: 0.0% visible and no hint why.
+    // A patch inside geometry: 0.0% visible and no hint why.
     void aPatchInsideAnObjectIsNamedInTheStatusBar()
     {
         EditorDocument& document = window_->document();
@@ -793,7 +793,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §1: after an open the viewport stayed black until the first drag. An open alone
+    // After an open the viewport stayed black until the first drag. An open alone
     // (no requestUpdate, no input) must sample and draw.
     void anOpenDrawsWithoutInput()
     {
@@ -808,7 +808,7 @@ private slots:
         QVERIFY2(lit > 100, qPrintable(QString("only %1 bright samples").arg(lit)));
     }
 
-    // Issue 16 §2: the properties panel's width followed the selection, and the viewport beside it
+    // The properties panel's width followed the selection, and the viewport beside it
     // jumped between 745 and 1040 px; a closed panel could not be brought back.
     void panelsKeepTheirWidthAndComeBackFromTheViewMenu()
     {
@@ -836,7 +836,7 @@ private slots:
         QTRY_VERIFY(outline->isVisible());
     }
 
-    // Issue 16 §2: the update rate froze at its last value when nothing changed.
+    // The update rate froze at its last value when nothing changed.
     void theUpdateRateSaysIdleWhenNothingChanges()
     {
         EditorDocument& document = window_->document();
@@ -860,7 +860,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: axis views, Frame All and "look through the source" (the sniper's view).
+    // Axis views, Frame All and "look through the source" (the sniper's view).
     void cameraPresetsAndLookingThroughTheSource()
     {
         ViewportController& controller = window_->controller();
@@ -914,7 +914,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: Open Recent showed bare names; two demo.json in two folders looked alike.
+    // Open Recent showed bare names; two demo.json in two folders looked alike.
     void openRecentShowsWhereEachFileIs()
     {
         const QString path = QString::fromStdString(project_.string());
@@ -928,7 +928,7 @@ private slots:
                  qPrintable(label));
     }
 
-    // Issue 16 §2: the outline had no search, twelve objects were all "pillar", and an occluder
+    // The outline had no search, twelve objects were all "pillar", and an occluder
     // could not be renamed.
     void outlineSearchesTellsTwinsApartAndRenames()
     {
@@ -973,7 +973,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 18 §5: the level shaded with its ambient occlusion, coarse at once and refined in
+    // The level shaded with its ambient occlusion, coarse at once and refined in
     // the background while the window keeps answering.
     void ambientOcclusionShadesTheLevelProgressively()
     {
@@ -1175,7 +1175,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 18 §5: a placed box takes part in the level's AO (it is shaded and darkens the floor
+    // A placed box takes part in the level's AO (it is shaded and darkens the floor
     // around it), and View > AO of Selected Object Only shades the chosen object alone, finer, the
     // level still occluding it and left unshaded itself.
     void ambientOcclusionOfPlacedObjectsAndOfTheSelection()
@@ -1319,7 +1319,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: a ghost of the patch under the cursor before the click, the patch fitted to the
+    // A ghost of the patch under the cursor before the click, the patch fitted to the
     // wall (its bottom edge on the floor, not centred through it), and the prompt replaced once placed.
     void placementShowsAGhostAndStandsThePatchOnTheFloor()
     {
@@ -1390,7 +1390,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 17 §5: stand in a view cell and see what it culls. The bake runs in the background; the
+    // Stand in a view cell and see what it culls. The bake runs in the background; the
     // cell's row is the one a bake of that cell alone gives (rows depend on the cell only), and the
     // culled objects are tinted in the real window.
     void pvsDebuggerShowsWhatTheCameraCellCannotSee()
@@ -1479,7 +1479,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §1: the section cut gets a handle in the view: a cyan grip on the cut plane the
+    // The section cut gets a handle in the view: a cyan grip on the cut plane the
     // designer drags up and down; the cut (drawing and picking) follows the drag.
     void theSectionCutHasAHandleToDrag()
     {
@@ -1607,7 +1607,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: top / front / side as orthographic views, 5 switching perspective and
+    // Top / front / side as orthographic views, 5 switching perspective and
     // orthographic (View > Camera > Orthographic), and every tool working in orthographic views:
     // picking, placement, gizmo drags, orbit, pan, zoom and the rays.
     void orthographicViewsPickPlaceDragAndNavigate()
@@ -1781,7 +1781,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: orbit speed (and fly speed) as a setting, from Edit > Preferences, kept with
+    // Orbit speed (and fly speed) as a setting, from Edit > Preferences, kept with
     // QSettings for the next start.
     void navigationSpeedsAreKeptPreferences()
     {
@@ -1840,7 +1840,7 @@ private slots:
         controller.setCamera(before);
     }
 
-    // Issue 16 §2: world or local axes for the gizmo (X, shown in the status bar): in local space
+    // World or local axes for the gizmo (X, shown in the status bar): in local space
     // a turned crate moves and scales along its own axes.
     void theGizmoMovesAlongTheObjectsOwnAxesInLocalSpace()
     {
@@ -1928,7 +1928,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: hide, isolate and lock in the outline (and H, Shift+H, Ctrl+Shift+H, Ctrl+L) for the
+    // Hide, isolate and lock in the outline (and H, Shift+H, Ctrl+Shift+H, Ctrl+L) for the
     // level's objects, placed occluders and patches. Hidden: not drawn, not picked, still blocking
     // rays, kept in the project; isolated: only the selection and the patches; locked: drawn, but
     // clicks pass through and nothing moves it.
@@ -2093,7 +2093,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 16 §2: patch size presets, in the properties panel (one undoable resize; a wall's patch
+    // Patch size presets, in the properties panel (one undoable resize; a wall's patch
     // keeps its bottom edge) and when placing (Create > Placing Size, the ghost shows it).
     void patchSizePresetsResizeAndPlace()
     {
@@ -2168,7 +2168,7 @@ private slots:
         waitForUpdate();
     }
 
-    // Issue 17 §5: while the debugger refines, its status names the cells still coarse; after the
+    // While the debugger refines, its status names the cells still coarse; after the
     // bake it checks itself against the dense reference and shows the gap list as markers; a
     // click on a marker frames that gap (the eye on the reference's witness ray in the gap's
     // cell, the object the bake culled tinted ahead) and N steps to the next; the distance

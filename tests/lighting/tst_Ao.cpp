@@ -1,4 +1,4 @@
-// Ambient occlusion from the visibility matrix (Sattler et al. 2004; issue 18): the light sphere,
+// Ambient occlusion from the visibility matrix (Sattler et al. 2004): the light sphere,
 // the closed forms (an open plane sees 1; beside an infinite wall of height H at distance d the
 // uniform-sky cosine-weighted AO is 1 - (1 - 1/sqrt(1 + (H/d)^2)) / 2), the Monte-Carlo reference
 // with a tolerance from its own variance, nested levels against direct ones, the exact CPU mode

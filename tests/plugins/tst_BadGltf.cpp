@@ -1,4 +1,4 @@
-// Regression corpus for hostile or broken glTF/GLB files (issue 15): each category of bad input is
+// Regression corpus for hostile or broken glTF/GLB files: each category of bad input is
 // refused with one line naming the file and what is wrong, never a crash, a hang, runaway memory or
 // geometry that silently vanishes; and the legal extremes next to each refusal still load.
 

@@ -1,4 +1,4 @@
-// Bad OBJ/PLY/OFF/STL input (issue 15): every case is refused with one line naming the file, the
+// Bad OBJ/PLY/OFF/STL input: every case is refused with one line naming the file, the
 // line (text formats) and what is wrong in words; never a crash, a hang, a huge allocation, or a
 // load that quietly drops or invents geometry. The positive cases are inputs a careless fix would
 // break: BOM, CR-only and CRLF line ends, relative indices, vt/vn forms, polygons.

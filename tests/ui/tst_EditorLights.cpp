@@ -417,9 +417,11 @@ TEST(LitPreview, TheErrorViewAgreesWithTheReferenceOnceExactAndShowsTheLowResolu
         EXPECT_LT(exact.errorMax, double(kErrorAgrees));
         EXPECT_EQ(exact.errorOverPercent, 0.0);
         const LitTexels texels = litTexels(*scene);
-        for (std::size_t k = 0; k < texels.pointOfTexel.size(); k += 7)
-            if (texels.pointOfTexel[k] != SIZE_MAX)
+        for (std::size_t k = 0; k < texels.pointOfTexel.size(); k += 7) {
+            if (texels.pointOfTexel[k] != SIZE_MAX) {
                 ASSERT_EQ(mapAt(exact, texels, k), errorColour(0.0f)) << "texel " << k;
+            }
+        }
         seen = frames.size();
     }
     // The area light moves: its low-resolution pass is shown against its new reference (errors

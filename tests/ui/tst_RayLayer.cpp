@@ -119,7 +119,7 @@ double coverageAt(QRgb pixel, QRgb under, const glm::vec3& over)
 
 } // namespace
 
-// Issue 16 §2: 1M rays drawn were an opaque slab (each ray's opacity fell only as 1/sqrt(count)).
+// 1M rays drawn were an opaque slab (each ray's opacity fell only as 1/sqrt(count)).
 TEST(OffscreenRender, ADenseBundleIsAHazeOfTheSameDensityAtAnyRayCount)
 {
     const auto folder = freshFolder("ray-density");

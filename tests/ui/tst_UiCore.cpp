@@ -94,7 +94,7 @@ TEST(Camera, FramedBoxIsInView)
     }
 }
 
-// Issue 16 §2: navigation took the camera under the floor.
+// Navigation took the camera under the floor.
 TEST(Camera, NavigationKeepsTheEyeAboveTheFloor)
 {
     Camera camera;
@@ -216,7 +216,7 @@ TEST(Gizmo, PicksAndDragsAlongTheAxisUnderTheCursor)
     EXPECT_EQ(pickGizmoAxis(frame, camera, far.x, far.y, 1000, 800), -1);
 }
 
-// Issue 16 §2: snapping. A move lands the pivot on the grid along the dragged axis, a rotation
+// Snapping. A move lands the pivot on the grid along the dragged axis, a rotation
 // turns by whole steps, a scale changes by whole 10% steps.
 TEST(Gizmo, SnapsMovesToTheGridAndRotationsAndScalesToSteps)
 {
@@ -255,7 +255,7 @@ TEST(Gizmo, SnapsMovesToTheGridAndRotationsAndScalesToSteps)
     EXPECT_GT(factor, 1.25);
 }
 
-// Issue 16 §2: orthographic views. Pixel rays are parallel to the view, start on the eye's plane,
+// Orthographic views. Pixel rays are parallel to the view, start on the eye's plane,
 // and land where the projection matrix draws them; the gizmo picks and drags in them.
 TEST(Camera, OrthographicRaysAreParallelAndMeetTheDrawnPixels)
 {
@@ -345,7 +345,7 @@ Camera obliqueView()
 
 } // namespace
 
-// Issue 16 §1: the section cut's handle sits on the cut plane in view, and a drag moves the cut
+// The section cut's handle sits on the cut plane in view, and a drag moves the cut
 // along Y under the cursor (by the cursor's vertical motion when the view looks along Y).
 TEST(SectionCutHandle, SitsOnTheCutAndFollowsTheCursor)
 {
@@ -405,7 +405,7 @@ TEST(SectionCutHandle, KeepsClearOfThePatchesAndTheGizmo)
     EXPECT_EQ(cutHandle(camera, 2.5, 800, 600, {ScreenBox{0.0, 0.0, 800.0, 600.0}})->point, usual->point);
 }
 
-// Issue 16 §2: world or local space. In local space the handles are the object's own axes, a move
+// World or local space. In local space the handles are the object's own axes, a move
 // goes along them (snapping the distance moved), a turn is about them.
 TEST(Gizmo, LocalSpaceMovesAndTurnsAlongTheObjectsOwnAxes)
 {
@@ -433,7 +433,7 @@ TEST(Gizmo, LocalSpaceMovesAndTurnsAlongTheObjectsOwnAxes)
     EXPECT_GT(glm::length(glm::dvec3(turned[0]) - glm::dvec3(box[0])), 0.1);
 }
 
-// Issue 16 §2: size presets. A wall's patch keeps its bottom edge (it stands on the floor), whichever
+// Size presets. A wall's patch keeps its bottom edge (it stands on the floor), whichever
 // way its edges point; a floor's keeps its centre.
 TEST(PatchPresets, ResizeKeepsAWallPatchsBottomEdge)
 {
@@ -475,7 +475,7 @@ TEST(PatchPresets, ResizeKeepsAWallPatchsBottomEdge)
     EXPECT_NEAR(glm::length(player.v), 1.8, 1e-12);
 }
 
-// Issue 16 §2: hide and lock are kept in the project (DESIGN.md §3: keys the CLI keeps), each
+// Hide and lock are kept in the project (DESIGN.md §3: keys the CLI keeps), each
 // undoable; an occluder's flags live in its own entry and move with it; other shapes read as none.
 TEST(ObjectFlags, AreKeptInTheProjectAndFollowTheirObjects)
 {
@@ -849,7 +849,7 @@ TEST(OffscreenRender, PlacedOccludersAreDrawnAndTheSelectedOneHighlighted)
 }
 
 
-// Issue 16 §1: opening demo_floor.json froze the window for minutes while the GL sampler was
+// Opening demo_floor.json froze the window for minutes while the GL sampler was
 // timed on llvmpipe. A software rasterizer is never tried.
 TEST(LiveVisibility, ASoftwareRasterizerIsNotTimed)
 {
@@ -869,7 +869,7 @@ TEST(LiveVisibility, ASoftwareRasterizerIsNotTimed)
 }
 
 
-// Issue 16 §1: the demo level opened without a project put both default patches inside a wall
+// The demo level opened without a project put both default patches inside a wall
 // (0.0% visible, no hint why).
 TEST(EditorDocument, ABareLevelGetsPatchesInOpenSpaceThatSeeEachOther)
 {
@@ -921,7 +921,7 @@ TEST(EditorDocument, ABareTerrainOrSlabGetsPatchesOverItsGround)
     }
 }
 
-// Issue 16 §1: the section cut followed the orbit target (a pan or a moment of flying hid the
+// The section cut followed the orbit target (a pan or a moment of flying hid the
 // level), and picking ignored it: a click on the floor selected the hidden ceiling, and placing a
 // patch on a visible wall put it on the hidden ceiling.
 TEST(SectionCut, HasItsOwnHeightAndPickingGoesThroughWhatItHides)
@@ -954,7 +954,7 @@ TEST(SectionCut, HasItsOwnHeightAndPickingGoesThroughWhatItHides)
 }
 
 
-// Issue 16 §2: F12 images get numbered names beside the project instead of one "sightline.png".
+// F12 images get numbered names beside the project instead of one "sightline.png".
 TEST(EditorDocument, ScreenshotNamesAreNumberedAndNeverReused)
 {
     const auto folder = freshFolder("numbered");
@@ -967,7 +967,7 @@ TEST(EditorDocument, ScreenshotNamesAreNumberedAndNeverReused)
 }
 
 
-// Issue 16 §1: a patch inside geometry gave 0.0% visible and no hint why; the editor now names the
+// A patch inside geometry gave 0.0% visible and no hint why; the editor now names the
 // closed object that holds it.
 TEST(Picking, EnclosingInstanceNamesTheClosedObjectAroundAPoint)
 {
@@ -988,7 +988,7 @@ TEST(Picking, EnclosingInstanceNamesTheClosedObjectAroundAPoint)
     EXPECT_FALSE(enclosingInstance(scene, triangles, glm::dvec3(2.0, 3.0, 0.0)).has_value()) << "above it";
 }
 
-// Issue 16 §2: a blocked ray is drawn only up to where it is first stopped, with a dot there.
+// A blocked ray is drawn only up to where it is first stopped, with a dot there.
 TEST(OffscreenRender, BlockedRaysStopAtTheirFirstHitWithADot)
 {
     const auto folder = freshFolder("offscreen-stops");
@@ -1037,7 +1037,7 @@ TEST(OffscreenRender, BlockedRaysStopAtTheirFirstHitWithADot)
     EXPECT_GT(dots, 10) << "no dots where the rays stop";
 }
 
-// Issue 16 §1: live sampling runs on a worker thread. Every answer is the synchronous sampler's
+// Live sampling runs on a worker thread. Every answer is the synchronous sampler's
 // answer for the pair it names, generations only grow, requests queued behind a running one are
 // replaced by the newest, and the newest is always answered.
 TEST(BackgroundSampler, AnswersTheLatestRequestExactlyAndDropsTheOnesItReplaced)

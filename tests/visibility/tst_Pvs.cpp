@@ -1,4 +1,4 @@
-// The PVS core (issue 17): closed-form levels, determinism, the file formats (with an
+// The PVS core: closed-form levels, determinism, the file formats (with an
 // independent Quake row decoder), part merging and bad cells.
 
 #include <algorithm>

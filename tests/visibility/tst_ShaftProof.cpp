@@ -1,4 +1,4 @@
-// Proofs of invisibility for the PVS bake (issue 17 §3, safe mode): the planar-region and
+// Proofs of invisibility for the PVS bake (safe mode): the planar-region and
 // closed-solid arguments of ShaftProof.h, the adaptive search of ShaftSearch.h, and a property
 // test: on random cluttered levels, no pair the safe bake culls is seen by dense rays.
 

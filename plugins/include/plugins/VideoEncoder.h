@@ -1,5 +1,5 @@
 #pragma once
-// Video files from rendered frames (issue 16 §3): H.264 in MP4, or VP9 (VP8 where VP9 is missing)
+// Video files from rendered frames: H.264 in MP4, or VP9 (VP8 where VP9 is missing)
 // in WebM, chosen by the file's extension, at a fixed frame rate. Built on Debian's libavcodec,
 // libavformat and libswscale; no Qt, no GL: the caller renders, this only encodes.
 //

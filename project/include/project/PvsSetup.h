@@ -1,5 +1,5 @@
 #pragma once
-// A project's PVS set-up (issue 17), an optional key kept on save like any other:
+// A project's PVS set-up, an optional key kept on save like any other:
 //
 //   "pvs": {
 //     "cell_size": 2.0, "cell_height": 1.8, "cell_lift": 0.1,     grid cells over the floors, or

@@ -1,6 +1,6 @@
 #pragma once
 // A recorded path: the camera, and the edits to the patches and placed occluders, sampled at a
-// fixed rate while the designer worked in the editor (issue 16 §3). It is kept in the project
+// fixed rate while the designer worked in the editor. It is kept in the project
 // file under the key "recorded_path" (the CLI keeps unknown keys, DESIGN.md §3; this one it reads)
 // and played back by the editor, and by `sightline --record`, which renders it to a video.
 //
@@ -52,7 +52,7 @@ struct PathCamera {
     double yaw = 0.0;
     double pitch = -0.3;
     double fovY = 0.8727;
-    bool orthographic = false;   ///< top / front / side and 5 (issue 16 §2)
+    bool orthographic = false;   ///< top / front / side and 5
     bool operator==(const PathCamera&) const = default;
 };
 

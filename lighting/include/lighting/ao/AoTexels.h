@@ -1,5 +1,5 @@
 #pragma once
-// Light-map texels as AO sample points (issue 18 §2): a level's walls are large faces with few
+// Light-map texels as AO sample points: a level's walls are large faces with few
 // vertices, so per-vertex AO misses the contact shadows in a room's corners and under furniture.
 // Each triangle gets a regular grid of `density` texels per metre in its own plane (axis u along
 // its first edge, v perpendicular in the plane), one point per texel at the texel centre, moved to

@@ -46,8 +46,8 @@ private:
 
 /// Where the segment from -> to first crosses a triangle, as the fraction t in (0, 1) of the way,
 /// or 1 when it meets none strictly between its ends (1e-4 of its length is kept off each end: a
-/// ray from a patch on a wall starts at the wall). The editor draws a blocked ray up to there
-/// (issue 16 §2). It answers "where", never "whether": a ray is blocked when an exact sampler says
+/// ray from a patch on a wall starts at the wall). The editor draws a blocked ray up to there.
+/// It answers "where", never "whether": a ray is blocked when an exact sampler says
 /// so, and one this float test passes by (a tie at an edge) is drawn whole.
 float segmentFirstHit(const FirstHitCaster& caster, const glm::dvec3& from, const glm::dvec3& to);
 

@@ -1,5 +1,5 @@
 #pragma once
-// The PVS bake (issue 17 §2): which objects (and, on request, which other cells) each view cell
+// The PVS bake: which objects (and, on request, which other cells) each view cell
 // may see.
 //
 // An object is visible from a cell when some segment from a point of the cell's box to a point of

@@ -1,5 +1,5 @@
 #pragma once
-// A potentially visible set (issue 17): view cells, the objects they may see, one bit row per cell.
+// A potentially visible set: view cells, the objects they may see, one bit row per cell.
 //
 // Rows are bitsets over objects, least significant bit first (object o is bit o % 8 of byte o / 8),
 // the layout of the Quake-family visibility rows (PvsFile.h). Everything here is plain data, so

@@ -1,5 +1,5 @@
 #pragma once
-// PVS files (issue 17 §4, §6). Byte layouts are in docs/pvs.md; all integers little-endian.
+// PVS files. Byte layouts are in docs/pvs.md; all integers little-endian.
 //
 //  - .pvs: Sightline's versioned binary: header, cell table (bounds), object table (instance ids,
 //    names, bounds), row offsets, rows raw or zero-run-length encoded.

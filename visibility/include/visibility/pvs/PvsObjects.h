@@ -1,5 +1,5 @@
 #pragma once
-// The PVS's objects (issue 17 §1): the scene's instances, in instance order, or grouped by name
+// The PVS's objects: the scene's instances, in instance order, or grouped by name
 // (every instance of one name is one object, in order of first appearance).
 
 #include <vector>

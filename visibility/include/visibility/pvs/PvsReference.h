@@ -1,5 +1,5 @@
 #pragma once
-// How wrong a baked PVS is (issue 17 §3), against a dense reference.
+// How wrong a baked PVS is, against a dense reference.
 //
 // Sampling can only miss visibility (every "visible" the bake writes has a witness ray), so the
 // error measured is false invisibility:

@@ -1,5 +1,5 @@
 #pragma once
-// Proofs that a bundle of segments is blocked (issue 17 §3, the PVS bake's safe answer).
+// Proofs that a bundle of segments is blocked (the PVS bake's safe answer).
 //
 // A sub-shaft is the set of all segments from a point of a parallelogram f (on a view cell's
 // face) to a point of a parallelogram g (on a target box's face). The bake culls a pair only when

@@ -1,6 +1,6 @@
 #pragma once
 // From a view cell to a target box: is something there visible, proven hidden, or neither?
-// (issue 17 §2-3; the adaptive part of the PVS bake, in the spirit of the adaptive from-region
+// (the adaptive part of the PVS bake, in the spirit of the adaptive from-region
 // sampling the paper's §11 points to, with the proofs of ShaftProof.h.)
 //
 // Every segment from the cell's box to the target's box leaves the cell through some face F and

@@ -1,5 +1,5 @@
 #pragma once
-// View cells (issue 17 §1): boxes a viewer stands in. Either a grid over the walkable space, with
+// View cells: boxes a viewer stands in. Either a grid over the walkable space, with
 // floors found from the scene, or boxes the project lists.
 //
 // The grid: square columns of `cellSize` over the scene's x/z extent. In each column a vertical
