@@ -3,7 +3,7 @@
 //   sightline-ao-bench [MESH] [--mc RAYS] [--threads N] [--repeat N] [--texel M] [--cells C] [--no-gl]
 //   (AO_BENCH_CASTERS_ONLY=1 in the environment: only the CPU-vs-Embree rows)
 //
-// Prints, for the mesh (default: the bunny of ../shared/data): the exact CPU (binned) mode against
+// Prints, for the mesh (default: the Stanford bunny of tests/data): the exact CPU (binned) mode against
 // Embree at k = 258 and 1026 (the faster of single rays and packets of 16 directions; same run,
 // ratio), progressive times to k = 6 and 66,
 // relight time at k = 258, RMSE against a Monte-Carlo reference per k (solid-angle weights and
@@ -70,7 +70,7 @@ double rmse(const std::vector<float>& a, const std::vector<float>& b)
 
 int main(int argc, char** argv)
 {
-    std::string mesh = std::string(SIGHTLINE_SHARED_DATA) + "/meshes/bun_zipper.ply";
+    std::string mesh = std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply";
     int mcRays = 4096, threads = 0, repeat = 3;
     double texel = 4.0;
     double cellsPerTriangle = AoBinnedOptions{}.cellsPerTriangle;

@@ -1,5 +1,5 @@
 #pragma once
-// Helpers shared by the plugin tests: the shared data folder, a scratch folder, file writers and a
+// Helpers shared by the plugin tests: the third-party test files (tests/data), a scratch folder, file writers and a
 // check that an import fails with a one-line sightline::Error naming the file.
 
 #include <cstdint>
@@ -15,14 +15,9 @@
 
 namespace sightline::test {
 
-inline std::filesystem::path sharedData() { return SIGHTLINE_SHARED_DATA; }
-
-/// Skips the calling test when the shared data folder is absent.
-#define SIGHTLINE_REQUIRE_SHARED_DATA()                                                            \
-    do {                                                                                           \
-        if (!std::filesystem::is_directory(::sightline::test::sharedData()))                      \
-            GTEST_SKIP() << "shared data not found at " << ::sightline::test::sharedData();       \
-    } while (0)
+/// The third-party files the tests read (tests/data, listed with sources and licences in its
+/// SOURCES.md). They are part of the repository: a test that finds one missing fails, it never skips.
+inline std::filesystem::path testData() { return SIGHTLINE_TEST_DATA; }
 
 /// A fresh folder under the system temp folder, removed with everything in it.
 class TempDir {

@@ -1,4 +1,4 @@
-// Every file in ../shared/data (see its SOURCES.md) loads with exactly the listed counts, or - under
+// Every file in tests/data (see its SOURCES.md) loads with exactly the listed counts, or - under
 // conformance/negative/ - is refused with a one-line error; plus geometry checks on a few of them.
 
 #include <algorithm>
@@ -11,12 +11,12 @@
 #include "plugins/SceneFormats.h"
 
 using namespace sightline;
-using sightline::test::sharedData;
+using sightline::test::testData;
 
 namespace {
 
 struct Expected {
-    const char* file;          ///< relative to the shared data folder
+    const char* file;          ///< relative to tests/data
     std::size_t uniqueTris;    ///< Scene::uniqueTriangleCount()
     std::size_t sceneTris;     ///< Scene::triangleCount()
     std::size_t vertices;      ///< total positions over all meshes; 0 = not meaningful (points/lines)
@@ -78,10 +78,9 @@ class SharedPositive : public ::testing::TestWithParam<Expected> {};
 
 TEST_P(SharedPositive, LoadsWithListedCounts)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
     const Expected& e = GetParam();
     std::vector<std::string> warnings;
-    const Scene scene = loadScene(sharedData() / e.file, &warnings);
+    const Scene scene = loadScene(testData() / e.file, &warnings);
     EXPECT_EQ(scene.uniqueTriangleCount(), e.uniqueTris);
     EXPECT_EQ(scene.triangleCount(), e.sceneTris);
     if (e.vertices != 0) {
@@ -108,9 +107,8 @@ bool isSceneFile(const std::filesystem::path& p)
 
 TEST(SharedNegative, EveryNegativeFileIsRefusedWithOneLine)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
     std::size_t checked = 0;
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(sharedData() / "conformance/negative")) {
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(testData() / "conformance/negative")) {
         if (!entry.is_regular_file() || !isSceneFile(entry.path()) || entry.path().filename() == "CubeNoBuffer.glb")
             continue;
         SCOPED_TRACE(entry.path().string());
@@ -124,33 +122,29 @@ TEST(SharedNegative, AVertexBeyondTheCoordinateRangeIsRefused)
 {
     // As shipped upstream, POSITION[0].x is 2^31 although the accessor's max.x says 1: beyond
     // DESIGN.md §2's 1e6 m, so refused (samplers would otherwise answer wrongly or assert).
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const auto file = sharedData() / "conformance/ZeroLengthBufferView/ZeroLengthBufferView.gltf";
+    const auto file = testData() / "conformance/ZeroLengthBufferView/ZeroLengthBufferView.gltf";
     EXPECT_NE(test::expectOneLineError(file, [&] { loadScene(file); }).find("1000000 m"), std::string::npos);
 }
 
 TEST(SharedNegative, RequiredExtensionsAreNamed)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const auto draco = sharedData() / "conformance/negative/Box_Draco.glb";
+    const auto draco = testData() / "conformance/negative/Box_Draco.glb";
     EXPECT_NE(test::expectOneLineError(draco, [&] { loadScene(draco); }).find("KHR_draco_mesh_compression"),
               std::string::npos);
-    const auto unlit = sharedData() / "conformance/negative/UnlitTest/UnlitTest.gltf";
+    const auto unlit = testData() / "conformance/negative/UnlitTest/UnlitTest.gltf";
     EXPECT_NE(test::expectOneLineError(unlit, [&] { loadScene(unlit); }).find("KHR_materials_unlit"),
               std::string::npos);
 }
 
 TEST(SharedNegative, GlbVersion1IsRefused)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const auto file = sharedData() / "conformance/negative/glb/CubeInvalidAccessorByteLength.glb";
+    const auto file = testData() / "conformance/negative/glb/CubeInvalidAccessorByteLength.glb";
     EXPECT_NE(test::expectOneLineError(file, [&] { loadScene(file); }).find("version 1"), std::string::npos);
 }
 
 TEST(SharedNegative, MissingExternalBufferIsNamed)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const auto file = sharedData() / "conformance/negative/Sponza01_missing_bin/Sponza01.gltf";
+    const auto file = testData() / "conformance/negative/Sponza01_missing_bin/Sponza01.gltf";
     EXPECT_NE(test::expectOneLineError(file, [&] { loadScene(file); }).find("Sponza01.bin"), std::string::npos);
 }
 
@@ -163,17 +157,15 @@ void expectVec3Near(const glm::vec3& a, const glm::vec3& b, float tol = 1e-5f)
 
 TEST(SharedGeometry, BoxGltfBoundsIncludeRootTranslation)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
     // The draco copy of Box.gltf has root matrix translate(0, 0, 2) over the unit cube.
-    const Bounds b = loadScene(sharedData() / "conformance/Box/glTF/Box.gltf").bounds();
+    const Bounds b = loadScene(testData() / "conformance/Box/glTF/Box.gltf").bounds();
     expectVec3Near(b.min, {-0.5f, -0.5f, 1.5f});
     expectVec3Near(b.max, {0.5f, 0.5f, 2.5f});
 }
 
 TEST(SharedGeometry, BoxInterleavedHasNormalsPerVertex)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const Scene scene = loadScene(sharedData() / "conformance/BoxInterleaved/BoxInterleaved.glb");
+    const Scene scene = loadScene(testData() / "conformance/BoxInterleaved/BoxInterleaved.glb");
     ASSERT_EQ(scene.meshes.size(), 1u);
     const Mesh& mesh = scene.meshes[0];
     ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
@@ -186,8 +178,7 @@ TEST(SharedGeometry, BoxInterleavedHasNormalsPerVertex)
 
 TEST(SharedGeometry, NestedGlbAccumulatesTransforms)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const Scene scene = loadScene(sharedData() / "conformance/NodeHierarchy/nested.glb");
+    const Scene scene = loadScene(testData() / "conformance/NodeHierarchy/nested.glb");
     ASSERT_EQ(scene.instances.size(), 3u);
     ASSERT_EQ(scene.meshes.size(), 3u);
     // TRS values from the file's JSON: block01 > block02 > block03.
@@ -217,8 +208,7 @@ TEST(SharedGeometry, NestedGlbAccumulatesTransforms)
 
 TEST(SharedGeometry, SparseAccessorSubstitutesPositions)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const Scene scene = loadScene(sharedData() / "conformance/SimpleSparseAccessor/SimpleSparseAccessor.gltf");
+    const Scene scene = loadScene(testData() / "conformance/SimpleSparseAccessor/SimpleSparseAccessor.gltf");
     ASSERT_EQ(scene.meshes.size(), 1u);
     const auto& p = scene.meshes[0].positions;
     ASSERT_EQ(p.size(), 14u);
@@ -238,8 +228,7 @@ TEST(SharedGeometry, SparseAccessorSubstitutesPositions)
 
 TEST(SharedGeometry, SpheresAreOneMeshThreeInstances)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
-    const Scene scene = loadScene(sharedData() / "conformance/SpheresScaledInstances/spheres_scaled_instances.gltf");
+    const Scene scene = loadScene(testData() / "conformance/SpheresScaledInstances/spheres_scaled_instances.gltf");
     ASSERT_EQ(scene.meshes.size(), 1u);
     ASSERT_EQ(scene.instances.size(), 3u);
     std::vector<float> widths;
@@ -258,18 +247,16 @@ TEST(SharedGeometry, SpheresAreOneMeshThreeInstances)
 
 TEST(SharedGeometry, PointAndLineModesWarn)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
     std::vector<std::string> warnings;
-    const Scene scene = loadScene(sharedData() / "conformance/Mesh_PrimitiveMode/Mesh_PrimitiveMode_01.gltf", &warnings);
+    const Scene scene = loadScene(testData() / "conformance/Mesh_PrimitiveMode/Mesh_PrimitiveMode_01.gltf", &warnings);
     EXPECT_EQ(scene.triangleCount(), 0u);
     EXPECT_FALSE(warnings.empty());
 }
 
 TEST(SharedGeometry, MissingTexturesOnlyWarn)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
     std::vector<std::string> warnings;
-    const Scene scene = loadScene(sharedData() / "conformance/TwoSidedPlane/TwoSidedPlane.gltf", &warnings);
+    const Scene scene = loadScene(testData() / "conformance/TwoSidedPlane/TwoSidedPlane.gltf", &warnings);
     EXPECT_EQ(scene.triangleCount(), 2u);
     EXPECT_FALSE(warnings.empty()); // the three PNGs are absent on purpose
 }
@@ -278,12 +265,11 @@ TEST(SharedGeometry, MissingTexturesOnlyWarn)
 
 TEST(SharedGeometry, ClosedScansEarnTheWatertightFlagAndOpenOnesDoNot)
 {
-    SIGHTLINE_REQUIRE_SHARED_DATA();
     // SOURCES.md: armadillo and dragon are closed manifolds; the bunny has holes in its base (223
     // boundary edges) and the teapot unwelded patch seams (1,036).
     for (const auto& [file, closed] : {std::pair{"meshes/armadillo.obj", true}, std::pair{"meshes/dragon.obj", true},
                                        std::pair{"meshes/bun_zipper.ply", false}, std::pair{"meshes/teapot.obj", false}}) {
-        const Scene scene = loadScene(sharedData() / file);
+        const Scene scene = loadScene(testData() / file);
         ASSERT_EQ(scene.meshes.size(), 1u) << file;
         EXPECT_EQ(scene.meshes[0].watertight, closed) << file;
     }
