@@ -1,4 +1,4 @@
-// sightline-cli: headless batch front end (DESIGN.md §4, a contract).
+// sightline-cli: headless batch front end (docs/design.md §4, a contract).
 //
 //   sightline-cli shaft PROJECT.json [--method raycast|cpu|gl] [--mode exact|table] [--mask OUT.npy] [--json]
 //   sightline-cli info SCENE_OR_PROJECT [--json]
@@ -512,20 +512,20 @@ int runDemo(const std::string& folder, int firstSeed, int lastSeed)
 int main(int argc, char** argv)
 {
     CLI::App app{"Sightline: which rays between two patches are blocked, for level designers.\n"
-                 "See docs/cli.md (README.md links every page); file formats and conventions: DESIGN.md."};
+                 "See docs/cli.md (README.md links every page); file formats and conventions: docs/design.md."};
     app.name("sightline-cli");
     app.set_version_flag("--version", "sightline-cli 0.1.0");
     app.require_subcommand(1);
 
     ShaftArgs shaft;
     CLI::App* shaftCmd = app.add_subcommand("shaft", "Compute the hidden-samples map between the project's patches");
-    shaftCmd->add_option("project", shaft.project, "Project file (JSON, DESIGN.md §3)")->required();
+    shaftCmd->add_option("project", shaft.project, "Project file (JSON, docs/design.md §3)")->required();
     shaftCmd->add_option("--method", shaft.method,
                          "Sampler: raycast (Embree reference), cpu (exact bitmask, CPU), gl (exact bitmask, OpenGL 4.5), "
                          "hh (Heckbert-Herf baseline, counts only: no --mask)")
         ->check(CLI::IsMember({"raycast", "cpu", "gl", "hh"}))
         ->capture_default_str();
-    shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (DESIGN.md §4)")->check(cli::outputFile());
+    shaftCmd->add_option("--mask", shaft.mask, "Write the hidden-samples map as .npy (docs/design.md §4)")->check(cli::outputFile());
     shaftCmd->add_flag("--json", shaft.json, "Print one JSON object instead of text");
     shaftCmd->add_option("--threads", shaft.threads, "raycast, cpu: worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     shaftCmd->add_flag("--single-rays", shaft.singleRays, "raycast: cast single rays instead of packets of 16");

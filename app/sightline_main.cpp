@@ -1,6 +1,6 @@
 // sightline: the editor. Also renders a project's view headlessly (--screenshot, optionally with
 // an importance or light overlay and its legend), records it over the project's recorded path or
-// animation to a video (--record, DESIGN.md §4) and measures the live update rate
+// animation to a video (--record, docs/design.md §4) and measures the live update rate
 // (--benchmark-interaction, optionally with an overlay on).
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-# The layering of DESIGN.md §1, checked on every include line (run by ctest as `Layering`):
+# The layering of docs/design.md §1, checked on every include line (run by ctest as `Layering`):
 #   app -> ui -> report, project -> lighting, plugins -> visibility (and data/ beside them).
 # A library may include only the libraries below it; nothing outside app/ includes app/;
 # visibility/, lighting/ and project/ include no Qt. Usage: cmake -DROOT=<source dir> -P CheckLayering.cmake
@@ -47,6 +47,6 @@ endforeach()
 
 if(failures)
   list(JOIN failures "\n" text)
-  message(FATAL_ERROR "layering broken (DESIGN.md §1):\n${text}")
+  message(FATAL_ERROR "layering broken (docs/design.md §1):\n${text}")
 endif()
 message(STATUS "layering holds")

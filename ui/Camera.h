@@ -2,7 +2,7 @@
 // The viewport camera of a level editor: orbit around a target, pan, dolly, fly (right mouse +
 // WASD), frame a box. Plain data plus free functions, so navigation is tested without a window.
 //
-// Conventions (DESIGN.md §2): right-handed, Y up, metres. yaw turns about +Y, pitch tilts up;
+// Conventions (docs/design.md §2): right-handed, Y up, metres. yaw turns about +Y, pitch tilts up;
 // at yaw = pitch = 0 the camera looks down -Z.
 
 #include <glm/mat4x4.hpp>

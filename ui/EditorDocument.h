@@ -1,5 +1,5 @@
 #pragma once
-// The document the editor works on: a Project (DESIGN.md §3) plus the scene it names, loaded
+// The document the editor works on: a Project (docs/design.md §3) plus the scene it names, loaded
 // once, the undo stack of every edit, the file it lives in and the current selection.
 //
 // Every edit goes through an undo command (EditCommands.h). Commands call the apply*() setters,

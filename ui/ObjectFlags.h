@@ -12,7 +12,7 @@
 //   - isolated (the editor's view state, not kept): everything but the isolated object and the two
 //     patches hidden.
 //
-// Both are kept in the project, as keys the CLI ignores and keeps (DESIGN.md §3): a placed
+// Both are kept in the project, as keys the CLI ignores and keeps (docs/design.md §3): a placed
 // occluder's own entry gets "editor": {"hidden": true, "locked": true}, so the flags travel with it
 // when others are added or deleted; the level's objects (by instance index, as scene_transforms)
 // and the patches are listed in the project's "editor" settings:

@@ -10,7 +10,7 @@
 
 namespace sightline::ui {
 
-/// One RGBA8 colour per patch sample, sample (a, b) at index b * na + a (DESIGN.md §2), so the
+/// One RGBA8 colour per patch sample, sample (a, b) at index b * na + a (docs/design.md §2), so the
 /// renderer maps texel (a, b) onto the cell around sample (a, b).
 struct OverlayTexels {
     int na = 0, nb = 0;

@@ -1,5 +1,5 @@
 #pragma once
-// One-click fixes for an invalid patch pair (DESIGN.md §2: each patch entirely on one side of the
+// One-click fixes for an invalid patch pair (docs/design.md §2: each patch entirely on one side of the
 // other's plane). The natural pairs fail by centimetres: a patch on a wall that reaches down to the
 // floor crosses the plane of a patch lying 2 cm over that floor; a floor patch that runs up to the
 // wall crosses a wall patch's plane. Changing one patch alone, the fixes are: move it off the

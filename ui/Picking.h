@@ -35,7 +35,7 @@ std::optional<double> pickPatch(const Patch& patch, const Ray& ray);
 
 /// Where a ray crosses a patch: the patch coordinates (s, t) in [0, 1]^2 (point c + s u + t v)
 /// and the sample whose cell holds them. Sample (a, b) sits at the centre of its cell
-/// [a/na, (a+1)/na) x [b/nb, (b+1)/nb) (DESIGN.md §2), which is also the texel the overlay
+/// [a/na, (a+1)/na) x [b/nb, (b+1)/nb) (docs/design.md §2), which is also the texel the overlay
 /// draws there.
 struct PatchSampleHit {
     double distance = 0.0;

@@ -1,6 +1,6 @@
 #pragma once
 // The view a project opens with: the camera saved in the project's "editor" settings (a key the
-// CLI keeps but ignores, DESIGN.md §3), or a view across the shaft between the two patches.
+// CLI keeps but ignores, docs/design.md §3), or a view across the shaft between the two patches.
 // `sightline --screenshot` and the editor use the same rule, so a screenshot shows what the
 // designer saw when saving.
 

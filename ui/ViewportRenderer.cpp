@@ -156,7 +156,7 @@ void main() {
 // The overlay: the patch's parallelogram, patch coordinates (s, t) in [0, 1]^2, lifted a little
 // towards the eye. Colours come from a buffer texture, sample (a, b) at texel b * na + a, fetched
 // by hand: texel (a, b) covers the cell [a/na, (a+1)/na) x [b/nb, (b+1)/nb) whose centre is sample
-// (a, b) (DESIGN.md §2), exactly; `smoothing` interpolates between sample centres instead.
+// (a, b) (docs/design.md §2), exactly; `smoothing` interpolates between sample centres instead.
 const char* kOverlayVertex = R"(#version 450 core
 uniform mat4 viewProj;
 uniform vec3 corner, edgeU, edgeV, lift;

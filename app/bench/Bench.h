@@ -1,5 +1,5 @@
 #pragma once
-// Benchmarks every sampler against the raycast reference, side by side (DESIGN.md §5): for each
+// Benchmarks every sampler against the raycast reference, side by side (docs/design.md §5): for each
 // project, source sample count, receiver grid and method configuration, the median time of
 // warm runs and the rays it gets wrong in each direction. A configuration's methods are timed in
 // `repeat` interleaved rounds (in each, every method runs once untimed, then timed for at least
@@ -54,7 +54,7 @@ struct Row {
     double threadMs = 0.0;
     std::uint64_t rays = 0, blocked = 0;
     /// Where the method and the reference differ, each ray is judged (visibility/ExactJudge.h):
-    /// a tie (DESIGN.md §2: within 1e-5 m of an edge or an end) may go either way and is counted
+    /// a tie (docs/design.md §2: within 1e-5 m of an edge or an end) may go either way and is counted
     /// in `ties`; the rest are errors, in the method's direction. Rows with more than
     /// kMaxJudgedRays differences (table modes, which are inexact by design) are not judged: all
     /// their differences count as errors and `judged` is false.

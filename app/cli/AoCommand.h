@@ -1,5 +1,5 @@
 #pragma once
-// sightline-cli ao (DESIGN.md §4): per-vertex (or per-texel) ambient occlusion of a
+// sightline-cli ao (docs/design.md §4): per-vertex (or per-texel) ambient occlusion of a
 // mesh or a project's scene from the visibility matrix (Sattler et al. 2004), and the files a
 // designer takes to an engine. See docs/ao.md.
 

@@ -1,6 +1,6 @@
 #pragma once
 // The files `sightline-cli ao` writes for a designer's engine: the AO as float32
-// .npy (DESIGN.md §4), a PLY with vertex colours, a glTF binary with the AO (or the relit colour)
+// .npy (docs/design.md §4), a PLY with vertex colours, a glTF binary with the AO (or the relit colour)
 // baked into COLOR_0, and for the texel mode the light-map atlas PNG with the glTF's TEXCOORD_1
 // and occlusionTexture pointing at it. All are written atomically (visibility/AtomicFile.h).
 //

@@ -97,7 +97,7 @@ CLI::App* addImportanceCommand(CLI::App& app, ImportanceArgs& args)
     CLI::App* command = app.add_subcommand(
         "importance", "Importance map (paper §9): per sample of a patch, the fraction of the other patch it sees, "
                       "accumulated over the project's animation (or, with --path, its recorded path)");
-    command->add_option("project", args.project, "Project file (JSON, DESIGN.md §3; optional \"animation\" key)")->required();
+    command->add_option("project", args.project, "Project file (JSON, docs/design.md §3; optional \"animation\" key)")->required();
     command->add_option("--out", args.out, "PNG: the map in the viridis colour map with a legend")->required()->check(outputFile());
     command->add_option("--npy", args.npy, "Also write the raw values as float32 .npy, shape (nb, na), in [0, 1]")->check(outputFile());
     command->add_option("--frames", args.frames,

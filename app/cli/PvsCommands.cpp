@@ -116,7 +116,7 @@ void addOutputOptions(CLI::App* cmd, PvsOutputs& o, bool outRequired)
     auto* out = cmd->add_option("--out", o.out, "Write the binary .pvs (docs/pvs.md)")->check(outputFile());
     if (outRequired)
         out->required();
-    cmd->add_option("--json", o.json, "Also write DESIGN.md §4's .pvs.json")->check(outputFile());
+    cmd->add_option("--json", o.json, "Also write docs/design.md §4's .pvs.json")->check(outputFile());
     cmd->add_option("--quake1", o.quake1, "Also write Quake 1 style cell-to-cell rows: numleafs, visofs[], zero-run-length rows")
         ->check(outputFile());
     cmd->add_option("--quake2", o.quake2, "Also write a Quake 2 / Source vis lump of cell-to-cell rows: numclusters, bitofs[n][2], rows")
@@ -501,7 +501,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
 
     PvsBakeArgs& b = args.bake;
     CLI::App* bake = pvsCmd->add_subcommand("bake", "Bake which objects each view cell may see (docs/pvs.md)");
-    bake->add_option("project", b.project, "Project file (JSON, DESIGN.md §3; its \"pvs\" key sets cells and objects)")
+    bake->add_option("project", b.project, "Project file (JSON, docs/design.md §3; its \"pvs\" key sets cells and objects)")
         ->required();
     addOutputOptions(bake, b.outputs, true);
     bake->add_option("--shard", b.shard, "Bake the I-th of N shares of the cells into a part file (--out PART)")

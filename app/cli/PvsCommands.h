@@ -1,5 +1,5 @@
 #pragma once
-// sightline-cli pvs bake / merge / check / level (DESIGN.md §4's contract for bake and
+// sightline-cli pvs bake / merge / check / level (docs/design.md §4's contract for bake and
 // merge). The core is visibility/pvs (no MPI there); the MPI bake lives in PvsMpi.cpp, built only
 // where CMake found MPI.
 

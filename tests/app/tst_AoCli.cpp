@@ -1,4 +1,4 @@
-// sightline-cli ao (DESIGN.md §4) run as a user does: the .npy contract (float32,
+// sightline-cli ao (docs/design.md §4) run as a user does: the .npy contract (float32,
 // shape (V,), NaN for vertices of no face), --json's keys, the engine files (glTF COLOR_0, PLY
 // colours, texel-mode light map with TEXCOORD_1), environments, and one-line errors for bad input.
 #include <cmath>

@@ -565,7 +565,7 @@ TEST_F(Cli, DemoMaskAgreesWithAnIndependentCasterOnSampledRays)
     EXPECT_GT(blocked, checked / 10);
 }
 
-// DESIGN.md §3's import settings: the same wall written Z-up in half-metre units is, with
+// docs/design.md §3's import settings: the same wall written Z-up in half-metre units is, with
 // "scene_up": "+z" and "scene_scale": 0.5, the same world, so shaft gives the same mask (a scale
 // of a power of two keeps every coordinate exact, so not even a tie can differ).
 TEST_F(Cli, AZUpLevelInOtherUnitsGivesTheSameMaskAsItsYUpMetreCopy)

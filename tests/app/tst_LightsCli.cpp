@@ -321,7 +321,7 @@ TEST_F(LightsCli, IndirectAddsOneBounceOfVplsAndReportsItsError)
     }
 }
 
-// --sets --json (DESIGN.md §4): V from the project's saved camera, looking down at the room's
+// --sets --json (docs/design.md §4): V from the project's saved camera, looking down at the room's
 // middle; a spot over a pillar that the camera sees; a crate out of view and out of the cone.
 TEST_F(LightsCli, SetsFollowTheContract)
 {

@@ -1,4 +1,4 @@
-// sightline-cli pvs (DESIGN.md §4): one-process, threaded, sharded, resumed and MPI
+// sightline-cli pvs (docs/design.md §4): one-process, threaded, sharded, resumed and MPI
 // bakes give byte-identical files; merge and bake refuse what does not fit, in one line.
 
 #include <cstdlib>

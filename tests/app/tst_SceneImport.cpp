@@ -1,4 +1,4 @@
-// The project's import settings (project/SceneImport.h, DESIGN.md §3): every "scene_up" is a
+// The project's import settings (project/SceneImport.h, docs/design.md §3): every "scene_up" is a
 // proper rotation taking the file's up to +Y, the scale multiplies, bad values are refused naming
 // the key, the keys survive a save, a level is turned and scaled before the objects the project
 // moved are placed, and the up-axis guess finds the floor of a furnished room whichever way up.

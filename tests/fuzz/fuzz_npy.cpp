@@ -1,5 +1,5 @@
 // libFuzzer harness for the .npy readers: float arrays (height fields) and hidden-sample masks
-// (DESIGN.md §4). Bad input must end in sightline::Error; anything else is a finding.
+// (docs/design.md §4). Bad input must end in sightline::Error; anything else is a finding.
 
 #include "FuzzInput.h"
 #include "visibility/Error.h"

@@ -1,4 +1,4 @@
-// libFuzzer harness for the project file reader (DESIGN.md §3). Bad input must end in
+// libFuzzer harness for the project file reader (docs/design.md §3). Bad input must end in
 // sightline::Error; anything else is a finding.
 
 #include "FuzzInput.h"

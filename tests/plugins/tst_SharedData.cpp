@@ -121,7 +121,7 @@ TEST(SharedNegative, EveryNegativeFileIsRefusedWithOneLine)
 TEST(SharedNegative, AVertexBeyondTheCoordinateRangeIsRefused)
 {
     // As shipped upstream, POSITION[0].x is 2^31 although the accessor's max.x says 1: beyond
-    // DESIGN.md §2's 1e6 m, so refused (samplers would otherwise answer wrongly or assert).
+    // docs/design.md §2's 1e6 m, so refused (samplers would otherwise answer wrongly or assert).
     const auto file = testData() / "conformance/ZeroLengthBufferView/ZeroLengthBufferView.gltf";
     EXPECT_NE(test::expectOneLineError(file, [&] { loadScene(file); }).find("1000000 m"), std::string::npos);
 }

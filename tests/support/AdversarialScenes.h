@@ -1,5 +1,5 @@
 #pragma once
-// Randomised adversarial scenes for the exactness tests (DESIGN.md §2, "Exact"): each category is
+// Randomised adversarial scenes for the exactness tests (docs/design.md §2, "Exact"): each category is
 // an input kind that real levels contain and that broke a sampler once. Every case comes at
 // production sample counts (32x32 sources, receivers up to 128x128) and can be moved far from the
 // origin: the scene is built in local coordinates, moved by `offset` and only then rounded to

@@ -1,6 +1,6 @@
 #pragma once
 // An independent reference for tests: every segment against every triangle in double precision
-// (Möller-Trumbore), with DESIGN.md §2 semantics. Slow, obviously correct, and it also reports
+// (Möller-Trumbore), with docs/design.md §2 semantics. Slow, obviously correct, and it also reports
 // how close each ray came to an edge or end point, so that comparisons can set aside rays whose
 // answer depends on rounding ("grazing" within a stated tolerance).
 

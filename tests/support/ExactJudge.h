@@ -1,5 +1,5 @@
 #pragma once
-// The judge of DESIGN.md §2's contract lives in the library (visibility/ExactJudge.h), where the
+// The judge of docs/design.md §2's contract lives in the library (visibility/ExactJudge.h), where the
 // bench uses it too; the tests name it as they always have.
 
 #include "visibility/ExactJudge.h"

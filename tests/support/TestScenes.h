@@ -144,7 +144,7 @@ struct RandomCase {
     Scene scene;
     Patch source, receiver;
 
-    /// The generator can make a pair that DESIGN.md §2 refuses; such cases are skipped.
+    /// The generator can make a pair that docs/design.md §2 refuses; such cases are skipped.
     bool valid() const
     {
         try {

@@ -475,7 +475,7 @@ TEST(PatchPresets, ResizeKeepsAWallPatchsBottomEdge)
     EXPECT_NEAR(glm::length(player.v), 1.8, 1e-12);
 }
 
-// Hide and lock are kept in the project (DESIGN.md §3: keys the CLI keeps), each
+// Hide and lock are kept in the project (docs/design.md §3: keys the CLI keeps), each
 // undoable; an occluder's flags live in its own entry and move with it; other shapes read as none.
 TEST(ObjectFlags, AreKeptInTheProjectAndFollowTheirObjects)
 {

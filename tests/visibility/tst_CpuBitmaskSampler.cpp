@@ -392,7 +392,7 @@ BitmaskStats expectSwapChangesOnlyTies(const Scene& scene, const CpuBitmaskSampl
 
 TEST(CpuBitmaskSampler, PatchesSwapRolesOnlyWhereTheAnswerCannotChange)
 {
-    // The same rays either way round (DESIGN.md §2's test does not tell a segment's ends apart):
+    // The same rays either way round (docs/design.md §2's test does not tell a segment's ends apart):
     // the swapped map, transposed back, agrees with the unswapped one but for ties, on a comb
     // and on random triangles. Jitter (a per-receiver shift of the source grid), heights (a
     // bumpy receiver), table mode and a forced ray cast (the reference's answer, bit for bit)

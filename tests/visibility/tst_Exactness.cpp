@@ -1,4 +1,4 @@
-// DESIGN.md §2's "Exact" contract on adversarial input: every exact CPU-side method (the Embree
+// docs/design.md §2's "Exact" contract on adversarial input: every exact CPU-side method (the Embree
 // reference, the CPU bitmask sampler with every strategy and both kernels, decorrelated samples,
 // bumpy receivers, small sources with the patches' roles swapped) against an exact double brute
 // force (ExactJudge.h), at production sample counts, at the origin and 1, 10 and 100 km from it.

@@ -1,4 +1,4 @@
-// DESIGN.md §2's "Exact" contract for the GL sampler on the adversarial suite (ExactnessSuite.h):
+// docs/design.md §2's "Exact" contract for the GL sampler on the adversarial suite (ExactnessSuite.h):
 // zero non-tie disagreements with the exact brute force, at production sample counts, at the
 // origin and 1, 10 and 100 km from it, with and without decorrelated samples. Runs on llvmpipe
 // through OSMesa; skipped where no OpenGL 4.5 core context can be made.

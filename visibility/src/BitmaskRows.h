@@ -7,7 +7,7 @@
 // row, the interval of columns inside, and the interval becomes a run of bits ((2 << last) - (1 <<
 // first) in 32-bit lanes, so source grids up to 32 columns wide).
 //
-// Exact by DESIGN.md §2's contract, as a filtered predicate: per lane the kernel bounds how far
+// Exact by docs/design.md §2's contract, as a filtered predicate: per lane the kernel bounds how far
 // its float answer can stray from the double one (a forward error analysis of its own arithmetic
 // and of its inputs' rounding to float, carried through the projection: per vertex
 // u (k (|r| + |x|) + (2k + 1) |p - r|), plus the crossings' and comparisons' rounding), widens

@@ -271,7 +271,7 @@ std::string fragmentSource(int targets, MaskMode mode)
 }
 
 /// The Hough table's masks as 32-bit words, `targets` RGBA32UI texels per entry: source bit b in
-/// word b / 32, bit b % 32, the render targets' layout (DESIGN.md §2: bit index b*na + a).
+/// word b / 32, bit b % 32, the render targets' layout (docs/design.md §2: bit index b*na + a).
 std::vector<std::uint32_t> packTable(const HoughMaskTable& table, int targets)
 {
     const std::size_t wordsPerEntry = std::size_t(targets) * 4;

@@ -215,7 +215,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
         throw Error("RayCastScene::sampleUnblocked: map dimensions do not match the patches");
     // A bumpy receiver (§8): each ray starts at its displaced sample. All-zero heights are the
     // flat patch and take the flat path unchanged. Checked even when nothing can block.
-    const raycast::SampleEnds sampleEnds(source, receiver, options.heights);   // positions in double (DESIGN.md §2)
+    const raycast::SampleEnds sampleEnds(source, receiver, options.heights);   // positions in double (docs/design.md §2)
     if (embree_->triangles == 0)
         return 0;
     const bool bumpy = sampleEnds.bumpy;

@@ -31,7 +31,7 @@ struct AreaLight {
     /// left out. Throws sightline::Error for non-finite or negative colours, or more than
     /// kMaxLightGroups distinct colours (a photo as a light texture: quantise it first).
     static AreaLight fromSampleColours(const std::vector<glm::vec3>& colours);
-    /// Each source sample takes the texel under it (nearest; DESIGN.md §2 sample positions,
+    /// Each source sample takes the texel under it (nearest; docs/design.md §2 sample positions,
     /// texture v up), quantised to `levels` steps per channel so that a photo makes few groups.
     static AreaLight fromTexture(const RgbImage& texture, const Patch& source, int levels = 8);
 

@@ -3,7 +3,7 @@
 // `sightline-cli lights`).
 //
 // E(x, n) = sum over the lights' emitters s of colour * term(s, x, n) * [segment x s unblocked],
-// the terms of LightEmission.h, visibility by DESIGN.md §2's segment test (ties either way).
+// the terms of LightEmission.h, visibility by docs/design.md §2's segment test (ties either way).
 // Two paths answer the same sum, term by term in the same order (light by light, an area light's
 // samples in bit order), so they differ only where a segment is a tie:
 //
@@ -45,7 +45,7 @@ struct ShadingPoint {
 };
 
 /// Throws sightline::Error naming the point for a non-finite position or normal, a position beyond
-/// DESIGN.md §2's range, or a zero normal; normalises the normals.
+/// docs/design.md §2's range, or a zero normal; normalises the normals.
 void validateShadingPoints(std::span<ShadingPoint> points, const std::string& what);
 
 namespace lights {
@@ -56,7 +56,7 @@ class TriangleBoxTree;
 /// the scene's bounds (where a directional light's segments end).
 class LightingScene {
 public:
-    /// Throws sightline::Error for coordinates beyond DESIGN.md §2's range, or if Embree fails.
+    /// Throws sightline::Error for coordinates beyond docs/design.md §2's range, or if Embree fails.
     explicit LightingScene(const Scene& scene);
     ~LightingScene();
 
@@ -111,7 +111,7 @@ struct DirectLightOptions {
     int threads = 0;                     ///< 0 = all cores
     /// The points are exactly this patch's samples in bit order, with its normal. Not owned.
     const Patch* receiverGrid = nullptr;
-    /// Fast path with a receiver grid: area lights that form a valid pair with it (DESIGN.md §2)
+    /// Fast path with a receiver grid: area lights that form a valid pair with it (docs/design.md §2)
     /// take the bitmask sampler. Off by default: on one call its set-up costs more than the rays
     /// it saves on the levels measured (docs/lights.md).
     bool bitmaskAreaLights = false;

@@ -61,7 +61,7 @@ inline constexpr std::size_t kMaxLightSamples = 1u << 20;
 /// Throws sightline::Error naming `key` ("lights[3].intensity") when the light cannot be used:
 /// non-finite numbers, negative colour, intensity or radiance, a zero direction, spot angles
 /// outside 0 <= inner < outer <= pi/2, a non-positive range, a degenerate area, a sample grid
-/// outside the limits, coordinates beyond DESIGN.md §2's range. Normalises `direction`.
+/// outside the limits, coordinates beyond docs/design.md §2's range. Normalises `direction`.
 void validateLight(Light& light, const std::string& key);
 
 /// Validates every light (keys "lights[i]...") and the limits on their count and samples.

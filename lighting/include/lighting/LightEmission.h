@@ -4,7 +4,7 @@
 // terms and differ only in how they decide visibility.
 //
 // A light is a set of emitters: one for a point, spot or directional light, an area light's
-// na x nb samples (placed as a patch's samples, DESIGN.md §2). At a point x with unit normal n,
+// na x nb samples (placed as a patch's samples, docs/design.md §2). At a point x with unit normal n,
 // emitter s at distance d along unit l = (s - x) / d gives
 //     point        I max(0, n.l) / d^2, times clamp(1 - (d/R)^4, 0, 1)^2 with a range R
 //     spot         the point's term times clamp((cos t - cos b) / (cos a - cos b), 0, 1)^2,

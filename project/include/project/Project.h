@@ -1,5 +1,5 @@
 #pragma once
-// The project document (DESIGN.md §3, a contract): the scene file, the two patches and the
+// The project document (docs/design.md §3, a contract): the scene file, the two patches and the
 // occluders the designer placed. Shared by the CLI and the editor.
 //
 // Unknown keys survive a load/save round trip at every level (the document, each patch, each

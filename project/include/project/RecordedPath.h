@@ -1,7 +1,7 @@
 #pragma once
 // A recorded path: the camera, and the edits to the patches and placed occluders, sampled at a
 // fixed rate while the designer worked in the editor. It is kept in the project
-// file under the key "recorded_path" (the CLI keeps unknown keys, DESIGN.md §3; this one it reads)
+// file under the key "recorded_path" (the CLI keeps unknown keys, docs/design.md §3; this one it reads)
 // and played back by the editor, and by `sightline --record`, which renders it to a video.
 //
 //   "recorded_path": {

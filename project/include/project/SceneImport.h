@@ -1,5 +1,5 @@
 #pragma once
-// The project's import settings (DESIGN.md §3): "scene_up", the direction that is up in the scene
+// The project's import settings (docs/design.md §3): "scene_up", the direction that is up in the scene
 // file ("+y" by default, or "-y", "+z", "-z", "+x", "-x"), and "scene_scale", metres per file unit
 // (1 by default; 0.0254 for Quake's inches). They turn and scale the scene file's objects (and the
 // lights it places) before anything else: patches, occluders, lights, cells and moved objects'

@@ -11,7 +11,7 @@
 // plane are handled, and the backprojection is the projective map, so patches need not be
 // parallel.
 //
-// Result: exact by DESIGN.md §2's contract, as the Embree reference (RayCastSampler.h) is: the
+// Result: exact by docs/design.md §2's contract, as the Embree reference (RayCastSampler.h) is: the
 // two may differ only on ties (rays within 1e-5 m of an edge or of their own end). The
 // single-precision kernel answers only what it can prove and sends the rest to double
 // (BitmaskRows.h); the RayCast strategy casts with the reference's exact method.

@@ -1,5 +1,5 @@
 #pragma once
-// The judge of DESIGN.md §2's "Exact" contract: an exact double-precision brute force that says,
+// The judge of docs/design.md §2's "Exact" contract: an exact double-precision brute force that says,
 // for any ray, whether it is blocked and whether it is a tie. The tests judge every method with
 // it, and `bench` sorts each method's disagreements with the reference into ties and errors.
 //

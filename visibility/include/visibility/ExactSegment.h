@@ -1,5 +1,5 @@
 #pragma once
-// DESIGN.md §2's blocking rule, made concrete once for every method.
+// docs/design.md §2's blocking rule, made concrete once for every method.
 //
 // A ray between a source and a receiver sample is blocked when its segment crosses a triangle
 // strictly between its ends. "Strictly" needs a number where arithmetic rounds: a crossing closer
@@ -23,7 +23,7 @@ namespace sightline {
 
 inline constexpr double kEndMarginMetres = 1e-8;
 
-/// DESIGN.md §2's largest accepted coordinate magnitude (after transforms), in metres.
+/// docs/design.md §2's largest accepted coordinate magnitude (after transforms), in metres.
 inline constexpr double kMaxCoordinateMetres = 1e6;
 
 /// The contract's test for segments that start at one point p, split in what depends on p and

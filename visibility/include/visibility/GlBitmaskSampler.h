@@ -6,7 +6,7 @@
 // and logic-op OR (§5.1) accumulates the masks in up to 8 RGBA32UI render targets, 128 source
 // samples each, 1024 in all (§6.1, MRT).
 //
-// Exact by DESIGN.md §2's contract. The shader has no double, so:
+// Exact by docs/design.md §2's contract. The shader has no double, so:
 // - the CPU prepares the occluders as the CPU sampler does (bitmask/Occluders.h), in double:
 //   shaft and watertight culling, clipping to the slab, the move to the source frame, and each
 //   occluder's influence region, which a vertex shader then draws as a quad (the paper does this
@@ -65,7 +65,7 @@ public:
     GlBitmaskSampler(const gl::Functions& gl, const Scene& scene);
     /// Compiles the shaders; the context must stay current while the sampler is used. Throws
     /// sightline::Error (shader compile log on one line) on failure, or for coordinates beyond
-    /// DESIGN.md §2's range.
+    /// docs/design.md §2's range.
     GlBitmaskSampler(const gl::Functions& gl, const WorldTriangles& triangles);
     ~GlBitmaskSampler();
     GlBitmaskSampler(const GlBitmaskSampler&) = delete;

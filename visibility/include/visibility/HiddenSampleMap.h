@@ -1,9 +1,9 @@
 #pragma once
-// The hidden-samples map (DESIGN.md §2): for each receiver sample j, the set B_j of source samples
+// The hidden-samples map (docs/design.md §2): for each receiver sample j, the set B_j of source samples
 // whose ray to j is blocked, as a bitset indexed by source bit index i = b * na + a.
 //
 // Storage is one row of 64-bit words per receiver sample, least significant bit first, so a row's
-// bytes in little-endian order are exactly the .npy mask layout of DESIGN.md §4 (bit i % 8 of byte
+// bytes in little-endian order are exactly the .npy mask layout of docs/design.md §4 (bit i % 8 of byte
 // i / 8). Bits past the source count in a row's last word stay zero (an invariant the counting
 // functions rely on).
 

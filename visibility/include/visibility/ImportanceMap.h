@@ -6,7 +6,7 @@
 //     1 - |B_j| / S (the soft-shadow light fraction of §8 for a white light);
 //   - over the source: for source sample i, the fraction of receiver samples that see it (the
 //     inverted view of §6: "which part of the receiver a source point sees").
-// Values are in [0, 1], one float per sample, sample (a, b) at index b * na + a (DESIGN.md §2),
+// Values are in [0, 1], one float per sample, sample (a, b) at index b * na + a (docs/design.md §2),
 // which is also the row-major (nb, na) layout of the .npy export.
 //
 // Accumulation over time (§9, "allows to investigate the impact of moving objects"): while

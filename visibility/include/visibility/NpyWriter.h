@@ -1,5 +1,5 @@
 #pragma once
-// NumPy .npy files. The hidden-samples map (format 1.0), the mask contract of DESIGN.md §4:
+// NumPy .npy files. The hidden-samples map (format 1.0), the mask contract of docs/design.md §4:
 // dtype '|u1', shape (nb_r, na_r, ceil(S / 8)); receiver sample (a, b) at [b][a]; source bit i is
 // bit i % 8 (least significant first) of byte i / 8; a set bit means blocked.
 

@@ -1,5 +1,5 @@
 #pragma once
-// Rectangular sample patches and the rules for a valid source/receiver pair (DESIGN.md §2).
+// Rectangular sample patches and the rules for a valid source/receiver pair (docs/design.md §2).
 //
 // A patch is a parallelogram with corner c and edge vectors u, v in world space (metres); its normal
 // is normalize(u x v). Regular sample (a, b) of its na x nb grid lies at
@@ -46,7 +46,7 @@ inline constexpr int kMaxReceiverSide = 1024;
 void validatePatch(const Patch& patch, const std::string& role);
 
 /// Throws sightline::Error unless both patches are valid and each lies entirely, strictly, on one
-/// side of the other's plane (DESIGN.md §2). Touching or crossing the other's plane is refused.
+/// side of the other's plane (docs/design.md §2). Touching or crossing the other's plane is refused.
 void validatePatchPair(const Patch& source, const Patch& receiver);
 
 } // namespace sightline

@@ -1,6 +1,6 @@
 #pragma once
 // The reference sampler: every receiver-sample -> source-sample segment against the scene, exact
-// by DESIGN.md §2's contract wherever the scene sits.
+// by docs/design.md §2's contract wherever the scene sits.
 //
 // This is the oracle every faster method is compared with, so its answer is the contract's own
 // test: segmentCrossesTriangle (ExactSegment.h), in double precision on the files' float values
@@ -55,7 +55,7 @@ struct RayCastOptions {
 class RayCastScene {
 public:
     /// Builds the BVH over every world triangle of `scene`. Throws sightline::Error if Embree
-    /// fails or a coordinate lies beyond DESIGN.md §2's range (validateCoordinates).
+    /// fails or a coordinate lies beyond docs/design.md §2's range (validateCoordinates).
     explicit RayCastScene(const Scene& scene);
     /// `fastBuild` trades traversal speed for build time (a per-call BVH of a few thousand
     /// triangles).
@@ -81,7 +81,7 @@ public:
     /// (segmentCrossesTriangle, ExactSegment.h) finds a triangle that start -> ends[k] crosses
     /// strictly between its ends, else 0. Packets of 16 lanes sharing their start (a shaded point
     /// and its light samples, or a light and the points it shines on). Thread-safe. Coordinates
-    /// must be finite and within DESIGN.md §2's range (callers validate them).
+    /// must be finite and within docs/design.md §2's range (callers validate them).
     void segmentsBlocked(const glm::dvec3& start, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const;
     /// The same for segments starts[k] -> ends[k] (the spans must have one size).
     void segmentsBlocked(std::span<const glm::dvec3> starts, std::span<const glm::dvec3> ends,

@@ -3,7 +3,7 @@
 // bumpy one ... offset the fragment's world position, for example looking up a height map").
 //
 // Each receiver sample moves along the receiver's normal by its own height, so the receiver is a
-// height field as seen from the source side, as the paper requires. Blocking keeps DESIGN.md §2's
+// height field as seen from the source side, as the paper requires. Blocking keeps docs/design.md §2's
 // meaning with the displaced position as the segment's receiver end: the ray S_i -> R_j is blocked
 // when the segment from S_i to the displaced R_j crosses a triangle strictly between its ends.
 // Every sampler that takes heights (RayCastOptions, BitmaskOptions) answers that same question.

@@ -2,7 +2,7 @@
 // The scene model: just what visibility needs.
 //
 // A Scene holds meshes once and places them through instances (mesh index + world transform), so a
-// plant placed 200 times is stored once. Units are metres, right-handed, Y up (DESIGN.md §2).
+// plant placed 200 times is stored once. Units are metres, right-handed, Y up (docs/design.md §2).
 // Samplers do not walk this structure: they take the flat world-space view from worldTriangles().
 
 #include <cstddef>
@@ -106,7 +106,7 @@ bool closedAndOutward(const Mesh& mesh);
 /// Throws sightline::Error naming the first problem: an index out of range, an index count that is
 /// not a multiple of 3, a non-finite position, a normal count that differs from the position count,
 /// an instance naming a missing mesh, a non-finite transform, or (scenes) a placed vertex farther
-/// than kMaxCoordinateMetres (ExactSegment.h, DESIGN.md §2) from the origin on some axis. `what`
+/// than kMaxCoordinateMetres (ExactSegment.h, docs/design.md §2) from the origin on some axis. `what`
 /// prefixes the message (usually the file name).
 void validate(const Mesh& mesh, const std::string& what);
 void validate(const Scene& scene, const std::string& what);

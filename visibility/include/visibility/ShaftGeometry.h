@@ -52,7 +52,7 @@ struct ClippedPolygon {
 /// sharing an edge get bit-identical cut points.
 void clipPolygon(ClippedPolygon& polygon, const glm::dvec3& normal, double offset);
 
-/// The shaft between a valid patch pair: both frames, and the end margin of DESIGN.md §2
+/// The shaft between a valid patch pair: both frames, and the end margin of docs/design.md §2
 /// (kEndMarginMetres, ExactSegment.h) as the distance the slab keeps from each patch's plane.
 struct ShaftFrames {
     PatchFrame source;     ///< d > 0 towards the receiver

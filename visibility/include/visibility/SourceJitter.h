@@ -31,7 +31,7 @@ constexpr std::uint32_t mixBits(std::uint32_t x)
 }
 
 struct SourceJitter {
-    std::uint32_t seed = 0;   ///< 0: off (the regular grid of DESIGN.md §2)
+    std::uint32_t seed = 0;   ///< 0: off (the regular grid of docs/design.md §2)
 
     bool enabled() const { return seed != 0; }
 

@@ -1,7 +1,7 @@
 #pragma once
 // Internal to the proven ray caster (ProvenRayCaster.h): when a hit that Embree's float triangle
 // test reports proves, from the reported numbers alone, that the exact segment crosses the exact
-// triangle as DESIGN.md §2's test (ExactSegment.h) decides it.
+// triangle as docs/design.md §2's test (ExactSegment.h) decides it.
 //
 // Embree (3.13, Triangle4 leaves, kernels/geometry/triangle_intersector_moeller.h) stores v0,
 // e1 = fl(v0 - v1), e2 = fl(v2 - v0) and computes, for a float ray O + t D,

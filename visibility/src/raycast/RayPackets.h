@@ -11,7 +11,7 @@
 
 namespace sightline::raycast {
 
-/// The segments' ends in double (DESIGN.md §2): every source sample, and each receiver sample
+/// The segments' ends in double (docs/design.md §2): every source sample, and each receiver sample
 /// moved along the receiver's normal by its height on a bumpy receiver (§8; all-zero heights are
 /// the flat patch). Throws sightline::Error for heights that do not fit the receiver.
 struct SampleEnds {

@@ -30,7 +30,7 @@ struct AoBinnedOptions {
     int threads = 0;            ///< 0: all cores
     double cellsPerTriangle = 0.5;   ///< grid cells ~ this times the triangle count (0.25-1 measured alike)
     /// Only occluders nearer than this along a ray count (metres; infinite: the uniform sky of
-    /// DESIGN.md §4). An editor preview of an interior uses a few metres, as AO in engines does:
+    /// docs/design.md §4). An editor preview of an interior uses a few metres, as AO in engines does:
     /// under a uniform sky a closed room is dark everywhere.
     double maxDistance = std::numeric_limits<double>::infinity();
 

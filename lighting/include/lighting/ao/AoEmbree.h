@@ -1,7 +1,7 @@
 #pragma once
 // Embree for ambient occlusion: the single-ray baseline filler (rtcOccluded1 per point and facing
 // direction, the "calling Embree per ray" the exact CPU mode must beat, in the same run), and the
-// Monte-Carlo reference: many cosine-weighted rays per point (DESIGN.md §5), against which every
+// Monte-Carlo reference: many cosine-weighted rays per point (docs/design.md §5), against which every
 // direction set and weighting is measured.
 
 #include <cstdint>

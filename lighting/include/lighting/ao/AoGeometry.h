@@ -55,7 +55,7 @@ struct AoPoints {
 };
 
 /// Every vertex of every instance, in instance order then the mesh's own vertex order (the
-/// `ao --npy` order, DESIGN.md §4). The normal is the mesh's own where it has one that is finite
+/// `ao --npy` order, docs/design.md §4). The normal is the mesh's own where it has one that is finite
 /// and non-zero, otherwise the area-weighted mean of the faces around the vertex, transformed to
 /// world space with the inverse transpose.
 AoPoints aoVertexPoints(const Scene& scene);

@@ -1,7 +1,7 @@
 #pragma once
 // The OpenGL 4.5 core entry points Sightline uses, resolved from whatever context is current.
 //
-// One GL code path serves the editor's Qt context, OSMesa and EGL (DESIGN.md §1): the caller hands
+// One GL code path serves the editor's Qt context, OSMesa and EGL (docs/design.md §1): the caller hands
 // in its context's getProcAddress (QOpenGLContext::getProcAddress, OSMesaGetProcAddress,
 // eglGetProcAddress) and the samplers call through this table. A small table rather than a loader
 // library because none in Debian takes a caller's resolver: libepoxy and glbinding 2 look symbols

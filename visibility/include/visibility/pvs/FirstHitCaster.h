@@ -4,7 +4,7 @@
 // from a point of the cell to the first triangle it meets, which is the object's), the dense
 // reference counts with it, and the pixel error is measured by "rendering" panoramas with it.
 //
-// This is float32 ray casting, not DESIGN.md §2's exact test: a witness may be wrong on a tie
+// This is float32 ray casting, not docs/design.md §2's exact test: a witness may be wrong on a tie
 // (a ray grazing an edge within about 1e-5 m). The bake's answer is a sampling of a
 // from-region question, whose sampling error is orders of magnitude larger; docs/pvs.md says so.
 
@@ -26,7 +26,7 @@ struct RayHit {
 
 class FirstHitCaster {
 public:
-    /// Throws sightline::Error if Embree fails or a coordinate is out of DESIGN.md §2's range.
+    /// Throws sightline::Error if Embree fails or a coordinate is out of docs/design.md §2's range.
     explicit FirstHitCaster(const Scene& scene);
     ~FirstHitCaster();
     FirstHitCaster(const FirstHitCaster&) = delete;

@@ -3,7 +3,7 @@
 // may see.
 //
 // An object is visible from a cell when some segment from a point of the cell's box to a point of
-// the object's triangles meets no other triangle (DESIGN.md §4). Per cell, the objects are visited
+// the object's triangles meets no other triangle (docs/design.md §4). Per cell, the objects are visited
 // through a tree of their bounds (a BVH, deterministic median splits), and for each group box or
 // object the bake asks ShaftSearch.h, which answers with one of:
 //

@@ -14,7 +14,7 @@
 namespace sightline::pvs {
 
 /// What the level's instances are to a PVS: an object is one instance or, grouped by name, every
-/// instance of one name. `instance` is the first (lowest) instance index, the number DESIGN.md §4's
+/// instance of one name. `instance` is the first (lowest) instance index, the number docs/design.md §4's
 /// .pvs.json writes; `instances` lists all of them, sorted.
 struct PvsObject {
     std::string name;

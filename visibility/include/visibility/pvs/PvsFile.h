@@ -3,7 +3,7 @@
 //
 //  - .pvs: Sightline's versioned binary: header, cell table (bounds), object table (instance ids,
 //    names, bounds), row offsets, rows raw or zero-run-length encoded.
-//  - .pvs.json: DESIGN.md §4's form, for diffs and outside checks.
+//  - .pvs.json: docs/design.md §4's form, for diffs and outside checks.
 //  - Quake-family rows: the classic zero-run-length encoding (a zero byte is followed by a count
 //    of zero bytes, 1-255; other bytes are copied) in a Quake 1 layout (per-leaf offsets) and a
 //    Quake 2 / Source `dvis_t` layout (numclusters, bitofs[n][2], rows).
@@ -41,7 +41,7 @@ std::string encodePvs(const PvsData& data, RowEncoding encoding = RowEncoding::Z
 /// them (at most 255 row bytes per byte of encoded rows, and kMaxRowTableBytes).
 PvsData decodePvs(std::string_view bytes, const std::string& what);
 
-/// DESIGN.md §4's JSON text (sorted keys as listed, one cell or object per line: diffable).
+/// docs/design.md §4's JSON text (sorted keys as listed, one cell or object per line: diffable).
 std::string pvsJson(const PvsData& data);
 /// Parses that text back (the editor opens a .pvs.json). Throws sightline::Error naming the key
 /// for anything pvsJson would not write: another version, a missing or mistyped key, cells that

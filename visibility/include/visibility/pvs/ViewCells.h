@@ -30,7 +30,7 @@ struct GridCellSettings {
 std::vector<Bounds> gridCells(const Scene& scene, const FirstHitCaster& caster, const GridCellSettings& settings);
 
 /// Throws sightline::Error naming the first bad cell: an empty (zero-volume) or inverted box, a
-/// non-finite coordinate, one beyond DESIGN.md §2's 1e6 m; and an empty list. `what` prefixes
+/// non-finite coordinate, one beyond docs/design.md §2's 1e6 m; and an empty list. `what` prefixes
 /// the message ("level.json: pvs.cells[3]").
 void validateCells(const std::vector<Bounds>& cells, const std::string& what);
 
