@@ -242,7 +242,7 @@ int runShaft(const ShaftArgs& args)
             strategy += " (patches' roles swapped: backprojected onto the receiver's finer grid)";
         if (stats.probed)
             strategy += " (chosen by timing both on a few tiles)";
-        if (stats.reusedProbe)
+        if (stats.reusedTimedChoice)
             strategy += " (chosen by timing both on an earlier call)";
         else if (stats.reusedChoice)
             strategy += " (chosen from the estimate on an earlier call)";
@@ -256,7 +256,7 @@ int runShaft(const ShaftArgs& args)
                  {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
                  {"proxies_built", stats.proxiesBuilt}, {"swapped_roles", stats.swappedRoles}, {"receiver_tiles", stats.receiverTiles},
                  {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles}, {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs}, {"probed", stats.probed}, {"probe_ray_ms", stats.probeRayMs}, {"probe_bitmask_ms", stats.probeBitmaskMs},
-                 {"reused_probe", stats.reusedProbe}, {"reused_choice", stats.reusedChoice}};
+                 {"reused_timed_choice", stats.reusedTimedChoice}, {"reused_choice", stats.reusedChoice}};
     }
 
     const std::uint64_t rays = std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount());

@@ -306,11 +306,11 @@ int stallBenchmark(const Arguments& args, int width, int height)
 } // namespace
 
 /// The editor allocates and frees the same large blocks every update (the sampler's per-call
-/// buffers, llvmpipe's per-frame bins). glibc returned the freed top of each heap to the system
-/// at once (128 KiB trim threshold) and the next update faulted it back in: 2,500 page faults an
-/// update, 40% of the editor's processor time while dragging on llvmpipe (65 instead of 104 ms an
-/// update, `--benchmark-interaction --rays 4096`). Keeping up to 256 MiB of freed memory per heap,
-/// and serving blocks up to 32 MiB (glibc's own upper bound) from the heaps, stops that.
+/// buffers, llvmpipe's per-frame bins). By default glibc returns the freed top of each heap to the
+/// system at once (128 KiB trim threshold) and the next update faults it back in: thousands of
+/// page faults an update, over a third of the editor's processor time while dragging on llvmpipe
+/// (`--benchmark-interaction --rays 4096` shows it). Keeping up to 256 MiB of freed memory per
+/// heap, and serving blocks up to 32 MiB (glibc's own upper bound) from the heaps, stops that.
 void keepFreedMemory()
 {
 #if defined(__GLIBC__)

@@ -77,7 +77,7 @@ public:
     /// their core.
     void start(std::uint64_t generation, AoPreviewRequest request);
     /// Cancels the running computation without waiting: a worker in its set-up (texel layout,
-    /// binning; a few hundred milliseconds on a big level) notices between steps and ends on its
+    /// binning; many frames' worth on a big level) notices between steps and ends on its
     /// own, so the GUI thread never blocks on it while a drag restarts the AO every frame. An
     /// answer already on its way may still arrive; callers drop it by its generation.
     void cancel();
@@ -106,7 +106,8 @@ private:
 
 /// The light-map texel density the preview uses for the triangles with these `corners` (three a
 /// triangle): 4 texels a metre for a level (16 for chosen objects, `maxDensity`), lowered so the
-/// atlas stays under about 400,000 texels (a k = 258 answer in a few seconds on 2 cores).
+/// atlas stays under about 400,000 texels (so that a k = 258 answer stays short enough for a
+/// preview).
 double previewTexelDensity(const std::vector<glm::vec3>& corners, double maxDensity = 4.0);
 
 } // namespace sightline::ui

@@ -1,6 +1,6 @@
 #pragma once
-// Live sampling off the GUI thread (opening a 512x512 floor froze the window for
-// seconds an update). One worker thread owns a CPU bitmask sampler; the viewport posts the pair
+// Live sampling off the GUI thread (on it, sampling a 512x512 floor would freeze the window on
+// every update). One worker thread owns a CPU bitmask sampler; the viewport posts the pair
 // it wants sampled and keeps drawing. The latest request wins: a request that arrives while one
 // is being sampled replaces any request still waiting, so a drag never queues stale work, and
 // every answer carries the generation it was asked for, so the caller can tell a stale one.

@@ -115,8 +115,9 @@ std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double sid
 {
     const Bounds bounds = level.bounds();
     auto [source, receiver] = defaultPatches(bounds, side);
-    // Every test below is a brute-force pick over all triangles (about 1 ms per 80k): past a few
-    // million triangles the search would stall the opening, and the plain defaults stand.
+    // Every test below is a brute-force pick over all triangles (its time grows with their
+    // count): past a few million triangles the search would stall the opening, and the plain
+    // defaults stand.
     if (bounds.empty() || level.triangleCount() > 2'000'000)
         return {source, receiver};
     const WorldTriangles triangles = worldTriangles(level);

@@ -46,7 +46,7 @@ struct InteractionFigures {
     double framesPerAnswer = 0.0;
     int answers = 0;
     /// Processor time of the whole process (GUI thread, sampler, software rasteriser) per answer
-    /// shown, and per second: on 2 cores an update cannot come faster than every cpuMsPerAnswer / 2.
+    /// shown, and per second: on n cores an update cannot come faster than every cpuMsPerAnswer / n.
     double cpuMsPerAnswer = 0.0;
     double cpuLoad = 0.0;
     double meanVisibleFraction = 0.0;

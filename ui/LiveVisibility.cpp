@@ -68,8 +68,9 @@ std::string LiveVisibility::chooseBackend(const Patch& source, const Patch& rece
     if (!gl_)
         return "using " + backendName();
     // A software rasterizer (llvmpipe, softpipe, swrast) is the CPU running the GL sampler's
-    // fragments, far slower than the CPU sampler; timing it on the GUI thread froze the window
-    // for minutes on a 512x512 receiver. Neither is timed: the CPU sampler answers, off the GUI thread.
+    // fragments, far slower than the CPU sampler; timing it on the GUI thread would freeze the
+    // window far too long on a 512x512 receiver. Neither is timed: the CPU sampler answers, off
+    // the GUI thread.
     if (const std::string software = softwareRenderer(); !software.empty())
         return "GL is a software rasterizer (" + software + "): using " + backendName();
     const VisibilityResult cpu = sampleWith(Backend::Cpu, source, receiver);

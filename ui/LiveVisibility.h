@@ -6,8 +6,8 @@
 // (CpuBitmaskSampler) and the GL sampler (GlBitmaskSampler) in the viewport's own context.
 // chooseBackend() times both on the current patches and keeps the faster, except that a software
 // rasterizer (llvmpipe) is not timed at all: there the CPU sampler wins by about 35x (README
-// "Measured") and the GL trial alone can take minutes. On a real GPU the GL one should win. No Qt here, so
-// the headless screenshot path uses it too.
+// "Measured") and the GL trial alone would freeze the editor far too long. On a real GPU the GL
+// one should win. No Qt here, so the headless screenshot path uses it too.
 
 #include <chrono>
 #include <memory>

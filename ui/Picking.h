@@ -1,7 +1,7 @@
 #pragma once
 // What is under the cursor: scene triangles (to place patches on surfaces and select objects) and
-// the patches themselves. Brute force over the world triangles: about 1 ms for the 80k-triangle
-// demo on one core, far below a click's budget, and it needs no BVH kept in step with edits.
+// the patches themselves. Brute force over the world triangles: on one core a small fraction of
+// a click's budget for the demo, and it needs no BVH kept in step with edits.
 
 #include <cstdint>
 #include <functional>

@@ -1,12 +1,12 @@
 #pragma once
-// How the viewport draws many rays so that they stay readable and cheap (1M rays drawn
-// were an opaque slab at 1-2 s a frame; the interaction targets are 30 Hz at 16,384 rays and 20 Hz
-// at 65,536 on llvmpipe).
+// How the viewport draws many rays so that they stay readable and cheap (a million rays drawn
+// plainly make an opaque slab and a frame far too slow to interact with; the interaction targets
+// are 30 Hz at 16,384 rays and 20 Hz at 65,536 on llvmpipe).
 //
-// Measured on llvmpipe (1280x720, the demo's 16,384 rays, 29% of them free): drawing the rays
-// costs about 50 ms of processor time a frame, and that time is the lines' pixels: drawn at 10% of
-// their length it falls to 8 ms, with every ray clipped to 1.4 ms (the vertex work), and without
-// blending to 38 ms. So the lever is fewer pixels a ray, where that loses nothing to the eye:
+// On llvmpipe (1280x720, the demo's 16,384 rays, 29% of them free) the rays' drawing time is the
+// lines' pixels: drawn at 10% of their length it falls to about a sixth, with every ray clipped
+// (the vertex work alone) to a thirtieth or so, and without blending only to about three
+// quarters. So the lever is fewer pixels a ray, where that loses nothing to the eye:
 //   - Density. Each ray's opacity a comes from how many drawn rays are expected to cross a pixel
 //     of the bundle on screen (their count times the bundle's projected length over its projected
 //     area): an open shaft then reaches the style's coverage at any ray count and any zoom, and
@@ -53,8 +53,8 @@ double expectedOverlap(const BundleOnScreen& bundle, std::uint64_t rays);
 
 /// The layer's resolution, as a divisor of the view's (1, 2, 4 or 8): full where rays are sparse
 /// enough to be told apart (at most 2 a pixel), a half up to 8, a quarter up to 256, else an
-/// eighth (65,536 rays on the demo's default view: 37 -> 22-32 ms of llvmpipe a frame, and the
-/// haze looks the same).
+/// eighth (65,536 rays on the demo's default view: up to two fifths off an llvmpipe frame, and
+/// the haze looks the same).
 int rayLayerDivisor(double overlap);
 
 /// One ray's opacity so that `overlap` rays at full resolution reach `coverage` (in (0, 1]) where

@@ -23,12 +23,13 @@ void* resolveInQtContext(const char* name)
 
 constexpr std::size_t kRateWindow = 15;   // frames the update rate is the median over
 // At most one frame a display refresh (60 Hz). Frames drawn faster show nothing more, and on a
-// software rasteriser they take the processor from the sampler: a drag at 4,096 rays drew 4.2
-// frames per answer shown, each a stale answer at a new place.
+// software rasteriser they take the processor from the sampler: uncapped, a drag at 4,096 rays
+// draws several frames per answer shown, each a stale answer at a new place.
 constexpr qint64 kMinFrameNs = 16'000'000;
 // While an answer is being sampled and none has arrived, frames can only show the last answer's
 // rays at the patches' new places: at most 30 of those a second, so the sampler keeps the
-// processor (at 16,384 rays a drag drew 2 frames per answer, each about 10 ms of llvmpipe).
+// processor (without this limit a drag at 16,384 rays draws two frames per answer, each taking
+// processor time the sampler needs on a software rasteriser).
 constexpr qint64 kMinStaleFrameNs = 33'000'000;
 
 bool pairIsValid(const Patch& source, const Patch& receiver)
@@ -102,7 +103,7 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             else
                 levelStale_ = true;
             // Which sampler is faster depends on the level: timed on an empty document, GL wins
-            // (0.6 against 3.4 ms) and would then cost 700 ms an update on the demo (llvmpipe).
+            // and would then cost many times the CPU sampler's update on the demo (llvmpipe).
             backendChosen_ = false;
         }
         if (changes & (OccludersChanged | DocumentReset))
@@ -211,10 +212,10 @@ void Viewport::resizeGL(int w, int h) { controller_.setViewportSize(w, h); }
 
 void Viewport::prepareLevel()
 {
-    // A new document's level, built on a worker: on the demo's first open the GUI thread spent
-    // 45 ms on it, most of it touching new memory, which stalled the event loop with the upload
-    // and the first draw (docs/benchmarks.md). The scene is copied: the document may change
-    // while the worker reads.
+    // A new document's level, built on a worker: on the demo's first open building it on the GUI
+    // thread, mostly touching new memory, would stall the event loop on top of the upload and
+    // the first draw (docs/benchmarks.md). The scene is copied: the document may change while the
+    // worker reads.
     auto scene = std::make_shared<const Scene>(document_.sceneFile());
     levelPrepared_ = std::async(std::launch::async, [this, scene] {
         LevelMesh mesh = prepareLevelMesh(*scene);

@@ -1,6 +1,7 @@
 #pragma once
-// The 3D view: a QOpenGLWindow (about 6 ms per empty 1280x720 frame on llvmpipe against 19 ms for
-// a QOpenGLWidget, docs/design.md §6), placed in the main window with QWidget::createWindowContainer.
+// The 3D view: a QOpenGLWindow (an empty frame costs about a third of a QOpenGLWidget's on a
+// software rasteriser, docs/design.md §6), placed in the main window with
+// QWidget::createWindowContainer.
 // It owns the GL side (ViewportRenderer, the GL back end of LiveVisibility) and forwards input to
 // the ViewportController. When the patches or the scene changed since the last frame, a frame asks
 // for a new map: the CPU sampler answers on a worker thread (BackgroundSampler; the latest request

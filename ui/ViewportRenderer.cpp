@@ -452,8 +452,8 @@ struct ViewportRenderer::Impl {
     bool overlaySmooth = false;
 
     // The scene file's image and depth, kept while the view and the scene file stay the same:
-    // during a drag of a patch or an occluder only what moved is drawn again (on llvmpipe the
-    // 83k-triangle demo costs about 30 ms a frame, the blit about 2).
+    // during a drag of a patch or an occluder only what moved is drawn again (on a software
+    // rasteriser drawing the demo's level costs about fifteen times the blit).
     struct BackgroundKey {
         glm::mat4 viewProj{0.0f};
         int width = 0, height = 0;
@@ -468,21 +468,22 @@ struct ViewportRenderer::Impl {
     };
     RenderTarget cache;
     std::optional<BackgroundKey> cacheKey;
-    // A level's first draw costs llvmpipe about three times its later ones (the demo's 250k
-    // vertices: 107-117 ms against 37-41 ms, quiet; its memory touched for the first time, not
-    // its shaders: a warm-up draw of a small mesh changed nothing). So a newly uploaded level is
-    // drawn into the cache over several frames, kFirstDrawChunk vertices each, which keeps the
-    // event loop's longest stall on opening a level under 100 ms; later draws are whole.
+    // A level's first draw costs llvmpipe about three times its later ones (its memory touched
+    // for the first time, not its shaders: a warm-up draw of a small mesh changed nothing). So a
+    // newly uploaded level is drawn into the cache over several frames, kFirstDrawChunk vertices
+    // each, which keeps the event loop's longest stall on opening a level under 100 ms
+    // (StallBenchmark.h); later draws are whole.
     static constexpr GLsizei kFirstDrawChunk = 3 * 24'000;
-    // The upload itself (30 ms for the demo on a first open) gets a frame of its own.
+    // The upload itself (about a third of that budget on the demo's first open) gets a frame of
+    // its own.
     GLsizei cacheLevelDrawn = -1;   ///< vertices of the scene file in the cache under cacheKey; -1: not cleared
     bool levelFirstDraw = false;    ///< the scene file was uploaded in chunks and not yet drawn whole
     bool levelJustUploaded = false; ///< ... in this frame: it draws none of it
     bool cacheBroken = false;   ///< the blit failed once (depth formats differ): draw directly
     // The frame is composed here, and only its colour is copied to the caller's framebuffer: on
     // llvmpipe, blitting the cache's depth and stencil into a window's framebuffer takes the
-    // shader path (8 stencil passes), about 2/3 of a 1280x720 frame's fixed cost (17.7 of 25 ms
-    // measured under load), while blits between targets of the same formats are plain copies.
+    // shader path (8 stencil passes), about 2/3 of a 1280x720 frame's fixed cost, while blits
+    // between targets of the same formats are plain copies.
     RenderTarget compose;
     RayLayer rayLayer;
     std::uint64_t sceneVersion = 0;
@@ -816,8 +817,9 @@ void ViewportRenderer::render(const FrameState& f)
     Impl& d = *impl_;
     const gl::Functions& gl = d.gl;
     // The radius sets the depth range. It is rounded up to a power of two: the editor's includes
-    // the patches, and a receiver dragged past the level's bounds changed the projection, and so
-    // redrew the cached level (about 30 ms on llvmpipe), on every frame of the drag.
+    // the patches, and a receiver dragged past the level's bounds would otherwise change the
+    // projection, and so redraw the cached level (most of a frame on a software rasteriser), on
+    // every frame of the drag.
     const double radius = std::exp2(std::ceil(std::log2(std::max(f.sceneRadius, 1.0))));
     const glm::mat4 viewProj = f.camera.projection(double(f.width) / f.height, radius) * f.camera.view();
     const glm::vec3 eye(f.camera.eye());

@@ -164,8 +164,9 @@ bool hiddenByCut(const Cutaway& cut, const Camera& camera, const glm::dvec3& poi
 struct MeshVertex;
 
 /// The scene file's triangles as the renderer draws them (positions, normals, object ids).
-/// Built from the scene alone, so a worker thread can prepare it (the demo's 83k triangles take
-/// 45 ms on a first open, most of it touching new memory) and the GUI thread only uploads it.
+/// Built from the scene alone, so a worker thread can prepare it (on a first open building the
+/// demo's would stall the GUI thread, mostly touching new memory) and the GUI thread only
+/// uploads it.
 struct LevelMesh {
     std::vector<MeshVertex> vertices;
     LevelMesh();

@@ -1,13 +1,14 @@
 // sightline-ao-bench: the ambient-occlusion figures of docs/ao.md, measured in one run.
 //
 //   sightline-ao-bench [MESH] [--mc RAYS] [--threads N] [--repeat N] [--texel M] [--cells C] [--no-gl]
+//                      [--gl-backend osmesa|egl]
 //   (AO_BENCH_CASTERS_ONLY=1 in the environment: only the CPU-vs-Embree rows)
 //
 // Prints, for the mesh (default: the Stanford bunny of tests/data): the exact CPU (binned) mode against
 // Embree at k = 258 and 1026 (the faster of single rays and packets of 16 directions; same run,
 // ratio), progressive times to k = 6 and 66,
 // relight time at k = 258, RMSE against a Monte-Carlo reference per k (solid-angle weights and
-// the paper's plain counting), the GL mode on OSMesa, and the demo level's texel mode.
+// the paper's plain counting), the GL mode (OSMesa, or EGL on a GPU), and the demo level's texel mode.
 
 #include <algorithm>
 #include <bit>
@@ -75,6 +76,7 @@ int main(int argc, char** argv)
     double texel = 4.0;
     double cellsPerTriangle = AoBinnedOptions{}.cellsPerTriangle;
     bool gl = true;
+    gl::Backend glBackend = gl::Backend::OSMesa;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
         if (arg == "--mc" && a + 1 < argc)
@@ -89,6 +91,14 @@ int main(int argc, char** argv)
             cellsPerTriangle = std::atof(argv[++a]);
         else if (arg == "--no-gl")
             gl = false;
+        else if (arg == "--gl-backend" && a + 1 < argc) {
+            const std::string name = argv[++a];
+            if (name != "egl" && name != "osmesa") {
+                std::fprintf(stderr, "error: --gl-backend takes osmesa or egl, not '%s'\n", name.c_str());
+                return 2;
+            }
+            glBackend = name == "egl" ? gl::Backend::Egl : gl::Backend::OSMesa;
+        }
         else if (arg[0] != '-')
             mesh = arg;
     }
@@ -186,7 +196,7 @@ int main(int argc, char** argv)
 
         if (gl) {
             try {
-                const auto context = gl::HeadlessContext::create(gl::Backend::OSMesa);
+                const auto context = gl::HeadlessContext::create(glBackend);
                 // The default (occluders simplified within a quarter texel) and every triangle.
                 for (const auto& [resolution, simplify] : {std::pair{1024, 0.25}, std::pair{1024, 0.0}, std::pair{2048, 0.25}}) {
                     AoGlCaster caster(context->functions(), occluders, {.resolution = resolution, .simplifyTexels = simplify});

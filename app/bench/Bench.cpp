@@ -43,9 +43,10 @@ double lowerMedian(std::vector<double> values)
 
 /// One way of answering a configuration (a method; the tuned tracer has one per traversal), its
 /// answer and the wall and processor times of its timed runs. All of a configuration's
-/// candidates are timed in interleaved rounds, not one after another: this machine has slow and
-/// fast spells of seconds (the same call 26 ms in one and 33 ms in the next, processor time too),
-/// and rounds let them fall on every method alike instead of deciding a ratio.
+/// candidates are timed in interleaved rounds, not one after another: a shared machine has slow
+/// and fast spells longer than a method's runs (the same call a quarter dearer in one than in the
+/// next, processor time too), and rounds let them fall on every method alike instead of deciding
+/// a ratio.
 struct Candidate {
     std::string variant;
     std::function<void()> run;   ///< fills map (or counts) and, for the CPU sampler, variant
@@ -303,7 +304,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                 // right after itself), so each is timed warm, as in the editor's repeated calls;
                 // the first round's pays the page faults, thread pools and shader compilation. A
                 // batch of at least minBatchMs gives a sub-millisecond call dozens of runs, where
-                // a median of three is mostly this machine's noise.
+                // a median of three is mostly timing noise.
                 for (int k = 0; k < std::max(1, settings.repeat); ++k)
                     for (const MethodRuns& m : methods)
                         for (const auto& c : m.candidates) {

@@ -33,7 +33,7 @@ struct Settings {
     std::vector<int> receiverSides = {32, 128};
     int repeat = 5;
     /// In each round, a method's timed runs go on until they have taken this long (at most
-    /// kMaxRunsPerRound): a median of three sub-millisecond runs is mostly this machine's noise.
+    /// kMaxRunsPerRound): a median of three sub-millisecond runs is mostly timing noise.
     double minBatchMs = 20.0;
     int threads = 0;
     gl::Backend glBackend = gl::Backend::OSMesa;   ///< headless context of "gl", "gl-table-WxH", "hh"
@@ -77,7 +77,7 @@ struct Row {
 };
 
 /// Rows with more differences from the reference than this are not judged ray by ray (the judge
-/// is a brute force; about 10 us a ray on the bench scenes).
+/// is a brute force, far dearer a ray than the samplers it judges).
 inline constexpr std::uint64_t kMaxJudgedRays = 50'000;
 
 /// The most timed runs a method gets in a round (Settings::minBatchMs).

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "demo/bench/Kinds.h"
+#include "demo/bench/SceneKinds.h"
 
 namespace sightline::demo {
 

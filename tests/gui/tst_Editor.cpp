@@ -5,6 +5,7 @@
 #include <QAction>
 #include <QApplication>
 #include <QComboBox>
+#include <QDockWidget>
 #include <QLabel>
 #include <QPushButton>
 #include <QTableWidget>
@@ -136,7 +137,7 @@ private slots:
         QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
         QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
         waitForUpdate();
-        saveWindowShot("open");
+        saveLargeWindowShot("open");
     }
 
     void opensTheDemoProjectAndMatchesTheReference()
@@ -2519,6 +2520,32 @@ private:
                 child->render(&painter, child->mapTo(window_.get(), QPoint(0, 0)));
         painter.end();
         QVERIFY(image.save(QString::fromUtf8(shots) + "/window-" + name + ".png"));
+    }
+
+    /// saveWindowShot with the view free to fill a 1920x1080 window (the README's picture); the tests'
+    /// fixed 800x600 view comes back after it.
+    void saveLargeWindowShot(const QString& name)
+    {
+        if (qgetenv("SIGHTLINE_GUI_SHOTS").isEmpty())
+            return;
+        QWidget* container = window_->viewportContainer();
+        container->setMinimumSize(0, 0);
+        container->setMaximumSize(QWIDGETSIZE_MAX, QWIDGETSIZE_MAX);
+        window_->resize(1920, 1080);
+        QList<QDockWidget*> docks;
+        QList<int> widths;
+        for (QDockWidget* dock : window_->findChildren<QDockWidget*>())
+            if (dock->isVisible() && window_->dockWidgetArea(dock) != Qt::BottomDockWidgetArea) {
+                docks << dock;
+                widths << 260;
+            }
+        window_->resizeDocks(docks, widths, Qt::Horizontal);   // the view takes what the panels do not need
+        QTest::qWait(200);
+        waitForUpdate();
+        saveWindowShot(name);
+        container->setFixedSize(800, 600);
+        QTest::qWait(200);
+        waitForUpdate();
     }
 
     /// Until the viewport shows the answer for the document as it is now (answers come from a

@@ -479,17 +479,17 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     receiver.corner.x += 0.01;
     sampler.sample(source, receiver, keep, &stats);
     ASSERT_TRUE(stats.probed) << "a cold probe's choice was reused";
-    ASSERT_FALSE(stats.reusedProbe);
+    ASSERT_FALSE(stats.reusedTimedChoice);
     // The choice for later calls may differ from the rest of this call's (its setup was paid).
     sampler.sample(source, receiver, keep, &stats);
-    ASSERT_TRUE(stats.reusedProbe);
+    ASSERT_TRUE(stats.reusedTimedChoice);
     const std::string chosen = stats.strategy;
     for (int call = 2; call <= 8; ++call) {
         receiver.corner.x += 0.01;   // a drag: similar
         const HiddenSampleMap map = sampler.sample(source, receiver, keep, &stats);
         EXPECT_EQ(stats.probed, call == 8) << call;
-        EXPECT_EQ(stats.reusedProbe, call < 8) << call;
-        if (stats.reusedProbe) {
+        EXPECT_EQ(stats.reusedTimedChoice, call < 8) << call;
+        if (stats.reusedTimedChoice) {
             EXPECT_EQ(chosen, stats.strategy) << call;
         }
         const HiddenSampleMap expected = reference.sample(source, receiver);
@@ -502,10 +502,10 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     turned.u = {c, 0.0, s};
     turned.corner = receiver.centre() - 0.5 * (turned.u + turned.v);
     sampler.sample(source, turned, keep, &stats);
-    EXPECT_FALSE(stats.reusedProbe);
+    EXPECT_FALSE(stats.reusedTimedChoice);
     sampler.setScene(scene);
     sampler.sample(source, receiver, keep, &stats);
-    EXPECT_FALSE(stats.reusedProbe);
+    EXPECT_FALSE(stats.reusedTimedChoice);
 }
 
 TEST(CpuBitmaskSampler, AutoReusesAClearCutChoiceWithoutEstimatingAgain)
@@ -530,7 +530,7 @@ TEST(CpuBitmaskSampler, AutoReusesAClearCutChoiceWithoutEstimatingAgain)
         receiver.corner.x += 0.01;
         const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
         EXPECT_EQ(stats.reusedChoice, call < 8) << call;
-        EXPECT_FALSE(stats.reusedProbe) << call;
+        EXPECT_FALSE(stats.reusedTimedChoice) << call;
         EXPECT_EQ(stats.estimatedPairs > 0, call == 8) << call;
         EXPECT_EQ(chosen, stats.strategy) << call;
         const HiddenSampleMap expected = reference.sample(source, receiver);

@@ -331,20 +331,20 @@ TEST(Strategy, TheSwappedProbeTimesAnEighthOfTheReceiverThenTheBitmaskUnlessRays
     EXPECT_EQ(probe.size(), 1u);
     EXPECT_EQ(rest.size(), 4u);
     // 16 of 128 samples in 1 ms: 8 ms for all. Rays without timing the bitmask only where that is
-    // under kSwappedRaysSure of the bitmask's prediction.
+    // under kSwappedRaysUntimedBelow of the bitmask's prediction.
     EXPECT_DOUBLE_EQ(swappedRaysWholeMs(1.0, 16, 128), 8.0);
     EXPECT_DOUBLE_EQ(swappedRaysWholeMs(1.0, 0, 128), 128.0);   // nothing probed: no division by zero
     const double raysMs = swappedRaysWholeMs(1.0, 16, 128);
-    EXPECT_EQ(swappedProbeVerdict(1.01 * 8.0 / kSwappedRaysSure, raysMs), SwappedVerdict::Rays);
-    EXPECT_EQ(swappedProbeVerdict(0.99 * 8.0 / kSwappedRaysSure, raysMs), SwappedVerdict::TimeBitmask);
-    EXPECT_EQ(swappedProbeVerdict(1.0, raysMs), SwappedVerdict::TimeBitmask);   // predicted cheap
+    EXPECT_EQ(swappedRaysOrTimeBitmask(1.01 * 8.0 / kSwappedRaysUntimedBelow, raysMs), SwappedVerdict::Rays);
+    EXPECT_EQ(swappedRaysOrTimeBitmask(0.99 * 8.0 / kSwappedRaysUntimedBelow, raysMs), SwappedVerdict::TimeBitmask);
+    EXPECT_EQ(swappedRaysOrTimeBitmask(1.0, raysMs), SwappedVerdict::TimeBitmask);   // predicted cheap
     // Timed: rays for later calls only where cheaper than the bitmask's setup and pass together,
     // the probe's rays weighed down by what they run high (cluttered-rooms-12 at 32 x 32²: the
     // probe's rays 5.9 ms, the bitmask 1.6 + 1.1; dense-mesh-8 at 128 x 32²: 10.1 against 13.6).
     EXPECT_FALSE(swappedMeasuredChoosesRays(5.9, 1.6, 1.1));
     EXPECT_TRUE(swappedMeasuredChoosesRays(10.1, 4.1, 9.5));
     EXPECT_TRUE(swappedMeasuredChoosesRays(5.4, 2.5, 2.5));    // within the probe's bias: rays
-    EXPECT_FALSE(swappedMeasuredChoosesRays(kSwappedProbeRayBias * 5.0, 2.5, 2.5));   // a tie: the bitmask
+    EXPECT_FALSE(swappedMeasuredChoosesRays(kProbeRaysOverestimate * 5.0, 2.5, 2.5));   // a tie: the bitmask
 }
 
 TEST(Strategy, ARaysVerdictThatCostABitmaskCallServesLongEnoughToSpreadIt)

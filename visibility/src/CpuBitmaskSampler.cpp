@@ -23,7 +23,7 @@
 #include "visibility/ShaftGeometry.h"
 
 // The sampler's parts, one concept each, in visibility/src/bitmask/: the shaft (Shaft.h),
-// occluder preparation (Occluders.h), the double-precision path (DoublePath.h) and table mode
+// occluder preparation (Occluders.h), the double-precision path (DoubleBackprojection.h) and table mode
 // (TableMode.h), the narrowed shaft (Narrowing.h), the tile pass (TilePass.h), meshes' inner
 // proxies (InnerProxy.h) and Auto's choice (Strategy.h); the float kernel in
 // BitmaskRows.h. This file runs one call through them.
@@ -57,7 +57,7 @@ constexpr int kProxyResolution = 16;
 
 } // namespace
 
-/// Buffers kept between calls: the editor samples ~20 times a second, and fresh multi-megabyte
+/// Buffers kept between calls: the editor samples many times a second, and fresh multi-megabyte
 /// allocations cost page faults every time.
 struct CpuBitmaskSampler::Workspace {
     OccluderSet occluders;
@@ -66,7 +66,7 @@ struct CpuBitmaskSampler::Workspace {
 };
 
 /// Auto's last measured choice (Strategy.h).
-struct CpuBitmaskSampler::StrategyMemo {
+struct CpuBitmaskSampler::StrategyChoiceCache {
     ProbeMemo memo;
 };
 
@@ -116,8 +116,8 @@ void CpuBitmaskSampler::setScene(const Scene& scene)
     }
     {
         // Proxies stay at hand for instances that come back unchanged (the editor moved another
-        // object): a dense statue's takes 10-20 ms to build. Each holds a copy of its mesh, so those
-        // kept hold at most as many triangles as the new scene has.
+        // object): a dense statue's costs several small calls to build. Each holds a copy of its
+        // mesh, so those kept hold at most as many triangles as the new scene has.
         std::lock_guard lock(proxyMutex_);
         for (std::shared_ptr<const InnerProxy>& proxy : proxies_)
             if (proxy)
@@ -256,7 +256,7 @@ void addTileStats(BitmaskStats& total, const BitmaskStats& tile)
     total.probed = total.probed || tile.probed;
     total.probeRayMs += tile.probeRayMs, total.probeBitmaskMs += tile.probeBitmaskMs;
     total.reusedChoice = total.reusedChoice || tile.reusedChoice;
-    total.reusedProbe = total.reusedProbe || tile.reusedProbe;
+    total.reusedTimedChoice = total.reusedTimedChoice || tile.reusedTimedChoice;
 }
 
 } // namespace
@@ -423,14 +423,14 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
         // Few source samples: ray casting everything may be cheaper than the bitmask, whose cost
         // follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on
         // a similar configuration serves without estimating again: the estimate prepares every
-        // 32nd triangle, 3 ms of an 18 ms call on a 90,000-triangle dense mesh.
+        // 32nd triangle, about a sixth of a call on a dense mesh.
         Plan plan = Plan::Bitmask;
         const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy, shaft.floatKernel};
         bool warmGrids = false;   // Auto sampled these grids before: a probe's times are what later calls pay
         // A choice for later calls on a similar configuration (ProbeMemo).
         const auto remember = [&](bool rays, int calls, bool measured) {
             std::lock_guard lock(probeMutex_);
-            probeMemo_ = std::make_unique<StrategyMemo>(StrategyMemo{{configuration, rays, calls, measured}});
+            probeMemo_ = std::make_unique<StrategyChoiceCache>(StrategyChoiceCache{{configuration, rays, calls, measured}});
         };
         if (strategy == CpuStrategy::Auto) {
             bool remembered = false;
@@ -444,7 +444,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
                     similarConfiguration(probeMemo_->memo.configuration, configuration)) {
                     --probeMemo_->memo.callsLeft;
                     local.reusedChoice = true;
-                    local.reusedProbe = probeMemo_->memo.measured;
+                    local.reusedTimedChoice = probeMemo_->memo.measured;
                     plan = probeMemo_->memo.rays ? Plan::RayCast : Plan::Bitmask;
                     remembered = true;
                 }
@@ -470,7 +470,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
         // With the roles swapped the receiver has too few tiles to time the bitmask on: the rays
         // of a few receiver samples are timed (their rows are final either way) and, unless they
         // are clearly cheaper than the bitmask's prediction, the bitmask is timed on this call's
-        // whole answer (swappedProbeVerdict, swappedMeasuredChoosesRays).
+        // whole answer (swappedRaysOrTimeBitmask, swappedMeasuredChoosesRays).
         std::vector<int> raySamples;   // the receiver samples left to cast, when not all
         bool timeSwappedBitmask = false;   // against the probe's rays, local.probeRayMs
         if (plan == Plan::Probe && swappedRoles) {
@@ -483,7 +483,7 @@ HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Pat
             local.rayMs += msSince(probeStart);
             local.probed = true;
             local.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), std::size_t(receiver.sampleCount()));
-            if (swappedProbeVerdict(local.predictedBitmaskMs, local.probeRayMs) == SwappedVerdict::Rays) {
+            if (swappedRaysOrTimeBitmask(local.predictedBitmaskMs, local.probeRayMs) == SwappedVerdict::Rays) {
                 plan = Plan::RayCast;
                 remember(true, warmGrids ? kProbeReuse : 0, /*measured=*/true);
             } else {

@@ -11,7 +11,7 @@
 
 #include "demo/Props.h"
 #include "demo/bench/Fittings.h"
-#include "demo/bench/Kinds.h"
+#include "demo/bench/SceneKinds.h"
 #include "demo/bench/Rooms.h"
 #include "demo/bench/Stage.h"
 

@@ -1,12 +1,12 @@
-// dense-mesh: scanned-statue-like lumps of 1-4 cm triangles in the shaft, ray casting's case.
+// dense-mesh: scanned-statues of 1-4 cm triangles in the shaft, ray casting's case.
 
 #include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
 
-#include "demo/bench/Kinds.h"
-#include "demo/bench/Lump.h"
+#include "demo/bench/SceneKinds.h"
+#include "demo/bench/ScannedStatue.h"
 #include "demo/bench/Stage.h"
 
 namespace sightline::demo::bench {
@@ -14,11 +14,11 @@ namespace {
 
 struct Statue {
     vec3 centre;
-    LumpShape shape;
-    float plinthTop;   // 0: the lump stands on a pedestal column up to its base instead
+    StatueShape shape;
+    float plinthTop;   // 0: the statue stands on a pedestal column up to its base instead
 };
 
-/// Cells per face edge for a leg of about `leg` metres; then all lumps scaled together into the
+/// Cells per face edge for a leg of about `leg` metres; then all statues scaled together into the
 /// kind's 45k-115k triangles.
 void resolve(std::vector<Statue>& statues, float leg)
 {
@@ -27,7 +27,7 @@ void resolve(std::vector<Statue>& statues, float leg)
         const vec3 r = s.shape.radii;
         const float meanRadius = (r.x + r.y + r.z) / 3.0f * (1.0f + 0.5f * s.shape.amplitude);
         s.shape.resolution = std::max(16, int(std::ceil(1.5708f * meanRadius / leg)));
-        total += lumpTriangles(s.shape.resolution);
+        total += statueTriangles(s.shape.resolution);
     }
     const double bound = total > 115000 ? 115000.0 : total < 45000 ? 45000.0 : double(total);
     const double factor = std::sqrt(bound / double(total));
@@ -56,7 +56,7 @@ BenchScene denseMesh(std::uint64_t seed)
         // figures are, so it carries no watertight flag.
         const float t = rng.range(0.35f, 0.65f), r = rng.range(0.65f, 0.95f), ry = r * rng.range(1.05f, 1.4f);
         const float top = 0.25f * ry + rng.range(0.05f, 0.25f);
-        Statue s{vec3(0.0f), LumpShape{{r, ry, r * rng.range(0.85f, 1.1f)}, 0, bumps, amplitude, {}}, top};
+        Statue s{vec3(0.0f), StatueShape{{r, ry, r * rng.range(0.85f, 1.1f)}, 0, bumps, amplitude, {}}, top};
         const vec2 at = stage.along(t, stage.halfWidth(t) * rng.range(-0.6f, 0.6f));
         s.centre = {at.x, top + 0.8f * ry, at.y};
         s.shape.cutBelow = top - s.centre.y;
@@ -72,19 +72,19 @@ BenchScene denseMesh(std::uint64_t seed)
             const vec2 height = stage.heightRange(t);
             const vec2 at = stage.along(t, lateral);
             const float y = std::max(0.02f + 1.35f * ry, rng.range(height.x + 0.4f * ry, height.y - 0.4f * ry));
-            statues.push_back({{at.x, y, at.y}, LumpShape{{r, ry, r * rng.range(0.85f, 1.15f)}, 0, bumps, amplitude, {}}, 0.0f});
+            statues.push_back({{at.x, y, at.y}, StatueShape{{r, ry, r * rng.range(0.85f, 1.15f)}, 0, bumps, amplitude, {}}, 0.0f});
         }
     }
     resolve(statues, rng.range(0.012f, 0.024f));
     for (std::size_t k = 0; k < statues.size(); ++k) {
         const Statue& s = statues[k];
-        stage.putNew(lump("statue_" + std::to_string(k), s.shape, rng), translate(s.centre));
+        stage.putNew(scannedStatue("statue_" + std::to_string(k), s.shape, rng), translate(s.centre));
         Builder base("plinth_" + std::to_string(k));
         const float half = 0.8f * std::max(s.shape.radii.x, s.shape.radii.z);
         if (s.plinthTop > 0.0f) {
             bevelBox(base, {s.centre.x - half, 0.0f, s.centre.z - half}, {s.centre.x + half, s.plinthTop, s.centre.z + half}, 0.02f);
         } else {
-            // A pedestal column into the lump's underside (the lump hides its top).
+            // A pedestal column into the statue's underside (the statue hides its top).
             const float top = s.centre.y - 0.5f * s.shape.radii.y;
             if (top > 0.1f)
                 bevelBox(base, {s.centre.x - 0.25f * half, 0.0f, s.centre.z - 0.25f * half},

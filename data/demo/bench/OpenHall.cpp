@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "demo/bench/Kinds.h"
+#include "demo/bench/SceneKinds.h"
 #include "demo/bench/Rooms.h"
 #include "demo/bench/Stage.h"
 

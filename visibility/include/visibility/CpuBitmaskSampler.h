@@ -52,7 +52,7 @@ struct InnerProxy;
 enum class CpuStrategy {
     Auto,      ///< by predicted cost (bitmask/Strategy.h): the bitmask's setup per triangle in the
                ///< shaft and pass per (triangle, receiver sample) pair, against ray casting's cost
-               ///< per ray, fitted to runs on these machines; where neither prediction is under
+               ///< per ray, fitted to bench runs; where neither prediction is under
                ///< half the other, both are timed on a few tiles first. Without AVX2 in the CPU,
                ///< Hybrid when the shaft holds enough small triangles. Table mode is always Bitmask.
     Bitmask,   ///< every triangle by backprojection
@@ -152,7 +152,7 @@ struct BitmaskStats {
     /// the bitmask's whole call where it was timed too (0 where not); one thread's ms.
     double probeRayMs = 0.0, probeBitmaskMs = 0.0;
     bool reusedChoice = false;        ///< Auto: took an earlier call's choice, without estimating
-    bool reusedProbe = false;         ///< ... and that choice was timed (a probe's)
+    bool reusedTimedChoice = false;         ///< ... and that choice was timed (a probe's)
 };
 
 class CpuBitmaskSampler {
@@ -233,9 +233,9 @@ private:
     /// Auto's last choice between the bitmask and ray casting (estimated or measured), reused
     /// by the next calls on a similar configuration: the editor and animations sample slowly
     /// changing ones, and the estimate and probe cost 10-15% of a call. Cleared by setScene.
-    struct StrategyMemo;
+    struct StrategyChoiceCache;
     mutable std::mutex probeMutex_;
-    mutable std::unique_ptr<StrategyMemo> probeMemo_;
+    mutable std::unique_ptr<StrategyChoiceCache> probeMemo_;
     /// Grid sizes (source na, nb, receiver na, nb) Auto has sampled since the scene was set: a
     /// probe on new ones is cold (bitmask/Strategy.h, probeVerdict). Guarded by probeMutex_.
     mutable std::vector<std::array<int, 4>> sampledGrids_;

@@ -95,12 +95,12 @@ inline constexpr std::size_t kProxyMaxCaps = 64;
 inline constexpr double kProxyMaxCapVolumeShare = 0.25;
 
 /// A call tests each receiver sample against each cap box in the shaft (the box's shadow on the
-/// source grid, then the slab test of the samples in it): measured with a torus's eight holes
-/// in the shaft at 1024 x 32², 9-13 ms a call (1.2 ns a ray and box), which gave back 162k of
-/// the 466k rays the proxy blocked, against 100-200 ns a ray cast; at few source samples the
-/// shadows (about 100 ns a receiver sample and box) weigh more. So the boxes in the shaft are
-/// kept to an eighth of the source samples, two at least and 16 at most; proxies past that sit
-/// the call out (a scan with many holes).
+/// source grid, then the slab test of the samples in it). Per ray and box that test costs about
+/// a hundredth of a ray cast, and with a torus's holes in the shaft the boxes give back about a
+/// third of the rays the proxy blocked; at few source samples the shadows, one per receiver
+/// sample and box, weigh more. So the boxes in the shaft are kept to an eighth of the source
+/// samples, two at least and 16 at most; proxies past that sit the call out (a scan with many
+/// holes).
 inline constexpr double kProxyCapBoxesPerSource = 0.125;
 inline constexpr double kProxyMaxCapBoxesPerCall = 16;
 
@@ -124,10 +124,10 @@ struct InnerProxy {
 inline constexpr std::size_t kProxyMinTriangles = 512;
 /// A proxy is kept only while its faces are at most this part of its mesh's triangles.
 inline constexpr double kProxyMaxFaceShare = 0.25;
-/// A proxy is built for a call of at least this many rays per triangle of its mesh: building
-/// costs about 0.25 us a triangle (14-26 ms for dense-mesh-2, -4 and -6, 71-109k triangles), it
-/// saves 4 ms a call at 32 x 32² there, and a built proxy serves every later call on the scene
-/// (the editor samples the same scene many times); a call of a few rays never waits for it.
+/// A proxy is built for a call of at least this many rays per triangle of its mesh: building a
+/// dense statue's costs several times what it saves a small call (32 x 32²), but a built proxy
+/// serves every later call on the scene (the editor samples the same scene many times); a call
+/// of a few rays never waits for it.
 inline constexpr double kProxyBuildRaysPerTriangle = 0.25;
 
 /// A hash of `triangleCount` triangles at `vertices` (InnerProxy::fingerprint).
@@ -144,18 +144,17 @@ InnerProxy buildInnerProxy(const glm::vec3* vertices, std::size_t triangleCount,
 /// axis-aligned and some component of a unit axis is at least 0.577, so one orientation at least
 /// is always kept. Any subset answers exactly (a ray missed is left to the strategy). Every face
 /// the culling keeps goes in where their pairs are at most kProxyAllFacesPairsPerRay per ray.
-/// Measured on dense-mesh-2, -4 and -6 (one thread, ray casting, the machine slow that hour):
-/// at 1024 x 32² every face (888-1,110 faces; dense-mesh-6: 0.24 pairs a ray) answered 5-8% more
-/// rays than the faces across the axis (188-238) and the call was 12-15% faster (43.6-75.7
-/// against 50.2-88.1 ms); at 128 x 32² (dense-mesh-2: 2.5 pairs a ray) the faces across it were
-/// 7-25% faster, and at 32 and 64 sources only they fit the budget below: 3.2-7.1 ms against
-/// 7.6-15.4 without proxies.
+/// On dense statues, where a ray meets well under one pair (many source samples), every face
+/// answers more rays than the faces across the axis alone (about a fifth of them) and the call
+/// is faster; where it meets a few pairs (fewer source samples) the faces across the axis are
+/// faster, and at 32 and 64 source samples only they fit the budget below, where they take
+/// about half the call's time without proxies.
 inline constexpr double kProxyFaceAxisCos = 0.3;
 inline constexpr double kProxyAllFacesPairsPerRay = 1.0;
 
 /// The pass runs only while the pairs of the faces it backprojects are at most this many per
-/// ray: a pair costs the bitmask about 10 ns and a ray through a dense mesh 100-200 ns, and the
-/// proxies answer 55-80% of a dense statue's blocked rays.
+/// ray: a pair costs the bitmask a tenth or less of a ray cast through a dense mesh, and the
+/// proxies answer over half of a dense statue's blocked rays.
 inline constexpr std::uint64_t kProxyPairsPerRay = 4;
 
 /// The call's patches and sampling, for the rays near caps (their segments' ends are built from

@@ -70,7 +70,7 @@ void Shaft::setBumps(const std::vector<glm::dvec3>& displaced)
     bumpySourceMargin = kEndMarginMetres;
     // A segment's receiver-frame distance runs between its two ends, so no segment reaches below
     // the lowest bump (nor below the source, were a bump to rise past a source corner). Parts
-    // beyond an individual sample are clipped per sample (DoublePath.h).
+    // beyond an individual sample are clipped per sample (DoubleBackprojection.h).
     bumpyReceiverLevel = lowest;
     for (const glm::dvec3& corner : sourceCornersInReceiver)
         bumpyReceiverLevel = std::min(bumpyReceiverLevel, corner.z);

@@ -27,7 +27,7 @@ const CostModel& measuredCosts(bool floatKernel)
     // docs/benchmarks.md, "Auto's cost model": least squares on the logarithms over the bench
     // scenes (the bitmask: 2 threads; ray casting: the medians of three runs of one thread's
     // processor time, times 0.40, the median ratio of the bitmask's predictions to its one-thread
-    // times over the same runs; refitted by scripts/fit_auto_costs.py after the caster's
+    // times over the same runs; fitted by scripts/fit_auto_costs.py to the caster's
     // occlusion traversal); the double kernel's pairs cost about four times the float kernel's.
     static const CostModel simd{.setupNsPerTriangle = 400.0, .passNsPerPair = 2.5, .passFalloff = 0.5,
                                 .rayLogBase = 3.4861, .rayLogTriangles = 0.1329, .rayLogPairs = 0.5658,
@@ -121,16 +121,16 @@ double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t sample
     return probeMs * double(samples) / double(std::max<std::size_t>(probed, 1));
 }
 
-SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double raysWholeMs)
+SwappedVerdict swappedRaysOrTimeBitmask(double bitmaskPredictedMs, double raysWholeMs)
 {
-    return raysWholeMs < kSwappedRaysSure * bitmaskPredictedMs
+    return raysWholeMs < kSwappedRaysUntimedBelow * bitmaskPredictedMs
                ? SwappedVerdict::Rays
                : SwappedVerdict::TimeBitmask;
 }
 
 bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs)
 {
-    return raysWholeMs < kSwappedProbeRayBias * (bitmaskSetupMs + bitmaskPassMs);
+    return raysWholeMs < kProbeRaysOverestimate * (bitmaskSetupMs + bitmaskPassMs);
 }
 
 int swappedRaysMemoCalls(double raysWholeMs, double bitmaskWholeMs)

@@ -37,8 +37,7 @@ struct CostEstimate {
     double openShare = 1.0;
 };
 
-/// What a unit of each method's work costs, fitted to runs on these 2-core machines (README,
-/// "Auto's cost model"):
+/// What a unit of each method's work costs, fitted to bench runs (README, "Auto's cost model"):
 /// - the bitmask (fitted over the demo, its floor, the dense mesh, few occluders and the twelve
 ///   bench scenes at 64-1024 sources and 32-128 receiver samples): setup per triangle in the
 ///   shaft, and its pass per estimated pair, which falls as the pairs per ray grow (the narrowed
@@ -98,7 +97,7 @@ Plan planFor(const CostEstimate& estimate, const CostModel& model);
 /// the plan is the bitmask where its prediction is no more than the rays' (interiors, halls,
 /// cluttered rooms at 128 source samples: the rays would only be dearer still), rays where it is
 /// over kSwappedRaysClearCut times (dense meshes at 32 source samples), and in between the rays
-/// of a few receiver samples are timed (swappedProbeVerdict).
+/// of a few receiver samples are timed (swappedRaysOrTimeBitmask).
 inline constexpr double kSwappedBitmaskClearCut = 1.0;
 inline constexpr double kSwappedRaysClearCut = 8.0;
 
@@ -108,7 +107,7 @@ void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vect
 
 /// The swapped probe's first verdict, from the rays timed on a few receiver samples and scaled
 /// to the whole call (`raysWholeMs`, swappedRaysWholeMs): rays where that is under
-/// kSwappedRaysSure times the bitmask's prediction; otherwise the bitmask is timed too, on this call's whole
+/// kSwappedRaysUntimedBelow times the bitmask's prediction; otherwise the bitmask is timed too, on this call's whole
 /// answer (swappedMeasuredChoosesRays). Of the 100 swapped calls of seeds 1-12 at 32 and 128
 /// source samples against 32x32 (docs/benchmarks.md, "The swapped probe times the bitmask"), 18
 /// fall between the clear-cut rules: there a whole bitmask call took 0.79-1.52 times its
@@ -117,11 +116,11 @@ void swappedProbeSamples(int receiverSamples, std::vector<int>& probe, std::vect
 /// sources (1.07-1.27); tiles of 64x64 receivers where rays were better, 0.49-0.91. Rays under
 /// the prediction are so taken without timing the bitmask: were the bitmask as cheap as 0.79 of
 /// its prediction, the rays' probe runs high (below), so the loss would be a few percent. A
-/// fixed weight alone (the rays against twice the prediction, 2026-12-03) lost 1.9x on an unseen
-/// cluttered room once a cheaper setup had brought the bitmask down to about its prediction.
-inline constexpr double kSwappedRaysSure = 1.0;
+/// fixed weight alone (the rays against twice the prediction) was nearly twice as slow on an
+/// unseen cluttered room once the bitmask cost about its prediction.
+inline constexpr double kSwappedRaysUntimedBelow = 1.0;
 enum class SwappedVerdict { Rays, TimeBitmask };
-SwappedVerdict swappedProbeVerdict(double bitmaskPredictedMs, double raysWholeMs);
+SwappedVerdict swappedRaysOrTimeBitmask(double bitmaskPredictedMs, double raysWholeMs);
 /// The rays' whole call, one thread, from the probe's part (`probeMs` for `probed` of `samples`).
 double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t samples);
 
@@ -131,14 +130,14 @@ double swappedRaysWholeMs(double probeMs, std::size_t probed, std::size_t sample
 /// most dense meshes, 1.16-1.40 on cluttered-rooms-12 at 32 x 32², 1.6-1.9 on dense-mesh-8 at 128
 /// x 32² (per-call costs counted eight times, and a probe too small for the ray caster to choose
 /// its traversal: raycast/ProvenRayCaster.h), and high in a cold call. So the bitmask is kept only
-/// where it beats the probe's rays by more than kSwappedProbeRayBias: where they run true, rays
+/// where it beats the probe's rays by more than kProbeRaysOverestimate: where they run true, rays
 /// then lose at most 10%, Auto's bar.
-inline constexpr double kSwappedProbeRayBias = 1.10;
+inline constexpr double kProbeRaysOverestimate = 1.10;
 bool swappedMeasuredChoosesRays(double raysWholeMs, double bitmaskSetupMs, double bitmaskPassMs);
 
 /// How many later calls a rays verdict of a swapped probe that timed the bitmask serves. That
 /// probe paid a whole bitmask call where rays would have cost less (dense-mesh-8 at 128 x 32²:
-/// 13.5-17.5 ms against 6.2), so its choice serves enough calls that the bitmask's time adds at
+/// two to three times as much), so its choice serves enough calls that the bitmask's time adds at
 /// most kSwappedProbeShare of theirs by rays: at least kProbeReuse, at most kMaxSwappedReuse.
 /// (The probe's scaled rays run high, so the count errs long.)
 inline constexpr double kSwappedProbeShare = 0.05;
@@ -201,9 +200,9 @@ struct ProbeVerdict {
 
 /// The probe's verdict. `warm`: the sampler has sampled these grids before, so the setup's time
 /// is what later calls pay. The first call on a pair of grids pays first-touch page faults on its
-/// buffers (a fresh sampler's setup took 22 ms on the demo at 32 sources x 32x32, against 3-5
-/// warm, and 85 ms against 24-39 on a dense mesh) and on the float BVH (its first rays cost twice
-/// the later ones), so its choice serves this call only and the next similar call probes again.
+/// buffers (a fresh sampler's setup is several times a warm one's, on the demo and on a dense
+/// mesh alike) and on the float BVH (its first rays cost twice the later ones), so its choice
+/// serves this call only and the next similar call probes again.
 ProbeVerdict probeVerdict(const ProbePart& bitmask, const ProbePart& rays, double bitmaskSetupMs, bool warm);
 
 /// What decides whether the patches may swap roles (BitmaskOptions::swapRoles).
@@ -222,9 +221,10 @@ bool swapPatchRoles(const Patch& source, const Patch& receiver, const RoleSwapOp
 
 /// A receiver past kMaxSourceSamples cannot be a source; split into tiles of at most 32x32
 /// samples, each can, and each has a narrower shaft too (32 source samples against a 64x64
-/// receiver in a cluttered room: 25.7 ms as a whole, 9.8 in four swapped tiles). The tiles along
-/// each side (columns, rows) where the receiver is past kMaxSourceSamples and every tile would
-/// swap roles with the source (more samples than it, and the options allow it); none otherwise.
+/// receiver in a cluttered room: four swapped tiles take well under half the whole's time). The
+/// tiles along each side (columns, rows) where the receiver is past kMaxSourceSamples and every
+/// tile would swap roles with the source (more samples than it, and the options allow it); none
+/// otherwise.
 std::optional<std::pair<int, int>> receiverTilesToSwap(const Patch& source, const Patch& receiver,
                                                        const RoleSwapOptions& options);
 

@@ -8,7 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "DoublePath.h"
+#include "DoubleBackprojection.h"
 #include "Narrowing.h"
 #include "SampleRange.h"
 

@@ -554,9 +554,9 @@ std::uint64_t ProvenRayCaster::sampleUnblocked(const Patch& source, const Patch&
         // tiles at a time) is too small to tell: packets, and no memo. The items come in pairs of
         // neighbours (receiver samples j and j + 1, or blocks side by side), drawn at random,
         // one of each pair to each traversal: neighbours keep nearly the same rays free. Items
-        // drawn independently, four each on a 32-sample receiver, held 1,791 and 869 free rays,
-        // and took packets where the incoherent traversal was 1.5x faster (dense-mesh-8, roles
-        // swapped); at least eight pairs.
+        // drawn independently, four each on a 32-sample receiver, held twice as many free rays
+        // for one traversal as for the other, and took packets where the incoherent traversal
+        // was 1.5x faster (dense-mesh-8, roles swapped); at least eight pairs.
         if (items < kModeProbeItems) {
             castAll(all, packets, nullptr);
             return;

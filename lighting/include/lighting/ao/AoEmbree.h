@@ -32,8 +32,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-/// How the baseline casts a point's directions: one rtcOccluded1 each (what the AO issue named
-/// the baseline), or 16 to a packet (rtcOccluded16, Embree's default incoherent traversal), which
+/// How the baseline casts a point's directions: one rtcOccluded1 each (the plain baseline of
+/// docs/ao.md), or 16 to a packet (rtcOccluded16, Embree's default incoherent traversal), which
 /// `sightline-ao-bench` also times: the baseline it reports is the faster of the two.
 enum class AoEmbreeTraversal { SingleRays, DirectionPackets };
 

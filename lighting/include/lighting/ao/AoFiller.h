@@ -1,8 +1,9 @@
 #pragma once
-// Ways to fill the visibility matrix (the "two ways", plus the Embree baseline): each
-// tests directions [first, last) of a direction set for every usable point facing them and sets
-// the visible bits. Directions are independent, so a progressive run (AoComputation.h) fills a
-// level's new directions, or any chunk of them, and keeps the bits of earlier calls.
+// Ways to fill the visibility matrix (the exact CPU mode and the paper's depth maps, docs/ao.md,
+// plus the Embree baseline): each tests directions [first, last) of a direction set for every
+// usable point facing them and sets the visible bits. Directions are independent, so a
+// progressive run (AoComputation.h) fills a level's new directions, or any chunk of them, and
+// keeps the bits of earlier calls.
 
 #include <atomic>
 #include <string>

@@ -14,7 +14,7 @@ namespace sightline::demo::bench {
 
 using namespace parts;
 
-struct LumpShape {
+struct StatueShape {
     vec3 radii{1.0f};        ///< of the ellipsoid before the bumps, metres
     int resolution = 64;     ///< cells along each cube-face edge
     int bumps = 8;           ///< large bumps and dents
@@ -26,9 +26,9 @@ struct LumpShape {
 };
 
 /// In object space, centred on the origin. `rng` supplies the bumps.
-Mesh lump(const std::string& name, const LumpShape& shape, Rng& rng);
+Mesh scannedStatue(const std::string& name, const StatueShape& shape, Rng& rng);
 
-/// Triangles `lump` makes at `resolution` before a base is cut away.
-inline std::size_t lumpTriangles(int resolution) { return 12u * std::size_t(resolution) * std::size_t(resolution); }
+/// Triangles `scannedStatue` makes at `resolution` before a base is cut away.
+inline std::size_t statueTriangles(int resolution) { return 12u * std::size_t(resolution) * std::size_t(resolution); }
 
 } // namespace sightline::demo::bench

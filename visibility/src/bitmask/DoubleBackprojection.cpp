@@ -1,4 +1,4 @@
-#include "DoublePath.h"
+#include "DoubleBackprojection.h"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,4 @@
-#include "demo/bench/Lump.h"
+#include "demo/bench/ScannedStatue.h"
 
 #include <algorithm>
 #include <array>
@@ -31,7 +31,7 @@ float radiusFactor(const std::vector<Bump>& bumps, vec3 d)
 
 } // namespace
 
-Mesh lump(const std::string& name, const LumpShape& shape, Rng& rng)
+Mesh scannedStatue(const std::string& name, const StatueShape& shape, Rng& rng)
 {
     std::vector<Bump> bumps;
     for (int k = 0; k < shape.bumps; ++k)
