@@ -31,7 +31,7 @@ command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,m
 # The demo and the bench scenes are generated, not stored: write them where the check can read them.
 scenes=$out/scenes
 "$cli" demo "$scenes" --seeds 1-1 > /dev/null
-say "renderer: $("$cli" shaft "$scenes/demo.json" --method gl --gl-backend egl --json | sed -n 's/.*"strategy":"[^"]*(egl: \([^)]*\)).*/\1/p')"
+say "renderer: $("$cli" shaft "$scenes/demo.json" --method gl --gl-backend egl --json | sed -n 's/.*"strategy":"[^"]*(egl: \(.*\))".*/\1/p')"
 
 say "== bitmask samplers: raycast (the exact reference), cpu, gl through EGL"
 projects=("$scenes/demo.json" "$scenes/dense-mesh.json" "$scenes/few-occluders.json" "$scenes"/bench/*-1.json)
