@@ -52,6 +52,16 @@
 namespace sightline::ui {
 
 namespace {
+
+/// A menu item with a shortcut whose trigger runs `slot` in `receiver`'s thread and lifetime.
+template <typename Slot>
+QAction* addMenuAction(QObject* receiver, QMenu* menu, const QString& text, const QKeySequence& shortcut, Slot slot)
+{
+    QAction* a = menu->addAction(text);
+    a->setShortcut(shortcut);
+    QObject::connect(a, &QAction::triggered, receiver, slot);
+    return a;
+}
 constexpr int kMaxRecentFiles = 8;
 constexpr int kAutosaveMs = 60'000;
 constexpr const char* kAllowOutsidePathsKey = "files/allowOutsidePaths";
@@ -275,13 +285,19 @@ void MainWindow::resetSectionCut()
 
 void MainWindow::createActions()
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        QAction* a = menu->addAction(text);
-        a->setShortcut(shortcut);
-        connect(a, &QAction::triggered, this, slot);
-        return a;
-    };
+    createFileMenu();
+    createEditMenu();
+    createCreateMenu();
+    createTransformMenu();
+    createViewMenu();
+    createHelpMenu();
+}
 
+void MainWindow::createFileMenu()
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     QMenu* file = menuBar()->addMenu(tr("&File"));
     action(file, tr("&New"), QKeySequence::New, [this] {
         if (maybeSave())
@@ -333,7 +349,13 @@ void MainWindow::createActions()
     });
     file->addSeparator();
     action(file, tr("&Quit"), QKeySequence::Quit, [this] { close(); });
+}
 
+void MainWindow::createEditMenu()
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     QMenu* edit = menuBar()->addMenu(tr("&Edit"));
     QAction* undo = document_.undoStack()->createUndoAction(this, tr("&Undo"));
     undo->setShortcut(QKeySequence::Undo);
@@ -423,7 +445,13 @@ void MainWindow::createActions()
         controller_->setTool(Tool::Select);
         document_.select({});
     });
+}
 
+void MainWindow::createCreateMenu()
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     QMenu* create = menuBar()->addMenu(tr("&Create"));
     action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
     action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
@@ -505,20 +533,25 @@ void MainWindow::createActions()
         ->setObjectName("addAreaLight");
     action(create, tr("Add S&un"), QKeySequence(Qt::CTRL | Qt::Key_6), [=] { addLight(LightType::Directional, tr("Sun")); })
         ->setObjectName("addSun");
+}
 
+void MainWindow::createTransformMenu()
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     QMenu* transform = menuBar()->addMenu(tr("&Transform"));
     auto* modes = new QActionGroup(this);
     const std::pair<QString, GizmoMode> modeList[] = {{tr("&Move"), GizmoMode::Move}, {tr("&Rotate"), GizmoMode::Rotate}, {tr("&Scale"), GizmoMode::Scale}};
     const Qt::Key modeKeys[] = {Qt::Key_W, Qt::Key_E, Qt::Key_R};
-    QToolBar* toolbar = addToolBar(tr("Tools"));
-    toolbar->setObjectName("tools");
-    toolbar_ = toolbar;
+    toolbar_ = addToolBar(tr("Tools"));
+    toolbar_->setObjectName("tools");
     for (int i = 0; i < 3; ++i) {
         QAction* a = action(transform, modeList[i].first, QKeySequence(modeKeys[i]), [this, mode = modeList[i].second] { controller_->setGizmoMode(mode); });
         a->setCheckable(true);
         a->setChecked(i == 0);
         modes->addAction(a);
-        toolbar->addAction(a);
+        toolbar_->addAction(a);
     }
     // World or local axes for moving and rotating (X, as Unity's pivot rotation toggle).
     transform->addSeparator();
@@ -531,7 +564,7 @@ void MainWindow::createActions()
     spaceAction_->setCheckable(true);
     spaceAction_->setObjectName("localAxes");
     spaceAction_->setToolTip(tr("Move and rotate along the object's own axes (X)"));
-    toolbar->addAction(spaceAction_);
+    toolbar_->addAction(spaceAction_);
     connect(controller_.get(), &ViewportController::gizmoSpaceChanged, this, [this](GizmoSpace space) {
         const QSignalBlocker quiet(spaceAction_);
         spaceAction_->setChecked(space == GizmoSpace::Local);
@@ -545,7 +578,7 @@ void MainWindow::createActions()
     snapAction_ = action(transform, tr("S&nap"), QKeySequence(Qt::Key_G), [this](bool) { applySnap(); });
     snapAction_->setCheckable(true);
     snapAction_->setObjectName("snap");
-    toolbar->addAction(snapAction_);
+    toolbar_->addAction(snapAction_);
     action(transform, tr("Finer Grid"), QKeySequence(Qt::Key_BracketLeft), [this] {
         gridStep_ = std::max(gridStep_ / 2.0, 1.0 / 64.0);
         applySnap();
@@ -554,10 +587,34 @@ void MainWindow::createActions()
         gridStep_ = std::min(gridStep_ * 2.0, 64.0);
         applySnap();
     });
-    toolbar->addSeparator();
+    toolbar_->addSeparator();
+}
 
+void MainWindow::createViewMenu()
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     QMenu* view = menuBar()->addMenu(tr("&View"));
     viewMenu_ = view;
+    addPanelsAndCameraItems(view);
+    QAction* wire = action(view, tr("&Wireframe"), QKeySequence(Qt::Key_Z), [this](bool on) {
+        viewport_->style().wireframe = on;
+        viewport_->requestUpdate();
+    });
+    wire->setCheckable(true);
+    addShadingItems(view);
+    addPvsDebuggerItems(view);
+    addAoEnvironmentItems(view);
+    addSectionCutItems(view);
+    addRayItems(view, wire);
+}
+
+void MainWindow::addPanelsAndCameraItems(QMenu* view)
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     // A closed panel comes back from here (once closed, it stayed closed).
     QMenu* panels = view->addMenu(tr("&Panels"));
     for (QDockWidget* dock : {outlineDock_, propertiesDock_, lightCostsDock_}) {
@@ -609,11 +666,13 @@ void MainWindow::createActions()
     };
     action(cameraMenu, tr("Look Through &Source"), QKeySequence(Qt::Key_L), [lookFrom] { lookFrom(true); });
     action(cameraMenu, tr("Look From &Receiver"), QKeySequence(Qt::SHIFT | Qt::Key_L), [lookFrom] { lookFrom(false); });
-    QAction* wire = action(view, tr("&Wireframe"), QKeySequence(Qt::Key_Z), [this](bool on) {
-        viewport_->style().wireframe = on;
-        viewport_->requestUpdate();
-    });
-    wire->setCheckable(true);
+}
+
+void MainWindow::addShadingItems(QMenu* view)
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     // Ambient occlusion of the level: computed in the background, coarse at once
     // (k = 6), refined to k = 258; the status bar follows it.
     QAction* ao = action(view, tr("&Ambient Occlusion"), QKeySequence(Qt::Key_O), [this](bool on) {
@@ -700,6 +759,13 @@ void MainWindow::createActions()
     });
     aoSelection->setCheckable(true);
     aoSelection->setObjectName("aoOfSelection");
+}
+
+void MainWindow::addPvsDebuggerItems(QMenu* view)
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     // The PVS debugger: the project's PVS baked in the background, coarse for every
     // cell first; the level's objects the camera's view cell cannot see are tinted magenta.
     QAction* pvsView = action(view, tr("&PVS Debugger"), QKeySequence(Qt::Key_P), [this](bool on) {
@@ -775,6 +841,13 @@ void MainWindow::createActions()
         if (pvsView->isChecked())
             statusBar()->showMessage(status);
     });
+}
+
+void MainWindow::addAoEnvironmentItems(QMenu* view)
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     // The light around the level (Sattler et al. §4): an HDR environment relights the AO from the
     // visibility matrix, without tracing; its turn about +Y in 15 degree steps.
     action(view, tr("AO &Environment..."), QKeySequence(), [this] {
@@ -809,6 +882,13 @@ void MainWindow::createActions()
                                      k < target ? 0 : 8000);
         }
     });
+}
+
+void MainWindow::addSectionCutItems(QMenu* view)
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     // The section cut: its own toggle and height (navigation never moves it).
     cutAction_ = action(view, tr("Section &Cut"), QKeySequence(Qt::Key_C), [this](bool on) {
         viewport_->style().cutaway = on;
@@ -832,6 +912,13 @@ void MainWindow::createActions()
     });
     action(view, tr("Raise Section Cut"), QKeySequence(Qt::Key_PageUp), [moveCut] { moveCut(0.5); });
     action(view, tr("Lower Section Cut"), QKeySequence(Qt::Key_PageDown), [moveCut] { moveCut(-0.5); });
+}
+
+void MainWindow::addRayItems(QMenu* view, QAction* wire)
+{
+    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
+        return addMenuAction(this, menu, text, shortcut, slot);
+    };
     QAction* rays = action(view, tr("Show &Rays"), QKeySequence(Qt::Key_V), [this](bool on) {
         viewport_->style().showRays = on;
         viewport_->requestUpdate();
@@ -843,9 +930,9 @@ void MainWindow::createActions()
         viewport_->requestUpdate();
     });
     blocked->setCheckable(true);
-    toolbar->addAction(wire);
-    toolbar->addAction(rays);
-    toolbar->addAction(blocked);
+    toolbar_->addAction(wire);
+    toolbar_->addAction(rays);
+    toolbar_->addAction(blocked);
 
     // Ray density: how many rays are drawn at most (the status bar always counts all of them).
     auto* density = new QComboBox(this);
@@ -858,8 +945,11 @@ void MainWindow::createActions()
         viewport_->style().rayCap = density->currentData().toInt();
         viewport_->requestUpdate();
     });
-    toolbar->addWidget(density);
+    toolbar_->addWidget(density);
+}
 
+void MainWindow::createHelpMenu()
+{
     QMenu* help = menuBar()->addMenu(tr("&Help"));
     help->addAction(tr("&Controls"), this, [this] {
         QMessageBox::information(this, tr("Controls"),
@@ -879,6 +969,7 @@ void MainWindow::createActions()
                                     "Record video (camera and edits) / stop: F9; play the recorded path: Shift+F9"));
     });
 }
+
 
 QString MainWindow::recoveryPath()
 {

@@ -80,7 +80,19 @@ protected:
     bool eventFilter(QObject* watched, QEvent* event) override;
 
 private:
-    void createActions();
+    void createActions();   // one builder per menu, in the menu bar's order
+    void createFileMenu();
+    void createEditMenu();
+    void createCreateMenu();
+    void createTransformMenu();   // also the tools toolbar
+    void createViewMenu();
+    void addPanelsAndCameraItems(QMenu* view);
+    void addShadingItems(QMenu* view);   // AO, the lit view and what it shows, O'Rorke's sets
+    void addPvsDebuggerItems(QMenu* view);
+    void addAoEnvironmentItems(QMenu* view);
+    void addSectionCutItems(QMenu* view);
+    void addRayItems(QMenu* view, QAction* wire);   // and the ray toolbar
+    void createHelpMenu();
     void createPanels();
     bool maybeSave();
     bool save();
