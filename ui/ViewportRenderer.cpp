@@ -560,6 +560,23 @@ struct ViewportRenderer::Impl {
         gl.BindVertexArray(buffer.vao);
         gl.DrawArrays(GL_TRIANGLES, first, end - first);
     }
+
+    /// What every layer of a frame shares.
+    struct FrameSetup {
+        glm::mat4 viewProj{1.0f};
+        Cutaway cut;
+        int selectedFile = -1;   ///< the selected object of the scene file, or -1
+        bool ao = false;         ///< the AO (or lit) texture is bound and shown
+        bool pvs = false;        ///< the PVS tint texture is bound and shown
+    };
+    // One drawer per layer of ViewportRenderer::render, in drawing order.
+    void setCut(double height, double depth);
+    void drawLevel(const FrameState& f, const FrameSetup& s, GLuint framebuffer, bool clear, GLsizei first, GLsizei end);
+    GLuint composeLevel(const FrameState& f, const FrameSetup& s);
+    void drawOccluders(const FrameState& f, int selectedOccluder);
+    const Patch* drawOverlay(const FrameState& f, const glm::vec3& eye);
+    std::uint64_t drawRays(const FrameState& f, const glm::mat4& viewProj, GLuint target);
+    void drawGuides(const FrameState& f, const Patch* overlaid, const Cutaway& cut);
 };
 
 ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_unique<Impl>(gl))
@@ -812,76 +829,52 @@ void appendLightMarkers(std::vector<LineVertex>& lines, const FrameState& f)
 
 } // namespace
 
-void ViewportRenderer::render(const FrameState& f)
+void ViewportRenderer::Impl::setCut(double height, double depth)
 {
-    Impl& d = *impl_;
-    const gl::Functions& gl = d.gl;
-    // The radius sets the depth range. It is rounded up to a power of two: the editor's includes
-    // the patches, and a receiver dragged past the level's bounds would otherwise change the
-    // projection, and so redraw the cached level (most of a frame on a software rasteriser), on
-    // every frame of the drag.
-    const double radius = std::exp2(std::ceil(std::log2(std::max(f.sceneRadius, 1.0))));
-    const glm::mat4 viewProj = f.camera.projection(double(f.width) / f.height, radius) * f.camera.view();
-    const glm::vec3 eye(f.camera.eye());
-    const glm::vec3 forward(f.camera.forward());
-    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram, d.overlayProgram})
-        gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
-    gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
-    gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
-    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "orthographic"), f.camera.orthographic ? 1 : 0);
     // Finite values only: "no cut" as an infinite distance reached the clip distances as infinite
     // (or NaN) and llvmpipe dropped every triangle of the placed occluders, which are drawn uncut.
-    auto setCut = [&](double height, double depth) {
-        gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutHeight"), float(std::min(height, 1e30)));
-        gl.ProgramUniform1f(d.meshProgram, d.loc(d.meshProgram, "cutDepth"), float(std::max(depth, -1e30)));
-    };
-    const Cutaway cut = cutaway(f);
-    const int selectedFile = f.selection.kind == ObjectKind::SceneObject ? int(f.selection.index) : -1;
-    const int selectedOccluder = f.selection.kind == ObjectKind::Occluder ? int(f.selection.index) : -1;
+    gl.ProgramUniform1f(meshProgram, loc(meshProgram, "cutHeight"), float(std::min(height, 1e30)));
+    gl.ProgramUniform1f(meshProgram, loc(meshProgram, "cutDepth"), float(std::max(depth, -1e30)));
+}
 
-    gl.Enable(GL_DEPTH_TEST);
-    gl.DepthFunc(GL_LEQUAL);
-    gl.DepthMask(GL_TRUE);
-    gl.Disable(GL_BLEND);
-    gl.Disable(GL_CULL_FACE);
-    // The level's vertices [first, end) (a first draw comes in chunks: kFirstDrawChunk).
-    auto drawBackground = [&](GLuint framebuffer, bool clear = true, GLsizei first = 0,
-                              GLsizei end = std::numeric_limits<GLsizei>::max()) {
-        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
-        gl.Viewport(0, 0, f.width, f.height);
-        if (clear) {
-            const float background[4] = {0.17f, 0.18f, 0.2f, 1.0f};
-            gl.ClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, background);
-            gl.ClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
-        }
-        gl.UseProgram(d.meshProgram);
-        setCut(cut.height, cut.depth);
-        gl.Enable(GL_CLIP_DISTANCE0);
-        gl.Enable(GL_CLIP_DISTANCE1);
-        gl.Enable(GL_CLIP_DISTANCE2);
-        gl.Enable(GL_POLYGON_OFFSET_FILL);
-        gl.PolygonOffset(1.0f, 1.0f);   // the wireframe overlay wins the depth test
-        d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, selectedFile, glm::vec4(0.0f), first, end);
-        gl.Disable(GL_POLYGON_OFFSET_FILL);
-        if (f.style.wireframe) {
-            gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-            d.drawMesh(d.sceneFile, {}, -1, {0.1f, 0.1f, 0.12f, 1.0f}, first, end);
-            gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-        }
-        gl.Disable(GL_CLIP_DISTANCE0);
-        gl.Disable(GL_CLIP_DISTANCE1);
-        gl.Disable(GL_CLIP_DISTANCE2);
-    };
-    const bool ao = (f.style.ambientOcclusion || f.style.litView) && d.aoReady;
-    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), ao ? 1 : 0);
-    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "litOn"), f.style.litView ? 1 : 0);
-    if (ao)
-        gl.BindTextureUnit(3, d.aoTexture);
-    const bool pvs = (f.style.pvsDebugger || f.style.lightSets) && d.pvsReady;
-    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "pvsOn"), pvs ? 1 : 0);
-    if (pvs)
-        gl.BindTextureUnit(4, d.pvsTexture);
-    const Impl::BackgroundKey key{viewProj, f.width, f.height, f.style.wireframe, float(cut.height), float(cut.depth), selectedFile, d.sceneVersion, ao, f.style.litView, pvs};
+/// The level's vertices [first, end) into `framebuffer` (a first draw comes in chunks: kFirstDrawChunk).
+void ViewportRenderer::Impl::drawLevel(const FrameState& f, const FrameSetup& s, GLuint framebuffer, bool clear,
+                                       GLsizei first, GLsizei end)
+{
+    Impl& d = *this;
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    gl.Viewport(0, 0, f.width, f.height);
+    if (clear) {
+        const float background[4] = {0.17f, 0.18f, 0.2f, 1.0f};
+        gl.ClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, background);
+        gl.ClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    }
+    gl.UseProgram(d.meshProgram);
+    d.setCut(s.cut.height, s.cut.depth);
+    gl.Enable(GL_CLIP_DISTANCE0);
+    gl.Enable(GL_CLIP_DISTANCE1);
+    gl.Enable(GL_CLIP_DISTANCE2);
+    gl.Enable(GL_POLYGON_OFFSET_FILL);
+    gl.PolygonOffset(1.0f, 1.0f);   // the wireframe overlay wins the depth test
+    d.drawMesh(d.sceneFile, {0.72f, 0.72f, 0.7f}, s.selectedFile, glm::vec4(0.0f), first, end);
+    gl.Disable(GL_POLYGON_OFFSET_FILL);
+    if (f.style.wireframe) {
+        gl.PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        d.drawMesh(d.sceneFile, {}, -1, {0.1f, 0.1f, 0.12f, 1.0f}, first, end);
+        gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    }
+    gl.Disable(GL_CLIP_DISTANCE0);
+    gl.Disable(GL_CLIP_DISTANCE1);
+    gl.Disable(GL_CLIP_DISTANCE2);
+}
+
+/// The level into the frame: from the cache, drawn again only when its key changed (in chunks
+/// on a first draw), or whole where the cache cannot be blitted. Returns where the frame is composed.
+GLuint ViewportRenderer::Impl::composeLevel(const FrameState& f, const FrameSetup& s)
+{
+    Impl& d = *this;
+    const Impl::BackgroundKey key{s.viewProj, f.width, f.height, f.style.wireframe, float(s.cut.height), float(s.cut.depth),
+                                  s.selectedFile, d.sceneVersion, s.ao, f.style.litView, s.pvs};
     bool drawn = false;
     GLuint target = f.framebuffer;   // where the frame is composed
     d.resizeCache(f.width, f.height);
@@ -896,7 +889,7 @@ void ViewportRenderer::render(const FrameState& f)
             const GLsizei to = !d.levelFirstDraw     ? total
                                : d.levelJustUploaded ? from
                                                      : std::min(total, from + Impl::kFirstDrawChunk);
-            drawBackground(d.cache.framebuffer, d.cacheLevelDrawn < 0, from, to);
+            d.drawLevel(f, s, d.cache.framebuffer, d.cacheLevelDrawn < 0, from, to);
             d.cacheLevelDrawn = to;
             if (to >= total)
                 d.levelFirstDraw = false;
@@ -912,15 +905,18 @@ void ViewportRenderer::render(const FrameState& f)
             target = d.compose.framebuffer;
     }
     if (!drawn) {   // without the cache, every frame draws the level whole
-        drawBackground(f.framebuffer);
+        d.drawLevel(f, s, f.framebuffer, true, 0, std::numeric_limits<GLsizei>::max());
         d.levelFirstDraw = d.levelJustUploaded = false;
     }
-    gl.BindFramebuffer(GL_FRAMEBUFFER, target);
-    gl.Viewport(0, 0, f.width, f.height);
+    return target;
+}
 
-    // Placed occluders: always drawn (they move), never cut away.
+/// Placed occluders: always drawn (they move), never cut away.
+void ViewportRenderer::Impl::drawOccluders(const FrameState& f, int selectedOccluder)
+{
+    Impl& d = *this;
     gl.UseProgram(d.meshProgram);
-    setCut(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
+    d.setCut(std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity());
     gl.Enable(GL_CLIP_DISTANCE2);   // hidden ones
     d.drawMesh(d.occluders, kOccluderColour, selectedOccluder, glm::vec4(0.0f));
     if (f.style.wireframe) {
@@ -929,8 +925,13 @@ void ViewportRenderer::render(const FrameState& f)
         gl.PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     }
     gl.Disable(GL_CLIP_DISTANCE2);
+}
 
-    // The overlay, opaque (depth written, so translucent things behind it stay behind it).
+/// The importance overlay on its patch, opaque (depth written, so translucent things behind it stay
+/// behind it). Returns the patch it covers, or null.
+const Patch* ViewportRenderer::Impl::drawOverlay(const FrameState& f, const glm::vec3& eye)
+{
+    Impl& d = *this;
     const Patch* overlaid = d.overlayPatch == ObjectKind::Source && !f.sourceHidden       ? &f.source
                             : d.overlayPatch == ObjectKind::Receiver && !f.receiverHidden ? &f.receiver
                                                                                          : nullptr;
@@ -961,12 +962,19 @@ void ViewportRenderer::render(const FrameState& f)
         gl.DrawArrays(GL_TRIANGLES, 0, 6);
         gl.Disable(GL_POLYGON_OFFSET_FILL);
     }
+    return overlaid;
+}
 
+/// The rays between the patches' samples (RayLayer.h), translucent, without writing depth; leaves
+/// blending on and depth writes off for the guides. Returns how many were drawn.
+std::uint64_t ViewportRenderer::Impl::drawRays(const FrameState& f, const glm::mat4& viewProj, GLuint target)
+{
+    Impl& d = *this;
     // Translucent: rays, then the patches, without writing depth.
     gl.Enable(GL_BLEND);
     gl.BlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     gl.DepthMask(GL_FALSE);
-    raysDrawn_ = 0;
+    std::uint64_t raysDrawn = 0;
     // The map may answer an older pair (a background answer on its way): rays only while its
     // sample counts are these patches'.
     const bool mapFits = d.map && d.map->sourceCount() == f.source.na * f.source.nb &&
@@ -1058,9 +1066,15 @@ void ViewportRenderer::render(const FrameState& f)
             gl.DrawArrays(GL_POINTS, 0, GLsizei(subset.count()));
             gl.Disable(GL_PROGRAM_POINT_SIZE);
         }
-        raysDrawn_ = subset.count();
+        raysDrawn = subset.count();
     }
+    return raysDrawn;
+}
 
+/// The patches, the shaft, the cut's outline, PVS gaps, lights, the scissor frame and the handles.
+void ViewportRenderer::Impl::drawGuides(const FrameState& f, const Patch* overlaid, const Cutaway& cut)
+{
+    Impl& d = *this;
     std::vector<LineVertex> triangles, lines, overlay;
     auto quad = [&](const Patch& patch, const glm::vec4& colour) {
         const glm::vec3 c(patch.corner), u(patch.u), v(patch.v);
@@ -1159,6 +1173,53 @@ void ViewportRenderer::render(const FrameState& f)
     drawLines(handles, GL_TRIANGLES);
     gl.DepthMask(GL_TRUE);
     gl.Disable(GL_BLEND);
+}
+
+void ViewportRenderer::render(const FrameState& f)
+{
+    Impl& d = *impl_;
+    const gl::Functions& gl = d.gl;
+    Impl::FrameSetup s;
+    // The radius sets the depth range. It is rounded up to a power of two: the editor's includes
+    // the patches, and a receiver dragged past the level's bounds would otherwise change the
+    // projection, and so redraw the cached level (most of a frame on a software rasteriser), on
+    // every frame of the drag.
+    const double radius = std::exp2(std::ceil(std::log2(std::max(f.sceneRadius, 1.0))));
+    s.viewProj = f.camera.projection(double(f.width) / f.height, radius) * f.camera.view();
+    const glm::vec3 eye(f.camera.eye());
+    const glm::vec3 forward(f.camera.forward());
+    for (GLuint p : {d.meshProgram, d.lineProgram, d.rayProgram, d.overlayProgram})
+        gl.ProgramUniformMatrix4fv(p, d.loc(p, "viewProj"), 1, GL_FALSE, glm::value_ptr(s.viewProj));
+    gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "eye"), 1, glm::value_ptr(eye));
+    gl.ProgramUniform3fv(d.meshProgram, d.loc(d.meshProgram, "viewForward"), 1, glm::value_ptr(forward));
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "orthographic"), f.camera.orthographic ? 1 : 0);
+    s.cut = cutaway(f);
+    s.selectedFile = f.selection.kind == ObjectKind::SceneObject ? int(f.selection.index) : -1;
+    const int selectedOccluder = f.selection.kind == ObjectKind::Occluder ? int(f.selection.index) : -1;
+
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(GL_LEQUAL);
+    gl.DepthMask(GL_TRUE);
+    gl.Disable(GL_BLEND);
+    gl.Disable(GL_CULL_FACE);
+    s.ao = (f.style.ambientOcclusion || f.style.litView) && d.aoReady;
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "aoOn"), s.ao ? 1 : 0);
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "litOn"), f.style.litView ? 1 : 0);
+    if (s.ao)
+        gl.BindTextureUnit(3, d.aoTexture);
+    s.pvs = (f.style.pvsDebugger || f.style.lightSets) && d.pvsReady;
+    gl.ProgramUniform1i(d.meshProgram, d.loc(d.meshProgram, "pvsOn"), s.pvs ? 1 : 0);
+    if (s.pvs)
+        gl.BindTextureUnit(4, d.pvsTexture);
+
+    const GLuint target = d.composeLevel(f, s);
+    gl.BindFramebuffer(GL_FRAMEBUFFER, target);
+    gl.Viewport(0, 0, f.width, f.height);
+    d.drawOccluders(f, selectedOccluder);
+    const Patch* overlaid = d.drawOverlay(f, eye);
+    raysDrawn_ = d.drawRays(f, s.viewProj, target);
+    d.drawGuides(f, overlaid, s.cut);
+
     if (target != f.framebuffer)
         gl.BlitNamedFramebuffer(target, f.framebuffer, 0, 0, f.width, f.height, 0, 0, f.width, f.height,
                                 GL_COLOR_BUFFER_BIT, GL_NEAREST);

@@ -2531,6 +2531,7 @@ private:
         QWidget* container = window_->viewportContainer();
         container->setMinimumSize(0, 0);
         container->setMaximumSize(QWIDGETSIZE_MAX, QWIDGETSIZE_MAX);
+        const QSize before = window_->size();
         window_->resize(1920, 1080);
         QList<QDockWidget*> docks;
         QList<int> widths;
@@ -2544,6 +2545,7 @@ private:
         waitForUpdate();
         saveWindowShot(name);
         container->setFixedSize(800, 600);
+        window_->resize(before);
         QTest::qWait(200);
         waitForUpdate();
     }
