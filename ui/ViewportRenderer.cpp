@@ -81,7 +81,9 @@ void main() {
     else if (tint == 2u) c = mix(c, vec3(1.0, 0.85, 0.2), 0.55);
     else if (tint == 3u) c = mix(c, vec3(0.55, 0.35, 0.95), 0.6);
     else if (tint == 4u) c *= 0.35;
-    if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), 0.6);
+    // The selection's tint is faint where AO shades the level: a strong one would hide the very
+    // shading the designer selected the object to see (View > AO of Selected Object Only).
+    if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), aoOn != 0 ? 0.2 : 0.6);
     if (litOn != 0 && aoOn != 0) {
         // A faint headlight keeps unlit geometry readable; texels outside the map stay dark.
         vec3 lit = vAoUv.x >= 0.0 ? texture(aoMap, vAoUv).rgb : vec3(0.0);
