@@ -52,20 +52,19 @@
 namespace sightline::ui {
 
 namespace {
-
-/// A menu item with a shortcut whose trigger runs `slot` in `receiver`'s thread and lifetime.
-template <typename Slot>
-QAction* addMenuAction(QObject* receiver, QMenu* menu, const QString& text, const QKeySequence& shortcut, Slot slot)
-{
-    QAction* a = menu->addAction(text);
-    a->setShortcut(shortcut);
-    QObject::connect(a, &QAction::triggered, receiver, slot);
-    return a;
-}
 constexpr int kMaxRecentFiles = 8;
 constexpr int kAutosaveMs = 60'000;
 constexpr const char* kAllowOutsidePathsKey = "files/allowOutsidePaths";
 } // namespace
+
+template <typename Slot>
+QAction* MainWindow::action(QMenu* menu, const QString& text, const QKeySequence& shortcut, Slot slot)
+{
+    QAction* a = menu->addAction(text);
+    a->setShortcut(shortcut);
+    connect(a, &QAction::triggered, this, slot);
+    return a;
+}
 
 QString visibilitySummary(const VisibilityResult& result)
 {
@@ -295,9 +294,6 @@ void MainWindow::createActions()
 
 void MainWindow::createFileMenu()
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     QMenu* file = menuBar()->addMenu(tr("&File"));
     action(file, tr("&New"), QKeySequence::New, [this] {
         if (maybeSave())
@@ -353,9 +349,6 @@ void MainWindow::createFileMenu()
 
 void MainWindow::createEditMenu()
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     QMenu* edit = menuBar()->addMenu(tr("&Edit"));
     QAction* undo = document_.undoStack()->createUndoAction(this, tr("&Undo"));
     undo->setShortcut(QKeySequence::Undo);
@@ -449,9 +442,6 @@ void MainWindow::createEditMenu()
 
 void MainWindow::createCreateMenu()
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     QMenu* create = menuBar()->addMenu(tr("&Create"));
     action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
     action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
@@ -537,9 +527,6 @@ void MainWindow::createCreateMenu()
 
 void MainWindow::createTransformMenu()
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     QMenu* transform = menuBar()->addMenu(tr("&Transform"));
     auto* modes = new QActionGroup(this);
     const std::pair<QString, GizmoMode> modeList[] = {{tr("&Move"), GizmoMode::Move}, {tr("&Rotate"), GizmoMode::Rotate}, {tr("&Scale"), GizmoMode::Scale}};
@@ -592,9 +579,6 @@ void MainWindow::createTransformMenu()
 
 void MainWindow::createViewMenu()
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     QMenu* view = menuBar()->addMenu(tr("&View"));
     viewMenu_ = view;
     addPanelsAndCameraItems(view);
@@ -612,9 +596,6 @@ void MainWindow::createViewMenu()
 
 void MainWindow::addPanelsAndCameraItems(QMenu* view)
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     // A closed panel comes back from here (once closed, it stayed closed).
     QMenu* panels = view->addMenu(tr("&Panels"));
     for (QDockWidget* dock : {outlineDock_, propertiesDock_, lightCostsDock_}) {
@@ -670,9 +651,6 @@ void MainWindow::addPanelsAndCameraItems(QMenu* view)
 
 void MainWindow::addShadingItems(QMenu* view)
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     // Ambient occlusion of the level: computed in the background, coarse at once
     // (k = 6), refined to k = 258; the status bar follows it.
     QAction* ao = action(view, tr("&Ambient Occlusion"), QKeySequence(Qt::Key_O), [this](bool on) {
@@ -763,9 +741,6 @@ void MainWindow::addShadingItems(QMenu* view)
 
 void MainWindow::addPvsDebuggerItems(QMenu* view)
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     // The PVS debugger: the project's PVS baked in the background, coarse for every
     // cell first; the level's objects the camera's view cell cannot see are tinted magenta.
     QAction* pvsView = action(view, tr("&PVS Debugger"), QKeySequence(Qt::Key_P), [this](bool on) {
@@ -845,9 +820,6 @@ void MainWindow::addPvsDebuggerItems(QMenu* view)
 
 void MainWindow::addAoEnvironmentItems(QMenu* view)
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     // The light around the level (Sattler et al. §4): an HDR environment relights the AO from the
     // visibility matrix, without tracing; its turn about +Y in 15 degree steps.
     action(view, tr("AO &Environment..."), QKeySequence(), [this] {
@@ -886,9 +858,6 @@ void MainWindow::addAoEnvironmentItems(QMenu* view)
 
 void MainWindow::addSectionCutItems(QMenu* view)
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     // The section cut: its own toggle and height (navigation never moves it).
     cutAction_ = action(view, tr("Section &Cut"), QKeySequence(Qt::Key_C), [this](bool on) {
         viewport_->style().cutaway = on;
@@ -916,9 +885,6 @@ void MainWindow::addSectionCutItems(QMenu* view)
 
 void MainWindow::addRayItems(QMenu* view, QAction* wire)
 {
-    auto action = [this](QMenu* menu, const QString& text, const QKeySequence& shortcut, auto slot) {
-        return addMenuAction(this, menu, text, shortcut, slot);
-    };
     QAction* rays = action(view, tr("Show &Rays"), QKeySequence(Qt::Key_V), [this](bool on) {
         viewport_->style().showRays = on;
         viewport_->requestUpdate();

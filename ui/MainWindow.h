@@ -80,6 +80,9 @@ protected:
     bool eventFilter(QObject* watched, QEvent* event) override;
 
 private:
+    /// A menu item with a shortcut whose trigger runs `slot` (defined and used in MainWindow.cpp).
+    template <typename Slot>
+    QAction* action(QMenu* menu, const QString& text, const QKeySequence& shortcut, Slot slot);
     void createActions();   // one builder per menu, in the menu bar's order
     void createFileMenu();
     void createEditMenu();
