@@ -7,6 +7,8 @@
 //   sightline-cli shadow PROJECT.json --out SHADOW.png
 //   sightline-cli ao MESH_OR_PROJECT [--k 258] [--npy OUT.npy] [--json] ...             (cli/AoCommand, docs/ao.md)
 //   sightline-cli lights PROJECT.json [--points P.npy] [--npy OUT.npy] [--json]   (cli/LightsCommand, docs/lights.md)
+//   sightline-cli suggest PROJECT.json --depth T [--share F] [--shape convex|rect] [--write OUT.json] [--json]
+//                                                                                 (cli/SuggestCommand)
 //   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
@@ -35,6 +37,7 @@
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
 #include "cli/PvsCommands.h"
+#include "cli/SuggestCommand.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"
 #include "demo/DemoLights.h"
@@ -612,6 +615,9 @@ int main(int argc, char** argv)
     cli::LightsArgs lights;
     CLI::App* lightsCmd = cli::addLightsCommand(app, lights);
 
+    cli::SuggestArgs suggestArgs;
+    CLI::App* suggestCmd = cli::addSuggestCommand(app, suggestArgs);
+
     cli::PvsArgs pvsArgs;
     CLI::App* pvsCmd = cli::addPvsCommand(app, pvsArgs);
 
@@ -685,6 +691,8 @@ int main(int argc, char** argv)
             cli::checkLightsOptions(*lightsCmd, lights);
             return cli::runLights(lights);
         }
+        if (*suggestCmd)
+            return cli::runSuggest(suggestArgs);
         if (*pvsCmd)
             return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {

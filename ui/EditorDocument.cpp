@@ -26,44 +26,6 @@ namespace {
 
 constexpr const char* kEditorKey = "editor";   // the project key the CLI ignores (kept as unknown)
 
-/// Rewrites a path written relative to `from` so that it means the same file from `to`
-/// (absolute when `absolute`, or when the relative form would climb out of `to`: such a path is
-/// refused on load, visibility/PathRule.h, while an absolute one is taken as written).
-std::string rebase(const std::string& path, const fs::path& from, const fs::path& to, bool absolute)
-{
-    if (path.empty())
-        return path;
-    std::error_code ec;
-    if (!absolute && fs::equivalent(from, to, ec))
-        return path;   // saved in place: what the user wrote stays as written
-    const fs::path p(path);
-    const fs::path full = p.is_absolute() ? p : (from / p).lexically_normal();
-    if (absolute)
-        return full.string();
-    const fs::path relative = full.lexically_relative(to);
-    const bool leaves = !relative.empty() && *relative.begin() == "..";
-    return relative.empty() || leaves ? full.string() : relative.generic_string();
-}
-
-Project rebased(Project project, const fs::path& folder, bool absolute)
-{
-    project.scene = rebase(project.scene, project.folder, folder, absolute);
-    for (OccluderSpec& spec : project.occluders)
-        if (!isBuiltinMesh(spec.mesh))
-            spec.mesh = rebase(spec.mesh, project.folder, folder, absolute);
-    // Paths in the lighting keys the editor keeps as unknown (project/LightingSetup.h).
-    auto rebaseKey = [&](const char* object, const char* key) {
-        const auto it = project.extra.find(object);
-        if (it != project.extra.end() && it->is_object() && it->contains(key) && it->at(key).is_string())
-            (*it)[key] = rebase(it->at(key).get<std::string>(), project.folder, folder, absolute);
-    };
-    rebaseKey("light", "texture");
-    rebaseKey("receiver_heights", "image");
-    rebaseKey("receiver_heights", "npy");
-    project.folder = folder;
-    return project;
-}
-
 } // namespace
 
 fs::path nextNumberedFile(const fs::path& folder, const std::string& stem, const std::string& extension)
@@ -358,7 +320,7 @@ void EditorDocument::open(const fs::path& file)
 void EditorDocument::save(const fs::path& file)
 {
     const fs::path target = fs::absolute(file);
-    const Project project = rebased(project_, target.parent_path(), false);
+    const Project project = rebasedProject(project_, target.parent_path(), false);
     saveProject(project, target);
     project_ = project;
     file_ = target;
@@ -368,7 +330,7 @@ void EditorDocument::save(const fs::path& file)
 
 void EditorDocument::saveRecovery(const fs::path& file) const
 {
-    saveProject(rebased(project_, fs::absolute(file).parent_path(), true), file);
+    saveProject(rebasedProject(project_, fs::absolute(file).parent_path(), true), file);
 }
 
 void EditorDocument::setEditorSettings(const nlohmann::json& settings) { project_.extra[kEditorKey] = settings; }

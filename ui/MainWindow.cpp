@@ -10,6 +10,8 @@
 #include <QBuffer>
 #include <QDir>
 #include <QDockWidget>
+#include <QAbstractItemView>
+#include <QAbstractSpinBox>
 #include <QPushButton>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -34,6 +36,7 @@
 #include "EditCommands.h"
 #include "ImportSettingsDialog.h"
 #include "LightCostPanel.h"
+#include "OccluderAssistant.h"
 #include "OutlinePanel.h"
 #include "PatchPairFix.h"
 #include "PatchWarnings.h"
@@ -210,6 +213,16 @@ void MainWindow::createPanels()
         if (shown)
             showLightCosts();
     });
+
+    assistant_ = new OccluderAssistant(document_, *viewport_, this);
+    assistantDock_ = new QDockWidget(tr("Occluder Assistant"), this);
+    assistantDock_->setObjectName("occluderAssistant");
+    assistantDock_->setWidget(assistant_);
+    addDockWidget(Qt::RightDockWidgetArea, assistantDock_);
+    assistantDock_->hide();   // Create > Suggest Occluder (Ctrl+Alt+B)
+    connect(assistantDock_, &QDockWidget::visibilityChanged, assistant_, &OccluderAssistant::setActive);
+    connect(viewport_, &Viewport::visibilityUpdated, assistant_, &OccluderAssistant::refresh);
+    connect(assistant_, &OccluderAssistant::added, this, [this](const QString& status) { statusBar()->showMessage(status, 8000); });
 }
 
 void MainWindow::showLightCosts()
@@ -235,6 +248,14 @@ bool MainWindow::eventFilter(QObject* watched, QEvent* event)
                              (key->modifiers() == Qt::ControlModifier && key->key() == Qt::Key_Y);
         if (undoKey && widget && properties_ && properties_->isAncestorOf(widget)) {
             event->ignore();   // not overridden: the Edit menu's shortcut runs
+            return true;
+        }
+        const bool enterKey = (key->key() == Qt::Key_Return || key->key() == Qt::Key_Enter) &&
+                              (key->modifiers() & ~Qt::KeypadModifier) == Qt::NoModifier;
+        const bool field = qobject_cast<QLineEdit*>(widget) || qobject_cast<QAbstractSpinBox*>(widget) ||
+                           qobject_cast<QComboBox*>(widget) || qobject_cast<QAbstractItemView*>(widget);
+        if (enterKey && field && !(assistantDock_ && assistantDock_->isAncestorOf(widget))) {
+            event->accept();   // overridden: Enter commits the field's edit, it adds no occluder
             return true;
         }
     }
@@ -503,6 +524,26 @@ void MainWindow::createCreateMenu()
         }
     });
 
+    // The occluder assistant: the smallest occluder that cuts the view, as a ghost; Enter adds it
+    // (except in the fields and lists outside the assistant, where Enter stays their own:
+    // eventFilter).
+    create->addSeparator();
+    action(create, tr("Suggest &Occluder..."), QKeySequence(Qt::CTRL | Qt::ALT | Qt::Key_B), [this] {
+        assistantDock_->show();
+        assistantDock_->raise();
+        resizeDocks({assistantDock_}, {assistant_->minimumSizeHint().height() + 40}, Qt::Vertical);
+    })->setObjectName("suggestOccluder");
+    QAction* addSuggested = action(create, tr("Add Suggested Occluder"), QKeySequence(Qt::Key_Return), [this] {
+        QString status;
+        assistant_->addSuggestion(&status);
+        statusBar()->showMessage(status, 8000);
+    });
+    addSuggested->setObjectName("addSuggestedOccluder");
+    addSuggested->setShortcuts({QKeySequence(Qt::Key_Return), QKeySequence(Qt::Key_Enter)});
+    addSuggested->setEnabled(false);
+    connect(assistant_, &OccluderAssistant::suggestionChanged, addSuggested,
+            [this, addSuggested] { addSuggested->setEnabled(assistant_->suggestion().has_value()); });
+
     create->addSeparator();
     // Lights at the orbit target, half a metre up (in a room the target is usually on or over
     // the floor), selected so that the gizmo and the properties take them at once.
@@ -598,7 +639,7 @@ void MainWindow::addPanelsAndCameraItems(QMenu* view)
 {
     // A closed panel comes back from here (once closed, it stayed closed).
     QMenu* panels = view->addMenu(tr("&Panels"));
-    for (QDockWidget* dock : {outlineDock_, propertiesDock_, lightCostsDock_}) {
+    for (QDockWidget* dock : {outlineDock_, propertiesDock_, lightCostsDock_, assistantDock_}) {
         QAction* toggle = dock->toggleViewAction();
         toggle->setObjectName("panel-" + dock->objectName());
         panels->addAction(toggle);

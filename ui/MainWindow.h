@@ -25,6 +25,7 @@ class QToolBar;
 namespace sightline::ui {
 
 class LightCostPanel;
+class OccluderAssistant;
 class OutlinePanel;
 class OverlayControls;
 class PropertiesPanel;
@@ -53,6 +54,7 @@ public:
     QWidget* viewportContainer() { return container_; }
     OverlayControls& overlayControls() { return *overlay_; }
     RecordingControls& recorder() { return *recorder_; }
+    OccluderAssistant& occluderAssistant() { return *assistant_; }
 
     /// Opens a project or mesh file; on failure shows the one-line error and returns false.
     bool openFile(const QString& file);
@@ -127,6 +129,8 @@ private:
     PropertiesPanel* properties_ = nullptr;
     LightCostPanel* lightCosts_ = nullptr;
     QDockWidget* lightCostsDock_ = nullptr;
+    OccluderAssistant* assistant_ = nullptr;
+    QDockWidget* assistantDock_ = nullptr;
     /// The cost panel from the lit view's latest frame (when the panel is shown).
     void showLightCosts();
     QMenu* recentMenu_ = nullptr;

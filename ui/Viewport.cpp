@@ -435,6 +435,7 @@ void Viewport::paintGL()
     frame.gizmo = controller_.gizmo();
     frame.gizmoMode = controller_.gizmoMode();
     frame.placementGhost = controller_.placementGhost();
+    frame.occluderGhost = occluderGhost_;
     frame.hoveredAxis = controller_.hoveredAxis();
     frame.cutHandle = controller_.cutHandle();
     frame.cutHandleHovered = controller_.cutHandleHovered() || controller_.isDraggingCut();
@@ -1006,6 +1007,14 @@ void Viewport::keyReleaseEvent(QKeyEvent* event)
     if (!event->isAutoRepeat() && controller_.key(event->key(), false))
         return;
     QOpenGLWindow::keyReleaseEvent(event);
+}
+
+void Viewport::setOccluderGhost(std::vector<glm::vec3> polygon)
+{
+    if (polygon == occluderGhost_)
+        return;
+    occluderGhost_ = std::move(polygon);
+    update();
 }
 
 } // namespace sightline::ui

@@ -62,6 +62,13 @@ public:
     /// The shown result is older than the patches and occluders (an answer is on its way, or a
     /// slow GL update waits for the drag to end).
     bool resultIsStale() const { return samplesDirty_ || shownGeneration_ != requestedGeneration_; }
+    /// The shown answer is for the document's pair and occluders as they are now.
+    bool visibilityIsCurrent() const { return !resultIsStale(); }
+    /// The receiver's bumps the live sampler answers with (empty: flat).
+    const ReceiverHeights& receiverHeights() const { return visibility_.receiverHeights(); }
+    /// A suggested occluder (world-space convex polygon, empty for none), drawn translucent with its
+    /// outline over everything (OccluderAssistant.h).
+    void setOccluderGhost(std::vector<glm::vec3> polygon);
     /// The level as the document has it is drawn whole. After an open it is prepared on a worker
     /// and its first draw spread over a few frames (the event loop keeps running meanwhile).
     bool levelDrawn() const { return !levelDirty_ && renderer_ && !renderer_->levelIncomplete(); }
@@ -207,6 +214,7 @@ private:
     std::size_t pvsReferenceCells_ = 0;
     std::uint64_t pvsReferenceVisible_ = 0, pvsMissed_ = 0;
     int pvsGapSelected_ = -1;
+    std::vector<glm::vec3> occluderGhost_;   ///< setOccluderGhost
     double pvsCutoff_ = 0.0;   ///< the project's pvs.max_distance when the rows were last shown
     std::string pvsBakeKey_;   ///< the settings the running (or last) bake was started with
     /// The bake's rows with the project's overrides applied (kept in pvsShown_).

@@ -1097,6 +1097,20 @@ void ViewportRenderer::Impl::drawGuides(const FrameState& f, const Patch* overla
         quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
     if (f.placementGhost)
         quad(*f.placementGhost, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
+    // The occluder assistant's suggestion, magenta, over everything: it often stands in a
+    // doorway's wall, where a depth-tested fill would hide.
+    std::vector<LineVertex> ghostFill;
+    if (f.occluderGhost.size() >= 3) {
+        const std::vector<glm::vec3>& ghost = f.occluderGhost;
+        const glm::vec4 fill(1.0f, 0.25f, 0.9f, 0.3f), edge(1.0f, 0.45f, 1.0f, 1.0f);
+        for (std::size_t k = 1; k + 1 < ghost.size(); ++k)
+            for (const glm::vec3& p : {ghost[0], ghost[k], ghost[k + 1]})
+                ghostFill.push_back({p, fill});
+        for (std::size_t k = 0; k < ghost.size(); ++k) {
+            overlay.push_back({ghost[k], edge});
+            overlay.push_back({ghost[(k + 1) % ghost.size()], edge});
+        }
+    }
     // The shaft: corresponding corners joined; red when the pair cannot be sampled.
     const glm::vec4 shaftColour = f.pairValid ? glm::vec4(0.9f, 0.9f, 0.9f, 0.5f) : glm::vec4(1.0f, 0.2f, 0.2f, 0.9f);
     for (int k = 0; k < 4; ++k) {
@@ -1171,6 +1185,7 @@ void ViewportRenderer::Impl::drawGuides(const FrameState& f, const Patch* overla
     drawLines(triangles, GL_TRIANGLES);
     drawLines(lines, GL_LINES);
     gl.Disable(GL_DEPTH_TEST);
+    drawLines(ghostFill, GL_TRIANGLES);
     drawLines(overlay, GL_LINES);
     drawLines(handles, GL_TRIANGLES);
     gl.DepthMask(GL_TRUE);

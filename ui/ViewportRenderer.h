@@ -120,6 +120,9 @@ struct FrameState {
     std::optional<GizmoFrame> gizmo;
     GizmoMode gizmoMode = GizmoMode::Move;   ///< the handles' heads: arrows, rings or boxes
     std::optional<Patch> placementGhost;     ///< where a click would place a patch: drawn faint
+    /// A suggested occluder (a convex polygon, world space; empty for none): translucent, its
+    /// outline drawn over everything so it shows through walls.
+    std::vector<glm::vec3> occluderGhost;
     int hoveredAxis = -1;
     /// The section cut's handle (interactive views only) and the level's box its outline spans.
     std::optional<CutHandle> cutHandle;

@@ -389,4 +389,46 @@ Scene buildScene(const Project& project, std::vector<std::string>* warnings)
     return assembleScene(project, loadProjectMeshes(project, warnings));
 }
 
+namespace {
+
+/// Rewrites a path written relative to `from` so that it means the same file from `to`
+/// (absolute when `absolute`, or when the relative form would climb out of `to`: such a path is
+/// refused on load, visibility/PathRule.h, while an absolute one is taken as written).
+std::string rebase(const std::string& path, const std::filesystem::path& from, const std::filesystem::path& to, bool absolute)
+{
+    if (path.empty())
+        return path;
+    std::error_code ec;
+    if (!absolute && std::filesystem::equivalent(from, to, ec))
+        return path;   // saved in place: what the user wrote stays as written
+    const std::filesystem::path p(path);
+    const std::filesystem::path full = p.is_absolute() ? p : (from / p).lexically_normal();
+    if (absolute)
+        return full.string();
+    const std::filesystem::path relative = full.lexically_relative(to);
+    const bool leaves = !relative.empty() && *relative.begin() == "..";
+    return relative.empty() || leaves ? full.string() : relative.generic_string();
+}
+
+} // namespace
+
+Project rebasedProject(Project project, const std::filesystem::path& folder, bool absolute)
+{
+    project.scene = rebase(project.scene, project.folder, folder, absolute);
+    for (OccluderSpec& spec : project.occluders)
+        if (!isBuiltinMesh(spec.mesh))
+            spec.mesh = rebase(spec.mesh, project.folder, folder, absolute);
+    // Paths in the lighting keys the editor keeps as unknown (project/LightingSetup.h).
+    auto rebaseKey = [&](const char* object, const char* key) {
+        const auto it = project.extra.find(object);
+        if (it != project.extra.end() && it->is_object() && it->contains(key) && it->at(key).is_string())
+            (*it)[key] = rebase(it->at(key).get<std::string>(), project.folder, folder, absolute);
+    };
+    rebaseKey("light", "texture");
+    rebaseKey("receiver_heights", "image");
+    rebaseKey("receiver_heights", "npy");
+    project.folder = folder;
+    return project;
+}
+
 } // namespace sightline

@@ -2,6 +2,7 @@
 // a click, drag an occluder into the shaft with the gizmo, undo, save and reload, screenshot; the
 // importance overlay with its legend, read-out, accumulation and the animation run.
 
+#include <QSlider>
 #include <QAction>
 #include <QApplication>
 #include <QComboBox>
@@ -40,6 +41,7 @@
 #include "MainWindow.h"
 #include "ImportSettingsDialog.h"
 #include "LightCostPanel.h"
+#include "OccluderAssistant.h"
 #include "OutlinePanel.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
@@ -2492,6 +2494,148 @@ private slots:
         QVERIFY(glm::length(document.project().source.corner - source.corner) < 1e-12);
         document.select({});
         waitForUpdate();
+    }
+
+    // The occluder assistant (Create > Suggest Occluder, Ctrl+Alt+B): the ghost of the smallest
+    // occluder that cuts the view, drawn in magenta; Enter adds it, the live view's exact answer
+    // then leaves no more rays than it promised, and Ctrl+Z takes it away. A rectangle for 90% of
+    // the rays, added by its button, keeps its promise too.
+    void occluderAssistantCutsTheViewAndUndoRestores()
+    {
+        EditorDocument& document = window_->document();
+        Viewport& viewport = window_->viewport();
+        document.undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        const std::uint64_t unblocked = viewport.visibility().unblocked();
+        QVERIFY(unblocked > 0);
+        const std::size_t occluders = document.project().occluders.size();
+
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_B, Qt::ControlModifier | Qt::AltModifier);
+        OccluderAssistant& assistant = window_->occluderAssistant();
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.isVisible(), 5000);
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion().has_value(), 20000);
+        const suggest::Suggestion convex = *assistant.suggestion();
+        QCOMPARE(convex.unblockedBefore, unblocked);
+        QCOMPARE(convex.promised, std::uint64_t(0));
+        QVERIFY(assistant.summary()->text().contains("leaves at most 0"));
+
+        // From behind the source, looking down the shaft: the ghost is drawn, magenta, across it.
+        const suggest::SuggestPlane& plane = convex.plane;
+        Camera camera;
+        camera.target = plane.origin;
+        camera.distance = glm::length(plane.origin - document.project().source.centre()) + 1.5;
+        const glm::dvec3 forward = glm::normalize(plane.normal + 0.25 * plane.axisU - 0.2 * glm::dvec3(0, 1, 0));
+        camera.yaw = std::atan2(-forward.x, -forward.z);
+        camera.pitch = std::asin(forward.y);
+        window_->controller().setCamera(camera);
+        waitForFrame();
+        const auto magenta = [](QRgb c) { return qRed(c) > qGreen(c) + 40 && qBlue(c) > qGreen(c) + 30; };
+        const auto countMagenta = [&] {
+            const QImage frame = viewport.grabFramebuffer();
+            int n = 0;
+            for (int y = 0; y < frame.height(); y += 2)
+                for (int x = 0; x < frame.width(); x += 2)
+                    n += magenta(frame.pixel(x, y));
+            return n;
+        };
+        saveWindowShot("suggest-ghost");
+        const int withGhost = countMagenta();
+        QVERIFY2(withGhost > 200, qPrintable(QString("%1 magenta pixels").arg(withGhost)));
+
+        // Enter in a text field outside the assistant is the field's own: nothing is added.
+        auto* search = window_->findChild<QLineEdit*>();
+        QVERIFY(search);
+        search->setFocus();
+        QTest::keyClick(search, Qt::Key_Return);
+        QCOMPARE(document.project().occluders.size(), occluders);
+        // Enter in the view adds it; the exact answer leaves what was promised.
+        window_->viewportContainer()->setFocus();
+        QTest::keyClick(&viewport, Qt::Key_Return);
+        QCOMPARE(document.project().occluders.size(), occluders + 1);
+        const OccluderSpec added = document.project().occluders.back();
+        QCOMPARE(added.name, std::string("suggested occluder"));
+        QVERIFY(std::filesystem::exists(document.project().resolve(added.mesh, "mesh")));
+        waitForUpdate();
+        QCOMPARE(viewport.visibility().unblocked(), std::uint64_t(0));
+        QVERIFY(window_->statusBar()->currentMessage().startsWith("Added suggested occluder"));
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.summary()->text().contains("already blocked"), 10000);
+        QVERIFY(!assistant.suggestion());
+        saveWindowShot("suggest-added");
+
+        document.undoStack()->undo();
+        waitForUpdate();
+        QCOMPARE(document.project().occluders.size(), occluders);
+        QCOMPARE(viewport.visibility().unblocked(), unblocked);
+
+        // 90% of the rays by a rectangle, added with its button.
+        assistant.shapeBox()->setCurrentIndex(1);
+        assistant.shareBox()->setValue(90.0);
+        assistant.depthSlider()->setValue(35);
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion() && assistant.suggestion()->shape == suggest::Shape::Rect &&
+                                     assistant.suggestion()->plane.origin != plane.origin,
+                                 20000);
+        const suggest::Suggestion rect = *assistant.suggestion();
+        QVERIFY(rect.promised > 0 && rect.promised < unblocked / 10 + 1);
+        QTest::mouseClick(assistant.addButton(), Qt::LeftButton);
+        QCOMPARE(document.project().occluders.back().mesh, std::string("plane"));
+        waitForUpdate();
+        QVERIFY2(viewport.visibility().unblocked() <= rect.promised,
+                 qPrintable(QString("%1 unblocked, promised %2").arg(viewport.visibility().unblocked()).arg(rect.promised)));
+        saveWindowShot("suggest-rect");
+        document.undoStack()->undo();
+        window_->findChild<QDockWidget*>("occluderAssistant")->hide();
+        QTRY_VERIFY_WITH_TIMEOUT(!assistant.suggestion(), 5000);
+        waitForUpdate();
+        document.undoStack()->setClean();
+    }
+
+    // The same on a mesh made elsewhere (the Stanford bunny, scaled to 1.5 m by the project's
+    // scene_scale): a rectangle for 95% of the rays it lets past, opened from the Create menu.
+    void occluderAssistantOnAMeshMadeElsewhere()
+    {
+        EditorDocument& document = window_->document();
+        Viewport& viewport = window_->viewport();
+        const std::filesystem::path file = folder_ / "bunny.json";
+        const nlohmann::json project = {
+            {"version", 1},
+            {"scene", std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply"},
+            {"scene_scale", 10},
+            {"source", {{"corner", {-1.2, 0.1, -3}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
+            {"receiver", {{"corner", {-1.0, 0.3, 3}}, {"u", {1.6, 0, 0.2}}, {"v", {0, 1.6, 0}}, {"samples", {32, 32}}}}};
+        std::ofstream(file) << project.dump(2);
+        document.undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(file.string())));
+        waitForUpdate();
+        const std::uint64_t unblocked = viewport.visibility().unblocked();
+        QVERIFY(unblocked > 0 && unblocked < viewport.visibility().rays);
+
+        window_->findChild<QAction*>("suggestOccluder")->trigger();
+        OccluderAssistant& assistant = window_->occluderAssistant();
+        assistant.shapeBox()->setCurrentIndex(1);
+        assistant.shareBox()->setValue(95.0);
+        assistant.depthSlider()->setValue(70);
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion() && assistant.suggestion()->shape == suggest::Shape::Rect &&
+                                     std::abs(assistant.suggestion()->plane.origin.z - (-3.0 + 0.7 * 6.1)) < 1e-9,
+                                 20000);
+        const suggest::Suggestion rect = *assistant.suggestion();
+        QCOMPARE(rect.unblockedBefore, unblocked);
+        window_->controller().setCamera(facing(document.project().source, 8.0));
+        waitForFrame();
+        saveWindowShot("suggest-bunny-ghost");
+        QTest::mouseClick(assistant.addButton(), Qt::LeftButton);
+        waitForUpdate();
+        QVERIFY2(viewport.visibility().unblocked() <= rect.promised,
+                 qPrintable(QString("%1 unblocked, promised %2").arg(viewport.visibility().unblocked()).arg(rect.promised)));
+        QVERIFY(viewport.visibility().unblocked() >= unblocked / 50);   // the 5% it may leave, about
+        saveWindowShot("suggest-bunny-added");
+        document.undoStack()->undo();
+        window_->findChild<QDockWidget*>("occluderAssistant")->hide();
+        waitForUpdate();
+        QCOMPARE(viewport.visibility().unblocked(), unblocked);
+        document.undoStack()->setClean();
     }
 
     void cleanupTestCase()

@@ -79,6 +79,11 @@ nlohmann::json toJson(const Project& project);
 /// Atomic: a temporary file beside `file`, then a rename.
 void saveProject(const Project& project, const std::filesystem::path& file);
 
+/// The same project to be saved in `folder`: every path it names (scene, occluder meshes, the
+/// light texture, receiver heights) rewritten to mean the same file from there; absolute when
+/// `absolute`, or where the relative form would climb out of `folder` (PathRule.h refuses that).
+Project rebasedProject(Project project, const std::filesystem::path& folder, bool absolute);
+
 /// The built-in occluder meshes by name ("box", "plane"); throws sightline::Error for others.
 Mesh builtinMesh(const std::string& name);
 bool isBuiltinMesh(const std::string& name);

@@ -1,0 +1,144 @@
+#include "cli/SuggestCommand.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli/OptionRules.h"
+#include "cli/OutputLimits.h"
+#include "cli/OutputPaths.h"
+#include "plugins/SceneFormats.h"
+#include "project/Project.h"
+#include "project/SuggestedOccluder.h"
+#include "visibility/Error.h"
+
+namespace sightline::cli {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+/// "OUT-occluder.glb" beside the project to be written, or "OUT-occluder-2.glb", ...: a file that
+/// does not exist yet, so a suggestion never replaces a file (an earlier suggestion's included).
+fs::path freshMeshFile(const fs::path& projectOut)
+{
+    const fs::path folder = projectOut.parent_path();
+    const std::string stem = projectOut.stem().string() + "-occluder";
+    for (int k = 1;; ++k) {
+        const fs::path candidate = folder / (stem + (k == 1 ? "" : "-" + std::to_string(k)) + ".glb");
+        std::error_code ec;
+        if (!fs::exists(fs::symlink_status(candidate, ec)))
+            return candidate;
+    }
+}
+
+json pointJson(const glm::dvec3& p)
+{
+    return json::array({p.x, p.y, p.z});
+}
+
+} // namespace
+
+CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
+{
+    CLI::App* command = app.add_subcommand(
+        "suggest", "The smallest occluder on a plane between the patches that blocks a share of the rays now unblocked, "
+                   "checked by the exact sampler with it inserted (docs/cli.md)");
+    command->add_option("project", args.project, "Project file (JSON)")->required();
+    command->add_option("--depth", args.depth,
+                        "Where the plane lies: at this fraction of the way from the source's centre to the receiver's, "
+                        "perpendicular to that line, in (0, 1)")
+        ->required();
+    command->add_option("--share", args.share, "The share of the unblocked rays to block, in (0, 1]")->capture_default_str();
+    command->add_option("--shape", args.shape, "convex (a convex polygon) or rect (a rectangle free in the plane)")
+        ->capture_default_str()
+        ->check(CLI::IsMember({"convex", "rect"}));
+    command->add_option("--write", args.write,
+                        "Save a copy of the project with the occluder added (a convex one's mesh as OUT-occluder.glb "
+                        "beside it; a rectangle as the built-in plane)")
+        ->check(outputFile());
+    command->add_flag("--json", args.json, "Print one JSON object instead of text");
+    command->add_option("--threads", args.threads, "Sampling threads (0: all cores)")->check(CLI::Range(0, 1024));
+    addAllowOutsidePaths(command, args.allowOutsidePaths);
+    return command;
+}
+
+int runSuggest(const SuggestArgs& args)
+{
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    suggest::Request request;
+    request.depth = args.depth;
+    request.share = args.share;
+    request.shape = suggest::parseShape(args.shape);
+    fs::path meshOut;
+    if (!args.write.empty()) {
+        if (request.shape == suggest::Shape::Convex)
+            meshOut = freshMeshFile(args.write);
+        checkOutputs({{"--write", args.write}, {"the occluder's mesh", meshOut}}, projectInputs(args.project, project));
+    }
+    const SuggestedOccluder suggested =
+        suggestForProject(project, request, meshOut.empty() ? "suggested-occluder.glb" : meshOut.filename().string(), args.threads);
+    const suggest::Suggestion& s = suggested.suggestion;
+
+    if (!args.write.empty()) {
+        const fs::path folder = fs::absolute(args.write).parent_path();
+        Project out = rebasedProject(project, folder, false);
+        out.occluders.push_back(suggested.spec);
+        if (!meshOut.empty())
+            saveScene(suggested.mesh, meshOut);
+        saveProject(out, args.write);
+    }
+
+    if (args.json) {
+        json corners = json::array();
+        for (const glm::dvec3& p : s.worldPolygon())
+            corners.push_back(pointJson(p));
+        json out = {{"area", s.area},
+                    {"unblocked_before", s.unblockedBefore},
+                    {"unblocked_after", suggested.unblockedAfter},
+                    {"promised", s.promised},
+                    {"required", s.required},
+                    {"crossing", s.crossing},
+                    {"rays", std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount())},
+                    {"shape", suggest::shapeName(s.shape)},
+                    {"depth", args.depth},
+                    {"share", args.share},
+                    {"plane", {{"origin", pointJson(s.plane.origin)}, {"normal", pointJson(s.plane.normal)}}},
+                    {"corners", corners},
+                    {"margin", s.margin},
+                    {"attempts", suggested.attempts},
+                    {"ms", suggested.sampleMs + suggested.suggestMs + suggested.checkMs},
+                    {"sample_ms", suggested.sampleMs},
+                    {"suggest_ms", suggested.suggestMs},
+                    {"check_ms", suggested.checkMs}};
+        if (!args.write.empty()) {
+            out["written"] = args.write;
+            out["occluder"] = {{"name", suggested.spec.name}, {"mesh", suggested.spec.mesh}};
+            if (!meshOut.empty())
+                out["mesh_file"] = meshOut.string();
+        }
+        std::cout << dumpJson(out) << "\n";
+        return 0;
+    }
+    std::printf("plane      depth %.4g: through [%.4f, %.4f, %.4f], normal [%.4f, %.4f, %.4f]\n", args.depth, s.plane.origin.x,
+                s.plane.origin.y, s.plane.origin.z, s.plane.normal.x, s.plane.normal.y, s.plane.normal.z);
+    std::printf("occluder   %s, %zu corners, %.6g m² (margin %.2g m)\n", suggest::shapeName(s.shape), s.polygon.size(), s.area,
+                s.margin);
+    std::printf("rays       %llu unblocked before, %llu cross the plane; must block %llu (share %.6g)\n",
+                (unsigned long long)s.unblockedBefore, (unsigned long long)s.crossing, (unsigned long long)s.required, args.share);
+    std::printf("after      %llu unblocked by the exact sampler (promised at most %llu)\n",
+                (unsigned long long)suggested.unblockedAfter, (unsigned long long)s.promised);
+    std::printf("time       %.1f ms (sample %.1f, suggest %.1f, check %.1f)\n",
+                suggested.sampleMs + suggested.suggestMs + suggested.checkMs, suggested.sampleMs, suggested.suggestMs,
+                suggested.checkMs);
+    if (!args.write.empty())
+        std::printf("wrote      %s (occluder '%s'%s%s)\n", args.write.c_str(), suggested.spec.name.c_str(),
+                    meshOut.empty() ? "" : ", mesh ", meshOut.empty() ? "" : meshOut.string().c_str());
+    return 0;
+}
+
+} // namespace sightline::cli

@@ -1,0 +1,28 @@
+#pragma once
+// sightline-cli suggest (docs/design.md §4, a contract): the smallest occluder on a plane between
+// the patches that blocks a share of the rays now unblocked, checked by the exact sampler, and
+// optionally saved into a copy of the project.
+
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace sightline::cli {
+
+struct SuggestArgs {
+    std::string project;
+    double depth = 0.5;
+    double share = 1.0;
+    std::string shape = "convex";
+    std::string write;
+    bool json = false;
+    int threads = 0;
+    bool allowOutsidePaths = false;
+};
+
+CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args);
+int runSuggest(const SuggestArgs& args);
+
+} // namespace sightline::cli

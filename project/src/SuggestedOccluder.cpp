@@ -1,0 +1,130 @@
+#include "project/SuggestedOccluder.h"
+
+#include <chrono>
+#include <set>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "project/LightingSetup.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Error.h"
+
+namespace sightline {
+
+namespace {
+
+/// Attempts with a margin four times wider each: a crossing is put this much farther from the
+/// occluder's edges when the exact sampler found a ray the suggestion should have blocked.
+constexpr int kMarginAttempts = 4;
+
+double millisecondsSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+HiddenSampleMap sampleExactly(const Scene& scene, const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
+                              int threads)
+{
+    const CpuBitmaskSampler sampler(scene);
+    BitmaskOptions options;
+    options.threads = threads;
+    options.heights = heights.empty() ? nullptr : &heights;
+    return sampler.sample(source, receiver, options);
+}
+
+glm::dvec3 inPlane(const suggest::SuggestPlane& plane, suggest::Point2 direction)
+{
+    return direction.x * plane.axisU + direction.y * plane.axisV;
+}
+
+} // namespace
+
+glm::mat4 planeTransform(const suggest::SuggestPlane& plane, const suggest::Rect2& rect)
+{
+    const glm::dvec3 first = inPlane(plane, rect.axis);
+    const glm::dvec3 second = inPlane(plane, {-rect.axis.y, rect.axis.x});
+    glm::dmat4 m(1.0);
+    m[0] = glm::dvec4(2.0 * rect.halfWidth * first, 0.0);
+    m[1] = glm::dvec4(plane.normal, 0.0);
+    // The plane's +z edge runs along -second: a rotation, not a mirror, and the same rectangle.
+    m[2] = glm::dvec4(-2.0 * rect.halfHeight * second, 0.0);
+    m[3] = glm::dvec4(plane.world(rect.centre), 1.0);
+    return glm::mat4(m);
+}
+
+PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const std::string& name, const std::string& meshFile)
+{
+    PlacedSuggestion placed;
+    placed.spec.name = name;
+    if (suggestion.shape == suggest::Shape::Rect) {
+        placed.spec.mesh = "plane";
+        placed.spec.transform = planeTransform(suggestion.plane, suggestion.rect);
+        placed.mesh.addMeshInstance(builtinMesh("plane"));
+    } else {
+        const glm::dvec3 centre = suggest::suggestionCentre(suggestion);
+        placed.spec.mesh = meshFile;
+        placed.spec.transform = glm::translate(glm::mat4(1.0f), glm::vec3(centre));
+        placed.mesh.addMeshInstance(suggest::suggestionMesh(suggestion, name, centre));
+    }
+    return placed;
+}
+
+std::string unusedOccluderName(const Project& project, const std::string& name)
+{
+    std::set<std::string> used;
+    for (const OccluderSpec& spec : project.occluders)
+        used.insert(spec.name);
+    if (!used.contains(name))
+        return name;
+    for (int k = 2;; ++k)
+        if (const std::string candidate = name + " " + std::to_string(k); !used.contains(candidate))
+            return candidate;
+}
+
+SuggestedOccluder suggestForProject(const Project& project, const suggest::Request& request, const std::string& meshFile,
+                                    int threads)
+{
+    validatePatchPair(project.source, project.receiver);
+    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
+    validateReceiverHeights(project.source, project.receiver, heights);
+    return suggestOnScene(buildScene(project), project.source, project.receiver, heights, request,
+                          unusedOccluderName(project, "suggested occluder"), meshFile, threads);
+}
+
+SuggestedOccluder suggestOnScene(const Scene& scene, const Patch& source, const Patch& receiver,
+                                 const ReceiverHeights& heights, const suggest::Request& request, const std::string& name,
+                                 const std::string& meshFile, int threads)
+{
+    validatePatchPair(source, receiver);
+    SuggestedOccluder result;
+    auto start = std::chrono::steady_clock::now();
+    const HiddenSampleMap before = sampleExactly(scene, source, receiver, heights, threads);
+    result.sampleMs = millisecondsSince(start);
+
+    suggest::Request attempt = request;
+    for (result.attempts = 1;; ++result.attempts) {
+        start = std::chrono::steady_clock::now();
+        result.suggestion = suggest::suggestOccluder(source, receiver, heights, before, attempt);
+        result.suggestMs = millisecondsSince(start);
+
+        PlacedSuggestion placed = placeSuggestion(result.suggestion, name, meshFile);
+        result.spec = std::move(placed.spec);
+        result.mesh = std::move(placed.mesh);
+        Scene with = scene;
+        appendOccluder(with, result.mesh, result.spec);
+        start = std::chrono::steady_clock::now();
+        const HiddenSampleMap after = sampleExactly(with, source, receiver, heights, threads);
+        result.unblockedAfter = after.rayCount() - after.blockedCount();
+        result.checkMs = millisecondsSince(start);
+        if (result.unblockedAfter <= result.suggestion.promised)
+            return result;
+        if (result.attempts == kMarginAttempts)
+            throw Error("the suggested occluder leaves " + std::to_string(result.unblockedAfter) +
+                        " rays unblocked, more than the " + std::to_string(result.suggestion.promised) +
+                        " promised, even with its margin widened " + std::to_string(result.attempts - 1) +
+                        " times (please report this pair)");
+        attempt.marginScale *= 4.0;
+    }
+}
+
+} // namespace sightline

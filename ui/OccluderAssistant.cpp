@@ -1,0 +1,246 @@
+#include "OccluderAssistant.h"
+
+#include <chrono>
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QLocale>
+#include <QPushButton>
+#include <QSlider>
+#include <QTimer>
+#include <QVBoxLayout>
+
+#include "EditorDocument.h"
+#include "Viewport.h"
+#include "plugins/SceneFormats.h"
+#include "project/SuggestedOccluder.h"
+
+namespace sightline::ui {
+
+namespace {
+
+/// Changes within this many milliseconds (a drag's frames, a slider's steps) make one request.
+constexpr int kGatherMs = 60;
+
+QString count(std::uint64_t n)
+{
+    return QLocale().toString(qulonglong(n));
+}
+
+} // namespace
+
+OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewport, QWidget* parent)
+    : QWidget(parent),
+      document_(document),
+      viewport_(viewport),
+      worker_(&OccluderAssistant::work, [this](std::uint64_t generation, Outcome outcome) {
+          QMetaObject::invokeMethod(this, [this, generation, outcome = std::move(outcome)]() mutable {
+              take(generation, std::move(outcome));
+          }, Qt::QueuedConnection);
+      })
+{
+    depth_ = new QSlider(Qt::Horizontal, this);
+    depth_->setObjectName("suggestDepth");
+    depth_->setRange(5, 95);
+    depth_->setValue(50);
+    depth_->setToolTip(tr("Where the occluder's plane lies: the share of the way from the source's centre to the "
+                          "receiver's (perpendicular to that line)"));
+    depthValue_ = new QLabel(this);
+    share_ = new QDoubleSpinBox(this);
+    share_->setObjectName("suggestShare");
+    share_->setRange(1.0, 100.0);
+    share_->setDecimals(1);
+    share_->setValue(100.0);
+    share_->setSuffix(tr(" %"));
+    share_->setToolTip(tr("The share of the unblocked rays the occluder must block: below 100 % it may leave the "
+                          "costliest stragglers, for a smaller occluder"));
+    shape_ = new QComboBox(this);
+    shape_->setObjectName("suggestShape");
+    shape_->addItem(tr("Convex polygon"));
+    shape_->addItem(tr("Rectangle"));
+    summary_ = new QLabel(this);
+    summary_->setObjectName("suggestSummary");
+    summary_->setWordWrap(true);
+    summary_->setTextFormat(Qt::RichText);
+    summary_->setMinimumWidth(220);
+    summary_->setMinimumHeight(4 * summary_->fontMetrics().lineSpacing());   // the longest summary, wrapped
+    add_ = new QPushButton(tr("Add Occluder (Enter)"), this);
+    add_->setObjectName("suggestAdd");
+    add_->setEnabled(false);
+
+    auto* depthRow = new QHBoxLayout;
+    depthRow->addWidget(depth_, 1);
+    depthRow->addWidget(depthValue_);
+    auto* form = new QFormLayout;
+    form->addRow(tr("Plane at"), depthRow);
+    form->addRow(tr("Block"), share_);
+    form->addRow(tr("Shape"), shape_);
+    auto* layout = new QVBoxLayout(this);
+    layout->addLayout(form);
+    layout->addWidget(summary_);
+    layout->addWidget(add_);
+    layout->addStretch(1);
+
+    gather_ = new QTimer(this);
+    gather_->setSingleShot(true);
+    gather_->setInterval(kGatherMs);
+    connect(gather_, &QTimer::timeout, this, &OccluderAssistant::requestNow);
+    const auto changed = [this] {
+        depthValue_->setText(tr("%1 %").arg(depth_->value()));
+        refresh();
+    };
+    connect(depth_, &QSlider::valueChanged, this, changed);
+    connect(share_, &QDoubleSpinBox::valueChanged, this, changed);
+    connect(shape_, &QComboBox::currentIndexChanged, this, changed);
+    connect(add_, &QPushButton::clicked, this, [this] {
+        QString message;
+        addSuggestion(&message);
+        emit added(message);
+    });
+    depthValue_->setText(tr("%1 %").arg(depth_->value()));
+    withdraw(tr("Open the assistant to see the occluder that cuts this view."));
+    setMinimumHeight(sizeHint().height());   // a dock below another keeps every row readable
+}
+
+OccluderAssistant::~OccluderAssistant() = default;
+
+void OccluderAssistant::setActive(bool active)
+{
+    if (active == active_)
+        return;
+    active_ = active;
+    if (active)
+        refresh();
+    else
+        withdraw(tr("Hidden."));
+}
+
+suggest::Request OccluderAssistant::settings() const
+{
+    suggest::Request request;
+    request.depth = depth_->value() / 100.0;
+    request.share = share_->value() / 100.0;
+    request.shape = shape_->currentIndex() == 1 ? suggest::Shape::Rect : suggest::Shape::Convex;
+    return request;
+}
+
+void OccluderAssistant::refresh()
+{
+    if (active_)
+        gather_->start();
+}
+
+void OccluderAssistant::requestNow()
+{
+    if (!active_)
+        return;
+    const VisibilityResult& result = viewport_.visibility();
+    if (!viewport_.visibilityIsCurrent()) {
+        withdraw(tr("Waiting for the view to be sampled..."));
+        return;
+    }
+    if (!result.valid) {
+        withdraw(tr("This pair cannot be sampled: %1").arg(QString::fromStdString(result.error)));
+        return;
+    }
+    Job job;
+    job.source = result.source;
+    job.receiver = result.receiver;
+    const ReceiverHeights& heights = viewport_.receiverHeights();
+    job.heights = std::make_shared<const ReceiverHeights>(heights);
+    job.map = std::make_shared<const HiddenSampleMap>(result.map);
+    job.request = settings();
+    worker_.request(++generation_, std::move(job));
+}
+
+OccluderAssistant::Outcome OccluderAssistant::work(const Job& job)
+{
+    Outcome outcome;
+    const auto start = std::chrono::steady_clock::now();
+    try {
+        outcome.suggestion = suggest::suggestOccluder(job.source, job.receiver, *job.heights, *job.map, job.request);
+    } catch (const std::exception& e) {
+        outcome.error = e.what();
+    }
+    outcome.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return outcome;
+}
+
+void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
+{
+    if (generation != generation_ || !active_)
+        return;   // a later request is on its way, or the assistant was closed
+    if (!outcome.suggestion) {
+        withdraw(QString::fromStdString(outcome.error));
+        return;
+    }
+    suggestion_ = std::move(outcome.suggestion);
+    const suggest::Suggestion& s = *suggestion_;
+    std::vector<glm::vec3> ghost;
+    for (const glm::dvec3& p : s.worldPolygon())
+        ghost.emplace_back(p);
+    viewport_.setOccluderGhost(std::move(ghost));
+    const QString shape = s.shape == suggest::Shape::Rect ? tr("Rectangle %1 x %2 m")
+                                                                 .arg(2.0 * s.rect.halfWidth, 0, 'f', 2)
+                                                                 .arg(2.0 * s.rect.halfHeight, 0, 'f', 2)
+                                                           : tr("Convex polygon, %1 corners").arg(s.polygon.size());
+    summary_->setText(tr("<b>%1: %2 m²</b><br>blocks at least %3 of the %4 unblocked rays, leaves at most %5"
+                         "<br><span style='color:gray'>%6 of them cross the plane; %7 ms</span>")
+                          .arg(shape)
+                          .arg(s.area, 0, 'f', 3)
+                          .arg(count(s.required))
+                          .arg(count(s.unblockedBefore))
+                          .arg(count(s.promised))
+                          .arg(count(s.crossing))
+                          .arg(outcome.ms, 0, 'f', 0));
+    add_->setEnabled(true);
+    emit suggestionChanged();
+}
+
+void OccluderAssistant::withdraw(const QString& why)
+{
+    const bool had = suggestion_.has_value();
+    suggestion_.reset();
+    summary_->setText(why.toHtmlEscaped());
+    add_->setEnabled(false);
+    viewport_.setOccluderGhost({});
+    if (had)
+        emit suggestionChanged();
+}
+
+bool OccluderAssistant::addSuggestion(QString* message)
+{
+    if (!suggestion_) {
+        *message = tr("No suggestion to add: open Create > Suggest Occluder on a view with unblocked rays");
+        return false;
+    }
+    const suggest::Suggestion& s = *suggestion_;
+    const Project& project = document_.project();
+    const std::string name = unusedOccluderName(project, "suggested occluder");
+    OccluderSpec spec;
+    try {
+        // A convex polygon is a mesh of its own: a new file beside the project, never an old one.
+        const std::string stem = document_.filePath().empty() ? "level" : document_.filePath().stem().string();
+        const std::filesystem::path file =
+            s.shape == suggest::Shape::Convex ? nextNumberedFile(project.folder, stem + "-occluder", ".glb") : std::filesystem::path();
+        PlacedSuggestion placed = placeSuggestion(s, name, file.filename().string());
+        if (!file.empty())
+            saveScene(placed.mesh, file);
+        spec = std::move(placed.spec);
+        document_.addOccluder(spec);
+    } catch (const std::exception& e) {
+        *message = tr("Could not add the suggested occluder: %1").arg(QString::fromUtf8(e.what()));
+        return false;
+    }
+    *message = tr("Added %1 (%2 m²): it leaves at most %3 of %4 rays (Ctrl+Z removes it)")
+                   .arg(QString::fromStdString(spec.name))
+                   .arg(s.area, 0, 'f', 3)
+                   .arg(count(s.promised))
+                   .arg(count(s.unblockedBefore));
+    return true;
+}
+
+} // namespace sightline::ui

@@ -1,0 +1,262 @@
+#include "visibility/suggest/OccluderSuggestion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+
+#include "visibility/Error.h"
+#include "visibility/suggest/ShareTrimming.h"
+
+namespace sightline::suggest {
+
+namespace {
+
+/// docs/design.md §2: a segment passing within this of a triangle's edge, or meeting it within
+/// this of its own ends, is a tie.
+constexpr double kTieDistance = 1e-5;
+/// Directions of the support lines that trim a convex polygon to a share (ShareTrimming.h).
+constexpr int kConvexTrimDirections = 64;
+/// Orientations tried for a rectangle trimmed to a share, over a quarter turn.
+constexpr int kRectTrimOrientations = 16;
+
+std::string shareText(double share)
+{
+    char text[32];
+    std::snprintf(text, sizeof text, "%.6g", share);
+    return text;
+}
+
+/// The crossings kept (flags over all crossings) and the shape built on them.
+struct Shaped {
+    std::vector<char> keep;
+    std::size_t kept = 0;
+    std::vector<Point2> hull;
+    Rect2 rect;
+};
+
+Shaped shapedOn(const std::vector<Point2>& points, std::vector<char> keep)
+{
+    Shaped shaped;
+    std::vector<Point2> kept;
+    for (std::size_t i = 0; i < points.size(); ++i)
+        if (keep[i])
+            kept.push_back(points[i]);
+    shaped.keep = std::move(keep);
+    shaped.kept = kept.size();
+    shaped.hull = convexHull(std::move(kept));
+    shaped.rect = minAreaRect(shaped.hull);
+    return shaped;
+}
+
+Shaped convexShape(const std::vector<Point2>& points, std::size_t keep)
+{
+    return shapedOn(points, trimToShare(points, keep, evenDirections(kConvexTrimDirections)));
+}
+
+Shaped rectShape(const std::vector<Point2>& points, std::size_t keep)
+{
+    Shaped best = shapedOn(points, std::vector<char>(points.size(), 1));
+    if (keep >= points.size())
+        return best;
+    // The full set's best orientation and an even spread of others, each trimmed as a box.
+    std::vector<double> angles{std::atan2(best.rect.axis.y, best.rect.axis.x)};
+    for (int k = 0; k < kRectTrimOrientations; ++k)
+        angles.push_back(0.5 * std::numbers::pi * k / kRectTrimOrientations);
+    best.rect.halfWidth = best.rect.halfHeight = std::numeric_limits<double>::infinity();
+    for (const double angle : angles) {
+        Shaped shaped = shapedOn(points, trimToShare(points, keep, evenDirections(4, angle)));
+        if (shaped.rect.area() < best.rect.area())
+            best = std::move(shaped);
+    }
+    return best;
+}
+
+/// Least |cos| between a kept crossing's ray and the plane's normal.
+double smallestKeptCosine(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
+                          const RayCrossings& crossings, const std::vector<char>& keep, glm::dvec3 normal)
+{
+    double smallest = 1.0;
+    const auto sources = std::uint64_t(source.sampleCount());
+    for (std::size_t i = 0; i < keep.size(); ++i) {
+        if (!keep[i])
+            continue;
+        const std::uint64_t ray = crossings.rays[i];
+        const glm::dvec3 d = displacedReceiverSample(source, receiver, heights, int(ray / sources)) - source.sample(int(ray % sources));
+        smallest = std::min(smallest, std::abs(glm::dot(normal, d)) / glm::length(d));
+    }
+    return smallest;
+}
+
+} // namespace
+
+Shape parseShape(const std::string& name)
+{
+    if (name == "convex")
+        return Shape::Convex;
+    if (name == "rect")
+        return Shape::Rect;
+    throw Error("unknown shape '" + name + "': use convex (a convex polygon) or rect (a rectangle)");
+}
+
+const char* shapeName(Shape shape)
+{
+    return shape == Shape::Convex ? "convex" : "rect";
+}
+
+SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double depth)
+{
+    if (!(depth > 0.0 && depth < 1.0))
+        throw Error("depth must lie strictly between 0 (the source) and 1 (the receiver), got " + shareText(depth));
+    const glm::dvec3 from = source.centre(), to = receiver.centre();
+    const glm::dvec3 line = to - from;
+    const double length = glm::length(line);
+    if (!(length > 0.0))
+        throw Error("the source and receiver patches share their centre: no plane lies between them");
+    SuggestPlane plane;
+    plane.origin = from + depth * line;
+    plane.normal = line / length;
+    // Any frame in the plane: axisU from the world axis least aligned with the normal.
+    const glm::dvec3 n = plane.normal;
+    const glm::dvec3 seed = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? glm::dvec3{1, 0, 0}
+                            : std::abs(n.y) <= std::abs(n.z)                                 ? glm::dvec3{0, 1, 0}
+                                                                                              : glm::dvec3{0, 0, 1};
+    plane.axisU = glm::normalize(seed - glm::dot(seed, n) * n);
+    plane.axisV = glm::cross(n, plane.axisU);
+    return plane;
+}
+
+RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
+                                const HiddenSampleMap& map, const SuggestPlane& plane)
+{
+    const int sources = source.sampleCount(), receivers = receiver.sampleCount();
+    std::vector<glm::dvec3> sourceAt(std::size_t(sources), glm::dvec3{0.0});
+    std::vector<double> sourceSide(std::size_t(sources), 0.0);
+    for (int i = 0; i < sources; ++i) {
+        sourceAt[i] = source.sample(i) - plane.origin;
+        sourceSide[i] = glm::dot(plane.normal, sourceAt[i]);
+    }
+    RayCrossings crossings;
+    crossings.unblocked = map.rayCount() - map.blockedCount();
+    for (int j = 0; j < receivers; ++j) {
+        const glm::dvec3 r = displacedReceiverSample(source, receiver, heights, j) - plane.origin;
+        const double receiverSide = glm::dot(plane.normal, r);
+        for (int i = 0; i < sources; ++i) {
+            if (map.blocked(j, i))
+                continue;
+            const double s = sourceSide[i];
+            if (!((s < 0.0 && receiverSide > 0.0) || (s > 0.0 && receiverSide < 0.0)))
+                continue;
+            const glm::dvec3 along = r - sourceAt[i];
+            const double length = glm::length(along);
+            const double t = s / (s - receiverSide);
+            // An occluder meeting the segment within the tie distance of an end may go either way.
+            if (t * length <= 2.0 * kTieDistance || (1.0 - t) * length <= 2.0 * kTieDistance)
+                continue;
+            const glm::dvec3 x = sourceAt[i] + t * along;
+            crossings.points.push_back({glm::dot(plane.axisU, x), glm::dot(plane.axisV, x)});
+            crossings.rays.push_back(std::uint64_t(j) * std::uint64_t(sources) + std::uint64_t(i));
+        }
+    }
+    return crossings;
+}
+
+std::vector<glm::dvec3> Suggestion::worldPolygon() const
+{
+    std::vector<glm::dvec3> corners;
+    for (const Point2& p : polygon)
+        corners.push_back(plane.world(p));
+    return corners;
+}
+
+Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
+                           const HiddenSampleMap& map, const Request& request)
+{
+    if (!(request.share > 0.0 && request.share <= 1.0))
+        throw Error("share must lie in (0, 1], got " + shareText(request.share));
+    Suggestion result;
+    result.plane = suggestPlane(source, receiver, request.depth);
+    result.shape = request.shape;
+    const RayCrossings crossings = crossUnblockedRays(source, receiver, heights, map, result.plane);
+    const std::uint64_t unblocked = crossings.unblocked;
+    if (unblocked == 0)
+        throw Error("every ray between the patches is already blocked: there is nothing left to cut");
+    const double wanted = std::ceil(request.share * double(unblocked) - 1e-9);
+    result.unblockedBefore = unblocked;
+    result.required = std::clamp<std::uint64_t>(std::uint64_t(std::max(wanted, 1.0)), 1, unblocked);
+    result.promised = unblocked - result.required;
+    result.crossing = crossings.points.size();
+    if (result.required > result.crossing) {
+        const double most = double(result.crossing) / double(unblocked);
+        throw Error("the plane at depth " + shareText(request.depth) + " misses " +
+                    std::to_string(unblocked - result.crossing) + " of the " + std::to_string(unblocked) +
+                    " unblocked rays (they do not cross it between the patches), so no occluder on it blocks share " +
+                    shareText(request.share) + "; the most it can block is share " + shareText(most) +
+                    ": choose a depth nearer the middle of the view or a smaller --share");
+    }
+
+    const Shaped shaped = request.shape == Shape::Rect ? rectShape(crossings.points, std::size_t(result.required))
+                                                       : convexShape(crossings.points, std::size_t(result.required));
+    result.enclosed = shaped.kept;
+
+    // The margin (see the header): four tie distances plus float32 rounding of the corners,
+    // measured across the ray, so divided by the least cosine of a kept crossing.
+    const double smallestCosine = smallestKeptCosine(source, receiver, heights, crossings, shaped.keep, result.plane.normal);
+    double largest = 0.0;
+    for (const Point2& p : shaped.hull) {
+        const glm::dvec3 w = result.plane.world(p);
+        largest = std::max({largest, std::abs(w.x), std::abs(w.y), std::abs(w.z)});
+    }
+    const double across = 4.0 * kTieDistance + 16.0 * std::ldexp(largest + 1.0, -24);
+    result.margin = request.marginScale * across / std::max(smallestCosine, 0.05);
+
+    const bool flat = shaped.hull.size() < 3 || polygonArea(shaped.hull) <= 1e-12 * (1.0 + largest * largest);
+    if (request.shape == Shape::Rect || flat) {
+        result.rect = shaped.rect;
+        result.rect.halfWidth += result.margin;
+        result.rect.halfHeight += result.margin;
+        const auto corners = result.rect.corners();
+        result.polygon.assign(corners.begin(), corners.end());
+    } else {
+        result.polygon = grownPolygon(shaped.hull, result.margin);
+        result.rect = minAreaRect(result.polygon);
+    }
+    result.area = polygonArea(result.polygon);
+    return result;
+}
+
+glm::dvec3 suggestionCentre(const Suggestion& suggestion)
+{
+    glm::dvec3 centroid{0.0};
+    const std::vector<glm::dvec3> corners = suggestion.worldPolygon();
+    for (const glm::dvec3& c : corners)
+        centroid += c;
+    return glm::dvec3(glm::vec3(centroid / double(corners.size())));
+}
+
+Mesh suggestionMesh(const Suggestion& suggestion, const std::string& name, glm::dvec3 origin)
+{
+    Mesh mesh;
+    mesh.name = name;
+    std::vector<glm::dvec3> corners = suggestion.worldPolygon();
+    glm::dvec3 centroid{0.0};
+    for (glm::dvec3& c : corners) {
+        centroid += c;
+        c -= origin;
+    }
+    centroid = centroid / double(corners.size()) - origin;
+    mesh.positions.push_back(glm::vec3(centroid));
+    for (const glm::dvec3& c : corners)
+        mesh.positions.push_back(glm::vec3(c));
+    const auto n = std::uint32_t(corners.size());
+    for (std::uint32_t i = 0; i < n; ++i)   // the centroid's fan
+        mesh.indices.insert(mesh.indices.end(), {0u, 1 + i, 1 + (i + 1) % n});
+    for (std::uint32_t i = 1; i + 1 < n; ++i)   // the first corner's fan
+        mesh.indices.insert(mesh.indices.end(), {1u, 1 + i, 2 + i});
+    return mesh;
+}
+
+} // namespace sightline::suggest
