@@ -9,6 +9,7 @@
 //   sightline-cli lights PROJECT.json [--points P.npy] [--npy OUT.npy] [--json]   (cli/LightsCommand, docs/lights.md)
 //   sightline-cli suggest PROJECT.json --depth T [--share F] [--shape convex|rect] [--write OUT.json] [--json]
 //                                                                                 (cli/SuggestCommand)
+//   sightline-cli gaps PROJECT.json [--json]                                      (cli/SuggestCommand)
 //   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
@@ -617,6 +618,8 @@ int main(int argc, char** argv)
 
     cli::SuggestArgs suggestArgs;
     CLI::App* suggestCmd = cli::addSuggestCommand(app, suggestArgs);
+    cli::GapsArgs gapsArgs;
+    CLI::App* gapsCmd = cli::addGapsCommand(app, gapsArgs);
 
     cli::PvsArgs pvsArgs;
     CLI::App* pvsCmd = cli::addPvsCommand(app, pvsArgs);
@@ -693,6 +696,8 @@ int main(int argc, char** argv)
         }
         if (*suggestCmd)
             return cli::runSuggest(suggestArgs);
+        if (*gapsCmd)
+            return cli::runGaps(gapsArgs);
         if (*pvsCmd)
             return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {

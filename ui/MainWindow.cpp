@@ -214,7 +214,7 @@ void MainWindow::createPanels()
             showLightCosts();
     });
 
-    assistant_ = new OccluderAssistant(document_, *viewport_, this);
+    assistant_ = new OccluderAssistant(document_, *viewport_, *controller_, this);
     assistantDock_ = new QDockWidget(tr("Occluder Assistant"), this);
     assistantDock_->setObjectName("occluderAssistant");
     assistantDock_->setWidget(assistant_);
@@ -827,7 +827,10 @@ void MainWindow::addPvsDebuggerItems(QMenu* view)
         ->setObjectName("pvsClear");
     // The gap list: where the dense reference saw an object the bake culls, drawn as
     // markers (a click on one frames it); N and Shift+N step through them.
+    // Without the debugger, N steps through the openings the occluder assistant lists.
     const auto stepGap = [this](int step) {
+        if (!viewport_->style().pvsDebugger && assistantDock_->isVisible() && assistant_->stepGap(step))
+            return;
         const std::size_t n = viewport_->pvsGaps().size();
         if (!viewport_->pvsGapsReady() || n == 0) {
             statusBar()->showMessage(viewport_->pvsGapsReady() ? tr("PVS: the reference found no gaps")
@@ -838,8 +841,8 @@ void MainWindow::addPvsDebuggerItems(QMenu* view)
         const int at = viewport_->pvsGapSelected();
         viewport_->framePvsGap(std::size_t(((at < 0 ? (step > 0 ? -1 : 0) : at) + step + int(n)) % int(n)));
     };
-    action(view, tr("PVS: Next Gap"), QKeySequence(Qt::Key_N), [stepGap] { stepGap(1); })->setObjectName("pvsNextGap");
-    action(view, tr("PVS: Previous Gap"), QKeySequence(Qt::SHIFT | Qt::Key_N), [stepGap] { stepGap(-1); })
+    action(view, tr("Next Gap (PVS or Openings)"), QKeySequence(Qt::Key_N), [stepGap] { stepGap(1); })->setObjectName("pvsNextGap");
+    action(view, tr("Previous Gap (PVS or Openings)"), QKeySequence(Qt::SHIFT | Qt::Key_N), [stepGap] { stepGap(-1); })
         ->setObjectName("pvsPreviousGap");
     action(view, tr("PVS: Distance Cut-off..."), QKeySequence(), [this] {
         const auto it = document_.project().extra.find("pvs");

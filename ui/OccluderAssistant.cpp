@@ -7,6 +7,7 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QListWidget>
 #include <QLocale>
 #include <QPushButton>
 #include <QSlider>
@@ -15,6 +16,7 @@
 
 #include "EditorDocument.h"
 #include "Viewport.h"
+#include "ViewportController.h"
 #include "plugins/SceneFormats.h"
 #include "project/SuggestedOccluder.h"
 
@@ -32,10 +34,12 @@ QString count(std::uint64_t n)
 
 } // namespace
 
-OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewport, QWidget* parent)
+OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewport, ViewportController& controller,
+                                     QWidget* parent)
     : QWidget(parent),
       document_(document),
       viewport_(viewport),
+      controller_(controller),
       worker_(&OccluderAssistant::work, [this](std::uint64_t generation, Outcome outcome) {
           QMetaObject::invokeMethod(this, [this, generation, outcome = std::move(outcome)]() mutable {
               take(generation, std::move(outcome));
@@ -70,6 +74,11 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     add_ = new QPushButton(tr("Add Occluder (Enter)"), this);
     add_->setObjectName("suggestAdd");
     add_->setEnabled(false);
+    gapList_ = new QListWidget(this);
+    gapList_->setObjectName("suggestGaps");
+    gapList_->setToolTip(tr("Where the unblocked rays pass closest to the level: a click (or N, Shift+N) looks "
+                            "through the opening from the source"));
+    gapList_->setMinimumHeight(5 * gapList_->fontMetrics().lineSpacing());
 
     auto* depthRow = new QHBoxLayout;
     depthRow->addWidget(depth_, 1);
@@ -82,7 +91,8 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     layout->addLayout(form);
     layout->addWidget(summary_);
     layout->addWidget(add_);
-    layout->addStretch(1);
+    layout->addWidget(new QLabel(tr("Openings the view leaks through:"), this));
+    layout->addWidget(gapList_, 1);
 
     gather_ = new QTimer(this);
     gather_->setSingleShot(true);
@@ -95,6 +105,12 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     connect(depth_, &QSlider::valueChanged, this, changed);
     connect(share_, &QDoubleSpinBox::valueChanged, this, changed);
     connect(shape_, &QComboBox::currentIndexChanged, this, changed);
+    connect(gapList_, &QListWidget::itemClicked, this, [this](QListWidgetItem* item) { showGap(std::size_t(gapList_->row(item))); });
+    // The level's triangles, shared with the worker until an edit changes what blocks rays.
+    connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
+        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
+            triangles_.reset();
+    });
     connect(add_, &QPushButton::clicked, this, [this] {
         QString message;
         addSuggestion(&message);
@@ -114,8 +130,10 @@ void OccluderAssistant::setActive(bool active)
     active_ = active;
     if (active)
         refresh();
-    else
+    else {
         withdraw(tr("Hidden."));
+        listGaps({});
+    }
 }
 
 suggest::Request OccluderAssistant::settings() const
@@ -152,6 +170,9 @@ void OccluderAssistant::requestNow()
     const ReceiverHeights& heights = viewport_.receiverHeights();
     job.heights = std::make_shared<const ReceiverHeights>(heights);
     job.map = std::make_shared<const HiddenSampleMap>(result.map);
+    if (!triangles_)
+        triangles_ = std::make_shared<const WorldTriangles>(worldTriangles(document_.scene()));
+    job.triangles = triangles_;
     job.request = settings();
     worker_.request(++generation_, std::move(job));
 }
@@ -165,6 +186,7 @@ OccluderAssistant::Outcome OccluderAssistant::work(const Job& job)
     } catch (const std::exception& e) {
         outcome.error = e.what();
     }
+    outcome.gaps = suggest::findViewGaps(*job.triangles, job.source, job.receiver, *job.heights, *job.map);
     outcome.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return outcome;
 }
@@ -173,6 +195,7 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
 {
     if (generation != generation_ || !active_)
         return;   // a later request is on its way, or the assistant was closed
+    listGaps(std::move(outcome.gaps));
     if (!outcome.suggestion) {
         withdraw(QString::fromStdString(outcome.error));
         return;
@@ -198,6 +221,50 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
                           .arg(outcome.ms, 0, 'f', 0));
     add_->setEnabled(true);
     emit suggestionChanged();
+}
+
+void OccluderAssistant::listGaps(std::vector<suggest::ViewGap> gaps)
+{
+    gaps_ = std::move(gaps);
+    gapList_->clear();
+    std::uint64_t all = 0;
+    for (const suggest::ViewGap& gap : gaps_)
+        all += gap.rays;
+    for (std::size_t k = 0; k < gaps_.size(); ++k) {
+        const suggest::ViewGap& gap = gaps_[k];
+        const glm::dvec3 size = gap.max - gap.min;
+        gapList_->addItem(tr("%1. %2 rays (%3 %), %4 x %5 x %6 m")
+                              .arg(k + 1)
+                              .arg(count(gap.rays))
+                              .arg(100.0 * double(gap.rays) / double(std::max<std::uint64_t>(all, 1)), 0, 'f', 1)
+                              .arg(size.x, 0, 'f', 2)
+                              .arg(size.y, 0, 'f', 2)
+                              .arg(size.z, 0, 'f', 2));
+    }
+}
+
+void OccluderAssistant::showGap(std::size_t k)
+{
+    if (k >= gaps_.size())
+        return;
+    const suggest::ViewGap& gap = gaps_[k];
+    const glm::dvec3 from = document_.project().source.centre();
+    const glm::dvec3 along = gap.centre - from;
+    if (!(glm::length(along) > 0.0))
+        return;
+    const double radius = std::max(0.5, 0.75 * glm::length(gap.max - gap.min));
+    controller_.setCamera(lookThrough(from, glm::normalize(along), gap.centre, radius));
+    gapList_->setCurrentRow(int(k));
+}
+
+bool OccluderAssistant::stepGap(int step)
+{
+    const int n = int(gaps_.size());
+    if (n == 0)
+        return false;
+    const int at = gapList_->currentRow();
+    showGap(std::size_t(((at < 0 ? (step > 0 ? -1 : 0) : at) + step + n) % n));
+    return true;
 }
 
 void OccluderAssistant::withdraw(const QString& why)

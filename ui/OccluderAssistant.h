@@ -1,7 +1,9 @@
 #pragma once
 // The occluder assistant (docs/editor.md): the smallest occluder that cuts the current view, on a
 // plane the designer slides between the patches, drawn in the view as a ghost with its area and
-// the rays it leaves; Add Occluder (Enter) inserts it, undoably.
+// the rays it leaves; Add Occluder (Enter) inserts it, undoably. Below it, the openings the view
+// leaks through, most rays first (visibility/suggest/ViewGaps.h): a click, or N and Shift+N,
+// looks through one from the source.
 //
 // It works on the live view's own answer (the exact hidden-samples map the viewport shows), in a
 // worker thread so that a large share trim never stalls the window: a new answer or setting
@@ -17,10 +19,12 @@
 
 #include "LatestRequestWorker.h"
 #include "visibility/suggest/OccluderSuggestion.h"
+#include "visibility/suggest/ViewGaps.h"
 
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
+class QListWidget;
 class QPushButton;
 class QSlider;
 class QTimer;
@@ -29,11 +33,12 @@ namespace sightline::ui {
 
 class EditorDocument;
 class Viewport;
+class ViewportController;
 
 class OccluderAssistant : public QWidget {
     Q_OBJECT
 public:
-    OccluderAssistant(EditorDocument& document, Viewport& viewport, QWidget* parent = nullptr);
+    OccluderAssistant(EditorDocument& document, Viewport& viewport, ViewportController& controller, QWidget* parent = nullptr);
     ~OccluderAssistant() override;
 
     /// Shown: suggestions follow the view and the ghost is drawn. Hidden: no work, no ghost.
@@ -45,11 +50,17 @@ public:
     bool addSuggestion(QString* message);
 
     const std::optional<suggest::Suggestion>& suggestion() const { return suggestion_; }
+    const std::vector<suggest::ViewGap>& gaps() const { return gaps_; }
+    /// Looks through opening `k` from the source's centre and selects it in the list.
+    void showGap(std::size_t k);
+    /// The next (step 1) or previous (-1) opening after the one shown; false when there is none.
+    bool stepGap(int step);
     QSlider* depthSlider() const { return depth_; }
     QDoubleSpinBox* shareBox() const { return share_; }
     QComboBox* shapeBox() const { return shape_; }
     QLabel* summary() const { return summary_; }
     QPushButton* addButton() const { return add_; }
+    QListWidget* gapList() const { return gapList_; }
 
 signals:
     /// A suggestion arrived or was withdrawn (the summary line changed).
@@ -62,31 +73,38 @@ private:
         Patch source, receiver;
         std::shared_ptr<const ReceiverHeights> heights;
         std::shared_ptr<const HiddenSampleMap> map;
+        std::shared_ptr<const WorldTriangles> triangles;
         suggest::Request request;
     };
     struct Outcome {
         std::optional<suggest::Suggestion> suggestion;
         std::string error;
+        std::vector<suggest::ViewGap> gaps;
         double ms = 0.0;
     };
     static Outcome work(const Job& job);
     void requestNow();
     void take(std::uint64_t generation, Outcome outcome);
     void withdraw(const QString& why);
+    void listGaps(std::vector<suggest::ViewGap> gaps);
     suggest::Request settings() const;
 
     EditorDocument& document_;
     Viewport& viewport_;
+    ViewportController& controller_;
     QSlider* depth_ = nullptr;
     QLabel* depthValue_ = nullptr;
     QDoubleSpinBox* share_ = nullptr;
     QComboBox* shape_ = nullptr;
     QLabel* summary_ = nullptr;
     QPushButton* add_ = nullptr;
+    QListWidget* gapList_ = nullptr;
     QTimer* gather_ = nullptr;
     bool active_ = false;
     std::uint64_t generation_ = 0;
     std::optional<suggest::Suggestion> suggestion_;
+    std::vector<suggest::ViewGap> gaps_;
+    std::shared_ptr<const WorldTriangles> triangles_;   ///< the document's, until its geometry changes
     LatestRequestWorker<Job, Outcome> worker_;   // last: its thread calls back into the above
 };
 

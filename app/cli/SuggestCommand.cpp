@@ -1,5 +1,6 @@
 #include "cli/SuggestCommand.h"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -11,9 +12,12 @@
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
 #include "plugins/SceneFormats.h"
+#include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "project/SuggestedOccluder.h"
+#include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
+#include "visibility/suggest/ViewGaps.h"
 
 namespace sightline::cli {
 
@@ -138,6 +142,57 @@ int runSuggest(const SuggestArgs& args)
     if (!args.write.empty())
         std::printf("wrote      %s (occluder '%s'%s%s)\n", args.write.c_str(), suggested.spec.name.c_str(),
                     meshOut.empty() ? "" : ", mesh ", meshOut.empty() ? "" : meshOut.string().c_str());
+    return 0;
+}
+
+CLI::App* addGapsCommand(CLI::App& app, GapsArgs& args)
+{
+    CLI::App* command = app.add_subcommand(
+        "gaps", "The openings the view leaks through: the unblocked rays grouped by where they pass closest to the "
+                "level's geometry, most rays first (docs/cli.md)");
+    command->add_option("project", args.project, "Project file (JSON)")->required();
+    command->add_flag("--json", args.json, "Print one JSON object instead of text");
+    command->add_option("--threads", args.threads, "Sampling threads (0: all cores)")->check(CLI::Range(0, 1024));
+    addAllowOutsidePaths(command, args.allowOutsidePaths);
+    return command;
+}
+
+int runGaps(const GapsArgs& args)
+{
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    validatePatchPair(project.source, project.receiver);
+    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
+    validateReceiverHeights(project.source, project.receiver, heights);
+    const Scene scene = buildScene(project);
+    const auto start = std::chrono::steady_clock::now();
+    BitmaskOptions options;
+    options.threads = args.threads;
+    options.heights = heights.empty() ? nullptr : &heights;
+    const HiddenSampleMap map = CpuBitmaskSampler(scene).sample(project.source, project.receiver, options);
+    const auto sampled = std::chrono::steady_clock::now();
+    const std::vector<suggest::ViewGap> gaps = suggest::findViewGaps(worldTriangles(scene), project.source, project.receiver, heights, map);
+    const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+    const double sampleMs = ms(start, sampled), gapsMs = ms(sampled, std::chrono::steady_clock::now());
+    const std::uint64_t unblocked = map.rayCount() - map.blockedCount();
+    if (args.json) {
+        json list = json::array();
+        for (const suggest::ViewGap& gap : gaps)
+            list.push_back({{"rays", gap.rays}, {"centre", pointJson(gap.centre)}, {"min", pointJson(gap.min)},
+                            {"max", pointJson(gap.max)}, {"clearance", gap.clearance}});
+        std::cout << dumpJson({{"rays", map.rayCount()}, {"unblocked", unblocked}, {"gaps", list}, {"sample_ms", sampleMs},
+                               {"gaps_ms", gapsMs}})
+                  << "\n";
+        return 0;
+    }
+    std::printf("rays       %llu unblocked of %llu, through %zu openings (sampled %.1f ms, grouped %.1f ms)\n",
+                (unsigned long long)unblocked, (unsigned long long)map.rayCount(), gaps.size(), sampleMs, gapsMs);
+    for (std::size_t k = 0; k < gaps.size(); ++k) {
+        const suggest::ViewGap& g = gaps[k];
+        const glm::dvec3 size = g.max - g.min;
+        std::printf("  %2zu  %9llu rays (%5.1f%%)  at [%.2f, %.2f, %.2f]  %.2f x %.2f x %.2f m  clearance %.2f m\n", k + 1,
+                    (unsigned long long)g.rays, 100.0 * double(g.rays) / double(unblocked), g.centre.x, g.centre.y, g.centre.z,
+                    size.x, size.y, size.z, g.clearance);
+    }
     return 0;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
-// sightline-cli suggest (docs/design.md §4, a contract): the smallest occluder on a plane between
-// the patches that blocks a share of the rays now unblocked, checked by the exact sampler, and
-// optionally saved into a copy of the project.
+// The occluder assistant on the command line. sightline-cli suggest (docs/design.md §4, a
+// contract): the smallest occluder on a plane between the patches that blocks a share of the rays
+// now unblocked, checked by the exact sampler, and optionally saved into a copy of the project.
+// sightline-cli gaps: the openings those rays pass through, largest first.
 
 #include <string>
 
@@ -24,5 +25,15 @@ struct SuggestArgs {
 
 CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args);
 int runSuggest(const SuggestArgs& args);
+
+/// sightline-cli gaps: the openings the view leaks through (visibility/suggest/ViewGaps.h).
+struct GapsArgs {
+    std::string project;
+    bool json = false;
+    int threads = 0;
+    bool allowOutsidePaths = false;
+};
+CLI::App* addGapsCommand(CLI::App& app, GapsArgs& args);
+int runGaps(const GapsArgs& args);
 
 } // namespace sightline::cli

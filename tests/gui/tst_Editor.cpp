@@ -11,6 +11,7 @@
 #include <QPushButton>
 #include <QTableWidget>
 #include <QLineEdit>
+#include <QListWidget>
 #include <QMessageBox>
 #include <QPainter>
 #include <QScreen>
@@ -2544,6 +2545,19 @@ private slots:
         saveWindowShot("suggest-ghost");
         const int withGhost = countMagenta();
         QVERIFY2(withGhost > 200, qPrintable(QString("%1 magenta pixels").arg(withGhost)));
+
+        // The openings the view leaks through, every unblocked ray in one; N looks through the first.
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.gapList()->count() > 0, 10000);
+        QCOMPARE(std::size_t(assistant.gapList()->count()), assistant.gaps().size());
+        std::uint64_t throughGaps = 0;
+        for (const suggest::ViewGap& gap : assistant.gaps())
+            throughGaps += gap.rays;
+        QCOMPARE(throughGaps, unblocked);
+        QTest::keyClick(window_.get(), Qt::Key_N);
+        QCOMPARE(assistant.gapList()->currentRow(), 0);
+        QVERIFY(glm::length(window_->controller().camera().target - assistant.gaps()[0].centre) < 1e-6);
+        waitForFrame();
+        saveWindowShot("suggest-gap");
 
         // Enter in a text field outside the assistant is the field's own: nothing is added.
         auto* search = window_->findChild<QLineEdit*>();
