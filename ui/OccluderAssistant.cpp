@@ -186,7 +186,11 @@ OccluderAssistant::Outcome OccluderAssistant::work(const Job& job)
     } catch (const std::exception& e) {
         outcome.error = e.what();
     }
-    outcome.gaps = suggest::findViewGaps(*job.triangles, job.source, job.receiver, *job.heights, *job.map);
+    try {
+        outcome.gaps = suggest::findViewGaps(*job.triangles, job.source, job.receiver, *job.heights, *job.map);
+    } catch (const std::exception& e) {
+        outcome.gapsError = e.what();
+    }
     outcome.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return outcome;
 }
@@ -196,6 +200,8 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
     if (generation != generation_ || !active_)
         return;   // a later request is on its way, or the assistant was closed
     listGaps(std::move(outcome.gaps));
+    if (!outcome.gapsError.empty())
+        gapList_->addItem(QString::fromStdString(outcome.gapsError));
     if (!outcome.suggestion) {
         withdraw(QString::fromStdString(outcome.error));
         return;

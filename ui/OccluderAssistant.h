@@ -80,6 +80,7 @@ private:
         std::optional<suggest::Suggestion> suggestion;
         std::string error;
         std::vector<suggest::ViewGap> gaps;
+        std::string gapsError;
         double ms = 0.0;
     };
     static Outcome work(const Job& job);

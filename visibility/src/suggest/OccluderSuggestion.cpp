@@ -1,10 +1,12 @@
 #include "visibility/suggest/OccluderSuggestion.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -22,6 +24,43 @@ constexpr double kTieDistance = 1e-5;
 constexpr int kConvexTrimDirections = 64;
 /// Orientations tried for a rectangle trimmed to a share, over a quarter turn.
 constexpr int kRectTrimOrientations = 16;
+/// The most unblocked rays a share below 1 chooses among (their crossings are held: 28 bytes each).
+constexpr std::uint64_t kMaxTrimmedRays = std::uint64_t(1) << 24;
+
+/// Calls visit(point in the plane, ray, |cos| between the ray and the plane's normal) for every
+/// unblocked ray of `map` that crosses `plane` (see crossUnblockedRays).
+template <typename Visit>
+void visitCrossings(const Patch& source, const Patch& receiver, const ReceiverHeights& heights, const HiddenSampleMap& map,
+                    const SuggestPlane& plane, Visit&& visit)
+{
+    const int sources = source.sampleCount(), receivers = receiver.sampleCount();
+    std::vector<glm::dvec3> sourceAt(std::size_t(sources), glm::dvec3{0.0});
+    std::vector<double> sourceSide(std::size_t(sources), 0.0);
+    for (int i = 0; i < sources; ++i) {
+        sourceAt[std::size_t(i)] = source.sample(i) - plane.origin;
+        sourceSide[std::size_t(i)] = glm::dot(plane.normal, sourceAt[std::size_t(i)]);
+    }
+    for (int j = 0; j < receivers; ++j) {
+        const glm::dvec3 r = displacedReceiverSample(source, receiver, heights, j) - plane.origin;
+        const double receiverSide = glm::dot(plane.normal, r);
+        for (int i = 0; i < sources; ++i) {
+            if (map.blocked(j, i))
+                continue;
+            const double s = sourceSide[std::size_t(i)];
+            if (!((s < 0.0 && receiverSide > 0.0) || (s > 0.0 && receiverSide < 0.0)))
+                continue;
+            const glm::dvec3 along = r - sourceAt[std::size_t(i)];
+            const double length = glm::length(along);
+            const double t = s / (s - receiverSide);
+            // An occluder meeting the segment within the tie distance of an end may go either way.
+            if (t * length <= 2.0 * kTieDistance || (1.0 - t) * length <= 2.0 * kTieDistance)
+                continue;
+            const glm::dvec3 x = sourceAt[std::size_t(i)] + t * along;
+            visit(Point2{glm::dot(plane.axisU, x), glm::dot(plane.axisV, x)},
+                  std::uint64_t(j) * std::uint64_t(sources) + std::uint64_t(i), std::abs(receiverSide - s) / length);
+        }
+    }
+}
 
 std::string shareText(double share)
 {
@@ -75,20 +114,97 @@ Shaped rectShape(const std::vector<Point2>& points, std::size_t keep)
     return best;
 }
 
-/// Least |cos| between a kept crossing's ray and the plane's normal.
-double smallestKeptCosine(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
-                          const RayCrossings& crossings, const std::vector<char>& keep, glm::dvec3 normal)
+/// The hull of every crossing (share 1), in time and memory that follow the receiver samples
+/// rather than the rays. From one receiver sample R the crossings are the central projection from
+/// R of the source samples onto the plane, a projective map that keeps lines and convexity on the
+/// source's side; so the crossings of one source row lie between those of its first and last
+/// crossing sample, and the row's two ends are all the hull needs. The least |cos| between a ray
+/// and the plane's normal over a source patch is at one of its corners (|cos| is quasi-concave in
+/// the source point: a positive affine function over a convex one), which bounds the margin's.
+struct StreamedHull {
+    std::vector<Point2> points;
+    std::uint64_t crossing = 0;
+    double smallestCosine = 1.0;
+};
+
+StreamedHull hullOfAllCrossings(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
+                                const HiddenSampleMap& map, const SuggestPlane& plane)
 {
-    double smallest = 1.0;
-    const auto sources = std::uint64_t(source.sampleCount());
-    for (std::size_t i = 0; i < keep.size(); ++i) {
-        if (!keep[i])
-            continue;
-        const std::uint64_t ray = crossings.rays[i];
-        const glm::dvec3 d = displacedReceiverSample(source, receiver, heights, int(ray / sources)) - source.sample(int(ray % sources));
-        smallest = std::min(smallest, std::abs(glm::dot(normal, d)) / glm::length(d));
+    constexpr std::size_t kChunk = std::size_t(1) << 20;
+    const int sources = source.sampleCount(), na = source.na;
+    std::vector<glm::dvec3> sourceAt(static_cast<std::size_t>(sources));
+    std::vector<double> sourceSide(static_cast<std::size_t>(sources));
+    // Sources by side of the plane, and those within the tie band of it (checked one by one).
+    std::vector<std::uint64_t> negative(std::size_t(map.wordsPerRow()), 0), positive = negative, nearPlane = negative;
+    for (int i = 0; i < sources; ++i) {
+        sourceAt[std::size_t(i)] = source.sample(i) - plane.origin;
+        const double side = sourceSide[std::size_t(i)] = glm::dot(plane.normal, sourceAt[std::size_t(i)]);
+        const std::uint64_t bit = std::uint64_t(1) << (i & 63);
+        (side < 0.0 ? negative : side > 0.0 ? positive : nearPlane)[std::size_t(i >> 6)] |= bit;
+        if (std::abs(side) <= 2.0 * kTieDistance)
+            nearPlane[std::size_t(i >> 6)] |= bit;
     }
-    return smallest;
+    StreamedHull streamed;
+    std::vector<std::uint64_t> crossing(std::size_t(map.wordsPerRow()));
+    const auto cross = [&](int i, const glm::dvec3& r, double receiverSide, bool check) -> std::optional<Point2> {
+        const double s = sourceSide[std::size_t(i)];
+        const glm::dvec3 along = r - sourceAt[std::size_t(i)];
+        const double length = glm::length(along);
+        const double t = s / (s - receiverSide);
+        if (check && (t * length <= 2.0 * kTieDistance || (1.0 - t) * length <= 2.0 * kTieDistance))
+            return std::nullopt;
+        const glm::dvec3 x = sourceAt[std::size_t(i)] + t * along;
+        return Point2{glm::dot(plane.axisU, x), glm::dot(plane.axisV, x)};
+    };
+    for (int j = 0; j < receiver.sampleCount(); ++j) {
+        const glm::dvec3 r = displacedReceiverSample(source, receiver, heights, j) - plane.origin;
+        const double receiverSide = glm::dot(plane.normal, r);
+        if (receiverSide == 0.0)
+            continue;
+        const std::vector<std::uint64_t>& opposite = receiverSide > 0.0 ? negative : positive;
+        const bool nearReceiver = std::abs(receiverSide) <= 2.0 * kTieDistance;   // every ray checked
+        const auto blocked = map.row(j);
+        bool any = false;
+        for (std::size_t w = 0; w < crossing.size(); ++w) {
+            crossing[w] = ~blocked[w] & opposite[w];
+            std::uint64_t check = nearReceiver ? crossing[w] : crossing[w] & nearPlane[w];
+            while (check) {   // the few rays that may meet the plane within the tie band of an end
+                const int i = int(w * 64) + std::countr_zero(check);
+                check &= check - 1;
+                if (!cross(i, r, receiverSide, true))
+                    crossing[w] &= ~(std::uint64_t(1) << (i & 63));
+            }
+            streamed.crossing += std::uint64_t(std::popcount(crossing[w]));
+            any = any || crossing[w] != 0;
+        }
+        if (!any)
+            continue;
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec3 d = r - (source.cornerPoint(k) - plane.origin);
+            streamed.smallestCosine = std::min(streamed.smallestCosine, std::abs(glm::dot(plane.normal, d)) / glm::length(d));
+        }
+        for (int b = 0; b < source.nb; ++b) {   // each source row's first and last crossing sample
+            int first = -1, last = -1;
+            for (int i = b * na; i < (b + 1) * na; ++i) {
+                if ((i & 63) == 0 && i + 64 <= (b + 1) * na && crossing[std::size_t(i >> 6)] == 0) {
+                    i += 63;   // a whole empty word
+                    continue;
+                }
+                if ((crossing[std::size_t(i >> 6)] >> (i & 63)) & 1) {
+                    first = first < 0 ? i : first;
+                    last = i;
+                }
+            }
+            if (first < 0)
+                continue;
+            streamed.points.push_back(*cross(first, r, receiverSide, false));
+            if (last != first)
+                streamed.points.push_back(*cross(last, r, receiverSide, false));
+        }
+        if (streamed.points.size() >= kChunk)
+            streamed.points = convexHull(std::move(streamed.points));
+    }
+    return streamed;
 }
 
 } // namespace
@@ -132,35 +248,13 @@ SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double dep
 RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
                                 const HiddenSampleMap& map, const SuggestPlane& plane)
 {
-    const int sources = source.sampleCount(), receivers = receiver.sampleCount();
-    std::vector<glm::dvec3> sourceAt(std::size_t(sources), glm::dvec3{0.0});
-    std::vector<double> sourceSide(std::size_t(sources), 0.0);
-    for (int i = 0; i < sources; ++i) {
-        sourceAt[i] = source.sample(i) - plane.origin;
-        sourceSide[i] = glm::dot(plane.normal, sourceAt[i]);
-    }
     RayCrossings crossings;
     crossings.unblocked = map.rayCount() - map.blockedCount();
-    for (int j = 0; j < receivers; ++j) {
-        const glm::dvec3 r = displacedReceiverSample(source, receiver, heights, j) - plane.origin;
-        const double receiverSide = glm::dot(plane.normal, r);
-        for (int i = 0; i < sources; ++i) {
-            if (map.blocked(j, i))
-                continue;
-            const double s = sourceSide[i];
-            if (!((s < 0.0 && receiverSide > 0.0) || (s > 0.0 && receiverSide < 0.0)))
-                continue;
-            const glm::dvec3 along = r - sourceAt[i];
-            const double length = glm::length(along);
-            const double t = s / (s - receiverSide);
-            // An occluder meeting the segment within the tie distance of an end may go either way.
-            if (t * length <= 2.0 * kTieDistance || (1.0 - t) * length <= 2.0 * kTieDistance)
-                continue;
-            const glm::dvec3 x = sourceAt[i] + t * along;
-            crossings.points.push_back({glm::dot(plane.axisU, x), glm::dot(plane.axisV, x)});
-            crossings.rays.push_back(std::uint64_t(j) * std::uint64_t(sources) + std::uint64_t(i));
-        }
-    }
+    visitCrossings(source, receiver, heights, map, plane, [&](Point2 p, std::uint64_t ray, double cosine) {
+        crossings.points.push_back(p);
+        crossings.rays.push_back(ray);
+        crossings.cosines.push_back(float(cosine));
+    });
     return crossings;
 }
 
@@ -180,15 +274,40 @@ Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const Rec
     Suggestion result;
     result.plane = suggestPlane(source, receiver, request.depth);
     result.shape = request.shape;
-    const RayCrossings crossings = crossUnblockedRays(source, receiver, heights, map, result.plane);
-    const std::uint64_t unblocked = crossings.unblocked;
+    const std::uint64_t unblocked = map.rayCount() - map.blockedCount();
     if (unblocked == 0)
         throw Error("every ray between the patches is already blocked: there is nothing left to cut");
     const double wanted = std::ceil(request.share * double(unblocked) - 1e-9);
     result.unblockedBefore = unblocked;
     result.required = std::clamp<std::uint64_t>(std::uint64_t(std::max(wanted, 1.0)), 1, unblocked);
     result.promised = unblocked - result.required;
-    result.crossing = crossings.points.size();
+    const bool everyRay = result.required == unblocked;
+    if (!everyRay && unblocked > kMaxTrimmedRays)
+        throw Error("a share below 1 is chosen among at most " + std::to_string(kMaxTrimmedRays) +
+                    " unblocked rays, and this pair has " + std::to_string(unblocked) +
+                    ": use --share 1, or fewer samples on the patches");
+
+    Shaped shaped;
+    double smallestCosine = 1.0;
+    if (everyRay) {
+        StreamedHull streamed = hullOfAllCrossings(source, receiver, heights, map, result.plane);
+        result.crossing = streamed.crossing;
+        smallestCosine = streamed.smallestCosine;
+        shaped.kept = std::size_t(streamed.crossing);
+        shaped.hull = convexHull(std::move(streamed.points));
+        if (!shaped.hull.empty())
+            shaped.rect = minAreaRect(shaped.hull);
+    } else {
+        const RayCrossings crossings = crossUnblockedRays(source, receiver, heights, map, result.plane);
+        result.crossing = crossings.points.size();
+        if (result.required <= result.crossing) {
+            shaped = request.shape == Shape::Rect ? rectShape(crossings.points, std::size_t(result.required))
+                                                  : convexShape(crossings.points, std::size_t(result.required));
+            for (std::size_t i = 0; i < shaped.keep.size(); ++i)
+                if (shaped.keep[i])
+                    smallestCosine = std::min(smallestCosine, double(crossings.cosines[i]));
+        }
+    }
     if (result.required > result.crossing) {
         const double most = double(result.crossing) / double(unblocked);
         throw Error("the plane at depth " + shareText(request.depth) + " misses " +
@@ -197,14 +316,10 @@ Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const Rec
                     shareText(request.share) + "; the most it can block is share " + shareText(most) +
                     ": choose a depth nearer the middle of the view or a smaller --share");
     }
-
-    const Shaped shaped = request.shape == Shape::Rect ? rectShape(crossings.points, std::size_t(result.required))
-                                                       : convexShape(crossings.points, std::size_t(result.required));
     result.enclosed = shaped.kept;
 
     // The margin (see the header): four tie distances plus float32 rounding of the corners,
     // measured across the ray, so divided by the least cosine of a kept crossing.
-    const double smallestCosine = smallestKeptCosine(source, receiver, heights, crossings, shaped.keep, result.plane.normal);
     double largest = 0.0;
     for (const Point2& p : shaped.hull) {
         const glm::dvec3 w = result.plane.world(p);

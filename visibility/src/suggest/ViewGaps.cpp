@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "visibility/Error.h"
 #include "visibility/suggest/DistanceGrid.h"
 
 namespace sightline::suggest {
@@ -31,6 +32,10 @@ struct Groups {
 std::vector<ViewGap> findViewGaps(const WorldTriangles& triangles, const Patch& source, const Patch& receiver,
                                   const ReceiverHeights& heights, const HiddenSampleMap& map, const GapSettings& settings)
 {
+    const std::uint64_t unblocked = map.rayCount() - map.blockedCount();
+    if (unblocked > kMaxGapRays)
+        throw Error("openings are found among at most " + std::to_string(kMaxGapRays) + " unblocked rays, and this pair has " +
+                    std::to_string(unblocked) + ": use fewer samples on the patches");
     const int sources = source.sampleCount(), receivers = receiver.sampleCount();
     std::vector<glm::dvec3> receiverAt(static_cast<std::size_t>(receivers));
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());

@@ -53,6 +53,7 @@ SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double dep
 struct RayCrossings {
     std::vector<Point2> points;          ///< in the plane's coordinates, one per crossing ray
     std::vector<std::uint64_t> rays;     ///< the ray of each point: receiver * sourceCount + source
+    std::vector<float> cosines;          ///< |cos| between each ray and the plane's normal
     std::uint64_t unblocked = 0;         ///< every unblocked ray, crossing or not
 };
 
@@ -86,7 +87,9 @@ struct Suggestion {
 };
 
 /// Throws sightline::Error when nothing is unblocked, or the plane cannot meet the share (the
-/// message says how many rays miss the plane and the largest share it can block).
+/// message says how many rays miss the plane and the largest share it can block), or a share
+/// below 1 is asked of more than 2^24 unblocked rays (share 1 takes any number: its crossings are
+/// reduced to their hull as they come).
 Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
                            const HiddenSampleMap& map, const Request& request);
 

@@ -28,6 +28,8 @@ struct ViewGap {
 };
 
 inline constexpr std::size_t kGapRaySample = 256;
+/// The most unblocked rays findViewGaps follows (each is followed through `steps` points).
+inline constexpr std::uint64_t kMaxGapRays = std::uint64_t(1) << 22;
 
 struct GapSettings {
     int cells = 128;       ///< voxels along the longest side of the box between the patches
@@ -35,7 +37,7 @@ struct GapSettings {
 };
 
 /// The gaps of `map` (for `source`, `receiver` displaced by `heights`) among `triangles`, most
-/// rays first. Empty when every ray is blocked.
+/// rays first. Empty when every ray is blocked. Throws sightline::Error past kMaxGapRays.
 std::vector<ViewGap> findViewGaps(const WorldTriangles& triangles, const Patch& source, const Patch& receiver,
                                   const ReceiverHeights& heights, const HiddenSampleMap& map, const GapSettings& settings = {});
 
