@@ -31,6 +31,7 @@
 #include "BuiltinFormats.h"
 #include "GltfValidation.h"
 #include "plugins/GltfLights.h"
+#include "plugins/MeshTopology.h"
 #include "plugins/JsonText.h"
 #include "visibility/Error.h"
 #include "visibility/PathRule.h"
@@ -492,7 +493,7 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
     if (!allNormals)
         mesh.normals.clear();
     // Culling trusts the flag (§7): on an open or inward mesh it would drop real blockers.
-    if (mesh.watertight && !closedAndOutward(mesh)) {
+    if (mesh.watertight && !meshTopology(mesh).closedAndOutward()) {
         mesh.watertight = false;
         warnings.push_back(file + ": mesh " + std::to_string(meshIndex) + " ('" + mesh.name +
                            "') is flagged watertight in its extras but is not closed and outward-facing; "

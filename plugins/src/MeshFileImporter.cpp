@@ -38,6 +38,7 @@
 #include <string_view>
 
 #include "BuiltinFormats.h"
+#include "plugins/MeshTopology.h"
 #include "visibility/Error.h"
 #include "visibility/InputFile.h"
 #include "visibility/Scene.h"
@@ -943,7 +944,7 @@ private:
     static Scene oneInstance(Mesh mesh, const std::filesystem::path& file)
     {
         mesh.name = file.stem().string();
-        mesh.watertight = closedAndOutward(mesh);
+        mesh.watertight = meshTopology(mesh).closedAndOutward();
         Scene scene;
         scene.addMeshInstance(std::move(mesh));
         validate(scene, file.string());
