@@ -10,6 +10,7 @@
 //   sightline-cli suggest PROJECT.json --depth T [--share F] [--shape convex|rect] [--write OUT.json] [--json]
 //                                                                                 (cli/SuggestCommand)
 //   sightline-cli gaps PROJECT.json [--json]                                      (cli/SuggestCommand)
+//   sightline-cli coarse PROJECT.json [--kind closest|inner] [--triangles N] [--json] (cli/CoarseCommand)
 //   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
@@ -32,6 +33,7 @@
 #include "bench/Bench.h"
 #include "bench/BenchChart.h"
 #include "cli/AoCommand.h"
+#include "cli/CoarseCommand.h"
 #include "cli/LightingCommands.h"
 #include "cli/LightsCommand.h"
 #include "cli/OptionRules.h"
@@ -619,6 +621,8 @@ int main(int argc, char** argv)
     cli::SuggestArgs suggestArgs;
     CLI::App* suggestCmd = cli::addSuggestCommand(app, suggestArgs);
     cli::GapsArgs gapsArgs;
+    cli::CoarseArgs coarseArgs;
+    CLI::App* coarseCmd = cli::addCoarseCommand(app, coarseArgs);
     CLI::App* gapsCmd = cli::addGapsCommand(app, gapsArgs);
 
     cli::PvsArgs pvsArgs;
@@ -698,6 +702,8 @@ int main(int argc, char** argv)
             return cli::runSuggest(suggestArgs);
         if (*gapsCmd)
             return cli::runGaps(gapsArgs);
+        if (*coarseCmd)
+            return cli::runCoarse(coarseArgs);
         if (*pvsCmd)
             return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {

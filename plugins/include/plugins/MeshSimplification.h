@@ -1,0 +1,22 @@
+#pragma once
+// Coarse occluders ("model no more than a scene needs", Eisemann & Décoret §10): a mesh simplified
+// by OpenMesh's decimater (halfedge collapses ordered by quadric error, Garland & Heckbert 1997;
+// collapses that would flip a face's normal are refused, so the surface does not fold over). The
+// result is the closest coarse shape, not a conservative one: it may block rays the original lets
+// through and the reverse; `sightline-cli coarse` counts both against the exact answer. The
+// conservative kind (never blocks a ray the original lets through) is visibility/InnerOccluder.h.
+
+#include <cstddef>
+
+#include "visibility/Scene.h"
+
+namespace sightline {
+
+/// `mesh` with at most `targetTriangles` triangles where the decimater can get there without
+/// moving the surface farther than `toleranceOfSize` times the mesh's bounding diagonal (it stops
+/// short of the count rather than flatten the shape; a hole's rim is held where it is). Faces
+/// OpenMesh refuses as non-manifold are dropped. Positions are welded within a millionth of the
+/// size; the name is kept; the watertight flag is recomputed.
+Mesh simplifiedMesh(const Mesh& mesh, std::size_t targetTriangles, double toleranceOfSize = 0.01);
+
+} // namespace sightline
