@@ -32,6 +32,11 @@ QString count(std::uint64_t n)
     return QLocale().toString(qulonglong(n));
 }
 
+bool samePatch(const Patch& a, const Patch& b)
+{
+    return a.corner == b.corner && a.u == b.u && a.v == b.v && a.na == b.na && a.nb == b.nb;
+}
+
 } // namespace
 
 OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewport, ViewportController& controller,
@@ -169,9 +174,24 @@ void OccluderAssistant::requestNow()
     job.receiver = result.receiver;
     const ReceiverHeights& heights = viewport_.receiverHeights();
     job.heights = std::make_shared<const ReceiverHeights>(heights);
-    job.map = std::make_shared<const HiddenSampleMap>(result.map);
+    if (promised_) {   // the first answer after an add: did the view keep the promise?
+        const std::uint64_t left = result.unblocked();
+        emit added(left <= *promised_ ? tr("The view now leaves %1 rays (promised at most %2)").arg(count(left)).arg(count(*promised_))
+                                      : tr("Warning: the view leaves %1 rays, more than the %2 promised (please report this pair)")
+                                            .arg(count(left))
+                                            .arg(count(*promised_)));
+        promised_.reset();
+    }
     if (!triangles_)
         triangles_ = std::make_shared<const WorldTriangles>(worldTriangles(document_.scene()));
+    // The openings depend on the map and the level only: a new depth, share or shape keeps them.
+    job.findGaps = !(gapsMap_ && gapsTriangles_ == triangles_ && samePatch(gapsSource_, result.source) &&
+                     samePatch(gapsReceiver_, result.receiver) && *gapsMap_ == result.map);
+    gapsSource_ = result.source;
+    gapsReceiver_ = result.receiver;
+    job.map = job.findGaps ? std::make_shared<const HiddenSampleMap>(result.map) : gapsMap_;
+    gapsMap_ = job.map;
+    gapsTriangles_ = triangles_;
     job.triangles = triangles_;
     job.request = settings();
     worker_.request(++generation_, std::move(job));
@@ -186,8 +206,10 @@ OccluderAssistant::Outcome OccluderAssistant::work(const Job& job)
     } catch (const std::exception& e) {
         outcome.error = e.what();
     }
+    outcome.gapsFound = job.findGaps;
     try {
-        outcome.gaps = suggest::findViewGaps(*job.triangles, job.source, job.receiver, *job.heights, *job.map);
+        if (job.findGaps)
+            outcome.gaps = suggest::findViewGaps(*job.triangles, job.source, job.receiver, *job.heights, *job.map);
     } catch (const std::exception& e) {
         outcome.gapsError = e.what();
     }
@@ -199,14 +221,17 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
 {
     if (generation != generation_ || !active_)
         return;   // a later request is on its way, or the assistant was closed
-    listGaps(std::move(outcome.gaps));
-    if (!outcome.gapsError.empty())
-        gapList_->addItem(QString::fromStdString(outcome.gapsError));
+    if (outcome.gapsFound) {
+        listGaps(std::move(outcome.gaps));
+        if (!outcome.gapsError.empty())
+            gapList_->addItem(QString::fromStdString(outcome.gapsError));
+    }
     if (!outcome.suggestion) {
         withdraw(QString::fromStdString(outcome.error));
         return;
     }
     suggestion_ = std::move(outcome.suggestion);
+    shownGeneration_ = generation;
     const suggest::Suggestion& s = *suggestion_;
     std::vector<glm::vec3> ghost;
     for (const glm::dvec3& p : s.worldPolygon())
@@ -275,6 +300,7 @@ bool OccluderAssistant::stepGap(int step)
 
 void OccluderAssistant::withdraw(const QString& why)
 {
+    ++generation_;   // an answer still on its way is for what was withdrawn: dropped
     const bool had = suggestion_.has_value();
     suggestion_.reset();
     summary_->setText(why.toHtmlEscaped());
@@ -290,15 +316,23 @@ bool OccluderAssistant::addSuggestion(QString* message)
         *message = tr("No suggestion to add: open Create > Suggest Occluder on a view with unblocked rays");
         return false;
     }
-    const suggest::Suggestion& s = *suggestion_;
+    if (gather_->isActive() || shownGeneration_ != generation_) {
+        *message = tr("The suggestion is being updated for the new settings: add it once it is shown");
+        return false;
+    }
+    const suggest::Suggestion s = *suggestion_;
+    if (s.shape == suggest::Shape::Convex && document_.filePath().empty()) {
+        *message = tr("Save the project first: a convex occluder is a mesh file beside it (or choose Rectangle)");
+        return false;
+    }
     const Project& project = document_.project();
     const std::string name = unusedOccluderName(project, "suggested occluder");
     OccluderSpec spec;
     try {
         // A convex polygon is a mesh of its own: a new file beside the project, never an old one.
-        const std::string stem = document_.filePath().empty() ? "level" : document_.filePath().stem().string();
-        const std::filesystem::path file =
-            s.shape == suggest::Shape::Convex ? nextNumberedFile(project.folder, stem + "-occluder", ".glb") : std::filesystem::path();
+        const std::filesystem::path file = s.shape == suggest::Shape::Convex
+                                               ? nextNumberedFile(project.folder, document_.filePath().stem().string() + "-occluder", ".glb")
+                                               : std::filesystem::path();
         PlacedSuggestion placed = placeSuggestion(s, name, file.filename().string());
         if (!file.empty())
             saveScene(placed.mesh, file);
@@ -308,6 +342,10 @@ bool OccluderAssistant::addSuggestion(QString* message)
         *message = tr("Could not add the suggested occluder: %1").arg(QString::fromUtf8(e.what()));
         return false;
     }
+    // Added once: the next suggestion is for the view with it in, and that view's first answer is
+    // checked against the promise (requestNow).
+    withdraw(tr("Added: waiting for the view to be sampled again..."));
+    promised_ = s.promised;
     *message = tr("Added %1 (%2 m²): it leaves at most %3 of %4 rays (Ctrl+Z removes it)")
                    .arg(QString::fromStdString(spec.name))
                    .arg(s.area, 0, 'f', 3)

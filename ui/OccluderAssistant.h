@@ -75,12 +75,14 @@ private:
         std::shared_ptr<const HiddenSampleMap> map;
         std::shared_ptr<const WorldTriangles> triangles;
         suggest::Request request;
+        bool findGaps = true;   ///< false: the map and level are the last openings' (kept)
     };
     struct Outcome {
         std::optional<suggest::Suggestion> suggestion;
         std::string error;
         std::vector<suggest::ViewGap> gaps;
         std::string gapsError;
+        bool gapsFound = false;
         double ms = 0.0;
     };
     static Outcome work(const Job& job);
@@ -103,6 +105,11 @@ private:
     QTimer* gather_ = nullptr;
     bool active_ = false;
     std::uint64_t generation_ = 0;
+    std::uint64_t shownGeneration_ = 0;                 ///< the request the shown suggestion answers
+    std::optional<std::uint64_t> promised_;             ///< after an add: checked on the next answer
+    std::shared_ptr<const HiddenSampleMap> gapsMap_;     ///< what the listed openings were found for
+    std::shared_ptr<const WorldTriangles> gapsTriangles_;
+    Patch gapsSource_, gapsReceiver_;
     std::optional<suggest::Suggestion> suggestion_;
     std::vector<suggest::ViewGap> gaps_;
     std::shared_ptr<const WorldTriangles> triangles_;   ///< the document's, until its geometry changes

@@ -13,6 +13,7 @@
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
 #include "plugins/MeshSimplification.h"
+#include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
@@ -23,10 +24,12 @@ namespace sightline::cli {
 namespace {
 
 /// The lower median of `repeat` exact samplings after one untimed (as `bench` times).
-double medianSampleMs(const CpuBitmaskSampler& sampler, const Project& project, int repeat, int threads, HiddenSampleMap& map)
+double medianSampleMs(const CpuBitmaskSampler& sampler, const Project& project, const ReceiverHeights& heights, int repeat,
+                      int threads, HiddenSampleMap& map)
 {
     BitmaskOptions options;
     options.threads = threads;
+    options.heights = heights.empty() ? nullptr : &heights;
     map = sampler.sample(project.source, project.receiver, options);
     std::vector<double> times;
     for (int k = 0; k < std::max(repeat, 1); ++k) {
@@ -68,6 +71,8 @@ int runCoarse(const CoarseArgs& args)
 {
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     validatePatchPair(project.source, project.receiver);
+    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
+    validateReceiverHeights(project.source, project.receiver, heights);
     const Scene original = buildScene(project);
     Scene coarse = original;
     std::size_t replaced = 0, skipped = 0;
@@ -91,8 +96,8 @@ int runCoarse(const CoarseArgs& args)
 
     HiddenSampleMap exact, approximate;
     const CpuBitmaskSampler originalSampler(original), coarseSampler(coarse);
-    const double originalMs = medianSampleMs(originalSampler, project, args.repeat, args.threads, exact);
-    const double coarseMs = medianSampleMs(coarseSampler, project, args.repeat, args.threads, approximate);
+    const double originalMs = medianSampleMs(originalSampler, project, heights, args.repeat, args.threads, exact);
+    const double coarseMs = medianSampleMs(coarseSampler, project, heights, args.repeat, args.threads, approximate);
     std::uint64_t falseBlocked = 0, falseFree = 0;
     for (int j = 0; j < exact.receiverCount(); ++j) {
         const auto a = exact.row(j), b = approximate.row(j);

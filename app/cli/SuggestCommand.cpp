@@ -73,11 +73,15 @@ CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
 
 int runSuggest(const SuggestArgs& args)
 {
-    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     suggest::Request request;
     request.depth = args.depth;
     request.share = args.share;
     request.shape = suggest::parseShape(args.shape);
+    suggest::validateRequest(request);   // before the level is loaded and sampled
+    std::error_code ec;
+    if (!args.write.empty() && fs::is_directory(args.write, ec))
+        throw Error("--write " + args.write + " is a folder: name the project file to write");
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     fs::path meshOut;
     if (!args.write.empty()) {
         if (request.shape == suggest::Shape::Convex)

@@ -13,9 +13,10 @@ namespace sightline {
 
 namespace {
 
-/// Attempts with a margin four times wider each: a crossing is put this much farther from the
-/// occluder's edges when the exact sampler found a ray the suggestion should have blocked.
-constexpr int kMarginAttempts = 4;
+/// Suggestions made before giving up, each after the exact sampler found a ray the last one should
+/// have blocked: the margin four times wider each time (for a rectangle, every second time: the
+/// other tries turn its diagonal).
+constexpr int kAttempts = 5;
 
 double millisecondsSince(std::chrono::steady_clock::time_point start)
 {
@@ -39,26 +40,34 @@ glm::dvec3 inPlane(const suggest::SuggestPlane& plane, suggest::Point2 direction
 
 } // namespace
 
-glm::mat4 planeTransform(const suggest::SuggestPlane& plane, const suggest::Rect2& rect)
+glm::mat4 planeTransform(const suggest::SuggestPlane& plane, const suggest::Rect2& rect, bool otherDiagonal)
 {
-    const glm::dvec3 first = inPlane(plane, rect.axis);
-    const glm::dvec3 second = inPlane(plane, {-rect.axis.y, rect.axis.x});
+    // The same rectangle a quarter turn round: its sides swap, and the built-in's diagonal (from
+    // its -x -z corner to its +x +z one) lands on the rectangle's other diagonal.
+    suggest::Rect2 r = rect;
+    if (otherDiagonal) {
+        r.axis = {-rect.axis.y, rect.axis.x};
+        std::swap(r.halfWidth, r.halfHeight);
+    }
+    const glm::dvec3 first = inPlane(plane, r.axis);
+    const glm::dvec3 second = inPlane(plane, {-r.axis.y, r.axis.x});
     glm::dmat4 m(1.0);
-    m[0] = glm::dvec4(2.0 * rect.halfWidth * first, 0.0);
+    m[0] = glm::dvec4(2.0 * r.halfWidth * first, 0.0);
     m[1] = glm::dvec4(plane.normal, 0.0);
     // The plane's +z edge runs along -second: a rotation, not a mirror, and the same rectangle.
-    m[2] = glm::dvec4(-2.0 * rect.halfHeight * second, 0.0);
-    m[3] = glm::dvec4(plane.world(rect.centre), 1.0);
+    m[2] = glm::dvec4(-2.0 * r.halfHeight * second, 0.0);
+    m[3] = glm::dvec4(plane.world(r.centre), 1.0);
     return glm::mat4(m);
 }
 
-PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const std::string& name, const std::string& meshFile)
+PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const std::string& name, const std::string& meshFile,
+                                 bool otherDiagonal)
 {
     PlacedSuggestion placed;
     placed.spec.name = name;
     if (suggestion.shape == suggest::Shape::Rect) {
         placed.spec.mesh = "plane";
-        placed.spec.transform = planeTransform(suggestion.plane, suggestion.rect);
+        placed.spec.transform = planeTransform(suggestion.plane, suggestion.rect, otherDiagonal);
         placed.mesh.addMeshInstance(builtinMesh("plane"));
     } else {
         const glm::dvec3 centre = suggest::suggestionCentre(suggestion);
@@ -107,7 +116,9 @@ SuggestedOccluder suggestOnScene(const Scene& scene, const Patch& source, const 
         result.suggestion = suggest::suggestOccluder(source, receiver, heights, before, attempt);
         result.suggestMs = millisecondsSince(start);
 
-        PlacedSuggestion placed = placeSuggestion(result.suggestion, name, meshFile);
+        // A rectangle's second try turns the built-in plane so that its inner diagonal, where a
+        // crossing is a tie, runs the other way; later tries widen the margin.
+        PlacedSuggestion placed = placeSuggestion(result.suggestion, name, meshFile, result.attempts % 2 == 0);
         result.spec = std::move(placed.spec);
         result.mesh = std::move(placed.mesh);
         Scene with = scene;
@@ -118,12 +129,13 @@ SuggestedOccluder suggestOnScene(const Scene& scene, const Patch& source, const 
         result.checkMs = millisecondsSince(start);
         if (result.unblockedAfter <= result.suggestion.promised)
             return result;
-        if (result.attempts == kMarginAttempts)
+        if (result.attempts == kAttempts)
             throw Error("the suggested occluder leaves " + std::to_string(result.unblockedAfter) +
                         " rays unblocked, more than the " + std::to_string(result.suggestion.promised) +
-                        " promised, even with its margin widened " + std::to_string(result.attempts - 1) +
-                        " times (please report this pair)");
-        attempt.marginScale *= 4.0;
+                        " promised, even after " + std::to_string(result.attempts) +
+                        " tries with wider margins (please report this pair)");
+        if (request.shape == suggest::Shape::Convex || result.attempts % 2 == 0)
+            attempt.marginScale *= 4.0;
     }
 }
 

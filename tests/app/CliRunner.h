@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace sightline::test {
 
@@ -60,6 +61,29 @@ inline CliRun runCli(const std::string& arguments, int timeoutSeconds = 0)
 }
 
 inline bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
+
+/// A test with a fresh folder of its own (removed after it), and the CLI's JSON answers parsed.
+class CliFolderTest : public ::testing::Test {
+protected:
+    fs::path folder;
+
+    void SetUp() override
+    {
+        folder = uniqueFolder();
+        fs::remove_all(folder);
+        fs::create_directories(folder);
+    }
+    void TearDown() override { fs::remove_all(folder); }
+
+    /// Runs the CLI, expects success, and parses its stdout (an empty object on failure).
+    nlohmann::json runJson(const std::string& arguments)
+    {
+        const CliRun run = runCli(arguments);
+        EXPECT_EQ(run.code, 0) << arguments << ": " << run.err;
+        return run.code == 0 ? nlohmann::json::parse(run.out) : nlohmann::json::object();
+    }
+    std::string path(const std::string& name) const { return (folder / name).string(); }
+};
 
 /// The app tests' scene: a 3 x 2 m wall at z = 2 with a 1 m square hole over [0, 1]^2 (OBJ).
 inline void writeWallWithHoleObj(const fs::path& file)

@@ -18,15 +18,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class CoarseCli : public ::testing::Test {
+class CoarseCli : public CliFolderTest {
 protected:
-    fs::path folder;
-
     void SetUp() override
     {
-        folder = uniqueFolder();
-        fs::remove_all(folder);
-        fs::create_directories(folder);
+        CliFolderTest::SetUp();
         // A lumpy closed torus of 18,432 triangles standing across the view, 2 m from each patch.
         Scene level;
         level.addMeshInstance(closedTorus({0.5, 0.5, 2.0}, 0.6, 0.25, 192, 48, 0.15));
@@ -37,14 +33,6 @@ protected:
             {"source", {{"corner", {-0.5, -0.5, 0}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
             {"receiver", {{"corner", {-0.3, -0.4, 4}}, {"u", {1.8, 0, 0.2}}, {"v", {0, 1.8, 0}}, {"samples", {32, 32}}}}};
         std::ofstream(folder / "p.json") << project.dump(2);
-    }
-    void TearDown() override { fs::remove_all(folder); }
-
-    json runJson(const std::string& arguments)
-    {
-        const CliRun run = runCli(arguments);
-        EXPECT_EQ(run.code, 0) << arguments << ": " << run.err;
-        return run.code == 0 ? json::parse(run.out) : json::object();
     }
 };
 

@@ -19,15 +19,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class SuggestCli : public ::testing::Test {
+class SuggestCli : public CliFolderTest {
 protected:
-    fs::path folder;
-
     void SetUp() override
     {
-        folder = uniqueFolder();
-        fs::remove_all(folder);
-        fs::create_directories(folder);
+        CliFolderTest::SetUp();
         // A 2 x 2 m wall with a 1 m hole between the patches: the rays through the hole are the
         // view to cut.
         test::writeWallWithHoleObj(folder / "wall.obj");
@@ -40,15 +36,7 @@ protected:
         };
         std::ofstream(folder / "p.json") << project.dump(2);
     }
-    void TearDown() override { fs::remove_all(folder); }
-
-    json runJson(const std::string& arguments)
-    {
-        const CliRun run = runCli(arguments);
-        EXPECT_EQ(run.code, 0) << arguments << ": " << run.err;
-        return run.code == 0 ? json::parse(run.out) : json::object();
-    }
-    std::string p(const std::string& name) const { return (folder / name).string(); }
+    std::string p(const std::string& name) const { return path(name); }
 };
 
 } // namespace

@@ -2572,11 +2572,14 @@ private slots:
         const OccluderSpec added = document.project().occluders.back();
         QCOMPARE(added.name, std::string("suggested occluder"));
         QVERIFY(std::filesystem::exists(document.project().resolve(added.mesh, "mesh")));
+        QVERIFY(window_->statusBar()->currentMessage().startsWith("Added suggested occluder"));
+        QTest::keyClick(&viewport, Qt::Key_Return);   // added once: Enter again adds nothing
+        QCOMPARE(document.project().occluders.size(), occluders + 1);
         waitForUpdate();
         QCOMPARE(viewport.visibility().unblocked(), std::uint64_t(0));
-        QVERIFY(window_->statusBar()->currentMessage().startsWith("Added suggested occluder"));
         QTRY_VERIFY_WITH_TIMEOUT(assistant.summary()->text().contains("already blocked"), 10000);
         QVERIFY(!assistant.suggestion());
+        QCOMPARE(window_->statusBar()->currentMessage(), QString("The view now leaves 0 rays (promised at most 0)"));
         saveWindowShot("suggest-added");
 
         document.undoStack()->undo();

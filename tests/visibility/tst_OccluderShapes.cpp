@@ -99,6 +99,24 @@ TEST(ConvexHull2, GrownPolygonPutsEveryPointAtLeastTheMarginInside)
     }
 }
 
+TEST(ConvexHull2, SharpCornersAreCutSquareAndStayAMarginOut)
+{
+    // Needles: corners of 0.01 to 5 degrees, where a miter would reach metres out.
+    for (const double degrees : {0.01, 0.5, 5.0}) {
+        const double half = 0.5 * degrees * std::numbers::pi / 180.0;
+        const std::vector<Point2> needle{{0.0, 0.0}, {10.0, -10.0 * std::tan(half)}, {10.0, 10.0 * std::tan(half)}};
+        const std::vector<Point2> hull = convexHull(needle);
+        const double margin = 1e-3;
+        const std::vector<Point2> grown = grownPolygon(hull, margin);
+        EXPECT_GT(polygonArea(grown), 0.0);
+        for (const Point2& p : hull)
+            EXPECT_TRUE(insideConvex(grown, p, margin * (1.0 - 1e-6))) << degrees;
+        for (const Point2& q : grown)   // no vertex strays far: at most a few margins from the needle
+            EXPECT_LT(q.x, 10.0 + 4.0 * margin) << degrees;
+        EXPECT_GT(grown.front().x, -4.0 * margin) << degrees;
+    }
+}
+
 TEST(ShareTrimming, LeavesOutTheOutliersAndKeepsWhatWasAsked)
 {
     // 2,000 points in the unit square and 40 scattered far out: keeping 2,000 drops the outliers.

@@ -20,7 +20,7 @@ struct SuggestedOccluder {
     OccluderSpec spec;
     Scene mesh;                        ///< the occluder's mesh in object space, as `spec` loads it
     std::uint64_t unblockedAfter = 0;  ///< by the exact sampler with the occluder inserted
-    int attempts = 1;                  ///< suggestions made (a wider margin after a tie went the other way)
+    int attempts = 1;                  ///< suggestions made (another diagonal or a wider margin after a tie went the other way)
     double sampleMs = 0.0;             ///< the pair sampled before, exactly
     double suggestMs = 0.0;            ///< the shape chosen
     double checkMs = 0.0;              ///< the pair sampled again with it inserted
@@ -46,13 +46,17 @@ struct PlacedSuggestion {
     OccluderSpec spec;
     Scene mesh;   ///< what `spec.mesh` loads: the built-in plane, or the polygon's mesh to write
 };
-PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const std::string& name, const std::string& meshFile);
+/// `otherDiagonal`: a rectangle's built-in plane turned a quarter so that its two triangles meet on
+/// the rectangle's other diagonal.
+PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const std::string& name, const std::string& meshFile,
+                                 bool otherDiagonal = false);
 
 /// `name` when no occluder of `project` has it, else "name 2", "name 3", ...
 std::string unusedOccluderName(const Project& project, const std::string& name);
 
 /// The built-in plane's transform that places it on `rect` of `plane` (columns: the rectangle's
-/// first side, the plane's normal, its second side, its centre).
-glm::mat4 planeTransform(const suggest::SuggestPlane& plane, const suggest::Rect2& rect);
+/// first side, the plane's normal, its second side reversed, its centre), or with the rectangle
+/// taken a quarter turn round (`otherDiagonal`: the same rectangle, the other inner diagonal).
+glm::mat4 planeTransform(const suggest::SuggestPlane& plane, const suggest::Rect2& rect, bool otherDiagonal = false);
 
 } // namespace sightline

@@ -138,13 +138,24 @@ std::vector<Point2> grownPolygon(std::span<const Point2> convex, double margin)
         const Point2 edge = convex[(i + 1) % n] - convex[i];
         normals[i] = Point2{edge.y, -edge.x} / std::hypot(edge.x, edge.y);
     }
-    std::vector<Point2> grown(n);
+    std::vector<Point2> grown;
+    grown.reserve(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
         // Vertex i joins edges i - 1 and i: the miter moves it along the normals' bisector by
         // margin / cos(half the turn), which puts both edges exactly `margin` out.
-        const Point2 a = normals[(i + n - 1) % n], b = normals[i];
-        const double cosine = std::max(0.5 * (1.0 + glm::dot(a, b)), 1e-8);   // cos^2 of half the turn
-        grown[i] = convex[i] + margin * (a + b) / (2.0 * cosine);
+        const Point2 p = convex[i], a = normals[(i + n - 1) % n], b = normals[i];
+        const double cosine = 0.5 * (1.0 + glm::dot(a, b));   // cos^2 of half the turn
+        if (cosine >= 0.01) {
+            grown.push_back(p + margin * (a + b) / (2.0 * cosine));
+            continue;
+        }
+        // A corner sharper than about 11 degrees: its miter would reach far out (or, at a hair's
+        // width, nowhere useful), so it is cut square by the line `margin` beyond the vertex
+        // along the bisector, met by both offset edges.
+        const Point2 in = glm::normalize(p - convex[(i + n - 1) % n]), out = glm::normalize(p - convex[(i + 1) % n]);
+        const Point2 m = glm::normalize(in + out);   // the bisector, out through the tip (a + b is ~0 here)
+        grown.push_back(p + margin * a + in * (margin * (1.0 - glm::dot(a, m)) / glm::dot(in, m)));
+        grown.push_back(p + margin * b + out * (margin * (1.0 - glm::dot(b, m)) / glm::dot(out, m)));
     }
     return grown;
 }

@@ -118,9 +118,10 @@ Shaped rectShape(const std::vector<Point2>& points, std::size_t keep)
 /// rather than the rays. From one receiver sample R the crossings are the central projection from
 /// R of the source samples onto the plane, a projective map that keeps lines and convexity on the
 /// source's side; so the crossings of one source row lie between those of its first and last
-/// crossing sample, and the row's two ends are all the hull needs. The least |cos| between a ray
-/// and the plane's normal over a source patch is at one of its corners (|cos| is quasi-concave in
-/// the source point: a positive affine function over a convex one), which bounds the margin's.
+/// crossing sample, and the row's two ends are all the hull needs. So are they for the least
+/// |cos| between a ray and the plane's normal (the margin's): along the row's segment between
+/// them |cos| is quasi-concave in the source point (an affine function, positive there, over a
+/// convex one), so its least value over the samples between is at one of the two.
 struct StreamedHull {
     std::vector<Point2> points;
     std::uint64_t crossing = 0;
@@ -179,10 +180,6 @@ StreamedHull hullOfAllCrossings(const Patch& source, const Patch& receiver, cons
         }
         if (!any)
             continue;
-        for (int k = 0; k < 4; ++k) {
-            const glm::dvec3 d = r - (source.cornerPoint(k) - plane.origin);
-            streamed.smallestCosine = std::min(streamed.smallestCosine, std::abs(glm::dot(plane.normal, d)) / glm::length(d));
-        }
         for (int b = 0; b < source.nb; ++b) {   // each source row's first and last crossing sample
             int first = -1, last = -1;
             for (int i = b * na; i < (b + 1) * na; ++i) {
@@ -200,6 +197,10 @@ StreamedHull hullOfAllCrossings(const Patch& source, const Patch& receiver, cons
             streamed.points.push_back(*cross(first, r, receiverSide, false));
             if (last != first)
                 streamed.points.push_back(*cross(last, r, receiverSide, false));
+            for (const int i : {first, last}) {
+                const glm::dvec3 d = r - sourceAt[std::size_t(i)];
+                streamed.smallestCosine = std::min(streamed.smallestCosine, std::abs(glm::dot(plane.normal, d)) / glm::length(d));
+            }
         }
         if (streamed.points.size() >= kChunk)
             streamed.points = convexHull(std::move(streamed.points));
@@ -250,9 +251,8 @@ RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, cons
 {
     RayCrossings crossings;
     crossings.unblocked = map.rayCount() - map.blockedCount();
-    visitCrossings(source, receiver, heights, map, plane, [&](Point2 p, std::uint64_t ray, double cosine) {
+    visitCrossings(source, receiver, heights, map, plane, [&](Point2 p, std::uint64_t, double cosine) {
         crossings.points.push_back(p);
-        crossings.rays.push_back(ray);
         crossings.cosines.push_back(float(cosine));
     });
     return crossings;
@@ -266,11 +266,18 @@ std::vector<glm::dvec3> Suggestion::worldPolygon() const
     return corners;
 }
 
+void validateRequest(const Request& request)
+{
+    if (!(request.depth > 0.0 && request.depth < 1.0))
+        throw Error("depth must lie strictly between 0 (the source) and 1 (the receiver), got " + shareText(request.depth));
+    if (!(request.share > 0.0 && request.share <= 1.0))
+        throw Error("share must lie in (0, 1], got " + shareText(request.share));
+}
+
 Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
                            const HiddenSampleMap& map, const Request& request)
 {
-    if (!(request.share > 0.0 && request.share <= 1.0))
-        throw Error("share must lie in (0, 1], got " + shareText(request.share));
+    validateRequest(request);
     Suggestion result;
     result.plane = suggestPlane(source, receiver, request.depth);
     result.shape = request.shape;

@@ -35,6 +35,11 @@ struct SupportLine {
     std::size_t first = 0;              ///< first entry of `order` still kept
 };
 
+/// Steps the greedy takes at most: each costs a clip of the polygon per line, and where every band
+/// costs more points than the budget holds (a tight cluster and far stragglers) the steps fall
+/// back to single points. Stopping early keeps more points: a larger shape, still a valid one.
+constexpr int kMaxSteps = 20000;
+
 class Trimmer {
 public:
     Trimmer(std::span<const Point2> points, std::size_t keep, std::span<const Point2> directions)
@@ -69,7 +74,7 @@ public:
     {
         std::vector<Point2> polygon = supportPolygon();
         double area = polygonArea(polygon);
-        while (budget_ > 0) {
+        for (int steps = 0; budget_ > 0 && steps < kMaxSteps; ++steps) {
             Step best;
             for (std::size_t k = 0; k < lines_.size(); ++k) {
                 Step step = stepFor(k, band_);

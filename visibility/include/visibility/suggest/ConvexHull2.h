@@ -41,8 +41,9 @@ Rect2 boundingRect(std::span<const Point2> points, Point2 axis);
 Rect2 minAreaRect(std::span<const Point2> hull);
 
 /// The convex polygon (counter-clockwise, at least three vertices) with every edge moved outward
-/// by `margin` and neighbouring edges met again: every point of the original lies at least
-/// `margin` inside the result.
+/// by `margin` and neighbouring edges met again (a corner sharper than about 11 degrees is cut
+/// square instead, two vertices for one): every point of the original lies at least `margin`
+/// inside the result.
 std::vector<Point2> grownPolygon(std::span<const Point2> convex, double margin);
 
 /// True when `p` lies inside the counter-clockwise convex polygon, at least `margin` from each edge.

@@ -52,7 +52,6 @@ SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double dep
 /// Where the unblocked rays of a map cross a plane.
 struct RayCrossings {
     std::vector<Point2> points;          ///< in the plane's coordinates, one per crossing ray
-    std::vector<std::uint64_t> rays;     ///< the ray of each point: receiver * sourceCount + source
     std::vector<float> cosines;          ///< |cos| between each ray and the plane's normal
     std::uint64_t unblocked = 0;         ///< every unblocked ray, crossing or not
 };
@@ -69,6 +68,10 @@ struct Request {
     Shape shape = Shape::Convex;
     double marginScale = 1.0;   ///< the exactness margin times this (a caller's retry grows it)
 };
+
+/// Throws sightline::Error for a depth outside (0, 1) or a share outside (0, 1] (NaN included):
+/// what a command checks before it loads anything.
+void validateRequest(const Request& request);
 
 struct Suggestion {
     SuggestPlane plane;

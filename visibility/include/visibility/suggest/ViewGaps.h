@@ -21,7 +21,7 @@ namespace sightline::suggest {
 
 struct ViewGap {
     glm::dvec3 centre{0.0};            ///< mean of the group's tightest points
-    glm::dvec3 min{0.0}, max{0.0};     ///< their box: the opening's extent, as far as the rays show it
+    glm::dvec3 min{0.0}, max{0.0};     ///< the box of its cells' mean points: the opening's extent, as far as the rays show it
     std::uint64_t rays = 0;            ///< unblocked rays through it
     double clearance = 0.0;            ///< the largest least-clearance of its rays (about half the opening), m
     std::vector<std::uint64_t> raySample;   ///< up to kGapRaySample of its rays (receiver * sourceCount + source)
