@@ -7,66 +7,30 @@
 
 namespace sightline::ui {
 
-BackgroundSampler::BackgroundSampler(Deliver deliver) : deliver_(std::move(deliver)), thread_([this] { run(); }) {}
-
-BackgroundSampler::~BackgroundSampler()
-{
+class BackgroundSampler::Samples {
+public:
+    VisibilityResult sample(const Request& request)
     {
-        std::lock_guard lock(mutex_);
-        stop_ = true;
-        next_.reset();
-    }
-    wake_.notify_one();
-    thread_.join();
-}
-
-void BackgroundSampler::request(Request request)
-{
-    {
-        std::lock_guard lock(mutex_);
-        next_ = std::move(request);
-    }
-    wake_.notify_one();
-}
-
-void BackgroundSampler::run()
-{
-    LiveVisibility sampler;   // no GL: the CPU bitmask sampler, the same code as the GUI thread's
-    const Scene* sceneOf = nullptr;
-    std::shared_ptr<const Scene> scene;            // held so sceneOf stays meaningful
-    std::shared_ptr<const ReceiverHeights> heights;
-    std::unique_ptr<pvs::FirstHitCaster> hits;   // built for a scene the first time ray ends are asked
-    const Scene* hitsOf = nullptr;
-    for (;;) {
-        Request request;
-        {
-            std::unique_lock lock(mutex_);
-            wake_.wait(lock, [this] { return stop_ || next_; });
-            if (stop_)
-                return;
-            request = std::move(*next_);
-            next_.reset();
-        }
         VisibilityResult result;
         try {
-            if (request.scene && request.scene.get() != sceneOf) {
-                sampler.setScene(*request.scene);
-                scene = request.scene;
-                sceneOf = scene.get();
+            if (request.scene && request.scene.get() != sceneOf_) {
+                sampler_.setScene(*request.scene);
+                scene_ = request.scene;
+                sceneOf_ = scene_.get();
             }
-            if (request.heights != heights) {
-                heights = request.heights;
-                sampler.setReceiverHeights(heights ? *heights : ReceiverHeights{});
+            if (request.heights != heights_) {
+                heights_ = request.heights;
+                sampler_.setReceiverHeights(heights_ ? *heights_ : ReceiverHeights{});
             }
-            sampler.setReceiverHeightsError(request.heightsError);
-            result = sampler.sample(request.source, request.receiver);
-            if (result.valid && request.rayEndsCap > 0 && scene) {
-                if (!hits || hitsOf != scene.get()) {
-                    hits = std::make_unique<pvs::FirstHitCaster>(*scene);
-                    hitsOf = scene.get();
+            sampler_.setReceiverHeightsError(request.heightsError);
+            result = sampler_.sample(request.source, request.receiver);
+            if (result.valid && request.rayEndsCap > 0 && scene_) {
+                if (!hits_ || hitsOf_ != scene_.get()) {
+                    hits_ = std::make_unique<pvs::FirstHitCaster>(*scene_);
+                    hitsOf_ = scene_.get();
                 }
                 const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), request.rayEndsCap);
-                result.rayEnds = drawnRayEnds(*hits, result.map, request.source, request.receiver, subset);
+                result.rayEnds = drawnRayEnds(*hits_, result.map, request.source, request.receiver, subset);
                 result.rayEndsCap = request.rayEndsCap;
             }
         } catch (const std::bad_alloc&) {
@@ -78,8 +42,30 @@ void BackgroundSampler::run()
         }
         result.source = request.source;
         result.receiver = request.receiver;
-        deliver_(request.generation, std::move(result));
+        return result;
     }
+
+private:
+    LiveVisibility sampler_;   // no GL: the CPU bitmask sampler, the same code as the GUI thread's
+    const Scene* sceneOf_ = nullptr;
+    std::shared_ptr<const Scene> scene_;   // held so sceneOf_ stays meaningful
+    std::shared_ptr<const ReceiverHeights> heights_;
+    std::unique_ptr<pvs::FirstHitCaster> hits_;   // built for a scene the first time ray ends are asked
+    const Scene* hitsOf_ = nullptr;
+};
+
+BackgroundSampler::BackgroundSampler(Deliver deliver)
+    : samples_(std::make_shared<Samples>()),
+      worker_([samples = samples_](const Request& request) { return samples->sample(request); }, std::move(deliver))
+{
+}
+
+BackgroundSampler::~BackgroundSampler() = default;
+
+void BackgroundSampler::request(Request request)
+{
+    const std::uint64_t generation = request.generation;
+    worker_.request(generation, std::move(request));
 }
 
 } // namespace sightline::ui

@@ -1,20 +1,16 @@
 #pragma once
 // Live sampling off the GUI thread (on it, sampling a 512x512 floor would freeze the window on
-// every update). One worker thread owns a CPU bitmask sampler; the viewport posts the pair
-// it wants sampled and keeps drawing. The latest request wins: a request that arrives while one
-// is being sampled replaces any request still waiting, so a drag never queues stale work, and
-// every answer carries the generation it was asked for, so the caller can tell a stale one.
-// Plain C++ (no Qt): the caller decides how an answer reaches its own thread.
+// every update). One worker thread (LatestRequestWorker.h: the latest request wins, every answer
+// carries its generation) owns a CPU bitmask sampler; the viewport posts the pair it wants
+// sampled and keeps drawing. Plain C++ (no Qt): the caller decides how an answer reaches its own
+// thread.
 
-#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <string>
-#include <thread>
 
+#include "LatestRequestWorker.h"
 #include "LiveVisibility.h"
 
 namespace sightline::ui {
@@ -49,14 +45,11 @@ public:
     void request(Request request);
 
 private:
-    void run();
-
-    Deliver deliver_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    std::optional<Request> next_;
-    bool stop_ = false;
-    std::thread thread_;   // last: starts once everything above exists
+    /// What the worker keeps between requests: the sampler with the last scene and heights, and
+    /// the first-hit caster for ray ends. Touched on the worker thread only.
+    class Samples;
+    std::shared_ptr<Samples> samples_;
+    LatestRequestWorker<Request, VisibilityResult> worker_;   // last: its thread uses samples_
 };
 
 } // namespace sightline::ui
