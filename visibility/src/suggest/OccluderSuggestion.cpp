@@ -24,7 +24,7 @@ constexpr double kTieDistance = 1e-5;
 constexpr int kConvexTrimDirections = 64;
 /// Orientations tried for a rectangle trimmed to a share, over a quarter turn.
 constexpr int kRectTrimOrientations = 16;
-/// The most unblocked rays a share below 1 chooses among (their crossings are held: 28 bytes each).
+/// The most unblocked rays a share below 1 chooses among (their crossings are held: about 21 bytes each).
 constexpr std::uint64_t kMaxTrimmedRays = std::uint64_t(1) << 24;
 
 /// Calls visit(point in the plane, ray, |cos| between the ray and the plane's normal) for every
