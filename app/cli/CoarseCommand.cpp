@@ -70,9 +70,7 @@ CLI::App* addCoarseCommand(CLI::App& app, CoarseArgs& args)
 int runCoarse(const CoarseArgs& args)
 {
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
-    validatePatchPair(project.source, project.receiver);
-    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
-    validateReceiverHeights(project.source, project.receiver, heights);
+    const ReceiverHeights heights = validatedPairHeights(project);
     const Scene original = buildScene(project);
     Scene coarse = original;
     std::size_t replaced = 0, skipped = 0;

@@ -164,9 +164,7 @@ CLI::App* addGapsCommand(CLI::App& app, GapsArgs& args)
 int runGaps(const GapsArgs& args)
 {
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
-    validatePatchPair(project.source, project.receiver);
-    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
-    validateReceiverHeights(project.source, project.receiver, heights);
+    const ReceiverHeights heights = validatedPairHeights(project);
     const Scene scene = buildScene(project);
     const auto start = std::chrono::steady_clock::now();
     BitmaskOptions options;

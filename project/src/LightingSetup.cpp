@@ -76,4 +76,12 @@ ReceiverHeights projectReceiverHeights(const Project& project, const Patch& rece
     return heights;
 }
 
+ReceiverHeights validatedPairHeights(const Project& project)
+{
+    validatePatchPair(project.source, project.receiver);
+    ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
+    validateReceiverHeights(project.source, project.receiver, heights);
+    return heights;
+}
+
 } // namespace sightline

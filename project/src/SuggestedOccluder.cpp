@@ -93,9 +93,7 @@ std::string unusedOccluderName(const Project& project, const std::string& name)
 SuggestedOccluder suggestForProject(const Project& project, const suggest::Request& request, const std::string& meshFile,
                                     int threads)
 {
-    validatePatchPair(project.source, project.receiver);
-    const ReceiverHeights heights = projectReceiverHeights(project, project.receiver, project.name);
-    validateReceiverHeights(project.source, project.receiver, heights);
+    const ReceiverHeights heights = validatedPairHeights(project);
     return suggestOnScene(buildScene(project), project.source, project.receiver, heights, request,
                           unusedOccluderName(project, "suggested occluder"), meshFile, threads);
 }

@@ -19,14 +19,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-class AoCli : public ::testing::Test {
+class AoCli : public CliFolderTest {
 protected:
-    fs::path folder;
     void SetUp() override
     {
-        folder = uniqueFolder();
-        fs::remove_all(folder);
-        fs::create_directories(folder);
+        CliFolderTest::SetUp();
         // A floor with an open box 5 cm above it (OBJ; no vertex lies on another surface, where
         // rays would be ties), and a vertex of no face (the last one).
         std::ofstream(folder / "room.obj") << "v -2 0 -2\nv 2 0 -2\nv 2 0 2\nv -2 0 2\n"
@@ -37,7 +34,6 @@ protected:
                                               "f 5 8 7\nf 5 7 6\nf 9 10 11\nf 9 11 12\nf 6 7 11\nf 6 11 10\n"
                                               "f 5 9 12\nf 5 12 8\nf 8 12 11\nf 8 11 7\n";
     }
-    void TearDown() override { fs::remove_all(folder); }
     std::string room() const { return (folder / "room.obj").string(); }
 };
 

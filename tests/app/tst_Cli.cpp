@@ -33,15 +33,11 @@ namespace fs = std::filesystem;
 namespace {
 
 
-class Cli : public ::testing::Test {
+class Cli : public CliFolderTest {
 protected:
-    fs::path folder;
-
     void SetUp() override
     {
-        folder = uniqueFolder();
-        fs::remove_all(folder);
-        fs::create_directories(folder);
+        CliFolderTest::SetUp();
         // A 2 x 2 m wall (OBJ) with a 1 m hole in the middle between the patches, plus a box
         // occluder placed in the hole's lower half by the project.
         test::writeWallWithHoleObj(folder / "wall.obj");
@@ -55,7 +51,6 @@ protected:
         };
         std::ofstream(folder / "p.json") << project.dump(2);
     }
-    void TearDown() override { fs::remove_all(folder); }
 };
 
 } // namespace

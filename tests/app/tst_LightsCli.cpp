@@ -21,15 +21,11 @@ using nlohmann::json;
 
 namespace {
 
-class LightsCli : public ::testing::Test {
+class LightsCli : public CliFolderTest {
 protected:
-    fs::path folder;
-
     void SetUp() override
     {
-        folder = uniqueFolder();
-        fs::remove_all(folder);
-        fs::create_directories(folder);
+        CliFolderTest::SetUp();
         // A 6 x 6 m floor, a table (a slab on nothing: its top 0.8 m up) and a wall with a doorway.
         std::ofstream(folder / "room.obj") << "v -3 0 -3\nv 3 0 -3\nv 3 0 3\nv -3 0 3\n"
                                               "v -0.6 0.8 -0.4\nv 0.6 0.8 -0.4\nv 0.6 0.8 0.4\nv -0.6 0.8 0.4\n"
@@ -38,7 +34,6 @@ protected:
                                               "f 1 3 2\nf 1 4 3\nf 5 7 6\nf 5 8 7\n"
                                               "f 9 10 11\nf 9 11 12\nf 13 14 15\nf 13 15 16\n";
     }
-    void TearDown() override { fs::remove_all(folder); }
 
     json project(const json& lights) const
     {

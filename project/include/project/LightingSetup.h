@@ -29,4 +29,9 @@ AreaLight projectLight(const Project& project, const Patch& source, const std::s
 /// Throws sightline::Error naming the key or file.
 ReceiverHeights projectReceiverHeights(const Project& project, const Patch& receiver, const std::string& what);
 
+/// The project's pair checked (validatePatchPair) and its receiver's heights, read and checked
+/// against it (validateReceiverHeights): what a command samples the project's own pair with.
+/// Throws sightline::Error.
+ReceiverHeights validatedPairHeights(const Project& project);
+
 } // namespace sightline
