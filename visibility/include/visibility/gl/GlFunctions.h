@@ -55,6 +55,7 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                                                       \
     X(PFNGLCREATETEXTURESPROC, CreateTextures)                                                     \
     X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                                 \
+    X(PFNGLTEXTURESTORAGE3DPROC, TextureStorage3D)                                                 \
     X(PFNGLGETTEXTUREIMAGEPROC, GetTextureImage)                                                   \
     X(PfnDeleteTextures, DeleteTextures)                                                            \
     X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                             \
@@ -98,6 +99,7 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PFNGLPROGRAMUNIFORM2FPROC, ProgramUniform2f)                                                 \
     X(PFNGLBLITNAMEDFRAMEBUFFERPROC, BlitNamedFramebuffer)                                         \
     X(PFNGLDRAWARRAYSINSTANCEDPROC, DrawArraysInstanced)                                           \
+    X(PFNGLDRAWELEMENTSINSTANCEDPROC, DrawElementsInstanced)                                       \
     X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                                     \
     X(PFNGLGETNAMEDBUFFERSUBDATAPROC, GetNamedBufferSubData)                                       \
     X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)                                                       \

@@ -1,0 +1,466 @@
+#include "lighting/GlDirectLight.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
+
+#include "lighting/LightEmission.h"
+#include "visibility/Error.h"
+#include "visibility/gl/GlShaders.h"
+
+namespace sightline {
+
+namespace {
+
+// One emitter as the shaders read it (std430: five vec4s). Positions are relative to the scene's
+// centre (the local origin keeps float precision at kilometre coordinates, docs/design.md §6).
+//   position  xyz; w the type: 0 point, 1 spot, 2 directional, 3 area sample
+//   direction spot and directional: the way the light travels; area: the unit normal m; w: two-sided
+//   params    x intensity (point, spot, directional) or radiance A / (na nb) (area); y range (0: none);
+//             z cos inner, w cos outer (spot)
+//   colour    rgb; w the VPL clamp distance squared (area)
+struct GpuEmitter {
+    glm::vec4 position, direction, params, colour;
+};
+
+const char* const kEmitterGlsl = R"(
+struct Emitter { vec4 position, direction, params, colour; };
+layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
+const int kPoint = 0, kSpot = 1, kDirectional = 2, kArea = 3;
+// The directional map's axes: the same in both programs.
+void orthoBasis(vec3 d, out vec3 u, out vec3 v)
+{
+    vec3 helper = abs(d.x) < 0.6 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    u = normalize(cross(helper, d));
+    v = cross(d, u);
+}
+)";
+
+const char* const kMapVertex = R"(#version 450 core
+layout(location = 0) in vec3 position;
+out vec3 world;
+flat out int instance;
+void main()
+{
+    world = position;
+    instance = gl_InstanceID;
+}
+)";
+
+// Each triangle to every octant face it may enter (a face's octant is entered only if, on each
+// axis, some corner lies on its side), clipped to the octant by s.q >= 0, projected as
+// (q.x, q.y) / w on the upper faces and folded out as (s.x (w - s.y q.y), s.y (w - s.x q.x)) / w on
+// the lower ones, w = s.q = |q|_1: linear in clip space, so rasterised exactly.
+const char* const kMapGeometry = R"(
+layout(triangles) in;
+layout(triangle_strip, max_vertices = 24) out;
+in vec3 world[];
+flat in int instance[];
+out vec3 toPoint;
+out gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[3]; };
+uniform int firstEmitter;
+uniform float invRadius;
+void main()
+{
+    Emitter em = emitters[firstEmitter + instance[0]];
+    if (int(em.position.w) == kDirectional) {
+        vec3 u, v;
+        orthoBasis(em.direction.xyz, u, v);
+        for (int i = 0; i < 3; ++i) {
+            vec3 p = world[i];
+            gl_Position = vec4(dot(p, u) * invRadius, dot(p, v) * invRadius, 0.0, 1.0);
+            gl_ClipDistance[0] = gl_ClipDistance[1] = gl_ClipDistance[2] = 1.0;
+            gl_Layer = instance[0];
+            toPoint = vec3(dot(p, em.direction.xyz), 0.0, 0.0);
+            EmitVertex();
+        }
+        EndPrimitive();
+        return;
+    }
+    vec3 q[3] = vec3[3](world[0] - em.position.xyz, world[1] - em.position.xyz, world[2] - em.position.xyz);
+    for (int o = 0; o < 8; ++o) {
+        vec3 s = vec3((o & 1) != 0 ? -1.0 : 1.0, (o & 2) != 0 ? -1.0 : 1.0, (o & 4) != 0 ? -1.0 : 1.0);
+        vec3 reach = max(max(s * q[0], s * q[1]), s * q[2]);
+        if (reach.x < 0.0 || reach.y < 0.0 || reach.z < 0.0)
+            continue;
+        for (int i = 0; i < 3; ++i) {
+            float w = dot(s, q[i]);
+            gl_Position = s.z > 0.0 ? vec4(q[i].x, q[i].y, 0.0, w)
+                                    : vec4(s.x * (w - s.y * q[i].y), s.y * (w - s.x * q[i].x), 0.0, w);
+            gl_ClipDistance[0] = s.x * q[i].x;
+            gl_ClipDistance[1] = s.y * q[i].y;
+            gl_ClipDistance[2] = s.z * q[i].z;
+            gl_Layer = instance[0];
+            toPoint = q[i];
+            EmitVertex();
+        }
+        EndPrimitive();
+    }
+}
+)";
+
+// Per point, the terms of the batch's emitters (LightEmission.h's formulas in float), each
+// counted where the map says the point is unshadowed.
+const char* const kShade = R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 1) readonly buffer Points { vec4 points[]; };   // position, normal
+layout(std430, binding = 2) buffer Irradiance { vec4 irradiance[]; };
+layout(std430, binding = 3) buffer Bits { uint bits[]; };
+layout(binding = 0) uniform sampler2DArray maps;
+uniform int firstEmitter, emitterCount, pointCount, resolution, wantBits, wordsPerPoint;
+uniform float invRadius, texelAngle, directionalTexel, maxBiasTexels;
+
+vec2 octahedral(vec3 v)
+{
+    float w = abs(v.x) + abs(v.y) + abs(v.z);
+    vec2 p = v.xy / w;
+    if (v.z < 0.0) {
+        vec2 s = vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0);
+        p = s * (1.0 - abs(p.yx));
+    }
+    return p;
+}
+
+float term(Emitter em, vec3 x, vec3 n)
+{
+    int type = int(em.position.w);
+    if (type == kDirectional)
+        return em.params.x * max(0.0, -dot(n, em.direction.xyz));
+    vec3 toLight = em.position.xyz - x;
+    float d2 = dot(toLight, toLight);
+    if (!(d2 > 0.0))
+        return 0.0;
+    float d = sqrt(d2);
+    vec3 l = toLight / d;
+    float cosReceiver = dot(n, l);
+    if (!(cosReceiver > 0.0))
+        return 0.0;
+    if (type == kArea) {
+        float cosLight = -dot(em.direction.xyz, l);
+        float facing = em.direction.w > 0.5 ? abs(cosLight) : max(0.0, cosLight);
+        return em.params.x * facing * cosReceiver / max(d2, em.colour.w);
+    }
+    float t = em.params.x * cosReceiver / d2;
+    if (em.params.y > 0.0) {
+        float r = d / em.params.y;
+        float window = clamp(1.0 - r * r * r * r, 0.0, 1.0);
+        t *= window * window;
+    }
+    if (type == kSpot) {
+        float cone = clamp((-dot(em.direction.xyz, l) - em.params.w) / (em.params.z - em.params.w), 0.0, 1.0);
+        t *= cone * cone;
+    }
+    return t;
+}
+
+bool unshadowed(Emitter em, int layer, vec3 x, vec3 n)
+{
+    int type = int(em.position.w);
+    vec2 uv;
+    float depth, lateral, cosTheta;
+    if (type == kDirectional) {
+        vec3 u, v;
+        orthoBasis(em.direction.xyz, u, v);
+        uv = vec2(dot(x, u), dot(x, v)) * invRadius;
+        depth = dot(x, em.direction.xyz);
+        lateral = directionalTexel;
+        cosTheta = abs(dot(n, em.direction.xyz));
+    } else {
+        vec3 q = x - em.position.xyz;
+        depth = length(q);
+        if (!(depth > 0.0))
+            return true;
+        uv = octahedral(q);
+        lateral = depth * texelAngle;
+        cosTheta = abs(dot(n, q)) / depth;
+    }
+    ivec2 texel = clamp(ivec2(floor((uv * 0.5 + 0.5) * float(resolution))), ivec2(0), ivec2(resolution - 1));
+    float nearest = texelFetch(maps, ivec3(texel, layer), 0).r;
+    float tanTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta)) / max(cosTheta, 1e-6);
+    return depth <= nearest + lateral * min(1.0 + tanTheta, maxBiasTexels);
+}
+
+void main()
+{
+    int i = int(gl_GlobalInvocationID.x);
+    if (i >= pointCount)
+        return;
+    vec3 x = points[2 * i].xyz, n = points[2 * i + 1].xyz;
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < emitterCount; ++k) {
+        int e = firstEmitter + k;
+        Emitter em = emitters[e];
+        float t = term(em, x, n);
+        if (t <= 0.0 && wantBits == 0)
+            continue;
+        if (!unshadowed(em, k, x, n))
+            continue;
+        if (t > 0.0)
+            sum += em.colour.rgb * t;
+        if (wantBits != 0)
+            bits[i * wordsPerPoint + e / 32] |= 1u << uint(e % 32);
+    }
+    irradiance[i] += vec4(sum, 0.0);
+}
+)";
+
+GpuEmitter gpuEmitter(const Light& light, const glm::dvec3& position, const glm::dvec3& origin)
+{
+    GpuEmitter g{};
+    const glm::vec3 colour(light.colour);
+    switch (light.type) {
+    case LightType::Point:
+    case LightType::Spot:
+        g.position = glm::vec4(glm::vec3(position - origin), light.type == LightType::Point ? 0.0f : 1.0f);
+        g.direction = glm::vec4(glm::vec3(light.direction), 0.0f);
+        g.params = glm::vec4(float(light.intensity), float(light.range), float(std::cos(light.innerAngle)),
+                             float(std::cos(light.outerAngle)));
+        g.colour = glm::vec4(colour, 0.0f);
+        break;
+    case LightType::Directional:
+        g.position = glm::vec4(0.0f, 0.0f, 0.0f, 2.0f);
+        g.direction = glm::vec4(glm::vec3(light.direction), 0.0f);
+        g.params = glm::vec4(float(light.intensity), 0.0f, 0.0f, 0.0f);
+        g.colour = glm::vec4(colour, 0.0f);
+        break;
+    case LightType::Area: {
+        const glm::dvec3 cross = glm::cross(light.area.u, light.area.v);
+        const double area = glm::length(cross);
+        g.position = glm::vec4(glm::vec3(position - origin), 3.0f);
+        g.direction = glm::vec4(glm::vec3(cross / area), light.twoSided ? 1.0f : 0.0f);
+        g.params = glm::vec4(float(light.radiance * area / double(light.area.sampleCount())), 0.0f, 0.0f, 0.0f);
+        g.colour = glm::vec4(colour, float(light.clampMetres * light.clampMetres));
+        break;
+    }
+    }
+    return g;
+}
+
+double msSince(std::chrono::steady_clock::time_point start)
+{
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+} // namespace
+
+struct GlDirectLight::Impl {
+    const gl::Functions& gl;
+    GlDirectLightOptions options;
+    glm::dvec3 origin{0.0};
+    double radius = 1.0;
+    GLsizei vertexCount = 0;
+    GLuint vao = 0, vertexBuffer = 0, emitterBuffer = 0, pointBuffer = 0, irradianceBuffer = 0, bitBuffer = 0;
+    GLuint mapTexture = 0, framebuffer = 0, mapProgram = 0, shadeProgram = 0;
+    int layers = 0;
+
+    explicit Impl(const gl::Functions& functions) : gl(functions) {}
+    ~Impl()
+    {
+        for (GLuint b : {vertexBuffer, emitterBuffer, pointBuffer, irradianceBuffer, bitBuffer})
+            if (b)
+                gl.DeleteBuffers(1, &b);
+        if (vao)
+            gl.DeleteVertexArrays(1, &vao);
+        if (framebuffer)
+            gl.DeleteFramebuffers(1, &framebuffer);
+        if (mapTexture)
+            gl.DeleteTextures(1, &mapTexture);
+        for (GLuint p : {mapProgram, shadeProgram})
+            if (p)
+                gl.DeleteProgram(p);
+    }
+
+    void upload(GLuint& buffer, const void* data, std::size_t bytes) const
+    {
+        if (!buffer)
+            gl.CreateBuffers(1, &buffer);
+        gl.NamedBufferData(buffer, GLsizeiptr(std::max<std::size_t>(bytes, 16)), data, GL_DYNAMIC_DRAW);
+    }
+};
+
+GlDirectLight::GlDirectLight(const gl::Functions& gl, const WorldTriangles& triangles, GlDirectLightOptions options)
+    : impl_(std::make_unique<Impl>(gl))
+{
+    Impl& m = *impl_;
+    if (options.resolution < 16 || options.resolution > 8192)
+        throw Error("GL lights: the shadow-map resolution must be in [16, 8192] (got " + std::to_string(options.resolution) + ")");
+    m.options = options;
+    if (!triangles.vertices.empty()) {
+        glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        for (const glm::vec3& p : triangles.vertices) {
+            lo = glm::min(lo, glm::dvec3(p));
+            hi = glm::max(hi, glm::dvec3(p));
+        }
+        m.origin = 0.5 * (lo + hi);
+        m.radius = 0.5 * glm::length(hi - lo) + 1.0;
+    }
+    std::vector<glm::vec3> local(triangles.vertices.size());
+    for (std::size_t k = 0; k < local.size(); ++k)
+        local[k] = glm::vec3(glm::dvec3(triangles.vertices[k]) - m.origin);
+    m.vertexCount = GLsizei(local.size());
+
+    const std::string emitters = std::string("#version 450 core\n") + kEmitterGlsl;
+    const std::string fragment = std::string("#version 450 core\n") + kEmitterGlsl + R"(
+in vec3 toPoint;
+layout(location = 0) out float nearest;
+uniform int firstEmitter;
+void main()
+{
+    // A directional map keeps the depth along the light (in toPoint.x), an emitter's the distance.
+    nearest = int(emitters[firstEmitter + gl_Layer].position.w) == kDirectional ? toPoint.x : length(toPoint);
+}
+)";
+    m.mapProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kMapVertex}, {GL_GEOMETRY_SHADER, emitters + kMapGeometry},
+                                         {GL_FRAGMENT_SHADER, fragment}},
+                                    "GL lights shadow maps");
+    m.shadeProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, emitters + kShade}}, "GL lights shading");
+
+    m.upload(m.vertexBuffer, local.data(), local.size() * sizeof(glm::vec3));
+    gl.CreateVertexArrays(1, &m.vao);
+    gl.VertexArrayVertexBuffer(m.vao, 0, m.vertexBuffer, 0, sizeof(glm::vec3));
+    gl.VertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl.VertexArrayAttribBinding(m.vao, 0, 0);
+    gl.EnableVertexArrayAttrib(m.vao, 0);
+
+    GLint maxLayers = 256;
+    gl.GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+    const std::size_t mapBytes = std::size_t(options.resolution) * std::size_t(options.resolution) * sizeof(float);
+    m.layers = int(std::clamp<std::size_t>(options.mapBytes / mapBytes, 1, std::size_t(std::max(maxLayers, 1))));
+    gl.CreateTextures(GL_TEXTURE_2D_ARRAY, 1, &m.mapTexture);
+    gl.TextureStorage3D(m.mapTexture, 1, GL_R32F, options.resolution, options.resolution, m.layers);
+    gl.CreateFramebuffers(1, &m.framebuffer);
+    gl.NamedFramebufferTexture(m.framebuffer, GL_COLOR_ATTACHMENT0, m.mapTexture, 0);   // layered
+    const GLenum colour = GL_COLOR_ATTACHMENT0;
+    gl.NamedFramebufferDrawBuffers(m.framebuffer, 1, &colour);
+    if (gl.CheckNamedFramebufferStatus(m.framebuffer, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+        throw Error("GL lights: the " + std::to_string(options.resolution) + "^2 x " + std::to_string(m.layers) +
+                    " shadow-map framebuffer is incomplete");
+}
+
+GlDirectLight::~GlDirectLight() = default;
+
+int GlDirectLight::resolution() const { return impl_->options.resolution; }
+
+double GlDirectLight::texelAngle() const { return 3.0 * 2.0 / impl_->options.resolution; }
+
+double GlDirectLight::directionalTexel() const { return 2.0 * impl_->radius / impl_->options.resolution; }
+
+double GlDirectLight::bias(bool directional, double distance, double cosTheta) const
+{
+    const double lateral = directional ? directionalTexel() : distance * texelAngle();
+    const double c = std::max(std::abs(cosTheta), 1e-6);
+    const double tanTheta = std::sqrt(std::max(0.0, 1.0 - c * c)) / c;
+    return lateral * std::min(1.0 + tanTheta, double(kGlLightMaxBiasTexels));
+}
+
+std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& lights, std::span<const ShadingPoint> points,
+                                                  GlDirectLightStats* stats, EmitterBits* bits)
+{
+    Impl& m = *impl_;
+    const gl::Functions& gl = m.gl;
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<Emitter> emitters = lightEmitters(lights);
+    std::vector<GpuEmitter> gpu;
+    gpu.reserve(emitters.size());
+    for (const Emitter& e : emitters)
+        gpu.push_back(gpuEmitter(lights[e.light], e.position, m.origin));
+    std::vector<glm::vec4> pointData(2 * points.size());
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        pointData[2 * j] = glm::vec4(glm::vec3(points[j].position - m.origin), 1.0f);
+        pointData[2 * j + 1] = glm::vec4(glm::vec3(points[j].normal), 0.0f);
+    }
+    const std::size_t words = (emitters.size() + 31) / 32;
+    m.upload(m.emitterBuffer, gpu.data(), gpu.size() * sizeof(GpuEmitter));
+    m.upload(m.pointBuffer, pointData.data(), pointData.size() * sizeof(glm::vec4));
+    const std::vector<glm::vec4> zeros(points.size(), glm::vec4(0.0f));
+    m.upload(m.irradianceBuffer, zeros.data(), zeros.size() * sizeof(glm::vec4));
+    std::vector<std::uint32_t> bitWords(bits ? points.size() * words : 0, 0u);
+    m.upload(m.bitBuffer, bitWords.data(), bitWords.size() * sizeof(std::uint32_t));
+
+    const GLuint mp = m.mapProgram, sp = m.shadeProgram;
+    gl.ProgramUniform1f(mp, gl.GetUniformLocation(mp, "invRadius"), float(1.0 / m.radius));
+    gl.ProgramUniform1f(sp, gl.GetUniformLocation(sp, "invRadius"), float(1.0 / m.radius));
+    gl.ProgramUniform1f(sp, gl.GetUniformLocation(sp, "texelAngle"), float(texelAngle()));
+    gl.ProgramUniform1f(sp, gl.GetUniformLocation(sp, "directionalTexel"), float(directionalTexel()));
+    gl.ProgramUniform1f(sp, gl.GetUniformLocation(sp, "maxBiasTexels"), kGlLightMaxBiasTexels);
+    gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "resolution"), m.options.resolution);
+    gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "pointCount"), GLint(points.size()));
+    gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "wantBits"), bits ? 1 : 0);
+    gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "wordsPerPoint"), GLint(words));
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.emitterBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m.pointBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m.irradianceBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m.bitBuffer);
+
+    GlDirectLightStats s;
+    s.lights = lights.size();
+    s.emitters = emitters.size();
+    s.points = points.size();
+    s.triangles = std::size_t(m.vertexCount) / 3;
+    const float farthest[4] = {std::numeric_limits<float>::max(), 0.0f, 0.0f, 0.0f};
+    for (std::size_t first = 0; first < emitters.size(); first += std::size_t(m.layers)) {
+        const GLsizei count = GLsizei(std::min<std::size_t>(std::size_t(m.layers), emitters.size() - first));
+        ++s.batches;
+        auto phase = std::chrono::steady_clock::now();
+        gl.BindFramebuffer(GL_FRAMEBUFFER, m.framebuffer);
+        gl.Viewport(0, 0, m.options.resolution, m.options.resolution);
+        gl.Disable(GL_DEPTH_TEST);
+        gl.Disable(GL_CULL_FACE);   // both faces of a triangle block
+        for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
+            gl.Enable(plane);
+        gl.Enable(GL_BLEND);
+        gl.BlendEquation(GL_MIN);
+        gl.ClearNamedFramebufferfv(m.framebuffer, GL_COLOR, 0, farthest);
+        gl.UseProgram(mp);
+        gl.ProgramUniform1i(mp, gl.GetUniformLocation(mp, "firstEmitter"), GLint(first));
+        gl.BindVertexArray(m.vao);
+        if (m.vertexCount > 0)
+            gl.DrawArraysInstanced(GL_TRIANGLES, 0, m.vertexCount, count);
+        gl.Disable(GL_BLEND);
+        gl.BlendEquation(GL_FUNC_ADD);
+        for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
+            gl.Disable(plane);
+        gl.Finish();
+        s.renderMs += msSince(phase);
+        phase = std::chrono::steady_clock::now();
+        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        gl.UseProgram(sp);
+        gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "firstEmitter"), GLint(first));
+        gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "emitterCount"), count);
+        gl.BindTextureUnit(0, m.mapTexture);
+        if (!points.empty())
+            gl.DispatchCompute(GLuint((points.size() + 63) / 64), 1, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.Finish();
+        s.shadeMs += msSince(phase);
+    }
+    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    const auto readStart = std::chrono::steady_clock::now();
+    gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    std::vector<glm::vec4> sums(points.size());
+    if (!points.empty())
+        gl.GetNamedBufferSubData(m.irradianceBuffer, 0, GLsizeiptr(sums.size() * sizeof(glm::vec4)), sums.data());
+    if (bits) {
+        if (!bitWords.empty())
+            gl.GetNamedBufferSubData(m.bitBuffer, 0, GLsizeiptr(bitWords.size() * sizeof(std::uint32_t)), bitWords.data());
+        *bits = EmitterBits(points.size(), emitters.size());
+        bits->bits = std::move(bitWords);
+    }
+    if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
+        throw Error("GL lights: OpenGL error " + std::to_string(error) + " while shading");
+    s.shadeMs += msSince(readStart);
+    std::vector<glm::dvec3> out(points.size());
+    for (std::size_t j = 0; j < points.size(); ++j)
+        out[j] = glm::dvec3(sums[j]);
+    s.ms = msSince(start);
+    if (stats)
+        *stats = s;
+    return out;
+}
+
+} // namespace sightline
