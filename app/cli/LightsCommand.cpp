@@ -13,6 +13,8 @@
 #include "cli/OptionRules.h"
 #include "cli/OutputPaths.h"
 #include "lighting/DirectLight.h"
+#include "lighting/GlDirectLight.h"
+#include "lighting/ShadowAgreement.h"
 #include "lighting/Indirect.h"
 #include "lighting/LightSets.h"
 #include "lighting/LightingCache.h"
@@ -24,6 +26,7 @@
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
+#include "visibility/gl/HeadlessContext.h"
 #include "Camera.h"
 #include "CameraVisibility.h"
 #include "ViewSettings.h"
@@ -248,6 +251,62 @@ json timeDrag(const LightingScene& lighting, const std::vector<Light>& lights, c
             {"exact", worst < 1e-5}};
 }
 
+/// The GL path (lighting/GlDirectLight.h) on a headless context; with --compare, the exact fast
+/// path in the same run and the agreement pair by pair (the exact bits by the reference's segment
+/// test) and point by point. `stats` gets the counts the JSON shares with the other paths.
+std::vector<glm::dvec3> glIrradiance(const LightingScene& lighting, const std::vector<Light>& lights,
+                                     const std::vector<ShadingPoint>& points, const LightsArgs& args, json& glJson,
+                                     json& comparison, DirectLightStats& stats)
+{
+    const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
+    GlDirectLight gl(context->functions(), lighting.triangles(), {.resolution = args.glResolution});
+    GlDirectLightStats glStats;
+    gl.irradiance(lights, std::span(points.data(), std::min<std::size_t>(points.size(), 64)));   // compiles the shaders' pipelines
+    EmitterBits bits;
+    std::vector<glm::dvec3> irradiance = gl.irradiance(lights, points, &glStats, args.compare ? &bits : nullptr);
+    stats.lights = glStats.lights;
+    stats.lightSamples = glStats.emitters;
+    stats.points = glStats.points;
+    stats.ms = glStats.ms;
+    glJson = {{"renderer", context->renderer()},
+              {"backend", args.glBackend},
+              {"resolution", args.glResolution},
+              {"maps", glStats.emitters},
+              {"batches", glStats.batches},
+              {"render_ms", glStats.renderMs},
+              {"shade_ms", glStats.shadeMs}};
+    if (!args.compare)
+        return irradiance;
+    // The bits were asked for: time the answer alone again, as a user gets it.
+    gl.irradiance(lights, points, &glStats);
+    stats.ms = glStats.ms;
+    glJson["render_ms"] = glStats.renderMs;
+    glJson["shade_ms"] = glStats.shadeMs;
+    DirectLightStats exactStats;
+    const std::vector<glm::dvec3> exact =
+        directIrradiance(lighting, lights, points, {.path = LightingPath::Fast, .threads = args.threads}, &exactStats);
+    const ShadowAgreement agreement = compareEmitterBits(lights, points, bits, exactEmitterBits(lighting, lights, points, args.threads));
+    std::size_t within = 0;
+    double sum = 0.0;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        double here = 0.0;
+        for (int c = 0; c < 3; ++c)
+            here = std::max(here, std::abs(irradiance[j][c] - exact[j][c]) / std::max({exact[j][c], irradiance[j][c], 1e-12}));
+        within += here <= 0.01;
+        sum += here;
+    }
+    comparison = {{"fast_ms", exactStats.ms},
+                  {"gl_ms", glStats.ms},
+                  {"speedup", glStats.ms > 0.0 ? exactStats.ms / glStats.ms : 0.0},
+                  {"pairs", agreement.pairs},
+                  {"pairs_differing", agreement.differing()},
+                  {"false_lit", agreement.falseLit},
+                  {"false_shadowed", agreement.falseShadowed},
+                  {"points_within_1pct", points.empty() ? 1.0 : double(within) / double(points.size())},
+                  {"mean_relative_difference", points.empty() ? 0.0 : sum / double(points.size())}};
+    return irradiance;
+}
+
 } // namespace
 
 CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
@@ -267,6 +326,16 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                       "same sum, with area lights facing the receiver by the bitmask sampler)");
     command->add_flag("--compare", args.compare,
                       "Also run the other path in the same run: its time, the speed-up and the largest difference");
+    command->add_flag("--gl", args.gl,
+                      "The GL path (Barczak's octahedral shadow maps, one per light sample; a tolerance of about a "
+                      "texel, not exact): with --compare, its time against the exact fast path and how many "
+                      "(point, light sample) pairs differ from the exact answer");
+    command->add_option("--gl-backend", args.glBackend, "--gl: osmesa (software) or egl (GPU)")
+        ->check(CLI::IsMember({"osmesa", "egl"}))
+        ->capture_default_str();
+    command->add_option("--gl-resolution", args.glResolution, "--gl: each shadow map's side in texels")
+        ->check(CLI::Range(16, 8192))
+        ->capture_default_str();
     command->add_flag("--bitmask-area", args.bitmaskArea,
                       "Without --points: area lights facing the receiver by the exact bitmask sampler (Eisemann & "
                       "Décoret §8) instead of tiles of rays");
@@ -355,6 +424,15 @@ void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
         if (given(command, "--gltf") && !given(command, "--lightmap"))
             throw Error("--gltf needs --lightmap PNG (the image the glTF refers to)");
     }
+    if (!args.gl) {
+        for (const char* option : {"--gl-backend", "--gl-resolution"})
+            if (given(command, option))
+                throw Error(std::string(option) + " needs --gl (the GL path)");
+    } else {
+        for (const char* option : {"--reference", "--bitmask-area", "--indirect", "--drag", "--sets"})
+            if (given(command, option))
+                throw Error(std::string(option) + " does not apply to --gl (it answers direct light by shadow maps)");
+    }
     if (args.sets)
         for (const char* option : {"--points", "--npy", "--reference", "--compare", "--bitmask-area", "--indirect", "--texel"})
             if (given(command, option))
@@ -422,10 +500,12 @@ int runLights(const LightsArgs& args)
     options.receiverGrid = onReceiver ? &project.receiver : nullptr;
     options.bitmaskAreaLights = args.bitmaskArea;
     DirectLightStats stats;
-    const std::vector<glm::dvec3> irradiance = directIrradiance(lighting, lights, points, options, &stats);
+    json glJson, comparison;
+    const std::vector<glm::dvec3> irradiance =
+        args.gl ? glIrradiance(lighting, lights, points, args, glJson, comparison, stats)
+                : directIrradiance(lighting, lights, points, options, &stats);
 
-    json comparison;
-    if (args.compare) {
+    if (args.compare && !args.gl) {
         DirectLightOptions other = options;
         other.path = args.reference ? LightingPath::Fast : LightingPath::Reference;
         DirectLightStats otherStats;
@@ -473,7 +553,7 @@ int runLights(const LightsArgs& args)
         json out = {{"lights", stats.lights},
                     {"light_samples", stats.lightSamples},
                     {"points", stats.points},
-                    {"path", args.reference ? "reference" : "fast"},
+                    {"path", args.gl ? "gl" : args.reference ? "reference" : "fast"},
                     {"ms", stats.ms},
                     {"setup_ms", setupMs},
                     {"total_ms", totalMs},
@@ -490,6 +570,8 @@ int runLights(const LightsArgs& args)
                     {"irradiance_max", {peak.x, peak.y, peak.z}}};
         if (args.compare)
             out["compare"] = comparison;
+        if (args.gl)
+            out["gl"] = glJson;
         if (args.vpls > 0)
             out["indirect"] = indirectJson;
         if (bake)
@@ -507,12 +589,16 @@ int runLights(const LightsArgs& args)
         std::printf("points     %zu (the receiver's %dx%d samples)\n", points.size(), project.receiver.na, project.receiver.nb);
     else
         std::printf("points     %zu (%s)\n", points.size(), args.points.c_str());
-    std::printf("path       %s: %llu of %llu shadow segments cast; (tile, light) pairs: %llu out of reach, %llu shadowed "
-                "by one triangle, %llu lit through an empty shaft, %llu cast; %zu area lights by the bitmask\n",
-                args.reference ? "reference" : "fast", (unsigned long long)stats.segmentsCast, (unsigned long long)stats.terms,
-                (unsigned long long)stats.tilesUnreached, (unsigned long long)stats.tilesProvenShadowed,
-                (unsigned long long)stats.tilesProvenLit,
-                (unsigned long long)stats.tilesCast, stats.bitmaskLights);
+    if (args.gl)
+        std::printf("path       gl (%s): %zu octahedral shadow maps of %d^2 in %zu batches, drawn in %.1f ms, shaded in %.1f ms\n",
+                    glJson["renderer"].get<std::string>().c_str(), glJson["maps"].get<std::size_t>(), args.glResolution,
+                    glJson["batches"].get<std::size_t>(), glJson["render_ms"].get<double>(), glJson["shade_ms"].get<double>());
+    else
+        std::printf("path       %s: %llu of %llu shadow segments cast; (tile, light) pairs: %llu out of reach, %llu shadowed "
+                    "by one triangle, %llu lit through an empty shaft, %llu cast; %zu area lights by the bitmask\n",
+                    args.reference ? "reference" : "fast", (unsigned long long)stats.segmentsCast, (unsigned long long)stats.terms,
+                    (unsigned long long)stats.tilesUnreached, (unsigned long long)stats.tilesProvenShadowed,
+                    (unsigned long long)stats.tilesProvenLit, (unsigned long long)stats.tilesCast, stats.bitmaskLights);
     std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
     std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());
     if (args.vpls > 0) {
@@ -528,7 +614,17 @@ int runLights(const LightsArgs& args)
         std::printf("drag       %d frames of one light: median %.2f ms, slowest %.2f ms a frame (%.1f Hz); exact at the end: %s\n",
                     args.drag, dragJson["median_ms"].get<double>(), dragJson["max_ms"].get<double>(),
                     1000.0 / std::max(dragJson["median_ms"].get<double>(), 1e-9), dragJson["exact"].get<bool>() ? "yes" : "NO");
-    if (args.compare)
+    if (args.compare && args.gl)
+        std::printf("compare    exact fast path %.2f ms, gl %.2f ms: %.2fx; %llu of %llu (point, light sample) pairs differ "
+                    "(%llu lit that are shadowed, %llu shadowed that are lit); irradiance within 1%% at %.2f%% of "
+                    "points, mean relative difference %.3g\n",
+                    comparison["fast_ms"].get<double>(), comparison["gl_ms"].get<double>(), comparison["speedup"].get<double>(),
+                    (unsigned long long)comparison["pairs_differing"].get<std::uint64_t>(),
+                    (unsigned long long)comparison["pairs"].get<std::uint64_t>(),
+                    (unsigned long long)comparison["false_lit"].get<std::uint64_t>(),
+                    (unsigned long long)comparison["false_shadowed"].get<std::uint64_t>(),
+                    100.0 * comparison["points_within_1pct"].get<double>(), comparison["mean_relative_difference"].get<double>());
+    else if (args.compare)
         std::printf("compare    reference %.2f ms, fast %.2f ms: %.2fx; largest relative difference %.3g, %zu points differ\n",
                     comparison["reference_ms"].get<double>(), comparison["fast_ms"].get<double>(),
                     comparison["speedup"].get<double>(), comparison["max_relative_difference"].get<double>(),

@@ -15,8 +15,11 @@ struct LightsArgs {
     std::string project, points, npy;
     bool json = false;
     bool reference = false;   ///< brute force: every light sample at every point by ray casting
-    bool compare = false;
-    bool bitmaskArea = false; ///< area lights facing the receiver grid by the bitmask sampler     ///< also run the other path, report its time and the largest difference
+    bool compare = false;     ///< also run the other path, report its time and the largest difference
+    bool bitmaskArea = false; ///< area lights facing the receiver grid by the bitmask sampler
+    bool gl = false;          ///< the GL path (octahedral shadow maps) instead of the exact fast path
+    std::string glBackend = "osmesa";
+    int glResolution = 512;
     int threads = 0;
     bool allowOutsidePaths = false;
     // One bounce of indirect light (lighting/Indirect.h), added to the direct light when vpls > 0.

@@ -10,6 +10,7 @@
 
 #include "CliRunner.h"
 #include "LightsJudge.h"
+#include "lighting/LightEmission.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
@@ -140,6 +141,45 @@ TEST_F(LightsCli, ReceiverSamplesGiveShapeNbNa3AndTheReferenceAgrees)
         }
     EXPECT_EQ(out["compare"]["points_differing"], differing);
     EXPECT_LE(differing, tiedPoints);
+}
+
+// The GL path (octahedral shadow maps) is not exact: --compare says how far it is, pair by pair
+// and point by point. Its pairs are the exact count of non-zero terms, and on this room few differ.
+TEST_F(LightsCli, GlPathReportsItsAgreementWithTheExactAnswer)
+{
+    write("p.json", project(lights()));
+    const std::string base = "lights " + (folder / "p.json").string();
+    const CliRun run = runCli(base + " --gl --gl-resolution 256 --compare --json --npy " + (folder / "g.npy").string());
+    ASSERT_EQ(run.code, 0) << run.err;
+    const json out = json::parse(run.out);
+    EXPECT_EQ(out["path"], "gl");
+    EXPECT_EQ(out["gl"]["maps"], 33);
+    EXPECT_EQ(out["gl"]["resolution"], 256);
+    const Npy g = readNpy(folder / "g.npy");
+    ASSERT_EQ(g.shape, (std::vector<std::size_t>{16, 20, 3}));
+    const Project p = loadProject(folder / "p.json");
+    const std::vector<Light> lightList = parsed();
+    std::uint64_t pairs = 0;
+    for (int b = 0; b < 16; ++b)
+        for (int a = 0; a < 20; ++a)
+            for (const Emitter& e : lightEmitters(lightList))
+                pairs += emitterTerm(lightList[e.light], e.position, p.receiver.sample(a, b), p.receiver.normal()) > 0.0;
+    const json& compare = out["compare"];
+    EXPECT_EQ(compare["pairs"], pairs);
+    EXPECT_EQ(compare["pairs_differing"].get<std::uint64_t>(),
+              compare["false_lit"].get<std::uint64_t>() + compare["false_shadowed"].get<std::uint64_t>());
+    EXPECT_LT(compare["pairs_differing"].get<double>(), 0.03 * double(pairs));
+    EXPECT_GT(compare["points_within_1pct"].get<double>(), 0.7);
+    EXPECT_GT(compare["fast_ms"].get<double>(), 0.0);
+    // The GL answer is the one written.
+    const CliRun again = runCli(base + " --gl --gl-resolution 256 --json");
+    ASSERT_EQ(again.code, 0) << again.err;
+    EXPECT_NEAR(json::parse(again.out)["irradiance_mean"][0].get<double>(), out["irradiance_mean"][0].get<double>(), 1e-9);
+    for (const char* bad : {" --gl --reference", " --gl --drag 3", " --gl-resolution 256", " --gl --gl-resolution 4"}) {
+        const CliRun refused = runCli(base + bad);
+        EXPECT_NE(refused.code, 0) << bad;
+        EXPECT_TRUE(oneLine(refused.err)) << refused.err;
+    }
 }
 
 TEST_F(LightsCli, BadLightsAndPointsGetOneLineErrors)
