@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # The GL paths on a real GPU, through EGL: the exact GL bitmask sampler against the CPU sampler and the
 # ray-cast reference on the demo and the bench scenes (zero errors outside ties, times and ratios), and
-# the paper's GL ambient occlusion against the exact CPU mode and a Monte-Carlo reference. Writes its
+# the paper's GL ambient occlusion against the exact CPU mode and a Monte-Carlo reference, and the
+# many-light GL path (octahedral shadow maps) against the exact fast path. Writes its
 # report to $OUT (default build/gpu-check) and exits non-zero when a GL answer is wrong or GL is absent.
 #
 #   scripts/gpu-check.sh [--quick] [BUILD_DIR]   (BUILD_DIR defaults to build; it must hold a built tree)
 #
 # Runs on llvmpipe too (Mesa's EGL), which is how it is tested where no GPU is lent (--quick: the demo
 # and one bench scene at two sizes, one round, so that software GL finishes in minutes); the figures
-# only mean something on a GPU. The lights have no GL path yet, so they are not part of it.
+# only mean something on a GPU.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 quick=0
@@ -71,4 +72,10 @@ if grep -q '^gl: skipped' "$out/ao.txt"; then
     say "error: the GL ambient occlusion did not run"
     exit 1
 fi
+say "== many lights: octahedral shadow maps through EGL against the exact fast path, the demo's 300 light samples"
+lightResolutions=(512 1024)
+(( quick )) && lightResolutions=(256)
+for resolution in "${lightResolutions[@]}"; do
+    "$cli" lights "$scenes/demo_lights.json" --gl --gl-backend egl --gl-resolution "$resolution" --compare | tee -a "$report"
+done
 say "== done: $report"
