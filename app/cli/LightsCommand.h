@@ -20,6 +20,7 @@ struct LightsArgs {
     bool gl = false;          ///< the GL path (octahedral shadow maps) instead of the exact fast path
     std::string glBackend = "osmesa";
     int glResolution = 512;
+    bool glNoPyramid = false; ///< --gl: no tile classes (a map lookup for every pair)
     int threads = 0;
     bool allowOutsidePaths = false;
     // One bounce of indirect light (lighting/Indirect.h), added to the direct light when vpls > 0.

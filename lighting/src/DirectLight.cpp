@@ -147,6 +147,15 @@ struct Run {
             sums[t.points[k]] = s.sums[k];
     }
 
+    TileClass classify(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t) const
+    {
+        if (unreached(light, t))
+            return TileClass::Unreached;
+        if (provenShadowed(light, emitters, t))
+            return TileClass::Shadowed;
+        return provenLit(light, t) ? TileClass::Lit : TileClass::Partial;
+    }
+
     /// Whether no point of the tile's box can get light: beyond a point or spot light's range, or
     /// behind (or in) a one-sided area light's plane.
     static bool unreached(const Light& light, const lights::PointTile& t)
@@ -434,6 +443,40 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
         stats->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
     return sums;
+}
+
+TileClasses classifyTiles(const LightingScene& scene, const std::vector<Light>& lights, std::span<const ShadingPoint> points,
+                          int threads)
+{
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<glm::dvec3> unused;
+    Run run{scene, lights, points, unused};
+    const std::vector<lights::PointTile> tiles = lights::makePointTiles(points);
+    std::vector<std::vector<glm::dvec3>> samples(lights.size());
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        if (lights[l].type == LightType::Area)
+            for (int i = 0; i < lights[l].area.sampleCount(); ++i)
+                samples[l].push_back(lights[l].area.sample(i));
+        else
+            samples[l].push_back(lights[l].position);
+    }
+    TileClasses out;
+    out.tiles = tiles.size();
+    out.lights = lights.size();
+    out.tileOf.assign(points.size(), 0);
+    out.classes.assign(tiles.size() * lights.size(), TileClass::Partial);
+    inArena(threads, [&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                for (std::uint32_t j : tiles[t].points)
+                    out.tileOf[j] = std::uint32_t(t);
+                for (std::size_t l = 0; l < lights.size(); ++l)
+                    out.classes[t * lights.size() + l] = run.classify(lights[l], samples[l], tiles[t]);
+            }
+        });
+    });
+    out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return out;
 }
 
 PointTiling::PointTiling(std::span<const ShadingPoint> points)

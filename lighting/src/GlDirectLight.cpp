@@ -24,13 +24,16 @@ namespace {
 //   params    x intensity (point, spot, directional) or radiance A / (na nb) (area); y range (0: none);
 //             z cos inner, w cos outer (spot)
 //   colour    rgb; w the VPL clamp distance squared (area)
+//   extra     x the light's index (its tile classes)
 struct GpuEmitter {
-    glm::vec4 position, direction, params, colour;
+    glm::vec4 position, direction, params, colour, extra;
 };
 
 const char* const kEmitterGlsl = R"(
-struct Emitter { vec4 position, direction, params, colour; };
+struct Emitter { vec4 position, direction, params, colour, extra; };
 layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
+// The emitters of this pass; with maps, emitter batch[k]'s map is layer k.
+layout(std430, binding = 4) readonly buffer Batch { int batch[]; };
 const int kPoint = 0, kSpot = 1, kDirectional = 2, kArea = 3;
 // The directional map's axes: the same in both programs.
 void orthoBasis(vec3 d, out vec3 u, out vec3 v)
@@ -63,11 +66,10 @@ in vec3 world[];
 flat in int instance[];
 out vec3 toPoint;
 out gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[3]; };
-uniform int firstEmitter;
 uniform float invRadius;
 void main()
 {
-    Emitter em = emitters[firstEmitter + instance[0]];
+    Emitter em = emitters[batch[instance[0]]];
     if (int(em.position.w) == kDirectional) {
         vec3 u, v;
         orthoBasis(em.direction.xyz, u, v);
@@ -111,8 +113,10 @@ layout(local_size_x = 64) in;
 layout(std430, binding = 1) readonly buffer Points { vec4 points[]; };   // position, normal
 layout(std430, binding = 2) buffer Irradiance { vec4 irradiance[]; };
 layout(std430, binding = 3) buffer Bits { uint bits[]; };
+layout(std430, binding = 5) readonly buffer Classes { uint classes[]; };   // 4 a word: [tile * lights + light]
+layout(std430, binding = 6) readonly buffer TileOf { uint tileOf[]; };
 layout(binding = 0) uniform sampler2DArray maps;
-uniform int firstEmitter, emitterCount, pointCount, resolution, wantBits, wordsPerPoint;
+uniform int emitterCount, pointCount, resolution, wantBits, wordsPerPoint, useClasses, lightCount;
 uniform float invRadius, texelAngle, directionalTexel, maxBiasTexels;
 
 vec2 octahedral(vec3 v)
@@ -192,13 +196,20 @@ void main()
         return;
     vec3 x = points[2 * i].xyz, n = points[2 * i + 1].xyz;
     vec3 sum = vec3(0.0);
+    uint tile = useClasses != 0 ? tileOf[i] : 0u;
     for (int k = 0; k < emitterCount; ++k) {
-        int e = firstEmitter + k;
+        int e = batch[k];
         Emitter em = emitters[e];
         float t = term(em, x, n);
         if (t <= 0.0 && wantBits == 0)
             continue;
-        if (!unshadowed(em, k, x, n))
+        // Barczak's classes: unreached and shadowed tiles take nothing, lit ones no shadow test.
+        uint cls = 3u;
+        if (useClasses != 0) {
+            uint at = tile * uint(lightCount) + uint(em.extra.x);
+            cls = (classes[at / 4u] >> (8u * (at % 4u))) & 255u;
+        }
+        if (cls < 2u || (cls == 3u && !unshadowed(em, k, x, n)))
             continue;
         if (t > 0.0)
             sum += em.colour.rgb * t;
@@ -209,9 +220,10 @@ void main()
 }
 )";
 
-GpuEmitter gpuEmitter(const Light& light, const glm::dvec3& position, const glm::dvec3& origin)
+GpuEmitter gpuEmitter(const Light& light, std::uint32_t index, const glm::dvec3& position, const glm::dvec3& origin)
 {
     GpuEmitter g{};
+    g.extra = glm::vec4(float(index), 0.0f, 0.0f, 0.0f);
     const glm::vec3 colour(light.colour);
     switch (light.type) {
     case LightType::Point:
@@ -255,13 +267,14 @@ struct GlDirectLight::Impl {
     double radius = 1.0;
     GLsizei vertexCount = 0;
     GLuint vao = 0, vertexBuffer = 0, emitterBuffer = 0, pointBuffer = 0, irradianceBuffer = 0, bitBuffer = 0;
+    GLuint batchBuffer = 0, classBuffer = 0, tileBuffer = 0;
     GLuint mapTexture = 0, framebuffer = 0, mapProgram = 0, shadeProgram = 0;
     int layers = 0;
 
     explicit Impl(const gl::Functions& functions) : gl(functions) {}
     ~Impl()
     {
-        for (GLuint b : {vertexBuffer, emitterBuffer, pointBuffer, irradianceBuffer, bitBuffer})
+        for (GLuint b : {vertexBuffer, emitterBuffer, pointBuffer, irradianceBuffer, bitBuffer, batchBuffer, classBuffer, tileBuffer})
             if (b)
                 gl.DeleteBuffers(1, &b);
         if (vao)
@@ -308,11 +321,10 @@ GlDirectLight::GlDirectLight(const gl::Functions& gl, const WorldTriangles& tria
     const std::string fragment = std::string("#version 450 core\n") + kEmitterGlsl + R"(
 in vec3 toPoint;
 layout(location = 0) out float nearest;
-uniform int firstEmitter;
 void main()
 {
     // A directional map keeps the depth along the light (in toPoint.x), an emitter's the distance.
-    nearest = int(emitters[firstEmitter + gl_Layer].position.w) == kDirectional ? toPoint.x : length(toPoint);
+    nearest = int(emitters[batch[gl_Layer]].position.w) == kDirectional ? toPoint.x : length(toPoint);
 }
 )";
     m.mapProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kMapVertex}, {GL_GEOMETRY_SHADER, emitters + kMapGeometry},
@@ -359,21 +371,39 @@ double GlDirectLight::bias(bool directional, double distance, double cosTheta) c
 }
 
 std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& lights, std::span<const ShadingPoint> points,
-                                                  GlDirectLightStats* stats, EmitterBits* bits)
+                                                  GlDirectLightStats* stats, EmitterBits* bits, const TileClasses* classes)
 {
     Impl& m = *impl_;
     const gl::Functions& gl = m.gl;
     const auto start = std::chrono::steady_clock::now();
+    if (classes && (classes->tileOf.size() != points.size() || classes->lights != lights.size()))
+        throw Error("GL lights: the tile classes were made for other points or lights");
     const std::vector<Emitter> emitters = lightEmitters(lights);
     std::vector<GpuEmitter> gpu;
     gpu.reserve(emitters.size());
     for (const Emitter& e : emitters)
-        gpu.push_back(gpuEmitter(lights[e.light], e.position, m.origin));
+        gpu.push_back(gpuEmitter(lights[e.light], e.light, e.position, m.origin));
     std::vector<glm::vec4> pointData(2 * points.size());
     for (std::size_t j = 0; j < points.size(); ++j) {
         pointData[2 * j] = glm::vec4(glm::vec3(points[j].position - m.origin), 1.0f);
         pointData[2 * j + 1] = glm::vec4(glm::vec3(points[j].normal), 0.0f);
     }
+    // With classes, only the lights with a partial tile need maps; the others are shaded from
+    // their classes alone.
+    std::vector<bool> partial(lights.size(), classes == nullptr);
+    std::vector<std::uint32_t> packed;
+    if (classes) {
+        packed.assign((classes->classes.size() + 3) / 4, 0u);
+        for (std::size_t k = 0; k < classes->classes.size(); ++k) {
+            packed[k / 4] |= std::uint32_t(classes->classes[k]) << (8 * (k % 4));
+            if (classes->classes[k] == TileClass::Partial)
+                partial[k % lights.size()] = true;
+        }
+    }
+    std::vector<GLint> mapped, unmapped;
+    for (std::size_t e = 0; e < emitters.size(); ++e)
+        (partial[emitters[e].light] ? mapped : unmapped).push_back(GLint(e));
+
     const std::size_t words = (emitters.size() + 31) / 32;
     m.upload(m.emitterBuffer, gpu.data(), gpu.size() * sizeof(GpuEmitter));
     m.upload(m.pointBuffer, pointData.data(), pointData.size() * sizeof(glm::vec4));
@@ -381,6 +411,8 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
     m.upload(m.irradianceBuffer, zeros.data(), zeros.size() * sizeof(glm::vec4));
     std::vector<std::uint32_t> bitWords(bits ? points.size() * words : 0, 0u);
     m.upload(m.bitBuffer, bitWords.data(), bitWords.size() * sizeof(std::uint32_t));
+    m.upload(m.classBuffer, packed.data(), packed.size() * sizeof(std::uint32_t));
+    m.upload(m.tileBuffer, classes ? classes->tileOf.data() : nullptr, classes ? classes->tileOf.size() * sizeof(std::uint32_t) : 0);
 
     const GLuint mp = m.mapProgram, sp = m.shadeProgram;
     gl.ProgramUniform1f(mp, gl.GetUniformLocation(mp, "invRadius"), float(1.0 / m.radius));
@@ -392,21 +424,42 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
     gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "pointCount"), GLint(points.size()));
     gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "wantBits"), bits ? 1 : 0);
     gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "wordsPerPoint"), GLint(words));
+    gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "useClasses"), classes ? 1 : 0);
+    gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "lightCount"), GLint(lights.size()));
     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.emitterBuffer);
     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, m.pointBuffer);
     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, m.irradianceBuffer);
     gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, m.bitBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, m.classBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, m.tileBuffer);
 
     GlDirectLightStats s;
     s.lights = lights.size();
     s.emitters = emitters.size();
+    s.maps = mapped.size();
     s.points = points.size();
     s.triangles = std::size_t(m.vertexCount) / 3;
+    const auto shade = [&](const GLint* batch, std::size_t count) {
+        const auto phase = std::chrono::steady_clock::now();
+        m.upload(m.batchBuffer, batch, count * sizeof(GLint));
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m.batchBuffer);
+        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        gl.UseProgram(sp);
+        gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "emitterCount"), GLint(count));
+        gl.BindTextureUnit(0, m.mapTexture);
+        if (!points.empty())
+            gl.DispatchCompute(GLuint((points.size() + 63) / 64), 1, 1);
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.Finish();
+        s.shadeMs += msSince(phase);
+    };
     const float farthest[4] = {std::numeric_limits<float>::max(), 0.0f, 0.0f, 0.0f};
-    for (std::size_t first = 0; first < emitters.size(); first += std::size_t(m.layers)) {
-        const GLsizei count = GLsizei(std::min<std::size_t>(std::size_t(m.layers), emitters.size() - first));
+    for (std::size_t first = 0; first < mapped.size(); first += std::size_t(m.layers)) {
+        const GLsizei count = GLsizei(std::min<std::size_t>(std::size_t(m.layers), mapped.size() - first));
         ++s.batches;
-        auto phase = std::chrono::steady_clock::now();
+        const auto phase = std::chrono::steady_clock::now();
+        m.upload(m.batchBuffer, &mapped[first], std::size_t(count) * sizeof(GLint));
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m.batchBuffer);
         gl.BindFramebuffer(GL_FRAMEBUFFER, m.framebuffer);
         gl.Viewport(0, 0, m.options.resolution, m.options.resolution);
         gl.Disable(GL_DEPTH_TEST);
@@ -417,7 +470,6 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
         gl.BlendEquation(GL_MIN);
         gl.ClearNamedFramebufferfv(m.framebuffer, GL_COLOR, 0, farthest);
         gl.UseProgram(mp);
-        gl.ProgramUniform1i(mp, gl.GetUniformLocation(mp, "firstEmitter"), GLint(first));
         gl.BindVertexArray(m.vao);
         if (m.vertexCount > 0)
             gl.DrawArraysInstanced(GL_TRIANGLES, 0, m.vertexCount, count);
@@ -425,21 +477,13 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
         gl.BlendEquation(GL_FUNC_ADD);
         for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
             gl.Disable(plane);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
         gl.Finish();
         s.renderMs += msSince(phase);
-        phase = std::chrono::steady_clock::now();
-        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-        gl.UseProgram(sp);
-        gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "firstEmitter"), GLint(first));
-        gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "emitterCount"), count);
-        gl.BindTextureUnit(0, m.mapTexture);
-        if (!points.empty())
-            gl.DispatchCompute(GLuint((points.size() + 63) / 64), 1, 1);
-        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        gl.Finish();
-        s.shadeMs += msSince(phase);
+        shade(&mapped[first], std::size_t(count));
     }
-    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (!unmapped.empty())
+        shade(unmapped.data(), unmapped.size());   // every tile settled by its class: no map is read
     const auto readStart = std::chrono::steady_clock::now();
     gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     std::vector<glm::vec4> sums(points.size());

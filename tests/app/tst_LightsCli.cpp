@@ -153,7 +153,8 @@ TEST_F(LightsCli, GlPathReportsItsAgreementWithTheExactAnswer)
     ASSERT_EQ(run.code, 0) << run.err;
     const json out = json::parse(run.out);
     EXPECT_EQ(out["path"], "gl");
-    EXPECT_EQ(out["gl"]["maps"], 33);
+    EXPECT_EQ(out["gl"]["pyramid"], true);
+    EXPECT_LE(out["gl"]["maps"].get<int>(), 33);
     EXPECT_EQ(out["gl"]["resolution"], 256);
     const Npy g = readNpy(folder / "g.npy");
     ASSERT_EQ(g.shape, (std::vector<std::size_t>{16, 20, 3}));
@@ -171,11 +172,18 @@ TEST_F(LightsCli, GlPathReportsItsAgreementWithTheExactAnswer)
     EXPECT_LT(compare["pairs_differing"].get<double>(), 0.03 * double(pairs));
     EXPECT_GT(compare["points_within_1pct"].get<double>(), 0.7);
     EXPECT_GT(compare["fast_ms"].get<double>(), 0.0);
+    // Without the occlusion pyramid's classes every light sample gets a map, and no fewer pairs differ.
+    const CliRun plain = runCli(base + " --gl --gl-resolution 256 --gl-no-pyramid --compare --json");
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    const json plainOut = json::parse(plain.out);
+    EXPECT_EQ(plainOut["gl"]["maps"], 33);
+    EXPECT_EQ(plainOut["compare"]["pairs"], pairs);
+    EXPECT_GE(plainOut["compare"]["pairs_differing"].get<std::uint64_t>(), compare["pairs_differing"].get<std::uint64_t>());
     // The GL answer is the one written.
     const CliRun again = runCli(base + " --gl --gl-resolution 256 --json");
     ASSERT_EQ(again.code, 0) << again.err;
     EXPECT_NEAR(json::parse(again.out)["irradiance_mean"][0].get<double>(), out["irradiance_mean"][0].get<double>(), 1e-9);
-    for (const char* bad : {" --gl --reference", " --gl --drag 3", " --gl-resolution 256", " --gl --gl-resolution 4"}) {
+    for (const char* bad : {" --gl --reference", " --gl --drag 3", " --gl-resolution 256", " --gl --gl-resolution 4", " --gl-no-pyramid"}) {
         const CliRun refused = runCli(base + bad);
         EXPECT_NE(refused.code, 0) << bad;
         EXPECT_TRUE(oneLine(refused.err)) << refused.err;

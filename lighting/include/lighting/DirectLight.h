@@ -140,6 +140,26 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
                                          std::span<const ShadingPoint> points, const DirectLightOptions& options = {},
                                          DirectLightStats* stats = nullptr);
 
+/// Barczak's occlusion-pyramid classes (§4.3.1) of a (tile, light) pair, proved as the fast path
+/// proves them (never guessed): out of the light's reach, shadowed whole by one triangle or a
+/// fused pair, lit through a shaft no triangle enters, or partial (some segments must be decided).
+enum class TileClass : std::uint8_t { Unreached = 0, Shadowed = 1, Lit = 2, Partial = 3 };
+
+struct TileClasses {
+    std::size_t tiles = 0;
+    std::size_t lights = 0;
+    std::vector<std::uint32_t> tileOf;   ///< per point, its tile
+    std::vector<TileClass> classes;      ///< [tile * lights + light]
+    double ms = 0.0;
+
+    TileClass at(std::size_t point, std::size_t light) const { return classes[tileOf[point] * lights + light]; }
+};
+
+/// The classes over the fast path's tiles of `points` (every class tried for every light, so a
+/// light may turn out to need no shadow test at all).
+TileClasses classifyTiles(const LightingScene& scene, const std::vector<Light>& lights, std::span<const ShadingPoint> points,
+                          int threads = 0);
+
 /// The receiver patch's samples with its normal, in bit order (the points of `lights` without
 /// --points).
 std::vector<ShadingPoint> patchShadingPoints(const Patch& patch);

@@ -20,6 +20,9 @@
 // blocker lies within that bias in front of the point, or within a texel of the point's direction
 // from the emitter (tests/lighting/tst_GlDirectLight.cpp explains every difference this way).
 //
+// Barczak's occlusion pyramid (§4.3.1) is the fast path's proved tile classes (classifyTiles in
+// DirectLight.h): where given, they settle whole (tile, light) pairs before any map is read.
+//
 // Runs on any current OpenGL 4.5 core context (OSMesa, EGL, the editor's Qt context).
 
 #include <memory>
@@ -46,6 +49,7 @@ struct GlDirectLightOptions {
 struct GlDirectLightStats {
     std::size_t lights = 0;
     std::size_t emitters = 0;
+    std::size_t maps = 0;           ///< emitters whose shadow maps were drawn
     std::size_t points = 0;
     std::size_t batches = 0;
     std::size_t triangles = 0;
@@ -65,9 +69,13 @@ public:
 
     /// Direct irradiance (W/m² per channel) at each point, in the points' order. `lights` must
     /// have passed validateLights and `points` validateShadingPoints. With `bits`, also each
-    /// (point, emitter) pair's answer from the maps, for every pair (a zero term's too).
+    /// (point, emitter) pair's answer, for every pair (a zero term's too). With `classes`
+    /// (classifyTiles of the same lights and points: Barczak's occlusion pyramid, §4.3.1), a
+    /// pair in an unreached or shadowed tile takes nothing and one in a lit tile no shadow test,
+    /// exactly as proved; only lights with a partial tile get maps.
     std::vector<glm::dvec3> irradiance(const std::vector<Light>& lights, std::span<const ShadingPoint> points,
-                                       GlDirectLightStats* stats = nullptr, EmitterBits* bits = nullptr);
+                                       GlDirectLightStats* stats = nullptr, EmitterBits* bits = nullptr,
+                                       const TileClasses* classes = nullptr);
 
     int resolution() const;
     /// An upper bound on the angle one octahedral texel spans (radians): the octahedron's points
