@@ -385,7 +385,9 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                     sets.reset();
                     if (setsWanted && setsWanted->light < lights.size()) {
                         const std::vector<std::uint32_t> seen = visibleInstances(setsWanted->camera, scene);
-                        sets = lightSets(scene, *request.scene, {lights[setsWanted->light]}, seen, LightSetOptions{.threads = 1}).front();
+                        LightSetOptions options;
+                        options.threads = 1;
+                        sets = lightSets(scene, *request.scene, {lights[setsWanted->light]}, seen, options).front();
                         setsLight = setsWanted->light;
                     }
                     if (cancel->load())

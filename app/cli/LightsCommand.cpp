@@ -27,8 +27,10 @@
 #include "visibility/Error.h"
 #include "visibility/NpyWriter.h"
 #include "visibility/gl/HeadlessContext.h"
+#include "visibility/pvs/PvsData.h"
 #include "Camera.h"
 #include "CameraVisibility.h"
+#include "PvsDebugger.h"
 #include "ViewSettings.h"
 
 namespace sightline::cli {
@@ -376,6 +378,9 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                       "Print O'Rorke's light visibility sets instead: per light V (instances seen from the project's "
                       "camera), L (those it reaches), I = V and L, S (those casting shadows onto I); instance indices "
                       "as in info --json");
+    command->add_option("--pvs", args.pvs,
+                        "--sets: a PVS baked from this project (.pvs or .pvs.json) serves V (the row of the camera's "
+                        "cell) and bounds each light's L by the rows of the cells it stands in");
     command->add_option("--threads", args.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
     addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
@@ -391,6 +396,32 @@ std::vector<std::uint32_t> cameraVisibleInstances(const Project& project, const 
     return ui::visibleInstances(ui::projectView(editor, project.source, project.receiver), lighting);
 }
 
+/// The cells of a baked PVS a light stands in: a point or spot light's position, an area light's
+/// corners and samples; none for a directional light (it stands nowhere). Empty when some of
+/// those points lie in no cell (then the bake cannot serve the light).
+std::vector<std::size_t> lightCells(const pvs::PvsData& baked, const Light& light)
+{
+    std::vector<glm::dvec3> at;
+    if (light.type == LightType::Point || light.type == LightType::Spot)
+        at.push_back(light.position);
+    else if (light.type == LightType::Area) {
+        for (int c = 0; c < 4; ++c)
+            at.push_back(light.area.cornerPoint(c));
+        for (int i = 0; i < light.area.sampleCount(); ++i)
+            at.push_back(light.area.sample(i));
+    }
+    std::vector<std::size_t> cells;
+    for (const glm::dvec3& p : at) {
+        const std::ptrdiff_t cell = pvs::cellContaining(baked, p);
+        if (cell < 0)
+            return {};
+        cells.push_back(std::size_t(cell));
+    }
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    return cells;
+}
+
 int printSets(const LightsArgs& args, const Project& project, const std::vector<Light>& lights)
 {
     std::vector<std::string> warnings;
@@ -400,12 +431,52 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
     const LightingScene lighting(scene);
     LightSetOptions options;
     options.threads = args.threads;
-    const std::vector<LightSets> sets = lightSets(lighting, scene, lights, cameraVisibleInstances(project, lighting), options);
+    // With a bake, V is the camera cell's row and each light's L is sampled only over the rows of
+    // the cells it stands in (O'Rorke's sets served by the PVS).
+    std::vector<std::uint32_t> V;
+    json served = nullptr;
+    if (!args.pvs.empty()) {
+        const pvs::PvsData baked = ui::readBakedPvs(args.pvs, project, scene);
+        const json editor = project.extra.value("editor", json::object());
+        const glm::dvec3 eye = ui::projectView(editor, project.source, project.receiver).eye();
+        const std::ptrdiff_t cameraCell = pvs::cellContaining(baked, eye);
+        if (cameraCell >= 0)
+            V = pvs::instancesVisibleFrom(baked, std::size_t(cameraCell));
+        else
+            std::cerr << "sightline-cli: note: the camera stands in none of " << args.pvs
+                      << "'s cells; V is what it sees (rendered)\n";
+        options.restricted.assign(lights.size(), false);
+        options.candidates.assign(lights.size(), {});
+        std::size_t lightsServed = 0;
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            const std::vector<std::size_t> cells = lightCells(baked, lights[l]);
+            if (cells.empty())
+                continue;
+            std::vector<std::uint32_t>& row = options.candidates[l];
+            for (std::size_t c : cells) {
+                const std::vector<std::uint32_t> more = pvs::instancesVisibleFrom(baked, c);
+                row.insert(row.end(), more.begin(), more.end());
+            }
+            std::sort(row.begin(), row.end());
+            row.erase(std::unique(row.begin(), row.end()), row.end());
+            options.restricted[l] = true;
+            ++lightsServed;
+        }
+        served = {{"file", args.pvs}, {"camera_cell", cameraCell >= 0 ? json(cameraCell) : json(nullptr)}, {"lights_served", lightsServed}};
+        if (cameraCell < 0)
+            V = cameraVisibleInstances(project, lighting);
+    } else {
+        V = cameraVisibleInstances(project, lighting);
+    }
+    const std::vector<LightSets> sets = lightSets(lighting, scene, lights, V, options);
     json list = json::array();
     for (std::size_t l = 0; l < sets.size(); ++l)
         list.push_back({{"light", displayName(lights, l)}, {"V", sets[l].V}, {"L", sets[l].L}, {"I", sets[l].I}, {"S", sets[l].S}});
     if (args.json) {
-        std::cout << json{{"sets", list}}.dump() << "\n";
+        json out = {{"sets", list}};
+        if (!served.is_null())
+            out["pvs"] = served;
+        std::cout << out.dump() << "\n";
         return 0;
     }
     std::printf("%-24s %6s %6s %6s %6s\n", "light", "V", "L", "I", "S");
@@ -445,6 +516,8 @@ void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
         for (const char* option : {"--points", "--npy", "--reference", "--compare", "--bitmask-area", "--indirect", "--texel"})
             if (given(command, option))
                 throw Error(std::string(option) + " does not apply to --sets (it prints the sets, no irradiance)");
+    if (given(command, "--pvs") && !args.sets)
+        throw Error("--pvs needs --sets (it serves O'Rorke's V and L)");
     if (args.vpls > 0)
         return;
     for (const char* option : {"--seed", "--albedo", "--clamp", "--indirect-reference"})

@@ -30,6 +30,7 @@ struct LightsArgs {
     double clamp = 0.1;
     int gatherSamples = 0;    ///< > 0: also the Monte-Carlo gathering reference, for its error
     bool sets = false;        ///< O'Rorke's sets per light instead of irradiance
+    std::string pvs;          ///< --sets: a baked PVS serving V and bounding L
     double texel = 0.0;       ///< > 0: bake a light map at this many texels a metre
     int drag = 0;             ///< > 0: time this many frames of dragging one light (LightingCache)
     std::string lightmap, gltf;

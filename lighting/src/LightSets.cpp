@@ -94,13 +94,23 @@ std::vector<LightSets> lightSets(const LightingScene& lighting, const Scene& sce
             else
                 emitters.push_back(light.position);
 
-            // L: an instance is reached when one of its points has a free segment to the light.
+            // L: an instance is reached when one of its points has a free segment to the light;
+            // with a PVS row for the light, only the row's instances are tried.
+            std::vector<std::uint32_t> tried;
+            if (l < options.restricted.size() && options.restricted[l]) {
+                for (std::uint32_t i : options.candidates.at(l))
+                    if (i < instances)
+                        tried.push_back(i);
+            } else {
+                for (std::size_t i = 0; i < instances; ++i)
+                    tried.push_back(std::uint32_t(i));
+            }
             std::vector<char> reached(instances, 0);
-            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, instances, 1), [&](const auto& range) {
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tried.size(), 1), [&](const auto& range) {
                 std::vector<glm::dvec3> ends;
                 std::vector<std::uint8_t> blocked;
-                for (std::size_t i = range.begin(); i != range.end(); ++i)
-                    for (std::size_t k = points.first[i]; k < points.first[i + 1] && !reached[i]; ++k) {
+                for (std::size_t r = range.begin(); r != range.end(); ++r)
+                    for (std::size_t i = tried[r], k = points.first[i]; k < points.first[i + 1] && !reached[i]; ++k) {
                         reachingEnds(lighting, light, emitters, points.positions[k], ends);
                         blocked.resize(ends.size());
                         lighting.rays().segmentsBlocked(points.positions[k], ends, blocked.data());

@@ -403,6 +403,56 @@ TEST_F(LightsCli, SetsFollowTheContract)
 }
 
 // --texel: a light map over the level's charts, as an atlas .npy, a PNG and a glTF using it.
+// A baked PVS serves O'Rorke's V (the row of the camera's cell) and bounds each light's L by the
+// rows of the cells it stands in: L is then the unbounded L within those rows.
+TEST_F(LightsCli, SetsServedByABakedPvs)
+{
+    json document = project(json::array({{{"type", "spot"}, {"name", "over the pillar"}, {"position", {1.5, 3.0, -1.0}},
+                                          {"direction", {0, -1, 0}}, {"outer_angle", 0.6}, {"intensity", 5}},
+                                         {{"type", "point"}, {"position", {0, 1.5, 0}}},
+                                         {{"type", "directional"}, {"direction", {0.2, -1, 0.1}}, {"intensity", 1}}}));
+    document["occluders"] = {{{"name", "pillar"}, {"mesh", "box"}, {"transform", {0.3, 0, 0, 0, 0, 1.6, 0, 0, 0, 0, 0.3, 0, 1.5, 0.81, -1.0, 1}}},
+                             {{"name", "crate"}, {"mesh", "box"}, {"transform", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 9, 0.5, 9, 1}}}};
+    document["editor"] = {{"camera", {{"target", {0.5, 0, -0.5}}, {"distance", 4.0}, {"yaw", 0.0}, {"pitch", -1.4}}}};
+    document["pvs"] = {{"cells", {{{"min", {-1, 3, -2}}, {"max", {2, 4.5, 1}}}, {{"min", {-0.5, 1, -0.5}}, {"max", {0.5, 2, 0.5}}}}}};
+    write("p.json", document);
+    const std::string p = (folder / "p.json").string();
+    const CliRun bake = runCli("pvs bake " + p + " --out " + (folder / "p.pvs").string() + " --json " + (folder / "p.pvs.json").string());
+    ASSERT_EQ(bake.code, 0) << bake.err;
+    const json baked = json::parse(std::ifstream(folder / "p.pvs.json"));
+    const auto row = [&](int cell) {
+        std::vector<std::uint32_t> instances;
+        for (const json& o : baked["visible"][std::size_t(cell)])
+            instances.push_back(baked["objects"][o.get<std::size_t>()]["instance"].get<std::uint32_t>());
+        std::sort(instances.begin(), instances.end());
+        return instances;
+    };
+    const CliRun plain = runCli("lights " + p + " --sets --json");
+    const CliRun served = runCli("lights " + p + " --sets --json --pvs " + (folder / "p.pvs").string());
+    ASSERT_EQ(plain.code, 0) << plain.err;
+    ASSERT_EQ(served.code, 0) << served.err;
+    const json a = json::parse(plain.out), b = json::parse(served.out);
+    EXPECT_EQ(b["pvs"]["camera_cell"], 0);
+    EXPECT_EQ(b["pvs"]["lights_served"], 2);   // the sun stands in no cell
+    const auto list = [](const json& value) { return value.get<std::vector<std::uint32_t>>(); };
+    const int cellOf[2] = {0, 1};
+    for (std::size_t l = 0; l < 3; ++l) {
+        EXPECT_EQ(list(b["sets"][l]["V"]), row(0)) << l;
+        std::vector<std::uint32_t> expected = list(a["sets"][l]["L"]);
+        if (l < 2) {
+            const std::vector<std::uint32_t> bound = row(cellOf[l]);
+            std::vector<std::uint32_t> within;
+            std::set_intersection(expected.begin(), expected.end(), bound.begin(), bound.end(), std::back_inserter(within));
+            expected = within;
+        }
+        EXPECT_EQ(list(b["sets"][l]["L"]), expected) << l;
+        EXPECT_FALSE(list(b["sets"][l]["L"]).empty()) << l;
+    }
+    const CliRun bad = runCli("lights " + p + " --pvs " + (folder / "p.pvs").string());
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("--pvs needs --sets"), std::string::npos) << bad.err;
+}
+
 TEST_F(LightsCli, TexelBakesALightMapOnCharts)
 {
     write("p.json", project(lights()));

@@ -28,6 +28,11 @@ struct LightSets {
 struct LightSetOptions {
     double spacing = 0.5;                    ///< metres between a triangle's sampled points
     int threads = 0;
+    /// Per light (in the lights' order, or empty for none), whether its L is restricted, and to
+    /// which instances (sorted): a baked PVS's row for the cell the light stands in (O'Rorke's L
+    /// served by the bake), so that only those instances are sampled.
+    std::vector<bool> restricted;
+    std::vector<std::vector<std::uint32_t>> candidates;
 };
 
 inline constexpr int kMaxPointsPerTriangle = 4096;

@@ -1,7 +1,10 @@
 #include "visibility/pvs/PvsData.h"
 
+#include <algorithm>
 #include <bit>
 #include <string>
+
+#include <glm/vector_relational.hpp>
 
 #include "visibility/Error.h"
 
@@ -56,6 +59,27 @@ std::size_t VisibilityRows::visibleCount() const
     for (std::uint8_t b : bytes_)
         n += std::size_t(std::popcount(b));
     return n;
+}
+
+std::ptrdiff_t cellContaining(const PvsData& data, const glm::dvec3& point)
+{
+    for (std::size_t c = 0; c < data.cells.size(); ++c) {
+        const Bounds& box = data.cells[c];
+        if (!box.empty() && glm::all(glm::greaterThanEqual(point, glm::dvec3(box.min))) &&
+            glm::all(glm::lessThanEqual(point, glm::dvec3(box.max))))
+            return std::ptrdiff_t(c);
+    }
+    return -1;
+}
+
+std::vector<std::uint32_t> instancesVisibleFrom(const PvsData& data, std::size_t cell)
+{
+    std::vector<std::uint32_t> out;
+    for (std::uint32_t o : data.rows.visibleObjects(cell))
+        out.insert(out.end(), data.objects[o].instances.begin(), data.objects[o].instances.end());
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
 }
 
 } // namespace sightline::pvs

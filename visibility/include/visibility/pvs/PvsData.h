@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include "visibility/Scene.h"
 
 namespace sightline::pvs {
@@ -73,5 +75,13 @@ struct PvsData {
     VisibilityRows cellRows;
     bool hasCellRows() const { return cellRows.cellCount() != 0; }
 };
+
+/// The first cell whose box holds `point` (boundaries included), or -1: where a camera or a light
+/// stands, for serving its row (O'Rorke's V and L from a bake).
+std::ptrdiff_t cellContaining(const PvsData& data, const glm::dvec3& point);
+
+/// The scene instances of the objects visible from `cell`, sorted (every instance of a grouped
+/// object).
+std::vector<std::uint32_t> instancesVisibleFrom(const PvsData& data, std::size_t cell);
 
 } // namespace sightline::pvs
