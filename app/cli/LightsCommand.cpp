@@ -169,7 +169,7 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
 /// One bounce of VPLs added to `total` (lighting/Indirect.h); with --indirect-reference, the
 /// gathering reference's mean and the VPLs' error against it. Returns the `indirect` JSON.
 json addIndirectBounce(const LightingScene& lighting, const std::vector<Light>& lights, const std::vector<ShadingPoint>& points,
-                       const LightsArgs& args, std::vector<glm::dvec3>& total)
+                       const LightsArgs& args, std::vector<glm::dvec3>& total, GlDirectLight* gl)
 {
     IndirectOptions indirect;
     indirect.vpls = args.vpls;
@@ -178,7 +178,14 @@ json addIndirectBounce(const LightingScene& lighting, const std::vector<Light>& 
     indirect.clampMetres = args.clamp;
     indirect.threads = args.threads;
     const VplSet vpls = traceVpls(lighting, lights, indirect);
-    const IndirectResult bounce = vplIrradiance(lighting, vpls, points, indirect);
+    IndirectResult bounce;
+    if (gl) {   // the VPLs by shadow maps, as Barczak shades them (no clamp loss is measured)
+        GlDirectLightStats glStats;
+        bounce.irradiance = gl->irradiance(vpls.vpls, points, &glStats);
+        bounce.stats.ms = glStats.ms;
+    } else {
+        bounce = vplIrradiance(lighting, vpls, points, indirect);
+    }
     glm::dvec3 mean(0.0);
     for (std::size_t j = 0; j < points.size(); ++j) {
         total[j] += bounce.irradiance[j];
@@ -189,7 +196,7 @@ json addIndirectBounce(const LightingScene& lighting, const std::vector<Light>& 
                 {"emitted_w", {vpls.emitted.x, vpls.emitted.y, vpls.emitted.z}},
                 {"trace_ms", vpls.ms},
                 {"ms", bounce.stats.ms},
-                {"clamp_loss", bounce.clampLoss},
+                {"clamp_loss", gl ? json(nullptr) : json(bounce.clampLoss)},
                 {"mean", {mean.x, mean.y, mean.z}}};
     if (args.gatherSamples > 0) {
         const auto gatherStart = std::chrono::steady_clock::now();
@@ -256,12 +263,10 @@ json timeDrag(const LightingScene& lighting, const std::vector<Light>& lights, c
 /// The GL path (lighting/GlDirectLight.h) on a headless context; with --compare, the exact fast
 /// path in the same run and the agreement pair by pair (the exact bits by the reference's segment
 /// test) and point by point. `stats` gets the counts the JSON shares with the other paths.
-std::vector<glm::dvec3> glIrradiance(const LightingScene& lighting, const std::vector<Light>& lights,
-                                     const std::vector<ShadingPoint>& points, const LightsArgs& args, json& glJson,
-                                     json& comparison, DirectLightStats& stats)
+std::vector<glm::dvec3> glIrradiance(GlDirectLight& gl, const std::string& renderer, const LightingScene& lighting,
+                                     const std::vector<Light>& lights, const std::vector<ShadingPoint>& points,
+                                     const LightsArgs& args, json& glJson, json& comparison, DirectLightStats& stats)
 {
-    const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
-    GlDirectLight gl(context->functions(), lighting.triangles(), {.resolution = args.glResolution});
     GlDirectLightStats glStats;
     gl.irradiance(lights, std::span(points.data(), std::min<std::size_t>(points.size(), 64)));   // compiles the shaders' pipelines
     // Barczak's occlusion pyramid: the proved tile classes, on the CPU, counted in the GL time.
@@ -278,7 +283,7 @@ std::vector<glm::dvec3> glIrradiance(const LightingScene& lighting, const std::v
     stats.lightSamples = glStats.emitters;
     stats.points = glStats.points;
     stats.ms = glStats.ms + classifyMs;
-    glJson = {{"renderer", context->renderer()},
+    glJson = {{"renderer", renderer},
               {"backend", args.glBackend},
               {"resolution", args.glResolution},
               {"pyramid", pyramid != nullptr},
@@ -508,7 +513,7 @@ void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
             if (given(command, option))
                 throw Error(std::string(option) + " needs --gl (the GL path)");
     } else {
-        for (const char* option : {"--reference", "--bitmask-area", "--indirect", "--drag", "--sets"})
+        for (const char* option : {"--reference", "--bitmask-area", "--drag", "--sets"})
             if (given(command, option))
                 throw Error(std::string(option) + " does not apply to --gl (it answers direct light by shadow maps)");
     }
@@ -580,10 +585,17 @@ int runLights(const LightsArgs& args)
     options.threads = args.threads;
     options.receiverGrid = onReceiver ? &project.receiver : nullptr;
     options.bitmaskAreaLights = args.bitmaskArea;
+    std::unique_ptr<gl::HeadlessContext> glContext;
+    std::unique_ptr<GlDirectLight> glPath;
+    if (args.gl) {
+        glContext = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
+        glPath = std::make_unique<GlDirectLight>(glContext->functions(), lighting.triangles(),
+                                                 GlDirectLightOptions{.resolution = args.glResolution});
+    }
     DirectLightStats stats;
     json glJson, comparison;
     const std::vector<glm::dvec3> irradiance =
-        args.gl ? glIrradiance(lighting, lights, points, args, glJson, comparison, stats)
+        args.gl ? glIrradiance(*glPath, glContext->renderer(), lighting, lights, points, args, glJson, comparison, stats)
                 : directIrradiance(lighting, lights, points, options, &stats);
 
     if (args.compare && !args.gl) {
@@ -604,7 +616,7 @@ int runLights(const LightsArgs& args)
     json indirectJson;
     std::vector<glm::dvec3> total = irradiance;
     if (args.vpls > 0)
-        indirectJson = addIndirectBounce(lighting, lights, points, args, total);
+        indirectJson = addIndirectBounce(lighting, lights, points, args, total, glPath.get());
 
     json dragJson;
     if (args.drag > 0)
@@ -685,9 +697,10 @@ int runLights(const LightsArgs& args)
     std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
     std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());
     if (args.vpls > 0) {
-        std::printf("indirect   %zu VPLs from %d photons (%.1f ms) in %.1f ms, clamp loss %.3g%%",
-                    indirectJson["vpls"].get<std::size_t>(), indirectJson["photons"].get<int>(), indirectJson["trace_ms"].get<double>(),
-                    indirectJson["ms"].get<double>(), 100.0 * indirectJson["clamp_loss"].get<double>());
+        std::printf("indirect   %zu VPLs from %d photons (%.1f ms) in %.1f ms%s", indirectJson["vpls"].get<std::size_t>(),
+                    indirectJson["photons"].get<int>(), indirectJson["trace_ms"].get<double>(), indirectJson["ms"].get<double>(),
+                    args.gl ? " by shadow maps"
+                            : (", clamp loss " + std::to_string(100.0 * indirectJson["clamp_loss"].get<double>()) + "%").c_str());
         if (indirectJson.contains("reference"))
             std::printf("; against %d-direction gathering: relative RMSE %.3g", args.gatherSamples,
                         indirectJson["reference"]["relative_rmse"].get<double>());

@@ -353,6 +353,15 @@ TEST_F(LightsCli, IndirectAddsOneBounceOfVplsAndReportsItsError)
         brighter += i.values[k] > d.values[k] * 1.001f;
     }
     EXPECT_GT(brighter, 100);
+    // The same VPLs by shadow maps (--gl): the same count, a mean bounce within a few percent of
+    // the exact VPLs' (the maps' tolerance), no clamp loss claimed.
+    const CliRun byMaps = runCli(base + " --gl --gl-resolution 256 --indirect 3000 --albedo 0.4 --json");
+    ASSERT_EQ(byMaps.code, 0) << byMaps.err;
+    const json indirectGl = json::parse(byMaps.out).at("indirect");
+    EXPECT_EQ(indirectGl["vpls"], indirect["vpls"]);
+    EXPECT_TRUE(indirectGl["clamp_loss"].is_null());
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(indirectGl["mean"][c].get<double>(), indirect["mean"][c].get<double>(), 0.05 * indirect["mean"][c].get<double>());
     // The same seed gives the same answer; options of the bounce need it.
     const CliRun again = runCli(base + " --indirect 3000 --albedo 0.4 --npy " + (folder / "j.npy").string());
     ASSERT_EQ(again.code, 0) << again.err;
