@@ -85,6 +85,13 @@ void main()
         return;
     }
     vec3 q[3] = vec3[3](world[0] - em.position.xyz, world[1] - em.position.xyz, world[2] - em.position.xyz);
+    // A light with a range lights nothing past it, so a triangle whose box lies beyond it can
+    // shadow nothing it lights.
+    if (em.params.y > 0.0) {
+        vec3 lo = min(min(q[0], q[1]), q[2]), hi = max(max(q[0], q[1]), q[2]);
+        if (length(clamp(vec3(0.0), lo, hi)) > em.params.y)
+            return;
+    }
     for (int o = 0; o < 8; ++o) {
         vec3 s = vec3((o & 1) != 0 ? -1.0 : 1.0, (o & 2) != 0 ? -1.0 : 1.0, (o & 4) != 0 ? -1.0 : 1.0);
         vec3 reach = max(max(s * q[0], s * q[1]), s * q[2]);

@@ -43,7 +43,9 @@ std::vector<Light> allKinds(const glm::dvec3& offset)
     panel.na = panel.nb = 4;
     std::vector<Light> lights = {pointLight(offset + glm::dvec3(0.3, 3.0, -0.2), 10.0, {1.0, 0.8, 0.6}),
                                  spotLight(offset + glm::dvec3(-2.0, 2.5, 1.0), glm::normalize(glm::dvec3(0.6, -1.0, -0.4)), 0.3, 0.8, 20.0),
-                                 areaLight(panel, 3.0), directionalLight(glm::normalize(glm::dvec3(0.3, -1.0, 0.2)), 2.0)};
+                                 areaLight(panel, 3.0), directionalLight(glm::normalize(glm::dvec3(0.3, -1.0, 0.2)), 2.0),
+                                 pointLight(offset + glm::dvec3(1.2, 1.0, -1.5), 4.0)};
+    lights.back().range = 2.5;   // its map holds only the triangles within reach (the wall, 0.8 m away)
     validateLights(lights, "test");
     return lights;
 }

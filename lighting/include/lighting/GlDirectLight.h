@@ -11,7 +11,9 @@
 // function of the position, so each triangle is rasterised exactly once per face it touches: a
 // geometry shader sends it to the faces whose octant it may enter, and clip distances s.q >= 0
 // keep each copy inside its octant. One instanced draw renders a batch of emitters into the
-// layers of an array texture, each texel keeping the nearest distance by MIN blending.
+// layers of an array texture, each texel keeping the nearest distance by MIN blending. A light
+// with a range draws only the triangles whose boxes come within it (nothing beyond can shadow
+// what it lights).
 //
 // Tolerance: a map answers for its texel centres. A point at distance t from the emitter, its
 // normal at angle theta from the emitter, counts as unshadowed when its distance is at most the
