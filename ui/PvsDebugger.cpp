@@ -42,17 +42,6 @@ std::string pvsBakeKey(const Project& project)
     }
 }
 
-std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point)
-{
-    for (std::size_t c = 0; c < cells.size(); ++c) {
-        const Bounds& b = cells[c];
-        if (point.x >= b.min.x && point.y >= b.min.y && point.z >= b.min.z && point.x <= b.max.x && point.y <= b.max.y &&
-            point.z <= b.max.z)
-            return c;
-    }
-    return std::nullopt;
-}
-
 void applyDistanceCutoff(const std::vector<Bounds>& cells, const std::vector<pvs::PvsObject>& objects, double maxDistance,
                          pvs::VisibilityRows& rows)
 {

@@ -75,9 +75,6 @@ std::string editorPvsSeed(const Scene& scene);
 /// needs a new bake; the text of a parse error stands for a project that cannot be baked.
 std::string pvsBakeKey(const Project& project);
 
-/// The cell holding `point` (the first, for overlapping listed boxes), if any.
-std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point);
-
 /// The distance cut-off (PvsSettings::maxDistance, the project's pvs.max_distance) applied over
 /// baked rows: objects whose bounds lie farther than `maxDistance` from a cell's box are culled
 /// from its row, as the bake culls them. 0 or less: nothing changes.

@@ -399,9 +399,9 @@ void Viewport::paintGL()
     }
     if (style_.pvsDebugger) {
         // The cell the eye is in (or the frozen one); the level's objects it cannot see are tinted.
-        std::optional<std::size_t> cell = pvsFrozen_ ? pvsFrozenCell_ : cellAt(pvsCells_, controller_.camera().eye());
+        std::optional<std::size_t> cell = pvsFrozen_ ? pvsFrozenCell_ : pvs::cellAt(pvsCells_, controller_.camera().eye());
         if (pvsFrozen_ && !pvsFrozenCell_)
-            cell = pvsFrozenCell_ = cellAt(pvsCells_, controller_.camera().eye());
+            cell = pvsFrozenCell_ = pvs::cellAt(pvsCells_, controller_.camera().eye());
         if (cell != pvsShownCell_ || pvsRowsChanged_ || !pvsUploaded_) {
             pvsShownCell_ = cell;
             pvsRowsChanged_ = false;

@@ -417,10 +417,10 @@ std::vector<std::size_t> lightCells(const pvs::PvsData& baked, const Light& ligh
     }
     std::vector<std::size_t> cells;
     for (const glm::dvec3& p : at) {
-        const std::ptrdiff_t cell = pvs::cellContaining(baked, p);
-        if (cell < 0)
+        const std::optional<std::size_t> cell = pvs::cellAt(baked.cells, p);
+        if (!cell)
             return {};
-        cells.push_back(std::size_t(cell));
+        cells.push_back(*cell);
     }
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
@@ -444,9 +444,9 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
         const pvs::PvsData baked = ui::readBakedPvs(args.pvs, project, scene);
         const json editor = project.extra.value("editor", json::object());
         const glm::dvec3 eye = ui::projectView(editor, project.source, project.receiver).eye();
-        const std::ptrdiff_t cameraCell = pvs::cellContaining(baked, eye);
-        if (cameraCell >= 0)
-            V = pvs::instancesVisibleFrom(baked, std::size_t(cameraCell));
+        const std::optional<std::size_t> cameraCell = pvs::cellAt(baked.cells, eye);
+        if (cameraCell)
+            V = pvs::instancesVisibleFrom(baked, *cameraCell);
         else
             std::cerr << "sightline-cli: note: the camera stands in none of " << args.pvs
                       << "'s cells; V is what it sees (rendered)\n";
@@ -467,8 +467,8 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
             options.restricted[l] = true;
             ++lightsServed;
         }
-        served = {{"file", args.pvs}, {"camera_cell", cameraCell >= 0 ? json(cameraCell) : json(nullptr)}, {"lights_served", lightsServed}};
-        if (cameraCell < 0)
+        served = {{"file", args.pvs}, {"camera_cell", cameraCell ? json(*cameraCell) : json(nullptr)}, {"lights_served", lightsServed}};
+        if (!cameraCell)
             V = cameraVisibleInstances(project, lighting);
     } else {
         V = cameraVisibleInstances(project, lighting);

@@ -61,15 +61,15 @@ std::size_t VisibilityRows::visibleCount() const
     return n;
 }
 
-std::ptrdiff_t cellContaining(const PvsData& data, const glm::dvec3& point)
+std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point)
 {
-    for (std::size_t c = 0; c < data.cells.size(); ++c) {
-        const Bounds& box = data.cells[c];
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+        const Bounds& box = cells[c];
         if (!box.empty() && glm::all(glm::greaterThanEqual(point, glm::dvec3(box.min))) &&
             glm::all(glm::lessThanEqual(point, glm::dvec3(box.max))))
-            return std::ptrdiff_t(c);
+            return c;
     }
-    return -1;
+    return std::nullopt;
 }
 
 std::vector<std::uint32_t> instancesVisibleFrom(const PvsData& data, std::size_t cell)

@@ -6,6 +6,7 @@
 // the bake, the file formats, the merge of shards and the editor's debugger all share it.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,9 +77,9 @@ struct PvsData {
     bool hasCellRows() const { return cellRows.cellCount() != 0; }
 };
 
-/// The first cell whose box holds `point` (boundaries included), or -1: where a camera or a light
-/// stands, for serving its row (O'Rorke's V and L from a bake).
-std::ptrdiff_t cellContaining(const PvsData& data, const glm::dvec3& point);
+/// The first cell whose box holds `point` (boundaries included; the first of overlapping listed
+/// boxes), if any: where a camera or a light stands, whose row it sees.
+std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point);
 
 /// The scene instances of the objects visible from `cell`, sorted (every instance of a grouped
 /// object).
