@@ -357,6 +357,7 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
             LitReference reference;
             bool referencePending = false;
             std::size_t setsLight = 0;
+            bool setsServed = false;
             bool setsStale = false;   // the lights changed since the sets were computed
             for (;;) {
                 if (refresh) {
@@ -384,17 +385,24 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                     setsStale = false;
                     sets.reset();
                     if (setsWanted && setsWanted->light < lights.size()) {
-                        const std::vector<std::uint32_t> seen = visibleInstances(setsWanted->camera, scene);
+                        const std::vector<std::uint32_t> seen =
+                            setsWanted->visible ? *setsWanted->visible : visibleInstances(setsWanted->camera, scene);
                         LightSetOptions options;
                         options.threads = 1;
+                        if (setsWanted->reach) {
+                            options.restricted = {true};
+                            options.candidates = {*setsWanted->reach};
+                        }
                         sets = lightSets(scene, *request.scene, {lights[setsWanted->light]}, seen, options).front();
                         setsLight = setsWanted->light;
+                        setsServed = setsWanted->visible.has_value();
                     }
                     if (cancel->load())
                         return;
                 }
                 frame.sets = sets;
                 frame.setsLight = setsLight;
+                frame.setsServed = setsServed;
                 const double shownExposure = exposure > 0.0 ? exposure : autoExposure(cache->irradiance());
                 if (exposure == 0.0 && step.exact)
                     exposure = shownExposure;

@@ -69,6 +69,7 @@ struct LitPreviewFrame {
     /// computed; every frame after carries the latest.
     std::optional<LightSets> sets;
     std::size_t setsLight = 0;
+    bool setsServed = false;           ///< V and L came from a PVS (SetsRequest::visible)
     std::vector<LightingCache::LightCost> costs;   ///< per light, what its last refresh cost
     double exposure = 0.0;             ///< colour = 1 - exp(-exposure x E / pi), E in W/m²
     double frameMs = 0.0;              ///< this frame's refresh
@@ -116,10 +117,13 @@ public:
     /// Shows the same light otherwise (no shadow ray cast again): a frame is delivered anew.
     void setShading(LitShading shading, int budget);
     /// Computes O'Rorke's sets (V from `camera`, lighting/LightSets.h) of light `light` between
-    /// frames, and again when the lights change; nullopt stops.
+    /// frames, and again when the lights change; nullopt stops. A baked PVS may serve them:
+    /// `visible` is then V (the camera cell's row) and `reach` bounds L (pvsReach).
     struct SetsRequest {
         std::size_t light = 0;
         Camera camera;
+        std::optional<std::vector<std::uint32_t>> visible;
+        std::optional<std::vector<std::uint32_t>> reach;
     };
     void requestSets(std::optional<SetsRequest> request);
     void cancel();

@@ -363,8 +363,9 @@ void Viewport::paintGL()
     if (litArrived_) {
         LitPreviewFrame f = std::move(*litArrived_);
         litArrived_.reset();
-        if (f.error.empty() && setsShown_ && f.sets && (!sets_ || *sets_ != *f.sets || setsLight_ != f.setsLight))
-            showLightSets(*f.sets, f.setsLight);
+        if (f.error.empty() && setsShown_ && f.sets &&
+            (!sets_ || *sets_ != *f.sets || setsLight_ != f.setsLight || setsServed_ != f.setsServed))
+            showLightSets(*f.sets, f.setsLight, f.setsServed);
         if (f.error.empty()) {
             renderer_->setAmbientOcclusion(f.uvs, f.width, f.height, f.map);
             litExact_ = f.exact && f.lightsVersion >= litWanted_;
@@ -560,13 +561,24 @@ void Viewport::requestLightSets()
         return;
     }
     setsCamera_ = controller_.camera();
-    lit_->requestSets(LitPreview::SetsRequest{selected.index, *setsCamera_});
+    LitPreview::SetsRequest request{selected.index, *setsCamera_, std::nullopt, std::nullopt};
+    // A finished, current PVS serves them: V the camera cell's row, L bounded by the light's cells'.
+    if (pvsFinished_ && !pvsStale_ && pvsError_.isEmpty() && !pvsCells_.empty() && selected.index < document_.lights().size()) {
+        const pvs::VisibilityRows& rows = pvsShownRows();
+        const std::optional<std::size_t> cell = pvs::cellAt(pvsCells_, setsCamera_->eye());
+        if (cell && rows.cellCount() == pvsCells_.size()) {
+            request.visible = pvs::instancesVisibleFrom(rows, pvsObjects_, *cell);
+            request.reach = pvsReach(pvsCells_, rows, pvsObjects_, document_.lights()[selected.index]);
+        }
+    }
+    lit_->requestSets(std::move(request));
 }
 
-void Viewport::showLightSets(const LightSets& sets, std::size_t light)
+void Viewport::showLightSets(const LightSets& sets, std::size_t light, bool served)
 {
     sets_ = sets;
     setsLight_ = light;
+    setsServed_ = served;
     const std::size_t fileObjects = document_.sceneFile().instances.size();
     std::vector<std::uint8_t> classes(fileObjects, 0);
     const auto has = [](const std::vector<std::uint32_t>& list, std::uint32_t i) { return std::binary_search(list.begin(), list.end(), i); };
@@ -590,9 +602,10 @@ QString Viewport::setsStatus() const
     if (!sets_)
         return {};
     const QString name = setsLight_ < document_.lights().size() ? document_.objectName({ObjectKind::Light, setsLight_}) : QString();
-    return tr("%1: V %2 seen, L %3 reached, I %4 lit and seen (yellow), S %5 casting shadows into them "
+    return tr("%1: V %2 seen%6, L %3 reached, I %4 lit and seen (yellow), S %5 casting shadows into them "
               "(violet); seen but out of reach darkened; the dashed frame is its scissor rectangle")
-        .arg(name).arg(sets_->V.size()).arg(sets_->L.size()).arg(sets_->I.size()).arg(sets_->S.size());
+        .arg(name).arg(sets_->V.size()).arg(sets_->L.size()).arg(sets_->I.size()).arg(sets_->S.size())
+        .arg(setsServed_ ? tr(" from the camera's PVS cell") : QString());
 }
 
 void Viewport::setLitShading(LitShading shading, int budget)
@@ -717,6 +730,8 @@ void Viewport::showBakedPvs(pvs::PvsData data, const QString& file)
     pvsError_.clear();
     resetPvs(std::move(data.cells), std::move(data.objects), std::move(data.rows), true);
     pvsUploaded_ = false;
+    if (setsShown_)
+        requestLightSets();   // the file now serves V and L
     pvsBakeKey_ = pvsBakeKey(document_.project());
     pvsFromFile_ = file;
     style_.pvsDebugger = true;
@@ -866,8 +881,11 @@ void Viewport::takePvsEvent(PvsDebugEvent event)
         }
         pvsRowsChanged_ = pvsRowsChanged_ || event.cell == pvsShownCell_;
     }
-    if (event.finished)
+    if (event.finished) {
         pvsFinished_ = true;
+        if (setsShown_)
+            requestLightSets();   // the bake now serves V and L
+    }
     pvsUploaded_ = pvsUploaded_ && !event.started;
     emit pvsUpdated(pvsStatus());
     update();

@@ -123,6 +123,7 @@ public:
     /// The cell whose answer is shown, if the camera is in one (or the frozen one).
     std::optional<std::size_t> pvsCell() const { return pvsShownCell_; }
     const std::vector<Bounds>& pvsCells() const { return pvsCells_; }
+    const std::vector<pvs::PvsObject>& pvsObjects() const { return pvsObjects_; }
     /// Shows a PVS read from a file (readBakedPvs) in the debugger instead of baking one; `file`
     /// names it in the status. A change that needs a new bake bakes as usual.
     void showBakedPvs(pvs::PvsData data, const QString& file);
@@ -201,6 +202,7 @@ private:
     std::unique_ptr<PvsDebugger> pvs_;
     std::uint64_t pvsGeneration_ = 0;
     bool pvsStale_ = false, pvsFrozen_ = false, pvsFinished_ = false, pvsRowsChanged_ = false;
+    bool setsServed_ = false;   ///< the light sets shown took V and L from the PVS
     std::vector<Bounds> pvsCells_;
     std::vector<pvs::PvsObject> pvsObjects_;
     pvs::VisibilityRows pvsRows_;
@@ -244,7 +246,7 @@ private:
     std::optional<Camera> setsCamera_;       ///< the camera the sets on their way or shown are for
     QTimer setsRest_;                        ///< the camera rested: the sets again for it
     void requestLightSets();
-    void showLightSets(const LightSets& sets, std::size_t light);
+    void showLightSets(const LightSets& sets, std::size_t light, bool served);
     AoLighting aoLighting_;
     std::uint64_t aoGeneration_ = 0;
     std::optional<AoPreviewLevel> aoArrived_;

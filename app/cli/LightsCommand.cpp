@@ -401,32 +401,6 @@ std::vector<std::uint32_t> cameraVisibleInstances(const Project& project, const 
     return ui::visibleInstances(ui::projectView(editor, project.source, project.receiver), lighting);
 }
 
-/// The cells of a baked PVS a light stands in: a point or spot light's position, an area light's
-/// corners and samples; none for a directional light (it stands nowhere). Empty when some of
-/// those points lie in no cell (then the bake cannot serve the light).
-std::vector<std::size_t> lightCells(const pvs::PvsData& baked, const Light& light)
-{
-    std::vector<glm::dvec3> at;
-    if (light.type == LightType::Point || light.type == LightType::Spot)
-        at.push_back(light.position);
-    else if (light.type == LightType::Area) {
-        for (int c = 0; c < 4; ++c)
-            at.push_back(light.area.cornerPoint(c));
-        for (int i = 0; i < light.area.sampleCount(); ++i)
-            at.push_back(light.area.sample(i));
-    }
-    std::vector<std::size_t> cells;
-    for (const glm::dvec3& p : at) {
-        const std::optional<std::size_t> cell = pvs::cellAt(baked.cells, p);
-        if (!cell)
-            return {};
-        cells.push_back(*cell);
-    }
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    return cells;
-}
-
 int printSets(const LightsArgs& args, const Project& project, const std::vector<Light>& lights)
 {
     std::vector<std::string> warnings;
@@ -446,27 +420,19 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
         const glm::dvec3 eye = ui::projectView(editor, project.source, project.receiver).eye();
         const std::optional<std::size_t> cameraCell = pvs::cellAt(baked.cells, eye);
         if (cameraCell)
-            V = pvs::instancesVisibleFrom(baked, *cameraCell);
+            V = pvs::instancesVisibleFrom(baked.rows, baked.objects, *cameraCell);
         else
             std::cerr << "sightline-cli: note: the camera stands in none of " << args.pvs
                       << "'s cells; V is what it sees (rendered)\n";
         options.restricted.assign(lights.size(), false);
         options.candidates.assign(lights.size(), {});
         std::size_t lightsServed = 0;
-        for (std::size_t l = 0; l < lights.size(); ++l) {
-            const std::vector<std::size_t> cells = lightCells(baked, lights[l]);
-            if (cells.empty())
-                continue;
-            std::vector<std::uint32_t>& row = options.candidates[l];
-            for (std::size_t c : cells) {
-                const std::vector<std::uint32_t> more = pvs::instancesVisibleFrom(baked, c);
-                row.insert(row.end(), more.begin(), more.end());
+        for (std::size_t l = 0; l < lights.size(); ++l)
+            if (std::optional<std::vector<std::uint32_t>> reach = pvsReach(baked.cells, baked.rows, baked.objects, lights[l])) {
+                options.candidates[l] = std::move(*reach);
+                options.restricted[l] = true;
+                ++lightsServed;
             }
-            std::sort(row.begin(), row.end());
-            row.erase(std::unique(row.begin(), row.end()), row.end());
-            options.restricted[l] = true;
-            ++lightsServed;
-        }
         served = {{"file", args.pvs}, {"camera_cell", cameraCell ? json(*cameraCell) : json(nullptr)}, {"lights_served", lightsServed}};
         if (!cameraCell)
             V = cameraVisibleInstances(project, lighting);

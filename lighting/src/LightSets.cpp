@@ -161,4 +161,37 @@ std::vector<LightSets> lightSets(const LightingScene& lighting, const Scene& sce
     return sets;
 }
 
+std::optional<std::vector<std::uint32_t>> pvsReach(const std::vector<Bounds>& cells, const pvs::VisibilityRows& rows,
+                                                   const std::vector<pvs::PvsObject>& objects, const Light& light)
+{
+    std::vector<glm::dvec3> at;
+    if (light.type == LightType::Point || light.type == LightType::Spot) {
+        at.push_back(light.position);
+    } else if (light.type == LightType::Area) {
+        for (int c = 0; c < 4; ++c)
+            at.push_back(light.area.cornerPoint(c));
+        for (int i = 0; i < light.area.sampleCount(); ++i)
+            at.push_back(light.area.sample(i));
+    }
+    if (at.empty())
+        return std::nullopt;
+    std::vector<std::size_t> standsIn;
+    for (const glm::dvec3& p : at) {
+        const std::optional<std::size_t> cell = pvs::cellAt(cells, p);
+        if (!cell || *cell >= rows.cellCount())
+            return std::nullopt;
+        standsIn.push_back(*cell);
+    }
+    std::sort(standsIn.begin(), standsIn.end());
+    standsIn.erase(std::unique(standsIn.begin(), standsIn.end()), standsIn.end());
+    std::vector<std::uint32_t> reach;
+    for (std::size_t cell : standsIn) {
+        const std::vector<std::uint32_t> more = pvs::instancesVisibleFrom(rows, objects, cell);
+        reach.insert(reach.end(), more.begin(), more.end());
+    }
+    std::sort(reach.begin(), reach.end());
+    reach.erase(std::unique(reach.begin(), reach.end()), reach.end());
+    return reach;
+}
+
 } // namespace sightline

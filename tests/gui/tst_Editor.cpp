@@ -1133,6 +1133,33 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains("scissor"), 10000);
         QTest::qWait(100);
         saveWindowShot("lit-view-light-sets");
+        // With the PVS baked and the eye in a cell, the bake serves them: V is that cell's row
+        // (every instance of the objects it may see), L lies within the row of the light's cell.
+        const Camera overview = window_->controller().camera();
+        window_->findChild<QAction*>("pvsDebugger")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
+        const std::vector<Bounds>& cells = viewport.pvsCells();
+        const std::optional<std::size_t> lightCell = pvs::cellAt(cells, document.lights()[0].position);
+        QVERIFY(lightCell.has_value());   // the lamp was placed a little over the floor
+        Camera inCell = overview;
+        inCell.distance = 3.0;
+        inCell.pitch = -0.3;
+        const glm::dvec3 centre = 0.5 * (glm::dvec3(cells[*lightCell].min) + glm::dvec3(cells[*lightCell].max));
+        inCell.target = centre + inCell.distance * inCell.forward();   // the eye at the lamp's cell's centre
+        window_->controller().setCamera(inCell);
+        QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains("from the camera's PVS cell"), 120000);
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.lightSets().has_value(), 120000);
+        const pvs::VisibilityRows& rows = viewport.pvsShown();
+        std::vector<std::uint32_t> cellRow;
+        for (std::uint32_t o : rows.visibleObjects(*lightCell))
+            cellRow.insert(cellRow.end(), viewport.pvsObjects()[o].instances.begin(), viewport.pvsObjects()[o].instances.end());
+        std::sort(cellRow.begin(), cellRow.end());
+        QVERIFY(viewport.lightSets()->V == cellRow);
+        QVERIFY(std::includes(cellRow.begin(), cellRow.end(), viewport.lightSets()->L.begin(), viewport.lightSets()->L.end()));
+        QTest::qWait(100);
+        saveWindowShot("lit-view-light-sets-pvs");
+        window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
+        window_->controller().setCamera(overview);
         window_->findChild<QAction*>("lightSets")->trigger();   // off
         QVERIFY(!viewport.lightSets());
 

@@ -21,6 +21,7 @@
 #include "UiTestScene.h"
 #include "lighting/DirectLight.h"
 #include "lighting/LightEmission.h"
+#include "lighting/LightSets.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
 
@@ -307,6 +308,77 @@ LitPreviewFrame exactFrameShowing(std::shared_ptr<const Scene> scene, const std:
     lock.unlock();
     preview.stop();
     return out;
+}
+
+/// The sets the preview computes for `request` (between frames, on its worker).
+std::optional<LightSets> previewSets(std::shared_ptr<const Scene> scene, const std::vector<Light>& lights,
+                                     LitPreview::SetsRequest request)
+{
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::optional<LightSets> sets;
+    LitPreview preview([&](LitPreviewFrame frame) {
+        std::lock_guard lock(mutex);
+        if (frame.sets)
+            sets = frame.sets;
+        arrived.notify_all();
+    });
+    preview.start(5, {.scene = std::move(scene), .lights = lights, .segmentsPerFrame = std::uint64_t(1) << 40});
+    preview.requestSets(std::move(request));
+    std::unique_lock lock(mutex);
+    EXPECT_TRUE(arrived.wait_for(lock, std::chrono::seconds(120), [&] { return sets.has_value(); }));
+    const std::optional<LightSets> out = sets;
+    lock.unlock();
+    preview.stop();
+    return out;
+}
+
+// A baked PVS serves the sets: V is the row given (the camera cell's), and L is the light's reach
+// within the row it is bounded by, no more.
+TEST(LitPreview, SetsServedByAPvsTakeItsRowAsVAndBoundL)
+{
+    const auto scene = boxOnAFloor();   // instances: 0 the floor, 1 the box
+    const std::vector<Light> lights = someLights();
+    Camera camera;
+    camera.target = {0.0, 0.5, 0.0};
+    camera.distance = 6.0;
+    const std::optional<LightSets> plain = previewSets(scene, lights, {0, camera, std::nullopt, std::nullopt});
+    ASSERT_TRUE(plain);
+    ASSERT_EQ(plain->L, (std::vector<std::uint32_t>{0, 1}));
+    const std::optional<LightSets> served =
+        previewSets(scene, lights, {0, camera, std::vector<std::uint32_t>{1}, std::vector<std::uint32_t>{0}});
+    ASSERT_TRUE(served);
+    EXPECT_EQ(served->V, (std::vector<std::uint32_t>{1}));
+    EXPECT_EQ(served->L, (std::vector<std::uint32_t>{0}));   // the box is outside the row bounding L
+    EXPECT_TRUE(served->I.empty());
+}
+
+// pvsReach: the rows of the cells a light stands in; none for a light outside every cell or a sun.
+TEST(LitPreview, PvsReachIsTheRowOfTheCellsALightStandsIn)
+{
+    const std::vector<Bounds> cells = {{glm::vec3(-5, 0, -5), glm::vec3(0, 3, 5)}, {glm::vec3(0, 0, -5), glm::vec3(5, 3, 5)}};
+    pvs::VisibilityRows rows(2, 3);
+    rows.set(0, 0, true);
+    rows.set(1, 1, true);
+    rows.set(1, 2, true);
+    std::vector<pvs::PvsObject> objects(3);
+    objects[0].instances = {0};
+    objects[1].instances = {1, 4};
+    objects[2].instances = {2};
+    Light lamp;
+    lamp.position = {2.0, 1.0, 0.0};
+    EXPECT_EQ(pvsReach(cells, rows, objects, lamp), (std::vector<std::uint32_t>{1, 2, 4}));
+    lamp.position = {9.0, 1.0, 0.0};
+    EXPECT_FALSE(pvsReach(cells, rows, objects, lamp));
+    Light panel;
+    panel.type = LightType::Area;
+    panel.area.corner = {-1.0, 2.5, -1.0};
+    panel.area.u = {2.0, 0.0, 0.0};
+    panel.area.v = {0.0, 0.0, 2.0};
+    EXPECT_EQ(pvsReach(cells, rows, objects, panel), (std::vector<std::uint32_t>{0, 1, 2, 4}));   // across both cells
+    Light sun;
+    sun.type = LightType::Directional;
+    EXPECT_FALSE(pvsReach(cells, rows, objects, sun));
 }
 
 TEST(LitPreview, OverlapAndComplexityCountEachLightAsTheReferenceLightsAlone)

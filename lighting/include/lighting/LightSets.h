@@ -12,11 +12,13 @@
 // therefore what those samples see: a sliver reached only between them is missed, never invented.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
 #include "visibility/Scene.h"
+#include "visibility/pvs/PvsData.h"
 
 namespace sightline {
 
@@ -36,6 +38,14 @@ struct LightSetOptions {
 };
 
 inline constexpr int kMaxPointsPerTriangle = 4096;
+
+/// What a baked PVS's rows bound a light's L by: the instances visible from the cells it stands
+/// in (a point or spot light's position, an area light's corners and samples), for
+/// LightSetOptions::candidates; nullopt when some of those points lie in no cell, and for a
+/// directional light, which stands nowhere. Whatever the light reaches is visible from its
+/// cells, so a conservative bake only spares work.
+std::optional<std::vector<std::uint32_t>> pvsReach(const std::vector<Bounds>& cells, const pvs::VisibilityRows& rows,
+                                                   const std::vector<pvs::PvsObject>& objects, const Light& light);
 
 /// The sets of each light, in the lights' order. `visible` is V (any order, duplicates allowed).
 /// `scene` must be the one `lighting` was built from.

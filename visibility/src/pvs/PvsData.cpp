@@ -72,11 +72,12 @@ std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::d
     return std::nullopt;
 }
 
-std::vector<std::uint32_t> instancesVisibleFrom(const PvsData& data, std::size_t cell)
+std::vector<std::uint32_t> instancesVisibleFrom(const VisibilityRows& rows, const std::vector<PvsObject>& objects,
+                                                std::size_t cell)
 {
     std::vector<std::uint32_t> out;
-    for (std::uint32_t o : data.rows.visibleObjects(cell))
-        out.insert(out.end(), data.objects[o].instances.begin(), data.objects[o].instances.end());
+    for (std::uint32_t o : rows.visibleObjects(cell))
+        out.insert(out.end(), objects.at(o).instances.begin(), objects.at(o).instances.end());
     std::sort(out.begin(), out.end());
     out.erase(std::unique(out.begin(), out.end()), out.end());
     return out;

@@ -81,8 +81,9 @@ struct PvsData {
 /// boxes), if any: where a camera or a light stands, whose row it sees.
 std::optional<std::size_t> cellAt(const std::vector<Bounds>& cells, const glm::dvec3& point);
 
-/// The scene instances of the objects visible from `cell`, sorted (every instance of a grouped
-/// object).
-std::vector<std::uint32_t> instancesVisibleFrom(const PvsData& data, std::size_t cell);
+/// The scene instances of the objects `rows` holds visible from `cell`, sorted (every instance
+/// of a grouped object).
+std::vector<std::uint32_t> instancesVisibleFrom(const VisibilityRows& rows, const std::vector<PvsObject>& objects,
+                                                std::size_t cell);
 
 } // namespace sightline::pvs
