@@ -340,11 +340,7 @@ void main()
     m.shadeProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, emitters + kShade}}, "GL lights shading");
 
     m.upload(m.vertexBuffer, local.data(), local.size() * sizeof(glm::vec3));
-    gl.CreateVertexArrays(1, &m.vao);
-    gl.VertexArrayVertexBuffer(m.vao, 0, m.vertexBuffer, 0, sizeof(glm::vec3));
-    gl.VertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl.VertexArrayAttribBinding(m.vao, 0, 0);
-    gl.EnableVertexArrayAttrib(m.vao, 0);
+    m.vao = gl::positionVertexArray(gl, m.vertexBuffer);
 
     GLint maxLayers = 256;
     gl.GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);

@@ -100,12 +100,8 @@ HeckbertHerfSampler::HeckbertHerfSampler(const gl::Functions& gl, WorldTriangles
 {
     impl_->program = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, kFragmentShader}},
                                       "Heckbert-Herf sampler");
-    gl.CreateVertexArrays(1, &impl_->vertexArray);
     gl.CreateBuffers(1, &impl_->buffer);
-    gl.VertexArrayVertexBuffer(impl_->vertexArray, 0, impl_->buffer, 0, sizeof(glm::vec3));
-    gl.VertexArrayAttribFormat(impl_->vertexArray, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl.VertexArrayAttribBinding(impl_->vertexArray, 0, 0);
-    gl.EnableVertexArrayAttrib(impl_->vertexArray, 0);
+    impl_->vertexArray = gl::positionVertexArray(gl, impl_->buffer);
 }
 
 HeckbertHerfSampler::~HeckbertHerfSampler() = default;

@@ -160,11 +160,7 @@ AoGlCaster::AoGlCaster(const gl::Functions& gl, const AoOccluders& occluders, Ao
     gl.CreateBuffers(1, &m.indexBuffer);
     gl.NamedBufferData(m.indexBuffer, GLsizeiptr(indices.size() * sizeof(std::uint32_t)), indices.data(), GL_STATIC_DRAW);
     m.indexCount = GLsizei(indices.size());
-    gl.CreateVertexArrays(1, &m.vao);
-    gl.VertexArrayVertexBuffer(m.vao, 0, m.vertexBuffer, 0, sizeof(glm::vec3));
-    gl.VertexArrayAttribFormat(m.vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-    gl.VertexArrayAttribBinding(m.vao, 0, 0);
-    gl.EnableVertexArrayAttrib(m.vao, 0);
+    m.vao = gl::positionVertexArray(gl, m.vertexBuffer);
     gl.VertexArrayElementBuffer(m.vao, m.indexBuffer);
 
     gl.CreateTextures(GL_TEXTURE_2D, 1, &m.depthTexture);

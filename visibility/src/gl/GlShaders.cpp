@@ -76,4 +76,15 @@ GLuint buildProgram(const Functions& gl, std::initializer_list<std::pair<GLenum,
     return program;
 }
 
+GLuint positionVertexArray(const Functions& gl, GLuint buffer)
+{
+    GLuint vao = 0;
+    gl.CreateVertexArrays(1, &vao);
+    gl.VertexArrayVertexBuffer(vao, 0, buffer, 0, 3 * sizeof(float));
+    gl.VertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
+    gl.VertexArrayAttribBinding(vao, 0, 0);
+    gl.EnableVertexArrayAttrib(vao, 0);
+    return vao;
+}
+
 } // namespace sightline::gl
