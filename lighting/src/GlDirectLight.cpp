@@ -123,7 +123,7 @@ layout(std430, binding = 3) buffer Bits { uint bits[]; };
 layout(std430, binding = 5) readonly buffer Classes { uint classes[]; };   // 4 a word: [tile * lights + light]
 layout(std430, binding = 6) readonly buffer TileOf { uint tileOf[]; };
 layout(binding = 0) uniform sampler2DArray maps;
-uniform int emitterCount, pointCount, resolution, wantBits, wordsPerPoint, useClasses, lightCount;
+uniform int emitterCount, pointBase, pointCount, resolution, wantBits, wordsPerPoint, useClasses, lightCount;
 uniform float invRadius, texelAngle, directionalTexel, maxBiasTexels;
 
 vec2 octahedral(vec3 v)
@@ -178,6 +178,8 @@ bool unshadowed(Emitter em, int layer, vec3 x, vec3 n)
         vec3 u, v;
         orthoBasis(em.direction.xyz, u, v);
         uv = vec2(dot(x, u), dot(x, v)) * invRadius;
+        if (any(greaterThan(abs(uv), vec2(1.0))))
+            return true;   // its ray passes beside the scene's bounding sphere: nothing on it
         depth = dot(x, em.direction.xyz);
         lateral = directionalTexel;
         cosTheta = abs(dot(n, em.direction.xyz));
@@ -198,7 +200,7 @@ bool unshadowed(Emitter em, int layer, vec3 x, vec3 n)
 
 void main()
 {
-    int i = int(gl_GlobalInvocationID.x);
+    int i = pointBase + int(gl_GlobalInvocationID.x);
     if (i >= pointCount)
         return;
     vec3 x = points[2 * i].xyz, n = points[2 * i + 1].xyz;
@@ -450,8 +452,12 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
         gl.UseProgram(sp);
         gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "emitterCount"), GLint(count));
         gl.BindTextureUnit(0, m.mapTexture);
-        if (!points.empty())
-            gl.DispatchCompute(GLuint((points.size() + 63) / 64), 1, 1);
+        // At most 65,535 groups a dispatch (the least GL guarantees).
+        const std::size_t perDispatch = std::size_t(65535) * 64;
+        for (std::size_t base = 0; base < points.size(); base += perDispatch) {
+            gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "pointBase"), GLint(base));
+            gl.DispatchCompute(GLuint((std::min(perDispatch, points.size() - base) + 63) / 64), 1, 1);
+        }
         gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         gl.Finish();
         s.shadeMs += msSince(phase);
