@@ -268,7 +268,8 @@ std::vector<glm::dvec3> glIrradiance(GlDirectLight& gl, const std::string& rende
                                      const LightsArgs& args, json& glJson, json& comparison, DirectLightStats& stats)
 {
     GlDirectLightStats glStats;
-    gl.irradiance(lights, std::span(points.data(), std::min<std::size_t>(points.size(), 64)));   // compiles the shaders' pipelines
+    // One light at a few points first: the driver compiles the shaders' pipelines on first use.
+    gl.irradiance({Light{}}, std::span(points.data(), std::min<std::size_t>(points.size(), 64)));
     // Barczak's occlusion pyramid: the proved tile classes, on the CPU, counted in the GL time.
     std::optional<TileClasses> classes;
     if (!args.glNoPyramid)
