@@ -68,6 +68,9 @@ struct Run {
     /// Every emitter of every light at each point, cast from the point.
     void reference(const std::vector<Emitter>& emitters)
     {
+        std::vector<EmitterTerm> termOf;
+        for (const Light& light : lights)
+            termOf.emplace_back(light);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 16), [&](const auto& range) {
             Scratch& s = scratch;
             for (std::size_t j = range.begin(); j != range.end(); ++j) {
@@ -75,7 +78,7 @@ struct Run {
                 s.clear();
                 for (const Emitter& e : emitters) {
                     const Light& light = lights[e.light];
-                    const double w = emitterTerm(light, e.position, p.position, p.normal);
+                    const double w = termOf[e.light](e.position, p.position, p.normal);
                     if (!(w > 0.0))
                         continue;
                     s.ends.push_back(light.type == LightType::Directional ? scene.reach().end(light, p.position) : e.position);
@@ -112,11 +115,11 @@ struct Run {
             const std::size_t count = light.type == LightType::Directional ? 1 : emitters.size();
             s.weights.assign(n * count, 0.0);
             std::uint64_t nonZero = 0;
+            const EmitterTerm term(light);
             for (std::size_t k = 0; k < n; ++k) {
                 const ShadingPoint& p = points[t.points[k]];
                 for (std::size_t i = 0; i < count; ++i) {
-                    const double w = emitterTerm(light, light.type == LightType::Directional ? p.position : emitters[i],
-                                                 p.position, p.normal);
+                    const double w = term(light.type == LightType::Directional ? p.position : emitters[i], p.position, p.normal);
                     if (w > 0.0)
                         s.weights[k * count + i] = w, ++nonZero;
                 }
@@ -239,7 +242,8 @@ struct Run {
                 if (lights::quadBlocksShaft(a, b, c, d, fromSpan, toSpan))
                     return true;
             }
-            return false;
+            // With every coplanar triangle joined to it (a wall's bands between its openings).
+            return lights::coplanarRegionBlocksShaft(scene.triangles(), scene.neighbours(), triangle, fromSpan, toSpan);
         };
         return attempt(origin, centre) || attempt(centre, origin);
     }
@@ -277,7 +281,6 @@ struct Run {
     {
         TileScratch& s = tileScratch;
         const std::size_t n = t.points.size();
-        std::uint64_t total = 0;
         if (light.type == LightType::Directional) {
             s.starts.clear(), s.ends.clear(), s.index.clear();
             for (std::size_t k = 0; k < n; ++k)
@@ -308,6 +311,7 @@ struct Run {
         }
         // An area light: packets from each point to the samples that light it (full packets of
         // nearby directions, whichever way the tile's surfaces face).
+        std::uint64_t total = 0;
         for (std::size_t k = 0; k < n; ++k) {
             s.ends.clear(), s.index.clear();
             for (std::size_t i = 0; i < count; ++i)

@@ -28,11 +28,33 @@ std::vector<Emitter> lightEmitters(const std::vector<Light>& lights)
 
 double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n)
 {
+    return EmitterTerm(light)(position, x, n);
+}
+
+EmitterTerm::EmitterTerm(const Light& light) : light_(&light)
+{
+    if (light.type == LightType::Area) {
+        const glm::dvec3 cross = glm::cross(light.area.u, light.area.v);
+        const double area = glm::length(cross);
+        areaNormal_ = cross / area;
+        sampleRadiance_ = light.radiance * (area / double(light.area.sampleCount()));
+        clamp2_ = light.clampMetres * light.clampMetres;
+    }
+    if (light.type == LightType::Spot)
+        cosInner_ = std::cos(light.innerAngle), cosOuter_ = std::cos(light.outerAngle);
+}
+
+double EmitterTerm::operator()(const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n) const
+{
+    const Light& light = *light_;
     if (light.type == LightType::Directional)
         return light.intensity * std::max(0.0, -glm::dot(n, light.direction));
     const glm::dvec3 toLight = position - x;
     const double d2 = glm::dot(toLight, toLight);
-    if (!(d2 > 0.0))
+    // Facing away (from the receiver's side, or from a one-sided area light's): zero, decided
+    // before the square root.
+    if (!(d2 > 0.0) || !(glm::dot(n, toLight) > 0.0) ||
+        (light.type == LightType::Area && !light.twoSided && !(glm::dot(areaNormal_, toLight) < 0.0)))
         return 0.0;
     const double d = std::sqrt(d2);
     const glm::dvec3 l = toLight / d;
@@ -40,12 +62,10 @@ double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dv
     if (!(cosReceiver > 0.0))
         return 0.0;
     if (light.type == LightType::Area) {
-        const glm::dvec3 cross = glm::cross(light.area.u, light.area.v);
-        const double area = glm::length(cross);
-        const double cosLight = -glm::dot(cross / area, l);
+        const double cosLight = -glm::dot(areaNormal_, l);
         const double facing = light.twoSided ? std::abs(cosLight) : std::max(0.0, cosLight);
-        const double clamped = std::max(d2, light.clampMetres * light.clampMetres);
-        return light.radiance * (area / double(light.area.sampleCount())) * facing * cosReceiver / clamped;
+        const double clamped = std::max(d2, clamp2_);
+        return sampleRadiance_ * facing * cosReceiver / clamped;
     }
     double term = light.intensity * cosReceiver / d2;
     if (light.range > 0.0) {
@@ -55,8 +75,7 @@ double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dv
     }
     if (light.type == LightType::Spot) {
         const double cosT = -glm::dot(light.direction, l);
-        const double cosA = std::cos(light.innerAngle), cosB = std::cos(light.outerAngle);
-        const double cone = std::clamp((cosT - cosB) / (cosA - cosB), 0.0, 1.0);
+        const double cone = std::clamp((cosT - cosOuter_) / (cosInner_ - cosOuter_), 0.0, 1.0);
         term *= cone * cone;
     }
     return term;

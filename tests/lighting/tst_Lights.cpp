@@ -275,6 +275,51 @@ TEST(Lights, AWallWithADoorwayIsNotProvedShut)
     EXPECT_GE(stats.tilesCast, 1u);
 }
 
+// A wall built of bands around a window (coplanar cells sharing edges): where a tile's shaft
+// crosses several cells, no triangle or pair covers it, but the cells together do.
+TEST(Lights, AWallOfBandsShadowsWholeTilesAndItsWindowLetsLightThrough)
+{
+    // The wall z = 0, x in [-3, 3], y in [0, 3], as 3 x 3 cells of 2 m x 1 m, welded, with the
+    // middle cell (x in [-1, 1], y in [1, 2]) a window.
+    Mesh wall;
+    wall.name = "wall";
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+            wall.positions.emplace_back(-3.0f + 2.0f * float(i), float(j), 0.0f);
+    const auto at = [](int i, int j) { return std::uint32_t(i + 4 * j); };
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i)
+            if (i != 1 || j != 1)
+                wall.indices.insert(wall.indices.end(), {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    const Scene scene = test::sceneOf({wall});
+    std::vector<ShadingPoint> points;
+    for (int i = 0; i < 24; ++i)
+        for (int j = 0; j < 16; ++j)
+            points.push_back({{-2.9 + 0.25 * i, 0.01, 0.2 + 0.25 * j}, {0.0, 1.0, 0.0}});
+    // A lamp low behind the wall: every segment crosses the bottom band, across its cells' seams.
+    const std::vector<Light> low = {pointLight({0.0, 0.5, -1.5}, 20.0)};
+    DirectLightStats stats;
+    EXPECT_EQ(disagreements(scene, low, points, nullptr, nullptr, &stats), 0);
+    EXPECT_EQ(stats.tilesCast, 0u);
+    EXPECT_GE(stats.tilesProvenShadowed, 6u);
+    const LightingScene lighting(scene);
+    for (const glm::dvec3& e : irradiance(lighting, low, points, LightingPath::Fast))
+        EXPECT_EQ(e, glm::dvec3(0.0));
+    // A panel high behind it shines through the window onto part of the floor.
+    Patch panel;
+    panel.corner = {-0.5, 2.6, -2.0};
+    panel.u = {1.0, 0.0, 0.0};
+    panel.v = {0.0, 0.0, 1.0};   // facing down
+    panel.na = 4, panel.nb = 4;
+    const std::vector<Light> high = {areaLight(panel, 10.0), pointLight({0.0, 1.8, -1.0}, 10.0)};
+    EXPECT_EQ(disagreements(scene, high, points, nullptr), 0);
+    int lit = 0;
+    for (const glm::dvec3& e : irradiance(lighting, high, points, LightingPath::Fast))
+        lit += e.x > 0.0;
+    EXPECT_GT(lit, 10);
+    EXPECT_LT(lit, int(points.size()));
+}
+
 // Random soups between an area light and a receiver grid (the bitmask's case, E&D §8), with point,
 // spot and directional lights among them; the receiver's samples and scattered points, at the
 // origin and 10 km out. Both paths must lie in the exact interval at every point.

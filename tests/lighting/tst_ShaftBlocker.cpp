@@ -1,11 +1,14 @@
 // The shadow proofs of the lights' fast path (lighting/src/lights/ShaftBlocker.h): a triangle or a
 // fused convex quadrilateral blocks a whole shaft only when every segment of it crosses, checked
 // here against dense samples of the shaft's segments by the contract's own test.
+#include <algorithm>
 #include <array>
+#include <initializer_list>
 #include <random>
 
 #include <gtest/gtest.h>
 
+#include "lights/EdgeNeighbours.h"
 #include "lights/ShaftBlocker.h"
 #include "visibility/ExactSegment.h"
 
@@ -45,6 +48,51 @@ std::array<glm::dvec3, 8> boxCorners(const glm::dvec3& lo, const glm::dvec3& hi)
     for (int c = 0; c < 8; ++c)
         corners[std::size_t(c)] = {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
     return corners;
+}
+
+/// A wall in z = 0 built of 4 x 3 cells of 1 m (two triangles each, welded), less the cells in
+/// `holes` (column + 4 * row): the bands between a wall's openings.
+WorldTriangles cellWall(std::initializer_list<int> holes = {})
+{
+    WorldTriangles wall;
+    for (int row = 0; row < 3; ++row)
+        for (int column = 0; column < 4; ++column) {
+            if (std::find(holes.begin(), holes.end(), column + 4 * row) != holes.end())
+                continue;
+            const float x = float(column) - 2.0f, y = float(row);
+            const glm::vec3 p00(x, y, 0), p10(x + 1, y, 0), p01(x, y + 1, 0), p11(x + 1, y + 1, 0);
+            for (const glm::vec3& v : {p00, p10, p11, p00, p11, p01})
+                wall.vertices.push_back(v);
+            wall.instanceOf.insert(wall.instanceOf.end(), 2, 0u);
+        }
+    return wall;
+}
+
+/// Whether every sampled segment from conv(`from`) to the box crosses some triangle of `wall`.
+bool everySampleBlockedByWall(const std::vector<glm::dvec3>& from, const std::array<glm::dvec3, 8>& box, const WorldTriangles& wall)
+{
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int k = 0; k < 4000; ++k) {
+        glm::dvec3 p(0.0), q(0.0);
+        double wp = 0.0, wq = 0.0;
+        for (const glm::dvec3& f : from) {
+            const double w = unit(rng);
+            p += w * f, wp += w;
+        }
+        for (const glm::dvec3& corner : box) {
+            const double w = unit(rng);
+            q += w * corner, wq += w;
+        }
+        p /= wp, q /= wq;
+        bool crossed = false;
+        for (std::size_t t = 0; t < wall.size() && !crossed; ++t)
+            crossed = segmentCrossesTriangle(p, q, glm::dvec3(wall.vertices[3 * t]), glm::dvec3(wall.vertices[3 * t + 1]),
+                                             glm::dvec3(wall.vertices[3 * t + 2]));
+        if (!crossed)
+            return false;
+    }
+    return true;
 }
 
 } // namespace
@@ -89,4 +137,48 @@ TEST(ShaftBlocker, ParallelSegmentsOfADirectionalLight)
     const glm::dvec3 a(-5, 3, -5), b(5, 3, -5), c(0, 3, 8);   // a roof triangle
     EXPECT_TRUE(triangleBlocksParallel(a, b, c, box, ends));
     EXPECT_FALSE(triangleBlocksParallel(a, b, glm::dvec3(0, 3, -4), box, ends));
+}
+
+TEST(ShaftBlocker, ACoplanarRegionOfManyTrianglesBlocksWhereNoTwoDo)
+{
+    // An area light in front of the wall's middle, a tile behind it: the shaft crosses six cells.
+    const std::vector<glm::dvec3> light = {{-0.4, 1.1, -1.0}, {0.4, 1.1, -1.0}, {-0.4, 1.9, -1.0}, {0.4, 1.9, -1.0}};
+    const auto box = boxCorners({-0.6, 0.7, 1.0}, {0.6, 2.3, 1.1});
+    const WorldTriangles wall = cellWall();
+    const auto neighbours = edgeNeighbours(wall);
+    const std::int64_t middle = 2 * (2 + 4 * 1);   // a triangle of the cell (0..1, 1..2)
+    EXPECT_TRUE(coplanarRegionBlocksShaft(wall, neighbours, middle, light, box));
+    EXPECT_TRUE(everySampleBlockedByWall(light, box, wall));
+    const glm::dvec3 a(wall.vertices[3 * middle]), b(wall.vertices[3 * middle + 1]), c(wall.vertices[3 * middle + 2]);
+    EXPECT_FALSE(triangleBlocksShaft(a, b, c, light, box));
+
+    // A window in the shaft's path: refused, and indeed leaky; one outside it changes nothing.
+    const WorldTriangles window = cellWall({1 + 4 * 1});   // the cell (-1..0, 1..2)
+    const std::int64_t seed = 2 * (1 + 4 * 1);              // now the first triangle of the cell (0..1, 1..2)
+    EXPECT_FALSE(coplanarRegionBlocksShaft(window, edgeNeighbours(window), seed, light, box));
+    EXPECT_FALSE(everySampleBlockedByWall(light, box, window));
+    const WorldTriangles aside = cellWall({3 + 4 * 2});   // the top right cell
+    EXPECT_TRUE(coplanarRegionBlocksShaft(aside, edgeNeighbours(aside), middle, light, box));
+
+    // A shaft running past the wall's edge: refused.
+    const auto beside = boxCorners({3.6, 0.7, 1.0}, {4.6, 2.3, 1.1});
+    EXPECT_FALSE(coplanarRegionBlocksShaft(wall, neighbours, middle, light, beside));
+    EXPECT_FALSE(everySampleBlockedByWall(light, beside, wall));
+
+    // A triangle folded back over the window's edge (on the same side as the cell it shares the
+    // edge with) does not close the window: a shaft through the window's side is refused.
+    WorldTriangles folded = cellWall({1 + 4 * 1});
+    for (const glm::vec3& v : {glm::vec3(0, 1, 0), glm::vec3(0, 2, 0), glm::vec3(2, 1.5f, 0)})
+        folded.vertices.push_back(v);
+    folded.instanceOf.push_back(0);
+    const std::vector<glm::dvec3> narrow = {{-0.15, 1.35, -1.0}, {0.25, 1.35, -1.0}, {-0.15, 1.65, -1.0}, {0.25, 1.65, -1.0}};
+    const auto behind = boxCorners({-0.25, 1.25, 1.0}, {0.35, 1.75, 1.02});
+    EXPECT_FALSE(coplanarRegionBlocksShaft(folded, edgeNeighbours(folded), seed, narrow, behind));
+    EXPECT_FALSE(everySampleBlockedByWall(narrow, behind, folded));
+
+    // A cell not exactly in the plane is not joined: its gap leaves the region open.
+    WorldTriangles bent = cellWall();
+    for (std::size_t k = 0; k < 6; ++k)
+        bent.vertices[3 * 2 * (1 + 4 * 1) + k].z += 1e-4f;   // the cell (-1..0, 1..2), both triangles
+    EXPECT_FALSE(coplanarRegionBlocksShaft(bent, edgeNeighbours(bent), middle, light, box));
 }

@@ -126,7 +126,7 @@ struct DirectLightStats {
     std::uint64_t terms = 0;             ///< (point, emitter) pairs with a non-zero unshadowed term
     std::uint64_t segmentsCast = 0;      ///< of those, decided by ray casting
     std::uint64_t tilesUnreached = 0;    ///< fast: (tile, light) pairs skipped by a box test
-    std::uint64_t tilesProvenShadowed = 0;   ///< fast: (tile, light) pairs one triangle shadows whole
+    std::uint64_t tilesProvenShadowed = 0;   ///< fast: (tile, light) pairs one triangle, or one coplanar region, shadows whole
     std::uint64_t tilesProvenLit = 0;    ///< fast: (tile, light) pairs whose shaft no triangle enters
     std::uint64_t tilesCast = 0;         ///< fast: (tile, light) pairs whose segments were cast
     std::size_t bitmaskLights = 0;       ///< area lights decided by the bitmask sampler

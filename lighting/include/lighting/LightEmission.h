@@ -38,6 +38,22 @@ std::vector<Emitter> lightEmitters(const std::vector<Light>& lights);
 /// normal n, before shadows; 0 where x coincides with the emitter.
 double emitterTerm(const Light& light, const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n);
 
+/// emitterTerm for one light with what depends on the light alone worked out once (an area light's
+/// normal and sample area, a spot's cone cosines): the same operations on the same values, so the
+/// same bits, at a fraction of the cost over many points.
+class EmitterTerm {
+public:
+    explicit EmitterTerm(const Light& light);
+    double operator()(const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n) const;
+
+private:
+    const Light* light_;
+    glm::dvec3 areaNormal_{0.0};   ///< normalize(u x v), as cross / |cross|
+    double sampleRadiance_ = 0.0;  ///< radiance * (A / (na nb))
+    double clamp2_ = 0.0;          ///< clampMetres^2
+    double cosInner_ = 1.0, cosOuter_ = 1.0;
+};
+
 /// Where a directional light's segment from x ends: along -direction, beyond every point of
 /// `bounds` (the scene's), so that no triangle past it could matter.
 struct DirectionalReach {

@@ -15,13 +15,26 @@
 // the quadrilateral, which the two cover (their shared edge inclusive in both, as the contract's
 // test has it), so every corner segment crossing one of the two suffices.
 //
+// Beyond two: the exactly coplanar triangles joined across edges around the first (a wall built
+// of bands between its windows) block together when their union U covers K, the crossings' hull.
+// U is the set of those triangles that reach K's bounding box; an edge shared by two of them lying
+// on opposite sides of it is inside U, every other edge is on U's boundary. If no boundary edge
+// meets K and a point inside K lies inside one of them, K lies in U: the interior of K, less finitely
+// many vertices, is connected and meets U, and U has no boundary there, so U holds all of it.
+// Where rounding could misjudge an edge or a side, the answer is no, or the miss lies within
+// rounding of an edge: a tie.
+//
 // A directional light's segments are parallel: from each point x to x - d L. Their crossings are
 // the parallel projection of B, the hull of its corners' projections: the same test with the
 // corner segments (c, c - d L).
 
+#include <array>
+#include <cstdint>
 #include <span>
 
 #include <glm/vec3.hpp>
+
+#include "visibility/Scene.h"
 
 namespace sightline::lights {
 
@@ -36,6 +49,11 @@ bool triangleBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dv
 /// (a, b, c) and (d, c, b) in either winding. False when they are not such a pair.
 bool quadBlocksShaft(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d,
                      std::span<const glm::dvec3> from, std::span<const glm::dvec3> to);
+
+/// The same for the exactly coplanar triangles joined across edges (`neighbours`, EdgeNeighbours.h)
+/// around triangle `seed`, by the argument above.
+bool coplanarRegionBlocksShaft(const WorldTriangles& triangles, std::span<const std::array<std::int64_t, 3>> neighbours,
+                               std::int64_t seed, std::span<const glm::dvec3> from, std::span<const glm::dvec3> to);
 
 /// The same for parallel segments starts[k] -> ends[k] (a directional light's, from a box's corners).
 bool triangleBlocksParallel(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::span<const glm::dvec3> starts,
