@@ -109,6 +109,32 @@ nlohmann::json newLightJson(LightType type, const glm::dvec3& at, const std::str
     return lightJson(light);
 }
 
+nlohmann::json lightOnSurfaceJson(LightType type, const glm::dvec3& point, const glm::dvec3& normal, const std::string& name)
+{
+    constexpr double kPointOut = 0.3, kSpotOut = 0.1, kAreaOut = 0.01, kAreaSide = 0.5;
+    switch (type) {
+    case LightType::Point: return newLightJson(type, point + kPointOut * normal, name);
+    case LightType::Directional: return newLightJson(type, point, name);
+    case LightType::Spot: {
+        nlohmann::json light = newLightJson(type, point + kSpotOut * normal, name);
+        light["direction"] = {normal.x, normal.y, normal.z};
+        return light;
+    }
+    case LightType::Area: break;
+    }
+    // Edges in the surface's plane with u x v along the normal: u level where the surface is not.
+    const glm::dvec3 across = std::abs(normal.y) < 0.9 ? glm::dvec3(0.0, 1.0, 0.0) : glm::dvec3(1.0, 0.0, 0.0);
+    const glm::dvec3 u = kAreaSide * glm::normalize(glm::cross(across, normal));
+    const glm::dvec3 v = glm::cross(normal, u);
+    const glm::dvec3 centre = point + kAreaOut * normal;
+    nlohmann::json light = newLightJson(type, centre, name);
+    const auto vec = [](const glm::dvec3& x) { return nlohmann::json::array({x.x, x.y, x.z}); };
+    light["corner"] = vec(centre - 0.5 * u - 0.5 * v);
+    light["u"] = vec(u);
+    light["v"] = vec(v);
+    return light;
+}
+
 std::optional<double> pickLight(const Light& light, const Bounds& level, const Ray& ray, double radius)
 {
     if (light.type == LightType::Area)

@@ -41,6 +41,12 @@ nlohmann::json placedLightJson(nlohmann::json light, LightType type, const glm::
 /// or two away, so the light shows at once in the lit view.
 nlohmann::json newLightJson(LightType type, const glm::dvec3& at, const std::string& name);
 
+/// A new light of `type` named `name` placed on the surface a click hit at `point` (unit `normal`
+/// facing the viewer): a point light 0.3 m out from it, a spot 0.1 m out shining along the normal
+/// (mounted on a ceiling it shines down, on a wall into the room), an area light lying on it 1 cm
+/// out and emitting along the normal. A sun has no place: newLightJson's. Other keys as newLightJson.
+nlohmann::json lightOnSurfaceJson(LightType type, const glm::dvec3& point, const glm::dvec3& normal, const std::string& name);
+
 /// Distance along `ray` to the light's marker when the ray passes within `radius` of its pivot
 /// (or, for an area light, crosses its rectangle).
 std::optional<double> pickLight(const Light& light, const Bounds& level, const Ray& ray, double radius);

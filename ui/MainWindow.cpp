@@ -545,8 +545,15 @@ void MainWindow::createCreateMenu()
             [this, addSuggested] { addSuggested->setEnabled(assistant_->suggestion().has_value()); });
 
     create->addSeparator();
-    // Lights at the orbit target, half a metre up (in a room the target is usually on or over
-    // the floor), selected so that the gizmo and the properties take them at once.
+    // Lights on the surface a click picks (as the patches are placed), or at once at the orbit
+    // target, half a metre up (in a room the target is usually on or over the floor); selected so
+    // that the gizmo and the properties take them at once.
+    action(create, tr("Place Point &Light on Surface"), QKeySequence(Qt::CTRL | Qt::Key_3), [this] { controller_->setTool(Tool::PlacePointLight); })
+        ->setObjectName("addPointLight");
+    action(create, tr("Place Sp&ot Light on Surface"), QKeySequence(Qt::CTRL | Qt::Key_4), [this] { controller_->setTool(Tool::PlaceSpotLight); })
+        ->setObjectName("addSpotLight");
+    action(create, tr("Place &Area Light on Surface"), QKeySequence(Qt::CTRL | Qt::Key_5), [this] { controller_->setTool(Tool::PlaceAreaLight); })
+        ->setObjectName("addAreaLight");
     auto addLight = [this](LightType type, const QString& kind) {
         const glm::dvec3 at = controller_->camera().target + glm::dvec3(0.0, 0.5, 0.0);
         const std::string name = kind.toStdString() + " " + std::to_string(document_.lights().size() + 1);
@@ -556,14 +563,16 @@ void MainWindow::createCreateMenu()
             QMessageBox::warning(this, tr("Add Light"), QString::fromUtf8(e.what()));
         }
     };
-    action(create, tr("Add Point &Light"), QKeySequence(Qt::CTRL | Qt::Key_3), [=] { addLight(LightType::Point, tr("Point light")); })
-        ->setObjectName("addPointLight");
-    action(create, tr("Add Sp&ot Light"), QKeySequence(Qt::CTRL | Qt::Key_4), [=] { addLight(LightType::Spot, tr("Spot light")); })
-        ->setObjectName("addSpotLight");
-    action(create, tr("Add &Area Light"), QKeySequence(Qt::CTRL | Qt::Key_5), [=] { addLight(LightType::Area, tr("Area light")); })
-        ->setObjectName("addAreaLight");
     action(create, tr("Add S&un"), QKeySequence(Qt::CTRL | Qt::Key_6), [=] { addLight(LightType::Directional, tr("Sun")); })
         ->setObjectName("addSun");
+    QMenu* atCentre = create->addMenu(tr("Add Light at the View's &Centre"));
+    atCentre->setObjectName("addLightAtCentre");
+    action(atCentre, tr("&Point Light"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_3), [=] { addLight(LightType::Point, tr("Point light")); })
+        ->setObjectName("addPointLightAtCentre");
+    action(atCentre, tr("&Spot Light"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_4), [=] { addLight(LightType::Spot, tr("Spot light")); })
+        ->setObjectName("addSpotLightAtCentre");
+    action(atCentre, tr("&Area Light"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_5), [=] { addLight(LightType::Area, tr("Area light")); })
+        ->setObjectName("addAreaLightAtCentre");
 }
 
 void MainWindow::createTransformMenu()

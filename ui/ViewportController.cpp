@@ -56,12 +56,37 @@ void ViewportController::setViewportSize(int width, int height)
     height_ = std::max(height, 1);
 }
 
+std::optional<LightType> placedLightType(Tool tool)
+{
+    switch (tool) {
+    case Tool::PlacePointLight: return LightType::Point;
+    case Tool::PlaceSpotLight: return LightType::Spot;
+    case Tool::PlaceAreaLight: return LightType::Area;
+    default: return std::nullopt;
+    }
+}
+
+namespace {
+
+QString lightKind(LightType type)
+{
+    switch (type) {
+    case LightType::Point: return ViewportController::tr("point light");
+    case LightType::Spot: return ViewportController::tr("spot light");
+    case LightType::Area: return ViewportController::tr("area light");
+    case LightType::Directional: break;
+    }
+    return ViewportController::tr("sun");
+}
+
+} // namespace
+
 void ViewportController::setTool(Tool tool)
 {
     if (tool == tool_)
         return;
     if (const ObjectKind patch = tool == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver;
-        tool != Tool::Select && document_.flags({patch, 0}).locked) {
+        (tool == Tool::PlaceSource || tool == Tool::PlaceReceiver) && document_.flags({patch, 0}).locked) {
         emit message(tr("The %1 is locked (Ctrl+L unlocks the selection, or untick Lock in the outline)")
                          .arg(patch == ObjectKind::Source ? tr("source") : tr("receiver")));
         return;
@@ -79,6 +104,8 @@ void ViewportController::setTool(Tool tool)
         const QString size = placementSize_ ? tr(", %1 × %2 m").arg(placementSize_->first, 0, 'g', 3).arg(placementSize_->second, 0, 'g', 3) : QString();
         emit message(tr("Click a surface to place the %1 patch%2 (Esc cancels)").arg(tool == Tool::PlaceSource ? tr("source") : tr("receiver"), size));
     }
+    if (const auto type = placedLightType(tool))
+        emit message(tr("Click a surface to place the %1 on it (Esc cancels)").arg(lightKind(*type)));
 }
 
 void ViewportController::setGizmoMode(GizmoMode mode)
@@ -271,6 +298,26 @@ bool ViewportController::placePatchAt(ObjectKind which, QPointF position)
     return true;
 }
 
+bool ViewportController::placeLightAt(LightType type, QPointF position)
+{
+    const auto hit = visibleSurface(rayAt(position));
+    if (!hit) {
+        emit message(tr("Nothing under the cursor to place the %1 on").arg(lightKind(type)));
+        return false;
+    }
+    QString kind = lightKind(type);
+    kind[0] = kind[0].toUpper();
+    const std::string name = kind.toStdString() + " " + std::to_string(document_.lights().size() + 1);
+    try {
+        document_.addLight(lightOnSurfaceJson(type, hit->point, hit->normal, name));
+    } catch (const std::exception& e) {
+        emit message(QString::fromUtf8(e.what()));
+        return false;
+    }
+    emit message(tr("%1 placed (Ctrl+Z undoes)").arg(QString::fromStdString(name)));
+    return true;
+}
+
 void ViewportController::mousePress(Qt::MouseButton button, Qt::KeyboardModifiers modifiers, QPointF position)
 {
     last_ = pressPosition_ = position;
@@ -292,6 +339,11 @@ void ViewportController::mousePress(Qt::MouseButton button, Qt::KeyboardModifier
     }
     if (tool_ == Tool::PlaceSource || tool_ == Tool::PlaceReceiver) {
         if (placePatchAt(tool_ == Tool::PlaceSource ? ObjectKind::Source : ObjectKind::Receiver, position))
+            setTool(Tool::Select);
+        return;
+    }
+    if (const auto type = placedLightType(tool_)) {
+        if (placeLightAt(*type, position))
             setTool(Tool::Select);
         return;
     }

@@ -1,8 +1,8 @@
 #pragma once
 // What the mouse and keyboard do in the viewport, kept out of the GL window so it is tested
 // with plain calls: navigation (orbit: left drag on empty space or Alt + left; pan: middle drag or
-// Shift + left; dolly: wheel; fly: right drag + WASD/QE, Shift for speed), placing a patch on the
-// surface under a click, selecting by click, and dragging the gizmo. A drag is shown live
+// Shift + left; dolly: wheel; fly: right drag + WASD/QE, Shift for speed), placing a patch or a
+// light on the surface under a click, selecting by click, and dragging the gizmo. A drag is shown live
 // (applyState) and becomes one undo command on release.
 
 #include <optional>
@@ -19,7 +19,10 @@
 
 namespace sightline::ui {
 
-enum class Tool { Select, PlaceSource, PlaceReceiver };
+enum class Tool { Select, PlaceSource, PlaceReceiver, PlacePointLight, PlaceSpotLight, PlaceAreaLight };
+
+/// The light a placing tool puts down, if it is one.
+std::optional<LightType> placedLightType(Tool tool);
 
 /// The designer's navigation speeds, as multiples of the defaults (Edit > Preferences).
 struct NavigationSpeeds {
@@ -108,6 +111,9 @@ public:
     ObjectRef objectAt(QPointF position) const;
     /// Places the source or receiver on the surface under `position`; false when nothing is hit.
     bool placePatchAt(ObjectKind which, QPointF position);
+    /// Adds a light of `type` on the surface under `position` (LightObjects.h's lightOnSurfaceJson),
+    /// selected, one undo step; false, with a message, when nothing drawn is there.
+    bool placeLightAt(LightType type, QPointF position);
     /// The selected object's box (a patch's corners, a light's marker); the patches' when nothing is selected.
     Bounds selectionBounds() const;
     /// Transform > Drop to Floor (End): the selection moved straight down (or up, out of the

@@ -35,6 +35,7 @@
 #include <fstream>
 #include <numbers>
 
+#include <glm/common.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "InteractionBenchmark.h"
@@ -1079,9 +1080,43 @@ private slots:
         EditorDocument& document = window_->document();
         waitForUpdate();
         const QImage plain = viewport.grabFramebuffer();
+        // Ctrl+3, then a click on the floor between the patches: the lamp stands 0.3 m over it.
+        ViewportController& controller = window_->controller();
         window_->findChild<QAction*>("addPointLight")->trigger();
+        QCOMPARE(controller.tool(), Tool::PlacePointLight);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("Click a surface"), qPrintable(window_->statusBar()->currentMessage()));
+        // A pixel showing the floor (not a pillar or a table) along the shaft between the patches.
+        QPoint click;
+        std::optional<SurfaceHit> hit;
+        for (double f = 0.3; f <= 0.7 && !hit; f += 0.05) {
+            const glm::dvec3 floorPoint = glm::mix(document.project().source.centre(), document.project().receiver.centre(), f) * glm::dvec3(1, 0, 1);
+            click = pixelOf(controller, floorPoint + glm::dvec3(0, 0.001, 0));
+            hit = controller.visibleSurface(pixelRay(controller.camera(), click.x(), click.y(), controller.width(), controller.height()));
+            if (hit && (hit->normal.y < 0.99 || std::abs(hit->point.y) > 0.05))
+                hit.reset();
+        }
+        QVERIFY(hit);
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click);
         QCOMPARE(document.lights().size(), std::size_t(1));
         QCOMPARE(document.selection(), (ObjectRef{ObjectKind::Light, 0}));
+        QCOMPARE(controller.tool(), Tool::Select);
+        QVERIFY(glm::length(document.lights()[0].position - (hit->point + 0.3 * hit->normal)) < 1e-9);
+        document.undoStack()->undo();
+        QVERIFY(document.lights().empty());
+        document.undoStack()->redo();
+        QCOMPARE(document.lights().size(), std::size_t(1));
+        document.select({ObjectKind::Light, 0});
+        // Ctrl+5 over the sky: nothing placed, the tool waits; Esc leaves it.
+        window_->findChild<QAction*>("addAreaLight")->trigger();
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, QPoint(5, 5));
+        QCOMPARE(document.lights().size(), std::size_t(1));
+        QCOMPARE(controller.tool(), Tool::PlaceAreaLight);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("Nothing under the cursor"), qPrintable(window_->statusBar()->currentMessage()));
+        window_->activateWindow();   // shortcuts go to the active window (no window manager here)
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_Escape);
+        QCOMPARE(controller.tool(), Tool::Select);
+        document.select({ObjectKind::Light, 0});
         auto* outline = window_->findChild<OutlinePanel*>();
         bool listed = false;
         for (int i = 0; i < outline->tree()->topLevelItemCount(); ++i)
@@ -1140,7 +1175,7 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
         const std::vector<Bounds>& cells = viewport.pvsCells();
         const std::optional<std::size_t> lightCell = pvs::cellAt(cells, document.lights()[0].position);
-        QVERIFY(lightCell.has_value());   // the lamp was placed a little over the floor
+        QVERIFY(lightCell.has_value());   // the lamp was placed 0.3 m over the floor
         Camera inCell = overview;
         inCell.distance = 3.0;
         inCell.pitch = -0.3;
@@ -1171,7 +1206,7 @@ private slots:
 
         // A second light, then the cost panel: a row per light with what it cost, the costliest
         // first; a click on a row selects that light.
-        window_->findChild<QAction*>("addSpotLight")->trigger();
+        window_->findChild<QAction*>("addSpotLightAtCentre")->trigger();   // Ctrl+Shift+4: at once, at the view's centre
         QCOMPARE(document.lights().size(), std::size_t(2));
         QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact() && viewport.litCosts().size() == 2, 120000);
         window_->findChild<QAction*>("panel-lightCosts")->trigger();

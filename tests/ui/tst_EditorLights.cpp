@@ -85,6 +85,32 @@ TEST(LightObjects, TheGizmosTransformRoundTripsEveryTypeAndKeepsOtherKeys)
     expectNear(stretched.area.centre(), parsedOne(area).area.centre());
 }
 
+// A click on a surface: a ceiling's normal faces down into the room, a wall's into it, a floor's up.
+TEST(LightObjects, ALightPlacedOnASurfaceStandsOffItAndShinesAwayFromIt)
+{
+    const glm::dvec3 ceiling(1.0, 3.0, -2.0), down(0.0, -1.0, 0.0);
+    const Light lamp = parsedOne(lightOnSurfaceJson(LightType::Point, ceiling, down, "lamp"));
+    expectNear(lamp.position, ceiling + 0.3 * down, 1e-12);
+    EXPECT_EQ(lamp.name, "lamp");
+    const glm::dvec3 wall(4.0, 1.5, 0.0), west(-1.0, 0.0, 0.0);
+    const Light spot = parsedOne(lightOnSurfaceJson(LightType::Spot, wall, west, "spot"));
+    expectNear(spot.position, wall + 0.1 * west, 1e-12);
+    expectNear(spot.direction, west, 1e-12);
+    EXPECT_LT(spot.innerAngle, spot.outerAngle);
+    for (const auto& [point, normal] : {std::pair(ceiling, down), std::pair(wall, west), std::pair(glm::dvec3(0.0, 0.0, 0.0), glm::dvec3(0.0, 1.0, 0.0)),
+                                        std::pair(glm::dvec3(2.0, 1.0, 2.0), glm::normalize(glm::dvec3(1.0, 1.0, 0.0)))}) {
+        const Light panel = parsedOne(lightOnSurfaceJson(LightType::Area, point, normal, "panel"));
+        expectNear(panel.area.centre(), point + 0.01 * normal, 1e-12);
+        expectNear(panel.area.normal(), normal, 1e-12);   // emits away from the surface
+        EXPECT_NEAR(glm::length(panel.area.u), 0.5, 1e-12);
+        EXPECT_NEAR(glm::length(panel.area.v), 0.5, 1e-12);
+        EXPECT_NEAR(glm::dot(panel.area.u, normal), 0.0, 1e-12);
+        EXPECT_NEAR(glm::dot(panel.area.v, normal), 0.0, 1e-12);
+    }
+    // A sun has no place: the new sun's own direction.
+    EXPECT_EQ(lightOnSurfaceJson(LightType::Directional, ceiling, down, "sun"), newLightJson(LightType::Directional, ceiling, "sun"));
+}
+
 TEST(LightObjects, AClickNearAMarkerPicksItsLight)
 {
     const Light lamp = parsedOne(newLightJson(LightType::Point, {0.0, 2.0, 0.0}, "lamp"));
