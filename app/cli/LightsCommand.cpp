@@ -563,10 +563,8 @@ int runLights(const LightsArgs& args)
     // the acceleration structures): a call over a few points pays them before anything is timed,
     // so that each path's time is what a warm editor or a second call sees, and --compare times
     // both paths alike.
-    if (!args.gl) {
-        const std::size_t few = std::min<std::size_t>(points.size(), 256);
-        directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), few), DirectLightOptions{.threads = args.threads});
-    }
+    directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), std::min<std::size_t>(points.size(), 256)),
+                     DirectLightOptions{.threads = args.threads});
     DirectLightStats stats;
     json glJson, comparison;
     const std::vector<glm::dvec3> irradiance =

@@ -182,8 +182,9 @@ struct Run {
         return {(c & 1) ? t.hi.x : t.lo.x, (c & 2) ? t.hi.y : t.lo.y, (c & 4) ? t.hi.z : t.lo.z};
     }
 
-    /// Whether one triangle shadows the whole tile from the light (lights/ShaftBlocker.h), trying
-    /// the first triangles met from the light's centre towards the tile's centre and back.
+    /// Whether one triangle, a fused pair or a coplanar region shadows the whole tile from the
+    /// light (lights/ShaftBlocker.h), trying the first triangles met from the light's centre towards
+    /// the tile's centre and back.
     bool provenShadowed(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t) const
     {
         glm::dvec3 corners[8];

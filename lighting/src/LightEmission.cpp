@@ -44,43 +44,6 @@ EmitterTerm::EmitterTerm(const Light& light) : light_(&light)
         cosInner_ = std::cos(light.innerAngle), cosOuter_ = std::cos(light.outerAngle);
 }
 
-double EmitterTerm::operator()(const glm::dvec3& position, const glm::dvec3& x, const glm::dvec3& n) const
-{
-    const Light& light = *light_;
-    if (light.type == LightType::Directional)
-        return light.intensity * std::max(0.0, -glm::dot(n, light.direction));
-    const glm::dvec3 toLight = position - x;
-    const double d2 = glm::dot(toLight, toLight);
-    // Facing away (from the receiver's side, or from a one-sided area light's): zero, decided
-    // before the square root.
-    if (!(d2 > 0.0) || !(glm::dot(n, toLight) > 0.0) ||
-        (light.type == LightType::Area && !light.twoSided && !(glm::dot(areaNormal_, toLight) < 0.0)))
-        return 0.0;
-    const double d = std::sqrt(d2);
-    const glm::dvec3 l = toLight / d;
-    const double cosReceiver = glm::dot(n, l);
-    if (!(cosReceiver > 0.0))
-        return 0.0;
-    if (light.type == LightType::Area) {
-        const double cosLight = -glm::dot(areaNormal_, l);
-        const double facing = light.twoSided ? std::abs(cosLight) : std::max(0.0, cosLight);
-        const double clamped = std::max(d2, clamp2_);
-        return sampleRadiance_ * facing * cosReceiver / clamped;
-    }
-    double term = light.intensity * cosReceiver / d2;
-    if (light.range > 0.0) {
-        const double ratio = d / light.range;
-        const double window = std::clamp(1.0 - ratio * ratio * ratio * ratio, 0.0, 1.0);
-        term *= window * window;
-    }
-    if (light.type == LightType::Spot) {
-        const double cosT = -glm::dot(light.direction, l);
-        const double cone = std::clamp((cosT - cosOuter_) / (cosInner_ - cosOuter_), 0.0, 1.0);
-        term *= cone * cone;
-    }
-    return term;
-}
-
 DirectionalReach::DirectionalReach(const Bounds& bounds)
 {
     if (bounds.empty()) {
