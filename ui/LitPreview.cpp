@@ -1,5 +1,7 @@
 #include "LitPreview.h"
 
+#include "LitIndirect.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -104,10 +106,19 @@ std::vector<TexelLightCounts> lightCounts(const LightingCache& cache, const std:
 /// The texels' colours for `frame.shading`, and the frame's counts. `reference`: Error's
 /// reference irradiance, empty while it is computed.
 std::vector<glm::vec3> shadeTexels(const LitTexels& texels, const LightingCache& cache, const std::vector<Light>& lights,
-                                   const LightingScene& scene, const std::vector<glm::dvec3>& reference, LitPreviewFrame& frame)
+                                   const LightingScene& scene, const std::vector<glm::dvec3>& reference,
+                                   const LitIndirect* indirect, LitPreviewFrame& frame)
 {
     std::vector<glm::vec3> colour(texels.pointOfTexel.size(), glm::vec3(0.0f));
-    const std::vector<glm::dvec3>& e = cache.irradiance();
+    const std::vector<glm::dvec3>& direct = cache.irradiance();
+    // The light shown: direct, plus the bounce when asked for (the error is the direct light's).
+    std::vector<glm::dvec3> withBounce;
+    if (indirect && frame.shading != LitShading::Error) {
+        withBounce = direct;
+        for (std::size_t j = 0; j < withBounce.size(); ++j)
+            withBounce[j] += indirect->irradiance()[j];
+    }
+    const std::vector<glm::dvec3>& e = withBounce.empty() ? direct : withBounce;
     std::vector<glm::vec3> perPoint(texels.points.size());
     switch (frame.shading) {
     case LitShading::Light:
@@ -239,6 +250,16 @@ void LitPreview::requestSets(std::optional<SetsRequest> request)
     wake_.notify_all();
 }
 
+void LitPreview::setIndirect(bool on)
+{
+    {
+        std::lock_guard lock(mutex_);
+        indirect_ = on;
+        ++shadingVersion_;   // shown otherwise: the worker wakes
+    }
+    wake_.notify_all();
+}
+
 void LitPreview::setShading(LitShading shading, int budget)
 {
     {
@@ -315,6 +336,7 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
         started = ++lightsVersion_;
         shading_ = request.shading;
         budget_ = std::max(request.budget, 1);
+        indirect_ = request.indirect;
     }
     current_.cancel = std::make_shared<std::atomic<bool>>(false);
     current_.done = std::make_shared<std::atomic<bool>>(false);
@@ -359,6 +381,7 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
             std::size_t setsLight = 0;
             bool setsServed = false;
             bool setsStale = false;   // the lights changed since the sets were computed
+            std::unique_ptr<LitIndirect> indirect;   // while one bounce is asked for
             for (;;) {
                 if (refresh) {
                     step = cache->update(scene, request.segmentsPerFrame, 1);
@@ -372,10 +395,12 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                 LitPreviewFrame frame;
                 std::optional<SetsRequest> setsWanted;
                 bool setsChanged = false;
+                bool indirectWanted = false;
                 {
                     std::lock_guard lock(mutex_);
                     frame.shading = shading_;
                     frame.budget = budget_;
+                    indirectWanted = indirect_;
                     shadingSeen = shadingVersion_;
                     setsWanted = setsRequest_;
                     setsChanged = setsVersion_ != setsSeen || (setsStale && setsWanted);
@@ -403,6 +428,19 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                 frame.sets = sets;
                 frame.setsLight = setsLight;
                 frame.setsServed = setsServed;
+                // The bounce: traced when first asked for, refined once the direct light is exact.
+                if (!indirectWanted) {
+                    indirect.reset();
+                } else {
+                    if (!indirect) {
+                        indirect = std::make_unique<LitIndirect>(texels.points);
+                        indirect->setLights(scene, lights);
+                    }
+                    if (step.exact)
+                        indirect->update(scene, request.segmentsPerFrame);
+                    if (cancel->load())
+                        return;
+                }
                 const double shownExposure = exposure > 0.0 ? exposure : autoExposure(cache->irradiance());
                 if (exposure == 0.0 && step.exact)
                     exposure = shownExposure;
@@ -419,7 +457,7 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                     if (cancel->load())
                         return;
                 }
-                const std::vector<glm::vec3> colour = shadeTexels(texels, *cache, lights, scene, referenceShown, frame);
+                const std::vector<glm::vec3> colour = shadeTexels(texels, *cache, lights, scene, referenceShown, indirect.get(), frame);
                 frame.uvs = texels.uvs;
                 frame.width = texels.layout.width;
                 frame.height = texels.layout.height;
@@ -432,7 +470,10 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                 for (std::size_t l = 0; l < lights.size(); ++l)
                     frame.costs.push_back(cache->cost(l));
                 frame.stale = cache->staleCount();
-                frame.exact = step.exact;
+                frame.indirect = indirect != nullptr;
+                frame.vpls = indirect ? indirect->vpls() : 0;
+                frame.exact = step.exact && (!indirect || indirect->exact());
+                const bool settled = frame.exact;
                 frame.lightsVersion = version;
                 frame.frameMs = step.ms;
                 frame.ms = since(start);
@@ -440,7 +481,7 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                 // Exact: wait for new lights, another shading or the end; else refresh the next
                 // stale lights.
                 std::unique_lock lock(mutex_);
-                if (step.exact && !referencePending)
+                if (settled && !referencePending)
                     wake_.wait(lock, [&] {
                         return cancel->load() || lightsVersion_ != version || shadingVersion_ != shadingSeen || setsVersion_ != setsSeen;
                     });
@@ -460,6 +501,8 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
                     }
                     lights = std::move(next);
                     setsStale = true;
+                    if (indirect)
+                        indirect->setLights(scene, lights);
                 }
             }
         } catch (const std::bad_alloc&) {

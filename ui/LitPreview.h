@@ -4,7 +4,8 @@
 // Barczak's amortised updates (lighting/LightingCache.h): every frame refreshes the stale lights,
 // brightest and longest stale first, within a budget of shadow segments, and delivers the map; the
 // view is the exact answer once no light is stale, and says so. Moving or editing a light stales
-// that light alone (setLights); a new scene (an occluder moved) starts again. Plain C++ (no Qt):
+// that light alone (setLights); a new scene (an occluder moved) starts again. One bounce of
+// indirect light may be added (LitIndirect.h). Plain C++ (no Qt):
 // the caller decides how an answer reaches its thread.
 
 #include <atomic>
@@ -51,7 +52,9 @@ struct LitPreviewFrame {
     std::size_t refreshed = 0;         ///< lights refreshed for this frame
     std::size_t rough = 0;             ///< of those, by the low-resolution pass (still stale)
     std::size_t stale = 0;             ///< lights still stale: their old light is shown
-    bool exact = false;                ///< no light stale: the exact irradiance, tone-mapped
+    bool indirect = false;             ///< one bounce of indirect light added (LitIndirect.h)
+    std::size_t vpls = 0;              ///< its virtual point lights
+    bool exact = false;                ///< no light stale (nor the bounce): the exact irradiance, tone-mapped
     std::uint64_t lightsVersion = 0;   ///< the lights it shows: start's or setLights' answer
     LitShading shading = LitShading::Light;
     int budget = 4;                    ///< Overlap, Complexity: the lights a texel may take
@@ -97,6 +100,7 @@ struct LitPreviewRequest {
     std::uint64_t segmentsPerFrame = 4'000'000;   ///< a frame's budget (LightingCache::update)
     LitShading shading = LitShading::Light;
     int budget = 4;
+    bool indirect = false;                  ///< add one bounce of indirect light (LitIndirect.h)
 };
 
 class LitPreview {
@@ -116,6 +120,9 @@ public:
     std::uint64_t setLights(std::vector<Light> lights);
     /// Shows the same light otherwise (no shadow ray cast again): a frame is delivered anew.
     void setShading(LitShading shading, int budget);
+    /// Adds (or drops) one bounce of indirect light: its VPLs are refreshed once the direct light
+    /// is exact, and the view is exact once they are too.
+    void setIndirect(bool on);
     /// Computes O'Rorke's sets (V from `camera`, lighting/LightSets.h) of light `light` between
     /// frames, and again when the lights change; nullopt stops. A baked PVS may serve them:
     /// `visible` is then V (the camera cell's row) and `reach` bounds L (pvsReach).
@@ -144,6 +151,7 @@ private:
     LitShading shading_ = LitShading::Light;
     int budget_ = 4;
     std::uint64_t shadingVersion_ = 0;
+    bool indirect_ = false;
     std::optional<SetsRequest> setsRequest_;
     std::uint64_t setsVersion_ = 0;
     Worker current_;

@@ -740,6 +740,14 @@ void MainWindow::addShadingItems(QMenu* view)
         a->setObjectName(shadingNames[k]);
         litModes->addAction(a);
     }
+    litShows->addSeparator();
+    QAction* indirect = litShows->addAction(tr("&Indirect Light (One Bounce)"), this, [this, lit](bool on) {
+        viewport_->setLitIndirect(on);
+        if (on && !lit->isChecked())
+            lit->trigger();
+    });
+    indirect->setCheckable(true);
+    indirect->setObjectName("litIndirect");
     QAction* sets = action(view, tr("Light &Sets of the Selected Light"), QKeySequence(Qt::SHIFT | Qt::Key_I), [this, lit](bool on) {
         if (on && !lit->isChecked())
             lit->trigger();

@@ -356,7 +356,8 @@ void Viewport::paintGL()
         litWanted_ = lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
                                        .lights = document_.lights(),
                                        .shading = litShading_,
-                                       .budget = litBudget_});
+                                       .budget = litBudget_,
+                                       .indirect = litIndirect_});
         if (setsShown_)
             requestLightSets();
     }
@@ -368,7 +369,7 @@ void Viewport::paintGL()
             showLightSets(*f.sets, f.setsLight, f.setsServed);
         if (f.error.empty()) {
             renderer_->setAmbientOcclusion(f.uvs, f.width, f.height, f.map);
-            litExact_ = f.exact && f.lightsVersion >= litWanted_;
+            litExact_ = f.exact && f.lightsVersion >= litWanted_ && f.indirect == litIndirect_;
             f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
             litTexels_ = f.texels;
             litCosts_ = std::move(f.costs);
@@ -503,7 +504,7 @@ void Viewport::setAmbientOcclusion(bool on)
 QString Viewport::litStatus(const LitPreviewFrame& f) const
 {
     if (f.lights == 0)
-        return tr("Lit view: no lights yet (Create > Add Point Light, Ctrl+3)");
+        return tr("Lit view: no lights yet (Create > Place Point Light on Surface, Ctrl+3)");
     if (setsShown_ && sets_)
         return setsStatus();   // the selected light's sets say more than the lit view's progress
     const QString state = f.exact ? tr("exact") : tr("%1 stale, refining (%2 refreshed in %3 ms)").arg(f.stale).arg(f.refreshed).arg(f.frameMs, 0, 'f', 0);
@@ -524,8 +525,12 @@ QString Viewport::litStatus(const LitPreviewFrame& f) const
                   "%2% of the lit texels off by more than 1% (%3)")
             .arg(100.0 * f.errorMax, 0, 'g', 2).arg(f.errorOverPercent, 0, 'f', 1).arg(state);
     }
-    return f.exact ? tr("Lit view: %1 lights, exact (%2 texels, %3 s)").arg(f.lights).arg(f.texels).arg(f.ms / 1000.0, 0, 'f', 1)
-                   : tr("Lit view: %1 lights, %2").arg(f.lights).arg(state);
+    const QString lights = f.indirect ? tr("%1 lights and one bounce by %2 VPLs").arg(f.lights).arg(f.vpls) : tr("%1 lights").arg(f.lights);
+    if (f.exact)
+        return tr("Lit view: %1, exact (%2 texels, %3 s)").arg(lights).arg(f.texels).arg(f.ms / 1000.0, 0, 'f', 1);
+    if (f.indirect && f.stale == 0)
+        return tr("Lit view: %1, the direct light exact, the bounce refining").arg(lights);
+    return tr("Lit view: %1, %2").arg(lights, state);
 }
 
 void Viewport::setLightSetsShown(bool on)
@@ -614,6 +619,14 @@ void Viewport::setLitShading(LitShading shading, int budget)
     litBudget_ = std::max(budget, 1);
     if (lit_ && style_.litView && !litStale_)
         lit_->setShading(litShading_, litBudget_);
+}
+
+void Viewport::setLitIndirect(bool on)
+{
+    litIndirect_ = on;
+    litExact_ = false;   // until a frame with (or without) the bounce says so
+    if (lit_ && style_.litView && !litStale_)
+        lit_->setIndirect(on);
 }
 
 void Viewport::setLitView(bool on)

@@ -96,6 +96,9 @@ public:
     /// What the lit view shows (LitPreview.h): the light, shadow complexity, light overlap against
     /// `budget` lights a texel, or staleness; changed without casting a shadow ray again.
     void setLitShading(LitShading shading, int budget);
+    /// Adds one bounce of indirect light to the lit view (LitIndirect.h), or drops it.
+    void setLitIndirect(bool on);
+    bool litIndirect() const { return litIndirect_; }
     LitShading litShading() const { return litShading_; }
     int litBudget() const { return litBudget_; }
     /// O'Rorke's sets of the selected light (lighting/LightSets.h) over the lit view: the level's
@@ -239,6 +242,7 @@ private:
     std::size_t litTexels_ = 0;
     LitShading litShading_ = LitShading::Light;
     int litBudget_ = 4;
+    bool litIndirect_ = false;
     bool setsShown_ = false;
     std::optional<LightSets> sets_;
     std::size_t setsLight_ = 0;

@@ -1145,6 +1145,22 @@ private slots:
             }
         QVERIFY2(sumLit < 0.9 * sumPlain && brightest > 120, qPrintable(QString("lit %1, plain %2, brightest %3").arg(sumLit).arg(sumPlain).arg(brightest)));
 
+        // One bounce of indirect light added: exact again once its VPLs are, and brighter.
+        window_->findChild<QAction*>("litIndirect")->trigger();
+        QVERIFY(viewport.litIndirect());
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact() && window_->statusBar()->currentMessage().contains("one bounce by"), 180000);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("exact"), qPrintable(window_->statusBar()->currentMessage()));
+        QTest::qWait(100);
+        const QImage bounced = viewport.grabFramebuffer();
+        saveWindowShot("lit-view-indirect");
+        double sumBounced = 0.0;
+        for (int y = 0; y < bounced.height(); y += 4)
+            for (int x = 0; x < bounced.width(); x += 4)
+                sumBounced += qGray(bounced.pixel(x, y));
+        QVERIFY2(sumBounced > sumLit, qPrintable(QString("with the bounce %1, without %2").arg(sumBounced).arg(sumLit)));
+        window_->findChild<QAction*>("litIndirect")->trigger();   // off again
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact() && !window_->statusBar()->currentMessage().contains("bounce"), 60000);
+
         // The same light shown as shadow complexity, then as overlap against a budget: no ray
         // cast again, the status bar says what the colours mean.
         for (const auto& [mode, words] : {std::pair{"litComplexity", "Shadow complexity"}, std::pair{"litOverlap", "Light overlap"},

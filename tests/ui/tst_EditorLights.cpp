@@ -15,11 +15,13 @@
 #include "EditorDocument.h"
 #include "LightCostPanel.h"
 #include "LightObjects.h"
+#include "LitIndirect.h"
 #include "LitPreview.h"
 #include "LitReference.h"
 #include "TestScenes.h"
 #include "UiTestScene.h"
 #include "lighting/DirectLight.h"
+#include "lighting/Indirect.h"
 #include "lighting/LightEmission.h"
 #include "lighting/LightSets.h"
 #include "project/ProjectLights.h"
@@ -247,6 +249,93 @@ TEST(LitPreview, TheExactFrameIsTheReferencesIrradianceToneMapped)
     }
     EXPECT_GT(lit, 1000u);
     EXPECT_GT(shadowed, 100u) << "the box's shadow and its undersides";
+}
+
+TEST(LitIndirect, TheBounceShownIsTheVplsIrradianceOnceExactAndThePreviousOneUntilThen)
+{
+    const auto scene = boxOnAFloor();
+    std::vector<Light> lights = someLights();
+    const LitTexels texels = litTexels(*scene);
+    const LightingScene lighting(*scene);
+    const IndirectOptions options = litIndirectOptions();
+    const auto expected = [&] {
+        return vplIrradiance(lighting, traceVpls(lighting, lights, options), texels.points, options).irradiance;
+    };
+    const auto settle = [&](LitIndirect& bounce) {
+        for (int frame = 0; frame < 10000 && !bounce.exact(); ++frame)
+            bounce.update(lighting, 1);   // a VPL or so a frame
+    };
+    const auto expectShown = [&](const LitIndirect& bounce, const std::vector<glm::dvec3>& want) {
+        ASSERT_EQ(bounce.irradiance().size(), want.size());
+        std::size_t lit = 0;
+        for (std::size_t j = 0; j < want.size(); ++j) {
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(bounce.irradiance()[j][c], want[j][c], 1e-6 * want[j][c] + 1e-12) << "point " << j;
+            lit += want[j].r > 0.0;
+        }
+        EXPECT_GT(lit, want.size() / 2) << "the bounce reaches most of the level";
+    };
+    LitIndirect bounce(texels.points);
+    EXPECT_FALSE(bounce.exact());
+    bounce.setLights(lighting, lights);
+    EXPECT_GT(bounce.vpls(), 100u);
+    for (const glm::dvec3& e : bounce.irradiance())
+        ASSERT_EQ(e, glm::dvec3(0.0));   // nothing shown before the first bounce is complete
+    settle(bounce);
+    ASSERT_TRUE(bounce.exact());
+    const std::vector<glm::dvec3> first = expected();
+    expectShown(bounce, first);
+
+    // A light moved: its bounce is traced again; the old one stays until the new one is whole.
+    lights[0].position += glm::dvec3(-2.0, 0.5, 1.0);
+    bounce.setLights(lighting, lights);
+    EXPECT_FALSE(bounce.exact());
+    bounce.update(lighting, 1);
+    if (!bounce.exact())
+        expectShown(bounce, first);
+    settle(bounce);
+    ASSERT_TRUE(bounce.exact());
+    expectShown(bounce, expected());
+}
+
+TEST(LitPreview, WithTheBounceTheExactFrameIsTheDirectAndTheBounceToneMapped)
+{
+    const auto scene = boxOnAFloor();
+    const std::vector<Light> lights = someLights();
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::optional<LitPreviewFrame> exact;
+    LitPreview preview([&](LitPreviewFrame frame) {
+        std::lock_guard lock(mutex);
+        if (frame.exact || !frame.error.empty())
+            exact = std::move(frame);
+        arrived.notify_all();
+    });
+    preview.start(3, {.scene = scene, .lights = lights, .indirect = true});
+    {
+        std::unique_lock lock(mutex);
+        ASSERT_TRUE(arrived.wait_for(lock, std::chrono::seconds(120), [&] { return exact.has_value(); }));
+    }
+    preview.stop();
+    ASSERT_TRUE(exact->error.empty()) << exact->error;
+    EXPECT_TRUE(exact->indirect);
+    EXPECT_GT(exact->vpls, 100u);
+    const LitTexels texels = litTexels(*scene);
+    const LightingScene lighting(*scene);
+    const std::vector<glm::dvec3> direct = directIrradiance(lighting, lights, texels.points, DirectLightOptions{.path = LightingPath::Reference});
+    const IndirectOptions options = litIndirectOptions();
+    const std::vector<glm::dvec3> bounce = vplIrradiance(lighting, traceVpls(lighting, lights, options), texels.points, options).irradiance;
+    std::size_t brighter = 0;
+    for (std::size_t k = 0; k < texels.pointOfTexel.size(); ++k) {
+        if (texels.pointOfTexel[k] == SIZE_MAX)
+            continue;
+        const std::size_t j = texels.pointOfTexel[k];
+        const glm::vec3 want = toneMapped(direct[j] + bounce[j], exact->exposure), shown = mapAt(*exact, texels, k);
+        for (int c = 0; c < 3; ++c)
+            ASSERT_NEAR(shown[c], want[c], 1e-5) << "texel " << k;
+        brighter += toneMapped(direct[j], exact->exposure).g < shown.g;
+    }
+    EXPECT_GT(brighter, texels.points.size() / 2) << "the bounce lights the shadows too";
 }
 
 TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
