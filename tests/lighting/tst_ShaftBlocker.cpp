@@ -5,6 +5,7 @@
 #include <array>
 #include <initializer_list>
 #include <random>
+#include <span>
 
 #include <gtest/gtest.h>
 
@@ -17,29 +18,37 @@ using namespace sightline::lights;
 
 namespace {
 
-/// Whether every sampled segment from the light's corners' hull to the box crosses triangle abc
-/// or triangle dcb (a brute-force reading of what the proofs claim).
-bool everySampleBlocked(const std::vector<glm::dvec3>& from, const std::array<glm::dvec3, 8>& box, const glm::dvec3& a,
-                        const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3* d)
+/// Whether `blocked(p, q)` holds for 4,000 segments from random points of conv(`from`) to random
+/// points of the box (a brute-force reading of what the proofs claim).
+template <typename Blocked>
+bool everySampleBlockedBy(const std::vector<glm::dvec3>& from, const std::array<glm::dvec3, 8>& box, unsigned seed, Blocked blocked)
 {
-    std::mt19937 rng(3);
+    std::mt19937 rng(seed);
     std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto pointOf = [&](std::span<const glm::dvec3> corners) {
+        glm::dvec3 x(0.0);
+        double total = 0.0;
+        for (const glm::dvec3& corner : corners) {
+            const double w = unit(rng);
+            x += w * corner, total += w;
+        }
+        return x / total;
+    };
     for (int k = 0; k < 4000; ++k) {
-        glm::dvec3 p(0.0), q(0.0);
-        double wp = 0.0, wq = 0.0;
-        for (const glm::dvec3& f : from) {
-            const double w = unit(rng);
-            p += w * f, wp += w;
-        }
-        for (const glm::dvec3& corner : box) {
-            const double w = unit(rng);
-            q += w * corner, wq += w;
-        }
-        p /= wp, q /= wq;
-        if (!segmentCrossesTriangle(p, q, a, b, c) && !(d && segmentCrossesTriangle(p, q, *d, c, b)))
+        const glm::dvec3 p = pointOf(from), q = pointOf(box);
+        if (!blocked(p, q))
             return false;
     }
     return true;
+}
+
+/// ... crossing triangle abc or triangle dcb.
+bool everySampleBlocked(const std::vector<glm::dvec3>& from, const std::array<glm::dvec3, 8>& box, const glm::dvec3& a,
+                        const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3* d)
+{
+    return everySampleBlockedBy(from, box, 3, [&](const glm::dvec3& p, const glm::dvec3& q) {
+        return segmentCrossesTriangle(p, q, a, b, c) || (d && segmentCrossesTriangle(p, q, *d, c, b));
+    });
 }
 
 std::array<glm::dvec3, 8> boxCorners(const glm::dvec3& lo, const glm::dvec3& hi)
@@ -68,31 +77,16 @@ WorldTriangles cellWall(std::initializer_list<int> holes = {})
     return wall;
 }
 
-/// Whether every sampled segment from conv(`from`) to the box crosses some triangle of `wall`.
+/// ... crossing some triangle of `wall`.
 bool everySampleBlockedByWall(const std::vector<glm::dvec3>& from, const std::array<glm::dvec3, 8>& box, const WorldTriangles& wall)
 {
-    std::mt19937 rng(5);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (int k = 0; k < 4000; ++k) {
-        glm::dvec3 p(0.0), q(0.0);
-        double wp = 0.0, wq = 0.0;
-        for (const glm::dvec3& f : from) {
-            const double w = unit(rng);
-            p += w * f, wp += w;
-        }
-        for (const glm::dvec3& corner : box) {
-            const double w = unit(rng);
-            q += w * corner, wq += w;
-        }
-        p /= wp, q /= wq;
-        bool crossed = false;
-        for (std::size_t t = 0; t < wall.size() && !crossed; ++t)
-            crossed = segmentCrossesTriangle(p, q, glm::dvec3(wall.vertices[3 * t]), glm::dvec3(wall.vertices[3 * t + 1]),
-                                             glm::dvec3(wall.vertices[3 * t + 2]));
-        if (!crossed)
-            return false;
-    }
-    return true;
+    return everySampleBlockedBy(from, box, 5, [&](const glm::dvec3& p, const glm::dvec3& q) {
+        for (std::size_t t = 0; t < wall.size(); ++t)
+            if (segmentCrossesTriangle(p, q, glm::dvec3(wall.vertices[3 * t]), glm::dvec3(wall.vertices[3 * t + 1]),
+                                       glm::dvec3(wall.vertices[3 * t + 2])))
+                return true;
+        return false;
+    });
 }
 
 } // namespace

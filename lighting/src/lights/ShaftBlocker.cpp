@@ -9,6 +9,7 @@
 #include <glm/vec2.hpp>
 
 #include "visibility/ExactSegment.h"
+#include "visibility/suggest/ConvexHull2.h"
 
 namespace sightline::lights {
 
@@ -60,28 +61,6 @@ struct PlaneCoordinates {
 double orientation(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c)
 {
     return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
-/// The convex hull, counter-clockwise, without collinear points (Andrew's monotone chain).
-std::vector<glm::dvec2> convexHull(std::vector<glm::dvec2> points)
-{
-    std::sort(points.begin(), points.end(), [](const glm::dvec2& a, const glm::dvec2& b) { return a.x != b.x ? a.x < b.x : a.y < b.y; });
-    if (points.size() < 3)
-        return points;
-    std::vector<glm::dvec2> hull(2 * points.size());
-    std::size_t k = 0;
-    for (std::size_t p = 0; p < points.size(); ++p) {
-        while (k >= 2 && orientation(hull[k - 2], hull[k - 1], points[p]) <= 0.0)
-            --k;
-        hull[k++] = points[p];
-    }
-    for (std::size_t p = points.size() - 1, lower = k + 1; p-- > 0;) {
-        while (k >= lower && orientation(hull[k - 2], hull[k - 1], points[p]) <= 0.0)
-            --k;
-        hull[k++] = points[p];
-    }
-    hull.resize(k - 1);
-    return hull;
 }
 
 /// Whether segment pq meets the closed convex polygon `hull` (counter-clockwise).
@@ -156,7 +135,7 @@ bool coplanarRegionBlocksShaft(const WorldTriangles& triangles, std::span<const 
     for (const glm::dvec3& p : from)
         for (const glm::dvec3& q : to)
             crossings.push_back(plane(p + glm::dot(n, a - p) / glm::dot(n, q - p) * (q - p)));
-    const std::vector<glm::dvec2> hull = convexHull(crossings);
+    const std::vector<glm::dvec2> hull = suggest::convexHull(crossings);
     if (hull.size() < 3)
         return false;
     glm::dvec2 lo = hull[0], hi = hull[0], centroid(0.0);
