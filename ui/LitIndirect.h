@@ -1,9 +1,11 @@
 #pragma once
 // The lit view's optional one bounce of indirect light: the lights' virtual point lights
 // (lighting/Indirect.h: photons from the lights, a VPL where each first meets a surface) lit over
-// the view's texels by a LightingCache of their own, with the same amortised, exact updates. The
-// bounce is traced again whenever the lights change; the last complete bounce stays shown until
-// the new one is, so the view never flickers to a half-summed bounce. Plain C++ (no Qt).
+// the view's texels by the exact fast path, a few VPLs a frame within the frame's budget, summed
+// as they come. No field is kept per VPL (hundreds of them over 200k texels would take hundreds of
+// megabytes; nothing but the sum is shown). The bounce is traced again whenever the lights change;
+// the last complete bounce stays shown until the new one is, so the view never flickers to a
+// half-summed bounce. Plain C++ (no Qt).
 
 #include <cstdint>
 #include <memory>
@@ -14,7 +16,6 @@
 #include "lighting/DirectLight.h"
 #include "lighting/Indirect.h"
 #include "lighting/Light.h"
-#include "lighting/LightingCache.h"
 
 namespace sightline::ui {
 
@@ -28,7 +29,7 @@ public:
 
     /// Traces the VPLs of `lights` again: every VPL stale, the previous bounce still shown.
     void setLights(const LightingScene& scene, const std::vector<Light>& lights);
-    /// Refreshes stale VPLs within `budget` shadow segments (LightingCache::update).
+    /// Lights the texels by the next VPLs whose segments (points x VPLs) fit `budget`, at least one.
     void update(const LightingScene& scene, std::uint64_t budget);
     /// Whether the bounce shown is that of the current lights, every VPL exact.
     bool exact() const { return exact_; }
@@ -38,8 +39,11 @@ public:
 
 private:
     std::vector<ShadingPoint> points_;
+    std::unique_ptr<PointTiling> tiling_;   ///< the fast path's tiles over points_, built once
     IndirectOptions options_;
-    std::unique_ptr<LightingCache> cache_;
+    std::vector<Light> vplLights_;
+    std::size_t next_ = 0;                 ///< the first VPL not yet summed
+    std::vector<glm::dvec3> sum_;          ///< the bounce of VPLs [0, next_)
     std::vector<glm::dvec3> shown_;
     std::size_t vpls_ = 0;
     bool exact_ = false;
