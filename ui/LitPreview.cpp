@@ -287,7 +287,12 @@ LitPreview::~LitPreview() { stop(); }
 void LitPreview::cancel()
 {
     if (current_.cancel) {
-        current_.cancel->store(true);
+        {
+            // Under the lock the worker tests its wake-up under: set between its test and its
+            // wait, the flag's notification would be lost and the worker (and stop()) never return.
+            std::lock_guard lock(mutex_);
+            current_.cancel->store(true);
+        }
         wake_.notify_all();
         retired_.push_back(std::move(current_));
         current_ = {};
