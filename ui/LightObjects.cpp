@@ -117,7 +117,7 @@ nlohmann::json lightOnSurfaceJson(LightType type, const glm::dvec3& point, const
     case LightType::Directional: return newLightJson(type, point, name);
     case LightType::Spot: {
         nlohmann::json light = newLightJson(type, point + kSpotOut * normal, name);
-        light["direction"] = {normal.x, normal.y, normal.z};
+        light["direction"] = vec(normal);
         return light;
     }
     case LightType::Area: break;
@@ -128,7 +128,6 @@ nlohmann::json lightOnSurfaceJson(LightType type, const glm::dvec3& point, const
     const glm::dvec3 v = glm::cross(normal, u);
     const glm::dvec3 centre = point + kAreaOut * normal;
     nlohmann::json light = newLightJson(type, centre, name);
-    const auto vec = [](const glm::dvec3& x) { return nlohmann::json::array({x.x, x.y, x.z}); };
     light["corner"] = vec(centre - 0.5 * u - 0.5 * v);
     light["u"] = vec(u);
     light["v"] = vec(v);

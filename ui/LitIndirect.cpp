@@ -22,7 +22,6 @@ LitIndirect::LitIndirect(std::vector<ShadingPoint> points, IndirectOptions optio
 void LitIndirect::setLights(const LightingScene& scene, const std::vector<Light>& lights)
 {
     VplSet set = traceVpls(scene, lights, options_);
-    vpls_ = set.vpls.size();
     vplLights_ = std::move(set.vpls);
     next_ = 0;
     sum_.assign(points_.size(), glm::dvec3(0.0));

@@ -35,7 +35,7 @@ public:
     bool exact() const { return exact_; }
     /// The bounce shown at each point (all zero until the first is complete).
     const std::vector<glm::dvec3>& irradiance() const { return shown_; }
-    std::size_t vpls() const { return vpls_; }
+    std::size_t vpls() const { return vplLights_.size(); }
 
 private:
     std::vector<ShadingPoint> points_;
@@ -45,7 +45,6 @@ private:
     std::size_t next_ = 0;                 ///< the first VPL not yet summed
     std::vector<glm::dvec3> sum_;          ///< the bounce of VPLs [0, next_)
     std::vector<glm::dvec3> shown_;
-    std::size_t vpls_ = 0;
     bool exact_ = false;
 };
 
