@@ -221,6 +221,8 @@ int benchmark(const Arguments& args, int width, int height)
                     f.medianHz, f.dragged.c_str(), f.medianFrameMs, f.p90FrameMs, f.frames);
         std::printf("  exact again    %.0f ms after the light was let go%s\n", f.exactAgainMs,
                     f.exactAgainMs > 0.0 ? "" : " (not within 5 minutes)");
+        std::printf("  occluder moved %d lit frames at most until exact, %.0f ms median ('%s' moved %d times)\n",
+                    f.occluderMostFrames, f.occluderMedianMs, f.occluder.c_str(), f.occluderMoves);
         return 0;
     }
     InteractionOptions options;

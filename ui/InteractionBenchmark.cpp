@@ -11,10 +11,14 @@
 #include <QEventLoop>
 #include <QTimer>
 
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "EditorDocument.h"
 #include "MainWindow.h"
 #include "PathPlayback.h"
 #include "Viewport.h"
 #include "ViewportController.h"
+#include "lighting/Light.h"
 #include "project/ProjectMotion.h"
 #include "visibility/Error.h"
 
@@ -209,6 +213,57 @@ InteractionFigures runInteractionBenchmark(MainWindow& window, const Interaction
     return figures;
 }
 
+namespace {
+
+/// Where a light shines from (an area light's centre).
+glm::dvec3 lightCentre(const Light& light)
+{
+    return light.type == LightType::Area ? light.area.centre() : light.position;
+}
+
+/// Moves an occluder (the project's first, else a box added a metre under the first light, taken
+/// away after) half a metre at a time, and counts the lit frames shown until the view is exact.
+void measureOccluderMoves(EditorDocument& document, Viewport& viewport, LitFigures& figures)
+{
+    constexpr int kMoves = 4;
+    constexpr int kExactWithinMs = 300'000;
+    const bool added = document.project().occluders.empty();
+    if (added) {
+        OccluderSpec box;
+        box.mesh = "box";
+        box.name = "benchmark box";
+        const Light& light = document.lights().front();
+        const glm::dvec3 under = light.type == LightType::Directional ? glm::dvec3(0.0) : lightCentre(light) - glm::dvec3(0.0, 1.0, 0.0);
+        box.transform = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(under)), glm::vec3(0.6f));
+        document.addOccluder(box);
+        runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+    }
+    const ObjectRef occluder{ObjectKind::Occluder, 0};
+    figures.occluder = document.occluder(0).name;
+    std::vector<double> ms;
+    int shown = 0;
+    const auto counted = QObject::connect(&viewport, &Viewport::litUpdated, &viewport, [&] { ++shown; });
+    for (int move = 0; move < kMoves; ++move) {
+        const glm::dvec3 step = (move % 2 == 0 ? 0.5 : -0.5) * glm::dvec3(1.0, 0.0, 0.5);
+        QElapsedTimer clock;
+        clock.start();
+        shown = 0;
+        document.applyState(occluder, translated(document.state(occluder), step));
+        runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+        if (!viewport.litExact())
+            break;
+        ms.push_back(double(clock.nsecsElapsed()) * 1e-6);
+        figures.occluderMostFrames = std::max(figures.occluderMostFrames, shown);
+        ++figures.occluderMoves;
+    }
+    QObject::disconnect(counted);
+    figures.occluderMedianMs = percentile(ms, 0.5);
+    if (added)
+        document.undoStack()->undo();
+}
+
+} // namespace
+
 LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height)
 {
     EditorDocument& document = window.document();
@@ -308,6 +363,7 @@ LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height
     runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
     if (viewport.litExact())
         figures.exactAgainMs = double(clock.nsecsElapsed()) * 1e-6;
+    measureOccluderMoves(document, viewport, figures);
     viewport.setLitView(false);
     return figures;
 }

@@ -64,7 +64,8 @@ struct InteractionFigures {
 /// The lit view measured as a designer uses it (View > Lit View): turned on (its first exact frame),
 /// the camera orbited around the lit level, the project's first light dragged along a scripted path (lit frames shown a second while it
 /// moves: each refreshes the lights the budget allows, the moved one first), then let go (how soon
-/// the view is exact again).
+/// the view is exact again); then an occluder moved a few times (how many lit frames until all
+/// lights are fresh).
 struct LitFigures {
     std::size_t lights = 0, texels = 0;
     std::string dragged;          ///< the light's name
@@ -76,6 +77,13 @@ struct LitFigures {
     int frames = 0;               ///< lit frames shown while dragging
     double medianHz = 0.0, medianFrameMs = 0.0, p90FrameMs = 0.0;
     double exactAgainMs = 0.0;    ///< let go -> an exact frame shown (0: not within 5 min)
+    /// An occluder moved (the project's first, or a box added under the dragged light), once per
+    /// step: lit frames shown from the move to the first exact one, the most over the steps, and
+    /// the median time.
+    std::string occluder;
+    int occluderMoves = 0;
+    int occluderMostFrames = 0;
+    double occluderMedianMs = 0.0;
 };
 /// Throws sightline::Error when the project has no light to drag.
 LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height);

@@ -9,6 +9,7 @@
 #include <new>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include "AoPreview.h"
 #include "CameraVisibility.h"
@@ -18,6 +19,7 @@
 #include "lighting/LightEmission.h"
 #include "lighting/LightingCache.h"
 #include "lighting/LowResolutionPass.h"
+#include "lighting/SceneChange.h"
 #include "lighting/ao/AoTexels.h"
 #include "visibility/Error.h"
 
@@ -331,6 +333,280 @@ std::uint64_t LitPreview::setLights(std::vector<Light> lights)
     return version;
 }
 
+/// The worker's state between frames: the texels, the scene as lighting asks about it, the kept
+/// lights (LightingCache) and what the overlays keep, and the steps of one frame.
+class LitPreview::Session {
+public:
+    Session(LitPreview& owner, std::uint64_t generation, LitPreviewRequest request, std::shared_ptr<std::atomic<bool>> cancel)
+        : owner_(owner), generation_(generation), request_(std::move(request)), cancel_(std::move(cancel)),
+          sceneShared_(request_.scene)
+    {
+    }
+
+    /// Frames until cancelled; a failure is delivered as the frame's error.
+    void run()
+    {
+        try {
+            if (!prepare())
+                return;
+            for (;;) {
+                refreshLights();
+                if (cancelled())
+                    return;
+                LitPreviewFrame frame = nextFrame();
+                if (cancelled())
+                    return;
+                const bool settled = frame.exact;
+                deliver(std::move(frame));
+                if (!waitForWork(settled))
+                    return;
+            }
+        } catch (const std::bad_alloc&) {
+            deliver(failed(generation_, "out of memory lighting the level"));
+        } catch (const std::exception& e) {
+            deliver(failed(generation_, e.what()));
+        }
+    }
+
+private:
+    bool cancelled() const { return cancel_->load(); }
+    void deliver(LitPreviewFrame frame) { owner_.deliver_(std::move(frame)); }
+
+    /// The texels, the lighting scene and the cache of the lights as they are now.
+    bool prepare()
+    {
+        texels_ = litTexels(*sceneShared_);
+        if (cancelled())
+            return false;
+        if (texels_.points.empty()) {
+            deliver(failed(generation_, "the level has no surfaces to light"));
+            return false;
+        }
+        scene_ = std::make_unique<LightingScene>(*sceneShared_);
+        if (cancelled())
+            return false;
+        {
+            std::lock_guard lock(owner_.mutex_);
+            lights_ = owner_.lights_;
+            version_ = owner_.lightsVersion_;
+        }
+        cache_ = std::make_unique<LightingCache>(texels_.points, lights_, plan(texels_));
+        return true;
+    }
+
+    /// Barczak's low-resolution pass for dragged lights: every other texel, edges refined.
+    static LowResolutionPlan plan(const LitTexels& texels)
+    {
+        return lowResolutionPlan(texels.layout, texels.pointOfTexel, kLowResolutionStride);
+    }
+
+    void refreshLights()
+    {
+        if (refresh_) {
+            step_ = cache_->update(*scene_, request_.segmentsPerFrame, 1);
+        } else {   // the same light shown otherwise: nothing refreshed
+            const bool exact = step_.exact;
+            step_ = {};
+            step_.exact = exact;
+        }
+    }
+
+    /// O'Rorke's sets of the requested light, computed again when asked or when the lights or
+    /// the scene changed.
+    void updateSets(const std::optional<SetsRequest>& wanted, bool changed)
+    {
+        if (!changed)
+            return;
+        setsStale_ = false;
+        sets_.reset();
+        if (wanted && wanted->light < lights_.size()) {
+            const std::vector<std::uint32_t> seen = wanted->visible ? *wanted->visible : visibleInstances(wanted->camera, *scene_);
+            LightSetOptions options;
+            options.threads = 1;
+            if (wanted->reach) {
+                options.restricted = {true};
+                options.candidates = {*wanted->reach};
+            }
+            sets_ = lightSets(*scene_, *sceneShared_, {lights_[wanted->light]}, seen, options).front();
+            setsLight_ = wanted->light;
+            setsServed_ = wanted->visible.has_value();
+        }
+    }
+
+    /// The bounce: traced when first asked for, refined once the direct light is exact.
+    void updateIndirect(bool wanted)
+    {
+        if (!wanted) {
+            indirect_.reset();
+            return;
+        }
+        if (!indirect_) {
+            indirect_ = std::make_unique<LitIndirect>(texels_.points);
+            indirect_->setLights(*scene_, lights_);
+        }
+        if (step_.exact)
+            indirect_->update(*scene_, request_.segmentsPerFrame);
+    }
+
+    LitPreviewFrame nextFrame()
+    {
+        LitPreviewFrame frame;
+        std::optional<SetsRequest> setsWanted;
+        bool setsChanged = false;
+        bool indirectWanted = false;
+        {
+            std::lock_guard lock(owner_.mutex_);
+            frame.shading = owner_.shading_;
+            frame.budget = owner_.budget_;
+            indirectWanted = owner_.indirect_;
+            shadingSeen_ = owner_.shadingVersion_;
+            setsWanted = owner_.setsRequest_;
+            setsChanged = owner_.setsVersion_ != setsSeen_ || (setsStale_ && setsWanted);
+            setsSeen_ = owner_.setsVersion_;
+        }
+        updateSets(setsWanted, setsChanged);
+        frame.sets = sets_;
+        frame.setsLight = setsLight_;
+        frame.setsServed = setsServed_;
+        updateIndirect(indirectWanted);
+        const double shownExposure = exposure_ > 0.0 ? exposure_ : autoExposure(cache_->irradiance());
+        if (exposure_ == 0.0 && step_.exact)
+            exposure_ = shownExposure;   // fixed once every light has been computed once
+        frame.generation = generation_;
+        frame.exposure = shownExposure;
+        // Error: the reference of the lights as they are now, a few lights a frame.
+        std::vector<glm::dvec3> referenceShown;
+        referencePending_ = false;
+        if (frame.shading == LitShading::Error) {
+            referencePending_ = !reference_.update(*scene_, texels_.points, lights_, kReferenceMsPerFrame);
+            frame.referenceLights = reference_.current(lights_);
+            if (!referencePending_)
+                referenceShown = reference_.irradiance(lights_, texels_.points.size());
+        }
+        const std::vector<glm::vec3> colour = shadeTexels(texels_, *cache_, lights_, *scene_, referenceShown, indirect_.get(), frame);
+        frame.uvs = texels_.uvs;
+        frame.width = texels_.layout.width;
+        frame.height = texels_.layout.height;
+        frame.map = atlasImage(texels_.layout, colour, glm::vec3(0.0f));
+        frame.texels = texels_.points.size();
+        frame.lights = lights_.size();
+        frame.refreshed = step_.refreshed;
+        frame.rough = step_.rough;
+        frame.costs.reserve(lights_.size());
+        for (std::size_t l = 0; l < lights_.size(); ++l)
+            frame.costs.push_back(cache_->cost(l));
+        frame.stale = cache_->staleCount();
+        frame.indirect = indirect_ != nullptr;
+        frame.vpls = indirect_ ? indirect_->vpls() : 0;
+        frame.exact = step_.exact && (!indirect_ || indirect_->exact());
+        frame.lightsVersion = version_;
+        frame.frameMs = step_.ms;
+        frame.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started_).count();
+        return frame;
+    }
+
+    /// Exact: waits for new lights or a new scene, another shading or the end; else goes on to
+    /// refresh the next stale lights. Takes what changed. False once cancelled.
+    bool waitForWork(bool settled)
+    {
+        std::unique_lock lock(owner_.mutex_);
+        if (settled && !referencePending_)
+            owner_.wake_.wait(lock, [&] {
+                return cancelled() || owner_.lightsVersion_ != version_ || owner_.shadingVersion_ != shadingSeen_ ||
+                       owner_.setsVersion_ != setsSeen_;
+            });
+        if (cancelled())
+            return false;
+        refresh_ = !step_.exact || owner_.lightsVersion_ != version_;   // (else only the reference goes on)
+        if (owner_.lightsVersion_ == version_)
+            return true;
+        version_ = owner_.lightsVersion_;
+        std::vector<Light> next = owner_.lights_;
+        std::shared_ptr<const Scene> nextScene = std::exchange(owner_.sceneChange_, nullptr);
+        lock.unlock();
+        if (nextScene)
+            takeScene(std::move(nextScene));
+        takeLights(std::move(next));
+        return !cancelled();
+    }
+
+    /// The lights changed: those whose entry differs get the low-resolution pass, then the exact
+    /// one; a changed count starts the fields again.
+    void takeLights(std::vector<Light> next)
+    {
+        if (next.size() != lights_.size()) {
+            cache_ = std::make_unique<LightingCache>(texels_.points, next, plan(texels_));
+        } else {
+            bool changed = false;
+            for (std::size_t k = 0; k < next.size(); ++k)
+                if (!sameLight(next[k], lights_[k])) {
+                    cache_->setLight(k, next[k], /*rough=*/true);
+                    changed = true;
+                }
+            if (!changed)
+                return;
+        }
+        lights_ = std::move(next);
+        setsStale_ = true;
+        if (indirect_)
+            indirect_->setLights(*scene_, lights_);
+    }
+
+    /// The scene changed (an occluder moved, was added or removed): texels that stayed keep
+    /// their light, and each light refreshes only the texels whose shadow segments could pass
+    /// where the scene changed (LightingCache::sceneChanged).
+    void takeScene(std::shared_ptr<const Scene> next)
+    {
+        LitTexels texels = litTexels(*next);
+        if (texels.points.empty())
+            throw Error("the level has no surfaces to light");
+        auto scene = std::make_unique<LightingScene>(*next);
+        const std::vector<Bounds> regions = changedRegions(scene_->triangles(), scene->triangles());
+        const std::vector<std::size_t> previous = matchPoints(texels_.points, texels.points);
+        cache_->sceneChanged(*scene, regions, texels.points, previous, plan(texels));
+        // A sun's segments end beyond the scene's bounds: with the bounds changed, all of them.
+        const DirectionalReach &was = scene_->reach(), &is = scene->reach();
+        if (was.centre != is.centre || was.radius != is.radius)
+            for (std::size_t k = 0; k < lights_.size(); ++k)
+                if (lights_[k].type == LightType::Directional)
+                    cache_->setLight(k, lights_[k]);
+        texels_ = std::move(texels);
+        scene_ = std::move(scene);
+        sceneShared_ = std::move(next);
+        reference_ = {};
+        setsStale_ = true;
+        refresh_ = true;
+        if (indirect_) {
+            indirect_ = std::make_unique<LitIndirect>(texels_.points);
+            indirect_->setLights(*scene_, lights_);
+        }
+    }
+
+    LitPreview& owner_;
+    const std::uint64_t generation_;
+    const LitPreviewRequest request_;
+    const std::shared_ptr<std::atomic<bool>> cancel_;
+    const std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+
+    std::shared_ptr<const Scene> sceneShared_;
+    LitTexels texels_;
+    std::unique_ptr<LightingScene> scene_;
+    std::vector<Light> lights_;
+    std::uint64_t version_ = 0;
+    std::unique_ptr<LightingCache> cache_;
+    LightingCache::Frame step_;
+    bool refresh_ = true;
+    double exposure_ = 0.0;
+    std::uint64_t shadingSeen_ = 0, setsSeen_ = 0;
+    std::optional<LightSets> sets_;
+    std::size_t setsLight_ = 0;
+    bool setsServed_ = false;
+    bool setsStale_ = false;   // the lights or the scene changed since the sets were computed
+    LitReference reference_;
+    bool referencePending_ = false;
+    std::unique_ptr<LitIndirect> indirect_;   // while one bounce is asked for
+};
+
 std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest request)
 {
     cancel();
@@ -342,6 +618,7 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
         shading_ = request.shading;
         budget_ = std::max(request.budget, 1);
         indirect_ = request.indirect;
+        sceneChange_.reset();
     }
     current_.cancel = std::make_shared<std::atomic<bool>>(false);
     current_.done = std::make_shared<std::atomic<bool>>(false);
@@ -351,172 +628,21 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
             ~Ended() { done.store(true); }
         } ended{*done};
         lowerThisThreadsPriority();
-        const auto start = std::chrono::steady_clock::now();
-        const auto since = [](std::chrono::steady_clock::time_point t) {
-            return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-        };
-        try {
-            const LitTexels texels = litTexels(*request.scene);
-            if (cancel->load())
-                return;
-            if (texels.points.empty()) {
-                deliver_(failed(generation, "the level has no surfaces to light"));
-                return;
-            }
-            const LightingScene scene(*request.scene);
-            if (cancel->load())
-                return;
-            std::uint64_t version = 0;
-            std::vector<Light> lights;
-            {
-                std::lock_guard lock(mutex_);
-                lights = lights_;
-                version = lightsVersion_;
-            }
-            // Barczak's low-resolution pass for dragged lights: every other texel, edges refined.
-            const LowResolutionPlan plan = lowResolutionPlan(texels.layout, texels.pointOfTexel, kLowResolutionStride);
-            auto cache = std::make_unique<LightingCache>(texels.points, lights, plan);
-            double exposure = 0.0;   // fixed once every light has been computed once
-            LightingCache::Frame step;
-            bool refresh = true;
-            std::uint64_t shadingSeen = 0, setsSeen = 0;
-            std::optional<LightSets> sets;
-            LitReference reference;
-            bool referencePending = false;
-            std::size_t setsLight = 0;
-            bool setsServed = false;
-            bool setsStale = false;   // the lights changed since the sets were computed
-            std::unique_ptr<LitIndirect> indirect;   // while one bounce is asked for
-            for (;;) {
-                if (refresh) {
-                    step = cache->update(scene, request.segmentsPerFrame, 1);
-                } else {   // the same light shown otherwise: nothing refreshed
-                    const bool exact = step.exact;
-                    step = {};
-                    step.exact = exact;
-                }
-                if (cancel->load())
-                    return;
-                LitPreviewFrame frame;
-                std::optional<SetsRequest> setsWanted;
-                bool setsChanged = false;
-                bool indirectWanted = false;
-                {
-                    std::lock_guard lock(mutex_);
-                    frame.shading = shading_;
-                    frame.budget = budget_;
-                    indirectWanted = indirect_;
-                    shadingSeen = shadingVersion_;
-                    setsWanted = setsRequest_;
-                    setsChanged = setsVersion_ != setsSeen || (setsStale && setsWanted);
-                    setsSeen = setsVersion_;
-                }
-                if (setsChanged) {
-                    setsStale = false;
-                    sets.reset();
-                    if (setsWanted && setsWanted->light < lights.size()) {
-                        const std::vector<std::uint32_t> seen =
-                            setsWanted->visible ? *setsWanted->visible : visibleInstances(setsWanted->camera, scene);
-                        LightSetOptions options;
-                        options.threads = 1;
-                        if (setsWanted->reach) {
-                            options.restricted = {true};
-                            options.candidates = {*setsWanted->reach};
-                        }
-                        sets = lightSets(scene, *request.scene, {lights[setsWanted->light]}, seen, options).front();
-                        setsLight = setsWanted->light;
-                        setsServed = setsWanted->visible.has_value();
-                    }
-                    if (cancel->load())
-                        return;
-                }
-                frame.sets = sets;
-                frame.setsLight = setsLight;
-                frame.setsServed = setsServed;
-                // The bounce: traced when first asked for, refined once the direct light is exact.
-                if (!indirectWanted) {
-                    indirect.reset();
-                } else {
-                    if (!indirect) {
-                        indirect = std::make_unique<LitIndirect>(texels.points);
-                        indirect->setLights(scene, lights);
-                    }
-                    if (step.exact)
-                        indirect->update(scene, request.segmentsPerFrame);
-                    if (cancel->load())
-                        return;
-                }
-                const double shownExposure = exposure > 0.0 ? exposure : autoExposure(cache->irradiance());
-                if (exposure == 0.0 && step.exact)
-                    exposure = shownExposure;
-                frame.generation = generation;
-                frame.exposure = shownExposure;
-                // Error: the reference of the lights as they are now, a few lights a frame.
-                std::vector<glm::dvec3> referenceShown;
-                referencePending = false;
-                if (frame.shading == LitShading::Error) {
-                    referencePending = !reference.update(scene, texels.points, lights, kReferenceMsPerFrame);
-                    frame.referenceLights = reference.current(lights);
-                    if (!referencePending)
-                        referenceShown = reference.irradiance(lights, texels.points.size());
-                    if (cancel->load())
-                        return;
-                }
-                const std::vector<glm::vec3> colour = shadeTexels(texels, *cache, lights, scene, referenceShown, indirect.get(), frame);
-                frame.uvs = texels.uvs;
-                frame.width = texels.layout.width;
-                frame.height = texels.layout.height;
-                frame.map = atlasImage(texels.layout, colour, glm::vec3(0.0f));
-                frame.texels = texels.points.size();
-                frame.lights = lights.size();
-                frame.refreshed = step.refreshed;
-                frame.rough = step.rough;
-                frame.costs.reserve(lights.size());
-                for (std::size_t l = 0; l < lights.size(); ++l)
-                    frame.costs.push_back(cache->cost(l));
-                frame.stale = cache->staleCount();
-                frame.indirect = indirect != nullptr;
-                frame.vpls = indirect ? indirect->vpls() : 0;
-                frame.exact = step.exact && (!indirect || indirect->exact());
-                const bool settled = frame.exact;
-                frame.lightsVersion = version;
-                frame.frameMs = step.ms;
-                frame.ms = since(start);
-                deliver_(std::move(frame));
-                // Exact: wait for new lights, another shading or the end; else refresh the next
-                // stale lights.
-                std::unique_lock lock(mutex_);
-                if (settled && !referencePending)
-                    wake_.wait(lock, [&] {
-                        return cancel->load() || lightsVersion_ != version || shadingVersion_ != shadingSeen || setsVersion_ != setsSeen;
-                    });
-                if (cancel->load())
-                    return;
-                refresh = !step.exact || lightsVersion_ != version;   // (else only the reference goes on)
-                if (lightsVersion_ != version) {
-                    version = lightsVersion_;
-                    std::vector<Light> next = lights_;
-                    lock.unlock();
-                    if (next.size() != lights.size()) {
-                        cache = std::make_unique<LightingCache>(texels.points, next, plan);
-                    } else {
-                        for (std::size_t k = 0; k < next.size(); ++k)
-                            if (!sameLight(next[k], lights[k]))
-                                cache->setLight(k, next[k], /*rough=*/true);
-                    }
-                    lights = std::move(next);
-                    setsStale = true;
-                    if (indirect)
-                        indirect->setLights(scene, lights);
-                }
-            }
-        } catch (const std::bad_alloc&) {
-            deliver_(failed(generation, "out of memory lighting the level"));
-        } catch (const std::exception& e) {
-            deliver_(failed(generation, e.what()));
-        }
+        Session(*this, generation, std::move(request), cancel).run();
     });
     return started;
+}
+
+std::uint64_t LitPreview::setScene(std::shared_ptr<const Scene> scene)
+{
+    std::uint64_t version = 0;
+    {
+        std::lock_guard lock(mutex_);
+        sceneChange_ = std::move(scene);
+        version = ++lightsVersion_;
+    }
+    wake_.notify_all();
+    return version;
 }
 
 LitShading parseLitShading(const std::string& name)

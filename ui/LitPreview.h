@@ -4,7 +4,8 @@
 // Barczak's amortised updates (lighting/LightingCache.h): every frame refreshes the stale lights,
 // brightest and longest stale first, within a budget of shadow segments, and delivers the map; the
 // view is the exact answer once no light is stale, and says so. Moving or editing a light stales
-// that light alone (setLights); a new scene (an occluder moved) starts again. One bounce of
+// that light alone (setLights); moving an occluder stales, light by light, the texels its shadows
+// could reach (setScene); a new level starts again. One bounce of
 // indirect light may be added (LitIndirect.h). Plain C++ (no Qt):
 // the caller decides how an answer reaches its thread.
 
@@ -55,7 +56,7 @@ struct LitPreviewFrame {
     bool indirect = false;             ///< one bounce of indirect light added (LitIndirect.h)
     std::size_t vpls = 0;              ///< its virtual point lights
     bool exact = false;                ///< no light stale (nor the bounce): the exact irradiance, tone-mapped
-    std::uint64_t lightsVersion = 0;   ///< the lights it shows: start's or setLights' answer
+    std::uint64_t lightsVersion = 0;   ///< the lights and scene it shows: start's, setLights' or setScene's answer
     LitShading shading = LitShading::Light;
     int budget = 4;                    ///< Overlap, Complexity: the lights a texel may take
     /// Overlap: the share of lit texels over the budget and the most lights on one texel;
@@ -118,6 +119,11 @@ public:
     /// (LowResolutionPass.h), then go on stale and are refreshed exactly by priority; a changed
     /// count starts the lights' fields again over the same texels. Returns the lights' version.
     std::uint64_t setLights(std::vector<Light> lights);
+    /// The scene changed (an occluder moved, was added or removed; the same level otherwise):
+    /// texels that stayed keep their light, and each light refreshes only the texels whose shadow
+    /// segments could pass where the scene changed. Returns the version frames of it carry (as
+    /// setLights'). A new level takes start().
+    std::uint64_t setScene(std::shared_ptr<const Scene> scene);
     /// Shows the same light otherwise (no shadow ray cast again): a frame is delivered anew.
     void setShading(LitShading shading, int budget);
     /// Adds (or drops) one bounce of indirect light: its VPLs are refreshed once the direct light
@@ -142,12 +148,14 @@ private:
         std::shared_ptr<std::atomic<bool>> cancel, done;
     };
     void reap(bool wait);
+    class Session;   ///< the worker's state and its frames
 
     Deliver deliver_;
     std::mutex mutex_;
     std::condition_variable wake_;
     std::vector<Light> lights_;
-    std::uint64_t lightsVersion_ = 0;
+    std::shared_ptr<const Scene> sceneChange_;   ///< setScene's, until the worker takes it
+    std::uint64_t lightsVersion_ = 0;            ///< of the lights and the scene
     LitShading shading_ = LitShading::Light;
     int budget_ = 4;
     std::uint64_t shadingVersion_ = 0;

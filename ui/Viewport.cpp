@@ -84,8 +84,13 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             update();
             return;
         }
-        if (changes & (SceneFileChanged | OccludersChanged | DocumentReset))
-            litStale_ = style_.litView;   // new shadows: the lit view starts again
+        if (changes & (SceneFileChanged | DocumentReset)) {
+            litStale_ = style_.litView;   // a new level: the lit view starts again
+        } else if ((changes & OccludersChanged) && style_.litView && lit_ && !litStale_) {
+            // New shadows: each light refreshes the texels they could reach (LitPreview.h).
+            litWanted_ = lit_->setScene(std::make_shared<const Scene>(document_.scene()));
+            litExact_ = false;
+        }
         if (changes & (SceneFileChanged | OccludersChanged | DocumentReset)) {
             // Placed occluders darken the level around them and get AO of their own.
             aoStale_ = style_.ambientOcclusion;

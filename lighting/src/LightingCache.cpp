@@ -2,30 +2,20 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iterator>
 #include <numeric>
 #include <string>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "lights/PointTiles.h"
+#include "lights/RegionShafts.h"
 #include "visibility/Error.h"
 
 namespace sightline {
 
 namespace {
-
-/// Whether moving something inside `region` could change `light`'s shadows at any point: a point
-/// or spot light's segments stay within its range of it, so a region out of range cannot.
-bool mayAffect(const Light& light, const Bounds& region)
-{
-    if (region.empty())
-        return false;
-    if ((light.type == LightType::Point || light.type == LightType::Spot) && light.range > 0.0) {
-        const glm::dvec3 nearest = glm::clamp(light.position, glm::dvec3(region.min), glm::dvec3(region.max));
-        return glm::length(nearest - light.position) < light.range;
-    }
-    return true;
-}
 
 double meanColour(const glm::dvec3& c) { return (c.x + c.y + c.z) / 3.0; }
 
@@ -51,15 +41,20 @@ LightingCache::LightingCache(std::vector<ShadingPoint> points, std::vector<Light
 LightingCache::LightingCache(std::vector<ShadingPoint> points, std::vector<Light> lights, LowResolutionPlan plan)
     : LightingCache(std::move(points), std::move(lights))
 {
+    setPlan(std::move(plan));
+}
+
+void LightingCache::setPlan(LowResolutionPlan plan)
+{
     if (plan.points != points_.size())
         throw Error("the low-resolution plan covers " + std::to_string(plan.points) + " points, the cache " +
                     std::to_string(points_.size()));
     plan_ = std::move(plan);
+    coarsePoints_.clear();
     coarsePoints_.reserve(plan_.coarse.size());
     for (const std::uint32_t p : plan_.coarse)
         coarsePoints_.push_back(points_.at(p));
-    if (!coarsePoints_.empty())
-        coarseTiling_ = std::make_unique<PointTiling>(coarsePoints_);
+    coarseTiling_ = coarsePoints_.empty() ? nullptr : std::make_unique<PointTiling>(coarsePoints_);
 }
 
 LightingCache::~LightingCache() = default;
@@ -70,6 +65,32 @@ void LightingCache::markStale(std::size_t index)
     if (!kept.stale)
         kept.staleSince = frame_;
     kept.stale = true;
+    kept.whole = true;
+    kept.stalePoints.clear();
+}
+
+void LightingCache::markStalePoints(std::size_t index, std::vector<std::uint32_t> points)
+{
+    Kept& kept = kept_[index];
+    if (points.empty() || (kept.stale && kept.whole))
+        return;
+    if (!kept.stale) {
+        kept.stale = true;
+        kept.whole = false;
+        kept.staleSince = frame_;
+        kept.stalePoints = std::move(points);
+        return;
+    }
+    std::vector<std::uint32_t> both;
+    both.reserve(kept.stalePoints.size() + points.size());
+    std::set_union(kept.stalePoints.begin(), kept.stalePoints.end(), points.begin(), points.end(), std::back_inserter(both));
+    kept.stalePoints = std::move(both);
+}
+
+std::size_t LightingCache::stalePointCount(std::size_t index) const
+{
+    const Kept& kept = kept_[index];
+    return kept.whole ? points_.size() : kept.stalePoints.size();
 }
 
 void LightingCache::setLight(std::size_t index, const Light& light, bool rough)
@@ -79,11 +100,66 @@ void LightingCache::setLight(std::size_t index, const Light& light, bool rough)
     kept_[index].roughNext = rough && coarseTiling_ != nullptr;
 }
 
-void LightingCache::sceneChanged(const Bounds& region)
+void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bounds> regions)
 {
+    if (regions.empty())
+        return;
     for (std::size_t l = 0; l < lights_.size(); ++l)
-        if (mayAffect(lights_[l], region))
-            markStale(l);
+        if (kept_[l].computed && !(kept_[l].stale && kept_[l].whole))
+            markStalePoints(l, lights::pointsShadowedThrough(lights_[l], scene.reach(), regions, tiling_->tiles(), points_));
+}
+
+void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bounds> regions, std::vector<ShadingPoint> points,
+                                 std::span<const std::size_t> previous, LowResolutionPlan plan)
+{
+    if (previous.size() != points.size())
+        throw Error("the points' previous indices number " + std::to_string(previous.size()) + ", the points " +
+                    std::to_string(points.size()));
+    std::vector<std::uint32_t> added;
+    for (std::size_t j = 0; j < previous.size(); ++j) {
+        if (previous[j] == SIZE_MAX)
+            added.push_back(std::uint32_t(j));
+        else if (previous[j] >= points_.size())
+            throw Error("point " + std::to_string(j) + "'s previous index " + std::to_string(previous[j]) + " is past the " +
+                        std::to_string(points_.size()) + " points");
+    }
+    // Fields carried over to the new points (a new point shows nothing until refreshed); a light
+    // stale at some old points is stale at the new points they became.
+    for (Kept& kept : kept_) {
+        if (!kept.computed)
+            continue;
+        std::vector<float> field(points.size(), 0.0f);
+        for (std::size_t j = 0; j < points.size(); ++j)
+            if (previous[j] != SIZE_MAX)
+                field[j] = kept.field[previous[j]];
+        kept.field = std::move(field);
+        if (kept.stale && !kept.whole) {
+            std::vector<bool> was(points_.size(), false);
+            for (const std::uint32_t j : kept.stalePoints)
+                was[j] = true;
+            kept.stalePoints.clear();
+            for (std::size_t j = 0; j < points.size(); ++j)
+                if (previous[j] != SIZE_MAX && was[previous[j]])
+                    kept.stalePoints.push_back(std::uint32_t(j));
+            kept.whole = kept.stalePoints.empty();   // nothing left of it: refreshed whole
+        }
+    }
+    points_ = std::move(points);
+    tiling_ = std::make_unique<PointTiling>(points_);
+    setPlan(std::move(plan));
+    shown_.assign(points_.size(), glm::dvec3(0.0));
+    resum();
+    for (std::size_t l = 0; l < kept_.size(); ++l) {
+        Kept& kept = kept_[l];
+        if (!kept.computed)
+            continue;
+        double brightness = 0.0;
+        for (const float f : kept.field)
+            brightness += double(f);
+        kept.brightness = brightness * meanColour(kept.colour);
+        markStalePoints(l, added);
+    }
+    sceneChanged(scene, regions);
 }
 
 std::size_t LightingCache::staleCount() const
@@ -98,6 +174,19 @@ void LightingCache::resum()
         if (kept.computed)
             for (std::size_t j = 0; j < points_.size(); ++j)
                 shown_[j] += kept.colour * double(kept.field[j]);
+}
+
+void LightingCache::keepAt(std::size_t index, const std::vector<float>& values)
+{
+    Kept& kept = kept_[index];
+    double change = 0.0;
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        const std::uint32_t j = kept.stalePoints[k];
+        shown_[j] += kept.colour * (double(values[k]) - double(kept.field[j]));
+        change += double(values[k]) - double(kept.field[j]);
+        kept.field[j] = values[k];
+    }
+    kept.brightness += change * meanColour(kept.colour);
 }
 
 void LightingCache::keep(std::size_t index, std::vector<float> field)
@@ -203,21 +292,38 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
     options.threads = threads;
     options.tiling = tiling_.get();
     for (const std::size_t l : order) {
-        const std::uint64_t cost = std::uint64_t(lights_[l].sampleCount()) * points_.size();
+        const std::uint64_t cost = std::uint64_t(lights_[l].sampleCount()) * stalePointCount(l);
         if (frame.refreshed > 0 && frame.segments + cost > budget)
             break;
         DirectLightStats stats;
         const auto began = std::chrono::steady_clock::now();
-        const std::vector<glm::dvec3> field = directIrradiance(scene, {white(l)}, points_, options, &stats);
-        std::vector<float> values(points_.size());
-        for (std::size_t j = 0; j < points_.size(); ++j)
-            values[j] = float(field[j].x);
-        keep(l, std::move(values));
-        kept_[l].cost = {.terms = stats.terms,
-                         .rays = stats.segmentsCast,
-                         .ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count()};
-        kept_[l].stale = false;
-        kept_[l].refreshedAt = frame_;
+        Kept& kept = kept_[l];
+        if (kept.whole) {
+            const std::vector<glm::dvec3> field = directIrradiance(scene, {white(l)}, points_, options, &stats);
+            std::vector<float> values(points_.size());
+            for (std::size_t j = 0; j < points_.size(); ++j)
+                values[j] = float(field[j].x);
+            keep(l, std::move(values));
+        } else {   // the points whose segments a change in the scene may cross, tiled anew
+            std::vector<ShadingPoint> some;
+            some.reserve(kept.stalePoints.size());
+            for (const std::uint32_t j : kept.stalePoints)
+                some.push_back(points_[j]);
+            DirectLightOptions partial = options;
+            partial.tiling = nullptr;
+            const std::vector<glm::dvec3> field = directIrradiance(scene, {white(l)}, some, partial, &stats);
+            std::vector<float> values(some.size());
+            for (std::size_t k = 0; k < some.size(); ++k)
+                values[k] = float(field[k].x);
+            keepAt(l, values);
+        }
+        kept.cost = {.terms = stats.terms,
+                     .rays = stats.segmentsCast,
+                     .ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - began).count()};
+        kept.stale = false;
+        kept.whole = true;
+        kept.stalePoints.clear();
+        kept.refreshedAt = frame_;
         ++frame.refreshed;
         frame.lights.push_back(l);
         frame.segments += cost;
@@ -243,20 +349,23 @@ LightingCache::LightCost LightingCache::cost(std::size_t index) const
 std::vector<float> LightingCache::staleness() const
 {
     std::vector<double> stale(points_.size(), 0.0), all(points_.size(), 0.0);
+    std::vector<bool> unknown(points_.size(), false);
     for (const Kept& kept : kept_) {
         if (!kept.computed)
             continue;
         const double weight = meanColour(kept.colour);
-        for (std::size_t j = 0; j < points_.size(); ++j) {
-            const double value = weight * double(kept.field[j]);
-            all[j] += value;
-            if (kept.stale)
-                stale[j] += value;
-        }
+        for (std::size_t j = 0; j < points_.size(); ++j)
+            all[j] += weight * double(kept.field[j]);
+        if (kept.stale && kept.whole)
+            for (std::size_t j = 0; j < points_.size(); ++j)
+                stale[j] += weight * double(kept.field[j]);
+        else if (kept.stale)   // where a change in the scene may have moved its shadows, by how much is unknown
+            for (const std::uint32_t j : kept.stalePoints)
+                unknown[j] = true;
     }
     std::vector<float> share(points_.size(), 0.0f);
     for (std::size_t j = 0; j < points_.size(); ++j)
-        share[j] = all[j] > 0.0 ? float(stale[j] / all[j]) : 0.0f;
+        share[j] = unknown[j] ? 1.0f : all[j] > 0.0 ? float(stale[j] / all[j]) : 0.0f;
     // A light never computed lights nothing yet: where it would, the view is wholly stale. Its
     // reach is unknown until computed, so every point is marked.
     if (std::any_of(kept_.begin(), kept_.end(), [](const Kept& k) { return k.stale && !k.computed; }))

@@ -15,6 +15,7 @@
 #include "lighting/LightEmission.h"
 #include "lighting/LightingCache.h"
 #include "lighting/LowResolutionPass.h"
+#include "lighting/SceneChange.h"
 #include "visibility/Error.h"
 
 using namespace sightline;
@@ -64,6 +65,14 @@ void expectExact(const LightingCache& cache, const LightingScene& scene, const s
             EXPECT_NEAR(cache.irradiance()[j][c], reference[j][c], 1e-6 * std::max(reference[j][c], 1e-9)) << j;
 }
 
+/// A plan with no low-resolution pass (no light is dragged).
+LowResolutionPlan noPlan(std::size_t points)
+{
+    LowResolutionPlan plan;
+    plan.points = points;
+    return plan;
+}
+
 } // namespace
 
 TEST(LightingCache, ConvergesBrightestFirstAndMovesOneLightAtItsOwnCost)
@@ -105,37 +114,46 @@ TEST(LightingCache, ConvergesBrightestFirstAndMovesOneLightAtItsOwnCost)
     expectExact(cache, scene, room.lights, room.points);
 }
 
-TEST(LightingCache, AnOccluderMovingStalesTheLightsWithinReachAndTheViewConvergesByPriority)
+TEST(LightingCache, AnOccluderMovingStalesThePointsItsShadowsCouldReachAndTheViewConvergesByPriority)
 {
     Room before({3.0f, 0.5f, 3.0f});
     const LightingScene oldScene(before.scene);
     LightingCache cache(before.points, before.lights);
     while (!cache.update(oldScene, ~std::uint64_t(0)).exact) {
     }
-    // The crate moves across the room: the lamps within 5 m of where it was or is, and the
-    // panel (no range), go stale; the rest keep their light.
+    // The crate moves across the room: the regions are where it was and where it is.
     Room after({-3.0f, 0.5f, -2.0f});
     const LightingScene newScene(after.scene);
-    Bounds was, is;
-    was.extend(glm::vec3(2.5f, 0.0f, 2.5f)), was.extend(glm::vec3(3.5f, 1.0f, 3.5f));
-    is.extend(glm::vec3(-3.5f, 0.0f, -2.5f)), is.extend(glm::vec3(-2.5f, 1.0f, -1.5f));
-    cache.sceneChanged(was);
-    cache.sceneChanged(is);
+    const std::vector<Bounds> regions = changedRegions(worldTriangles(before.scene), worldTriangles(after.scene));
+    ASSERT_EQ(regions.size(), 2u);
+    EXPECT_NEAR(regions[0].min.x, 2.5f, 1e-6f);
+    EXPECT_NEAR(regions[0].max.z, 3.5f, 1e-6f);
+    EXPECT_NEAR(regions[1].min.x, -3.5f, 1e-6f);
+    EXPECT_NEAR(regions[1].max.z, -1.5f, 1e-6f);
+    EXPECT_NEAR(regions[1].max.y, 1.0f, 1e-6f);
+    cache.sceneChanged(newScene, regions);
     const std::size_t stale = cache.staleCount();
     EXPECT_GE(stale, 2u);
-    EXPECT_LT(stale, after.lights.size());   // lamps out of reach of both places keep their light
+    EXPECT_LT(stale, after.lights.size());   // lamps whose range no shadow segment through the region is in keep their light
     EXPECT_TRUE(cache.isStale(after.lights.size() - 1));   // the panel has no range
-    // All went stale together, so the first frame takes the brightest of them.
-    double dimmestRefreshed = INFINITY, brightestLeft = 0.0;
+    // Stale where a shadow may have moved, not everywhere.
+    const std::vector<float> share = cache.staleness();
+    const auto staleShare = std::count(share.begin(), share.end(), 1.0f);
+    EXPECT_GT(staleShare, 0);
+    EXPECT_LT(staleShare, std::ptrdiff_t(after.points.size()));
     std::vector<double> brightness(after.lights.size());
     for (std::size_t l = 0; l < after.lights.size(); ++l)
         brightness[l] = cache.brightness(l);
-    // Two lights a frame: exact again within ceil(stale / 2) frames, brightest first.
+    // Two stale lights' worth of whole refreshes a frame: the partial refreshes cost less, so the
+    // view is exact again within ceil(stale / 2) frames, brightest first.
     const std::uint64_t budget = 2 * 9 * after.points.size();
     int frames = 0;
+    std::uint64_t segments = 0;
+    double dimmestRefreshed = INFINITY, brightestLeft = 0.0;
     LightingCache::Frame frame;
     do {
         frame = cache.update(newScene, budget);
+        segments += frame.segments;
         if (frames == 0) {
             for (const std::size_t l : frame.lights)
                 dimmestRefreshed = std::min(dimmestRefreshed, brightness[l]);
@@ -147,7 +165,85 @@ TEST(LightingCache, AnOccluderMovingStalesTheLightsWithinReachAndTheViewConverge
     } while (!frame.exact && frames < 20);
     EXPECT_GE(dimmestRefreshed, brightestLeft);
     EXPECT_LE(std::size_t(frames), (stale + 1) / 2);
+    // Less than refreshing every stale light whole.
+    EXPECT_LT(segments, std::uint64_t(stale - 1 + 9) * after.points.size());
     expectExact(cache, newScene, after.lights, after.points);
+    for (const float s : cache.staleness())
+        EXPECT_EQ(s, 0.0f);
+}
+
+TEST(LightingCache, PointsThatCameWithTheSceneAreLitAndThoseThatStayedKeepTheirLight)
+{
+    // The crate's top carries points of its own (as an occluder carries texels): moving it takes
+    // them away and brings new ones.
+    const auto withTop = [](Room& room, const glm::dvec3& crate) {
+        std::vector<ShadingPoint> points = room.points;
+        for (int i = 0; i < 4; ++i)
+            for (int j = 0; j < 4; ++j)
+                points.push_back({crate + glm::dvec3(-0.375 + 0.25 * i, 0.51, -0.375 + 0.25 * j), {0.0, 1.0, 0.0}});
+        return points;
+    };
+    Room before({3.0f, 0.5f, 3.0f});
+    const std::vector<ShadingPoint> oldPoints = withTop(before, {3.0, 0.5, 3.0});
+    const LightingScene oldScene(before.scene);
+    LightingCache cache(oldPoints, before.lights);
+    while (!cache.update(oldScene, ~std::uint64_t(0)).exact) {
+    }
+    Room after({-3.0f, 0.5f, -2.0f});
+    const std::vector<ShadingPoint> newPoints = withTop(after, {-3.0, 0.5, -2.0});
+    const LightingScene newScene(after.scene);
+    const std::vector<std::size_t> previous = matchPoints(oldPoints, newPoints);
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < previous.size(); ++j) {
+        EXPECT_EQ(previous[j] != SIZE_MAX, j < after.points.size()) << j;
+        kept += previous[j] == j ? 1 : 0;
+    }
+    EXPECT_EQ(kept, after.points.size());
+    cache.sceneChanged(newScene, changedRegions(worldTriangles(before.scene), worldTriangles(after.scene)), newPoints, previous,
+                       noPlan(newPoints.size()));
+    EXPECT_EQ(cache.points().size(), newPoints.size());
+    EXPECT_EQ(cache.staleCount(), after.lights.size());   // every light has new points to light
+    for (std::size_t j = after.points.size(); j < newPoints.size(); ++j)
+        EXPECT_EQ(cache.irradiance()[j], glm::dvec3(0.0));   // nothing shown there yet
+    while (!cache.update(newScene, ~std::uint64_t(0)).exact) {
+    }
+    expectExact(cache, newScene, after.lights, newPoints);
+    // Mismatched indices are refused.
+    std::vector<std::size_t> wrong(newPoints.size(), SIZE_MAX);
+    wrong[0] = newPoints.size() + 5;
+    EXPECT_THROW(cache.sceneChanged(newScene, {}, newPoints, wrong, noPlan(newPoints.size())), Error);
+    EXPECT_THROW(cache.sceneChanged(newScene, {}, newPoints, std::vector<std::size_t>(3, SIZE_MAX),
+                                    noPlan(newPoints.size())),
+                 Error);
+}
+
+TEST(SceneChange, TheRegionHoldsWhatEitherSideLacksAndPointsMatchBitForBit)
+{
+    Room a({3.0f, 0.5f, 3.0f}), b({3.0f, 0.5f, 3.0f});
+    EXPECT_TRUE(changedRegions(worldTriangles(a.scene), worldTriangles(b.scene)).empty());
+    // Instances listed in another order hold the same triangles.
+    std::swap(b.scene.instances[0], b.scene.instances[2]);
+    EXPECT_TRUE(changedRegions(worldTriangles(a.scene), worldTriangles(b.scene)).empty());
+    // A removed instance: the region is its box.
+    Scene fewer = a.scene;
+    fewer.instances.pop_back();
+    const std::vector<Bounds> regions = changedRegions(worldTriangles(a.scene), worldTriangles(fewer));
+    ASSERT_EQ(regions.size(), 1u);
+    const Bounds& gone = regions[0];
+    EXPECT_NEAR(gone.min.x, 2.5f, 1e-6f);
+    EXPECT_NEAR(gone.max.z, 3.5f, 1e-6f);
+    EXPECT_NEAR(gone.min.y, 0.0f, 1e-6f);
+
+    std::vector<ShadingPoint> p = {{{1, 2, 3}, {0, 1, 0}}, {{1, 2, 3}, {0, 1, 0}}, {{4, 5, 6}, {1, 0, 0}}};
+    std::vector<ShadingPoint> q = {{{4, 5, 6}, {1, 0, 0}}, {{1, 2, 3}, {0, 1, 0}}, {{1, 2, 3}, {0, 1, 0}},
+                                   {{1, 2, 3}, {0, 1, 0}}, {{4, 5, 6 + 1e-12}, {1, 0, 0}}, {{4, 5, 6}, {0, 1, 0}}};
+    const std::vector<std::size_t> m = matchPoints(p, q);
+    ASSERT_EQ(m.size(), q.size());
+    EXPECT_EQ(m[0], 2u);
+    EXPECT_TRUE((m[1] == 0 && m[2] == 1) || (m[1] == 1 && m[2] == 0));
+    EXPECT_EQ(m[3], SIZE_MAX);   // each old point once
+    EXPECT_EQ(m[4], SIZE_MAX);   // bit for bit
+    EXPECT_EQ(m[5], SIZE_MAX);   // the normal too
 }
 
 namespace {

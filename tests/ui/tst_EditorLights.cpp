@@ -338,6 +338,23 @@ TEST(LitPreview, WithTheBounceTheExactFrameIsTheDirectAndTheBounceToneMapped)
     EXPECT_GT(brighter, texels.points.size() / 2) << "the bounce lights the shadows too";
 }
 
+/// Two frames show the same irradiance texel for texel, each decoded by its own exposure.
+void expectSameIrradiance(const LitPreviewFrame& shown, const LitPreviewFrame& fresh)
+{
+    ASSERT_EQ(fresh.map.size(), shown.map.size());
+    std::size_t compared = 0;
+    for (std::size_t i = 0; i < fresh.map.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double a = shown.map[i][c], b = fresh.map[i][c];
+            if (a > 0.95 || b > 0.95)
+                continue;   // the tone map's flat end: no digits left to compare
+            const double ea = -std::log1p(-a) / shown.exposure, eb = -std::log1p(-b) / fresh.exposure;
+            ASSERT_NEAR(ea, eb, 1e-4 * std::max(eb, 1e-3)) << "pixel " << i;
+            ++compared;
+        }
+    EXPECT_GT(compared, 1000u);
+}
+
 TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
 {
     const auto scene = boxOnAFloor();
@@ -388,19 +405,63 @@ TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
     }
     preview.stop();
     // The same irradiance as a fresh exact frame of the moved lights (each with its own exposure).
-    const LitPreviewFrame fresh = exactLitFrame(scene, lights);
-    ASSERT_EQ(fresh.map.size(), last.map.size());
-    std::size_t compared = 0;
-    for (std::size_t i = 0; i < fresh.map.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            const double a = last.map[i][c], b = fresh.map[i][c];
-            if (a > 0.95 || b > 0.95)
-                continue;   // the tone map's flat end: no digits left to compare
-            const double ea = -std::log1p(-a) / last.exposure, eb = -std::log1p(-b) / fresh.exposure;
-            ASSERT_NEAR(ea, eb, 1e-4 * std::max(eb, 1e-3)) << "pixel " << i;
-            ++compared;
-        }
-    EXPECT_GT(compared, 1000u);
+    expectSameIrradiance(last, exactLitFrame(scene, lights));
+}
+
+std::shared_ptr<const Scene> boxOnAFloorAt(const glm::vec3& at)
+{
+    Scene scene = test::sceneOf({test::quad({-5.0f, 0.0f, -5.0f}, {0.0f, 0.0f, 10.0f}, {10.0f, 0.0f, 0.0f}, "floor")});
+    scene.addMeshInstance(test::closedBox(), glm::translate(glm::mat4(1.0f), at));
+    return std::make_shared<const Scene>(std::move(scene));
+}
+
+TEST(LitPreview, AMovedOccluderRefreshesTheTexelsItsShadowsCouldReachAndTheViewBecomesExactAgain)
+{
+    const auto before = boxOnAFloorAt({0.0f, 0.5f, 0.0f}), after = boxOnAFloorAt({2.5f, 0.5f, 1.5f});
+    const std::vector<Light> lights = someLights();
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::vector<LitPreviewFrame> frames;
+    LitPreview preview([&](LitPreviewFrame frame) {
+        std::lock_guard lock(mutex);
+        frames.push_back(std::move(frame));
+        arrived.notify_all();
+    });
+    preview.start(3, {.scene = before, .lights = lights});
+    const auto waitExact = [&](std::size_t count) {
+        std::unique_lock lock(mutex);
+        return arrived.wait_for(lock, std::chrono::seconds(120), [&] {
+            return frames.size() > count && (frames.back().exact || !frames.back().error.empty());
+        });
+    };
+    ASSERT_TRUE(waitExact(0));
+    std::size_t seen = 0;
+    std::vector<LightingCache::LightCost> whole;
+    {
+        std::lock_guard lock(mutex);
+        ASSERT_TRUE(frames.back().error.empty()) << frames.back().error;
+        seen = frames.size();
+        whole = frames.back().costs;
+    }
+    const std::uint64_t moved = preview.setScene(after);
+    ASSERT_TRUE(waitExact(seen));
+    LitPreviewFrame last;
+    {
+        std::lock_guard lock(mutex);
+        ASSERT_TRUE(frames.back().error.empty()) << frames.back().error;
+        // One frame at the default budget; each light lit again where the box's shadows were or
+        // are and on the box's new texels, at a fraction of lighting every texel.
+        ASSERT_EQ(frames.size(), seen + 1);
+        last = frames.back();
+        EXPECT_EQ(last.lightsVersion, moved);
+        EXPECT_EQ(last.refreshed, lights.size());
+        EXPECT_EQ(last.texels, litTexels(*after).points.size());
+        ASSERT_EQ(last.costs.size(), whole.size());
+        for (std::size_t l = 0; l < lights.size(); ++l)
+            EXPECT_LT(last.costs[l].terms, whole[l].terms / 2) << "light " << l;
+    }
+    preview.stop();
+    expectSameIrradiance(last, exactLitFrame(after, lights));
 }
 
 /// The first frame of `shading` once exact.

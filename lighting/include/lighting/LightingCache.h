@@ -2,8 +2,9 @@
 // Amortised many-light updates for a live view (Barczak 2006 §4: shadow maps refreshed by
 // priority within a budget per frame): each light's shadowed contribution at the view's points is
 // kept, so that moving one light costs that light's shadow rays alone, and after an occluder moves
-// only the lights it may affect go stale and are refreshed, the brightest and longest stale first,
-// until a frame's budget of shadow segments is spent. The view converges to the exact answer and
+// only the points whose shadow segments could pass where it was or is go stale, light by light,
+// and are refreshed, the brightest and longest stale lights first, until a frame's budget of
+// shadow segments is spent. The view converges to the exact answer and
 // says when it has.
 //
 // A light's contribution is its colour times a scalar field (the shadowed sum of its terms with a
@@ -18,6 +19,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -41,9 +43,18 @@ public:
     /// Light `index` moved or changed: stale until refreshed; the view shows its old light until
     /// then. `rough`: (with a plan) the next update gives it the low-resolution pass first.
     void setLight(std::size_t index, const Light& light, bool rough = false);
-    /// Something in `region` moved (an occluder, a level object): every light whose shadows could
-    /// change goes stale (a point or spot light only when the region comes within its range).
-    void sceneChanged(const Bounds& region);
+    /// Something inside the boxes `regions` changed (an occluder moved, was added or removed there;
+    /// the points stay). Per light, the points one of whose segments to it may meet a region go
+    /// stale (lights/RegionShafts.h) and are refreshed alone: every other point's segments avoid
+    /// the regions, so they are blocked or free as before and its field stands. `scene` is the
+    /// scene as it is now.
+    void sceneChanged(const LightingScene& scene, std::span<const Bounds> regions);
+    /// The same where the points changed with the scene (a moved occluder carries texels of its
+    /// own): `points` replace the cache's, `previous[j]` is new point j's index among the old
+    /// points or SIZE_MAX (a new point: stale for every light), and `plan` covers the new points.
+    /// A point kept has the same position and normal, so its field is carried over.
+    void sceneChanged(const LightingScene& scene, std::span<const Bounds> regions, std::vector<ShadingPoint> points,
+                      std::span<const std::size_t> previous, LowResolutionPlan plan);
 
     struct Frame {
         std::size_t refreshed = 0;      ///< lights refreshed this frame
@@ -60,7 +71,8 @@ public:
     Frame update(const LightingScene& scene, std::uint64_t budget, int threads = 0);
 
     const std::vector<glm::dvec3>& irradiance() const { return shown_; }
-    /// Per point, the share of its shown irradiance that comes from stale lights (0 to 1): the
+    /// Per point, the share of its shown irradiance that comes from stale lights (0 to 1), and 1
+    /// where a change in the scene may have moved a light's shadows (by an unknown amount): the
     /// staleness overlay.
     std::vector<float> staleness() const;
     std::size_t staleCount() const;
@@ -95,6 +107,8 @@ private:
         double brightness = 0.0;        ///< sum of field x mean colour: the priority's weight
         bool computed = false;
         bool stale = true;
+        bool whole = true;              ///< stale everywhere; else at `stalePoints` alone
+        std::vector<std::uint32_t> stalePoints;   ///< ascending, when stale but not whole
         bool roughNext = false;         ///< the next update gives it the low-resolution pass
         std::uint64_t staleSince = 0;   ///< frame it went stale
         std::uint64_t refreshedAt = 0;  ///< frame of its last exact refresh
@@ -103,8 +117,15 @@ private:
 
     void resum();
     void markStale(std::size_t index);
+    /// Light `index` stale at `points` (ascending) besides what already is.
+    void markStalePoints(std::size_t index, std::vector<std::uint32_t> points);
+    void setPlan(LowResolutionPlan plan);
+    /// Points light `index` must refresh: all of them when whole.
+    std::size_t stalePointCount(std::size_t index) const;
     /// Shows `field` as light `index`'s (by differences) and keeps it.
     void keep(std::size_t index, std::vector<float> field);
+    /// The same for its stale points alone (`values` in their order).
+    void keepAt(std::size_t index, const std::vector<float>& values);
     /// The low-resolution pass's field of `light`; `segments` gets the points it cast to,
     /// `stats` what directIrradiance counted.
     std::vector<float> roughField(const LightingScene& scene, const Light& light, int threads, std::uint64_t& segments,
