@@ -125,14 +125,21 @@ void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bou
     }
     // Fields carried over to the new points (a new point shows nothing until refreshed); a light
     // stale at some old points is stale at the new points they became.
+    std::vector<glm::dvec3> shown(points.size(), glm::dvec3(0.0));
     for (Kept& kept : kept_) {
         if (!kept.computed)
             continue;
+        // Carried over, summed into the view light by light (as resum() sums) and weighed.
         std::vector<float> field(points.size(), 0.0f);
+        double brightness = 0.0;
         for (std::size_t j = 0; j < points.size(); ++j)
-            if (previous[j] != SIZE_MAX)
+            if (previous[j] != SIZE_MAX) {
                 field[j] = kept.field[previous[j]];
+                shown[j] += kept.colour * double(field[j]);
+                brightness += double(field[j]);
+            }
         kept.field = std::move(field);
+        kept.brightness = brightness * meanColour(kept.colour);
         if (kept.stale && !kept.whole) {
             std::vector<bool> was(points_.size(), false);
             for (const std::uint32_t j : kept.stalePoints)
@@ -147,24 +154,37 @@ void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bou
     points_ = std::move(points);
     tiling_ = std::make_unique<PointTiling>(points_);
     setPlan(std::move(plan));
-    shown_.assign(points_.size(), glm::dvec3(0.0));
-    resum();
-    for (std::size_t l = 0; l < kept_.size(); ++l) {
-        Kept& kept = kept_[l];
-        if (!kept.computed)
-            continue;
-        double brightness = 0.0;
-        for (const float f : kept.field)
-            brightness += double(f);
-        kept.brightness = brightness * meanColour(kept.colour);
-        markStalePoints(l, added);
-    }
+    shown_ = std::move(shown);
+    touched_.clear();
+    touchedAll_ = false;
+    for (std::size_t l = 0; l < kept_.size(); ++l)
+        if (kept_[l].computed)
+            markStalePoints(l, added);
     sceneChanged(scene, regions);
 }
 
 std::size_t LightingCache::staleCount() const
 {
     return std::size_t(std::count_if(kept_.begin(), kept_.end(), [](const Kept& k) { return k.stale; }));
+}
+
+void LightingCache::resumTouched()
+{
+    if (touchedAll_) {
+        resum();
+    } else {
+        std::sort(touched_.begin(), touched_.end());
+        touched_.erase(std::unique(touched_.begin(), touched_.end()), touched_.end());
+        for (const std::uint32_t j : touched_) {
+            glm::dvec3 sum(0.0);
+            for (const Kept& kept : kept_)
+                if (kept.computed)
+                    sum += kept.colour * double(kept.field[j]);
+            shown_[j] = sum;
+        }
+    }
+    touched_.clear();
+    touchedAll_ = false;
 }
 
 void LightingCache::resum()
@@ -179,6 +199,7 @@ void LightingCache::resum()
 void LightingCache::keepAt(std::size_t index, const std::vector<float>& values)
 {
     Kept& kept = kept_[index];
+    touched_.insert(touched_.end(), kept.stalePoints.begin(), kept.stalePoints.end());
     double change = 0.0;
     for (std::size_t k = 0; k < values.size(); ++k) {
         const std::uint32_t j = kept.stalePoints[k];
@@ -192,6 +213,7 @@ void LightingCache::keepAt(std::size_t index, const std::vector<float>& values)
 void LightingCache::keep(std::size_t index, std::vector<float> field)
 {
     Kept& kept = kept_[index];
+    touchedAll_ = true;
     kept.field.resize(points_.size(), 0.0f);   // a light never computed shows nothing: colour 0
     double brightness = 0.0;
     const glm::dvec3 colour = lights_[index].colour;
@@ -331,7 +353,7 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
     frame.stale = staleCount();
     frame.exact = frame.stale == 0;
     if (frame.exact && frame.refreshed > 0)
-        resum();   // the differences' rounding gone: the kept fields summed light by light
+        resumTouched();   // the differences' rounding gone: the kept fields summed light by light
     frame.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return frame;
 }

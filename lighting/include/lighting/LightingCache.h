@@ -116,6 +116,9 @@ private:
     };
 
     void resum();
+    /// resum() where a refresh changed the view since the last sum (every point once a whole
+    /// light was refreshed): elsewhere the view already is that sum.
+    void resumTouched();
     void markStale(std::size_t index);
     /// Light `index` stale at `points` (ascending) besides what already is.
     void markStalePoints(std::size_t index, std::vector<std::uint32_t> points);
@@ -139,6 +142,8 @@ private:
     std::vector<Light> lights_;
     std::vector<Kept> kept_;
     std::vector<glm::dvec3> shown_;
+    std::vector<std::uint32_t> touched_;   ///< points keepAt changed since the last sum (repeats allowed)
+    bool touchedAll_ = false;              ///< keep changed every point since the last sum
     std::uint64_t frame_ = 0;
 };
 
