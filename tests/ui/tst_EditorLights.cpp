@@ -338,6 +338,30 @@ TEST(LitPreview, WithTheBounceTheExactFrameIsTheDirectAndTheBounceToneMapped)
     EXPECT_GT(brighter, texels.points.size() / 2) << "the bounce lights the shadows too";
 }
 
+/// The frames a LitPreview delivers, kept in order, and a wait for the next exact (or failed) one.
+struct FrameLog {
+    std::mutex mutex;
+    std::condition_variable arrived;
+    std::vector<LitPreviewFrame> frames;
+
+    LitPreview::Deliver deliver()
+    {
+        return [this](LitPreviewFrame frame) {
+            std::lock_guard lock(mutex);
+            frames.push_back(std::move(frame));
+            arrived.notify_all();
+        };
+    }
+    /// Whether a frame after the first `count` was exact or failed within two minutes.
+    bool waitExact(std::size_t count)
+    {
+        std::unique_lock lock(mutex);
+        return arrived.wait_for(lock, std::chrono::seconds(120), [&] {
+            return frames.size() > count && (frames.back().exact || !frames.back().error.empty());
+        });
+    }
+};
+
 /// Two frames show the same irradiance texel for texel, each decoded by its own exposure.
 void expectSameIrradiance(const LitPreviewFrame& shown, const LitPreviewFrame& fresh)
 {
@@ -359,23 +383,13 @@ TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
 {
     const auto scene = boxOnAFloor();
     std::vector<Light> lights = someLights();
-    std::mutex mutex;
-    std::condition_variable arrived;
-    std::vector<LitPreviewFrame> frames;
-    LitPreview preview([&](LitPreviewFrame frame) {
-        std::lock_guard lock(mutex);
-        frames.push_back(std::move(frame));
-        arrived.notify_all();
-    });
+    FrameLog log;
+    std::vector<LitPreviewFrame>& frames = log.frames;
+    std::mutex& mutex = log.mutex;
+    LitPreview preview(log.deliver());
     // A small budget: one light a frame, so the updates are amortised.
     preview.start(7, {.scene = scene, .lights = lights, .segmentsPerFrame = 1});
-    const auto waitExact = [&](std::size_t after) {
-        std::unique_lock lock(mutex);
-        return arrived.wait_for(lock, std::chrono::seconds(120), [&] {
-            return frames.size() > after && (frames.back().exact || !frames.back().error.empty());
-        });
-    };
-    ASSERT_TRUE(waitExact(0));
+    ASSERT_TRUE(log.waitExact(0));
     std::size_t seen = 0;
     {
         std::lock_guard lock(mutex);
@@ -386,7 +400,7 @@ TEST(LitPreview, AMovedLightIsRefreshedByPriorityAndTheViewBecomesExactAgain)
     }
     lights[0].position += glm::dvec3(-1.0, 0.2, 0.0);
     const std::uint64_t moved = preview.setLights(lights);
-    ASSERT_TRUE(waitExact(seen));
+    ASSERT_TRUE(log.waitExact(seen));
     LitPreviewFrame last;
     {
         std::lock_guard lock(mutex);
@@ -419,22 +433,12 @@ TEST(LitPreview, AMovedOccluderRefreshesTheTexelsItsShadowsCouldReachAndTheViewB
 {
     const auto before = boxOnAFloorAt({0.0f, 0.5f, 0.0f}), after = boxOnAFloorAt({2.5f, 0.5f, 1.5f});
     const std::vector<Light> lights = someLights();
-    std::mutex mutex;
-    std::condition_variable arrived;
-    std::vector<LitPreviewFrame> frames;
-    LitPreview preview([&](LitPreviewFrame frame) {
-        std::lock_guard lock(mutex);
-        frames.push_back(std::move(frame));
-        arrived.notify_all();
-    });
+    FrameLog log;
+    std::vector<LitPreviewFrame>& frames = log.frames;
+    std::mutex& mutex = log.mutex;
+    LitPreview preview(log.deliver());
     preview.start(3, {.scene = before, .lights = lights});
-    const auto waitExact = [&](std::size_t count) {
-        std::unique_lock lock(mutex);
-        return arrived.wait_for(lock, std::chrono::seconds(120), [&] {
-            return frames.size() > count && (frames.back().exact || !frames.back().error.empty());
-        });
-    };
-    ASSERT_TRUE(waitExact(0));
+    ASSERT_TRUE(log.waitExact(0));
     std::size_t seen = 0;
     std::vector<LightingCache::LightCost> whole;
     {
@@ -444,7 +448,7 @@ TEST(LitPreview, AMovedOccluderRefreshesTheTexelsItsShadowsCouldReachAndTheViewB
         whole = frames.back().costs;
     }
     const std::uint64_t moved = preview.setScene(after);
-    ASSERT_TRUE(waitExact(seen));
+    ASSERT_TRUE(log.waitExact(seen));
     LitPreviewFrame last;
     {
         std::lock_guard lock(mutex);
