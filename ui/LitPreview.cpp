@@ -375,6 +375,14 @@ private:
     /// The texels, the lighting scene and the cache of the lights as they are now.
     bool prepare()
     {
+        {
+            // The version read with what it versions: a scene set since start() is this one's.
+            std::lock_guard lock(owner_.mutex_);
+            lights_ = owner_.lights_;
+            version_ = owner_.lightsVersion_;
+            if (owner_.sceneChange_)
+                sceneShared_ = std::exchange(owner_.sceneChange_, nullptr);
+        }
         texels_ = litTexels(*sceneShared_);
         if (cancelled())
             return false;
@@ -385,11 +393,6 @@ private:
         scene_ = std::make_unique<LightingScene>(*sceneShared_);
         if (cancelled())
             return false;
-        {
-            std::lock_guard lock(owner_.mutex_);
-            lights_ = owner_.lights_;
-            version_ = owner_.lightsVersion_;
-        }
         cache_ = std::make_unique<LightingCache>(texels_.points, lights_, plan(texels_));
         return true;
     }

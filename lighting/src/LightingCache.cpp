@@ -148,7 +148,10 @@ void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bou
             for (std::size_t j = 0; j < points.size(); ++j)
                 if (previous[j] != SIZE_MAX && was[previous[j]])
                     kept.stalePoints.push_back(std::uint32_t(j));
-            kept.whole = kept.stalePoints.empty();   // nothing left of it: refreshed whole
+            if (kept.stalePoints.empty()) {   // none of its stale points is left: fresh at the rest
+                kept.stale = false;
+                kept.whole = true;
+            }
         }
     }
     points_ = std::move(points);

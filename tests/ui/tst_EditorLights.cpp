@@ -468,6 +468,27 @@ TEST(LitPreview, AMovedOccluderRefreshesTheTexelsItsShadowsCouldReachAndTheViewB
     expectSameIrradiance(last, exactLitFrame(after, lights));
 }
 
+TEST(LitPreview, ASceneSetAsTheWorkerStartsIsTheOneItLights)
+{
+    const auto before = boxOnAFloorAt({0.0f, 0.5f, 0.0f}), after = boxOnAFloorAt({2.5f, 0.5f, 1.5f});
+    const std::vector<Light> lights = someLights();
+    FrameLog log;
+    LitPreview preview(log.deliver());
+    preview.start(4, {.scene = before, .lights = lights});
+    const std::uint64_t moved = preview.setScene(after);   // the worker may not have read the first yet
+    std::optional<LitPreviewFrame> last;
+    for (std::size_t seen = 0; !last;) {
+        ASSERT_TRUE(log.waitExact(seen));
+        std::lock_guard lock(log.mutex);
+        ASSERT_TRUE(log.frames.back().error.empty()) << log.frames.back().error;
+        if (log.frames.back().lightsVersion == moved)
+            last = log.frames.back();
+        seen = log.frames.size();
+    }
+    preview.stop();
+    expectSameIrradiance(*last, exactLitFrame(after, lights));
+}
+
 /// The first frame of `shading` once exact.
 LitPreviewFrame exactFrameShowing(std::shared_ptr<const Scene> scene, const std::vector<Light>& lights, LitShading shading, int budget)
 {
