@@ -400,7 +400,7 @@ private:
     /// Barczak's low-resolution pass for dragged lights: every other texel, edges refined.
     static LowResolutionPlan plan(const LitTexels& texels)
     {
-        return lowResolutionPlan(texels.layout, texels.pointOfTexel, kLowResolutionStride);
+        return lowResolutionPlan(texels.layout, texels.pointOfTexel, kLowResolutionStride, texels.points);
     }
 
     void refreshLights()

@@ -1,7 +1,13 @@
 #include "lighting/LowResolutionPass.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
+#include <map>
+#include <optional>
+
+#include <glm/common.hpp>
 
 #include "visibility/Error.h"
 
@@ -37,7 +43,59 @@ bool cornersDisagree(const std::array<float, 4>& values)
     return *low <= 0.0f || *high - *low > kRefineRelative * *high;
 }
 
-LowResolutionPlan lowResolutionPlan(const AoTexelLayout& layout, const std::vector<std::size_t>& pointOfTexel, int stride)
+namespace {
+
+/// Groups of texels from tiles too small for a block: by cube and by the axis their normal leans
+/// to most. The first of each group is its coarse point.
+class SmallTileGroups {
+public:
+    SmallTileGroups(std::span<const ShadingPoint> points, double cell) : points_(points), cell_(cell) {}
+
+    /// Puts point `p` in its group; true when it opens one (it is then coarse).
+    bool add(std::uint32_t p)
+    {
+        const ShadingPoint& x = points_[p];
+        const glm::dvec3 n = glm::abs(x.normal);
+        const int axis = n.x >= n.y && n.x >= n.z ? 0 : n.y >= n.z ? 1 : 2;
+        const Key key{std::int64_t(std::floor(x.position.x / cell_)), std::int64_t(std::floor(x.position.y / cell_)),
+                      std::int64_t(std::floor(x.position.z / cell_)), 2 * axis + (x.normal[axis] < 0.0 ? 1 : 0)};
+        const auto [at, opened] = groups_.try_emplace(key, Group{p, {}});
+        if (!opened)
+            at->second.members.push_back(p);
+        return opened;
+    }
+
+    /// A block per group with members: four corners its first point, each member copying it.
+    void addBlocks(LowResolutionPlan& plan) const
+    {
+        for (const auto& [key, group] : groups_) {
+            if (group.members.empty())
+                continue;
+            LowResolutionPlan::Block block;
+            block.corners.fill(group.first);
+            block.first = std::uint32_t(plan.fine.size());
+            for (const std::uint32_t p : group.members)
+                plan.fine.push_back({p, {1.0f, 0.0f, 0.0f, 0.0f}});
+            block.count = std::uint32_t(group.members.size());
+            plan.blocks.push_back(block);
+        }
+    }
+
+private:
+    using Key = std::array<std::int64_t, 4>;
+    struct Group {
+        std::uint32_t first;
+        std::vector<std::uint32_t> members;
+    };
+    std::span<const ShadingPoint> points_;
+    double cell_;
+    std::map<Key, Group> groups_;
+};
+
+} // namespace
+
+LowResolutionPlan lowResolutionPlan(const AoTexelLayout& layout, const std::vector<std::size_t>& pointOfTexel, int stride,
+                                    std::span<const ShadingPoint> points)
 {
     if (stride < 2)
         throw Error("the low-resolution pass needs a stride of at least 2 texels, got " + std::to_string(stride));
@@ -46,14 +104,22 @@ LowResolutionPlan lowResolutionPlan(const AoTexelLayout& layout, const std::vect
     const auto pointAt = [&](const AoTexelTile& tile, int s, int t) {
         return pointOfTexel[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
     };
+    std::optional<SmallTileGroups> groups;
+    if (!points.empty()) {
+        if (points.size() != plan.points || !(layout.density > 0.0))
+            throw Error("the low-resolution plan's points number " + std::to_string(points.size()) + " for " +
+                        std::to_string(plan.points) + " texels");
+        groups.emplace(points, double(stride) / layout.density);
+    }
     for (const AoTexelTile& tile : layout.tiles) {
         if (tile.width == 0 || tile.height == 0)
             continue;
         const std::vector<int> columns = coarseLines(tile.width, stride), rows = coarseLines(tile.height, stride);
-        if (columns.size() < 2 || rows.size() < 2) {   // a line of texels: every one exact
+        const bool small = columns.size() < 2 || rows.size() < 2 || (tile.width <= stride && tile.height <= stride);
+        if (small) {   // grouped in space, or else every texel exact
             for (int t = 0; t < tile.height; ++t)
                 for (int s = 0; s < tile.width; ++s)
-                    if (const std::size_t p = pointAt(tile, s, t); p != SIZE_MAX)
+                    if (const std::size_t p = pointAt(tile, s, t); p != SIZE_MAX && (!groups || groups->add(std::uint32_t(p))))
                         plan.coarse.push_back(std::uint32_t(p));
             continue;
         }
@@ -103,6 +169,8 @@ LowResolutionPlan lowResolutionPlan(const AoTexelLayout& layout, const std::vect
                 plan.blocks.push_back(block);
             }
     }
+    if (groups)
+        groups->addBlocks(plan);
     return plan;
 }
 

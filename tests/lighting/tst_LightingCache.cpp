@@ -320,6 +320,61 @@ TEST(LowResolutionPass, EveryTexelIsCoarseOrInterpolatedFromFourCoarseCornersOfI
     EXPECT_THROW(lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 1), Error);
 }
 
+TEST(LowResolutionPass, TexelsOfSmallTilesShareACoarsePointPerCubeAndFacing)
+{
+    // A big tile, then 400 one- and two-texel tiles (a plant's leaves) scattered over a 2 m cube
+    // with random normals, and a line of 9 texels.
+    Tiles tiles;
+    tiles.add(12, 12);
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> size(1, 2);
+    for (int k = 0; k < 400; ++k)
+        tiles.add(size(rng), size(rng));
+    tiles.add(9, 1);
+    tiles.layout.density = 4.0;   // texels per metre: cubes of 2 / 4 = 0.5 m at stride 2
+    std::uniform_real_distribution<double> u(0.0, 2.0), n(-1.0, 1.0);
+    std::vector<ShadingPoint> points(tiles.texelOfPoint.size());
+    for (std::size_t p = 0; p < points.size(); ++p) {
+        points[p].position = {u(rng), u(rng), u(rng)};
+        points[p].normal = glm::normalize(glm::dvec3(n(rng), n(rng), n(rng)) + glm::dvec3(1e-9));
+    }
+    const std::size_t big = 144;   // the big tile's points come first: laid out as a plane
+    for (std::size_t p = 0; p < big; ++p)
+        points[p] = {{0.25 * tiles.texelOfPoint[p].x, 0.0, 0.25 * tiles.texelOfPoint[p].y}, {0.0, 1.0, 0.0}};
+    const LowResolutionPlan plain = lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2);
+    const LowResolutionPlan plan = lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2, points);
+    ASSERT_EQ(plan.points, points.size());
+    std::vector<int> seen(plan.points, 0);
+    for (const std::uint32_t p : plan.coarse)
+        ++seen.at(p);
+    const auto cube = [&](std::uint32_t p) {
+        const glm::dvec3 a = glm::abs(points[p].normal);
+        const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+        return std::array<int, 5>{int(std::floor(points[p].position.x / 0.5)), int(std::floor(points[p].position.y / 0.5)),
+                                  int(std::floor(points[p].position.z / 0.5)), axis, points[p].normal[axis] < 0.0 ? 1 : 0};
+    };
+    std::size_t copies = 0;
+    for (const LowResolutionPlan::Block& block : plan.blocks)
+        for (std::uint32_t k = block.first; k < block.first + block.count; ++k) {
+            const LowResolutionPlan::Fine& fine = plan.fine.at(k);
+            ++seen.at(fine.point);
+            if (fine.point < big)
+                continue;   // the big tile's blocks are bilinear, as without the points
+            // A copy of its group's first point: same cube, same facing.
+            EXPECT_EQ(block.corners[0], block.corners[3]);
+            EXPECT_EQ(fine.weights[0], 1.0f);
+            EXPECT_EQ(cube(fine.point), cube(block.corners[0]));
+            EXPECT_EQ(std::count(plan.coarse.begin(), plan.coarse.end(), block.corners[0]), 1);
+            ++copies;
+        }
+    for (std::size_t p = 0; p < plan.points; ++p)
+        EXPECT_EQ(seen[p], 1) << "point " << p;
+    // The small tiles' texels: every one coarse without the points, one per group with them.
+    EXPECT_GT(copies, 100u);
+    EXPECT_EQ(plan.coarse.size() + copies, plain.coarse.size());
+    EXPECT_THROW(lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2, std::span(points).first(10)), Error);
+}
+
 TEST(LightingCache, ADraggedLightTakesTheLowResolutionPassThenTheExactOne)
 {
     Room room({3.0f, 0.5f, 3.0f});

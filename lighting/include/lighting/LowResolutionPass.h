@@ -2,7 +2,10 @@
 // Barczak 2006's low-resolution pass with edge refinement, for a light being dragged: its field
 // is computed exactly at every `stride`-th texel of each light-map tile (the coarse points), and
 // the texels between four coarse points are interpolated from them where the four agree, and
-// computed exactly where they do not (a shadow edge, a light's reach ending). The pass is a
+// computed exactly where they do not (a shadow edge, a light's reach ending). Tiles too small for
+// a block (most of a furnished level's texels lie on triangles a texel or two across: a chair's
+// rungs, a plant's leaves) are lowered in resolution in space instead: their texels in one cube two
+// texels across and facing the same way share one coarse point, which the others copy. The pass is a
 // preview: LightingCache keeps the light stale after it and refreshes it exactly once it stops
 // moving, so the view still ends exact.
 
@@ -10,6 +13,9 @@
 #include <cstdint>
 #include <vector>
 
+#include <span>
+
+#include "lighting/DirectLight.h"
 #include "lighting/ao/AoTexels.h"
 
 namespace sightline {
@@ -37,7 +43,13 @@ inline constexpr float kRefineRelative = 0.2f;
 
 /// The plan over the texels of `layout`: `pointOfTexel` maps a texel (AoPoints order) to its
 /// shading point, SIZE_MAX where the texel has none. `stride` >= 2 texels between coarse points.
-LowResolutionPlan lowResolutionPlan(const AoTexelLayout& layout, const std::vector<std::size_t>& pointOfTexel, int stride);
+/// With `points` (the shading points, indexed as pointOfTexel's values), the texels of tiles too
+/// small for a block (no wider or no taller than one texel, or no more than `stride` each way) are
+/// grouped by cube of side stride / layout.density and by the axis their normal leans to most
+/// (six ways): the first of a group is coarse, the rest copy it (a block of four equal corners).
+/// Without, each of them is coarse.
+LowResolutionPlan lowResolutionPlan(const AoTexelLayout& layout, const std::vector<std::size_t>& pointOfTexel, int stride,
+                                    std::span<const ShadingPoint> points = {});
 
 /// Whether a block with these corner values is computed exactly (kRefineRelative).
 bool cornersDisagree(const std::array<float, 4>& values);
