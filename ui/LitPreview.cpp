@@ -29,6 +29,10 @@ namespace {
 
 /// Texels between the low-resolution pass's coarse points (LowResolutionPass.h).
 constexpr int kLowResolutionStride = 2;
+/// After a dragged light's low-resolution pass, how long its next move may take before its exact
+/// refresh starts (a drag moves it every frame the window draws; the exact refresh of an area
+/// light over every texel takes several of them, and cannot be cut short).
+constexpr std::chrono::milliseconds kDragSettle{60};
 /// Error: the reference's lights computed between two frames (at least one).
 constexpr double kReferenceMsPerFrame = 250.0;
 
@@ -518,6 +522,8 @@ private:
                 return cancelled() || owner_.lightsVersion_ != version_ || owner_.shadingVersion_ != shadingSeen_ ||
                        owner_.setsVersion_ != setsSeen_;
             });
+        else if (step_.rough > 0)   // a light being dragged: its next move, if it comes soon, rather than its exact refresh
+            owner_.wake_.wait_for(lock, kDragSettle, [&] { return cancelled() || owner_.lightsVersion_ != version_; });
         if (cancelled())
             return false;
         refresh_ = !step_.exact || owner_.lightsVersion_ != version_;   // (else only the reference goes on)
