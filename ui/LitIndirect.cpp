@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "LitPreview.h"
+
 namespace sightline::ui {
 
 IndirectOptions litIndirectOptions()
@@ -19,15 +21,58 @@ LitIndirect::LitIndirect(std::vector<ShadingPoint> points, IndirectOptions optio
     validateIndirectOptions(options_);
 }
 
+namespace {
+
+/// The VPLs of `from` that `than` lacks (sameLight: bit for bit), each matched once.
+std::vector<Light> missing(const std::vector<Light>& from, const std::vector<Light>& than)
+{
+    std::vector<bool> used(than.size(), false);
+    std::vector<Light> out;
+    for (const Light& vpl : from) {
+        bool found = false;
+        for (std::size_t k = 0; k < than.size() && !found; ++k)
+            if (!used[k] && sameLight(vpl, than[k]))
+                found = used[k] = true;
+        if (!found)
+            out.push_back(vpl);
+    }
+    return out;
+}
+
+} // namespace
+
 void LitIndirect::setLights(const LightingScene& scene, const std::vector<Light>& lights)
 {
     VplSet set = traceVpls(scene, lights, options_);
     vplLights_ = std::move(set.vpls);
+    work_.clear();
     next_ = 0;
-    sum_.assign(points_.size(), glm::dvec3(0.0));
-    exact_ = vplLights_.empty();
-    if (exact_)
-        shown_ = sum_;
+    const std::vector<Light> gone = anyShown_ ? missing(shownVpls_, vplLights_) : std::vector<Light>{};
+    const std::vector<Light> added = anyShown_ ? missing(vplLights_, shownVpls_) : vplLights_;
+    if (anyShown_ && gone.size() + added.size() < vplLights_.size()) {
+        // From the bounce shown: its VPLs that are gone taken away, the new ones added.
+        sum_ = shown_;
+        for (const Light& vpl : gone)
+            work_.push_back({vpl, -1.0});
+        for (const Light& vpl : added)
+            work_.push_back({vpl, 1.0});
+    } else {
+        sum_.assign(points_.size(), glm::dvec3(0.0));
+        for (const Light& vpl : vplLights_)
+            work_.push_back({vpl, 1.0});
+    }
+    exact_ = false;
+    finishIfDone();
+}
+
+void LitIndirect::finishIfDone()
+{
+    if (next_ < work_.size())
+        return;
+    shown_ = sum_;
+    shownVpls_ = vplLights_;
+    anyShown_ = true;
+    exact_ = true;
 }
 
 void LitIndirect::update(const LightingScene& scene, std::uint64_t budget)
@@ -35,16 +80,22 @@ void LitIndirect::update(const LightingScene& scene, std::uint64_t budget)
     if (exact_)
         return;
     const std::uint64_t perVpl = std::max<std::uint64_t>(points_.size(), 1);
-    const std::size_t count = std::min(vplLights_.size() - next_, std::size_t(std::max<std::uint64_t>(budget / perVpl, 1)));
-    const std::vector<Light> chunk(vplLights_.begin() + std::ptrdiff_t(next_), vplLights_.begin() + std::ptrdiff_t(next_ + count));
-    const std::vector<glm::dvec3> part = directIrradiance(scene, chunk, points_, DirectLightOptions{.threads = options_.threads, .tiling = tiling_.get()});
-    for (std::size_t j = 0; j < sum_.size(); ++j)
-        sum_[j] += part[j];
-    next_ += count;
-    if (next_ == vplLights_.size()) {
-        shown_ = sum_;
-        exact_ = true;
+    const std::size_t count = std::min(work_.size() - next_, std::size_t(std::max<std::uint64_t>(budget / perVpl, 1)));
+    // Added and taken-away VPLs lit apart (each sum in the VPLs' order), then applied.
+    for (const double sign : {-1.0, 1.0}) {
+        std::vector<Light> chunk;
+        for (std::size_t k = next_; k < next_ + count; ++k)
+            if (work_[k].sign == sign)
+                chunk.push_back(work_[k].vpl);
+        if (chunk.empty())
+            continue;
+        const std::vector<glm::dvec3> part =
+            directIrradiance(scene, chunk, points_, DirectLightOptions{.threads = options_.threads, .tiling = tiling_.get()});
+        for (std::size_t j = 0; j < sum_.size(); ++j)
+            sum_[j] += sign * part[j];
     }
+    next_ += count;
+    finishIfDone();
 }
 
 } // namespace sightline::ui

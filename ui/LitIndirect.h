@@ -4,7 +4,10 @@
 // the view's texels by the exact fast path, a few VPLs a frame within the frame's budget, summed
 // as they come. No field is kept per VPL (hundreds of them over 200k texels would take hundreds of
 // megabytes; nothing but the sum is shown). The bounce is traced again whenever the lights change;
-// the last complete bounce stays shown until the new one is, so the view never flickers to a
+// the photons of lights that did not change draw the same random numbers (each light's count comes
+// from its power alone), so their VPLs come back bit for bit, and the new bounce is the last one
+// less the VPLs gone plus the VPLs new: moving one light re-lights its few VPLs, not all of them.
+// The last complete bounce stays shown until the new one is, so the view never flickers to a
 // half-summed bounce. Plain C++ (no Qt).
 
 #include <cstdint>
@@ -36,14 +39,25 @@ public:
     /// The bounce shown at each point (all zero until the first is complete).
     const std::vector<glm::dvec3>& irradiance() const { return shown_; }
     std::size_t vpls() const { return vplLights_.size(); }
+    /// VPLs still to be lit (added or taken away) before the bounce of the current lights is whole.
+    std::size_t pending() const { return work_.size() - next_; }
 
 private:
+    /// Once every step is summed: the bounce of the current lights is shown, exact.
+    void finishIfDone();
+    struct Step {
+        Light vpl;
+        double sign = 1.0;   ///< -1: a VPL of the shown bounce that is gone
+    };
     std::vector<ShadingPoint> points_;
     std::unique_ptr<PointTiling> tiling_;   ///< the fast path's tiles over points_, built once
     IndirectOptions options_;
-    std::vector<Light> vplLights_;
-    std::size_t next_ = 0;                 ///< the first VPL not yet summed
-    std::vector<glm::dvec3> sum_;          ///< the bounce of VPLs [0, next_)
+    std::vector<Light> vplLights_;         ///< the current lights' VPLs
+    std::vector<Light> shownVpls_;         ///< the VPLs of the bounce shown (complete)
+    bool anyShown_ = false;                ///< a complete bounce is shown
+    std::vector<Step> work_;               ///< from the shown bounce (or nothing) to the current one
+    std::size_t next_ = 0;                 ///< the first step not yet summed
+    std::vector<glm::dvec3> sum_;          ///< the starting bounce and steps [0, next_)
     std::vector<glm::dvec3> shown_;
     bool exact_ = false;
 };
