@@ -223,6 +223,9 @@ int benchmark(const Arguments& args, int width, int height)
                     f.exactAgainMs > 0.0 ? "" : " (not within 5 minutes)");
         std::printf("  occluder moved %d lit frames at most until exact, %.0f ms median ('%s' moved %d times)\n",
                     f.occluderMostFrames, f.occluderMedianMs, f.occluder.c_str(), f.occluderMoves);
+        std::printf("  one bounce     %zu VPLs: exact %.0f ms after it was turned on, again %.0f ms after the light moved%s\n",
+                    f.vpls, f.bounceFirstExactMs, f.bounceExactAgainMs,
+                    f.bounceFirstExactMs > 0.0 && f.bounceExactAgainMs > 0.0 ? "" : " (0: not within 5 minutes)");
         return 0;
     }
     InteractionOptions options;

@@ -364,6 +364,21 @@ LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height
     if (viewport.litExact())
         figures.exactAgainMs = double(clock.nsecsElapsed()) * 1e-6;
     measureOccluderMoves(document, viewport, figures);
+
+    // One bounce: on (every VPL lit), then the light moved once (its VPLs lit again, not all).
+    clock.restart();
+    viewport.setLitIndirect(true);
+    runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+    if (viewport.litExact())
+        figures.bounceFirstExactMs = double(clock.nsecsElapsed()) * 1e-6;
+    clock.restart();
+    document.applyState(light, translated(start, {0.5, 0.0, 0.25}));
+    runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+    if (viewport.litExact())
+        figures.bounceExactAgainMs = double(clock.nsecsElapsed()) * 1e-6;
+    figures.vpls = viewport.litVpls();
+    viewport.setLitIndirect(false);
+    document.applyState(light, start);
     viewport.setLitView(false);
     return figures;
 }

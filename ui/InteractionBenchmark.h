@@ -65,7 +65,7 @@ struct InteractionFigures {
 /// the camera orbited around the lit level, the project's first light dragged along a scripted path (lit frames shown a second while it
 /// moves: each refreshes the lights the budget allows, the moved one first), then let go (how soon
 /// the view is exact again); then an occluder moved a few times (how many lit frames until all
-/// lights are fresh).
+/// lights are fresh); then with one bounce of indirect light, the light moved once.
 struct LitFigures {
     std::size_t lights = 0, texels = 0;
     std::string dragged;          ///< the light's name
@@ -84,6 +84,10 @@ struct LitFigures {
     int occluderMoves = 0;
     int occluderMostFrames = 0;
     double occluderMedianMs = 0.0;
+    /// With one bounce of indirect light turned on: its first exact frame, then the dragged light
+    /// moved once (0: not within 5 min).
+    std::size_t vpls = 0;
+    double bounceFirstExactMs = 0.0, bounceExactAgainMs = 0.0;
 };
 /// Throws sightline::Error when the project has no light to drag.
 LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height);

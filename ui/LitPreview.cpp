@@ -382,6 +382,8 @@ private:
         {
             // The version read with what it versions: a scene set since start() is this one's.
             std::lock_guard lock(owner_.mutex_);
+            if (cancelled())
+                return false;   // a scene set now is the next worker's
             lights_ = owner_.lights_;
             version_ = owner_.lightsVersion_;
             if (owner_.sceneChange_)
@@ -572,13 +574,7 @@ private:
         auto scene = std::make_unique<LightingScene>(*next);
         const std::vector<Bounds> regions = changedRegions(scene_->triangles(), scene->triangles());
         const std::vector<std::size_t> previous = matchPoints(texels_.points, texels.points);
-        cache_->sceneChanged(*scene, regions, texels.points, previous, plan(texels));
-        // A sun's segments end beyond the scene's bounds: with the bounds changed, all of them.
-        const DirectionalReach &was = scene_->reach(), &is = scene->reach();
-        if (was.centre != is.centre || was.radius != is.radius)
-            for (std::size_t k = 0; k < lights_.size(); ++k)
-                if (lights_[k].type == LightType::Directional)
-                    cache_->setLight(k, lights_[k]);
+        cache_->sceneChanged(regions, texels.points, previous, plan(texels));
         texels_ = std::move(texels);
         scene_ = std::move(scene);
         sceneShared_ = std::move(next);

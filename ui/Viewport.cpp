@@ -86,10 +86,12 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         }
         if (changes & (SceneFileChanged | DocumentReset)) {
             litStale_ = style_.litView;   // a new level: the lit view starts again
-        } else if ((changes & OccludersChanged) && style_.litView && lit_ && !litStale_) {
+        } else if ((changes & OccludersChanged) && style_.litView && lit_ && !litStale_ && !litFailed_) {
             // New shadows: each light refreshes the texels they could reach (LitPreview.h).
             litWanted_ = lit_->setScene(std::make_shared<const Scene>(document_.scene()));
             litExact_ = false;
+        } else if (changes & OccludersChanged) {
+            litStale_ = style_.litView;   // the last lit view failed (its worker has ended): start again
         }
         if (changes & (SceneFileChanged | OccludersChanged | DocumentReset)) {
             // Placed occluders darken the level around them and get AO of their own.
@@ -353,11 +355,13 @@ void Viewport::paintGL()
                     this, [this, f = std::move(frame)]() mutable {
                         if (f.generation != litGeneration_)
                             return;   // for a level since replaced
+                        ++litReceived_;
                         litArrived_ = std::move(f);
                         update();
                     },
                     Qt::QueuedConnection);
             });
+        litFailed_ = false;
         litWanted_ = lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
                                        .lights = document_.lights(),
                                        .shading = litShading_,
@@ -377,9 +381,11 @@ void Viewport::paintGL()
             litExact_ = f.exact && f.lightsVersion >= litWanted_ && f.indirect == litIndirect_;
             f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
             litTexels_ = f.texels;
+            litVpls_ = f.vpls;
             litCosts_ = std::move(f.costs);
             ++litFrames_;
         }
+        litFailed_ = !f.error.empty();
         emit litUpdated(litStatus(f), f.exact, QString::fromStdString(f.error));
     }
     if (aoArrived_) {

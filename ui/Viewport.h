@@ -115,7 +115,11 @@ public:
     /// Per light, what its last refresh in the lit view cost (empty before the first frame).
     const std::vector<LightingCache::LightCost>& litCosts() const { return litCosts_; }
     std::size_t litFramesShown() const { return litFrames_; }
+    /// Lit frames delivered by the worker for the level shown (some replaced before being drawn).
+    std::size_t litFramesReceived() const { return litReceived_; }
     std::size_t litTexels() const { return litTexels_; }
+    /// The VPLs of the bounce shown (0 without it).
+    std::size_t litVpls() const { return litVpls_; }
 
     /// The PVS debugger: bakes the project's PVS in the background and tints the
     /// level's objects the camera's cell cannot see. Restarted when the scene changes while on.
@@ -240,6 +244,9 @@ private:
     std::vector<LightingCache::LightCost> litCosts_;   ///< LitPreview's version of the lights as they are now
     std::size_t litFrames_ = 0;
     std::size_t litTexels_ = 0;
+    std::size_t litVpls_ = 0;
+    std::size_t litReceived_ = 0;
+    bool litFailed_ = false;   ///< the last lit frame was an error: the worker has ended
     LitShading litShading_ = LitShading::Light;
     int litBudget_ = 4;
     bool litIndirect_ = false;

@@ -100,20 +100,23 @@ void LightingCache::setLight(std::size_t index, const Light& light, bool rough)
     kept_[index].roughNext = rough && coarseTiling_ != nullptr;
 }
 
-void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bounds> regions)
+void LightingCache::sceneChanged(std::span<const Bounds> regions)
 {
     if (regions.empty())
         return;
     for (std::size_t l = 0; l < lights_.size(); ++l)
         if (kept_[l].computed && !(kept_[l].stale && kept_[l].whole))
-            markStalePoints(l, lights::pointsShadowedThrough(lights_[l], scene.reach(), regions, tiling_->tiles(), points_));
+            markStalePoints(l, lights::pointsShadowedThrough(lights_[l], regions, tiling_->tiles(), points_));
 }
 
-void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bounds> regions, std::vector<ShadingPoint> points,
+void LightingCache::sceneChanged(std::span<const Bounds> regions, std::vector<ShadingPoint> points,
                                  std::span<const std::size_t> previous, LowResolutionPlan plan)
 {
     if (previous.size() != points.size())
         throw Error("the points' previous indices number " + std::to_string(previous.size()) + ", the points " +
+                    std::to_string(points.size()));
+    if (plan.points != points.size())   // before anything changes: a refusal leaves the cache as it was
+        throw Error("the low-resolution plan covers " + std::to_string(plan.points) + " points, the cache " +
                     std::to_string(points.size()));
     std::vector<std::uint32_t> added;
     for (std::size_t j = 0; j < previous.size(); ++j) {
@@ -163,7 +166,7 @@ void LightingCache::sceneChanged(const LightingScene& scene, std::span<const Bou
     for (std::size_t l = 0; l < kept_.size(); ++l)
         if (kept_[l].computed)
             markStalePoints(l, added);
-    sceneChanged(scene, regions);
+    sceneChanged(regions);
 }
 
 std::size_t LightingCache::staleCount() const
@@ -202,7 +205,13 @@ void LightingCache::resum()
 void LightingCache::keepAt(std::size_t index, const std::vector<float>& values)
 {
     Kept& kept = kept_[index];
-    touched_.insert(touched_.end(), kept.stalePoints.begin(), kept.stalePoints.end());
+    if (!touchedAll_) {
+        touched_.insert(touched_.end(), kept.stalePoints.begin(), kept.stalePoints.end());
+        if (touched_.size() >= points_.size()) {   // as dear as summing every point again
+            touchedAll_ = true;
+            touched_.clear();
+        }
+    }
     double change = 0.0;
     for (std::size_t k = 0; k < values.size(); ++k) {
         const std::uint32_t j = kept.stalePoints[k];
@@ -217,6 +226,7 @@ void LightingCache::keep(std::size_t index, std::vector<float> field)
 {
     Kept& kept = kept_[index];
     touchedAll_ = true;
+    touched_.clear();
     kept.field.resize(points_.size(), 0.0f);   // a light never computed shows nothing: colour 0
     double brightness = 0.0;
     const glm::dvec3 colour = lights_[index].colour;

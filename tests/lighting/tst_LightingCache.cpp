@@ -131,7 +131,7 @@ TEST(LightingCache, AnOccluderMovingStalesThePointsItsShadowsCouldReachAndTheVie
     EXPECT_NEAR(regions[1].min.x, -3.5f, 1e-6f);
     EXPECT_NEAR(regions[1].max.z, -1.5f, 1e-6f);
     EXPECT_NEAR(regions[1].max.y, 1.0f, 1e-6f);
-    cache.sceneChanged(newScene, regions);
+    cache.sceneChanged(regions);
     const std::size_t stale = cache.staleCount();
     EXPECT_GE(stale, 2u);
     EXPECT_LT(stale, after.lights.size());   // lamps whose range no shadow segment through the region is in keep their light
@@ -199,7 +199,7 @@ TEST(LightingCache, PointsThatCameWithTheSceneAreLitAndThoseThatStayedKeepTheirL
         kept += previous[j] == j ? 1 : 0;
     }
     EXPECT_EQ(kept, after.points.size());
-    cache.sceneChanged(newScene, changedRegions(worldTriangles(before.scene), worldTriangles(after.scene)), newPoints, previous,
+    cache.sceneChanged(changedRegions(worldTriangles(before.scene), worldTriangles(after.scene)), newPoints, previous,
                        noPlan(newPoints.size()));
     EXPECT_EQ(cache.points().size(), newPoints.size());
     EXPECT_EQ(cache.staleCount(), after.lights.size());   // every light has new points to light
@@ -211,10 +211,20 @@ TEST(LightingCache, PointsThatCameWithTheSceneAreLitAndThoseThatStayedKeepTheirL
     // Mismatched indices are refused.
     std::vector<std::size_t> wrong(newPoints.size(), SIZE_MAX);
     wrong[0] = newPoints.size() + 5;
-    EXPECT_THROW(cache.sceneChanged(newScene, {}, newPoints, wrong, noPlan(newPoints.size())), Error);
-    EXPECT_THROW(cache.sceneChanged(newScene, {}, newPoints, std::vector<std::size_t>(3, SIZE_MAX),
+    EXPECT_THROW(cache.sceneChanged({}, newPoints, wrong, noPlan(newPoints.size())), Error);
+    EXPECT_THROW(cache.sceneChanged({}, newPoints, std::vector<std::size_t>(3, SIZE_MAX),
                                     noPlan(newPoints.size())),
                  Error);
+    EXPECT_THROW(cache.sceneChanged({}, newPoints, std::vector<std::size_t>(newPoints.size(), SIZE_MAX), noPlan(5)), Error);
+    // Refused, the cache is as it was: still exact, and it goes on.
+    expectExact(cache, newScene, after.lights, newPoints);
+    Light moved = after.lights[0];
+    moved.position.x += 0.5;
+    cache.setLight(0, moved);
+    after.lights[0] = moved;
+    while (!cache.update(newScene, ~std::uint64_t(0)).exact) {
+    }
+    expectExact(cache, newScene, after.lights, newPoints);
 }
 
 TEST(SceneChange, TheRegionHoldsWhatEitherSideLacksAndPointsMatchBitForBit)

@@ -46,14 +46,13 @@ public:
     /// Something inside the boxes `regions` changed (an occluder moved, was added or removed there;
     /// the points stay). Per light, the points one of whose segments to it may meet a region go
     /// stale (lights/RegionShafts.h) and are refreshed alone: every other point's segments avoid
-    /// the regions, so they are blocked or free as before and its field stands. `scene` is the
-    /// scene as it is now.
-    void sceneChanged(const LightingScene& scene, std::span<const Bounds> regions);
+    /// the regions, so they are blocked or free as before and its field stands.
+    void sceneChanged(std::span<const Bounds> regions);
     /// The same where the points changed with the scene (a moved occluder carries texels of its
     /// own): `points` replace the cache's, `previous[j]` is new point j's index among the old
     /// points or SIZE_MAX (a new point: stale for every light), and `plan` covers the new points.
     /// A point kept has the same position and normal, so its field is carried over.
-    void sceneChanged(const LightingScene& scene, std::span<const Bounds> regions, std::vector<ShadingPoint> points,
+    void sceneChanged(std::span<const Bounds> regions, std::vector<ShadingPoint> points,
                       std::span<const std::size_t> previous, LowResolutionPlan plan);
 
     struct Frame {

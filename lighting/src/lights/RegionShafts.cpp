@@ -16,10 +16,11 @@ struct Box {
     glm::dvec3 lo, hi;
 };
 
-/// Whether the segment a-b meets the box (slab test; the box already carries the margin).
-bool segmentMeetsBox(const glm::dvec3& a, const glm::dvec3& b, const Box& box)
+/// Whether the segment a-b (or, `ray`, the ray from a through b) meets the box (slab test; the
+/// box already carries the margin).
+bool segmentMeetsBox(const glm::dvec3& a, const glm::dvec3& b, const Box& box, bool ray = false)
 {
-    double t0 = 0.0, t1 = 1.0;
+    double t0 = 0.0, t1 = ray ? INFINITY : 1.0;
     for (int axis = 0; axis < 3; ++axis) {
         const double d = b[axis] - a[axis];
         if (d == 0.0) {
@@ -58,7 +59,7 @@ Ball ballOf(const glm::dvec3& lo, const glm::dvec3& hi) { return {0.5 * (lo + hi
 
 } // namespace
 
-std::vector<std::uint32_t> pointsShadowedThrough(const Light& light, const DirectionalReach& reach, std::span<const Bounds> regions,
+std::vector<std::uint32_t> pointsShadowedThrough(const Light& light, std::span<const Bounds> regions,
                                                  const std::vector<PointTile>& tiles, std::span<const ShadingPoint> points)
 {
     std::vector<std::uint32_t> out;
@@ -80,17 +81,18 @@ std::vector<std::uint32_t> pointsShadowedThrough(const Light& light, const Direc
     // A segment from a point of ball A to a point of ball B stays within max(rA, rB) of the
     // segment between their centres (it is (1-t)(cA + a) + t(cB + b) with |a| <= rA, |b| <= rB),
     // so it can meet a box only if that centre segment meets the box grown by the larger radius.
+    // A directional light's segments run from each point against its direction to beyond the
+    // scene (DirectionalReach::end); they are taken as rays, which hold them whatever the scene's
+    // bounds were or are (a change beyond the new bounds is still met).
     const auto shaftMeets = [&](const glm::dvec3& from, const glm::dvec3& to, double radius, const Box& box) {
-        return segmentMeetsBox(from, to, grown(box, radius));
+        return segmentMeetsBox(from, to, grown(box, radius), directional);
     };
     std::vector<const Box*> near;
     for (const PointTile& tile : tiles) {
         const Ball receiver = ballOf(tile.lo, tile.hi);
-        // A directional light's segments are parallel, each from a point to beyond the scene, and
-        // their lengths (DirectionalReach::end) differ by at most the points' distance: within
-        // twice the tile's radius of the centre's segment.
-        const glm::dvec3 to = directional ? reach.end(light, receiver.centre) : source.centre;
-        const double radius = directional ? 2.0 * receiver.radius : std::max(receiver.radius, source.radius);
+        // A directional light's rays are parallel: within the tile's radius of the centre's ray.
+        const glm::dvec3 to = directional ? receiver.centre - light.direction : source.centre;
+        const double radius = directional ? receiver.radius : std::max(receiver.radius, source.radius);
         near.clear();
         for (const Box& box : boxes)
             if (shaftMeets(receiver.centre, to, radius, box))
@@ -102,11 +104,11 @@ std::vector<std::uint32_t> pointsShadowedThrough(const Light& light, const Direc
             if (ranged && glm::length(light.position - x) >= light.range)
                 continue;
             const auto meets = [&](const glm::dvec3& end) {
-                return std::any_of(near.begin(), near.end(), [&](const Box* box) { return segmentMeetsBox(x, end, *box); });
+                return std::any_of(near.begin(), near.end(), [&](const Box* box) { return segmentMeetsBox(x, end, *box, directional); });
             };
             bool any = false;
             if (directional)
-                any = meets(reach.end(light, x));
+                any = meets(x - light.direction);
             else if (emitters.size() == 1)
                 any = meets(emitters[0]);
             else   // an area light's samples: first the point's whole shaft to them, then each

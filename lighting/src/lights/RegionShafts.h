@@ -22,8 +22,9 @@ namespace sightline::lights {
 
 /// The points (indices into `points`, ascending) of `tiles` one of whose segments to `light` may
 /// meet one of the boxes `regions`. A point or spot light's points beyond its range get no light either way and are
-/// left out. `reach` ends a directional light's segments (the scene as it is now).
-std::vector<std::uint32_t> pointsShadowedThrough(const Light& light, const DirectionalReach& reach, std::span<const Bounds> regions,
+/// left out. A directional light's segments are taken as rays against its direction, so a change
+/// beyond the scene's bounds, old or new, is met too.
+std::vector<std::uint32_t> pointsShadowedThrough(const Light& light, std::span<const Bounds> regions,
                                                  const std::vector<PointTile>& tiles, std::span<const ShadingPoint> points);
 
 } // namespace sightline::lights
