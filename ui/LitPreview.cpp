@@ -28,7 +28,7 @@ namespace sightline::ui {
 namespace {
 
 /// Texels between the low-resolution pass's coarse points (LowResolutionPass.h).
-constexpr int kLowResolutionStride = 2;
+constexpr int kLowResolutionStride = 3;
 /// After a dragged light's low-resolution pass, how long its next move may take before its exact
 /// refresh starts (a drag moves it every frame the window draws; the exact refresh of an area
 /// light over every texel takes several of them, and cannot be cut short).
@@ -109,13 +109,12 @@ std::vector<TexelLightCounts> lightCounts(const LightingCache& cache, const std:
     return counts;
 }
 
-/// The texels' colours for `frame.shading`, and the frame's counts. `reference`: Error's
+/// The points' colours for `frame.shading`, and the frame's counts. `reference`: Error's
 /// reference irradiance, empty while it is computed.
-std::vector<glm::vec3> shadeTexels(const LitTexels& texels, const LightingCache& cache, const std::vector<Light>& lights,
+std::vector<glm::vec3> shadePoints(const LitTexels& texels, const LightingCache& cache, const std::vector<Light>& lights,
                                    const LightingScene& scene, const std::vector<glm::dvec3>& reference,
                                    const LitIndirect* indirect, LitPreviewFrame& frame)
 {
-    std::vector<glm::vec3> colour(texels.pointOfTexel.size(), glm::vec3(0.0f));
     const std::vector<glm::dvec3>& direct = cache.irradiance();
     // The light shown: direct, plus the bounce when asked for (the error is the direct light's).
     std::vector<glm::dvec3> withBounce;
@@ -187,10 +186,7 @@ std::vector<glm::vec3> shadeTexels(const LitTexels& texels, const LightingCache&
         break;
     }
     }
-    for (std::size_t k = 0; k < colour.size(); ++k)
-        if (texels.pointOfTexel[k] != SIZE_MAX)
-            colour[k] = perPoint[texels.pointOfTexel[k]];
-    return colour;
+    return perPoint;
 }
 
 } // namespace
@@ -213,14 +209,19 @@ LitTexels litTexels(const Scene& scene)
             const glm::dvec3 n(texels.normals[k]);
             out.points.push_back({glm::dvec3(texels.positions[k]) + lift * n, n});
         }
-    out.uvs = cornerUvs(triangles, sampled, out.layout);
+    out.uvs = std::make_shared<const std::vector<glm::vec2>>(cornerUvs(triangles, sampled, out.layout));
+    out.pointOfPixel = atlasSources(out.layout);
+    for (std::uint32_t& source : out.pointOfPixel)
+        if (source != kBlankPixel)
+            source = out.pointOfTexel[source] == SIZE_MAX ? kBlankPixel : std::uint32_t(out.pointOfTexel[source]);
     return out;
 }
 
 glm::vec3 toneMapped(const glm::dvec3& irradiance, double exposure)
 {
-    const glm::dvec3 x = irradiance * (exposure / std::numbers::pi);
-    return glm::vec3(1.0 - std::exp(-x.r), 1.0 - std::exp(-x.g), 1.0 - std::exp(-x.b));
+    // In float: the result is shown in 8 bits, and every texel is mapped every frame.
+    const glm::vec3 x(irradiance * (exposure / std::numbers::pi));
+    return glm::vec3(1.0f - std::exp(-x.r), 1.0f - std::exp(-x.g), 1.0f - std::exp(-x.b));
 }
 
 glm::vec3 overlapColour(std::size_t lights, int budget)
@@ -403,7 +404,7 @@ private:
         return true;
     }
 
-    /// Barczak's low-resolution pass for dragged lights: every other texel, edges refined.
+    /// Barczak's low-resolution pass for dragged lights: every third texel, edges refined.
     static LowResolutionPlan plan(const LitTexels& texels)
     {
         return lowResolutionPlan(texels.layout, texels.pointOfTexel, kLowResolutionStride, texels.points);
@@ -412,7 +413,11 @@ private:
     void refreshLights()
     {
         if (refresh_) {
-            step_ = cache_->update(*scene_, request_.segmentsPerFrame, 1);
+            // A dragged light's low-resolution pass is what the designer waits for: both cores (the
+            // GUI's frame meanwhile only lights its cached level again, LevelRelight.h); the
+            // refresh behind it leaves a core to the GUI.
+            step_ = cache_->update(*scene_, request_.segmentsPerFrame, roughPending_ ? 0 : 1);
+            roughPending_ = false;
         } else {   // the same light shown otherwise: nothing refreshed
             const bool exact = step_.exact;
             step_ = {};
@@ -492,11 +497,11 @@ private:
             if (!referencePending_)
                 referenceShown = reference_.irradiance(lights_, texels_.points.size());
         }
-        const std::vector<glm::vec3> colour = shadeTexels(texels_, *cache_, lights_, *scene_, referenceShown, indirect_.get(), frame);
+        const std::vector<glm::vec3> colour = shadePoints(texels_, *cache_, lights_, *scene_, referenceShown, indirect_.get(), frame);
         frame.uvs = texels_.uvs;
         frame.width = texels_.layout.width;
         frame.height = texels_.layout.height;
-        frame.map = atlasImage(texels_.layout, colour, glm::vec3(0.0f));
+        frame.map = gatherAtlas(texels_.pointOfPixel, colour, glm::vec3(0.0f));
         frame.texels = texels_.points.size();
         frame.lights = lights_.size();
         frame.refreshed = step_.refreshed;
@@ -552,7 +557,7 @@ private:
             for (std::size_t k = 0; k < next.size(); ++k)
                 if (!sameLight(next[k], lights_[k])) {
                     cache_->setLight(k, next[k], /*rough=*/true);
-                    changed = true;
+                    changed = roughPending_ = true;
                 }
             if (!changed)
                 return;
@@ -601,6 +606,7 @@ private:
     std::unique_ptr<LightingCache> cache_;
     LightingCache::Frame step_;
     bool refresh_ = true;
+    bool roughPending_ = false;   ///< a light was set rough since the last refresh
     double exposure_ = 0.0;
     std::uint64_t shadingSeen_ = 0, setsSeen_ = 0;
     std::optional<LightSets> sets_;

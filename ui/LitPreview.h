@@ -44,8 +44,9 @@ glm::vec3 complexityColour(const TexelLightCounts& counts, int budget);
 struct LitPreviewFrame {
     std::uint64_t generation = 0;
     /// As AoPreviewLevel: per world-triangle corner of the scene its place in the map, and a
-    /// width x height map (row 0 at the top) of tone-mapped colours in [0, 1].
-    std::vector<glm::vec2> uvs;
+    /// width x height map (row 0 at the top) of tone-mapped colours in [0, 1]. The uvs are the
+    /// texels' own, shared by every frame of them.
+    std::shared_ptr<const std::vector<glm::vec2>> uvs;
     int width = 0, height = 0;
     std::vector<glm::vec3> map;
     std::size_t texels = 0;
@@ -86,9 +87,10 @@ struct LitPreviewFrame {
 /// and the corners' uvs.
 struct LitTexels {
     AoTexelLayout layout;
-    std::vector<glm::vec2> uvs;
+    std::shared_ptr<const std::vector<glm::vec2>> uvs;
     std::vector<ShadingPoint> points;
     std::vector<std::size_t> pointOfTexel;   ///< per texel point of the layout; SIZE_MAX: none (degenerate)
+    std::vector<std::uint32_t> pointOfPixel; ///< per atlas pixel the point shown there (atlasSources); kBlankPixel: none
 };
 LitTexels litTexels(const Scene& scene);
 

@@ -30,7 +30,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
                                                       style.litShading, style.litBudget);
             if (!lit.error.empty())
                 throw Error("lit view: " + lit.error);
-            renderer.setAmbientOcclusion(lit.uvs, lit.width, lit.height, lit.map);
+            renderer.setAmbientOcclusion(*lit.uvs, lit.width, lit.height, lit.map);
         }
         LiveVisibility visibility;
         visibility.setScene(document.scene());

@@ -53,16 +53,18 @@ std::vector<glm::vec2> cornerUvs(const WorldTriangles& triangles, const TexelSur
     return uvs;
 }
 
-std::vector<glm::vec3> atlasImage(const AoTexelLayout& layout, const std::vector<glm::vec3>& colour, glm::vec3 blank)
+std::vector<std::uint32_t> atlasSources(const AoTexelLayout& layout)
 {
-    std::vector<glm::vec3> map(std::size_t(layout.width) * std::size_t(layout.height), blank);
-    const auto at = [&](int x, int y) -> glm::vec3& { return map[std::size_t(y) * std::size_t(layout.width) + std::size_t(x)]; };
+    std::vector<std::uint32_t> sources(std::size_t(layout.width) * std::size_t(layout.height), kBlankPixel);
+    const auto at = [&](int x, int y) -> std::uint32_t& {
+        return sources[std::size_t(y) * std::size_t(layout.width) + std::size_t(x)];
+    };
     for (const AoTexelTile& tile : layout.tiles)
         for (int t = 0; t < tile.height; ++t)
-            for (int s = 0; s < tile.width; ++s) {
-                const glm::vec3 v = colour[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
-                at(tile.x + s, tile.y + t) = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : blank;
-            }
+            for (int s = 0; s < tile.width; ++s)
+                at(tile.x + s, tile.y + t) = std::uint32_t(tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s));
+    // The gutters after every tile's texels, in the same order, so a gutter another tile's
+    // texels lie under takes what the image would show there.
     for (const AoTexelTile& tile : layout.tiles) {
         if (tile.width == 0)
             continue;
@@ -76,7 +78,23 @@ std::vector<glm::vec3> atlasImage(const AoTexelLayout& layout, const std::vector
                 at(gx, gy) = at(tile.x + std::clamp(s, 0, tile.width - 1), tile.y + std::clamp(t, 0, tile.height - 1));
             }
     }
+    return sources;
+}
+
+std::vector<glm::vec3> gatherAtlas(const std::vector<std::uint32_t>& sources, const std::vector<glm::vec3>& values, glm::vec3 blank)
+{
+    std::vector<glm::vec3> map(sources.size());
+    for (std::size_t p = 0; p < sources.size(); ++p) {
+        const std::uint32_t k = sources[p];
+        const glm::vec3 v = k < values.size() ? values[k] : blank;
+        map[p] = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : blank;
+    }
     return map;
+}
+
+std::vector<glm::vec3> atlasImage(const AoTexelLayout& layout, const std::vector<glm::vec3>& colour, glm::vec3 blank)
+{
+    return gatherAtlas(atlasSources(layout), colour, blank);
 }
 
 void lowerThisThreadsPriority()

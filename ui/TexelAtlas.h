@@ -35,6 +35,16 @@ std::vector<glm::vec2> cornerUvs(const WorldTriangles& triangles, const TexelSur
 /// lines along edges).
 std::vector<glm::vec3> atlasImage(const AoTexelLayout& layout, const std::vector<glm::vec3>& colour, glm::vec3 blank);
 
+/// No texel: the pixel takes the blank colour.
+inline constexpr std::uint32_t kBlankPixel = UINT32_MAX;
+/// Per pixel of the atlas (width x height, row 0 at the top) the texel point whose colour
+/// atlasImage puts there, gutters included; kBlankPixel where it puts the blank. For a preview
+/// that fills the same layout many times: gatherAtlas is then one read a pixel.
+std::vector<std::uint32_t> atlasSources(const AoTexelLayout& layout);
+/// atlasImage's picture from atlasSources' table (entries may also index a shorter list of
+/// values: kBlankPixel or any index past `values` is blank).
+std::vector<glm::vec3> gatherAtlas(const std::vector<std::uint32_t>& sources, const std::vector<glm::vec3>& values, glm::vec3 blank);
+
 /// Lowers the calling thread's scheduling priority (Linux gives each thread its own nice value),
 /// so that a preview's worker yields to the GUI thread and the live rays.
 void lowerThisThreadsPriority();

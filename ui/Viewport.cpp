@@ -377,7 +377,7 @@ void Viewport::paintGL()
             (!sets_ || *sets_ != *f.sets || setsLight_ != f.setsLight || setsServed_ != f.setsServed))
             showLightSets(*f.sets, f.setsLight, f.setsServed);
         if (f.error.empty()) {
-            renderer_->setAmbientOcclusion(f.uvs, f.width, f.height, f.map);
+            renderer_->setAmbientOcclusion(*f.uvs, f.width, f.height, f.map);
             litExact_ = f.exact && f.lightsVersion >= litWanted_ && f.indirect == litIndirect_;
             f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
             litTexels_ = f.texels;

@@ -10,6 +10,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include "LevelRelight.h"
 #include "RayLayer.h"
 #include "visibility/SourceJitter.h"
 #include "visibility/gl/GlShaders.h"
@@ -46,7 +47,7 @@ void main() {
 }
 )";
 
-const char* kMeshFragment = R"(#version 450 core
+const char* kMeshFragmentBody = R"(
 in vec3 vPosition;
 in vec3 vNormal;
 in vec2 vAoUv;
@@ -54,17 +55,21 @@ flat in uint vObject;
 uniform vec3 eye;
 uniform vec3 viewForward;
 uniform int orthographic;    // the headlight is the view direction, the same over the whole view
-uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
-uniform int litOn;           // the lit view: the light map is the light (LitPreview.h)
-layout(binding = 3) uniform sampler2D aoMap;
 uniform int pvsOn;           // the PVS debugger: scene-file objects the current cell cannot see
 layout(binding = 4) uniform usamplerBuffer pvsCulled;
 uniform vec3 baseColour;
 uniform int selected;        // object id, -1 for none
 uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
 layout(location = 0) out vec4 colour;
+layout(location = 1) out vec4 surface;   // LevelRelight's: map uv, headlight, 1 where the map shades it
+layout(location = 2) out vec4 unlit;     // ... and the colour before light
 void main() {
-    if (flatColour.a > 0.0) { colour = flatColour; return; }
+    if (flatColour.a > 0.0) {
+        colour = flatColour;
+        surface = vec4(-1.0, -1.0, 0.0, 0.0);
+        unlit = vec4(0.0);
+        return;
+    }
     vec3 toEye = orthographic != 0 ? -viewForward : normalize(eye - vPosition);
     vec3 n = normalize(vNormal);
     if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
@@ -72,9 +77,6 @@ void main() {
     // The inside of a solid, seen where the section cut opened it, reads as the cut's section
     // (darker), so walls stand out from floors in a plan view, where every face would be as bright.
     if (!gl_FrontFacing) light *= 0.55;
-    vec3 ambient = vec3(1.0);
-    if (aoOn != 0 && vAoUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
-        ambient = 0.3 + 0.7 * min(texture(aoMap, vAoUv).rgb, vec3(1.5));
     vec3 c = baseColour;
     uint tint = pvsOn != 0 ? texelFetch(pvsCulled, int(vObject)).r : 0u;   // ViewportRenderer::setPvsCulled's classes
     if (tint == 1u) c = mix(c, vec3(0.85, 0.1, 0.45), 0.7);
@@ -84,15 +86,13 @@ void main() {
     // The selection's tint is faint where AO shades the level: a strong one would hide the very
     // shading the designer selected the object to see (View > AO of Selected Object Only).
     if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), aoOn != 0 ? 0.2 : 0.6);
-    if (litOn != 0 && aoOn != 0) {
-        // A faint headlight keeps unlit geometry readable; texels outside the map stay dark.
-        vec3 lit = vAoUv.x >= 0.0 ? texture(aoMap, vAoUv).rgb : vec3(0.0);
-        colour = vec4(c * (0.06 * light + 1.25 * lit), 1.0);
-        return;
-    }
-    colour = vec4(c * light * ambient, 1.0);
+    surface = vec4(vAoUv, light, aoOn != 0 ? 1.0 : 0.0);
+    unlit = vec4(c, 1.0);
+    colour = vec4(shadeLevel(c, light, vAoUv), 1.0);
 }
 )";
+
+const std::string kMeshFragment = std::string("#version 450 core\n") + kLevelShadingGlsl + kMeshFragmentBody;
 
 const char* kLineVertex = R"(#version 450 core
 layout(location = 0) in vec3 position;
@@ -470,6 +470,13 @@ struct ViewportRenderer::Impl {
     };
     RenderTarget cache;
     std::optional<BackgroundKey> cacheKey;
+    // A new light map with the same uvs leaves the key as it is: the cache, drawn with the map's
+    // surfaces (LevelRelight), is lit again from them instead of drawn again.
+    LevelRelight relight;
+    std::uint64_t mapVersion = 0;        ///< the light map's texels, uploaded
+    std::uint64_t cacheMapVersion = 0;   ///< ... in the cache's colour
+    bool cacheRelightable = false;       ///< the cache's surfaces were written under cacheKey
+    LevelPass lastPass = LevelPass::Cached;
     // A level's first draw costs llvmpipe about three times its later ones (its memory touched
     // for the first time, not its shaders: a warm-up draw of a small mesh changed nothing). So a
     // newly uploaded level is drawn into the cache over several frames, kFirstDrawChunk vertices
@@ -492,6 +499,7 @@ struct ViewportRenderer::Impl {
     std::vector<MeshVertex> sceneFileVertices;   ///< kept to add the AO map's uvs later
     std::vector<MeshVertex> occluderVertices;    ///< likewise
     GLuint aoTexture = 0;
+    int aoWidth = 0, aoHeight = 0;
     bool aoReady = false;   ///< a map and the scene file's uvs are uploaded
     GLuint pvsBuffer = 0, pvsTexture = 0;
     bool pvsReady = false;   ///< culled flags of the scene file's instances are uploaded
@@ -501,11 +509,12 @@ struct ViewportRenderer::Impl {
     {
         if (cache.framebuffer && width == cache.width && height == cache.height)
             return;
-        cacheBroken = !cache.create(gl, width, height) || !compose.create(gl, width, height);
+        cacheBroken = !cache.create(gl, width, height) || !compose.create(gl, width, height) ||
+                      !relight.attach(cache.framebuffer, cache.colour, width, height);
         cacheKey.reset();
     }
 
-    explicit Impl(const gl::Functions& functions) : gl(functions), rayLayer(functions) {}
+    explicit Impl(const gl::Functions& functions) : gl(functions), relight(functions), rayLayer(functions) {}
 
     GLint loc(GLuint program, const char* name) const { return gl.GetUniformLocation(program, name); }
 
@@ -645,6 +654,8 @@ void ViewportRenderer::setSceneFile(const Scene& scene) { setSceneFile(prepareLe
 
 bool ViewportRenderer::levelIncomplete() const { return impl_->levelFirstDraw; }
 
+LevelPass ViewportRenderer::lastLevelPass() const { return impl_->lastPass; }
+
 void ViewportRenderer::setSceneFile(LevelMesh mesh, bool inChunks)
 {
     impl_->sceneFileVertices = std::move(mesh.vertices);
@@ -657,13 +668,14 @@ void ViewportRenderer::setSceneFile(LevelMesh mesh, bool inChunks)
 void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map)
 {
     Impl& d = *impl_;
-    d.aoReady = false;
-    ++d.sceneVersion;
     // The uvs cover the whole scene: the scene file's triangles, then the placed occluders'.
     const std::size_t fileCorners = d.sceneFileVertices.size();
     if (uvs.size() != fileCorners + d.occluderVertices.size() || width < 1 || height < 1 ||
-        map.size() != std::size_t(width) * std::size_t(height))
+        map.size() != std::size_t(width) * std::size_t(height)) {
+        d.aoReady = false;
+        ++d.sceneVersion;
         return;   // not this scene's answer (the level or the occluders changed meanwhile)
+    }
     const auto take = [&](std::vector<MeshVertex>& vertices, std::size_t first, MeshBuffer& buffer) {
         bool changed = false;
         for (std::size_t k = 0; k < vertices.size(); ++k) {
@@ -672,14 +684,25 @@ void ViewportRenderer::setAmbientOcclusion(const std::vector<glm::vec2>& uvs, in
         }
         if (changed)
             d.upload(buffer, vertices);
+        return changed;
     };
-    take(d.sceneFileVertices, 0, d.sceneFile);
-    take(d.occluderVertices, fileCorners, d.occluders);
+    const bool fileUvsChanged = take(d.sceneFileVertices, 0, d.sceneFile);
+    take(d.occluderVertices, fileCorners, d.occluders);   // drawn anew every frame
+    d.gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    if (d.aoReady && !fileUvsChanged && width == d.aoWidth && height == d.aoHeight) {
+        // The same texels, new light: the cached level is lit again, not drawn again.
+        d.gl.TextureSubImage2D(d.aoTexture, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, map.data());
+        ++d.mapVersion;
+        return;
+    }
+    d.aoReady = false;
+    ++d.sceneVersion;
     if (d.aoTexture)
         d.gl.DeleteTextures(1, &d.aoTexture);
     d.gl.CreateTextures(GL_TEXTURE_2D, 1, &d.aoTexture);
     d.gl.TextureStorage2D(d.aoTexture, 1, GL_RGB32F, width, height);
-    d.gl.PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    d.aoWidth = width;
+    d.aoHeight = height;
     d.gl.TextureSubImage2D(d.aoTexture, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, map.data());
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     d.gl.TextureParameteri(d.aoTexture, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -886,15 +909,28 @@ GLuint ViewportRenderer::Impl::composeLevel(const FrameState& f, const FrameSetu
             d.cacheLevelDrawn = -1;
         }
         const GLsizei total = d.sceneFile.vertices;
+        d.lastPass = LevelPass::Cached;
         if (d.cacheLevelDrawn < total) {
             const GLsizei from = std::max<GLsizei>(d.cacheLevelDrawn, 0);
             const GLsizei to = !d.levelFirstDraw     ? total
                                : d.levelJustUploaded ? from
                                                      : std::min(total, from + Impl::kFirstDrawChunk);
-            d.drawLevel(f, s, d.cache.framebuffer, d.cacheLevelDrawn < 0, from, to);
+            const bool clear = d.cacheLevelDrawn < 0;
+            if (clear) {   // the surfaces are written only while the map shows
+                d.relight.setWriting(s.ao);
+                d.relight.clear();
+                d.cacheRelightable = s.ao;
+                d.cacheMapVersion = d.mapVersion;
+            }
+            d.drawLevel(f, s, d.cache.framebuffer, clear, from, to);
             d.cacheLevelDrawn = to;
+            d.lastPass = LevelPass::Drawn;
             if (to >= total)
                 d.levelFirstDraw = false;
+        } else if (d.cacheMapVersion != d.mapVersion && d.cacheRelightable) {
+            d.relight.relight(f.style.litView);
+            d.cacheMapVersion = d.mapVersion;
+            d.lastPass = LevelPass::Relit;
         }
         d.levelJustUploaded = false;
         while (gl.GetError() != GL_NO_ERROR) {

@@ -179,6 +179,10 @@ struct LevelMesh {
 };
 LevelMesh prepareLevelMesh(const Scene& scene);
 
+/// How a frame got the level's image: the cached one as it was, the cached one lit again from a
+/// new light map with the same uvs (LevelRelight.h), or drawn (whole, or a chunk of a first draw).
+enum class LevelPass { Cached, Relit, Drawn };
+
 class ViewportRenderer {
 public:
     /// Compiles the programs; the context must stay current while the renderer is used.
@@ -196,7 +200,8 @@ public:
     /// corner of the whole scene, the scene file's triangles then the placed occluders'
     /// (worldTriangles order; -1 where a triangle has none), a width x height map of the light
     /// reaching each texel (AO in [0, 1] under a uniform sky, an environment's colour otherwise).
-    /// Ignored when the uvs are not for the current scene. Drawn while the style asks.
+    /// Ignored when the uvs are not for the current scene. Drawn while the style asks. A map
+    /// whose uvs and size are the last one's lights the cached level again (lastLevelPass()).
     void setAmbientOcclusion(const std::vector<glm::vec2>& uvs, int width, int height, const std::vector<glm::vec3>& map);
     /// Per instance of the scene file, a tint class: 0 none, 1 culled by the PVS debugger
     /// (magenta), and for a light's O'Rorke sets 2 lit and visible (I, yellow), 3 a shadow caster
@@ -226,6 +231,8 @@ public:
     /// A newly set level is drawn over several frames (its first draw is the slow one): true
     /// until the last frame drew all of it; the caller asks for another frame meanwhile.
     bool levelIncomplete() const;
+    /// What the last render() did to the level's image.
+    LevelPass lastLevelPass() const;
 
 private:
     struct MeshBuffer;

@@ -57,6 +57,7 @@ using PfnPolygonOffset = void(APIENTRYP)(GLfloat factor, GLfloat units);
     X(PFNGLTEXTURESTORAGE2DPROC, TextureStorage2D)                                                 \
     X(PFNGLTEXTURESTORAGE3DPROC, TextureStorage3D)                                                 \
     X(PFNGLGETTEXTUREIMAGEPROC, GetTextureImage)                                                   \
+    X(PFNGLCLEARTEXIMAGEPROC, ClearTexImage)                                                       \
     X(PfnDeleteTextures, DeleteTextures)                                                            \
     X(PFNGLCREATEFRAMEBUFFERSPROC, CreateFramebuffers)                                             \
     X(PFNGLNAMEDFRAMEBUFFERTEXTUREPROC, NamedFramebufferTexture)                                   \
