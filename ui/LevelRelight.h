@@ -1,10 +1,10 @@
 #pragma once
 // The cached level image lit again from a new light map without drawing the level again.
 //
-// While the lit view (or AO) is shown, the level's draw into the background cache also writes
-// two surfaces beside the colour: per pixel where the light map is read (its uv), the headlight
-// term, and the surface's colour before light. When only the light map's texels change (a light
-// dragged: the same uvs, a new map), one full-screen pass computes every map-shaded pixel again
+// While light maps arrive for the lit view (or AO), the level's draw into the background cache
+// also writes two surfaces beside the colour: per pixel where the light map is read (its uv), the
+// headlight term, and the surface's colour before light. When then only the light map's texels
+// change (a light dragged: the same uvs, a new map), one full-screen pass computes every map-shaded pixel again
 // from those surfaces with the very function the level's draw uses (kLevelShadingGlsl), so the
 // picture equals a whole draw's while costing a few texture reads a pixel, not the level's
 // triangles (on a software rasteriser most of a frame).

@@ -257,6 +257,13 @@ void LitPreview::requestSets(std::optional<SetsRequest> request)
     wake_.notify_all();
 }
 
+void LitPreview::recycle(std::vector<glm::vec3> map)
+{
+    std::lock_guard lock(mutex_);
+    if (map.capacity() > spareMap_.capacity())
+        spareMap_ = std::move(map);
+}
+
 void LitPreview::setIndirect(bool on)
 {
     {
@@ -501,7 +508,11 @@ private:
         frame.uvs = texels_.uvs;
         frame.width = texels_.layout.width;
         frame.height = texels_.layout.height;
-        frame.map = gatherAtlas(texels_.pointOfPixel, colour, glm::vec3(0.0f));
+        {
+            std::lock_guard lock(owner_.mutex_);
+            frame.map = std::exchange(owner_.spareMap_, {});
+        }
+        gatherAtlas(texels_.pointOfPixel, colour, glm::vec3(0.0f), frame.map);
         frame.texels = texels_.points.size();
         frame.lights = lights_.size();
         frame.refreshed = step_.refreshed;

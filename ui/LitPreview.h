@@ -141,6 +141,10 @@ public:
         std::optional<std::vector<std::uint32_t>> reach;
     };
     void requestSets(std::optional<SetsRequest> request);
+    /// A delivered frame's map, shown and no longer needed, for a later frame to fill: a map
+    /// freed on the GUI thread and allocated anew on the worker could cost the worker fresh pages
+    /// each frame (several milliseconds on a level's megapixel atlas). Optional.
+    void recycle(std::vector<glm::vec3> map);
     void cancel();
     void stop();
 
@@ -164,6 +168,7 @@ private:
     bool indirect_ = false;
     std::optional<SetsRequest> setsRequest_;
     std::uint64_t setsVersion_ = 0;
+    std::vector<glm::vec3> spareMap_;   ///< recycle()'s
     Worker current_;
     std::vector<Worker> retired_;
 };

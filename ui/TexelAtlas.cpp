@@ -83,13 +83,20 @@ std::vector<std::uint32_t> atlasSources(const AoTexelLayout& layout)
 
 std::vector<glm::vec3> gatherAtlas(const std::vector<std::uint32_t>& sources, const std::vector<glm::vec3>& values, glm::vec3 blank)
 {
-    std::vector<glm::vec3> map(sources.size());
+    std::vector<glm::vec3> map;
+    gatherAtlas(sources, values, blank, map);
+    return map;
+}
+
+void gatherAtlas(const std::vector<std::uint32_t>& sources, const std::vector<glm::vec3>& values, glm::vec3 blank,
+                 std::vector<glm::vec3>& map)
+{
+    map.resize(sources.size());
     for (std::size_t p = 0; p < sources.size(); ++p) {
         const std::uint32_t k = sources[p];
         const glm::vec3 v = k < values.size() ? values[k] : blank;
         map[p] = std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z) ? v : blank;
     }
-    return map;
 }
 
 std::vector<glm::vec3> atlasImage(const AoTexelLayout& layout, const std::vector<glm::vec3>& colour, glm::vec3 blank)

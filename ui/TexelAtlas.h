@@ -44,6 +44,9 @@ std::vector<std::uint32_t> atlasSources(const AoTexelLayout& layout);
 /// atlasImage's picture from atlasSources' table (entries may also index a shorter list of
 /// values: kBlankPixel or any index past `values` is blank).
 std::vector<glm::vec3> gatherAtlas(const std::vector<std::uint32_t>& sources, const std::vector<glm::vec3>& values, glm::vec3 blank);
+/// The same into `map` (its memory reused where large enough).
+void gatherAtlas(const std::vector<std::uint32_t>& sources, const std::vector<glm::vec3>& values, glm::vec3 blank,
+                 std::vector<glm::vec3>& map);
 
 /// Lowers the calling thread's scheduling priority (Linux gives each thread its own nice value),
 /// so that a preview's worker yields to the GUI thread and the live rays.

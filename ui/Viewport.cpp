@@ -357,6 +357,12 @@ void Viewport::paintGL()
                             return;   // for a level since replaced
                         ++litReceived_;
                         litArrived_ = std::move(f);
+                        // Taken now where the renderer has the scene it is for: a dragged light's
+                        // next pass then starts without waiting for the window's next paint.
+                        if (renderer_ && !levelDirty_ && !sceneFileDirty_ && !occludersDirty_ && !litStale_) {
+                            makeCurrent();
+                            takeLitFrame();
+                        }
                         update();
                     },
                     Qt::QueuedConnection);
@@ -370,24 +376,7 @@ void Viewport::paintGL()
         if (setsShown_)
             requestLightSets();
     }
-    if (litArrived_) {
-        LitPreviewFrame f = std::move(*litArrived_);
-        litArrived_.reset();
-        if (f.error.empty() && setsShown_ && f.sets &&
-            (!sets_ || *sets_ != *f.sets || setsLight_ != f.setsLight || setsServed_ != f.setsServed))
-            showLightSets(*f.sets, f.setsLight, f.setsServed);
-        if (f.error.empty()) {
-            renderer_->setAmbientOcclusion(*f.uvs, f.width, f.height, f.map);
-            litExact_ = f.exact && f.lightsVersion >= litWanted_ && f.indirect == litIndirect_;
-            f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
-            litTexels_ = f.texels;
-            litVpls_ = f.vpls;
-            litCosts_ = std::move(f.costs);
-            ++litFrames_;
-        }
-        litFailed_ = !f.error.empty();
-        emit litUpdated(litStatus(f), f.exact, QString::fromStdString(f.error));
-    }
+    takeLitFrame();
     if (aoArrived_) {
         AoPreviewLevel level = std::move(*aoArrived_);
         aoArrived_.reset();
@@ -510,6 +499,29 @@ void Viewport::setAmbientOcclusion(bool on)
         aoStale_ = true;   // never computed, or stopped part way: again from the start
     }
     update();
+}
+
+void Viewport::takeLitFrame()
+{
+    if (!litArrived_)
+        return;
+    LitPreviewFrame f = std::move(*litArrived_);
+    litArrived_.reset();
+    if (f.error.empty() && setsShown_ && f.sets &&
+        (!sets_ || *sets_ != *f.sets || setsLight_ != f.setsLight || setsServed_ != f.setsServed))
+        showLightSets(*f.sets, f.setsLight, f.setsServed);
+    if (f.error.empty()) {
+        renderer_->setAmbientOcclusion(*f.uvs, f.width, f.height, f.map);
+        lit_->recycle(std::move(f.map));
+        litExact_ = f.exact && f.lightsVersion >= litWanted_ && f.indirect == litIndirect_;
+        f.exact = litExact_;   // an exact frame of lights since moved is not the answer now
+        litTexels_ = f.texels;
+        litVpls_ = f.vpls;
+        litCosts_ = std::move(f.costs);
+        ++litFrames_;
+    }
+    litFailed_ = !f.error.empty();
+    emit litUpdated(litStatus(f), f.exact, QString::fromStdString(f.error));
 }
 
 QString Viewport::litStatus(const LitPreviewFrame& f) const

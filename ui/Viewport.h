@@ -268,6 +268,8 @@ private:
     /// The instances of document().scene() the selection stands for (none for a patch).
     std::vector<std::uint32_t> selectedInstances() const;
     QString litStatus(const LitPreviewFrame& frame) const;
+    /// The lit frame that arrived, into the renderer (the context current) and the status.
+    void takeLitFrame();
     QString setsStatus() const;
     double dragBudgetMs_ = 150.0;
     /// The receiver grid the live sampler's heights were read for (re-read on a new document or

@@ -910,16 +910,23 @@ GLuint ViewportRenderer::Impl::composeLevel(const FrameState& f, const FrameSetu
         }
         const GLsizei total = d.sceneFile.vertices;
         d.lastPass = LevelPass::Cached;
+        // Light maps arriving for the same uvs (a light dragged, the lit view converging).
+        const bool mapChanged = s.ao && d.cacheMapVersion != d.mapVersion;
+        if (mapChanged && d.cacheLevelDrawn >= total && !d.cacheRelightable)
+            d.cacheLevelDrawn = -1;   // drawn without its surfaces: once more with them
         if (d.cacheLevelDrawn < total) {
             const GLsizei from = std::max<GLsizei>(d.cacheLevelDrawn, 0);
             const GLsizei to = !d.levelFirstDraw     ? total
                                : d.levelJustUploaded ? from
                                                      : std::min(total, from + Impl::kFirstDrawChunk);
             const bool clear = d.cacheLevelDrawn < 0;
-            if (clear) {   // the surfaces are written only while the map shows
-                d.relight.setWriting(s.ao);
-                d.relight.clear();
-                d.cacheRelightable = s.ao;
+            if (clear) {
+                // The surfaces cost a software rasteriser a fifth of a draw: written only while
+                // maps arrive, not while the camera orbits a settled view.
+                d.cacheRelightable = mapChanged;
+                d.relight.setWriting(d.cacheRelightable);
+                if (d.cacheRelightable)
+                    d.relight.clear();
                 d.cacheMapVersion = d.mapVersion;
             }
             d.drawLevel(f, s, d.cache.framebuffer, clear, from, to);
@@ -927,7 +934,7 @@ GLuint ViewportRenderer::Impl::composeLevel(const FrameState& f, const FrameSetu
             d.lastPass = LevelPass::Drawn;
             if (to >= total)
                 d.levelFirstDraw = false;
-        } else if (d.cacheMapVersion != d.mapVersion && d.cacheRelightable) {
+        } else if (mapChanged) {
             d.relight.relight(f.style.litView);
             d.cacheMapVersion = d.mapVersion;
             d.lastPass = LevelPass::Relit;

@@ -1147,6 +1147,35 @@ private slots:
             }
         QVERIFY2(sumLit < 0.9 * sumPlain && brightest > 120, qPrintable(QString("lit %1, plain %2, brightest %3").arg(sumLit).arg(sumPlain).arg(brightest)));
 
+        // Dragged 1 m in ten steps, a step a lit frame: each frame shows the lamp where it is
+        // (the light moves across the picture), then the view is exact where it stops.
+        {
+            const ObjectRef lamp{ObjectKind::Light, 0};
+            const ObjectState still = document.state(lamp);
+            QImage previous = viewport.grabFramebuffer();
+            int changed = 0;
+            for (int step = 1; step <= 10; ++step) {
+                QSignalSpy arrived(&viewport, &Viewport::litUpdated);
+                document.applyState(lamp, translated(still, {0.1 * step, 0.0, 0.0}));
+                QTRY_VERIFY_WITH_TIMEOUT(!arrived.isEmpty(), 60000);
+                QVERIFY(!viewport.litExact());   // the low-resolution pass first
+                QSignalSpy swapped(&viewport, &QOpenGLWindow::frameSwapped);
+                viewport.update();
+                QTRY_VERIFY_WITH_TIMEOUT(!swapped.isEmpty(), 10000);
+                const QImage now = viewport.grabFramebuffer();
+                changed += now != previous ? 1 : 0;
+                previous = now;
+                if (step == 5)
+                    saveWindowShot("lit-view-dragging");
+            }
+            QCOMPARE(changed, 10);
+            QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact(), 60000);
+            document.applyState(lamp, still);
+            QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact(), 60000);
+            waitForUpdate();
+            QCOMPARE(viewport.grabFramebuffer(), lit);   // back where it was: the same exact picture
+        }
+
         // One bounce of indirect light added: exact again once its VPLs are, and brighter.
         window_->findChild<QAction*>("litIndirect")->trigger();
         QVERIFY(viewport.litIndirect());

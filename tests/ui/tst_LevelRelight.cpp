@@ -91,7 +91,7 @@ TEST(LevelRelight, ANewMapWithTheSameUvsGivesTheWholeDrawsPicture)
     const LitTexels texels = litTexels(scene);
     ASSERT_TRUE(texels.uvs);
     const int w = texels.layout.width, h = texels.layout.height;
-    const std::vector<glm::vec3> before = pattern(w, h, 0.0f), after = pattern(w, h, 1.3f);
+    const std::vector<glm::vec3> before = pattern(w, h, 0.0f), between = pattern(w, h, 0.6f), after = pattern(w, h, 1.3f);
 
     for (const Case& c : {Case{"lit", true, false, -1}, Case{"lit, wireframe, selection", true, true, 0},
                           Case{"AO", false, false, -1}, Case{"AO, wireframe, selection", false, true, 1}}) {
@@ -121,12 +121,31 @@ TEST(LevelRelight, ANewMapWithTheSameUvsGivesTheWholeDrawsPicture)
         renderer.render(frame);
         EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Cached);
 
+        // The first new map draws the level with its surfaces (a settled view has none); the
+        // next one lights it again from them.
+        renderer.setAmbientOcclusion(*texels.uvs, w, h, between);
+        renderer.render(frame);
+        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
         renderer.setAmbientOcclusion(*texels.uvs, w, h, after);
         renderer.render(frame);
         EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Relit);
         EXPECT_EQ(readBack(gl, target), whole) << "lit again, the level differs from a whole draw with the map";
         renderer.render(frame);
         EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Cached);
+
+        // The camera moved with no new map: drawn without surfaces, so a map after it draws.
+        frame.camera.yaw += 0.05;
+        renderer.render(frame);
+        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
+        renderer.setAmbientOcclusion(*texels.uvs, w, h, before);
+        renderer.render(frame);
+        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
+        renderer.setAmbientOcclusion(*texels.uvs, w, h, after);
+        renderer.render(frame);
+        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Relit);
+        frame.camera.yaw -= 0.05;
+        renderer.render(frame);
+        EXPECT_EQ(readBack(gl, target), whole);
 
         // Other uvs (the scene's texels changed): drawn whole.
         std::vector<glm::vec2> shifted = *texels.uvs;
