@@ -420,9 +420,9 @@ private:
     void refreshLights()
     {
         if (refresh_) {
-            // A dragged light's low-resolution pass is what the designer waits for: both cores (the
-            // GUI's frame meanwhile only lights its cached level again, LevelRelight.h); the
-            // refresh behind it leaves a core to the GUI.
+            // A frame with a dragged light's low-resolution pass is what the designer waits for:
+            // every core (the GUI's frame meanwhile only lights its cached level again,
+            // LevelRelight.h); the exact refreshes between moves leave a core to the GUI.
             step_ = cache_->update(*scene_, request_.segmentsPerFrame, roughPending_ ? 0 : 1);
             roughPending_ = false;
         } else {   // the same light shown otherwise: nothing refreshed

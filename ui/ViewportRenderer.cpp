@@ -921,8 +921,8 @@ GLuint ViewportRenderer::Impl::composeLevel(const FrameState& f, const FrameSetu
                                                      : std::min(total, from + Impl::kFirstDrawChunk);
             const bool clear = d.cacheLevelDrawn < 0;
             if (clear) {
-                // The surfaces cost a software rasteriser a fifth of a draw: written only while
-                // maps arrive, not while the camera orbits a settled view.
+                // The surfaces cost a software rasteriser 32 bytes a pixel more on every draw:
+                // written only while maps arrive, not while the camera orbits a settled view.
                 d.cacheRelightable = mapChanged;
                 d.relight.setWriting(d.cacheRelightable);
                 if (d.cacheRelightable)

@@ -10,6 +10,7 @@
 
 #include "Camera.h"
 #include "LitPreview.h"
+#include "RenderTestSupport.h"
 #include "TestScenes.h"
 #include "TexelAtlas.h"
 #include "ViewportRenderer.h"
@@ -20,30 +21,6 @@ using namespace sightline;
 using namespace sightline::ui;
 
 namespace {
-
-/// A rolling sheet and a tilted plane through it: surfaces that hide one another.
-Scene sheets()
-{
-    Mesh sheet = test::heightGrid("sheet", 24, 10.0f, [](float x, float z) { return std::sin(x * 0.7f) * std::cos(z * 0.5f); });
-    Mesh plane;
-    plane.name = "plane";
-    plane.positions = {{-10.0f, -2.0f, -10.0f}, {10.0f, -2.0f, -10.0f}, {10.0f, 2.0f, 10.0f}, {-10.0f, 2.0f, 10.0f}};
-    plane.indices = {0, 2, 1, 0, 3, 2};
-    Scene scene;
-    scene.addMeshInstance(std::move(sheet));
-    scene.addMeshInstance(std::move(plane));
-    return scene;
-}
-
-QImage readBack(const gl::Functions& gl, const RenderTarget& target)
-{
-    QImage image(target.width, target.height, QImage::Format_RGBA8888);
-    gl.BindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
-    gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-    gl.ReadPixels(0, 0, target.width, target.height, GL_RGBA, GL_UNSIGNED_BYTE, image.bits());
-    gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    return image;
-}
 
 /// A map with structure at the texel scale: a light that changed everywhere.
 std::vector<glm::vec3> pattern(int width, int height, float phase)
@@ -87,7 +64,7 @@ TEST(LevelRelight, ANewMapWithTheSameUvsGivesTheWholeDrawsPicture)
     const gl::Functions& gl = context->functions();
     RenderTarget target;
     ASSERT_TRUE(target.create(gl, 320, 240));
-    const Scene scene = sheets();
+    const Scene scene = test::crossingSheets(24);
     const LitTexels texels = litTexels(scene);
     ASSERT_TRUE(texels.uvs);
     const int w = texels.layout.width, h = texels.layout.height;
@@ -110,26 +87,26 @@ TEST(LevelRelight, ANewMapWithTheSameUvsGivesTheWholeDrawsPicture)
             renderer.setAmbientOcclusion(*texels.uvs, w, h, after);
             renderer.render(frame);
             EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
-            whole = readBack(gl, target);
+            whole = test::readBack(gl, target);
         }
         ViewportRenderer renderer(gl);
         renderer.setSceneFile(scene);
-        renderer.setAmbientOcclusion(*texels.uvs, w, h, before);
-        renderer.render(frame);
-        first = readBack(gl, target);
+        const auto show = [&](const std::vector<glm::vec2>& uvs, const std::vector<glm::vec3>& map) {
+            renderer.setAmbientOcclusion(uvs, w, h, map);
+            renderer.render(frame);
+            return renderer.lastLevelPass();
+        };
+        EXPECT_EQ(show(*texels.uvs, before), LevelPass::Drawn);
+        first = test::readBack(gl, target);
         ASSERT_NE(first, whole) << "the two maps should light the level differently";
         renderer.render(frame);
         EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Cached);
 
         // The first new map draws the level with its surfaces (a settled view has none); the
         // next one lights it again from them.
-        renderer.setAmbientOcclusion(*texels.uvs, w, h, between);
-        renderer.render(frame);
-        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
-        renderer.setAmbientOcclusion(*texels.uvs, w, h, after);
-        renderer.render(frame);
-        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Relit);
-        EXPECT_EQ(readBack(gl, target), whole) << "lit again, the level differs from a whole draw with the map";
+        EXPECT_EQ(show(*texels.uvs, between), LevelPass::Drawn);
+        EXPECT_EQ(show(*texels.uvs, after), LevelPass::Relit);
+        EXPECT_EQ(test::readBack(gl, target), whole) << "lit again, the level differs from a whole draw with the map";
         renderer.render(frame);
         EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Cached);
 
@@ -137,24 +114,16 @@ TEST(LevelRelight, ANewMapWithTheSameUvsGivesTheWholeDrawsPicture)
         frame.camera.yaw += 0.05;
         renderer.render(frame);
         EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
-        renderer.setAmbientOcclusion(*texels.uvs, w, h, before);
-        renderer.render(frame);
-        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
-        renderer.setAmbientOcclusion(*texels.uvs, w, h, after);
-        renderer.render(frame);
-        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Relit);
+        EXPECT_EQ(show(*texels.uvs, before), LevelPass::Drawn);
+        EXPECT_EQ(show(*texels.uvs, after), LevelPass::Relit);
         frame.camera.yaw -= 0.05;
-        renderer.render(frame);
-        EXPECT_EQ(readBack(gl, target), whole);
 
         // Other uvs (the scene's texels changed): drawn whole.
         std::vector<glm::vec2> shifted = *texels.uvs;
         for (glm::vec2& uv : shifted)
             if (uv.x >= 0.0f)
                 uv.x += 0.5f / float(w);
-        renderer.setAmbientOcclusion(shifted, w, h, after);
-        renderer.render(frame);
-        EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Drawn);
+        EXPECT_EQ(show(shifted, after), LevelPass::Drawn);
     }
     target.destroy(gl);
 }
@@ -165,7 +134,7 @@ TEST(LevelRelight, TheMapOfAnotherSizeOrAViewChangeDrawsTheLevel)
     const gl::Functions& gl = context->functions();
     RenderTarget target;
     ASSERT_TRUE(target.create(gl, 160, 120));
-    const Scene scene = sheets();
+    const Scene scene = test::crossingSheets(24);
     const LitTexels texels = litTexels(scene);
     const int w = texels.layout.width, h = texels.layout.height;
     FrameState frame = frameOf(target);
@@ -182,11 +151,11 @@ TEST(LevelRelight, TheMapOfAnotherSizeOrAViewChangeDrawsTheLevel)
     // Without the lit view or AO the map is not shown: a new one changes nothing.
     frame.style.litView = false;
     renderer.render(frame);
-    const QImage unlit = readBack(gl, target);
+    const QImage unlit = test::readBack(gl, target);
     renderer.setAmbientOcclusion(*texels.uvs, w, h, pattern(w, h, 0.9f));
     renderer.render(frame);
     EXPECT_EQ(renderer.lastLevelPass(), LevelPass::Cached);
-    EXPECT_EQ(readBack(gl, target), unlit);
+    EXPECT_EQ(test::readBack(gl, target), unlit);
     // A map of another size has other texels: the level is drawn with it.
     frame.style.litView = true;
     renderer.render(frame);
@@ -241,7 +210,7 @@ TEST(TexelAtlas, GatheredImageHasEachTexelAndItsGutter)
 
 TEST(TexelAtlas, TheLitViewsPointTableGivesTheImageOfItsTexels)
 {
-    const LitTexels texels = litTexels(sheets());
+    const LitTexels texels = litTexels(test::crossingSheets(24));
     ASSERT_FALSE(texels.points.empty());
     std::vector<glm::vec3> perPoint(texels.points.size());
     for (std::size_t j = 0; j < perPoint.size(); ++j)
