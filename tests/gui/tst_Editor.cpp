@@ -1147,16 +1147,24 @@ private slots:
             }
         QVERIFY2(sumLit < 0.9 * sumPlain && brightest > 120, qPrintable(QString("lit %1, plain %2, brightest %3").arg(sumLit).arg(sumPlain).arg(brightest)));
 
-        // Dragged 1 m in ten steps, a step a lit frame: each frame shows the lamp where it is
-        // (the light moves across the picture), then the view is exact where it stops.
+        // Dragged 1 m by the gizmo's x handle in ten steps, a step a lit frame: each frame shows
+        // the lamp where it is (the light moves across the picture); let go, the view is exact;
+        // one undo puts it back, to the same exact picture.
         {
             const ObjectRef lamp{ObjectKind::Light, 0};
+            document.select(lamp);
+            controller.setGizmoMode(GizmoMode::Move);
             const ObjectState still = document.state(lamp);
+            const GizmoFrame gizmo = *controller.gizmo();
+            const glm::dvec3 grab = gizmo.pivot + 0.7 * gizmo.length * glm::dvec3(1, 0, 0);
+            QCOMPARE(pickGizmoAxis(gizmo, controller.camera(), pixelOf(controller, grab).x(), pixelOf(controller, grab).y(),
+                                   controller.width(), controller.height()), 0);
+            QTest::mousePress(&viewport, Qt::LeftButton, {}, pixelOf(controller, grab));
             QImage previous = viewport.grabFramebuffer();
             int changed = 0;
             for (int step = 1; step <= 10; ++step) {
                 QSignalSpy arrived(&viewport, &Viewport::litUpdated);
-                document.applyState(lamp, translated(still, {0.1 * step, 0.0, 0.0}));
+                QTest::mouseMove(&viewport, pixelOf(controller, grab + glm::dvec3(0.1 * step, 0.0, 0.0)));
                 QTRY_VERIFY_WITH_TIMEOUT(!arrived.isEmpty(), 60000);
                 QVERIFY(!viewport.litExact());   // the low-resolution pass first
                 QSignalSpy swapped(&viewport, &QOpenGLWindow::frameSwapped);
@@ -1168,12 +1176,18 @@ private slots:
                 if (step == 5)
                     saveWindowShot("lit-view-dragging");
             }
+            QTest::mouseRelease(&viewport, Qt::LeftButton, {}, pixelOf(controller, grab + glm::dvec3(1.0, 0.0, 0.0)));
             QCOMPARE(changed, 10);
+            QVERIFY(std::abs(document.lights()[0].position.x - (pivotOf(still).x + 1.0)) < 0.05);
             QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact(), 60000);
-            document.applyState(lamp, still);
+            document.undoStack()->undo();   // the drag: one command
+            QCOMPARE(std::get<glm::mat4>(document.state(lamp)), std::get<glm::mat4>(still));
             QTRY_VERIFY_WITH_TIMEOUT(viewport.litExact(), 60000);
-            waitForUpdate();
-            QCOMPARE(viewport.grabFramebuffer(), lit);   // back where it was: the same exact picture
+            QTest::mouseMove(&viewport, QPoint(5, 5));   // no handle hovered, as when `lit` was taken
+            QSignalSpy swapped(&viewport, &QOpenGLWindow::frameSwapped);
+            viewport.update();
+            QTRY_VERIFY_WITH_TIMEOUT(!swapped.isEmpty(), 10000);
+            QCOMPARE(viewport.grabFramebuffer(), lit);
         }
 
         // One bounce of indirect light added: exact again once its VPLs are, and brighter.
