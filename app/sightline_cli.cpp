@@ -34,6 +34,7 @@
 #include "bench/BenchChart.h"
 #include "cli/AoCommand.h"
 #include "cli/CoarseCommand.h"
+#include "cli/DisagreementCommand.h"
 #include "cli/LightingCommands.h"
 #include "cli/LightsCommand.h"
 #include "cli/OptionRules.h"
@@ -624,6 +625,8 @@ int main(int argc, char** argv)
     cli::CoarseArgs coarseArgs;
     CLI::App* coarseCmd = cli::addCoarseCommand(app, coarseArgs);
     CLI::App* gapsCmd = cli::addGapsCommand(app, gapsArgs);
+    cli::DisagreementArgs disagreementArgs;
+    CLI::App* disagreementCmd = cli::addDisagreementCommand(app, disagreementArgs);
 
     cli::PvsArgs pvsArgs;
     CLI::App* pvsCmd = cli::addPvsCommand(app, pvsArgs);
@@ -704,6 +707,8 @@ int main(int argc, char** argv)
             return cli::runGaps(gapsArgs);
         if (*coarseCmd)
             return cli::runCoarse(coarseArgs);
+        if (*disagreementCmd)
+            return cli::runDisagreement(disagreementArgs);
         if (*pvsCmd)
             return cli::runPvs(pvsArgs, argc, argv);
     } catch (const std::exception& e) {

@@ -25,6 +25,7 @@
 #include <QSurfaceFormat>
 
 #include "AnimationImportance.h"
+#include "DisagreementWorker.h"
 #include "EditorDocument.h"
 #include "InteractionBenchmark.h"
 #include "MainWindow.h"
@@ -69,6 +70,7 @@ struct Arguments {
     bool lit = false;
     std::string litShows = "light";
     int litBudget = 4;
+    std::string disagreement;   ///< screenshot: an approximation (project/Approximation.h), or empty
     bool allowOutsidePaths = false;
 };
 
@@ -117,6 +119,8 @@ void checkOutput(const std::string& option, const std::string& output, const std
 
 int screenshot(const Arguments& args, int width, int height)
 {
+    const std::optional<Approximation> disagreement =   // a misspelling is refused before the level loads
+        args.disagreement.empty() ? std::nullopt : std::optional(parseApproximation(args.disagreement));
     EditorDocument document;
     document.setAllowOutsidePaths(args.allowOutsidePaths);
     document.open(args.file);
@@ -133,7 +137,8 @@ int screenshot(const Arguments& args, int width, int height)
     const QString animationTime = prepareOverlay(document, overlay);
     const Project& project = document.project();
     const Camera camera = projectView(document.editorSettings(), project.source, project.receiver);
-    OffscreenResult result = renderOffscreen(document, camera, style, width, height, gl::parseBackend(args.glBackend), &overlay);
+    OffscreenResult result = renderOffscreen(document, camera, style, width, height, gl::parseBackend(args.glBackend), &overlay,
+                                             disagreement ? &*disagreement : nullptr);
     if (overlay.kind() == OverlayKind::LightOnReceiver && !overlay.error().empty())
         throw sightline::Error(overlay.error());
     if (overlay.kind() == OverlayKind::LightOnReceiver && overlay.light()) {
@@ -158,6 +163,13 @@ int screenshot(const Arguments& args, int width, int height)
             sum += glm::dvec3(c);
         sum /= double(std::max<std::size_t>(light->rgb.size(), 1));
         std::printf("overlay light on the receiver: mean R %.1f%%, G %.1f%%, B %.1f%%\n", 100.0 * sum.r, 100.0 * sum.g, 100.0 * sum.b);
+    }
+    if (result.disagreement) {
+        DisagreementAnswer answer;
+        answer.approximation = *disagreement;
+        answer.disagreement = std::make_shared<const RayDisagreement>(result.disagreement->disagreement);
+        answer.approximateMs = result.disagreement->approximateMs;
+        std::printf("disagreement %s\n", disagreementStatus(answer).c_str());
     }
     savePng(result.image, args.screenshot);   // atomic: an interrupted render leaves the old file
     std::printf("wrote %s (%dx%d): %s; %llu rays drawn\n", args.screenshot.c_str(), width, height,
@@ -380,6 +392,10 @@ int main(int argc, char** argv)
                          ->check(CLI::IsMember({"light", "complexity", "overlap", "staleness", "error"}));
     auto* litBudget = app.add_option("--lit-budget", args.litBudget, "Screenshot with --lit: the overlapping lights a texel may take (default 4)")
                           ->check(CLI::Range(1, 1000));
+    app.add_option("--disagreement", args.disagreement,
+                   "Screenshot: draw, in place of the rays, those an approximation answers differently from the exact "
+                   "sampler (false-blocked red, false-free blue, ties amber): table[-WxH], gl, gl-table[-WxH], samples-K, "
+                   "coarse[-N], inner[-R] (docs/cli.md)");
     app.add_option("--gl-backend", args.glBackend, "Screenshot and recording: headless GL, osmesa or egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_flag("--allow-outside-paths", args.allowOutsidePaths,
                  "Read files the project names by a relative path that leaves its folder (refused otherwise; "
@@ -418,6 +434,10 @@ int main(int argc, char** argv)
     }
     if ((litShows->count() > 0 || litBudget->count() > 0) && (!args.lit || args.screenshot.empty())) {
         std::fprintf(stderr, "sightline: --lit-shows and --lit-budget apply to --screenshot --lit\n");
+        return 2;
+    }
+    if (!args.disagreement.empty() && args.screenshot.empty()) {
+        std::fprintf(stderr, "sightline: --disagreement applies to --screenshot (the editor's is View > Disagreement With Exact, Ctrl+Shift+D)\n");
         return 2;
     }
     if (args.lit && !args.benchmark && args.screenshot.empty()) {

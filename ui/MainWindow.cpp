@@ -49,6 +49,7 @@
 #include "ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
+#include "project/Approximation.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
 
@@ -642,6 +643,7 @@ void MainWindow::createViewMenu()
     addAoEnvironmentItems(view);
     addSectionCutItems(view);
     addRayItems(view, wire);
+    addDisagreementItems(view);
 }
 
 void MainWindow::addPanelsAndCameraItems(QMenu* view)
@@ -973,6 +975,56 @@ void MainWindow::addRayItems(QMenu* view, QAction* wire)
         viewport_->requestUpdate();
     });
     toolbar_->addWidget(density);
+}
+
+void MainWindow::addDisagreementItems(QMenu* view)
+{
+    // What a fast or coarse mode costs, ray by ray: the rays it answers differently from the exact
+    // sampler drawn in place of the rays, each judged (ties apart).
+    QMenu* menu = view->addMenu(tr("&Disagreement With Exact"));
+    menu->setObjectName("disagreementMenu");
+    auto* modes = new QActionGroup(this);
+    const std::pair<QString, const char*> choices[] = {
+        {tr("&Off"), ""},
+        {tr("Hough Table 256x128 (&CPU)"), "table-256x128"},
+        {tr("Hough Table &64x32 (CPU)"), "table-64x32"},
+        {tr("&GL Bitmask, Exact Masks"), "gl"},
+        {tr("GL &Hough Table 256x128"), "gl-table-256x128"},
+        {tr("A &Quarter of the Samples"), "samples-2"},
+        {tr("A &Sixteenth of the Samples"), "samples-4"},
+        {tr("Coarse Occluders, 5,000 &Triangles"), "coarse-5000"},
+        {tr("Coarse Occluders, &1,000 Triangles"), "coarse-1000"},
+        {tr("&Inner Occluders (Conservative)"), "inner-32"}};
+    auto choose = [this](const QString& name) {
+        viewport_->setDisagreementView(name.isEmpty() ? std::nullopt
+                                                      : std::optional(parseApproximation(name.toStdString())));
+        statusBar()->showMessage(name.isEmpty() ? tr("Rays as sampled (disagreement view off)")
+                                                : tr("Disagreement with exact: %1...")
+                                                      .arg(QString::fromStdString(describeApproximation(
+                                                          parseApproximation(name.toStdString())))),
+                                 name.isEmpty() ? 3000 : 0);
+    };
+    QAction* off = nullptr;
+    for (const auto& [text, name] : choices) {
+        QAction* a = menu->addAction(text, this, [choose, n = QString(name)] { choose(n); });
+        a->setCheckable(true);
+        a->setObjectName(QString("disagreement-") + (*name ? name : "off"));
+        modes->addAction(a);
+        if (!*name)
+            off = a, a->setChecked(true);
+    }
+    // Ctrl+Shift+D: on with the last mode chosen (the CPU Hough table at first), or off.
+    disagreementLast_ = modes->actions().at(1);
+    connect(modes, &QActionGroup::triggered, this, [this, off](QAction* a) {
+        if (a != off)
+            disagreementLast_ = a;
+    });
+    action(menu, tr("Toggle Disagreement View"), QKeySequence(Qt::CTRL | Qt::SHIFT | Qt::Key_D), [this, off] {
+        (viewport_->disagreementView() ? off : disagreementLast_)->trigger();
+    });
+    connect(viewport_, &Viewport::disagreementUpdated, this, [this](const QString& status, bool failed) {
+        statusBar()->showMessage(status, failed ? 10000 : 0);
+    });
 }
 
 void MainWindow::createHelpMenu()

@@ -97,6 +97,7 @@ private:
     void addAoEnvironmentItems(QMenu* view);
     void addSectionCutItems(QMenu* view);
     void addRayItems(QMenu* view, QAction* wire);   // and the ray toolbar
+    void addDisagreementItems(QMenu* view);
     void createHelpMenu();
     void createPanels();
     bool maybeSave();
@@ -143,6 +144,7 @@ private:
     QAction* orthoAction_ = nullptr;
     QMenu* viewMenu_ = nullptr;
     QAction* cutAction_ = nullptr;
+    QAction* disagreementLast_ = nullptr;   ///< the disagreement mode Ctrl+Shift+D turns on
     std::optional<std::array<glm::dvec3, 2>> enclosedFor_;   ///< patch centres enclosedNote_ was found for
     QString enclosedNote_;
     /// Patches that look misplaced (PatchWarnings.h), as " · ..." for the status line.

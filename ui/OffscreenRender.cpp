@@ -8,7 +8,7 @@
 namespace sightline::ui {
 
 OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& camera, const ViewStyle& style, int width,
-                                int height, gl::Backend backend, PatchOverlay* overlay)
+                                int height, gl::Backend backend, PatchOverlay* overlay, const Approximation* disagreement)
 {
     if (width < 1 || height < 1 || width > 16384 || height > 16384)
         throw Error("image size must be between 1x1 and 16384x16384");
@@ -46,6 +46,13 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
                                                      raySubset(map.sourceCount(), map.receiverCount(), style.rayCap));
             result.visibility.rayEndsCap = style.rayCap;
             renderer.setRayEnds(result.visibility.rayEnds, style.rayCap);
+        }
+        if (disagreement && result.visibility.valid) {
+            ApproximateSampler sampler(*disagreement, document.scene());
+            const ReceiverHeights& heights = visibility.receiverHeights();
+            result.disagreement = judgedDisagreement(sampler, document.scene(), project.source, project.receiver, &heights,
+                                                     result.visibility.map, 0, &gl);
+            renderer.setDisagreement(&result.disagreement->disagreement);
         }
         if (overlay) {
             overlay->setLive(result.visibility, project, true);

@@ -5,10 +5,13 @@
 
 #include <QImage>
 
+#include <optional>
+
 #include "Camera.h"
 #include "LiveVisibility.h"
 #include "PatchOverlay.h"
 #include "ViewportRenderer.h"
+#include "project/Approximation.h"
 #include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::ui {
@@ -19,12 +22,15 @@ struct OffscreenResult {
     QImage image;                 ///< width x height, RGB
     VisibilityResult visibility;  ///< what the rays were drawn from
     std::uint64_t raysDrawn = 0;
+    std::optional<JudgedDisagreement> disagreement;   ///< drawn in place of the rays, when asked for
 };
 
 /// Throws sightline::Error (no GL context, shader errors). With `overlay`, the sampled result goes
 /// to it as a new frame and its colours are drawn (set its kind, statistic or animation result
-/// before).
+/// before). With `disagreement`, the rays where that approximation answers differently from the
+/// exact answer are drawn in their place, as the editor's disagreement view draws them.
 OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& camera, const ViewStyle& style, int width,
-                                int height, gl::Backend backend = gl::Backend::OSMesa, PatchOverlay* overlay = nullptr);
+                                int height, gl::Backend backend = gl::Backend::OSMesa, PatchOverlay* overlay = nullptr,
+                                const Approximation* disagreement = nullptr);
 
 } // namespace sightline::ui

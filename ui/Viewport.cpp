@@ -172,6 +172,7 @@ Viewport::~Viewport()
     ao_.reset();       // joins, as the sampler below
     lit_.reset();
     worker_.reset();   // joins: no answer arrives for a viewport being destroyed
+    disagreementWorker_.reset();
     if (levelPrepared_.valid())
         levelPrepared_.wait();   // its posted update() is dropped with this object
     makeCurrent();
@@ -325,6 +326,8 @@ void Viewport::paintGL()
         renderer_->setHiddenSamples(result_.valid ? &result_.map : nullptr);
         renderer_->setRayEnds(result_.rayEnds, result_.rayEndsCap);
         overlay_.setLive(result_, answeredProject(), true);   // returns at once while the overlay is off
+        ++exactVersion_;
+        requestDisagreement();
     } else if (overlay_.needsLive()) {
         overlay_.setLive(result_, answeredProject(), false);
     }
@@ -966,6 +969,66 @@ void Viewport::takeAnswer(std::uint64_t generation, VisibilityResult result)
     if (frameCap_.isActive())
         frameCap_.stop();   // a frame for the answer waits at most for the 60 Hz cap
     update();
+}
+
+void Viewport::setDisagreementView(std::optional<Approximation> approximation)
+{
+    disagreementView_ = std::move(approximation);
+    disagreement_.reset();
+    if (renderer_)
+        renderer_->setDisagreement(nullptr);
+    disagreementFor_ = disagreementShownFor_ = 0;
+    ++disagreementGeneration_;   // an answer on its way is for the view before
+    if (disagreementView_)
+        requestDisagreement();
+    update();
+}
+
+bool Viewport::disagreementIsCurrent() const
+{
+    return disagreement_ && visibilityIsCurrent() && disagreementShownFor_ == exactVersion_;
+}
+
+void Viewport::requestDisagreement()
+{
+    if (!disagreementView_ || !result_.valid || resultIsStale() || disagreementFor_ == exactVersion_)
+        return;
+    if (!disagreementWorker_)
+        disagreementWorker_ = std::make_unique<DisagreementWorker>([this](std::uint64_t generation, DisagreementAnswer answer) {
+            QMetaObject::invokeMethod(
+                this, [this, generation, a = std::move(answer)]() mutable { takeDisagreement(generation, std::move(a)); },
+                Qt::QueuedConnection);
+        });
+    DisagreementRequest request;
+    request.generation = ++disagreementGeneration_;
+    request.approximation = *disagreementView_;
+    request.scene = workerScene_;
+    request.source = result_.source;
+    request.receiver = result_.receiver;
+    request.heights = workerHeights_;
+    request.exact = std::make_shared<const HiddenSampleMap>(result_.map);
+    disagreementFor_ = exactVersion_;
+    disagreementWorker_->request(std::move(request));
+}
+
+void Viewport::takeDisagreement(std::uint64_t generation, DisagreementAnswer answer)
+{
+    if (generation != disagreementGeneration_ || !disagreementView_)
+        return;   // for a view or an answer since replaced
+    const bool failed = !answer.error.empty();
+    const QString status = QString::fromStdString(disagreementStatus(answer));
+    if (failed) {
+        disagreement_.reset();
+        if (renderer_)
+            renderer_->setDisagreement(nullptr);
+    } else {
+        disagreement_ = std::move(answer);
+        disagreementShownFor_ = disagreementFor_;   // the latest request answered: for the latest exact answer posted
+        if (renderer_)
+            renderer_->setDisagreement(disagreement_->disagreement.get());
+    }
+    update();
+    emit disagreementUpdated(status, failed);
 }
 
 bool Viewport::event(QEvent* event)

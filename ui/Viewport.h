@@ -24,6 +24,7 @@
 #include "LitPreview.h"
 #include "PvsDebugger.h"
 #include "BackgroundSampler.h"
+#include "DisagreementWorker.h"
 #include "LiveVisibility.h"
 #include "PatchOverlay.h"
 #include "ViewportController.h"
@@ -156,7 +157,21 @@ public:
     /// The gap marker within `radius` pixels of `position` (logical pixels), nearest first.
     std::optional<std::size_t> pvsGapAt(QPointF position, double radius = 10.0) const;
 
+    /// The disagreement view: the rays where `approximation` answers the pair differently from the
+    /// live exact answer (false-blocked red, false-free blue, ties amber) drawn in place of the
+    /// rays, computed on a worker for every new exact answer (DisagreementWorker.h); nothing: the
+    /// rays again.
+    void setDisagreementView(std::optional<Approximation> approximation);
+    const std::optional<Approximation>& disagreementView() const { return disagreementView_; }
+    /// The answer drawn, once one arrived for the view's approximation (it may be for an earlier
+    /// pair while the next one is computed: disagreementIsCurrent()).
+    const std::optional<DisagreementAnswer>& disagreement() const { return disagreement_; }
+    /// The disagreement drawn answers the live exact answer shown now.
+    bool disagreementIsCurrent() const;
+
 signals:
+    /// The disagreement view's answer arrived (its status line), or it failed (the line says why).
+    void disagreementUpdated(const QString& status, bool failed);
     /// The PVS debugger's state for the status bar.
     void pvsUpdated(const QString& status);
     /// An AO level arrived and is shown (k directions of `target`; `relit`: the same level lit
@@ -194,6 +209,10 @@ private:
     void requestSample();
     /// On the GUI thread: a background answer arrived.
     void takeAnswer(std::uint64_t generation, VisibilityResult result);
+    /// Posts the live exact answer to the disagreement worker (while the view is on and the answer
+    /// is current).
+    void requestDisagreement();
+    void takeDisagreement(std::uint64_t generation, DisagreementAnswer answer);
 
     EditorDocument& document_;
     ViewportController& controller_;
@@ -206,6 +225,13 @@ private:
     std::shared_ptr<const ReceiverHeights> workerHeights_;
     std::uint64_t requestedGeneration_ = 0, shownGeneration_ = 0;
     std::optional<VisibilityResult> arrived_;            ///< taken by the next frame (GL uploads)
+    std::optional<Approximation> disagreementView_;
+    std::unique_ptr<DisagreementWorker> disagreementWorker_;
+    std::uint64_t disagreementGeneration_ = 0;
+    std::uint64_t exactVersion_ = 0;         ///< counts the exact answers shown (result_)
+    std::uint64_t disagreementFor_ = 0;      ///< the exactVersion_ last posted to the worker
+    std::uint64_t disagreementShownFor_ = 0; ///< the exactVersion_ the drawn disagreement answers
+    std::optional<DisagreementAnswer> disagreement_;
     std::unique_ptr<PvsDebugger> pvs_;
     std::uint64_t pvsGeneration_ = 0;
     bool pvsStale_ = false, pvsFrozen_ = false, pvsFinished_ = false, pvsRowsChanged_ = false;

@@ -3,6 +3,7 @@
 #include "LightObjects.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -125,7 +126,10 @@ layout(binding = 2) uniform samplerBuffer ends;
 // The drawn rays, listed on the CPU once per answer (never the whole map: a 512x512 receiver's
 // is 32 MB). indirect: vertex pair n draws ray rays[n], the free rays of the subset (blocked rays
 // hidden: none of them costs vertex work). Otherwise ray k = n, blocked where bit k of rays is set.
-uniform int indirect;
+// disagreement: listed like indirect, each entry k | class << 30 (k < 2^30: 1024 x 1024^2 rays at
+// most), the class colouring it: 1 false-blocked, 2 false-free, 3 a tie (disagreementDrawnRays).
+uniform int indirect, disagreement;
+uniform vec4 falseBlockedColour, falseFreeColour, tieColour;
 layout(binding = 0) uniform usamplerBuffer rays;
 out vec4 vColour;
 uint mixBits(uint x) {
@@ -138,7 +142,9 @@ vec3 samplePoint(vec3 corner, vec3 u, vec3 v, ivec2 grid, uint index) {
 }
 void main() {
     uint id = marks != 0 ? uint(gl_VertexID) : uint(gl_VertexID) >> 1;
-    uint k = indirect != 0 ? texelFetch(rays, int(id)).r : id;
+    uint entry = indirect != 0 ? texelFetch(rays, int(id)).r : id;
+    uint kind = disagreement != 0 ? entry >> 30 : 0u;
+    uint k = disagreement != 0 ? entry & 0x3fffffffu : entry;
     uint jk = k % receivers, ik = k / receivers;
     uint j = jk * receiverStride + (receiverStride > 1u ? mixBits(jk) % receiverStride : 0u);
     uint i = ik * sourceStride + (sourceStride > 1u ? mixBits(j ^ 0x5bd1e995u) % sourceStride : 0u);
@@ -148,7 +154,12 @@ void main() {
     float stop = (blocked && useEnds != 0) ? texelFetch(ends, int(k)).r : 1.0;
     // The dot sits a hair in front of the surface it marks, so the depth test keeps it.
     vec3 p = marks != 0 ? mix(s, r, max(stop - 0.002, 0.0)) : (gl_VertexID & 1) != 0 ? mix(s, r, stop) : s;
-    vColour = marks != 0 ? stopColour : blocked ? blockedColour : freeColour;
+    vColour = marks != 0       ? stopColour
+              : kind == 1u     ? falseBlockedColour
+              : kind == 2u     ? falseFreeColour
+              : kind == 3u     ? tieColour
+              : blocked        ? blockedColour
+                               : freeColour;
     bool clipped = (blocked && showBlocked == 0) || (marks != 0 && !(blocked && stop < 1.0));
     gl_Position = clipped ? vec4(2.0, 2.0, 2.0, 1.0) : viewProj * vec4(p, 1.0);
     gl_PointSize = 4.0;
@@ -370,6 +381,28 @@ std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySu
     return free;
 }
 
+std::vector<std::uint32_t> disagreementDrawnRays(const RayDisagreement& d, std::uint32_t cap)
+{
+    const std::uint64_t total = d.falseBlockedCount + d.falseFreeCount + d.tieCount;
+    const std::uint64_t stride = cap == 0 ? total + 1 : std::max<std::uint64_t>(1, (total + cap - 1) / cap);
+    const auto receivers = std::uint32_t(d.falseBlocked.receiverCount());
+    std::vector<std::uint32_t> list;
+    list.reserve(std::size_t(std::min<std::uint64_t>(total, cap)));
+    std::uint64_t seen = 0;
+    const std::pair<const HiddenSampleMap*, std::uint32_t> kinds[] = {{&d.falseBlocked, 1u}, {&d.falseFree, 2u}, {&d.ties, 3u}};
+    for (const auto& [map, kind] : kinds)
+        for (std::uint32_t j = 0; j < receivers; ++j) {
+            const auto row = map->row(int(j));
+            for (std::size_t w = 0; w < row.size(); ++w)
+                for (std::uint64_t bits = row[w]; bits; bits &= bits - 1, ++seen)
+                    if (seen % stride == 0) {
+                        const auto i = std::uint32_t(64 * w) + std::uint32_t(std::countr_zero(bits));
+                        list.push_back((i * receivers + j) | kind << 30);
+                    }
+        }
+    return list;
+}
+
 std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const RaySubset& subset)
 {
     const auto count = std::uint32_t(subset.count());
@@ -444,6 +477,10 @@ struct ViewportRenderer::Impl {
     // map, subset and kind they were listed for.
     GLuint raysBuffer = 0, raysTexture = 0;
     const HiddenSampleMap* listedMap = nullptr;
+    const RayDisagreement* disagreement = nullptr;         ///< setDisagreement
+    const RayDisagreement* listedDisagreement = nullptr;   ///< what raysBuffer lists, if a disagreement
+    std::uint32_t listedDisagreementCap = 0;
+    GLsizei disagreementCount = 0;
     RaySubset listedSubset;
     bool listedFree = false;
     GLsizei freeCount = 0;
@@ -587,6 +624,8 @@ struct ViewportRenderer::Impl {
     void drawOccluders(const FrameState& f, int selectedOccluder);
     const Patch* drawOverlay(const FrameState& f, const glm::vec3& eye);
     std::uint64_t drawRays(const FrameState& f, const glm::mat4& viewProj, GLuint target);
+    std::uint64_t drawDisagreement(const FrameState& f);
+    void setRayUniforms(const FrameState& f, const RaySubset& subset);
     void drawGuides(const FrameState& f, const Patch* overlaid, const Cutaway& cut);
 };
 
@@ -751,6 +790,14 @@ void ViewportRenderer::setHiddenSamples(const HiddenSampleMap* map)
     d.map = map && map->rayCount() > 0 ? map : nullptr;
     d.endsCap = 0;
     d.listedMap = nullptr;   // listed for the map before
+}
+
+void ViewportRenderer::setDisagreement(const RayDisagreement* disagreement)
+{
+    Impl& d = *impl_;
+    d.disagreement = disagreement && disagreement->rays > 0 ? disagreement : nullptr;
+    d.listedDisagreement = nullptr;
+    d.listedMap = nullptr;
 }
 
 void ViewportRenderer::setRayEnds(const std::vector<float>& ends, int cap)
@@ -1024,25 +1071,16 @@ std::uint64_t ViewportRenderer::Impl::drawRays(const FrameState& f, const glm::m
     // sample counts are these patches'.
     const bool mapFits = d.map && d.map->sourceCount() == f.source.na * f.source.nb &&
                          d.map->receiverCount() == f.receiver.na * f.receiver.nb;
+    const bool disagreementFits = d.disagreement && d.disagreement->falseBlocked.sourceCount() == f.source.na * f.source.nb &&
+                                  d.disagreement->falseBlocked.receiverCount() == f.receiver.na * f.receiver.nb;
+    if (f.style.showRays && f.pairValid && disagreementFits)
+        return drawDisagreement(f);
     if (f.style.showRays && f.pairValid && mapFits) {
         const RaySubset subset = raySubset(d.map->sourceCount(), d.map->receiverCount(), f.style.rayCap);
         const GLuint p = d.rayProgram;
-        auto vec3 = [&](const char* name, const glm::dvec3& v) {
-            const glm::vec3 x(v);
-            gl.ProgramUniform3fv(p, d.loc(p, name), 1, glm::value_ptr(x));
-        };
-        vec3("sourceCorner", f.source.corner);
-        vec3("sourceU", f.source.u);
-        vec3("sourceV", f.source.v);
-        gl.ProgramUniform2i(p, d.loc(p, "sourceGrid"), f.source.na, f.source.nb);
-        vec3("receiverCorner", f.receiver.corner);
-        vec3("receiverU", f.receiver.u);
-        vec3("receiverV", f.receiver.v);
-        gl.ProgramUniform2i(p, d.loc(p, "receiverGrid"), f.receiver.na, f.receiver.nb);
-        gl.ProgramUniform1ui(p, d.loc(p, "receivers"), subset.receivers);
-        gl.ProgramUniform1ui(p, d.loc(p, "receiverStride"), subset.receiverStride);
-        gl.ProgramUniform1ui(p, d.loc(p, "sourceStride"), subset.sourceStride);
+        setRayUniforms(f, subset);
         gl.ProgramUniform1i(p, d.loc(p, "showBlocked"), f.style.showBlocked ? 1 : 0);
+        gl.ProgramUniform1i(p, d.loc(p, "disagreement"), 0);
         // Readable from 1k to 1M rays (RayLayer.h): each ray's opacity from how many
         // drawn rays cross a pixel of the bundle, so that an open shaft reaches the style's
         // coverage; dense bundles are drawn into a coarser coverage layer, then laid over the frame.
@@ -1114,6 +1152,70 @@ std::uint64_t ViewportRenderer::Impl::drawRays(const FrameState& f, const glm::m
         raysDrawn = subset.count();
     }
     return raysDrawn;
+}
+
+/// The pair's grids and the drawn subset, for the ray program.
+void ViewportRenderer::Impl::setRayUniforms(const FrameState& f, const RaySubset& subset)
+{
+    const GLuint p = rayProgram;
+    auto vec3 = [&](const char* name, const glm::dvec3& v) {
+        const glm::vec3 x(v);
+        gl.ProgramUniform3fv(p, loc(p, name), 1, glm::value_ptr(x));
+    };
+    vec3("sourceCorner", f.source.corner);
+    vec3("sourceU", f.source.u);
+    vec3("sourceV", f.source.v);
+    gl.ProgramUniform2i(p, loc(p, "sourceGrid"), f.source.na, f.source.nb);
+    vec3("receiverCorner", f.receiver.corner);
+    vec3("receiverU", f.receiver.u);
+    vec3("receiverV", f.receiver.v);
+    gl.ProgramUniform2i(p, loc(p, "receiverGrid"), f.receiver.na, f.receiver.nb);
+    gl.ProgramUniform1ui(p, loc(p, "receivers"), subset.receivers);
+    gl.ProgramUniform1ui(p, loc(p, "receiverStride"), subset.receiverStride);
+    gl.ProgramUniform1ui(p, loc(p, "sourceStride"), subset.sourceStride);
+}
+
+/// The rays an approximation answers differently (setDisagreement), straight into the frame:
+/// they are few where the approximation is good, and each one matters, so each is drawn at a
+/// fixed, readable opacity instead of thinning into a haze. Returns how many were drawn.
+std::uint64_t ViewportRenderer::Impl::drawDisagreement(const FrameState& f)
+{
+    const GLuint p = rayProgram;
+    const RayDisagreement& dis = *disagreement;
+    const auto cap = std::uint32_t(std::max(f.style.rayCap, 16384));   // each disagreement matters: more than the haze
+    if (listedDisagreement != disagreement || listedDisagreementCap != cap) {
+        const std::vector<std::uint32_t> list = disagreementDrawnRays(dis, cap);
+        gl.NamedBufferData(raysBuffer, GLsizeiptr(std::max<std::size_t>(list.size(), 1) * sizeof(std::uint32_t)),
+                           list.empty() ? nullptr : list.data(), GL_STREAM_DRAW);
+        gl.TextureBuffer(raysTexture, GL_R32UI, raysBuffer);
+        listedDisagreement = disagreement;
+        listedDisagreementCap = cap;
+        listedMap = nullptr;   // the buffer no longer lists the map's rays
+        disagreementCount = GLsizei(list.size());
+    }
+    RaySubset whole;
+    whole.receivers = std::uint32_t(dis.falseBlocked.receiverCount());
+    whole.sourcePerReceiver = std::uint32_t(dis.falseBlocked.sourceCount());
+    setRayUniforms(f, whole);
+    gl.ProgramUniform1i(p, loc(p, "showBlocked"), 1);
+    gl.ProgramUniform1i(p, loc(p, "useEnds"), 0);
+    gl.ProgramUniform1i(p, loc(p, "marks"), 0);
+    gl.ProgramUniform1i(p, loc(p, "indirect"), 1);
+    gl.ProgramUniform1i(p, loc(p, "disagreement"), 1);
+    // Opaque while few; past a few thousand, fainter so that a dense band still shows its shape.
+    const float alpha = disagreementCount <= 2048 ? 0.95f : std::max(0.35f, 0.95f * std::sqrt(2048.0f / float(disagreementCount)));
+    auto colour = [&](const char* name, const std::uint8_t rgb[3]) {
+        const glm::vec4 c(rgb[0] / 255.0f, rgb[1] / 255.0f, rgb[2] / 255.0f, alpha);
+        gl.ProgramUniform4fv(p, loc(p, name), 1, glm::value_ptr(c));
+    };
+    colour("falseBlockedColour", kFalseBlockedRgb);
+    colour("falseFreeColour", kFalseFreeRgb);
+    colour("tieColour", kTieRgb);
+    gl.UseProgram(p);
+    gl.BindTextureUnit(0, raysTexture);
+    gl.BindVertexArray(rayVao);
+    gl.DrawArrays(GL_LINES, 0, 2 * disagreementCount);
+    return std::uint64_t(disagreementCount);
 }
 
 /// The patches, the shaft, the cut's outline, PVS gaps, lights, the scissor frame and the handles.

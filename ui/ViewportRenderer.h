@@ -32,6 +32,7 @@
 #include "LitShading.h"
 #include "lighting/Light.h"
 #include "visibility/HiddenSampleMap.h"
+#include "visibility/RayDisagreement.h"
 
 #include "visibility/Patch.h"
 #include "visibility/Scene.h"
@@ -94,6 +95,12 @@ std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySu
 /// Bit k (of word k / 32) set where drawn ray k of `subset` is blocked in `map`: what the shader
 /// reads while blocked rays are shown, in place of the whole map.
 std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const RaySubset& subset);
+
+/// The rays a disagreement view draws (RayDisagreement.h): every false-blocked, false-free and tie
+/// ray, or an even spread of `cap` of them, each listed as k | class << 30 with k = i * receivers + j
+/// (the whole map as one subset: raySubset with strides 1) and class 1 false-blocked, 2 false-free,
+/// 3 a tie.
+std::vector<std::uint32_t> disagreementDrawnRays(const RayDisagreement& disagreement, std::uint32_t cap);
 
 /// A framebuffer with an RGBA8 colour and a 24/8 depth-stencil renderbuffer: the background
 /// cache and the headless screenshot.
@@ -215,6 +222,11 @@ public:
     /// The map to draw rays from (nullptr: none, e.g. an invalid pair), kept by pointer until the
     /// next call: call again whenever its contents change. Forgets the ray ends.
     void setHiddenSamples(const HiddenSampleMap* map);
+    /// Rays where an approximation answers differently from the map (RayDisagreement.h), drawn in
+    /// place of the map's rays while set and for the pair's grids: false-blocked red, false-free
+    /// blue, ties amber, at most the style's cap (spread evenly). Kept by pointer until the next
+    /// call, as setHiddenSamples; nullptr: the map's rays again.
+    void setDisagreement(const RayDisagreement* disagreement);
     /// Where each drawn ray of a `cap`-ray subset ends (RayEnds.h), after setHiddenSamples: blocked
     /// rays are then drawn up to their first stop, with a dot there, while the style's cap is `cap`.
     /// Empty: blocked rays are drawn whole.

@@ -234,6 +234,11 @@ void writeAtlasPng(int width, int height, const std::vector<glm::vec3>& pixels, 
         rgb[3 * k + 1] = srgbByte(pixels[k].g);
         rgb[3 * k + 2] = srgbByte(pixels[k].b);
     }
+    writeRgbPng(width, height, rgb, file);
+}
+
+void writeRgbPng(int width, int height, const std::vector<unsigned char>& rgb, const std::filesystem::path& file)
+{
     std::string bytes;
     auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));

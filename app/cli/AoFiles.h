@@ -38,6 +38,8 @@ void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& lay
                           const std::filesystem::path& file);
 /// An atlas of linear [0, 1] colours (row-major, row 0 at the top) as an 8-bit sRGB PNG.
 void writeAtlasPng(int width, int height, const std::vector<glm::vec3>& pixels, const std::filesystem::path& file);
+/// A width x height PNG of sRGB bytes (rows top to bottom), written atomically.
+void writeRgbPng(int width, int height, const std::vector<unsigned char>& rgb, const std::filesystem::path& file);
 /// The atlas as an 8-bit sRGB PNG: RGB colours per texel (gutter black), row 0 at the top.
 void writeLightmapPng(const AoTexelLayout& layout, const std::vector<glm::vec3>& texelColours, const std::filesystem::path& file);
 

@@ -70,6 +70,9 @@
 #include "visibility/ColourMap.h"
 #include "visibility/Error.h"
 #include "visibility/RayCastSampler.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/ExactJudge.h"
+#include "project/Approximation.h"
 
 using namespace sightline;
 using namespace sightline::ui;
@@ -2955,6 +2958,128 @@ private slots:
         window_->findChild<QDockWidget*>("occluderAssistant")->hide();
         waitForUpdate();
         QCOMPARE(viewport.visibility().unblocked(), unblocked);
+        document.undoStack()->setClean();
+    }
+
+    // What a fast mode costs, seen ray by ray: the CPU Hough table's wrong rays in place of the
+    // rays, counted as the judge counts them; live as the pair moves; a coarse mode on a mesh made
+    // elsewhere; off again with the same key.
+    void disagreementViewShowsWhatAFastModeGetsWrong()
+    {
+        EditorDocument& document = window_->document();
+        Viewport& viewport = window_->viewport();
+        document.undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_D, Qt::ControlModifier | Qt::ShiftModifier);
+        QVERIFY(viewport.disagreementView().has_value());
+        QCOMPARE(approximationName(*viewport.disagreementView()), std::string("table-256x128"));
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.disagreementIsCurrent(), 30000);
+
+        // Held to the table sampled here and every differing ray judged here.
+        const Project& project = document.project();
+        const HiddenSampleMap& exact = viewport.visibility().map;
+        BitmaskOptions table;
+        table.mode = MaskMode::Table;
+        const HiddenSampleMap approximate = CpuBitmaskSampler(document.scene()).sample(project.source, project.receiver, table);
+        const RayDisagreement& shown = *viewport.disagreement()->disagreement;
+        QCOMPARE(shown.rays, exact.rayCount());
+        QCOMPARE(shown.falseBlockedCount + shown.falseFreeCount + shown.tieCount + shown.exactErrors,
+                 exact.differenceCount(approximate));
+        QVERIFY(shown.falseBlockedCount > 0 && shown.falseFreeCount > 0);
+        if (shown.judged) {
+            const ExactJudge judge(worldTriangles(document.scene()), project.source, project.receiver);
+            std::vector<std::pair<int, int>> rays;
+            for (int j = 0; j < exact.receiverCount(); ++j)
+                for (int i = 0; i < exact.sourceCount(); ++i)
+                    if (shown.falseBlocked.blocked(j, i))
+                        rays.emplace_back(j, i);
+            for (const RayKind kind : judge.kinds(rays))
+                QCOMPARE(kind, RayKind::Free);
+            QCOMPARE(shown.exactErrors, std::uint64_t(0));
+        } else {
+            std::uint64_t onlyTable = 0;
+            for (int j = 0; j < exact.receiverCount(); ++j)
+                for (int i = 0; i < exact.sourceCount(); ++i)
+                    onlyTable += approximate.blocked(j, i) && !exact.blocked(j, i);
+            QCOMPARE(shown.falseBlockedCount, onlyTable);
+        }
+        const QString status = window_->statusBar()->currentMessage();
+        QVERIFY2(status.contains("false-blocked (red)") && status.contains("false-free (blue)"), qPrintable(status));
+        QVERIFY2(status.contains(QLocale(QLocale::English).toString(qulonglong(shown.falseBlockedCount))), qPrintable(status));
+
+        // Drawn in place of the rays: red and blue lines across the shaft.
+        window_->controller().setCamera(facing(project.source, 6.0));
+        waitForFrame();
+        const auto count = [&](const std::uint8_t rgb[3]) {
+            const QImage frame = viewport.grabFramebuffer();
+            int n = 0;
+            for (int y = 0; y < frame.height(); ++y)
+                for (int x = 0; x < frame.width(); ++x) {
+                    const QRgb c = frame.pixel(x, y);
+                    n += std::abs(qRed(c) - rgb[0]) + std::abs(qGreen(c) - rgb[1]) + std::abs(qBlue(c) - rgb[2]) < 90;
+                }
+            return n;
+        };
+        const int red = count(kFalseBlockedRgb), blue = count(kFalseFreeRgb);
+        QVERIFY2(red > 50 && blue > 50, qPrintable(QString("%1 red, %2 blue pixels").arg(red).arg(blue)));
+        // Every one up to 16,384, else every k-th (the smallest k that fits).
+        const std::uint64_t differing = shown.falseBlockedCount + shown.falseFreeCount + shown.tieCount;
+        const std::uint64_t stride = (differing + 16383) / 16384;
+        QCOMPARE(viewport.raysDrawn(), (differing + stride - 1) / stride);
+        saveWindowShot("disagreement-table");
+
+        // Live: the receiver moves, the view follows with the new pair's answer.
+        const ObjectRef receiver{ObjectKind::Receiver, 0};
+        document.setState(receiver, translated(document.state(receiver), {0.3, 0.0, 0.0}), "move");
+        waitForUpdate();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.disagreementIsCurrent(), 30000);
+        QVERIFY(viewport.disagreement()->receiver.corner == document.project().receiver.corner);
+        document.undoStack()->undo();
+        waitForUpdate();
+
+        // Fewer samples: every ray whose cell straddles an edge.
+        window_->findChild<QAction*>("disagreement-samples-4")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.disagreementIsCurrent() &&
+                                     approximationName(viewport.disagreement()->approximation) == "samples-4",
+                                 30000);
+        QVERIFY(viewport.disagreement()->disagreement->errorCount() > 0);
+        waitForFrame();
+        saveWindowShot("disagreement-samples");
+
+        // Off with the same key: the rays as sampled again.
+        QTest::keyClick(window_.get(), Qt::Key_D, Qt::ControlModifier | Qt::ShiftModifier);
+        QVERIFY(!viewport.disagreementView().has_value());
+        QVERIFY(window_->findChild<QAction*>("disagreement-off")->isChecked());
+        waitForFrame();
+        QVERIFY(viewport.raysDrawn() <= std::uint64_t(viewport.style().rayCap));
+
+        // A mesh made elsewhere (the Stanford bunny): OpenMesh's coarse bunny of 1,000 triangles.
+        const std::filesystem::path file = folder_ / "bunny-disagreement.json";
+        const nlohmann::json bunny = {
+            {"version", 1},
+            {"scene", std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply"},
+            {"scene_scale", 10},
+            {"source", {{"corner", {-1.2, 0.1, -3}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
+            {"receiver", {{"corner", {-1.0, 0.3, 3}}, {"u", {1.6, 0, 0.2}}, {"v", {0, 1.6, 0}}, {"samples", {32, 32}}}}};
+        std::ofstream(file) << bunny.dump(2);
+        QVERIFY(window_->openFile(QString::fromStdString(file.string())));
+        waitForUpdate();
+        window_->findChild<QAction*>("disagreement-coarse-1000")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.disagreementIsCurrent(), 60000);
+        const DisagreementAnswer& coarse = *viewport.disagreement();
+        QVERIFY(coarse.trianglesApproximate <= 1002 && coarse.trianglesExact > 60000);
+        QVERIFY(coarse.disagreement->errorCount() > 0);
+        QVERIFY(coarse.disagreement->errorFraction() < 0.05);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("triangles"), qPrintable(window_->statusBar()->currentMessage()));
+        window_->controller().setCamera(facing(document.project().source, 8.0));
+        waitForFrame();
+        saveWindowShot("disagreement-bunny-coarse");
+        window_->findChild<QAction*>("disagreement-off")->trigger();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
         document.undoStack()->setClean();
     }
 
