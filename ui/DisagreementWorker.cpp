@@ -61,10 +61,10 @@ public:
                 throw Error("no exact answer to compare with");
             auto start = std::chrono::steady_clock::now();
             const std::string name = approximationName(r.approximation);
-            if (!sampler_ || sceneOf_ != r.scene.get() || samplerName_ != name) {
+            if (!sampler_ || scene_ != r.scene || samplerName_ != name) {
                 sampler_.reset();
                 sampler_ = std::make_unique<ApproximateSampler>(r.approximation, *r.scene);
-                scene_ = r.scene, sceneOf_ = r.scene.get(), samplerName_ = name;
+                scene_ = r.scene, samplerName_ = name;
                 a.prepareMs = msSince(start);
             }
             if (r.approximation.needsGl() && !context_)
@@ -89,8 +89,7 @@ public:
 private:
     std::unique_ptr<gl::HeadlessContext> context_;   // first: outlives the GL sampler that uses it
     std::unique_ptr<ApproximateSampler> sampler_;
-    std::shared_ptr<const Scene> scene_;   // held so sceneOf_ stays meaningful
-    const Scene* sceneOf_ = nullptr;
+    std::shared_ptr<const Scene> scene_;   // the level sampler_ was built from
     std::string samplerName_;
 };
 

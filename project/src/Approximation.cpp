@@ -55,25 +55,33 @@ std::optional<std::string_view> suffixAfter(std::string_view name, std::string_v
 bool parseInto(std::string_view name, Approximation& a)
 {
     using K = ApproximationKind;
-    if (name == "gl")
-        return a.kind = K::Gl, true;
-    if (const auto rest = suffixAfter(name, "gl-table"))
-        return a.kind = K::GlTable, rest->empty() || parseTableSize(*rest, a);
-    if (const auto rest = suffixAfter(name, "table"))
-        return a.kind = K::Table, rest->empty() || parseTableSize(*rest, a);
+    if (name == "gl") {
+        a.kind = K::Gl;
+        return true;
+    }
+    if (const auto rest = suffixAfter(name, "gl-table")) {
+        a.kind = K::GlTable;
+        return rest->empty() || parseTableSize(*rest, a);
+    }
+    if (const auto rest = suffixAfter(name, "table")) {
+        a.kind = K::Table;
+        return rest->empty() || parseTableSize(*rest, a);
+    }
+    std::optional<long long> value;
     if (const auto rest = suffixAfter(name, "samples"); rest && !rest->empty()) {
-        const auto k = number(*rest, 2, 64);
-        return a.kind = K::FewerSamples, k && (a.sampleFactor = int(*k), true);
+        a.kind = K::FewerSamples;
+        if ((value = number(*rest, 2, 64)))
+            a.sampleFactor = int(*value);
+    } else if (const auto coarse = suffixAfter(name, "coarse")) {
+        a.kind = K::Coarse;
+        if ((value = coarse->empty() ? 5000 : number(*coarse, 4, 100'000'000)))
+            a.triangles = std::size_t(*value);
+    } else if (const auto inner = suffixAfter(name, "inner")) {
+        a.kind = K::Inner;
+        if ((value = inner->empty() ? 32 : number(*inner, 4, 256)))
+            a.resolution = int(*value);
     }
-    if (const auto rest = suffixAfter(name, "coarse")) {
-        const auto n = rest->empty() ? std::optional<long long>(5000) : number(*rest, 4, 100'000'000);
-        return a.kind = K::Coarse, n && (a.triangles = std::size_t(*n), true);
-    }
-    if (const auto rest = suffixAfter(name, "inner")) {
-        const auto r = rest->empty() ? std::optional<long long>(32) : number(*rest, 4, 256);
-        return a.kind = K::Inner, r && (a.resolution = int(*r), true);
-    }
-    return false;
+    return value.has_value();
 }
 
 } // namespace
