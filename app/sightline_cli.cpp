@@ -46,6 +46,7 @@
 #include "demo/DemoLevel.h"
 #include "demo/DemoLights.h"
 #include "plugins/SceneFormats.h"
+#include "project/CoarseOccluders.h"
 #include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
@@ -154,7 +155,7 @@ int runShaft(const ShaftArgs& args)
 
     std::vector<std::string> warnings;
     const auto loadStart = std::chrono::steady_clock::now();
-    const Scene scene = buildScene(project, &warnings);
+    const Scene scene = buildRayScene(project, &warnings);
     const double loadMs = millisecondsSince(loadStart);
     printWarnings(warnings);
 
@@ -282,6 +283,7 @@ int runShaft(const ShaftArgs& args)
             {"setup_ms", setupMs},
             {"load_ms", loadMs},
             {"triangles", scene.triangleCount()},
+            {"coarse_occluders", coarseOccluders(project).size()},
             {"source_samples", json::array({project.source.na, project.source.nb})},
             {"receiver_samples", json::array({project.receiver.na, project.receiver.nb})},
             {"threads", threads},
@@ -304,6 +306,8 @@ int runShaft(const ShaftArgs& args)
             writeMaskNpy(map, args.mask);
         std::printf("method     %s (%s, %d threads)\n", args.method.c_str(), strategy.c_str(), threads);
         std::printf("scene      %zu triangles (setup %.1f ms)\n", scene.triangleCount(), setupMs);
+        if (const std::size_t standIns = coarseOccluders(project).size())
+            std::printf("coarse     %zu objects answered by their coarse stand-ins (the project's coarse_occluders)\n", standIns);
         std::printf("patches    %dx%d source x %dx%d receiver samples%s\n", project.source.na, project.source.nb,
                     project.receiver.na, project.receiver.nb, heights.empty() ? "" : " (receiver height field)");
         std::printf("rays       %llu: %llu blocked, %llu unblocked (%.2f%% visible)\n", (unsigned long long)rays,

@@ -302,10 +302,14 @@ void EditorDocument::open(const fs::path& file)
     Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_});
     Scene scene = loadLevel(project);   // turned and scaled by the project's import settings
     (void)lightsToUse(project);   // bad lights refuse the file as a whole, naming the key
-    // Checks the occluders and moved objects now, so a broken file is refused as a whole; the
-    // occluder meshes loaded for the check are kept.
+    // Checks the occluders, moved objects and coarse stand-ins now, so a broken file is refused as
+    // a whole; the occluder meshes loaded and the stand-ins made for the check are kept.
     Scene check = scene;
     applySceneTransforms(project, check);
+    {
+        Scene level = check;
+        applyCoarseOccluders(sightline::coarseOccluders(project), level, &coarseMeshes_);
+    }
     std::map<std::string, Scene> meshes;
     for (const OccluderSpec& spec : project.occluders) {
         auto it = meshes.find(spec.mesh);
@@ -408,6 +412,10 @@ void EditorDocument::applyProjectKey(const std::string& key, const nlohmann::jso
         project_.extra[key] = value;
     if (key == kSceneUpKey || key == kSceneScaleKey) {
         reimportLevel();
+        return;
+    }
+    if (key == kCoarseOccludersKey) {
+        invalidate(CoarseOccludersChanged);
         return;
     }
     if (key == "lights") {
@@ -701,8 +709,60 @@ const Scene& EditorDocument::scene() const
     return *scene_;
 }
 
+const Scene& EditorDocument::rayScene() const
+{
+    const std::vector<CoarseOccluder> standIns = coarseOccluders();
+    if (standIns.empty())
+        return scene();
+    if (!rayScene_) {
+        Scene scene = sceneFile_;
+        applyCoarseOccluders(standIns, scene, &coarseMeshes_);   // checked at open and at each edit
+        scene.append(occluderScene());
+        rayScene_ = std::move(scene);
+    }
+    return *rayScene_;
+}
+
+std::vector<CoarseOccluder> EditorDocument::coarseOccluders() const { return sightline::coarseOccluders(project_); }
+
+std::size_t EditorDocument::standInTriangles(std::size_t instance, const CoarseOccluder& spec) const
+{
+    const Instance& object = sceneFile_.instances.at(instance);
+    return coarseMeshes_.standIn(sceneFile_.meshes.at(object.mesh), spec).triangleCount();
+}
+
+void EditorDocument::setCoarseOccluder(std::size_t instance, const std::optional<CoarseOccluder>& spec)
+{
+    if (instance >= sceneFile_.instances.size())
+        throw Error("no level object " + std::to_string(instance) + " (the level has " +
+                    std::to_string(sceneFile_.instances.size()) + " objects)");
+    std::vector<CoarseOccluder> list = coarseOccluders();
+    std::erase_if(list, [&](const CoarseOccluder& c) { return c.instance == instance; });
+    if (spec) {
+        CoarseOccluder entry = *spec;
+        entry.instance = instance;
+        try {
+            (void)standInTriangles(instance, entry);   // made now: refused before anything changes
+        } catch (const Error& e) {
+            throw Error(objectName({ObjectKind::SceneObject, instance}).toStdString() + ": " + e.what());
+        }
+        list.push_back(std::move(entry));
+        std::sort(list.begin(), list.end(), [](const CoarseOccluder& a, const CoarseOccluder& b) { return a.instance < b.instance; });
+    }
+    const auto it = project_.extra.find(kCoarseOccludersKey);
+    const nlohmann::json before = it != project_.extra.end() ? *it : nlohmann::json();
+    const nlohmann::json after = list.empty() ? nlohmann::json() : coarseOccludersJson(list);
+    if (before == after)
+        return;
+    const QString name = objectName({ObjectKind::SceneObject, instance});
+    undo_.push(new SetProjectKeyCommand(*this, kCoarseOccludersKey, before, after,
+                                        spec ? tr("Coarse occluder for %1").arg(name) : tr("Full mesh for %1").arg(name)));
+}
+
 void EditorDocument::invalidate(unsigned changes)
 {
+    if (changes & (OccludersChanged | SceneFileChanged | DocumentReset | CoarseOccludersChanged))
+        rayScene_.reset();
     if (changes & (OccludersChanged | DocumentReset))
         occluderScene_.reset();
     if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))

@@ -19,6 +19,7 @@
 #include "ObjectEdits.h"
 #include "ObjectFlags.h"
 #include "lighting/Light.h"
+#include "project/CoarseOccluders.h"
 #include "project/Project.h"
 #include "project/SceneImport.h"
 
@@ -34,6 +35,7 @@ enum Change : unsigned {
     ProjectKeysChanged = 1u << 5, ///< a top-level key ("recorded_path", "pvs" overrides): no geometry
     FlagsChanged = 1u << 6,       ///< hidden, locked or isolated: what is drawn and picked, no ray
     LightsChanged = 1u << 7,      ///< a light added, removed, moved or edited: the lit view, no ray
+    CoarseOccludersChanged = 1u << 8, ///< a level object's coarse stand-in: rays only, nothing drawn
 };
 
 class EditorDocument : public QObject {
@@ -47,8 +49,11 @@ public:
     const Scene& sceneFile() const { return sceneFile_; }
     /// Only the placed occluders, in world space (instance i = occluder i when each is one mesh).
     const Scene& occluderScene() const;
-    /// Everything that blocks rays: the scene file then the occluders (what buildScene gives).
+    /// The scene file then the occluders (what buildScene gives): what is drawn, lit and baked.
     const Scene& scene() const;
+    /// What the rays between the patches are tested against: scene() with the coarse stand-ins
+    /// of the project's "coarse_occluders" (buildRayScene).
+    const Scene& rayScene() const;
     /// Which occluder each instance of occluderScene() belongs to.
     const std::vector<std::size_t>& occluderOfInstance() const;
     /// The meshes as loaded (the scene file with its moved objects, each occluder's mesh in object
@@ -104,6 +109,15 @@ public:
     void addLight(const nlohmann::json& light);
     /// Replaces light `index` with `light`, one undoable step; throws like addLight.
     void editLight(std::size_t index, const nlohmann::json& light, const QString& text);
+
+    // ---- coarse occluders (project/CoarseOccluders.h) ----
+    std::vector<CoarseOccluder> coarseOccluders() const;
+    /// The stand-in answering level object `instance`'s rays, or none (its full mesh): one
+    /// undoable step. The stand-in is made first: sightline::Error where it does not apply (the
+    /// document unchanged then).
+    void setCoarseOccluder(std::size_t instance, const std::optional<CoarseOccluder>& spec);
+    /// The stand-in's triangles for level object `instance` (made before, or now), for messages.
+    std::size_t standInTriangles(std::size_t instance, const CoarseOccluder& spec) const;
 
     // ---- hide, isolate, lock (ObjectFlags.h says what each means) ----
     ObjectFlags flags(ObjectRef object) const;
@@ -175,6 +189,8 @@ private:
     mutable std::optional<Scene> occluderScene_;
     mutable std::vector<std::size_t> occluderOfInstance_;
     mutable std::optional<Scene> scene_;
+    mutable std::optional<Scene> rayScene_;
+    mutable CoarseMeshCache coarseMeshes_;
     bool allowOutsidePaths_ = false;
     ObjectRef isolated_;
     std::vector<ObjectFlags> instanceFlags_;   ///< of the level's instances, read from the settings

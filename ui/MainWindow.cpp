@@ -33,6 +33,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "CoarseOccluderDialog.h"
 #include "EditCommands.h"
 #include "ImportSettingsDialog.h"
 #include "LightCostPanel.h"
@@ -446,7 +447,9 @@ void MainWindow::createEditMenu()
     showAll->setObjectName("showAll");
     QAction* lock = action(edit, tr("&Lock / Unlock Selected"), QKeySequence(Qt::CTRL | Qt::Key_L), [flagSelection] { flagSelection(false); });
     lock->setObjectName("lockSelected");
-    outline_->setContextActions({hide, isolate, showAll, lock});
+    QAction* coarse = action(edit, tr("&Coarse Occluder..."), QKeySequence(Qt::CTRL | Qt::ALT | Qt::Key_C), [this] { chooseCoarseOccluder(); });
+    coarse->setObjectName("coarseOccluder");
+    outline_->setContextActions({hide, isolate, showAll, lock, coarse});
     edit->addSeparator();
     // The designer's own settings (QSettings, not the project): orbit and fly speeds.
     action(edit, tr("&Preferences..."), QKeySequence(Qt::CTRL | Qt::Key_Comma), [this] {
@@ -460,6 +463,49 @@ void MainWindow::createEditMenu()
         controller_->setTool(Tool::Select);
         document_.select({});
     });
+}
+
+void MainWindow::chooseCoarseOccluder()
+{
+    const ObjectRef selected = document_.selection();
+    if (selected.kind != ObjectKind::SceneObject) {
+        statusBar()->showMessage(tr("Select an object of the level first: a coarse stand-in answers the rays in place of its mesh"), 5000);
+        return;
+    }
+    const Scene& level = document_.sceneFile();
+    const Mesh& mesh = level.meshes.at(level.instances.at(selected.index).mesh);
+    std::optional<CoarseOccluder> current;
+    for (const CoarseOccluder& standIn : document_.coarseOccluders())
+        if (standIn.instance == selected.index)
+            current = standIn;
+    const QString name = document_.objectName(selected);
+    CoarseMeasureInput measure{.scene = std::make_shared<const Scene>(document_.scene()),
+                               .instance = selected.index,
+                               .source = document_.project().source,
+                               .receiver = document_.project().receiver,
+                               .heights = nullptr};
+    if (!viewport_->receiverHeights().empty())
+        measure.heights = std::make_shared<const ReceiverHeights>(viewport_->receiverHeights());
+    CoarseOccluderDialog dialog(name, mesh.triangleCount(), closedAndOutward(mesh), current, std::move(measure), this);
+    if (dialog.exec() != QDialog::Accepted)
+        return;
+    const std::optional<CoarseOccluder> choice = dialog.choice();
+    QString done = tr("%1: its rays answered by its full mesh again").arg(name);
+    QApplication::setOverrideCursor(Qt::WaitCursor);   // simplifying a dense mesh takes seconds
+    try {
+        document_.setCoarseOccluder(selected.index, choice);
+        if (choice)
+            done = tr("%1: its rays answered by a stand-in of %2 triangles (the mesh has %3); the view still draws the "
+                      "full mesh; Ctrl+Z undoes")
+                       .arg(name, QLocale().toString(qulonglong(document_.standInTriangles(selected.index, *choice))),
+                            QLocale().toString(qulonglong(mesh.triangleCount())));
+    } catch (const Error& e) {
+        QApplication::restoreOverrideCursor();
+        QMessageBox::warning(this, tr("Coarse Occluder"), QString::fromStdString(e.what()));
+        return;
+    }
+    QApplication::restoreOverrideCursor();
+    statusBar()->showMessage(done, 8000);
 }
 
 void MainWindow::createCreateMenu()

@@ -134,6 +134,8 @@ private:
     QDockWidget* assistantDock_ = nullptr;
     /// The cost panel from the lit view's latest frame (when the panel is shown).
     void showLightCosts();
+    /// Edit > Coarse Occluder: the selected level object's stand-in (CoarseOccluderDialog.h).
+    void chooseCoarseOccluder();
     QMenu* recentMenu_ = nullptr;
     QLabel* raysLabel_ = nullptr;
     QPushButton* fixPairButton_ = nullptr;

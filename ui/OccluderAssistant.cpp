@@ -113,7 +113,7 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     connect(gapList_, &QListWidget::itemClicked, this, [this](QListWidgetItem* item) { showGap(std::size_t(gapList_->row(item))); });
     // The level's triangles, shared with the worker until an edit changes what blocks rays.
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
-        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset))
+        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset | CoarseOccludersChanged))
             triangles_.reset();
     });
     connect(add_, &QPushButton::clicked, this, [this] {
@@ -183,7 +183,7 @@ void OccluderAssistant::requestNow()
         promised_.reset();
     }
     if (!triangles_)
-        triangles_ = std::make_shared<const WorldTriangles>(worldTriangles(document_.scene()));
+        triangles_ = std::make_shared<const WorldTriangles>(worldTriangles(document_.rayScene()));
     // The openings depend on the map and the level only: a new depth, share or shape keeps them.
     job.findGaps = !(gapsMap_ && gapsTriangles_ == triangles_ && samePatch(gapsSource_, result.source) &&
                      samePatch(gapsReceiver_, result.receiver) && *gapsMap_ == result.map);

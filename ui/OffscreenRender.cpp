@@ -33,7 +33,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
             renderer.setAmbientOcclusion(*lit.uvs, lit.width, lit.height, lit.map);
         }
         LiveVisibility visibility;
-        visibility.setScene(document.scene());
+        visibility.setScene(document.rayScene());
         const Project& project = document.project();
         visibility.loadReceiverHeights(project, document.displayName().toStdString());
         result.visibility = visibility.sample(project.source, project.receiver);
@@ -48,9 +48,9 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
             renderer.setRayEnds(result.visibility.rayEnds, style.rayCap);
         }
         if (disagreement && result.visibility.valid) {
-            ApproximateSampler sampler(*disagreement, document.scene());
+            ApproximateSampler sampler(*disagreement, document.rayScene());
             const ReceiverHeights& heights = visibility.receiverHeights();
-            result.disagreement = judgedDisagreement(sampler, document.scene(), project.source, project.receiver, &heights,
+            result.disagreement = judgedDisagreement(sampler, document.rayScene(), project.source, project.receiver, &heights,
                                                      result.visibility.map, 0, &gl);
             renderer.setDisagreement(&result.disagreement->disagreement);
         }

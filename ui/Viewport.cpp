@@ -68,6 +68,13 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
             update();
             return;
         }
+        if (changes == CoarseOccludersChanged) {
+            // The rays between the patches only: the level is drawn, lit and baked from full meshes.
+            raySceneDirty_ = true;
+            samplesDirty_ = true;
+            update();
+            return;
+        }
         if (changes == ProjectKeysChanged) {
             // Overrides and the distance cut-off are shown anew over the same bake; other PVS
             // settings (cells, sample budgets, the mode) need a new one.
@@ -271,12 +278,12 @@ void Viewport::paintGL()
     flagsDirty_ = false;
     if (!backendChosen_)
         visibility_.forgetChoice();   // before setScene: the GL sampler needs the level for its timing
-    if (sceneChanged) {
-        workerScene_ = std::make_shared<const Scene>(document_.scene());
+    if (sceneChanged || raySceneDirty_) {
+        workerScene_ = std::make_shared<const Scene>(document_.rayScene());
         if (visibility_.mayUseGl())
             visibility_.setScene(*workerScene_);   // the GUI thread's copy serves only the GL sampler
     }
-    sceneFileDirty_ = occludersDirty_ = false;
+    sceneFileDirty_ = occludersDirty_ = raySceneDirty_ = false;
 
     const Project& project = document_.project();
     if (!backendChosen_) {

@@ -306,6 +306,7 @@ private:
     ViewStyle style_;
     QString backendReport_;
     bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true, flagsDirty_ = true;
+    bool raySceneDirty_ = false;   ///< the coarse stand-ins changed: a new workerScene_
     // The drawn level. A new document's is prepared on a worker (prepareLevel()); until it is
     // ready frames show no level. An edit to the level while it is prepared makes it stale: the
     // frame then builds the level from the document itself, as it does after every edit.

@@ -14,6 +14,7 @@
 
 #include "bench/TunedEmbree.h"
 #include "lighting/SoftShadow.h"
+#include "project/CoarseOccluders.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
@@ -200,7 +201,7 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
     std::unique_ptr<gl::HeadlessContext> context;   // made on first use of "gl"
     for (const std::string& file : settings.projects) {
         const Project project = loadProject(file, {.allowOutsidePaths = settings.allowOutsidePaths});
-        const Scene scene = buildScene(project);
+        const Scene scene = buildRayScene(project);
         const RayCastScene reference(scene);
         const CpuBitmaskSampler cpu(scene);
         const WorldTriangles triangles = worldTriangles(scene);

@@ -2,43 +2,199 @@
 
 #include <algorithm>
 #include <bit>
-#include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <sstream>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "CoarseSweepChart.h"
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
-#include "plugins/MeshSimplification.h"
+#include "cli/OutputPaths.h"
+#include "project/CoarseOccluders.h"
+#include "project/CoarseSweep.h"
 #include "project/LightingSetup.h"
 #include "project/Project.h"
-#include "visibility/CpuBitmaskSampler.h"
+#include "project/SceneImport.h"
+#include "report/CoarseChart.h"
 #include "visibility/Error.h"
-#include "visibility/InnerOccluder.h"
+
+namespace fs = std::filesystem;
 
 namespace sightline::cli {
 
 namespace {
 
-/// The lower median of `repeat` exact samplings after one untimed (as `bench` times).
-double medianSampleMs(const CpuBitmaskSampler& sampler, const Project& project, const ReceiverHeights& heights, int repeat,
-                      int threads, HiddenSampleMap& map)
+using nlohmann::json;
+
+/// "500,1000,2000" or "auto" (halving from half the largest mesh: defaultSweepCounts).
+std::vector<std::size_t> sweepCounts(const std::string& text, const Scene& level)
 {
-    BitmaskOptions options;
-    options.threads = threads;
-    options.heights = heights.empty() ? nullptr : &heights;
-    map = sampler.sample(project.source, project.receiver, options);
-    std::vector<double> times;
-    for (int k = 0; k < std::max(repeat, 1); ++k) {
-        const auto start = std::chrono::steady_clock::now();
-        map = sampler.sample(project.source, project.receiver, options);
-        times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    if (text == "auto") {
+        std::size_t largest = 0;
+        for (const Mesh& mesh : level.meshes)
+            largest = std::max(largest, mesh.triangleCount());
+        std::vector<std::size_t> counts = defaultSweepCounts(largest);
+        if (counts.empty())
+            throw Error("--sweep auto: no mesh has more than 8 triangles to simplify");
+        return counts;
     }
-    std::sort(times.begin(), times.end());
-    return times[(times.size() - 1) / 2];
+    std::vector<std::size_t> counts;
+    std::stringstream in(text);
+    for (std::string item; std::getline(in, item, ',');) {
+        std::size_t used = 0;
+        unsigned long long value = 0;
+        try {
+            value = std::stoull(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (used == 0 || used != item.size() || item.front() == '-' || value < 4 || value > 100'000'000)
+            throw Error("--sweep: '" + item + "' is not a triangle count in [4, 100000000] (give e.g. 500,1000,2000 or auto)");
+        counts.push_back(std::size_t(value));
+    }
+    if (counts.empty() || counts.size() > 32)
+        throw Error("--sweep: give 1 to 32 triangle counts, e.g. 500,1000,2000, or auto");
+    return counts;
+}
+
+/// The level's instances the single run gives a stand-in (those `runOnce` replaces), as the
+/// project's "coarse_occluders".
+std::vector<CoarseOccluder> standInsFor(const Scene& level, const CoarseArgs& args)
+{
+    std::vector<CoarseOccluder> list;
+    for (std::size_t i = 0; i < level.instances.size(); ++i) {
+        const Mesh& mesh = level.meshes.at(level.instances[i].mesh);
+        CoarseOccluder spec;
+        spec.instance = i;
+        if (args.kind == "inner") {
+            if (mesh.triangleCount() <= 12 || !closedAndOutward(mesh))
+                continue;
+            spec.kind = CoarseKind::Inner;
+            spec.resolution = args.resolution;
+        } else {
+            if (mesh.triangleCount() <= std::size_t(args.triangles))
+                continue;
+            spec.triangles = std::size_t(args.triangles);
+        }
+        list.push_back(spec);
+    }
+    return list;
+}
+
+int runSweep(const CoarseArgs& args, const Project& project, const Scene& original, const ReceiverHeights& heights)
+{
+    if (args.kind != "closest")
+        throw Error("--sweep measures the closest kind at several triangle counts; the inner kind has none (drop --kind inner)");
+    CoarseSweepRequest request;
+    request.counts = sweepCounts(args.sweep, original);
+    request.threads = args.threads;
+    request.repeat = args.repeat;
+    const CoarseSweep sweep =
+        sweepCoarseOccluders(original, project.source, project.receiver, heights.empty() ? nullptr : &heights, request);
+    if (!args.chart.empty())
+        writeCoarseChart(ui::coarseChartData(sweep),
+                         QString::fromStdString("Coarse occluders on " + fs::path(args.project).filename().string() +
+                                                ": rays answered differently and exact sampling time"),
+                         args.chart);
+    if (args.json) {
+        json points = json::array();
+        for (const CoarseSweepPoint& p : sweep.points)
+            points.push_back({{"asked", p.asked},
+                              {"triangles", p.triangles},
+                              {"ms", p.ms},
+                              {"false_blocked", p.falseBlocked},
+                              {"false_free", p.falseFree},
+                              {"disagreeing_fraction", double(p.disagreeing()) / double(sweep.rays)},
+                              {"speedup", sweep.ms / std::max(p.ms, 1e-9)}});
+        json out = {{"kind", "closest"}, {"triangles_before", sweep.triangles}, {"ms_original", sweep.ms},
+                    {"rays", sweep.rays}, {"sweep", std::move(points)}};
+        if (!args.chart.empty())
+            out["chart"] = args.chart;
+        std::cout << dumpJson(out) << "\n";
+        return 0;
+    }
+    std::printf("original   %zu triangles, %.2f ms (exact CPU sampler, median of %d), %llu rays\n", sweep.triangles,
+                sweep.ms, args.repeat, (unsigned long long)sweep.rays);
+    std::printf("%10s %10s %10s %8s %12s %12s %10s\n", "asked", "triangles", "ms", "speedup", "false_blk", "false_free",
+                "differ %");
+    for (const CoarseSweepPoint& p : sweep.points)
+        std::printf("%10zu %10zu %10.2f %7.2fx %12llu %12llu %10.4f\n", p.asked, p.triangles, p.ms,
+                    sweep.ms / std::max(p.ms, 1e-9), (unsigned long long)p.falseBlocked, (unsigned long long)p.falseFree,
+                    100.0 * double(p.disagreeing()) / double(sweep.rays));
+    if (!args.chart.empty())
+        std::printf("chart      %s\n", args.chart.c_str());
+    return 0;
+}
+
+int runOnce(const CoarseArgs& args, const Project& project, const Scene& original, const ReceiverHeights& heights)
+{
+    Scene coarse = original;
+    std::size_t replaced = 0, skipped = 0;
+    CoarseOccluder spec;
+    spec.kind = args.kind == "inner" ? CoarseKind::Inner : CoarseKind::Closest;
+    spec.triangles = std::size_t(args.triangles);
+    spec.resolution = args.resolution;
+    for (Mesh& mesh : coarse.meshes) {
+        if (args.kind == "inner" && (mesh.triangleCount() <= 12 || !closedAndOutward(mesh))) {
+            skipped += mesh.triangleCount() > 12;
+            continue;
+        }
+        if (args.kind != "inner" && mesh.triangleCount() <= std::size_t(args.triangles))
+            continue;
+        mesh = coarseOccluderMesh(mesh, spec);
+        ++replaced;
+    }
+    if (replaced == 0)
+        throw Error(args.kind == "inner" ? "no closed mesh of more than 12 triangles to stand an inner occluder in"
+                                         : "no mesh has more than --triangles " + std::to_string(args.triangles) + " triangles");
+
+    const CoarseComparison p = compareCoarseLevel(original, coarse, project.source, project.receiver,
+                                                  heights.empty() ? nullptr : &heights, args.threads, args.repeat);
+    const double originalMs = p.originalMs;
+    const double fraction = double(p.disagreeing()) / double(p.rays);
+
+    if (!args.write.empty()) {
+        Scene level = loadLevel(project);
+        applySceneTransforms(project, level);
+        const std::vector<CoarseOccluder> standIns = standInsFor(level, args);
+        if (standIns.empty())
+            throw Error("--write: no object of the level has a mesh to replace (only placed occluders do)");
+        Project out = rebasedProject(project, fs::absolute(args.write).parent_path(), false);
+        out.extra[kCoarseOccludersKey] = coarseOccludersJson(standIns);
+        saveProject(out, args.write);
+    }
+    if (args.json) {
+        json out = {{"kind", args.kind},
+                    {"meshes_replaced", replaced},
+                    {"meshes_skipped", skipped},
+                    {"triangles_before", original.triangleCount()},
+                    {"triangles_after", coarse.triangleCount()},
+                    {"rays", p.rays},
+                    {"false_blocked", p.falseBlocked},
+                    {"false_free", p.falseFree},
+                    {"disagreeing_fraction", fraction},
+                    {"ms_original", originalMs},
+                    {"ms_coarse", p.ms},
+                    {"speedup", originalMs / std::max(p.ms, 1e-9)}};
+        if (!args.write.empty())
+            out["written"] = args.write;
+        std::cout << dumpJson(out) << "\n";
+        return 0;
+    }
+    std::printf("coarse     %s: %zu meshes replaced%s, %zu -> %zu triangles\n", args.kind.c_str(), replaced,
+                skipped ? " (open meshes left as they are)" : "", original.triangleCount(), coarse.triangleCount());
+    std::printf("rays       %llu: %llu blocked only by the coarse level, %llu only by the original (%.4f%% differ)\n",
+                (unsigned long long)p.rays, (unsigned long long)p.falseBlocked, (unsigned long long)p.falseFree,
+                100.0 * fraction);
+    std::printf("time       %.2f ms original, %.2f ms coarse: %.2fx (exact CPU sampler, median of %d)\n", originalMs, p.ms,
+                originalMs / std::max(p.ms, 1e-9), args.repeat);
+    if (!args.write.empty())
+        std::printf("wrote      %s (the stand-ins in coarse_occluders)\n", args.write.c_str());
+    return 0;
 }
 
 } // namespace
@@ -62,6 +218,16 @@ CLI::App* addCoarseCommand(CLI::App& app, CoarseArgs& args)
         ->check(CLI::Range(4, 256));
     command->add_option("--repeat", args.repeat, "Timed samplings of each level (their median)")->capture_default_str()->check(CLI::Range(1, 100));
     command->add_option("--threads", args.threads, "Sampling threads (0: all cores)")->check(CLI::Range(0, 1024));
+    command->add_option("--sweep", args.sweep,
+                        "Measure several triangle counts in one run (closest kind): e.g. 500,1000,2000, or auto (halving "
+                        "from half the largest mesh)");
+    command->add_option("--chart", args.chart, "With --sweep: a PNG chart of rays answered differently and sampling time "
+                                               "against triangles")
+        ->check(outputFile());
+    command->add_option("--write", args.write,
+                        "Save a copy of the project whose level objects keep these stand-ins (its coarse_occluders): the "
+                        "rays between its patches are then answered by them")
+        ->check(outputFile());
     command->add_flag("--json", args.json, "Print one JSON object instead of text");
     addAllowOutsidePaths(command, args.allowOutsidePaths);
     return command;
@@ -69,66 +235,18 @@ CLI::App* addCoarseCommand(CLI::App& app, CoarseArgs& args)
 
 int runCoarse(const CoarseArgs& args)
 {
+    if (!args.chart.empty() && args.sweep.empty())
+        throw Error("--chart draws a sweep: add --sweep COUNTS (e.g. --sweep auto)");
+    if (!args.write.empty() && !args.sweep.empty())
+        throw Error("--write keeps one stand-in per object: give --triangles N (or --kind inner) instead of --sweep");
+    std::error_code ec;
+    if (!args.write.empty() && fs::is_directory(args.write, ec))
+        throw Error("--write " + args.write + " is a folder: name the project file to write");
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    checkOutputs({{"--write", args.write}, {"--chart", args.chart}}, projectInputs(args.project, project));
     const ReceiverHeights heights = validatedPairHeights(project);
-    const Scene original = buildScene(project);
-    Scene coarse = original;
-    std::size_t replaced = 0, skipped = 0;
-    for (Mesh& mesh : coarse.meshes) {
-        if (args.kind == "inner") {
-            if (mesh.triangleCount() <= 12 || !closedAndOutward(mesh)) {
-                skipped += mesh.triangleCount() > 12;
-                continue;
-            }
-            mesh = innerOccluderMesh(mesh, args.resolution);
-        } else {
-            if (mesh.triangleCount() <= std::size_t(args.triangles))
-                continue;
-            mesh = simplifiedMesh(mesh, std::size_t(args.triangles));
-        }
-        ++replaced;
-    }
-    if (replaced == 0)
-        throw Error(args.kind == "inner" ? "no closed mesh of more than 12 triangles to stand an inner occluder in"
-                                         : "no mesh has more than --triangles " + std::to_string(args.triangles) + " triangles");
-
-    HiddenSampleMap exact, approximate;
-    const CpuBitmaskSampler originalSampler(original), coarseSampler(coarse);
-    const double originalMs = medianSampleMs(originalSampler, project, heights, args.repeat, args.threads, exact);
-    const double coarseMs = medianSampleMs(coarseSampler, project, heights, args.repeat, args.threads, approximate);
-    std::uint64_t falseBlocked = 0, falseFree = 0;
-    for (int j = 0; j < exact.receiverCount(); ++j) {
-        const auto a = exact.row(j), b = approximate.row(j);
-        for (int w = 0; w < exact.wordsPerRow(); ++w) {
-            falseBlocked += std::uint64_t(std::popcount(b[std::size_t(w)] & ~a[std::size_t(w)]));
-            falseFree += std::uint64_t(std::popcount(a[std::size_t(w)] & ~b[std::size_t(w)]));
-        }
-    }
-    const double fraction = double(falseBlocked + falseFree) / double(exact.rayCount());
-    if (args.json) {
-        std::cout << dumpJson({{"kind", args.kind},
-                               {"meshes_replaced", replaced},
-                               {"meshes_skipped", skipped},
-                               {"triangles_before", original.triangleCount()},
-                               {"triangles_after", coarse.triangleCount()},
-                               {"rays", exact.rayCount()},
-                               {"false_blocked", falseBlocked},
-                               {"false_free", falseFree},
-                               {"disagreeing_fraction", fraction},
-                               {"ms_original", originalMs},
-                               {"ms_coarse", coarseMs},
-                               {"speedup", originalMs / std::max(coarseMs, 1e-9)}})
-                  << "\n";
-        return 0;
-    }
-    std::printf("coarse     %s: %zu meshes replaced%s, %zu -> %zu triangles\n", args.kind.c_str(), replaced,
-                skipped ? " (open meshes left as they are)" : "", original.triangleCount(), coarse.triangleCount());
-    std::printf("rays       %llu: %llu blocked only by the coarse level, %llu only by the original (%.4f%% differ)\n",
-                (unsigned long long)exact.rayCount(), (unsigned long long)falseBlocked, (unsigned long long)falseFree,
-                100.0 * fraction);
-    std::printf("time       %.2f ms original, %.2f ms coarse: %.2fx (exact CPU sampler, median of %d)\n", originalMs, coarseMs,
-                originalMs / std::max(coarseMs, 1e-9), args.repeat);
-    return 0;
+    const Scene original = buildScene(project);   // the full meshes, whatever stand-ins the project keeps
+    return args.sweep.empty() ? runOnce(args, project, original, heights) : runSweep(args, project, original, heights);
 }
 
 } // namespace sightline::cli

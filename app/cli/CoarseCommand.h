@@ -3,7 +3,9 @@
 // The level's dense meshes are replaced by coarse ones, the closest (OpenMesh's decimater,
 // plugins/MeshSimplification.h) or the conservative (visibility/InnerOccluder.h), and the
 // project's pair is sampled exactly with each: the triangles, the sampling times side by side and
-// the rays the coarse level answers differently, each way.
+// the rays the coarse level answers differently, each way. `--sweep` measures several triangle
+// counts in one run (project/CoarseSweep.h) and `--chart` draws them; `--write` keeps the stand-ins
+// in a copy of the project ("coarse_occluders", project/CoarseOccluders.h).
 
 #include <string>
 
@@ -20,6 +22,9 @@ struct CoarseArgs {
     int resolution = 32;      ///< inner: voxels along a mesh's longest side
     int repeat = 3;
     int threads = 0;
+    std::string sweep;        ///< comma-separated triangle counts, or "auto"; empty: one run
+    std::string chart;        ///< PNG of the sweep
+    std::string write;        ///< a copy of the project with the stand-ins kept
     bool json = false;
     bool allowOutsidePaths = false;
 };

@@ -13,6 +13,7 @@
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
 #include "project/Approximation.h"
+#include "project/CoarseOccluders.h"
 #include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -62,7 +63,7 @@ int runDisagreement(const DisagreementArgs& args)
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     checkOutputs({{"--image", args.image}}, projectInputs(args.project, project));
     const ReceiverHeights heights = validatedPairHeights(project);
-    const Scene level = buildScene(project);
+    const Scene level = buildRayScene(project);
 
     auto start = std::chrono::steady_clock::now();
     BitmaskOptions exactOptions;

@@ -18,6 +18,7 @@
 #include "cli/OutputPaths.h"
 #include "lighting/SoftShadow.h"
 #include "project/Animation.h"
+#include "project/CoarseOccluders.h"
 #include "project/ImportanceRun.h"
 #include "project/LightingSetup.h"
 #include "project/ProjectMotion.h"
@@ -284,7 +285,7 @@ int runShadow(const ShadowArgs& args)
             throw Error("--method hh: a height-field receiver needs cpu or raycast");
         if (jitter.enabled() || light.groups.size() != 1 || light.groups[0].count != light.sourceCount)
             throw Error("--method hh counts blocked samples only: white light and no --jitter (use cpu, raycast or gl)");
-        const Scene scene = buildScene(project, &warnings);
+        const Scene scene = buildRayScene(project, &warnings);
         const auto context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
         const auto sampleStart = std::chrono::steady_clock::now();
         HeckbertHerfSampler sampler(context->functions(), worldTriangles(scene));

@@ -12,6 +12,7 @@
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
 #include "plugins/SceneFormats.h"
+#include "project/CoarseOccluders.h"
 #include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "project/SuggestedOccluder.h"
@@ -165,7 +166,7 @@ int runGaps(const GapsArgs& args)
 {
     const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
     const ReceiverHeights heights = validatedPairHeights(project);
-    const Scene scene = buildScene(project);
+    const Scene scene = buildRayScene(project);
     const auto start = std::chrono::steady_clock::now();
     BitmaskOptions options;
     options.threads = args.threads;

@@ -8,6 +8,7 @@
 
 #include "plugins/JsonText.h"
 #include "plugins/SceneFormats.h"
+#include "project/CoarseOccluders.h"
 #include "project/SceneImport.h"
 #include "visibility/AtomicFile.h"
 #include "visibility/Error.h"
@@ -244,7 +245,8 @@ Project parseProject(const json& document, const std::filesystem::path& folder, 
     project.extra = document;
     for (const char* known : {"version", "scene", "source", "receiver", "occluders", "scene_transforms"})
         project.extra.erase(known);
-    (void)sceneImport(project);   // "scene_up" and "scene_scale" (kept in extra) checked now
+    (void)sceneImport(project);        // "scene_up" and "scene_scale" (kept in extra) checked now
+    (void)coarseOccluders(project);    // and "coarse_occluders"
     return project;
 }
 

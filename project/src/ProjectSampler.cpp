@@ -1,5 +1,7 @@
 #include "project/ProjectSampler.h"
 
+#include "project/CoarseOccluders.h"
+
 #include <algorithm>
 #include <chrono>
 
@@ -18,6 +20,7 @@ ProjectSampler::ProjectSampler(const Project& project, ProjectMeshes meshes, Sam
         throw Error("the GL sampler does not take receiver heights; use cpu or raycast for a bumpy receiver");
     if (settings_.method == "gl")
         context_ = gl::HeadlessContext::create(gl::parseBackend(settings_.glBackend));
+    applyCoarseOccluders(coarseOccluders(project), meshes_.level);
     rebuild(project);
 }
 

@@ -5,6 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "project/CoarseOccluders.h"
 #include "project/LightingSetup.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
@@ -94,7 +95,7 @@ SuggestedOccluder suggestForProject(const Project& project, const suggest::Reque
                                     int threads)
 {
     const ReceiverHeights heights = validatedPairHeights(project);
-    return suggestOnScene(buildScene(project), project.source, project.receiver, heights, request,
+    return suggestOnScene(buildRayScene(project), project.source, project.receiver, heights, request,
                           unusedOccluderName(project, "suggested occluder"), meshFile, threads);
 }
 

@@ -1,0 +1,126 @@
+#include "project/CoarseSweep.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+
+#include "project/CoarseOccluders.h"
+#include "visibility/CpuBitmaskSampler.h"
+#include "visibility/Error.h"
+
+namespace sightline {
+
+namespace {
+
+/// The lower median of `repeat` exact samplings after one untimed (as `bench` times).
+double medianSampleMs(const CpuBitmaskSampler& sampler, const Patch& source, const Patch& receiver,
+                      const BitmaskOptions& options, int repeat, HiddenSampleMap& map)
+{
+    map = sampler.sample(source, receiver, options);
+    std::vector<double> times;
+    for (int k = 0; k < std::max(repeat, 1); ++k) {
+        const auto start = std::chrono::steady_clock::now();
+        map = sampler.sample(source, receiver, options);
+        times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    }
+    std::sort(times.begin(), times.end());
+    return times[(times.size() - 1) / 2];
+}
+
+/// `scene` with the meshes the request names simplified to `count` triangles.
+Scene coarseLevel(const Scene& scene, std::size_t count, const std::optional<std::size_t>& instance, CoarseMeshCache& cache)
+{
+    Scene coarse = scene;
+    CoarseOccluder spec;
+    spec.triangles = count;
+    if (instance) {
+        spec.instance = *instance;
+        applyCoarseOccluders({spec}, coarse, &cache);
+        return coarse;
+    }
+    for (Mesh& mesh : coarse.meshes)
+        if (mesh.triangleCount() > count)
+            mesh = cache.standIn(mesh, spec);
+    return coarse;
+}
+
+/// Adds to `falseBlocked` the rays only `map` blocks, to `falseFree` those only `exact` blocks.
+void countDifferences(const HiddenSampleMap& exact, const HiddenSampleMap& map, std::uint64_t& falseBlocked,
+                      std::uint64_t& falseFree)
+{
+    for (int j = 0; j < exact.receiverCount(); ++j) {
+        const auto a = exact.row(j), b = map.row(j);
+        for (int w = 0; w < exact.wordsPerRow(); ++w) {
+            falseBlocked += std::uint64_t(std::popcount(b[std::size_t(w)] & ~a[std::size_t(w)]));
+            falseFree += std::uint64_t(std::popcount(a[std::size_t(w)] & ~b[std::size_t(w)]));
+        }
+    }
+}
+
+BitmaskOptions sweepOptions(const ReceiverHeights* heights, int threads)
+{
+    BitmaskOptions options;
+    options.threads = threads;
+    options.heights = heights && !heights->empty() ? heights : nullptr;
+    return options;
+}
+
+} // namespace
+
+CoarseComparison compareCoarseLevel(const Scene& original, const Scene& coarse, const Patch& source, const Patch& receiver,
+                                    const ReceiverHeights* heights, int threads, int repeat)
+{
+    validatePatchPair(source, receiver);
+    const BitmaskOptions options = sweepOptions(heights, threads);
+    CoarseComparison result;
+    HiddenSampleMap exact, map;
+    result.originalMs = medianSampleMs(CpuBitmaskSampler(original), source, receiver, options, repeat, exact);
+    result.ms = medianSampleMs(CpuBitmaskSampler(coarse), source, receiver, options, repeat, map);
+    result.rays = exact.rayCount();
+    countDifferences(exact, map, result.falseBlocked, result.falseFree);
+    return result;
+}
+
+CoarseSweep sweepCoarseOccluders(const Scene& scene, const Patch& source, const Patch& receiver,
+                                 const ReceiverHeights* heights, const CoarseSweepRequest& request)
+{
+    validatePatchPair(source, receiver);
+    if (request.instance && *request.instance >= scene.instances.size())
+        throw Error("object " + std::to_string(*request.instance) + " does not exist (the scene has " +
+                    std::to_string(scene.instances.size()) + " objects)");
+    for (const std::size_t count : request.counts)
+        if (count < 4 || count > 100'000'000)
+            throw Error("a sweep's triangle counts must be in [4, 100000000], got " + std::to_string(count));
+    const BitmaskOptions options = sweepOptions(heights, request.threads);
+    CoarseSweep sweep;
+    HiddenSampleMap exact;
+    sweep.triangles = scene.triangleCount();
+    sweep.ms = medianSampleMs(CpuBitmaskSampler(scene), source, receiver, options, request.repeat, exact);
+    sweep.rays = exact.rayCount();
+    CoarseMeshCache cache;
+    for (const std::size_t count : request.counts) {
+        const Scene coarse = coarseLevel(scene, count, request.instance, cache);
+        HiddenSampleMap map;
+        CoarseSweepPoint point;
+        point.asked = count;
+        point.triangles = coarse.triangleCount();
+        point.ms = medianSampleMs(CpuBitmaskSampler(coarse), source, receiver, options, request.repeat, map);
+        countDifferences(exact, map, point.falseBlocked, point.falseFree);
+        sweep.points.push_back(point);
+        if (request.progress && !request.progress(sweep))
+            break;
+    }
+    return sweep;
+}
+
+std::vector<std::size_t> defaultSweepCounts(std::size_t triangles)
+{
+    std::vector<std::size_t> counts;
+    for (std::size_t count = triangles / 2; count >= 100 && counts.size() < 8; count /= 2)
+        counts.push_back(count);
+    if (counts.empty() && triangles > 8)
+        counts.push_back(std::max<std::size_t>(4, triangles / 2));
+    return counts;
+}
+
+} // namespace sightline
