@@ -258,6 +258,8 @@ void OccluderAssistant::listGaps(std::vector<suggest::ViewGap> gaps)
 {
     gaps_ = std::move(gaps);
     gapList_->clear();
+    if (!viewport_.selectedRays().empty())
+        viewport_.setSelectedRays({}, 0, 0);   // they belonged to the openings of an earlier answer
     std::uint64_t all = 0;
     for (const suggest::ViewGap& gap : gaps_)
         all += gap.rays;
@@ -286,6 +288,9 @@ void OccluderAssistant::showGap(std::size_t k)
     const double radius = std::max(0.5, 0.75 * glm::length(gap.max - gap.min));
     controller_.setCamera(lookThrough(from, glm::normalize(along), gap.centre, radius));
     gapList_->setCurrentRow(int(k));
+    // Its rays (a spread of up to kGapRaySample) stand out from the others.
+    const Project& project = document_.project();
+    viewport_.setSelectedRays(gap.raySample, project.source.na * project.source.nb, project.receiver.na * project.receiver.nb);
 }
 
 bool OccluderAssistant::stepGap(int step)

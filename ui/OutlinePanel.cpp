@@ -63,7 +63,7 @@ OutlinePanel::OutlinePanel(EditorDocument& document, QWidget* parent) : QWidget(
     tree_->setEditTriggers(QAbstractItemView::DoubleClicked | QAbstractItemView::EditKeyPressed);
     connect(search_, &QLineEdit::textChanged, this, &OutlinePanel::setFilter);
     connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
-        if (changes & (OccludersChanged | DocumentReset | NamesChanged | LightsChanged))
+        if (changes & (OccludersChanged | DocumentReset | NamesChanged | LightsChanged | CoarseOccludersChanged))
             rebuild();
         else if (changes & FlagsChanged)
             refreshFlags();
@@ -127,7 +127,10 @@ void OutlinePanel::rebuild()
         item->setCheckState(ShowColumn, Qt::Checked);
         item->setCheckState(LockColumn, Qt::Unchecked);
     };
-    auto addAll = [this, checkable](QTreeWidgetItem* parent, ObjectKind kind, std::size_t count) {
+    std::map<std::size_t, CoarseOccluder> standIns;
+    for (const CoarseOccluder& standIn : document_.coarseOccluders())
+        standIns[standIn.instance] = standIn;
+    auto addAll = [this, checkable, &standIns](QTreeWidgetItem* parent, ObjectKind kind, std::size_t count) {
         std::vector<QString> names;
         for (std::size_t i = 0; i < count; ++i)
             names.push_back(document_.objectName({kind, i}));
@@ -144,6 +147,14 @@ void OutlinePanel::rebuild()
                 item->setToolTip(0, tr("%1 (F2 or double click to rename)").arg(shown[i]));
             } else if (kind == ObjectKind::SceneObject) {
                 item->setToolTip(0, tr("%1: instance %2 of the level").arg(shown[i]).arg(i));
+                if (const auto standIn = standIns.find(i); standIn != standIns.end()) {
+                    // Its rays are answered by a stand-in (Edit > Coarse Occluder): said where it is listed.
+                    item->setText(0, tr("%1 · coarse").arg(shown[i]));
+                    item->setToolTip(0, tr("%1: instance %2 of the level; its rays answered by a coarse stand-in (%3)")
+                                            .arg(shown[i])
+                                            .arg(i)
+                                            .arg(QString::fromStdString(describeCoarse(standIn->second))));
+                }
             }
         }
     };

@@ -284,6 +284,10 @@ void Viewport::paintGL()
             visibility_.setScene(*workerScene_);   // the GUI thread's copy serves only the GL sampler
     }
     sceneFileDirty_ = occludersDirty_ = raySceneDirty_ = false;
+    if (selectedRaysDirty_) {
+        renderer_->setSelectedRays(selectedRays_, selectedSources_, selectedReceivers_);
+        selectedRaysDirty_ = false;
+    }
 
     const Project& project = document_.project();
     if (!backendChosen_) {
@@ -978,6 +982,15 @@ void Viewport::takeAnswer(std::uint64_t generation, VisibilityResult result)
     update();
 }
 
+void Viewport::setSelectedRays(std::vector<std::uint64_t> rays, int sources, int receivers)
+{
+    selectedRays_ = std::move(rays);
+    selectedSources_ = sources;
+    selectedReceivers_ = receivers;
+    selectedRaysDirty_ = true;
+    update();
+}
+
 void Viewport::setDisagreementView(std::optional<Approximation> approximation)
 {
     disagreementView_ = std::move(approximation);
@@ -1070,7 +1083,7 @@ bool Viewport::event(QEvent* event)
         const Project& project = document_.project();
         const bool onWorker = backendChosen_ && renderer_ &&
                               !(visibility_.backend() == LiveVisibility::Backend::Gl && visibility_.receiverHeights().empty());
-        if (samplesDirty_ && onWorker && !sceneFileDirty_ && !occludersDirty_ &&
+        if (samplesDirty_ && onWorker && !sceneFileDirty_ && !occludersDirty_ && !raySceneDirty_ &&
             heightsGrid_ == std::pair{project.receiver.na, project.receiver.nb})
             requestSample();
         const qint64 since = clock_.nsecsElapsed() - paintStartNs_;

@@ -169,6 +169,12 @@ public:
     /// The disagreement drawn answers the live exact answer shown now.
     bool disagreementIsCurrent() const;
 
+    /// Rays drawn over the others in their own colour (kSelectedRayRgb): the opening the designer
+    /// picked, each `receiver * sources + source` for a `sources` x `receivers` pair (drawn while
+    /// the pair's grids are those). Empty: none.
+    void setSelectedRays(std::vector<std::uint64_t> rays, int sources, int receivers);
+    const std::vector<std::uint64_t>& selectedRays() const { return selectedRays_; }
+
 signals:
     /// The disagreement view's answer arrived (its status line), or it failed (the line says why).
     void disagreementUpdated(const QString& status, bool failed);
@@ -307,6 +313,9 @@ private:
     QString backendReport_;
     bool sceneFileDirty_ = true, occludersDirty_ = true, samplesDirty_ = true, flagsDirty_ = true;
     bool raySceneDirty_ = false;   ///< the coarse stand-ins changed: a new workerScene_
+    std::vector<std::uint64_t> selectedRays_;   ///< setSelectedRays, handed to the renderer at the next frame
+    int selectedSources_ = 0, selectedReceivers_ = 0;
+    bool selectedRaysDirty_ = false;
     // The drawn level. A new document's is prepared on a worker (prepareLevel()); until it is
     // ready frames show no level. An edit to the level while it is prepared makes it stale: the
     // frame then builds the level from the document itself, as it does after every edit.

@@ -476,6 +476,10 @@ struct ViewportRenderer::Impl {
     // The drawn rays (freeDrawnRays, or blockedDrawnRays while blocked ones are shown), for the
     // map, subset and kind they were listed for.
     GLuint raysBuffer = 0, raysTexture = 0;
+    GLuint selectedBuffer = 0, selectedTexture = 0;   ///< setSelectedRays, listed as disagreement class 1
+    std::vector<std::uint32_t> selected;              ///< entries i * receivers + j | 1 << 30
+    int selectedSources = 0, selectedReceivers = 0;
+    bool selectedListed = false;
     const HiddenSampleMap* listedMap = nullptr;
     const RayDisagreement* disagreement = nullptr;         ///< setDisagreement
     const RayDisagreement* listedDisagreement = nullptr;   ///< what raysBuffer lists, if a disagreement
@@ -625,6 +629,7 @@ struct ViewportRenderer::Impl {
     const Patch* drawOverlay(const FrameState& f, const glm::vec3& eye);
     std::uint64_t drawRays(const FrameState& f, const glm::mat4& viewProj, GLuint target);
     std::uint64_t drawDisagreement(const FrameState& f);
+    void drawSelectedRays(const FrameState& f);
     void setRayUniforms(const FrameState& f, const RaySubset& subset);
     void drawGuides(const FrameState& f, const Patch* overlaid, const Cutaway& cut);
 };
@@ -652,6 +657,8 @@ ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_un
     gl.CreateVertexArrays(1, &d.rayVao);   // attribute-less: the rays come from gl_VertexID
     gl.CreateBuffers(1, &d.raysBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.raysTexture);
+    gl.CreateBuffers(1, &d.selectedBuffer);
+    gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.selectedTexture);
     gl.CreateBuffers(1, &d.endsBuffer);
     gl.CreateTextures(GL_TEXTURE_BUFFER, 1, &d.endsTexture);
     gl.CreateBuffers(1, &d.overlayBuffer);
@@ -671,8 +678,9 @@ ViewportRenderer::~ViewportRenderer()
     GLuint textures[] = {d.raysTexture, d.endsTexture, d.overlayTexture, d.aoTexture, d.pvsTexture,
                          d.sceneFile.hiddenTexture, d.occluders.hiddenTexture};
     gl.DeleteTextures(7, textures);
-    GLuint more[] = {d.pvsBuffer, d.sceneFile.hiddenBuffer, d.occluders.hiddenBuffer};
-    gl.DeleteBuffers(3, more);
+    GLuint more[] = {d.pvsBuffer, d.sceneFile.hiddenBuffer, d.occluders.hiddenBuffer, d.selectedBuffer};
+    gl.DeleteBuffers(4, more);
+    gl.DeleteTextures(1, &d.selectedTexture);
     d.cache.destroy(gl);
     d.compose.destroy(gl);
 }
@@ -798,6 +806,21 @@ void ViewportRenderer::setDisagreement(const RayDisagreement* disagreement)
     d.disagreement = disagreement && disagreement->rays > 0 ? disagreement : nullptr;
     d.listedDisagreement = nullptr;
     d.listedMap = nullptr;
+}
+
+void ViewportRenderer::setSelectedRays(std::vector<std::uint64_t> rays, int sources, int receivers)
+{
+    Impl& d = *impl_;
+    d.selected.clear();
+    d.selectedSources = sources;
+    d.selectedReceivers = receivers;
+    d.selectedListed = false;
+    const std::uint64_t total = std::uint64_t(std::max(sources, 0)) * std::uint64_t(std::max(receivers, 0));
+    for (const std::uint64_t ray : rays)
+        if (ray < total && total <= (std::uint64_t(1) << 30)) {
+            const auto j = std::uint32_t(ray / std::uint64_t(sources)), i = std::uint32_t(ray % std::uint64_t(sources));
+            d.selected.push_back((i * std::uint32_t(receivers) + j) | 1u << 30);
+        }
 }
 
 void ViewportRenderer::setRayEnds(const std::vector<float>& ends, int cap)
@@ -1151,7 +1174,37 @@ std::uint64_t ViewportRenderer::Impl::drawRays(const FrameState& f, const glm::m
         }
         raysDrawn = subset.count();
     }
+    if (f.style.showRays && f.pairValid && !d.selected.empty() && d.selectedSources == f.source.na * f.source.nb &&
+        d.selectedReceivers == f.receiver.na * f.receiver.nb)
+        drawSelectedRays(f);
     return raysDrawn;
+}
+
+/// The picked opening's rays (setSelectedRays), opaque over the rays' haze.
+void ViewportRenderer::Impl::drawSelectedRays(const FrameState& f)
+{
+    const GLuint p = rayProgram;
+    if (!selectedListed) {
+        gl.NamedBufferData(selectedBuffer, GLsizeiptr(selected.size() * sizeof(std::uint32_t)), selected.data(), GL_STREAM_DRAW);
+        gl.TextureBuffer(selectedTexture, GL_R32UI, selectedBuffer);
+        selectedListed = true;
+    }
+    RaySubset whole;
+    whole.receivers = std::uint32_t(selectedReceivers);
+    whole.sourcePerReceiver = std::uint32_t(selectedSources);
+    setRayUniforms(f, whole);
+    gl.ProgramUniform1i(p, loc(p, "showBlocked"), 1);
+    gl.ProgramUniform1i(p, loc(p, "useEnds"), 0);
+    gl.ProgramUniform1i(p, loc(p, "marks"), 0);
+    gl.ProgramUniform1i(p, loc(p, "indirect"), 1);
+    gl.ProgramUniform1i(p, loc(p, "disagreement"), 1);
+    const glm::vec4 colour(kSelectedRayRgb[0] / 255.0f, kSelectedRayRgb[1] / 255.0f, kSelectedRayRgb[2] / 255.0f, 0.95f);
+    gl.ProgramUniform4fv(p, loc(p, "falseBlockedColour"), 1, glm::value_ptr(colour));
+    gl.UseProgram(p);
+    gl.BindTextureUnit(0, selectedTexture);
+    gl.BindVertexArray(rayVao);
+    gl.DrawArrays(GL_LINES, 0, 2 * GLsizei(selected.size()));
+    gl.BindTextureUnit(0, raysTexture);
 }
 
 /// The pair's grids and the drawn subset, for the ray program.

@@ -96,6 +96,10 @@ std::vector<std::uint32_t> freeDrawnRays(const HiddenSampleMap& map, const RaySu
 /// reads while blocked rays are shown, in place of the whole map.
 std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const RaySubset& subset);
 
+/// The colour of the rays of an opening the designer picked (setSelectedRays): a light cyan that
+/// none of the free, blocked or disagreement colours is.
+inline constexpr std::uint8_t kSelectedRayRgb[3] = {80, 235, 255};
+
 /// The rays a disagreement view draws (RayDisagreement.h): every false-blocked, false-free and tie
 /// ray, or an even spread of `cap` of them, each listed as k | class << 30 with k = i * receivers + j
 /// (the whole map as one subset: raySubset with strides 1) and class 1 false-blocked, 2 false-free,
@@ -227,6 +231,10 @@ public:
     /// blue, ties amber, at most the style's cap (spread evenly). Kept by pointer until the next
     /// call, as setHiddenSamples; nullptr: the map's rays again.
     void setDisagreement(const RayDisagreement* disagreement);
+    /// Rays drawn over the map's, opaque in kSelectedRayRgb: those of the opening the designer
+    /// picked (OccluderAssistant), each `receiver * sources + source` of a `sources` x `receivers`
+    /// pair; drawn only while the pair's grids are those. Empty: none.
+    void setSelectedRays(std::vector<std::uint64_t> rays, int sources, int receivers);
     /// Where each drawn ray of a `cap`-ray subset ends (RayEnds.h), after setHiddenSamples: blocked
     /// rays are then drawn up to their first stop, with a dot there, while the style's cap is `cap`.
     /// Empty: blocked rays are drawn whole.

@@ -9,15 +9,11 @@
 
 
 #include <QApplication>
-#include <QGraphicsLayout>
-#include <QGraphicsScene>
 #include <QtCharts/QChart>
 #include <QtCharts/QLogValueAxis>
 #include <QtCharts/QScatterSeries>
-#include <QImage>
-#include <QPainter>
 
-#include "report/MapImage.h"
+#include "report/ChartImage.h"
 #include "report/OffscreenApplication.h"
 #include "visibility/Error.h"
 
@@ -92,22 +88,8 @@ void writeChart(const std::vector<Row>& rows, const std::filesystem::path& png, 
     x->setRange(xMin / 2.0, xMax * 2.0);
     y->setRange(kFloor / 2.0, std::max(shadow ? 1e-1 : 1e-3, yMax * 2.0));
 
-    // Render the chart item directly: no widget is ever shown, so give it its geometry and let
-    // its layout settle before painting.
-    QGraphicsScene scene;
-    scene.addItem(chart);   // owns the chart
-    const QSizeF size(1100, 700);
-    chart->setGeometry(QRectF(QPointF(0, 0), size));
     chart->legend()->setAlignment(Qt::AlignRight);
-    QCoreApplication::processEvents();
-    chart->layout()->activate();
-    QImage image(size.toSize(), QImage::Format_ARGB32);
-    image.fill(Qt::white);
-    QPainter painter(&image);
-    painter.setRenderHint(QPainter::Antialiasing);
-    scene.render(&painter, QRectF(QPointF(0, 0), size), QRectF(QPointF(0, 0), size));
-    painter.end();
-    savePng(image, png);   // atomic, like every other output
+    saveChartPng(chart, QSize(1100, 700), png);
 }
 
 } // namespace sightline::bench

@@ -2,18 +2,14 @@
 
 #include <algorithm>
 
-#include <QCoreApplication>
-#include <QGraphicsLayout>
-#include <QGraphicsScene>
-#include <QImage>
-#include <QPainter>
+#include <QPen>
 #include <QtCharts/QChart>
 #include <QtCharts/QLineSeries>
 #include <QtCharts/QLogValueAxis>
 #include <QtCharts/QScatterSeries>
 #include <QtCharts/QValueAxis>
 
-#include "report/MapImage.h"
+#include "report/ChartImage.h"
 #include "report/OffscreenApplication.h"
 
 namespace sightline {
@@ -92,22 +88,7 @@ QChart* coarseChart(const CoarseChartData& data, const QString& title)
 void writeCoarseChart(const CoarseChartData& data, const QString& title, const std::filesystem::path& png)
 {
     const auto app = ensureApplication();
-    QChart* chart = coarseChart(data, title);
-    // Render the chart item directly: no widget is ever shown, so give it its geometry and let its
-    // layout settle before painting.
-    QGraphicsScene scene;
-    scene.addItem(chart);   // owns the chart
-    const QSizeF size(1100, 700);
-    chart->setGeometry(QRectF(QPointF(0, 0), size));
-    QCoreApplication::processEvents();
-    chart->layout()->activate();
-    QImage image(size.toSize(), QImage::Format_ARGB32);
-    image.fill(Qt::white);
-    QPainter painter(&image);
-    painter.setRenderHint(QPainter::Antialiasing);
-    scene.render(&painter, QRectF(QPointF(0, 0), size), QRectF(QPointF(0, 0), size));
-    painter.end();
-    savePng(image, png);
+    saveChartPng(coarseChart(data, title), QSize(1100, 700), png);
 }
 
 } // namespace sightline

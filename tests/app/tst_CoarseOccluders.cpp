@@ -211,3 +211,20 @@ TEST_F(CoarseOccluders, SweepCountsAreTheDifferencesOfTheTwoExactAnswers)
     EXPECT_EQ(defaultSweepCounts(150), (std::vector<std::size_t>{75}));
     EXPECT_TRUE(defaultSweepCounts(6).empty());
 }
+
+// The editor keeps one sampler and gives it the stand-in's level: the answer must be the one a
+// sampler built for that level gives.
+TEST_F(CoarseOccluders, ASamplerGivenTheStandInsLevelAnswersForIt)
+{
+    const Project p = project(json::array({{{"instance", 0}, {"kind", "closest"}, {"triangles", 1500}}}));
+    const Scene full = buildScene(p), rays = buildRayScene(p);
+    BitmaskOptions options;
+    options.threads = 2;
+    CpuBitmaskSampler kept(full);
+    const HiddenSampleMap before = kept.sample(p.source, p.receiver, options);
+    EXPECT_EQ(before, exactMap(full, p));
+    kept.setScene(rays);
+    const HiddenSampleMap after = kept.sample(p.source, p.receiver, options);
+    EXPECT_GT(after.differenceCount(before), 0u);
+    EXPECT_EQ(after, exactMap(rays, p));
+}

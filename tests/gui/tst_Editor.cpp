@@ -41,6 +41,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "InteractionBenchmark.h"
+#include "CoarseOccluderDialog.h"
 #include "EditCommands.h"
 #include "MainWindow.h"
 #include "ImportSettingsDialog.h"
@@ -62,6 +63,8 @@
 #include "visibility/pvs/PvsFile.h"
 #include "visibility/InputFile.h"
 #include "project/Animation.h"
+#include "project/CoarseOccluders.h"
+#include "project/CoarseSweep.h"
 #include "project/Project.h"
 #include "project/SceneImport.h"
 #include "project/PvsSetup.h"
@@ -2862,7 +2865,23 @@ private slots:
         QTest::keyClick(window_.get(), Qt::Key_N);
         QCOMPARE(assistant.gapList()->currentRow(), 0);
         QVERIFY(glm::length(window_->controller().camera().target - assistant.gaps()[0].centre) < 1e-6);
+        // Its rays are selected: a spread of them drawn over the others in their own colour.
+        QCOMPARE(viewport.selectedRays(), assistant.gaps()[0].raySample);
+        QVERIFY(!viewport.selectedRays().empty());
         waitForFrame();
+        const auto countSelected = [&] {
+            const QImage frame = viewport.grabFramebuffer();
+            int n = 0;
+            for (int y = 0; y < frame.height(); ++y)
+                for (int x = 0; x < frame.width(); ++x) {
+                    const QRgb c = frame.pixel(x, y);
+                    n += std::abs(qRed(c) - kSelectedRayRgb[0]) + std::abs(qGreen(c) - kSelectedRayRgb[1]) +
+                             std::abs(qBlue(c) - kSelectedRayRgb[2]) < 60;
+                }
+            return n;
+        };
+        const int selectedPixels = countSelected();
+        QVERIFY2(selectedPixels > 100, qPrintable(QString("%1 pixels of the selected rays").arg(selectedPixels)));
         saveWindowShot("suggest-gap");
 
         // Enter in a text field outside the assistant is the field's own: nothing is added.
@@ -2885,6 +2904,7 @@ private slots:
         QCOMPARE(viewport.visibility().unblocked(), std::uint64_t(0));
         QTRY_VERIFY_WITH_TIMEOUT(assistant.summary()->text().contains("already blocked"), 10000);
         QVERIFY(!assistant.suggestion());
+        QVERIFY(viewport.selectedRays().empty());   // the openings of the earlier answer are gone
         QCOMPARE(window_->statusBar()->currentMessage(), QString("The view now leaves 0 rays (promised at most 0)"));
         saveWindowShot("suggest-added");
 
@@ -2921,14 +2941,7 @@ private slots:
     {
         EditorDocument& document = window_->document();
         Viewport& viewport = window_->viewport();
-        const std::filesystem::path file = folder_ / "bunny.json";
-        const nlohmann::json project = {
-            {"version", 1},
-            {"scene", std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply"},
-            {"scene_scale", 10},
-            {"source", {{"corner", {-1.2, 0.1, -3}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
-            {"receiver", {{"corner", {-1.0, 0.3, 3}}, {"u", {1.6, 0, 0.2}}, {"v", {0, 1.6, 0}}, {"samples", {32, 32}}}}};
-        std::ofstream(file) << project.dump(2);
+        const std::filesystem::path file = writeBunnyProject("bunny.json");
         document.undoStack()->setClean();
         QVERIFY(window_->openFile(QString::fromStdString(file.string())));
         waitForUpdate();
@@ -3057,14 +3070,7 @@ private slots:
         QVERIFY(viewport.raysDrawn() <= std::uint64_t(viewport.style().rayCap));
 
         // A mesh made elsewhere (the Stanford bunny): OpenMesh's coarse bunny of 1,000 triangles.
-        const std::filesystem::path file = folder_ / "bunny-disagreement.json";
-        const nlohmann::json bunny = {
-            {"version", 1},
-            {"scene", std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply"},
-            {"scene_scale", 10},
-            {"source", {{"corner", {-1.2, 0.1, -3}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
-            {"receiver", {{"corner", {-1.0, 0.3, 3}}, {"u", {1.6, 0, 0.2}}, {"v", {0, 1.6, 0}}, {"samples", {32, 32}}}}};
-        std::ofstream(file) << bunny.dump(2);
+        const std::filesystem::path file = writeBunnyProject("bunny-disagreement.json");
         QVERIFY(window_->openFile(QString::fromStdString(file.string())));
         waitForUpdate();
         window_->findChild<QAction*>("disagreement-coarse-1000")->trigger();
@@ -3078,6 +3084,117 @@ private slots:
         waitForFrame();
         saveWindowShot("disagreement-bunny-coarse");
         window_->findChild<QAction*>("disagreement-off")->trigger();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        document.undoStack()->setClean();
+    }
+
+    // "Model no more than a scene needs", as a designer does it: the Stanford bunny (a mesh made
+    // elsewhere) selected, Edit > Coarse Occluder (Ctrl+Alt+C), Measure charts what each triangle
+    // count costs and saves on this pair, a count taken: the live answer is then the coarse
+    // level's (held to the test's own sampling of it), the bunny still drawn whole; one undo brings
+    // the full mesh's answer back; saved and opened again, the stand-in stays.
+    void coarseOccluderStandsInForTheBunnysRays()
+    {
+        EditorDocument& document = window_->document();
+        Viewport& viewport = window_->viewport();
+        const std::filesystem::path file = writeBunnyProject("bunny-coarse.json");
+        QVERIFY(window_->openFile(QString::fromStdString(file.string())));
+        waitForUpdate();
+        const Project& project = document.project();
+        BitmaskOptions options;
+        options.threads = 2;
+        const Scene full = document.scene();
+        const HiddenSampleMap fullMap = CpuBitmaskSampler(full).sample(project.source, project.receiver, options);
+        QVERIFY(viewport.visibility().map.differenceCount(fullMap) <= 16);   // ties at most
+
+        QAction* coarse = window_->findChild<QAction*>("coarseOccluder");
+        QVERIFY(coarse);
+        QCOMPARE(coarse->shortcut(), QKeySequence(Qt::CTRL | Qt::ALT | Qt::Key_C));
+        coarse->trigger();   // nothing selected: a word in the status bar, no dialog
+        QVERIFY(window_->statusBar()->currentMessage().contains("Select an object of the level"));
+        document.select({ObjectKind::SceneObject, 0});
+
+        bool shown = false, measuring = false;
+        std::size_t points = 0;
+        QTimer timer;
+        timer.setInterval(50);
+        QObject::connect(&timer, &QTimer::timeout, [&] {
+            auto* dialog = qobject_cast<CoarseOccluderDialog*>(QApplication::activeModalWidget());
+            if (!dialog)
+                return;
+            shown = true;
+            if (!measuring) {
+                measuring = true;
+                QVERIFY(dialog->measureButton()->isEnabled());
+                dialog->measureButton()->click();
+                return;
+            }
+            if (!dialog->measureButton()->isEnabled())
+                return;   // still measuring
+            timer.stop();   // once: the grab below runs the event loop
+            points = dialog->sweep().points.size();
+            dialog->resize(900, 760);
+            QTest::qWait(100);
+            if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+                dialog->grab().save(QString::fromUtf8(shots) + "/window-coarse-dialog.png");
+            dialog->pickPoint(2000.0);   // a click on the chart near 2,000 triangles
+            dialog->accept();
+        });
+        timer.start();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_C, Qt::ControlModifier | Qt::AltModifier);
+        QTRY_VERIFY_WITH_TIMEOUT(!QApplication::activeModalWidget() && shown, 120000);
+        timer.stop();
+        const std::vector<std::size_t> counts = defaultSweepCounts(full.triangleCount());
+        QCOMPARE(points, counts.size());
+        const std::size_t picked = *std::min_element(counts.begin(), counts.end(), [](std::size_t a, std::size_t b) {
+            return std::abs(std::log(double(a) / 2000.0)) < std::abs(std::log(double(b) / 2000.0));
+        });
+        QCOMPARE(document.coarseOccluders().size(), std::size_t(1));
+        QCOMPARE(document.coarseOccluders()[0].kind, CoarseKind::Closest);
+        QCOMPARE(document.coarseOccluders()[0].triangles, picked);
+        QVERIFY2(window_->statusBar()->currentMessage().contains("stand-in of"), qPrintable(window_->statusBar()->currentMessage()));
+        auto* outline = window_->findChild<OutlinePanel*>()->findChild<QTreeWidget*>();
+        QCOMPARE(outline->findItems(QString::fromUtf8("bun_zipper · coarse"), Qt::MatchRecursive | Qt::MatchExactly).size(), 1);
+        waitForUpdate();
+
+        // The live answer is the coarse level's: the test simplifies and samples it itself.
+        Scene expected = full;
+        expected.meshes[expected.instances[0].mesh] =
+            coarseOccluderMesh(full.meshes[full.instances[0].mesh], document.coarseOccluders()[0]);
+        const HiddenSampleMap coarseMap = CpuBitmaskSampler(expected).sample(project.source, project.receiver, options);
+        const std::uint64_t fullToCoarse = fullMap.differenceCount(coarseMap);
+        QVERIFY2(fullToCoarse > 100, qPrintable(QString::number(fullToCoarse)));
+        QVERIFY2(viewport.visibility().map.differenceCount(coarseMap) <= 16,
+                 qPrintable(QString::number(viewport.visibility().map.differenceCount(coarseMap))));
+        QCOMPARE(document.scene().triangleCount(), full.triangleCount());   // drawn, lit and baked whole
+        QCOMPARE(document.rayScene().triangleCount(), expected.triangleCount());
+        window_->controller().setCamera(facing(project.source, 8.0));
+        waitForFrame();
+        saveWindowShot("coarse-bunny");
+
+        // One undo: the full mesh's answer again; redo: the stand-in's.
+        document.undoStack()->undo();
+        waitForUpdate();
+        QVERIFY(document.coarseOccluders().empty());
+        QVERIFY(viewport.visibility().map.differenceCount(fullMap) <= 16);
+        QCOMPARE(outline->findItems(QString::fromUtf8("bun_zipper · coarse"), Qt::MatchRecursive | Qt::MatchExactly).size(), 0);
+        document.undoStack()->redo();
+        waitForUpdate();
+        QVERIFY(viewport.visibility().map.differenceCount(coarseMap) <= 16);
+
+        // Saved, and opened again: the stand-in is the project's.
+        const std::filesystem::path saved = folder_ / "bunny-coarse-saved.json";
+        QVERIFY(window_->saveTo(QString::fromStdString(saved.string())));
+        const Project reread = loadProject(saved);
+        QVERIFY(coarseOccludersJson(coarseOccluders(reread)) == coarseOccludersJson(document.coarseOccluders()));
+        QVERIFY(window_->openFile(QString::fromStdString(saved.string())));
+        waitForUpdate();
+        QCOMPARE(document.coarseOccluders().size(), std::size_t(1));
+        QVERIFY(viewport.visibility().map.differenceCount(coarseMap) <= 16);
+
         QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
         waitForUpdate();
         document.undoStack()->setClean();
@@ -3157,6 +3274,21 @@ private:
 
     /// Until the viewport shows the answer for the document as it is now (answers come from a
     /// worker thread, so an older one may arrive first).
+    /// The Stanford bunny (a mesh made elsewhere) at 1.5 m by the project's scene_scale, between
+    /// two patches facing each other across it: a project file in the test folder.
+    std::filesystem::path writeBunnyProject(const std::string& name) const
+    {
+        const std::filesystem::path file = folder_ / name;
+        const nlohmann::json project = {
+            {"version", 1},
+            {"scene", std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply"},
+            {"scene_scale", 10},
+            {"source", {{"corner", {-1.2, 0.1, -3}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
+            {"receiver", {{"corner", {-1.0, 0.3, 3}}, {"u", {1.6, 0, 0.2}}, {"v", {0, 1.6, 0}}, {"samples", {32, 32}}}}};
+        std::ofstream(file) << project.dump(2);
+        return file;
+    }
+
     void waitForUpdate()
     {
         QSignalSpy spy(&window_->viewport(), &Viewport::visibilityUpdated);
