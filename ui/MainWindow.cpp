@@ -43,6 +43,7 @@
 #include "PatchWarnings.h"
 #include "PatchPresets.h"
 #include "OverlayControls.h"
+#include "OverlayLegend.h"
 #include "Picking.h"
 #include "PreferencesDialog.h"
 #include "PropertiesPanel.h"
@@ -1044,6 +1045,7 @@ void MainWindow::addDisagreementItems(QMenu* view)
     auto choose = [this](const QString& name) {
         viewport_->setDisagreementView(name.isEmpty() ? std::nullopt
                                                       : std::optional(parseApproximation(name.toStdString())));
+        updateDisagreementKey();
         statusBar()->showMessage(name.isEmpty() ? tr("Rays as sampled (disagreement view off)")
                                                 : tr("Disagreement with exact: %1...")
                                                       .arg(QString::fromStdString(describeApproximation(
@@ -1070,7 +1072,29 @@ void MainWindow::addDisagreementItems(QMenu* view)
     });
     connect(viewport_, &Viewport::disagreementUpdated, this, [this](const QString& status, bool failed) {
         statusBar()->showMessage(status, failed ? 10000 : 0);
+        updateDisagreementKey();
     });
+}
+
+void MainWindow::updateDisagreementKey()
+{
+    if (!disagreementKey_)
+        disagreementKey_ = new OverlayLegend(container_, OverlayLegend::Corner::TopLeft);
+    const std::optional<DisagreementAnswer>& answer = viewport_->disagreement();
+    if (!viewport_->disagreementView() || !answer || !answer->disagreement) {
+        disagreementKey_->hide();
+        return;
+    }
+    const RayDisagreement& d = *answer->disagreement;
+    const auto colour = [](const std::uint8_t rgb[3]) { return QColor(rgb[0], rgb[1], rgb[2]); };
+    const auto rays = [](std::uint64_t n) { return QLocale().toString(qulonglong(n)); };
+    disagreementKey_->setEntries(
+        tr("%1 vs exact, %2 rays").arg(QString::fromStdString(describeApproximation(answer->approximation)), rays(d.rays)),
+        {{colour(kFalseBlockedRgb), tr("false-blocked: %1 (blocked here, free by the exact answer)").arg(rays(d.falseBlockedCount))},
+         {colour(kFalseFreeRgb), tr("false-free: %1 (free here, blocked by the exact answer)").arg(rays(d.falseFreeCount))},
+         {colour(kTieRgb), d.judged ? tr("ties: %1 (within the tie distance: either answer allowed)").arg(rays(d.tieCount))
+                                    : tr("ties: not judged (too many differences: each counted as wrong)")}});
+    disagreementKey_->show();
 }
 
 void MainWindow::createHelpMenu()

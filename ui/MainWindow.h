@@ -28,6 +28,7 @@ class LightCostPanel;
 class OccluderAssistant;
 class OutlinePanel;
 class OverlayControls;
+class OverlayLegend;
 class PropertiesPanel;
 class RecordingControls;
 class Viewport;
@@ -123,6 +124,7 @@ private:
     EditorDocument document_;
     std::unique_ptr<ViewportController> controller_;
     Viewport* viewport_ = nullptr;
+    OverlayLegend* disagreementKey_ = nullptr;   ///< updateDisagreementKey
     QWidget* container_ = nullptr;
     QDockWidget* outlineDock_ = nullptr;
     QDockWidget* propertiesDock_ = nullptr;
@@ -136,6 +138,8 @@ private:
     void showLightCosts();
     /// Edit > Coarse Occluder: the selected level object's stand-in (CoarseOccluderDialog.h).
     void chooseCoarseOccluder();
+    /// The disagreement view's key in the view's top-left corner: its colours and counts, or hidden.
+    void updateDisagreementKey();
     QMenu* recentMenu_ = nullptr;
     QLabel* raysLabel_ = nullptr;
     QPushButton* fixPairButton_ = nullptr;

@@ -56,9 +56,9 @@ void paintLegendPanel(QPainter& painter, const QRect& panel, const QString& capt
     painter.restore();
 }
 
-OverlayLegend::OverlayLegend(QWidget* host) : QWidget(host), host_(host)
+OverlayLegend::OverlayLegend(QWidget* host, Corner corner) : QWidget(host), host_(host), corner_(corner)
 {
-    setObjectName("overlayLegend");
+    setObjectName(corner == Corner::TopRight ? "overlayLegend" : "keyLegend");
     setAttribute(Qt::WA_NativeWindow);   // above the native 3D view (see the header)
     setAttribute(Qt::WA_TransparentForMouseEvents);
     host_->installEventFilter(this);
@@ -67,6 +67,7 @@ OverlayLegend::OverlayLegend(QWidget* host) : QWidget(host), host_(host)
 
 void OverlayLegend::setCaption(const QString& caption, LegendScale scale)
 {
+    entries_.clear();
     caption_ = caption;
     scale_ = scale;
     setToolTip(caption);
@@ -74,12 +75,55 @@ void OverlayLegend::setCaption(const QString& caption, LegendScale scale)
     update();
 }
 
+void OverlayLegend::setEntries(const QString& title, std::vector<LegendEntry> entries)
+{
+    caption_ = title;
+    entries_ = std::move(entries);
+    setToolTip(title);
+    place();
+    update();
+}
+
 QRect OverlayLegend::colourBar() const { return barIn(rect()); }
+
+namespace {
+constexpr int kSwatch = 12, kLine = 18;
+}
+
+QSize OverlayLegend::keySize() const
+{
+    const QFontMetrics metrics(captionFont());
+    int width = metrics.horizontalAdvance(caption_);
+    for (const LegendEntry& entry : entries_)
+        width = std::max(width, kSwatch + 6 + metrics.horizontalAdvance(entry.text));
+    return {width + 2 * kMargin, 2 * kMargin + kLine * int(entries_.size() + 1)};
+}
+
+void OverlayLegend::paintKey(QPainter& painter) const
+{
+    const QRect panel = rect();
+    painter.fillRect(panel, kPanel);
+    painter.setPen(QColor(80, 84, 92));
+    painter.drawRect(panel.adjusted(0, 0, -1, -1));
+    painter.setFont(captionFont());
+    painter.setPen(QColor(235, 235, 235));
+    painter.drawText(QRect(kMargin, kMargin, panel.width() - 2 * kMargin, kLine), Qt::AlignLeft | Qt::AlignVCenter, caption_);
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+        const int top = kMargin + kLine * int(k + 1);
+        painter.fillRect(QRect(kMargin, top + (kLine - kSwatch) / 2, kSwatch, kSwatch), entries_[k].colour);
+        painter.setPen(QColor(220, 220, 220));
+        painter.drawText(QRect(kMargin + kSwatch + 6, top, panel.width() - 2 * kMargin - kSwatch - 6, kLine),
+                         Qt::AlignLeft | Qt::AlignVCenter, entries_[k].text);
+    }
+}
 
 void OverlayLegend::paintEvent(QPaintEvent*)
 {
     QPainter painter(this);
-    paintLegendPanel(painter, rect(), caption_, scale_);
+    if (!entries_.empty())
+        paintKey(painter);
+    else
+        paintLegendPanel(painter, rect(), caption_, scale_);
 }
 
 bool OverlayLegend::eventFilter(QObject* watched, QEvent* event)
@@ -91,8 +135,9 @@ bool OverlayLegend::eventFilter(QObject* watched, QEvent* event)
 
 void OverlayLegend::place()
 {
-    const QSize size = legendPanelSize(caption_, host_->height() - 2 * kCorner);
-    setGeometry(host_->width() - size.width() - kCorner, kCorner, size.width(), size.height());
+    const QSize size = entries_.empty() ? legendPanelSize(caption_, host_->height() - 2 * kCorner) : keySize();
+    setGeometry(corner_ == Corner::TopRight ? host_->width() - size.width() - kCorner : kCorner, kCorner, size.width(),
+                size.height());
     raiseAboveView();
 }
 

@@ -3021,6 +3021,15 @@ private slots:
         }
         const QString status = window_->statusBar()->currentMessage();
         QVERIFY2(status.contains("false-blocked (red)") && status.contains("false-free (blue)"), qPrintable(status));
+        // The key in the view's corner: the three colours with their counts.
+        auto* key = window_->findChild<OverlayLegend*>("keyLegend");
+        QVERIFY(key && key->isVisible());
+        QCOMPARE(key->entries().size(), std::size_t(3));
+        QCOMPARE(key->entries()[0].colour, QColor(kFalseBlockedRgb[0], kFalseBlockedRgb[1], kFalseBlockedRgb[2]));
+        QVERIFY(key->entries()[0].text.contains(QLocale().toString(qulonglong(shown.falseBlockedCount))));
+        QVERIFY(key->entries()[1].text.contains(QLocale().toString(qulonglong(shown.falseFreeCount))));
+        QVERIFY(key->entries()[2].text.startsWith(shown.judged ? "ties: " + QLocale().toString(qulonglong(shown.tieCount))
+                                                               : QString("ties: not judged")));
         QVERIFY2(status.contains(QLocale(QLocale::English).toString(qulonglong(shown.falseBlockedCount))), qPrintable(status));
 
         // Drawn in place of the rays: red and blue lines across the shaft.
@@ -3065,6 +3074,7 @@ private slots:
         // Off with the same key: the rays as sampled again.
         QTest::keyClick(window_.get(), Qt::Key_D, Qt::ControlModifier | Qt::ShiftModifier);
         QVERIFY(!viewport.disagreementView().has_value());
+        QVERIFY(!window_->findChild<OverlayLegend*>("keyLegend")->isVisible());
         QVERIFY(window_->findChild<QAction*>("disagreement-off")->isChecked());
         waitForFrame();
         QVERIFY(viewport.raysDrawn() <= std::uint64_t(viewport.style().rayCap));
