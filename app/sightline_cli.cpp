@@ -7,7 +7,7 @@
 //   sightline-cli shadow PROJECT.json --out SHADOW.png
 //   sightline-cli ao MESH_OR_PROJECT [--k 258] [--npy OUT.npy] [--json] ...             (cli/AoCommand, docs/ao.md)
 //   sightline-cli lights PROJECT.json [--points P.npy] [--npy OUT.npy] [--json]   (cli/LightsCommand, docs/lights.md)
-//   sightline-cli suggest PROJECT.json --depth T [--share F] [--shape convex|rect] [--write OUT.json] [--json]
+//   sightline-cli suggest PROJECT.json --depth T|--at X Y Z --normal N N N [--share F] [--shape convex|rect] [--write OUT.json] [--json]
 //                                                                                 (cli/SuggestCommand)
 //   sightline-cli gaps PROJECT.json [--json]                                      (cli/SuggestCommand)
 //   sightline-cli coarse PROJECT.json [--kind closest|inner] [--triangles N] [--json] (cli/CoarseCommand)

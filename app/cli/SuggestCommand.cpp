@@ -1,6 +1,7 @@
 #include "cli/SuggestCommand.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -56,8 +57,10 @@ CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
     command->add_option("project", args.project, "Project file (JSON)")->required();
     command->add_option("--depth", args.depth,
                         "Where the plane lies: at this fraction of the way from the source's centre to the receiver's, "
-                        "perpendicular to that line, in (0, 1)")
-        ->required();
+                        "perpendicular to that line, in (0, 1)");
+    command->add_option("--at", args.at, "Or on a surface the rays cross, such as a doorway's frame: a point X Y Z on it (with --normal)")
+        ->expected(3);
+    command->add_option("--normal", args.normal, "The picked surface's normal NX NY NZ (either way round)")->expected(3);
     command->add_option("--share", args.share, "The share of the unblocked rays to block, in (0, 1]")->capture_default_str();
     command->add_option("--shape", args.shape, "convex (a convex polygon) or rect (a rectangle free in the plane)")
         ->capture_default_str()
@@ -75,7 +78,18 @@ CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
 int runSuggest(const SuggestArgs& args)
 {
     suggest::Request request;
-    request.depth = args.depth;
+    const bool onSurface = !args.at.empty() || !args.normal.empty();
+    if (onSurface == !std::isnan(args.depth))
+        throw Error(onSurface ? "give the plane one way: --depth T, or --at X Y Z with --normal NX NY NZ, not both"
+                              : "where should the occluder lie? give --depth T (between the patches), or --at X Y Z with "
+                                "--normal NX NY NZ (a surface the rays cross)");
+    if (onSurface) {
+        if (args.at.size() != 3 || args.normal.size() != 3)
+            throw Error("--at and --normal go together, three numbers each");
+        request.surface = suggest::PickedSurface{{args.at[0], args.at[1], args.at[2]}, {args.normal[0], args.normal[1], args.normal[2]}};
+    } else {
+        request.depth = args.depth;
+    }
     request.share = args.share;
     request.shape = suggest::parseShape(args.shape);
     suggest::validateRequest(request);   // before the level is loaded and sampled
@@ -114,7 +128,7 @@ int runSuggest(const SuggestArgs& args)
                     {"crossing", s.crossing},
                     {"rays", std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount())},
                     {"shape", suggest::shapeName(s.shape)},
-                    {"depth", args.depth},
+                    {"depth", onSurface ? json(nullptr) : json(args.depth)},
                     {"share", args.share},
                     {"plane", {{"origin", pointJson(s.plane.origin)}, {"normal", pointJson(s.plane.normal)}}},
                     {"corners", corners},
@@ -133,7 +147,8 @@ int runSuggest(const SuggestArgs& args)
         std::cout << dumpJson(out) << "\n";
         return 0;
     }
-    std::printf("plane      depth %.4g: through [%.4f, %.4f, %.4f], normal [%.4f, %.4f, %.4f]\n", args.depth, s.plane.origin.x,
+    std::printf("plane      %s: through [%.4f, %.4f, %.4f], normal [%.4f, %.4f, %.4f]\n",
+                onSurface ? "the picked surface's" : ("depth " + std::to_string(args.depth)).c_str(), s.plane.origin.x,
                 s.plane.origin.y, s.plane.origin.z, s.plane.normal.x, s.plane.normal.y, s.plane.normal.z);
     std::printf("occluder   %s, %zu corners, %.6g m² (margin %.2g m)\n", suggest::shapeName(s.shape), s.polygon.size(), s.area,
                 s.margin);

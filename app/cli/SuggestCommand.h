@@ -4,7 +4,9 @@
 // now unblocked, checked by the exact sampler, and optionally saved into a copy of the project.
 // sightline-cli gaps: the openings those rays pass through, largest first.
 
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace CLI {
 class App;
@@ -14,7 +16,8 @@ namespace sightline::cli {
 
 struct SuggestArgs {
     std::string project;
-    double depth = 0.5;
+    double depth = std::numeric_limits<double>::quiet_NaN();   ///< NaN: not given
+    std::vector<double> at, normal;                            ///< a picked surface instead of --depth
     double share = 1.0;
     std::string shape = "convex";
     std::string write;

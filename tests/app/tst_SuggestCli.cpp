@@ -150,3 +150,35 @@ TEST_F(SuggestCli, RefusalsAreOneLine)
     EXPECT_NE(run.code, 0);
     EXPECT_NE(run.err.find("already blocked"), std::string::npos) << run.err;
 }
+
+// A surface the designer picked: the wall's own plane (the doorway's frame). The occluder lies in
+// it, plugs the hole and nothing more, and the written project is cut by both exact samplers.
+TEST_F(SuggestCli, OnAPickedSurfaceItPlugsTheOpening)
+{
+    for (const std::string normal : {"0 0 -1", "0 0 3"}) {   // either way round, any length
+        const std::string out = p("plug.json");
+        const json s = runJson("suggest " + p("p.json") + " --at -0.5 1.2 2 --normal " + normal + " --write " + out + " --json");
+        EXPECT_TRUE(s["depth"].is_null());
+        EXPECT_EQ(s["promised"], 0);
+        EXPECT_EQ(s["unblocked_after"], 0);
+        EXPECT_NEAR(s["plane"]["normal"][2].get<double>(), 1.0, 1e-12);   // from the source's side to the receiver's
+        for (const json& corner : s["corners"]) {
+            EXPECT_NEAR(corner[2].get<double>(), 2.0, 1e-6);   // in the wall's plane
+            for (int axis : {0, 1}) {                         // within the hole, but for the exactness margin
+                EXPECT_GT(corner[axis].get<double>(), -1e-3);
+                EXPECT_LT(corner[axis].get<double>(), 1.0 + 1e-3);
+            }
+        }
+        EXPECT_LE(s["area"].get<double>(), 1.0 + 4e-3);
+        for (const char* method : {"cpu", "raycast"})
+            EXPECT_EQ(runJson("shaft " + out + " --method " + std::string(method) + " --json")["unblocked"], 0) << method;
+    }
+    // One way of placing the plane, a surface between the patches, finite: else one line each.
+    for (const std::string bad : {" --at 0 0 5 --normal 0 0 1", " --at 0 0 -1 --normal 0 0 1", " --at 0 0 2 --normal 0 0 0",
+                                  " --at 0 0 2", " --normal 0 0 1", " --at 0 0 2 --normal 0 0 1 --depth 0.5", "",
+                                  " --at 0 0 --normal 0 0 1", " --at 0 0 2 --normal 0 0 inf"}) {
+        const CliRun run = runCli("suggest " + p("p.json") + bad);
+        EXPECT_NE(run.code, 0) << bad;
+        EXPECT_TRUE(oneLine(run.err)) << bad << ": " << run.err;
+    }
+}

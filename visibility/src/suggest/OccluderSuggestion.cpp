@@ -224,6 +224,34 @@ const char* shapeName(Shape shape)
     return shape == Shape::Convex ? "convex" : "rect";
 }
 
+namespace {
+
+/// A plane through `origin` with unit `normal`, and any frame in it: axisU from the world axis
+/// least aligned with the normal.
+SuggestPlane planeWithFrame(const glm::dvec3& origin, const glm::dvec3& normal)
+{
+    SuggestPlane plane;
+    plane.origin = origin;
+    plane.normal = normal;
+    const glm::dvec3 n = normal;
+    const glm::dvec3 seed = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? glm::dvec3{1, 0, 0}
+                            : std::abs(n.y) <= std::abs(n.z)                                 ? glm::dvec3{0, 1, 0}
+                                                                                              : glm::dvec3{0, 0, 1};
+    plane.axisU = glm::normalize(seed - glm::dot(seed, n) * n);
+    plane.axisV = glm::cross(n, plane.axisU);
+    return plane;
+}
+
+void checkSurface(const PickedSurface& surface)
+{
+    const auto finite3 = [](const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+    const bool finite = finite3(surface.point) && finite3(surface.normal);
+    if (!finite || !(glm::length(surface.normal) > 1e-12))
+        throw Error("a picked surface needs a finite point and a non-zero normal");
+}
+
+} // namespace
+
 SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double depth)
 {
     if (!(depth > 0.0 && depth < 1.0))
@@ -233,17 +261,22 @@ SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double dep
     const double length = glm::length(line);
     if (!(length > 0.0))
         throw Error("the source and receiver patches share their centre: no plane lies between them");
-    SuggestPlane plane;
-    plane.origin = from + depth * line;
-    plane.normal = line / length;
-    // Any frame in the plane: axisU from the world axis least aligned with the normal.
-    const glm::dvec3 n = plane.normal;
-    const glm::dvec3 seed = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z) ? glm::dvec3{1, 0, 0}
-                            : std::abs(n.y) <= std::abs(n.z)                                 ? glm::dvec3{0, 1, 0}
-                                                                                              : glm::dvec3{0, 0, 1};
-    plane.axisU = glm::normalize(seed - glm::dot(seed, n) * n);
-    plane.axisV = glm::cross(n, plane.axisU);
-    return plane;
+    return planeWithFrame(from + depth * line, line / length);
+}
+
+SuggestPlane surfacePlane(const Patch& source, const Patch& receiver, const PickedSurface& surface)
+{
+    checkSurface(surface);
+    const glm::dvec3 from = source.centre(), to = receiver.centre();
+    glm::dvec3 n = glm::normalize(surface.normal);
+    if (glm::dot(n, to - from) < 0.0)
+        n = -n;
+    // Both centres strictly apart from the plane, on its two sides: the rays between the patches
+    // cross it (those that do are the ones it can block).
+    if (!(glm::dot(n, from - surface.point) < -kTieDistance && glm::dot(n, to - surface.point) > kTieDistance))
+        throw Error("the picked surface's plane does not pass between the patches' centres: pick a surface that "
+                    "stands between them (a doorway's frame, a window's wall)");
+    return planeWithFrame(surface.point, n);
 }
 
 RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
@@ -268,7 +301,9 @@ std::vector<glm::dvec3> Suggestion::worldPolygon() const
 
 void validateRequest(const Request& request)
 {
-    if (!(request.depth > 0.0 && request.depth < 1.0))
+    if (request.surface)
+        checkSurface(*request.surface);
+    else if (!(request.depth > 0.0 && request.depth < 1.0))
         throw Error("depth must lie strictly between 0 (the source) and 1 (the receiver), got " + shareText(request.depth));
     if (!(request.share > 0.0 && request.share <= 1.0))
         throw Error("share must lie in (0, 1], got " + shareText(request.share));
@@ -279,7 +314,8 @@ Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const Rec
 {
     validateRequest(request);
     Suggestion result;
-    result.plane = suggestPlane(source, receiver, request.depth);
+    result.plane = request.surface ? surfacePlane(source, receiver, *request.surface)
+                                   : suggestPlane(source, receiver, request.depth);
     result.shape = request.shape;
     const std::uint64_t unblocked = map.rayCount() - map.blockedCount();
     if (unblocked == 0)
@@ -317,11 +353,13 @@ Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const Rec
     }
     if (result.required > result.crossing) {
         const double most = double(result.crossing) / double(unblocked);
-        throw Error("the plane at depth " + shareText(request.depth) + " misses " +
+        throw Error((request.surface ? std::string("the picked surface's plane") : "the plane at depth " + shareText(request.depth)) +
+                    " misses " +
                     std::to_string(unblocked - result.crossing) + " of the " + std::to_string(unblocked) +
                     " unblocked rays (they do not cross it between the patches), so no occluder on it blocks share " +
                     shareText(request.share) + "; the most it can block is share " + shareText(most) +
-                    ": choose a depth nearer the middle of the view or a smaller --share");
+                    (request.surface ? ": pick a surface the rays cross between the patches, or a smaller share"
+                                     : ": choose a depth nearer the middle of the view or a smaller --share"));
     }
     result.enclosed = shaped.kept;
 

@@ -17,6 +17,7 @@
 // the exact sampler with the occluder inserted (project/SuggestedOccluder.h).
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,17 @@ struct SuggestPlane {
 /// Throws sightline::Error unless depth is in (0, 1) and the patches' centres differ.
 SuggestPlane suggestPlane(const Patch& source, const Patch& receiver, double depth);
 
+/// A surface the designer picked (a doorway's frame, a window's wall): a point on it and its normal.
+struct PickedSurface {
+    glm::dvec3 point{0.0};
+    glm::dvec3 normal{0.0};
+};
+
+/// The plane of a picked surface, its normal turned to point from the source's side to the
+/// receiver's. Throws sightline::Error for a non-finite point or a zero normal, or when the plane
+/// does not pass between the patches' centres (no ray from one to the other would cross it there).
+SuggestPlane surfacePlane(const Patch& source, const Patch& receiver, const PickedSurface& surface);
+
 /// Where the unblocked rays of a map cross a plane.
 struct RayCrossings {
     std::vector<Point2> points;          ///< in the plane's coordinates, one per crossing ray
@@ -63,13 +75,15 @@ RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, cons
                                 const HiddenSampleMap& map, const SuggestPlane& plane);
 
 struct Request {
-    double depth = 0.5;    ///< in (0, 1)
+    double depth = 0.5;    ///< in (0, 1); the plane's place unless `surface` is set
+    std::optional<PickedSurface> surface;   ///< the plane of a picked surface instead
     double share = 1.0;    ///< in (0, 1]: the share of the unblocked rays to block
     Shape shape = Shape::Convex;
     double marginScale = 1.0;   ///< the exactness margin times this (a caller's retry grows it)
 };
 
-/// Throws sightline::Error for a depth outside (0, 1) or a share outside (0, 1] (NaN included):
+/// Throws sightline::Error for a depth outside (0, 1) (when no surface is picked), a picked
+/// surface with a non-finite point or a zero normal, or a share outside (0, 1] (NaN included):
 /// what a command checks before it loads anything.
 void validateRequest(const Request& request);
 
