@@ -85,9 +85,14 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
                             "through the opening from the source"));
     gapList_->setMinimumHeight(5 * gapList_->fontMetrics().lineSpacing());
 
+    pickSurface_ = new QPushButton(tr("Pick Surface"), this);
+    pickSurface_->setObjectName("suggestPickSurface");
+    pickSurface_->setToolTip(tr("Put the occluder on a surface the rays cross instead, such as a doorway's frame: click "
+                                "it in the view (moving the slider puts it between the patches again)"));
     auto* depthRow = new QHBoxLayout;
     depthRow->addWidget(depth_, 1);
     depthRow->addWidget(depthValue_);
+    depthRow->addWidget(pickSurface_);
     auto* form = new QFormLayout;
     form->addRow(tr("Plane at"), depthRow);
     form->addRow(tr("Block"), share_);
@@ -107,7 +112,12 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
         depthValue_->setText(tr("%1 %").arg(depth_->value()));
         refresh();
     };
-    connect(depth_, &QSlider::valueChanged, this, changed);
+    connect(depth_, &QSlider::valueChanged, this, [this] { setSurface(std::nullopt); });
+    connect(pickSurface_, &QPushButton::clicked, this, [this] { controller_.setTool(Tool::PickSurface); });
+    connect(&controller_, &ViewportController::surfacePicked, this, [this](glm::dvec3 point, glm::dvec3 normal) {
+        if (active_)
+            setSurface(suggest::PickedSurface{point, normal});
+    });
     connect(share_, &QDoubleSpinBox::valueChanged, this, changed);
     connect(shape_, &QComboBox::currentIndexChanged, this, changed);
     connect(gapList_, &QListWidget::itemClicked, this, [this](QListWidgetItem* item) { showGap(std::size_t(gapList_->row(item))); });
@@ -141,10 +151,18 @@ void OccluderAssistant::setActive(bool active)
     }
 }
 
+void OccluderAssistant::setSurface(std::optional<suggest::PickedSurface> surface)
+{
+    surface_ = surface;
+    depthValue_->setText(surface_ ? tr("on the surface") : tr("%1 %").arg(depth_->value()));
+    refresh();
+}
+
 suggest::Request OccluderAssistant::settings() const
 {
     suggest::Request request;
     request.depth = depth_->value() / 100.0;
+    request.surface = surface_;
     request.share = share_->value() / 100.0;
     request.shape = shape_->currentIndex() == 1 ? suggest::Shape::Rect : suggest::Shape::Convex;
     return request;

@@ -61,6 +61,11 @@ public:
     QLabel* summary() const { return summary_; }
     QPushButton* addButton() const { return add_; }
     QListWidget* gapList() const { return gapList_; }
+    QPushButton* pickSurfaceButton() const { return pickSurface_; }
+    /// The occluder lies on this surface's plane (a doorway's frame) instead of between the
+    /// patches at the slider's depth; none: between the patches again (as moving the slider does).
+    void setSurface(std::optional<suggest::PickedSurface> surface);
+    const std::optional<suggest::PickedSurface>& surface() const { return surface_; }
 
 signals:
     /// A suggestion arrived or was withdrawn (the summary line changed).
@@ -97,6 +102,8 @@ private:
     ViewportController& controller_;
     QSlider* depth_ = nullptr;
     QLabel* depthValue_ = nullptr;
+    QPushButton* pickSurface_ = nullptr;
+    std::optional<suggest::PickedSurface> surface_;   ///< setSurface
     QDoubleSpinBox* share_ = nullptr;
     QComboBox* shape_ = nullptr;
     QLabel* summary_ = nullptr;

@@ -106,6 +106,8 @@ void ViewportController::setTool(Tool tool)
     }
     if (const auto type = placedLightType(tool))
         emit message(tr("Click a surface to place the %1 on it (Esc cancels)").arg(lightKind(*type)));
+    if (tool == Tool::PickSurface)
+        emit message(tr("Click the surface the occluder should lie on, such as a doorway's frame (Esc cancels)"));
 }
 
 void ViewportController::setGizmoMode(GizmoMode mode)
@@ -345,6 +347,17 @@ void ViewportController::mousePress(Qt::MouseButton button, Qt::KeyboardModifier
     if (const auto type = placedLightType(tool_)) {
         if (placeLightAt(*type, position))
             setTool(Tool::Select);
+        return;
+    }
+    if (tool_ == Tool::PickSurface) {
+        if (const auto hit = visibleSurface(rayAt(position))) {
+            setTool(Tool::Select);
+            emit message(tr("Surface picked: the occluder assistant puts its occluder on that plane (its slider puts it "
+                            "between the patches again)"));
+            emit surfacePicked(hit->point, hit->normal);
+        } else {
+            emit message(tr("Nothing under the cursor: click a surface the rays cross (Esc cancels)"));
+        }
         return;
     }
     if (const auto frame = gizmo()) {

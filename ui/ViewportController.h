@@ -19,7 +19,7 @@
 
 namespace sightline::ui {
 
-enum class Tool { Select, PlaceSource, PlaceReceiver, PlacePointLight, PlaceSpotLight, PlaceAreaLight };
+enum class Tool { Select, PlaceSource, PlaceReceiver, PlacePointLight, PlaceSpotLight, PlaceAreaLight, PickSurface };
 
 /// The light a placing tool puts down, if it is one.
 std::optional<LightType> placedLightType(Tool tool);
@@ -131,6 +131,8 @@ signals:
     void message(const QString& text);
     /// The section cut's handle was dragged to `height` (metres).
     void cutMoved(double height);
+    /// Tool::PickSurface: the surface clicked, a point on it and its unit normal (facing the eye).
+    void surfacePicked(glm::dvec3 point, glm::dvec3 normal);
 
 private:
     /// The object a triangle of document_.scene() belongs to.

@@ -2935,6 +2935,74 @@ private slots:
         document.undoStack()->setClean();
     }
 
+    // The occluder on a surface the designer picks: Pick Surface, a click on the wall beside the
+    // doorway the view leaks through, and the assistant's occluder lies in that wall's plane; added,
+    // the exact answer keeps the promise; the slider puts it between the patches again.
+    void occluderAssistantOnAPickedSurface()
+    {
+        EditorDocument& document = window_->document();
+        Viewport& viewport = window_->viewport();
+        ViewportController& controller = window_->controller();
+        document.undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        QTest::keyClick(window_.get(), Qt::Key_B, Qt::ControlModifier | Qt::AltModifier);
+        OccluderAssistant& assistant = window_->occluderAssistant();
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.isVisible() && assistant.suggestion().has_value(), 20000);
+        QTRY_VERIFY_WITH_TIMEOUT(!assistant.gaps().empty(), 10000);
+        assistant.showGap(0);   // looking through the first opening from the source
+        waitForFrame();
+
+        // A pixel of the wall around the opening (its thinnest side is across the wall): near the
+        // opening's own plane, facing along that side.
+        const suggest::ViewGap gap = assistant.gaps()[0];
+        const glm::dvec3 size = gap.max - gap.min;
+        const int across = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
+        const QPoint centre = pixelOf(controller, gap.centre);
+        std::optional<SurfaceHit> hit;
+        QPoint click;
+        for (int radius = 20; radius <= 300 && !hit; radius += 20)
+            for (int k = 0; k < 16 && !hit; ++k) {
+                const double angle = 2.0 * std::numbers::pi * k / 16.0;
+                click = centre + QPoint(int(radius * std::cos(angle)), int(radius * std::sin(angle)));
+                hit = controller.visibleSurface(pixelRay(controller.camera(), click.x(), click.y(), controller.width(), controller.height()));
+                if (hit && !(std::abs(hit->normal[across]) > 0.99 && std::abs(hit->point[across] - gap.centre[across]) < 0.3))
+                    hit.reset();
+            }
+        QVERIFY(hit);
+        assistant.pickSurfaceButton()->click();
+        QCOMPARE(controller.tool(), Tool::PickSurface);
+        QVERIFY(window_->statusBar()->currentMessage().contains("Click the surface"));
+        QTest::mouseClick(&viewport, Qt::LeftButton, {}, click);
+        QCOMPARE(controller.tool(), Tool::Select);
+        QVERIFY(window_->statusBar()->currentMessage().startsWith("Surface picked"));
+        QVERIFY(assistant.surface().has_value());
+        QVERIFY(glm::length(assistant.surface()->point - hit->point) < 1e-6);
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion().has_value() && assistant.suggestion()->plane.origin == hit->point, 20000);
+        const suggest::Suggestion onWall = *assistant.suggestion();
+        QVERIFY(std::abs(std::abs(glm::dot(onWall.plane.normal, hit->normal)) - 1.0) < 1e-9);
+        for (const glm::dvec3& corner : onWall.worldPolygon())
+            QVERIFY(std::abs(glm::dot(corner - hit->point, onWall.plane.normal)) < 1e-9);
+        waitForFrame();
+        saveWindowShot("suggest-on-surface");
+
+        window_->viewportContainer()->setFocus();
+        QTest::keyClick(&viewport, Qt::Key_Return);
+        waitForUpdate();
+        QVERIFY(viewport.visibility().unblocked() <= onWall.promised);
+        document.undoStack()->undo();
+        waitForUpdate();
+
+        // The slider: between the patches again.
+        assistant.depthSlider()->setValue(40);
+        QVERIFY(!assistant.surface().has_value());
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion().has_value() && assistant.suggestion()->plane.origin != hit->point, 20000);
+        window_->findChild<QDockWidget*>("occluderAssistant")->hide();
+        document.undoStack()->setClean();
+    }
+
     // The same on a mesh made elsewhere (the Stanford bunny, scaled to 1.5 m by the project's
     // scene_scale): a rectangle for 95% of the rays it lets past, opened from the Create menu.
     void occluderAssistantOnAMeshMadeElsewhere()
