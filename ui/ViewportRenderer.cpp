@@ -630,6 +630,7 @@ struct ViewportRenderer::Impl {
     std::uint64_t drawRays(const FrameState& f, const glm::mat4& viewProj, GLuint target);
     std::uint64_t drawDisagreement(const FrameState& f);
     void drawSelectedRays(const FrameState& f);
+    void setListedRayUniforms(const FrameState& f, int sources, int receivers);
     void setRayUniforms(const FrameState& f, const RaySubset& subset);
     void drawGuides(const FrameState& f, const Patch* overlaid, const Cutaway& cut);
 };
@@ -1180,6 +1181,22 @@ std::uint64_t ViewportRenderer::Impl::drawRays(const FrameState& f, const glm::m
     return raysDrawn;
 }
 
+/// The ray program set to draw a list of classed rays (disagreementDrawnRays' form) of the whole
+/// `sources` x `receivers` pair, whole, from texture unit 0.
+void ViewportRenderer::Impl::setListedRayUniforms(const FrameState& f, int sources, int receivers)
+{
+    const GLuint p = rayProgram;
+    RaySubset whole;
+    whole.receivers = std::uint32_t(receivers);
+    whole.sourcePerReceiver = std::uint32_t(sources);
+    setRayUniforms(f, whole);
+    gl.ProgramUniform1i(p, loc(p, "showBlocked"), 1);
+    gl.ProgramUniform1i(p, loc(p, "useEnds"), 0);
+    gl.ProgramUniform1i(p, loc(p, "marks"), 0);
+    gl.ProgramUniform1i(p, loc(p, "indirect"), 1);
+    gl.ProgramUniform1i(p, loc(p, "disagreement"), 1);
+}
+
 /// The picked opening's rays (setSelectedRays), opaque over the rays' haze.
 void ViewportRenderer::Impl::drawSelectedRays(const FrameState& f)
 {
@@ -1189,15 +1206,7 @@ void ViewportRenderer::Impl::drawSelectedRays(const FrameState& f)
         gl.TextureBuffer(selectedTexture, GL_R32UI, selectedBuffer);
         selectedListed = true;
     }
-    RaySubset whole;
-    whole.receivers = std::uint32_t(selectedReceivers);
-    whole.sourcePerReceiver = std::uint32_t(selectedSources);
-    setRayUniforms(f, whole);
-    gl.ProgramUniform1i(p, loc(p, "showBlocked"), 1);
-    gl.ProgramUniform1i(p, loc(p, "useEnds"), 0);
-    gl.ProgramUniform1i(p, loc(p, "marks"), 0);
-    gl.ProgramUniform1i(p, loc(p, "indirect"), 1);
-    gl.ProgramUniform1i(p, loc(p, "disagreement"), 1);
+    setListedRayUniforms(f, selectedSources, selectedReceivers);
     const glm::vec4 colour(kSelectedRayRgb[0] / 255.0f, kSelectedRayRgb[1] / 255.0f, kSelectedRayRgb[2] / 255.0f, 0.95f);
     gl.ProgramUniform4fv(p, loc(p, "falseBlockedColour"), 1, glm::value_ptr(colour));
     gl.UseProgram(p);
@@ -1246,15 +1255,7 @@ std::uint64_t ViewportRenderer::Impl::drawDisagreement(const FrameState& f)
         listedMap = nullptr;   // the buffer no longer lists the map's rays
         disagreementCount = GLsizei(list.size());
     }
-    RaySubset whole;
-    whole.receivers = std::uint32_t(dis.falseBlocked.receiverCount());
-    whole.sourcePerReceiver = std::uint32_t(dis.falseBlocked.sourceCount());
-    setRayUniforms(f, whole);
-    gl.ProgramUniform1i(p, loc(p, "showBlocked"), 1);
-    gl.ProgramUniform1i(p, loc(p, "useEnds"), 0);
-    gl.ProgramUniform1i(p, loc(p, "marks"), 0);
-    gl.ProgramUniform1i(p, loc(p, "indirect"), 1);
-    gl.ProgramUniform1i(p, loc(p, "disagreement"), 1);
+    setListedRayUniforms(f, dis.falseBlocked.sourceCount(), dis.falseBlocked.receiverCount());
     // Opaque while few; past a few thousand, fainter so that a dense band still shows its shape.
     const float alpha = disagreementCount <= 2048 ? 0.95f : std::max(0.35f, 0.95f * std::sqrt(2048.0f / float(disagreementCount)));
     auto colour = [&](const char* name, const std::uint8_t rgb[3]) {
