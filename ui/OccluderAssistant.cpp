@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
@@ -19,6 +20,7 @@
 #include "ViewportController.h"
 #include "plugins/SceneFormats.h"
 #include "project/SuggestedOccluder.h"
+#include "visibility/Error.h"
 
 namespace sightline::ui {
 
@@ -66,6 +68,10 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     share_->setSuffix(tr(" %"));
     share_->setToolTip(tr("The share of the unblocked rays the occluder must block: below 100 % it may leave the "
                           "costliest stragglers, for a smaller occluder"));
+    weighted_ = new QCheckBox(tr("of the light"), this);
+    weighted_->setObjectName("suggestWeighted");
+    weighted_->setToolTip(tr("Below 100 %: the share of the light the unblocked rays carry (each weighed by its source "
+                             "sample's colour in the project's light texture), not of their number"));
     shape_ = new QComboBox(this);
     shape_->setObjectName("suggestShape");
     shape_->addItem(tr("Convex polygon"));
@@ -95,7 +101,10 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     depthRow->addWidget(pickSurface_);
     auto* form = new QFormLayout;
     form->addRow(tr("Plane at"), depthRow);
-    form->addRow(tr("Block"), share_);
+    auto* shareRow = new QHBoxLayout;
+    shareRow->addWidget(share_, 1);
+    shareRow->addWidget(weighted_);
+    form->addRow(tr("Block"), shareRow);
     form->addRow(tr("Shape"), shape_);
     auto* layout = new QVBoxLayout(this);
     layout->addLayout(form);
@@ -119,6 +128,7 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
             setSurface(suggest::PickedSurface{point, normal});
     });
     connect(share_, &QDoubleSpinBox::valueChanged, this, changed);
+    connect(weighted_, &QCheckBox::toggled, this, changed);
     connect(shape_, &QComboBox::currentIndexChanged, this, changed);
     connect(gapList_, &QListWidget::itemClicked, this, [this](QListWidgetItem* item) { showGap(std::size_t(gapList_->row(item))); });
     // The level's triangles, shared with the worker until an edit changes what blocks rays.
@@ -163,6 +173,8 @@ suggest::Request OccluderAssistant::settings() const
     suggest::Request request;
     request.depth = depth_->value() / 100.0;
     request.surface = surface_;
+    if (weighted_->isChecked())
+        request.sourceWeights = sourceLightWeights(document_.project());   // throws for a light that cannot be read
     request.share = share_->value() / 100.0;
     request.shape = shape_->currentIndex() == 1 ? suggest::Shape::Rect : suggest::Shape::Convex;
     return request;
@@ -211,7 +223,12 @@ void OccluderAssistant::requestNow()
     gapsMap_ = job.map;
     gapsTriangles_ = triangles_;
     job.triangles = triangles_;
-    job.request = settings();
+    try {
+        job.request = settings();
+    } catch (const Error& e) {
+        withdraw(tr("The light cannot weigh the rays: %1").arg(QString::fromStdString(e.what())));
+        return;
+    }
     worker_.request(++generation_, std::move(job));
 }
 
@@ -259,7 +276,10 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
                                                                  .arg(2.0 * s.rect.halfWidth, 0, 'f', 2)
                                                                  .arg(2.0 * s.rect.halfHeight, 0, 'f', 2)
                                                            : tr("Convex polygon, %1 corners").arg(s.polygon.size());
-    summary_->setText(tr("<b>%1: %2 m²</b><br>blocks at least %3 of the %4 unblocked rays, leaves at most %5"
+    const QString light = s.weighted ? tr("<br>and at least %1 % of the light they carry")
+                                           .arg(100.0 * s.lightEnclosed / std::max(s.lightBefore, 1e-300), 0, 'f', 1)
+                                     : QString();
+    summary_->setText(tr("<b>%1: %2 m²</b><br>blocks at least %3 of the %4 unblocked rays, leaves at most %5%8"
                          "<br><span style='color:gray'>%6 of them cross the plane; %7 ms</span>")
                           .arg(shape)
                           .arg(s.area, 0, 'f', 3)
@@ -267,7 +287,8 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
                           .arg(count(s.unblockedBefore))
                           .arg(count(s.promised))
                           .arg(count(s.crossing))
-                          .arg(outcome.ms, 0, 'f', 0));
+                          .arg(outcome.ms, 0, 'f', 0)
+                          .arg(light));
     add_->setEnabled(true);
     emit suggestionChanged();
 }

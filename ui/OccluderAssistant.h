@@ -21,6 +21,7 @@
 #include "visibility/suggest/OccluderSuggestion.h"
 #include "visibility/suggest/ViewGaps.h"
 
+class QCheckBox;
 class QComboBox;
 class QDoubleSpinBox;
 class QLabel;
@@ -62,6 +63,7 @@ public:
     QPushButton* addButton() const { return add_; }
     QListWidget* gapList() const { return gapList_; }
     QPushButton* pickSurfaceButton() const { return pickSurface_; }
+    QCheckBox* weightedBox() const { return weighted_; }
     /// The occluder lies on this surface's plane (a doorway's frame) instead of between the
     /// patches at the slider's depth; none: between the patches again (as moving the slider does).
     void setSurface(std::optional<suggest::PickedSurface> surface);
@@ -103,6 +105,7 @@ private:
     QSlider* depth_ = nullptr;
     QLabel* depthValue_ = nullptr;
     QPushButton* pickSurface_ = nullptr;
+    QCheckBox* weighted_ = nullptr;   ///< the share is of the light (suggest::Request::sourceWeights)
     std::optional<suggest::PickedSurface> surface_;   ///< setSurface
     QDoubleSpinBox* share_ = nullptr;
     QComboBox* shape_ = nullptr;

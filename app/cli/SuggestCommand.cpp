@@ -62,6 +62,9 @@ CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
         ->expected(3);
     command->add_option("--normal", args.normal, "The picked surface's normal NX NY NZ (either way round)")->expected(3);
     command->add_option("--share", args.share, "The share of the unblocked rays to block, in (0, 1]")->capture_default_str();
+    command->add_flag("--weighted", args.weighted,
+                      "Below share 1: the share of the light the unblocked rays carry (each weighted by its source sample's "
+                      "colour in the project's light texture), not of their count");
     command->add_option("--shape", args.shape, "convex (a convex polygon) or rect (a rectangle free in the plane)")
         ->capture_default_str()
         ->check(CLI::IsMember({"convex", "rect"}));
@@ -103,6 +106,8 @@ int runSuggest(const SuggestArgs& args)
             meshOut = freshMeshFile(args.write);
         checkOutputs({{"--write", args.write}, {"the occluder's mesh", meshOut}}, projectInputs(args.project, project));
     }
+    if (args.weighted)
+        request.sourceWeights = sourceLightWeights(project);
     const SuggestedOccluder suggested =
         suggestForProject(project, request, meshOut.empty() ? "suggested-occluder.glb" : meshOut.filename().string(), args.threads);
     const suggest::Suggestion& s = suggested.suggestion;
@@ -131,6 +136,7 @@ int runSuggest(const SuggestArgs& args)
                     {"depth", onSurface ? json(nullptr) : json(args.depth)},
                     {"share", args.share},
                     {"plane", {{"origin", pointJson(s.plane.origin)}, {"normal", pointJson(s.plane.normal)}}},
+                    {"weighted", s.weighted},
                     {"corners", corners},
                     {"margin", s.margin},
                     {"attempts", suggested.attempts},
@@ -138,6 +144,11 @@ int runSuggest(const SuggestArgs& args)
                     {"sample_ms", suggested.sampleMs},
                     {"suggest_ms", suggested.suggestMs},
                     {"check_ms", suggested.checkMs}};
+        if (s.weighted) {
+            out["light_before"] = s.lightBefore;
+            out["light_required"] = s.lightRequired;
+            out["light_after"] = suggested.lightAfter;
+        }
         if (!args.write.empty()) {
             out["written"] = args.write;
             out["occluder"] = {{"name", suggested.spec.name}, {"mesh", suggested.spec.mesh}};
@@ -156,6 +167,9 @@ int runSuggest(const SuggestArgs& args)
                 (unsigned long long)s.unblockedBefore, (unsigned long long)s.crossing, (unsigned long long)s.required, args.share);
     std::printf("after      %llu unblocked by the exact sampler (promised at most %llu)\n",
                 (unsigned long long)suggested.unblockedAfter, (unsigned long long)s.promised);
+    if (s.weighted)
+        std::printf("light      %.6g before, at least %.6g to block, %.6g left after\n", s.lightBefore, s.lightRequired,
+                    suggested.lightAfter);
     std::printf("time       %.1f ms (sample %.1f, suggest %.1f, check %.1f)\n",
                 suggested.sampleMs + suggested.suggestMs + suggested.checkMs, suggested.sampleMs, suggested.suggestMs,
                 suggested.checkMs);

@@ -19,6 +19,7 @@ struct SuggestArgs {
     double depth = std::numeric_limits<double>::quiet_NaN();   ///< NaN: not given
     std::vector<double> at, normal;                            ///< a picked surface instead of --depth
     double share = 1.0;
+    bool weighted = false;   ///< the share of the light the rays carry (the project's "light"), not of their count
     std::string shape = "convex";
     std::string write;
     bool json = false;

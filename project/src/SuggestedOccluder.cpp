@@ -79,6 +79,19 @@ PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const st
     return placed;
 }
 
+std::vector<double> sourceLightWeights(const Project& project)
+{
+    const AreaLight light = projectLight(project, project.source, project.name);
+    std::vector<double> weights(std::size_t(project.source.sampleCount()), 0.0);
+    for (const LightGroup& group : light.groups) {
+        const double w = (double(group.colour.r) + double(group.colour.g) + double(group.colour.b)) / 3.0;
+        for (std::size_t i = 0; i < weights.size(); ++i)
+            if ((group.mask[i / 64] >> (i % 64)) & 1u)
+                weights[i] = w;
+    }
+    return weights;
+}
+
 std::string unusedOccluderName(const Project& project, const std::string& name)
 {
     std::set<std::string> used;
@@ -125,8 +138,13 @@ SuggestedOccluder suggestOnScene(const Scene& scene, const Patch& source, const 
         start = std::chrono::steady_clock::now();
         const HiddenSampleMap after = sampleExactly(with, source, receiver, heights, threads);
         result.unblockedAfter = after.rayCount() - after.blockedCount();
+        const suggest::Suggestion& s = result.suggestion;
+        if (s.weighted)
+            result.lightAfter = suggest::unblockedLight(after, request.sourceWeights);
         result.checkMs = millisecondsSince(start);
-        if (result.unblockedAfter <= result.suggestion.promised)
+        // Weighted, the light left too: at most what the rays it was built around did not carry.
+        const bool lightKept = !s.weighted || result.lightAfter <= (s.lightBefore - s.lightEnclosed) * (1.0 + 1e-9) + 1e-12;
+        if (result.unblockedAfter <= s.promised && lightKept)
             return result;
         if (result.attempts == kAttempts)
             throw Error("the suggested occluder leaves " + std::to_string(result.unblockedAfter) +

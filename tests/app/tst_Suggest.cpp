@@ -4,6 +4,7 @@
 // the demo level, the generated bench levels, the natural floor-to-wall pair, a bumpy receiver
 // and every adversarial category, near the origin and a kilometre out.
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -224,4 +225,52 @@ TEST(Suggest, RefusalsSayWhy)
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("already blocked"), std::string::npos) << e.what();
     }
+}
+
+// Below share 1, weighted by the light each ray carries: a source whose left half is ten times as
+// bright as its right. The occluder keeps its promise in light as well as in rays (by the exact
+// sampler and the judge). A dark right half leaves only the left half's rays to block: a smaller
+// occluder than for the same share of every ray. Weights all 1 give the count's answer itself.
+TEST(Suggest, ImportanceWeightedShareBlocksTheLightAsked)
+{
+    const std::pair<SuggestCase, suggest::Shape> cases[] = {{demoCase(), suggest::Shape::Convex},
+                                                            {floorToWall(), suggest::Shape::Rect}};
+    for (const auto& [c, shape] : cases) {
+        std::vector<double> bright(std::size_t(c.source.sampleCount()), 1.0), dark = bright, ones = bright;
+        for (int i = 0; i < c.source.sampleCount(); ++i) {
+            const bool left = i % c.source.na < c.source.na / 2;
+            bright[std::size_t(i)] = left ? 10.0 : 1.0;
+            dark[std::size_t(i)] = left ? 1.0 : 0.0;
+        }
+        const suggest::Request counted{.depth = 0.5, .share = 0.8, .shape = shape};
+        suggest::Request weighted = counted;
+        weighted.sourceWeights = bright;
+        const SuggestedOccluder w = checkSuggestion(c, weighted);
+        const suggest::Suggestion& s = w.suggestion;
+        ASSERT_TRUE(s.weighted);
+        EXPECT_NEAR(s.lightBefore, suggest::unblockedLight(exactMap(c.scene, c), bright), 1e-9 * s.lightBefore);
+        EXPECT_NEAR(s.lightRequired, 0.8 * s.lightBefore, 1e-9 * s.lightBefore);
+        EXPECT_GE(s.lightEnclosed, s.lightRequired * (1.0 - 1e-12)) << c.name;
+        EXPECT_LE(w.lightAfter, s.lightBefore - s.lightEnclosed + 1e-9 * s.lightBefore) << c.name;
+
+        const suggest::Suggestion n = suggestOnScene(c.scene, c.source, c.receiver, c.heights, counted, "s", "s.glb").suggestion;
+        suggest::Request alike = counted;
+        alike.sourceWeights = ones;
+        const suggest::Suggestion a = suggestOnScene(c.scene, c.source, c.receiver, c.heights, alike, "s", "s.glb").suggestion;
+        EXPECT_NEAR(a.area, n.area, 1e-9 * n.area) << c.name;
+        suggest::Request half = counted;
+        half.sourceWeights = dark;
+        const SuggestedOccluder h = checkSuggestion(c, half);
+        EXPECT_LT(h.suggestion.area, n.area) << c.name;
+        EXPECT_LE(h.lightAfter, (1.0 - 0.8) * h.suggestion.lightBefore * (1.0 + 1e-9)) << c.name;
+    }
+    // Refusals: weights that are not light, or no light at all.
+    const SuggestCase c = floorToWall();
+    suggest::Request bad{.depth = 0.5, .share = 0.8};
+    bad.sourceWeights = std::vector<double>(std::size_t(c.source.sampleCount()), 0.0);
+    EXPECT_THROW(suggestOnScene(c.scene, c.source, c.receiver, c.heights, bad, "s", "s.glb"), Error);
+    bad.sourceWeights[0] = std::nan("");
+    EXPECT_THROW(suggestOnScene(c.scene, c.source, c.receiver, c.heights, bad, "s", "s.glb"), Error);
+    bad.sourceWeights = {1.0, 2.0};
+    EXPECT_THROW(suggestOnScene(c.scene, c.source, c.receiver, c.heights, bad, "s", "s.glb"), Error);
 }

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <string>
 
+#include <QImage>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -181,4 +182,30 @@ TEST_F(SuggestCli, OnAPickedSurfaceItPlugsTheOpening)
         EXPECT_NE(run.code, 0) << bad;
         EXPECT_TRUE(oneLine(run.err)) << bad << ": " << run.err;
     }
+}
+
+// --weighted: the share is of the light the rays carry. A light texture dark on its right half
+// leaves only the left half's rays to cut: a smaller occluder for the same share, the light left
+// within the promise, by the exact sampler. White light weighs every ray alike: the same occluder.
+TEST_F(SuggestCli, WeightedShareIsOfTheLight)
+{
+    const json plain = runJson("suggest " + p("p.json") + " --depth 0.5 --share 0.8 --json");
+    const json white = runJson("suggest " + p("p.json") + " --depth 0.5 --share 0.8 --weighted --json");
+    EXPECT_FALSE(plain["weighted"].get<bool>());
+    EXPECT_TRUE(white["weighted"].get<bool>());
+    EXPECT_EQ(white["light_before"].get<double>(), white["unblocked_before"].get<double>());
+    EXPECT_NEAR(white["area"].get<double>(), plain["area"].get<double>(), 1e-9);
+
+    QImage texture(2, 1, QImage::Format_RGB32);
+    texture.setPixel(0, 0, qRgb(255, 255, 255));
+    texture.setPixel(1, 0, qRgb(0, 0, 0));
+    ASSERT_TRUE(texture.save(QString::fromStdString(p("half.png"))));
+    json project = json::parse(readAll(folder / "p.json"));
+    project["light"] = {{"texture", "half.png"}};
+    std::ofstream(folder / "half.json") << project.dump(2);
+    const json half = runJson("suggest " + p("half.json") + " --depth 0.5 --share 0.8 --weighted --json");
+    EXPECT_TRUE(half["weighted"].get<bool>());
+    EXPECT_LT(half["light_before"].get<double>(), 0.75 * white["light_before"].get<double>());
+    EXPECT_LE(half["light_after"].get<double>(), 0.2 * half["light_before"].get<double>() + 1e-9);
+    EXPECT_LT(half["area"].get<double>(), plain["area"].get<double>());
 }

@@ -5,6 +5,7 @@
 #include <QSlider>
 #include <QAction>
 #include <QApplication>
+#include <QCheckBox>
 #include <QComboBox>
 #include <QDockWidget>
 #include <QLabel>
@@ -2999,6 +3000,15 @@ private slots:
         assistant.depthSlider()->setValue(40);
         QVERIFY(!assistant.surface().has_value());
         QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion().has_value() && assistant.suggestion()->plane.origin != hit->point, 20000);
+
+        // A share of the light rather than of the rays (the demo's light is white: every ray alike).
+        assistant.shareBox()->setValue(90.0);
+        assistant.weightedBox()->setChecked(true);
+        QTRY_VERIFY_WITH_TIMEOUT(assistant.suggestion().has_value() && assistant.suggestion()->weighted, 20000);
+        QVERIFY(assistant.suggestion()->lightEnclosed >= 0.9 * assistant.suggestion()->lightBefore * (1.0 - 1e-12));
+        QVERIFY2(assistant.summary()->text().contains("of the light they carry"), qPrintable(assistant.summary()->text()));
+        assistant.weightedBox()->setChecked(false);
+        assistant.shareBox()->setValue(100.0);
         window_->findChild<QDockWidget*>("occluderAssistant")->hide();
         document.undoStack()->setClean();
     }

@@ -20,6 +20,7 @@ struct SuggestedOccluder {
     OccluderSpec spec;
     Scene mesh;                        ///< the occluder's mesh in object space, as `spec` loads it
     std::uint64_t unblockedAfter = 0;  ///< by the exact sampler with the occluder inserted
+    double lightAfter = 0.0;           ///< with the request's source weights: their unblocked sum after
     int attempts = 1;                  ///< suggestions made (another diagonal or a wider margin after a tie went the other way)
     double sampleMs = 0.0;             ///< the pair sampled before, exactly
     double suggestMs = 0.0;            ///< the shape chosen
@@ -46,6 +47,10 @@ struct PlacedSuggestion {
     OccluderSpec spec;
     Scene mesh;   ///< what `spec.mesh` loads: the built-in plane, or the polygon's mesh to write
 };
+/// The light each source sample of `project`'s pair carries (its light's colour, mean of the
+/// channels; white: 1): a suggestion's importance weights (suggest::Request::sourceWeights).
+std::vector<double> sourceLightWeights(const Project& project);
+
 /// `otherDiagonal`: a rectangle's built-in plane turned a quarter so that its two triangles meet on
 /// the rectangle's other diagonal.
 PlacedSuggestion placeSuggestion(const suggest::Suggestion& suggestion, const std::string& name, const std::string& meshFile,

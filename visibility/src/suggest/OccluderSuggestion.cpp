@@ -91,15 +91,29 @@ Shaped shapedOn(const std::vector<Point2>& points, std::vector<char> keep)
     return shaped;
 }
 
-Shaped convexShape(const std::vector<Point2>& points, std::size_t keep)
+/// Which crossings to keep: at least `keep` of them, or with `weights`, crossings weighing at least
+/// `keepWeight`.
+struct Keep {
+    std::size_t count = 0;
+    std::span<const double> weights;
+    double weight = 0.0;
+
+    bool all(std::size_t points) const { return weights.empty() && count >= points; }
+    std::vector<char> trim(const std::vector<Point2>& points, std::span<const Point2> directions) const
+    {
+        return weights.empty() ? trimToShare(points, count, directions) : trimToWeight(points, weights, weight, directions);
+    }
+};
+
+Shaped convexShape(const std::vector<Point2>& points, const Keep& keep)
 {
-    return shapedOn(points, trimToShare(points, keep, evenDirections(kConvexTrimDirections)));
+    return shapedOn(points, keep.trim(points, evenDirections(kConvexTrimDirections)));
 }
 
-Shaped rectShape(const std::vector<Point2>& points, std::size_t keep)
+Shaped rectShape(const std::vector<Point2>& points, const Keep& keep)
 {
     Shaped best = shapedOn(points, std::vector<char>(points.size(), 1));
-    if (keep >= points.size())
+    if (keep.all(points.size()))
         return best;
     // The full set's best orientation and an even spread of others, each trimmed as a box.
     std::vector<double> angles{std::atan2(best.rect.axis.y, best.rect.axis.x)};
@@ -107,7 +121,7 @@ Shaped rectShape(const std::vector<Point2>& points, std::size_t keep)
         angles.push_back(0.5 * std::numbers::pi * k / kRectTrimOrientations);
     best.rect.halfWidth = best.rect.halfHeight = std::numeric_limits<double>::infinity();
     for (const double angle : angles) {
-        Shaped shaped = shapedOn(points, trimToShare(points, keep, evenDirections(4, angle)));
+        Shaped shaped = shapedOn(points, keep.trim(points, evenDirections(4, angle)));
         if (shaped.rect.area() < best.rect.area())
             best = std::move(shaped);
     }
@@ -284,9 +298,10 @@ RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, cons
 {
     RayCrossings crossings;
     crossings.unblocked = map.rayCount() - map.blockedCount();
-    visitCrossings(source, receiver, heights, map, plane, [&](Point2 p, std::uint64_t, double cosine) {
+    visitCrossings(source, receiver, heights, map, plane, [&](Point2 p, std::uint64_t ray, double cosine) {
         crossings.points.push_back(p);
         crossings.cosines.push_back(float(cosine));
+        crossings.rays.push_back(ray);
     });
     return crossings;
 }
@@ -308,6 +323,48 @@ void validateRequest(const Request& request)
     if (!(request.share > 0.0 && request.share <= 1.0))
         throw Error("share must lie in (0, 1], got " + shareText(request.share));
 }
+
+double unblockedLight(const HiddenSampleMap& map, std::span<const double> sourceWeights)
+{
+    if (sourceWeights.size() != std::size_t(map.sourceCount()))
+        throw Error("the light's weights are for " + std::to_string(sourceWeights.size()) + " source samples, the pair has " +
+                    std::to_string(map.sourceCount()));
+    double light = 0.0;
+    for (int j = 0; j < map.receiverCount(); ++j)
+        for (int i = 0; i < map.sourceCount(); ++i)
+            if (!map.blocked(j, i))
+                light += sourceWeights[std::size_t(i)];
+    return light;
+}
+
+namespace {
+
+/// The light each crossing carries; fills `result`'s light before and required. Throws when no
+/// light passes, or the crossings carry less than the share asks.
+std::vector<double> crossingLight(const HiddenSampleMap& map, const RayCrossings& crossings, const Request& request,
+                                  Suggestion& result)
+{
+    for (const double w : request.sourceWeights)
+        if (!(std::isfinite(w) && w >= 0.0))
+            throw Error("a source sample's light weight must be finite and >= 0, got " + shareText(w));
+    result.weighted = true;
+    result.lightBefore = unblockedLight(map, request.sourceWeights);
+    if (!(result.lightBefore > 0.0))
+        throw Error("no light reaches the receiver through the unblocked rays (their source samples are dark): nothing to cut");
+    result.lightRequired = request.share * result.lightBefore;
+    std::vector<double> light(crossings.rays.size());
+    double crossing = 0.0;
+    const auto sources = std::uint64_t(map.sourceCount());
+    for (std::size_t k = 0; k < light.size(); ++k)
+        crossing += light[k] = request.sourceWeights[std::size_t(crossings.rays[k] % sources)];
+    if (crossing < result.lightRequired * (1.0 - 1e-12))
+        throw Error("the rays that cross the plane between the patches carry share " + shareText(crossing / result.lightBefore) +
+                    " of the light, less than the share " + shareText(request.share) +
+                    " asked: choose a depth nearer the middle of the view, or a smaller share");
+    return light;
+}
+
+} // namespace
 
 Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
                            const HiddenSampleMap& map, const Request& request)
@@ -343,12 +400,23 @@ Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const Rec
     } else {
         const RayCrossings crossings = crossUnblockedRays(source, receiver, heights, map, result.plane);
         result.crossing = crossings.points.size();
-        if (result.required <= result.crossing) {
-            shaped = request.shape == Shape::Rect ? rectShape(crossings.points, std::size_t(result.required))
-                                                  : convexShape(crossings.points, std::size_t(result.required));
+        std::vector<double> light;   // per crossing, with weights
+        Keep keep{.count = std::size_t(result.required)};
+        if (!request.sourceWeights.empty()) {
+            light = crossingLight(map, crossings, request, result);
+            keep = Keep{.weights = light, .weight = result.lightRequired};
+        }
+        if (result.weighted || result.required <= result.crossing) {
+            shaped = request.shape == Shape::Rect ? rectShape(crossings.points, keep) : convexShape(crossings.points, keep);
             for (std::size_t i = 0; i < shaped.keep.size(); ++i)
-                if (shaped.keep[i])
+                if (shaped.keep[i]) {
                     smallestCosine = std::min(smallestCosine, double(crossings.cosines[i]));
+                    result.lightEnclosed += light.empty() ? 0.0 : light[i];
+                }
+        }
+        if (result.weighted) {   // the promise in rays: those it was built around are blocked
+            result.required = shaped.kept;
+            result.promised = unblocked - shaped.kept;
         }
     }
     if (result.required > result.crossing) {

@@ -42,8 +42,9 @@ constexpr int kMaxSteps = 20000;
 
 class Trimmer {
 public:
-    Trimmer(std::span<const Point2> points, std::size_t keep, std::span<const Point2> directions)
-        : points_(points), kept_(points.size(), 1), budget_(points.size() - keep)
+    /// `weights` empty: each point weighs 1. `budget`: the weight that may be left out.
+    Trimmer(std::span<const Point2> points, std::span<const double> weights, double budget, std::span<const Point2> directions)
+        : points_(points), weights_(weights), kept_(points.size(), 1), budget_(budget)
     {
         Point2 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
         for (const Point2& p : points) {
@@ -57,8 +58,9 @@ public:
         // Only the budget + 1 farthest points along a line can ever be passed by it; a cap keeps
         // memory bounded when the budget is most of a million points (a line that runs out of
         // entries just stops moving: more points are kept, never fewer).
-        const std::size_t cap = std::min({budget_ + 1, points.size(),
-                                          std::max<std::size_t>(4096, 8'000'000 / std::max<std::size_t>(directions.size(), 1))});
+        const std::size_t memoryCap = std::max<std::size_t>(4096, 8'000'000 / std::max<std::size_t>(directions.size(), 1));
+        const std::size_t cap = weights.empty() ? std::min({std::size_t(budget_) + 1, points.size(), memoryCap})
+                                                : std::min(points.size(), memoryCap);
         std::vector<std::uint32_t> all(points.size());
         for (const Point2& d : directions) {
             std::iota(all.begin(), all.end(), 0u);
@@ -80,15 +82,15 @@ public:
                 Step step = stepFor(k, band_);
                 if (step.cost > budget_)
                     step = stepFor(k, 0.0);
-                if (step.cost == 0 || step.cost > budget_)
+                if (step.end == 0 || step.cost > budget_)
                     continue;
                 step.gain = area - polygonArea(clipped(polygon, lines_[k].direction, step.newSupport));
-                if (step.gain > 0.0 && (best.cost == 0 || step.gain * double(best.cost) > best.gain * double(step.cost))) {
+                if (step.gain > 0.0 && (best.end == 0 || step.gain * best.cost > best.gain * step.cost)) {
                     best = step;
                     best.line = k;
                 }
             }
-            if (best.cost == 0)
+            if (best.end == 0)
                 break;
             SupportLine& line = lines_[best.line];
             for (std::size_t i = line.first; i < best.end; ++i)
@@ -103,11 +105,13 @@ public:
 private:
     struct Step {
         std::size_t line = 0;
-        std::size_t cost = 0;   ///< kept points it leaves out
-        std::size_t end = 0;    ///< entries of the line's order it passes
+        double cost = 0.0;      ///< the weight of the kept points it leaves out
+        std::size_t end = 0;    ///< entries of the line's order it passes (0: no step)
         double newSupport = 0.0;
         double gain = 0.0;      ///< square metres saved
     };
+
+    double weight(std::uint32_t point) const { return weights_.empty() ? 1.0 : weights_[point]; }
 
     double along(const SupportLine& line, std::size_t i) const { return glm::dot(line.direction, points_[line.order[i]]); }
 
@@ -126,12 +130,14 @@ private:
         if (line.first == line.order.size())
             return step;
         const double limit = along(line, line.first) - band;
-        std::size_t i = line.first, cost = 0;
+        std::size_t i = line.first;
+        double cost = 0.0;
         for (; i < line.order.size(); ++i) {
             const bool keptHere = kept_[line.order[i]] != 0;
             if (keptHere && along(line, i) < limit)
                 break;
-            cost += keptHere;
+            if (keptHere)
+                cost += weight(line.order[i]);
         }
         if (i == line.order.size())
             return step;   // where the line would stop is past the entries kept for it
@@ -154,8 +160,9 @@ private:
     }
 
     std::span<const Point2> points_;
+    std::span<const double> weights_;
     std::vector<char> kept_;
-    std::size_t budget_;
+    double budget_;
     double band_ = 0.0;
     std::array<Point2, 4> box_;
     std::vector<SupportLine> lines_;
@@ -177,7 +184,18 @@ std::vector<char> trimToShare(std::span<const Point2> points, std::size_t keep, 
 {
     if (keep >= points.size() || directions.empty())
         return std::vector<char>(points.size(), 1);
-    return Trimmer(points, keep, directions).run();
+    return Trimmer(points, {}, double(points.size() - keep), directions).run();
+}
+
+std::vector<char> trimToWeight(std::span<const Point2> points, std::span<const double> weights, double keepWeight,
+                               std::span<const Point2> directions)
+{
+    double total = 0.0;
+    for (const double w : weights)
+        total += w;
+    if (keepWeight >= total || directions.empty())
+        return std::vector<char>(points.size(), 1);
+    return Trimmer(points, weights, total - keepWeight, directions).run();
 }
 
 } // namespace sightline::suggest

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,7 @@ SuggestPlane surfacePlane(const Patch& source, const Patch& receiver, const Pick
 struct RayCrossings {
     std::vector<Point2> points;          ///< in the plane's coordinates, one per crossing ray
     std::vector<float> cosines;          ///< |cos| between each ray and the plane's normal
+    std::vector<std::uint64_t> rays;     ///< each crossing's ray: receiver * sourceCount + source
     std::uint64_t unblocked = 0;         ///< every unblocked ray, crossing or not
 };
 
@@ -77,6 +79,10 @@ RayCrossings crossUnblockedRays(const Patch& source, const Patch& receiver, cons
 struct Request {
     double depth = 0.5;    ///< in (0, 1); the plane's place unless `surface` is set
     std::optional<PickedSurface> surface;   ///< the plane of a picked surface instead
+    /// Per source sample, the light it carries (>= 0, finite): below share 1, the share is of the
+    /// unblocked rays' summed weight, the light reaching the receiver, instead of their count.
+    /// Empty: every ray counts alike.
+    std::vector<double> sourceWeights;
     double share = 1.0;    ///< in (0, 1]: the share of the unblocked rays to block
     Shape shape = Shape::Convex;
     double marginScale = 1.0;   ///< the exactness margin times this (a caller's retry grows it)
@@ -99,6 +105,11 @@ struct Suggestion {
     std::uint64_t required = 0;    ///< rays it must block: ceil(share * unblockedBefore)
     std::uint64_t promised = 0;    ///< the most rays it may leave unblocked
     std::uint64_t enclosed = 0;    ///< crossings it was built around, each well inside (>= required)
+    /// With sourceWeights below share 1: the unblocked rays' light before, the light it must block
+    /// (share x before) and the light of the crossings it was built around (>= required).
+    /// `required` and `promised` then count the rays it was built around.
+    bool weighted = false;
+    double lightBefore = 0.0, lightRequired = 0.0, lightEnclosed = 0.0;
 
     std::vector<glm::dvec3> worldPolygon() const;
 };
@@ -109,6 +120,9 @@ struct Suggestion {
 /// reduced to their hull as they come).
 Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const ReceiverHeights& heights,
                            const HiddenSampleMap& map, const Request& request);
+
+/// The summed weight of the unblocked rays of `map` (weights per source sample, as sourceWeights).
+double unblockedLight(const HiddenSampleMap& map, std::span<const double> sourceWeights);
 
 /// The polygon's centroid, rounded to float32: where its mesh is placed (suggestionMesh).
 glm::dvec3 suggestionCentre(const Suggestion& suggestion);

@@ -26,4 +26,10 @@ std::vector<Point2> evenDirections(int count, double angle = 0.0);
 /// points.size() - keep by pulling the support lines of `directions` inward. keep <= points.size().
 std::vector<char> trimToShare(std::span<const Point2> points, std::size_t keep, std::span<const Point2> directions);
 
+/// The same with a weight per point (>= 0, finite): the points kept weigh at least `keepWeight`
+/// (at most the sum of the weights), and each step leaves out the band that costs the least weight
+/// per square metre saved.
+std::vector<char> trimToWeight(std::span<const Point2> points, std::span<const double> weights, double keepWeight,
+                               std::span<const Point2> directions);
+
 } // namespace sightline::suggest
