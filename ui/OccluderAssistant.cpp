@@ -174,10 +174,25 @@ suggest::Request OccluderAssistant::settings() const
     request.depth = depth_->value() / 100.0;
     request.surface = surface_;
     if (weighted_->isChecked())
-        request.sourceWeights = sourceLightWeights(document_.project());   // throws for a light that cannot be read
+        request.sourceWeights = lightWeights();
     request.share = share_->value() / 100.0;
     request.shape = shape_->currentIndex() == 1 ? suggest::Shape::Rect : suggest::Shape::Convex;
     return request;
+}
+
+std::vector<double> OccluderAssistant::lightWeights() const
+{
+    // Read again only when the light or the source's grid changed: the texture is a file.
+    const Project& project = document_.project();
+    const auto light = project.extra.find("light");
+    const std::string key = (light != project.extra.end() ? light->dump() : std::string()) + "|" +
+                            std::to_string(project.source.na) + "x" + std::to_string(project.source.nb) + "|" +
+                            project.folder.string();
+    if (key != lightWeightsKey_) {
+        lightWeights_ = sourceLightWeights(project);   // throws for a light that cannot be read
+        lightWeightsKey_ = key;
+    }
+    return lightWeights_;
 }
 
 void OccluderAssistant::refresh()

@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <QWidget>
 
@@ -106,6 +107,10 @@ private:
     QLabel* depthValue_ = nullptr;
     QPushButton* pickSurface_ = nullptr;
     QCheckBox* weighted_ = nullptr;   ///< the share is of the light (suggest::Request::sourceWeights)
+    /// The source samples' light (sourceLightWeights), kept while the project's light is the same.
+    std::vector<double> lightWeights() const;
+    mutable std::vector<double> lightWeights_;
+    mutable std::string lightWeightsKey_;
     std::optional<suggest::PickedSurface> surface_;   ///< setSurface
     QDoubleSpinBox* share_ = nullptr;
     QComboBox* shape_ = nullptr;

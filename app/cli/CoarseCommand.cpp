@@ -1,7 +1,6 @@
 #include "cli/CoarseCommand.h"
 
 #include <algorithm>
-#include <bit>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -63,25 +62,14 @@ std::vector<std::size_t> sweepCounts(const std::string& text, const Scene& level
 
 /// The level's instances the single run gives a stand-in (those `runOnce` replaces), as the
 /// project's "coarse_occluders".
-std::vector<CoarseOccluder> standInsFor(const Scene& level, const CoarseArgs& args)
+std::vector<CoarseOccluder> standInsFor(const Scene& level, const CoarseOccluder& spec)
 {
     std::vector<CoarseOccluder> list;
-    for (std::size_t i = 0; i < level.instances.size(); ++i) {
-        const Mesh& mesh = level.meshes.at(level.instances[i].mesh);
-        CoarseOccluder spec;
-        spec.instance = i;
-        if (args.kind == "inner") {
-            if (mesh.triangleCount() <= 12 || !closedAndOutward(mesh))
-                continue;
-            spec.kind = CoarseKind::Inner;
-            spec.resolution = args.resolution;
-        } else {
-            if (mesh.triangleCount() <= std::size_t(args.triangles))
-                continue;
-            spec.triangles = std::size_t(args.triangles);
+    for (std::size_t i = 0; i < level.instances.size(); ++i)
+        if (standInApplies(level.meshes.at(level.instances[i].mesh), spec)) {
+            list.push_back(spec);
+            list.back().instance = i;
         }
-        list.push_back(spec);
-    }
     return list;
 }
 
@@ -132,22 +120,12 @@ int runSweep(const CoarseArgs& args, const Project& project, const Scene& origin
 
 int runOnce(const CoarseArgs& args, const Project& project, const Scene& original, const ReceiverHeights& heights)
 {
-    Scene coarse = original;
-    std::size_t replaced = 0, skipped = 0;
     CoarseOccluder spec;
     spec.kind = args.kind == "inner" ? CoarseKind::Inner : CoarseKind::Closest;
     spec.triangles = std::size_t(args.triangles);
     spec.resolution = args.resolution;
-    for (Mesh& mesh : coarse.meshes) {
-        if (args.kind == "inner" && (mesh.triangleCount() <= 12 || !closedAndOutward(mesh))) {
-            skipped += mesh.triangleCount() > 12;
-            continue;
-        }
-        if (args.kind != "inner" && mesh.triangleCount() <= std::size_t(args.triangles))
-            continue;
-        mesh = coarseOccluderMesh(mesh, spec);
-        ++replaced;
-    }
+    Scene coarse = original;
+    const auto [replaced, skipped] = replaceDenseMeshes(coarse, spec);
     if (replaced == 0)
         throw Error(args.kind == "inner" ? "no closed mesh of more than 12 triangles to stand an inner occluder in"
                                          : "no mesh has more than --triangles " + std::to_string(args.triangles) + " triangles");
@@ -160,7 +138,7 @@ int runOnce(const CoarseArgs& args, const Project& project, const Scene& origina
     if (!args.write.empty()) {
         Scene level = loadLevel(project);
         applySceneTransforms(project, level);
-        const std::vector<CoarseOccluder> standIns = standInsFor(level, args);
+        const std::vector<CoarseOccluder> standIns = standInsFor(level, spec);
         if (standIns.empty())
             throw Error("--write: no object of the level has a mesh to replace (only placed occluders do)");
         Project out = rebasedProject(project, fs::absolute(args.write).parent_path(), false);

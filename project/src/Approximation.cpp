@@ -5,12 +5,11 @@
 #include <optional>
 #include <string_view>
 
-#include "plugins/MeshSimplification.h"
+#include "project/CoarseOccluders.h"
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/Error.h"
 #include "visibility/ExactJudge.h"
 #include "visibility/GlBitmaskSampler.h"
-#include "visibility/InnerOccluder.h"
 #include "visibility/RayDisagreement.h"
 
 namespace sightline {
@@ -129,18 +128,11 @@ ApproximateSampler::ApproximateSampler(const Approximation& approximation, const
     : approximation_(approximation), scene_(level)
 {
     if (approximation.replacesMeshes()) {
-        for (Mesh& mesh : scene_.meshes) {
-            if (approximation.kind == ApproximationKind::Inner) {
-                if (mesh.triangleCount() <= 12 || !closedAndOutward(mesh))
-                    continue;
-                mesh = innerOccluderMesh(mesh, approximation.resolution);
-            } else {
-                if (mesh.triangleCount() <= approximation.triangles)
-                    continue;
-                mesh = simplifiedMesh(mesh, approximation.triangles);
-            }
-            ++replaced_;
-        }
+        CoarseOccluder spec;
+        spec.kind = approximation.kind == ApproximationKind::Inner ? CoarseKind::Inner : CoarseKind::Closest;
+        spec.triangles = approximation.triangles;
+        spec.resolution = approximation.resolution;
+        replaced_ = replaceDenseMeshes(scene_, spec).replaced;
         if (replaced_ == 0)
             throw Error(approximation.kind == ApproximationKind::Inner
                             ? "no closed mesh of more than 12 triangles to stand an inner occluder in"

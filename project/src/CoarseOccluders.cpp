@@ -131,6 +131,26 @@ Mesh coarseOccluderMesh(const Mesh& mesh, const CoarseOccluder& spec)
     return inner;
 }
 
+bool standInApplies(const Mesh& mesh, const CoarseOccluder& spec)
+{
+    return spec.kind == CoarseKind::Closest ? mesh.triangleCount() > spec.triangles
+                                            : mesh.triangleCount() > 12 && closedAndOutward(mesh);
+}
+
+ReplacedMeshes replaceDenseMeshes(Scene& scene, const CoarseOccluder& spec)
+{
+    ReplacedMeshes count;
+    for (Mesh& mesh : scene.meshes) {
+        if (!standInApplies(mesh, spec)) {
+            count.skipped += spec.kind == CoarseKind::Inner && mesh.triangleCount() > 12;
+            continue;
+        }
+        mesh = spec.kind == CoarseKind::Closest ? simplifiedMesh(mesh, spec.triangles) : innerOccluderMesh(mesh, spec.resolution);
+        ++count.replaced;
+    }
+    return count;
+}
+
 const Mesh& CoarseMeshCache::standIn(const Mesh& mesh, const CoarseOccluder& spec)
 {
     const auto key = std::tuple{contentHash(mesh), int(spec.kind),

@@ -38,9 +38,7 @@ Scene coarseLevel(const Scene& scene, std::size_t count, const std::optional<std
         applyCoarseOccluders({spec}, coarse, &cache);
         return coarse;
     }
-    for (Mesh& mesh : coarse.meshes)
-        if (mesh.triangleCount() > count)
-            mesh = cache.standIn(mesh, spec);
+    replaceDenseMeshes(coarse, spec);
     return coarse;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Runs sightline-cli as a user does (a child process), and the scene file the app tests share.
+// Runs sightline-cli as a user does (a child process), and the scenes and projects the app tests share.
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -16,6 +16,9 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "TestScenes.h"
+#include "plugins/SceneFormats.h"
 
 namespace sightline::test {
 
@@ -91,6 +94,35 @@ inline void writeWallWithHoleObj(const fs::path& file)
     std::ofstream(file) << "v -1 -0.5 2\nv 2 -0.5 2\nv 2 1.5 2\nv -1 1.5 2\n"
                            "v 0 0 2\nv 1 0 2\nv 1 1 2\nv 0 1 2\n"
                            "f 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+}
+
+/// The app tests' project on that wall: a 16 x 8 source before it, a 24 x 20 receiver 4 m out and
+/// a box occluder ("crate") in the hole's lower half.
+inline nlohmann::json crateInWallProject()
+{
+    return {
+        {"version", 1},
+        {"scene", "wall.obj"},
+        {"source", {{"corner", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"samples", {16, 8}}}},
+        {"receiver", {{"corner", {-0.5, -0.2, 4}}, {"u", {2, 0, 0.3}}, {"v", {0, 1.4, 0}}, {"samples", {24, 20}}}},
+        {"occluders", {{{"name", "crate"}, {"mesh", "box"},
+                        {"transform", {0.4, 0, 0, 0, 0, 0.3, 0, 0, 0, 0, 0.4, 0, 0.5, 0.15, 2.2, 1}}}}},
+    };
+}
+
+/// A lumpy closed torus of 18,432 triangles standing across the view, 2 m from each patch
+/// (`folder`/torus.glb), and the project `name` on it in `folder`: the coarse occluders' scene.
+inline void writeTorusProject(const fs::path& folder, const std::string& name)
+{
+    Scene level;
+    level.addMeshInstance(closedTorus({0.5, 0.5, 2.0}, 0.6, 0.25, 192, 48, 0.15));
+    saveScene(level, folder / "torus.glb");
+    const nlohmann::json project = {
+        {"version", 1},
+        {"scene", "torus.glb"},
+        {"source", {{"corner", {-0.5, -0.5, 0}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
+        {"receiver", {{"corner", {-0.3, -0.4, 4}}, {"u", {1.8, 0, 0.2}}, {"v", {0, 1.8, 0}}, {"samples", {32, 32}}}}};
+    std::ofstream(folder / name) << project.dump(2);
 }
 
 inline std::string readAll(const fs::path& file)

@@ -41,14 +41,7 @@ protected:
         // A 2 x 2 m wall (OBJ) with a 1 m hole in the middle between the patches, plus a box
         // occluder placed in the hole's lower half by the project.
         test::writeWallWithHoleObj(folder / "wall.obj");
-        json project = {
-            {"version", 1},
-            {"scene", "wall.obj"},
-            {"source", {{"corner", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"samples", {16, 8}}}},
-            {"receiver", {{"corner", {-0.5, -0.2, 4}}, {"u", {2, 0, 0.3}}, {"v", {0, 1.4, 0}}, {"samples", {24, 20}}}},
-            {"occluders", {{{"name", "crate"}, {"mesh", "box"},
-                            {"transform", {0.4, 0, 0, 0, 0, 0.3, 0, 0, 0, 0, 0.4, 0, 0.5, 0.15, 2.2, 1}}}}},
-        };
+        json project = crateInWallProject();
         std::ofstream(folder / "p.json") << project.dump(2);
     }
 };

@@ -26,16 +26,7 @@ protected:
     void SetUp() override
     {
         CliFolderTest::SetUp();
-        // A lumpy closed torus of 18,432 triangles standing across the view, 2 m from each patch.
-        Scene level;
-        level.addMeshInstance(closedTorus({0.5, 0.5, 2.0}, 0.6, 0.25, 192, 48, 0.15));
-        saveScene(level, folder / "torus.glb");
-        const json project = {
-            {"version", 1},
-            {"scene", "torus.glb"},
-            {"source", {{"corner", {-0.5, -0.5, 0}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
-            {"receiver", {{"corner", {-0.3, -0.4, 4}}, {"u", {1.8, 0, 0.2}}, {"v", {0, 1.8, 0}}, {"samples", {32, 32}}}}};
-        std::ofstream(folder / "p.json") << project.dump(2);
+        writeTorusProject(folder, "p.json");
     }
 };
 

@@ -33,14 +33,7 @@ protected:
         CliFolderTest::SetUp();
         // The CLI tests' wall with a hole, and a crate in the hole's lower half.
         writeWallWithHoleObj(folder / "wall.obj");
-        const json project = {
-            {"version", 1},
-            {"scene", "wall.obj"},
-            {"source", {{"corner", {0, 0, 0}}, {"u", {1, 0, 0}}, {"v", {0, 1, 0}}, {"samples", {16, 8}}}},
-            {"receiver", {{"corner", {-0.5, -0.2, 4}}, {"u", {2, 0, 0.3}}, {"v", {0, 1.4, 0}}, {"samples", {24, 20}}}},
-            {"occluders", {{{"name", "crate"}, {"mesh", "box"},
-                            {"transform", {0.4, 0, 0, 0, 0, 0.3, 0, 0, 0, 0, 0.4, 0, 0.5, 0.15, 2.2, 1}}}}},
-        };
+        const json project = crateInWallProject();
         std::ofstream(folder / "p.json") << project.dump(2);
     }
 
@@ -155,16 +148,7 @@ TEST_F(DisagreementCli, TheExactGlPassDiffersOnTiesOnly)
 
 TEST_F(DisagreementCli, InnerOccludersNeverBlockAFreeRayAndCoarseOnesSayWhatTheyCost)
 {
-    // A lumpy closed torus of 18,432 triangles across the view (as the coarse command's test).
-    Scene level;
-    level.addMeshInstance(closedTorus({0.5, 0.5, 2.0}, 0.6, 0.25, 192, 48, 0.15));
-    saveScene(level, folder / "torus.glb");
-    const json project = {
-        {"version", 1},
-        {"scene", "torus.glb"},
-        {"source", {{"corner", {-0.5, -0.5, 0}}, {"u", {2, 0, 0}}, {"v", {0, 2, 0}}, {"samples", {32, 32}}}},
-        {"receiver", {{"corner", {-0.3, -0.4, 4}}, {"u", {1.8, 0, 0.2}}, {"v", {0, 1.8, 0}}, {"samples", {32, 32}}}}};
-    std::ofstream(folder / "torus.json") << project.dump(2);
+    writeTorusProject(folder, "torus.json");   // the coarse command's scene
     const json inner = runJson("disagreement " + path("torus.json") + " --approximation inner --json");
     EXPECT_EQ(inner["rays"], 1024 * 1024);
     EXPECT_EQ(inner["false_blocked"], 0);

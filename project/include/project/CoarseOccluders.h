@@ -59,6 +59,19 @@ std::string describeCoarse(const CoarseOccluder& spec);
 /// an inner stand-in needs a closed, outward mesh, and a thin one may hold no voxel inside.
 Mesh coarseOccluderMesh(const Mesh& mesh, const CoarseOccluder& spec);
 
+/// Whether a level-wide replacement gives `mesh` a stand-in of `spec`'s kind: closest, a mesh of
+/// more than spec.triangles; inner, a closed and outward mesh of more than 12 triangles.
+bool standInApplies(const Mesh& mesh, const CoarseOccluder& spec);
+
+struct ReplacedMeshes {
+    std::size_t replaced = 0;
+    std::size_t skipped = 0;   ///< inner: meshes of more than 12 triangles left whole for being open
+};
+/// Every mesh of `scene` that standInApplies to replaced by its stand-in, whichever instance uses
+/// it: `sightline-cli coarse`, its sweep and the disagreement view's coarse modes. A thin mesh's
+/// inner stand-in may be empty (it then blocks nothing, which is still conservative).
+ReplacedMeshes replaceDenseMeshes(Scene& scene, const CoarseOccluder& spec);
+
 /// Stand-ins made before, by mesh content and spec: the editor builds its ray scene again on every
 /// edit, and simplifying a dense mesh takes seconds.
 class CoarseMeshCache {
