@@ -308,17 +308,17 @@ void OccluderAssistant::take(std::uint64_t generation, Outcome outcome)
     emit suggestionChanged();
 }
 
-void OccluderAssistant::listGaps(std::vector<suggest::ViewGap> gaps)
+void OccluderAssistant::listGaps(std::vector<suggest::Opening> gaps)
 {
     gaps_ = std::move(gaps);
     gapList_->clear();
     if (!viewport_.selectedRays().empty())
         viewport_.setSelectedRays({}, 0, 0);   // they belonged to the openings of an earlier answer
     std::uint64_t all = 0;
-    for (const suggest::ViewGap& gap : gaps_)
+    for (const suggest::Opening& gap : gaps_)
         all += gap.rays;
     for (std::size_t k = 0; k < gaps_.size(); ++k) {
-        const suggest::ViewGap& gap = gaps_[k];
+        const suggest::Opening& gap = gaps_[k];
         const glm::dvec3 size = gap.max - gap.min;
         gapList_->addItem(tr("%1. %2 rays (%3 %), %4 x %5 x %6 m")
                               .arg(k + 1)
@@ -334,7 +334,7 @@ void OccluderAssistant::showGap(std::size_t k)
 {
     if (k >= gaps_.size())
         return;
-    const suggest::ViewGap& gap = gaps_[k];
+    const suggest::Opening& gap = gaps_[k];
     const glm::dvec3 from = document_.project().source.centre();
     const glm::dvec3 along = gap.centre - from;
     if (!(glm::length(along) > 0.0))
@@ -342,7 +342,7 @@ void OccluderAssistant::showGap(std::size_t k)
     const double radius = std::max(0.5, 0.75 * glm::length(gap.max - gap.min));
     controller_.setCamera(lookThrough(from, glm::normalize(along), gap.centre, radius));
     gapList_->setCurrentRow(int(k));
-    // Its rays (a spread of up to kGapRaySample) stand out from the others.
+    // Its rays (a spread of up to kOpeningRaySample) stand out from the others.
     const Project& project = document_.project();
     viewport_.setSelectedRays(gap.raySample, project.source.na * project.source.nb, project.receiver.na * project.receiver.nb);
 }

@@ -52,7 +52,7 @@ public:
     bool addSuggestion(QString* message);
 
     const std::optional<suggest::Suggestion>& suggestion() const { return suggestion_; }
-    const std::vector<suggest::ViewGap>& gaps() const { return gaps_; }
+    const std::vector<suggest::Opening>& gaps() const { return gaps_; }
     /// Looks through opening `k` from the source's centre and selects it in the list.
     void showGap(std::size_t k);
     /// The next (step 1) or previous (-1) opening after the one shown; false when there is none.
@@ -88,7 +88,7 @@ private:
     struct Outcome {
         std::optional<suggest::Suggestion> suggestion;
         std::string error;
-        std::vector<suggest::ViewGap> gaps;
+        std::vector<suggest::Opening> gaps;
         std::string gapsError;
         bool gapsFound = false;
         double ms = 0.0;
@@ -97,7 +97,7 @@ private:
     void requestNow();
     void take(std::uint64_t generation, Outcome outcome);
     void withdraw(const QString& why);
-    void listGaps(std::vector<suggest::ViewGap> gaps);
+    void listGaps(std::vector<suggest::Opening> gaps);
     suggest::Request settings() const;
 
     EditorDocument& document_;
@@ -126,7 +126,7 @@ private:
     std::shared_ptr<const WorldTriangles> gapsTriangles_;
     Patch gapsSource_, gapsReceiver_;
     std::optional<suggest::Suggestion> suggestion_;
-    std::vector<suggest::ViewGap> gaps_;
+    std::vector<suggest::Opening> gaps_;
     std::shared_ptr<const WorldTriangles> triangles_;   ///< the document's, until its geometry changes
     LatestRequestWorker<Job, Outcome> worker_;   // last: its thread calls back into the above
 };

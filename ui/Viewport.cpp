@@ -478,8 +478,10 @@ void Viewport::paintGL()
     frame.style = style_;
     if (style_.pvsDebugger)
         for (const pvs::Gap& gap : pvsGaps_)
-            frame.gapMarkers.push_back({gap.from, gap.to, pvsShownCell_ == std::optional<std::size_t>(gap.cell)});
+            frame.gapMarkers.push_back({gap.from, gap.to, glm::vec3(gap.opening.centre), pvsShownCell_ == std::optional<std::size_t>(gap.cell)});
     frame.gapSelected = pvsGapSelected_;
+    if (style_.pvsDebugger && pvsGapSelected_ >= 0 && std::size_t(pvsGapSelected_) < pvsGaps_.size())
+        frame.gapWitnesses = pvsGaps_[std::size_t(pvsGapSelected_)].witnesses;
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();
     if (renderer_->levelIncomplete())
@@ -846,6 +848,19 @@ QString Viewport::pvsStatus() const
         progress += tr(", cut-off %1 m").arg(pvsCutoff_);
     if (!pvsOverrideError_.isEmpty())
         return tr("PVS %1 · overrides ignored: %2").arg(progress, pvsOverrideError_);
+    if (pvsGapSelected_ >= 0 && std::size_t(pvsGapSelected_) < pvsGaps_.size()) {
+        const pvs::Gap& gap = pvsGaps_[std::size_t(pvsGapSelected_)];
+        progress += tr(" · gap %1 of %2: %3 reference ray(s) from cell %4 reach '%5' through an opening at (%6, %7, %8), clearance %9 m")
+                        .arg(pvsGapSelected_ + 1)
+                        .arg(pvsGaps_.size())
+                        .arg(gap.opening.rays)
+                        .arg(gap.cell)
+                        .arg(gap.object < pvsObjects_.size() ? QString::fromStdString(pvsObjects_[gap.object].name) : QString())
+                        .arg(gap.opening.centre.x, 0, 'f', 2)
+                        .arg(gap.opening.centre.y, 0, 'f', 2)
+                        .arg(gap.opening.centre.z, 0, 'f', 2)
+                        .arg(gap.opening.clearance, 0, 'f', 2);
+    }
     if (!pvsShownCell_)
         return tr("PVS %1 · the camera is in no view cell").arg(progress);
     const bool coarse = !pvsFinished_ && pvsCellCoarse(*pvsShownCell_);
@@ -887,7 +902,7 @@ std::optional<std::size_t> Viewport::pvsGapAt(QPointF position, double radius) c
     std::optional<std::size_t> best;
     double bestDistance = radius;
     for (std::size_t k = 0; k < pvsGaps_.size(); ++k) {
-        const glm::dvec3 p = toPixels(controller_.camera(), glm::dvec3(pvsGaps_[k].to), width(), height());
+        const glm::dvec3 p = toPixels(controller_.camera(), pvsGaps_[k].opening.centre, width(), height());
         if (p.z <= 0.0)
             continue;   // behind the eye
         const double d = std::hypot(p.x - position.x(), p.y - position.y());

@@ -1330,23 +1330,28 @@ void ViewportRenderer::Impl::drawGuides(const FrameState& f, const Patch* overla
             lines.push_back({corners[(k + 1) % 4], outline});
         }
     }
-    // PVS gaps: a cross at the object, the witness ray for the shown cell's gaps (bright for the
-    // selected gap).
+    // PVS gaps: a cross at the opening, a witness ray through it for the shown cell's gaps, and
+    // the selected gap's witnesses (bright for the selected gap).
+    const glm::vec4 witness(kSelectedRayRgb[0] / 255.0f, kSelectedRayRgb[1] / 255.0f, kSelectedRayRgb[2] / 255.0f, 1.0f);
+    for (const auto& [from, to] : f.gapWitnesses) {
+        overlay.push_back({from, glm::vec4(glm::vec3(witness), 0.5f)});
+        overlay.push_back({to, witness});
+    }
     for (std::size_t k = 0; k < f.gapMarkers.size(); ++k) {
-        const bool selected = int(k) == f.gapSelected;
-        const glm::vec4 ray = selected ? glm::vec4(1.0f, 1.0f, 0.85f, 1.0f) : glm::vec4(1.0f, 0.55f, 0.1f, 0.9f);
-        const glm::vec3 from = f.gapMarkers[k].from, to = f.gapMarkers[k].to;
-        if (f.gapMarkers[k].ray || selected) {
-            overlay.push_back({from, glm::vec4(glm::vec3(ray), 0.35f)});
-            overlay.push_back({to, ray});
+        const bool picked = int(k) == f.gapSelected;
+        const glm::vec4 ray = picked ? glm::vec4(1.0f, 1.0f, 0.85f, 1.0f) : glm::vec4(1.0f, 0.55f, 0.1f, 0.9f);
+        const auto& marker = f.gapMarkers[k];
+        if (marker.ray || picked) {
+            overlay.push_back({marker.from, glm::vec4(glm::vec3(ray), 0.35f)});
+            overlay.push_back({marker.to, ray});
         }
         // The cross keeps a steady size on screen: a fraction of the distance to the eye.
-        const float arm = float(0.015 * glm::length(glm::dvec3(to) - f.camera.eye())) * (selected ? 2.0f : 1.0f);
+        const float arm = float(0.015 * glm::length(glm::dvec3(marker.at) - f.camera.eye())) * (picked ? 2.0f : 1.0f);
         for (int axis = 0; axis < 3; ++axis) {
             glm::vec3 reach(0.0f);
             reach[axis] = arm;
-            overlay.push_back({to - reach, ray});
-            overlay.push_back({to + reach, ray});
+            overlay.push_back({marker.at - reach, ray});
+            overlay.push_back({marker.at + reach, ray});
         }
     }
     appendLightMarkers(overlay, f);

@@ -140,16 +140,18 @@ struct FrameState {
     bool cutHandleHovered = false;
     Bounds levelBounds;
     ViewStyle style;
-    /// The PVS debugger's gap list: where the reference saw an object through an
-    /// opening the bake culled it behind. Drawn over everything: a cross where the reference's
-    /// witness ray meets the object, and for the gaps of the shown cell (`ray`) the ray itself,
-    /// from its point in the cell; the selected one brighter and larger.
+    /// The PVS debugger's gap list: the openings through which the reference saw an object the
+    /// bake culls. Drawn over everything: a cross at the opening (`at`), and for the gaps of the
+    /// shown cell (`ray`) a witness ray through it, from its point in the cell to the object; the
+    /// selected one brighter and larger, with its witness rays (`gapWitnesses`) in the colour of
+    /// picked rays.
     struct GapMarker {
-        glm::vec3 from{0.0f}, to{0.0f};
+        glm::vec3 from{0.0f}, to{0.0f}, at{0.0f};
         bool ray = false;
     };
     std::vector<GapMarker> gapMarkers;
     int gapSelected = -1;
+    std::vector<std::pair<glm::vec3, glm::vec3>> gapWitnesses;
     /// The project's lights, drawn over everything as markers in their colour (orange when
     /// selected): a star at a point light, a star and its outer cone at a spot, an arrow from the
     /// sun's anchor (LightObjects.h), an area light's rectangle and normal.

@@ -14,6 +14,7 @@
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
 #include "cli/PvsBakeJob.h"
+#include "cli/SuggestCommand.h"
 #include "demo/PvsLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
@@ -141,7 +142,8 @@ void writeGaps(const std::string& path, const pvs::AccuracyReport& a, const pvs:
     json gaps = json::array();
     for (const pvs::Gap& g : a.gaps)
         gaps.push_back({{"cell", g.cell}, {"object", g.object}, {"name", data.objects[g.object].name},
-                        {"from", {g.from.x, g.from.y, g.from.z}}, {"to", {g.to.x, g.to.y, g.to.z}}});
+                        {"from", {g.from.x, g.from.y, g.from.z}}, {"to", {g.to.x, g.to.y, g.to.z}},
+                        {"opening", openingJson(g.opening)}});
     writeText(path, dumpJson(json{{"gaps", gaps}}) + "\n");
 }
 
@@ -522,7 +524,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     bake->add_flag("--cell-rows", b.cellRows, "Also bake cell-to-cell rows (--quake1 and --quake2 write them)");
     bake->add_flag("--no-refine", b.noRefine, "Coarse pass only");
     bake->add_flag("--check", b.check, "Measure accuracy against the dense reference in the same run");
-    bake->add_option("--gaps", b.gaps, "--check: write the gap list (missed pairs with the reference's witness ray) as JSON")
+    bake->add_option("--gaps", b.gaps, "--check: write the gap list (the openings of each missed pair, with a witness ray through each) as JSON")
         ->check(outputFile());
     bake->add_flag("--print-json", b.printJson, "Print the summary as one JSON object");
     bake->add_flag("--allow-outside-paths", b.allowOutsidePaths,
@@ -546,7 +548,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     check->add_option("--object-points", c.objectPoints, "Points per object")->check(CLI::Range(1, 65536))->capture_default_str();
     check->add_option("--views", c.views, "Panoramas per cell (pixel error)")->check(CLI::Range(0, 4096))->capture_default_str();
     check->add_option("--threads", c.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-    check->add_option("--gaps", c.gaps, "Write the gap list as JSON")->check(outputFile());
+    check->add_option("--gaps", c.gaps, "Write the gap list (the openings of each missed pair, with a witness ray through each) as JSON")->check(outputFile());
     check->add_flag("--print-json", c.printJson, "Print one JSON object");
     check->add_flag("--allow-outside-paths", c.allowOutsidePaths,
                     "Read files the project names by a relative path that leaves its folder");

@@ -202,15 +202,14 @@ int runGaps(const GapsArgs& args)
     options.heights = heights.empty() ? nullptr : &heights;
     const HiddenSampleMap map = CpuBitmaskSampler(scene).sample(project.source, project.receiver, options);
     const auto sampled = std::chrono::steady_clock::now();
-    const std::vector<suggest::ViewGap> gaps = suggest::findViewGaps(worldTriangles(scene), project.source, project.receiver, heights, map);
+    const std::vector<suggest::Opening> gaps = suggest::findViewGaps(worldTriangles(scene), project.source, project.receiver, heights, map);
     const auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
     const double sampleMs = ms(start, sampled), gapsMs = ms(sampled, std::chrono::steady_clock::now());
     const std::uint64_t unblocked = map.rayCount() - map.blockedCount();
     if (args.json) {
         json list = json::array();
-        for (const suggest::ViewGap& gap : gaps)
-            list.push_back({{"rays", gap.rays}, {"centre", pointJson(gap.centre)}, {"min", pointJson(gap.min)},
-                            {"max", pointJson(gap.max)}, {"clearance", gap.clearance}});
+        for (const suggest::Opening& gap : gaps)
+            list.push_back(openingJson(gap));
         std::cout << dumpJson({{"rays", map.rayCount()}, {"unblocked", unblocked}, {"gaps", list}, {"sample_ms", sampleMs},
                                {"gaps_ms", gapsMs}})
                   << "\n";
@@ -219,13 +218,19 @@ int runGaps(const GapsArgs& args)
     std::printf("rays       %llu unblocked of %llu, through %zu openings (sampled %.1f ms, grouped %.1f ms)\n",
                 (unsigned long long)unblocked, (unsigned long long)map.rayCount(), gaps.size(), sampleMs, gapsMs);
     for (std::size_t k = 0; k < gaps.size(); ++k) {
-        const suggest::ViewGap& g = gaps[k];
+        const suggest::Opening& g = gaps[k];
         const glm::dvec3 size = g.max - g.min;
         std::printf("  %2zu  %9llu rays (%5.1f%%)  at [%.2f, %.2f, %.2f]  %.2f x %.2f x %.2f m  clearance %.2f m\n", k + 1,
                     (unsigned long long)g.rays, 100.0 * double(g.rays) / double(unblocked), g.centre.x, g.centre.y, g.centre.z,
                     size.x, size.y, size.z, g.clearance);
     }
     return 0;
+}
+
+json openingJson(const suggest::Opening& opening)
+{
+    return {{"rays", opening.rays}, {"centre", pointJson(opening.centre)}, {"min", pointJson(opening.min)},
+            {"max", pointJson(opening.max)}, {"clearance", opening.clearance}};
 }
 
 } // namespace sightline::cli

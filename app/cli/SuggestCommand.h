@@ -8,6 +8,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "visibility/suggest/Openings.h"
+
 namespace CLI {
 class App;
 }
@@ -39,5 +43,8 @@ struct GapsArgs {
 };
 CLI::App* addGapsCommand(CLI::App& app, GapsArgs& args);
 int runGaps(const GapsArgs& args);
+
+/// An opening as `gaps --json` and `pvs check --gaps` write it: rays, centre, min, max, clearance.
+nlohmann::json openingJson(const suggest::Opening& opening);
 
 } // namespace sightline::cli

@@ -424,7 +424,16 @@ TEST_F(PvsCli, EngineFormatsAndCheckAreWritten)
     const auto report = nlohmann::json::parse(check.out);
     EXPECT_EQ(report["reference_cells"], 8);
     EXPECT_LE(report["missed_pairs"].get<int>(), report["reference_visible_pairs"].get<int>());
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir / "gaps.json"))["gaps"].size(), report["gaps"].get<std::size_t>());
+    const nlohmann::json gaps = nlohmann::json::parse(slurp(dir / "gaps.json"))["gaps"];
+    EXPECT_EQ(gaps.size(), report["gaps"].get<std::size_t>());
+    EXPECT_GE(gaps.size(), report["missed_pairs"].get<std::size_t>());   // each missed pair: one opening or more
+    for (const nlohmann::json& gap : gaps) {
+        EXPECT_GE(gap["opening"]["rays"].get<int>(), 1);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_LE(gap["opening"]["min"][k].get<double>(), gap["opening"]["centre"][k].get<double>() + 1e-9);
+            EXPECT_GE(gap["opening"]["max"][k].get<double>(), gap["opening"]["centre"][k].get<double>() - 1e-9);
+        }
+    }
     // A .pvs checked against another scene's project is refused.
     ASSERT_EQ(runCli("pvs level " + (dir / "other").string() + " --rooms 2 --objects 24 --seed 3").code, 0);
     expectOneLineError(runCli("pvs check " + (dir / "other" / "pvs_level.json").string() + " " + out.string()),

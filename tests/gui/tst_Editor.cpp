@@ -2539,14 +2539,15 @@ private slots:
         const bool rays = viewport.style().showRays;
         viewport.style().showRays = false;
         Camera above;
-        above.target = glm::dvec3(gaps[0].to);
+        above.target = gaps[0].opening.centre;
         above.distance = 6.0;
         above.pitch = -0.7;
         controller.setCamera(above);
         waitForUpdate();
-        const glm::dvec3 px = toPixels(controller.camera(), glm::dvec3(gaps[0].to), viewport.width(), viewport.height());
+        const glm::dvec3 px = toPixels(controller.camera(), gaps[0].opening.centre, viewport.width(), viewport.height());
         const std::optional<std::size_t> picked = viewport.pvsGapAt(QPointF(px.x, px.y));
         QVERIFY(picked);
+        QCOMPARE(selectedRayPixels(viewport.grabFramebuffer()), 0);   // no gap selected: no witnesses drawn
         saveWindowShot("pvs-gap-markers");
         QTest::mouseClick(&viewport, Qt::LeftButton, {}, QPoint(int(std::lround(px.x)), int(std::lround(px.y))));
         QTRY_COMPARE(viewport.pvsGapSelected(), int(*picked));
@@ -2554,6 +2555,15 @@ private slots:
         QVERIFY(glm::length(controller.camera().eye() - glm::dvec3(gap.from)) < 1e-3);
         QTRY_VERIFY(viewport.pvsCell() == std::optional<std::size_t>(gap.cell));
         QVERIFY(!viewport.pvsShown().visible(gap.cell, gap.object));   // the culled object, tinted ahead
+        // The status names the gap: its object, its cell and the reference rays through its opening.
+        QVERIFY2(viewport.pvsStatus().contains(QString("gap %1 of %2").arg(*picked + 1).arg(gaps.size())) &&
+                     viewport.pvsStatus().contains(QString::fromStdString(viewport.pvsObjects()[gap.object].name)),
+                 qPrintable(viewport.pvsStatus()));
+        // Its witness rays through the opening, in the colour of picked rays.
+        QVERIFY(!gap.witnesses.empty());
+        waitForFrame();
+        const int witnessPixels = selectedRayPixels(viewport.grabFramebuffer());
+        QVERIFY2(witnessPixels > 20, qPrintable(QString("%1 pixels of the gap's witness rays").arg(witnessPixels)));
         QTest::qWait(200);
         saveWindowShot("pvs-gap-framed");
         window_->findChild<QAction*>("pvsNextGap")->trigger();
@@ -2860,7 +2870,7 @@ private slots:
         QTRY_VERIFY_WITH_TIMEOUT(assistant.gapList()->count() > 0, 10000);
         QCOMPARE(std::size_t(assistant.gapList()->count()), assistant.gaps().size());
         std::uint64_t throughGaps = 0;
-        for (const suggest::ViewGap& gap : assistant.gaps())
+        for (const suggest::Opening& gap : assistant.gaps())
             throughGaps += gap.rays;
         QCOMPARE(throughGaps, unblocked);
         QTest::keyClick(window_.get(), Qt::Key_N);
@@ -2870,17 +2880,7 @@ private slots:
         QCOMPARE(viewport.selectedRays(), assistant.gaps()[0].raySample);
         QVERIFY(!viewport.selectedRays().empty());
         waitForFrame();
-        const auto countSelected = [&] {
-            const QImage frame = viewport.grabFramebuffer();
-            int n = 0;
-            for (int y = 0; y < frame.height(); ++y)
-                for (int x = 0; x < frame.width(); ++x) {
-                    const QRgb c = frame.pixel(x, y);
-                    n += std::abs(qRed(c) - kSelectedRayRgb[0]) + std::abs(qGreen(c) - kSelectedRayRgb[1]) +
-                             std::abs(qBlue(c) - kSelectedRayRgb[2]) < 60;
-                }
-            return n;
-        };
+        const auto countSelected = [&] { return selectedRayPixels(viewport.grabFramebuffer()); };
         const int selectedPixels = countSelected();
         QVERIFY2(selectedPixels > 100, qPrintable(QString("%1 pixels of the selected rays").arg(selectedPixels)));
         saveWindowShot("suggest-gap");
@@ -2958,7 +2958,7 @@ private slots:
 
         // A pixel of the wall around the opening (its thinnest side is across the wall): near the
         // opening's own plane, facing along that side.
-        const suggest::ViewGap gap = assistant.gaps()[0];
+        const suggest::Opening gap = assistant.gaps()[0];
         const glm::dvec3 size = gap.max - gap.min;
         const int across = size.x <= size.y && size.x <= size.z ? 0 : size.y <= size.z ? 1 : 2;
         const QPoint centre = pixelOf(controller, gap.centre);
@@ -3295,6 +3295,19 @@ private slots:
     }
 
 private:
+    /// Pixels of `frame` in the colour of picked rays (kSelectedRayRgb, give or take blending).
+    static int selectedRayPixels(const QImage& frame)
+    {
+        int n = 0;
+        for (int y = 0; y < frame.height(); ++y)
+            for (int x = 0; x < frame.width(); ++x) {
+                const QRgb c = frame.pixel(x, y);
+                n += std::abs(qRed(c) - kSelectedRayRgb[0]) + std::abs(qGreen(c) - kSelectedRayRgb[1]) +
+                         std::abs(qBlue(c) - kSelectedRayRgb[2]) < 60;
+            }
+        return n;
+    }
+
     /// Adds a 0.6 m box 2 m along z from `inShaft`, selected, with the move gizmo; returns the
     /// point on the gizmo's z handle to grab for dragging it back along z.
     glm::dvec3 addBoxBeside(const glm::dvec3& inShaft, const std::string& name)

@@ -1,4 +1,4 @@
-// The openings a view leaks through (visibility/suggest/ViewGaps.h) on scenes whose openings are
+// The openings a view or a PVS pair leaks through (visibility/suggest/Openings.h) on scenes whose openings are
 // known: a wall with two doors of known widths, a window above a low wall, and the distance grid
 // under them against exact distances to a plane.
 #include <gtest/gtest.h>
@@ -7,6 +7,7 @@
 #include "visibility/CpuBitmaskSampler.h"
 #include "visibility/suggest/DistanceGrid.h"
 #include "visibility/suggest/ViewGaps.h"
+#include "visibility/pvs/PvsReference.h"
 
 using namespace sightline;
 using namespace sightline::test;
@@ -59,14 +60,14 @@ TEST(ViewGaps, TwoDoorsOfKnownWidthsAreTwoGroupsLargestFirst)
     const HiddenSampleMap map = CpuBitmaskSampler(wall).sample(source, receiver);
     const std::uint64_t unblocked = map.rayCount() - map.blockedCount();
     ASSERT_GT(unblocked, 1000u);
-    const std::vector<suggest::ViewGap> gaps = suggest::findViewGaps(worldTriangles(wall), source, receiver, {}, map);
+    const std::vector<suggest::Opening> gaps = suggest::findViewGaps(worldTriangles(wall), source, receiver, {}, map);
     ASSERT_EQ(gaps.size(), 2u);
     EXPECT_EQ(gaps[0].rays + gaps[1].rays, unblocked);
     EXPECT_GT(gaps[0].rays, gaps[1].rays);
     const double slack = 0.1;   // about two voxels of the 6 m box
     const std::array<std::pair<double, double>, 2> doors{{{-2.0, -1.0}, {1.0, 1.5}}};
     for (std::size_t k = 0; k < 2; ++k) {
-        const suggest::ViewGap& gap = gaps[k];
+        const suggest::Opening& gap = gaps[k];
         EXPECT_NEAR(gap.centre.z, 2.0, slack) << k;
         EXPECT_GE(gap.min.x, doors[k].first - slack) << k;
         EXPECT_LE(gap.max.x, doors[k].second + slack) << k;
@@ -85,7 +86,7 @@ TEST(ViewGaps, AWindowAboveALowWallAndAClosedViewHasNone)
     const Scene window = wallWithOpenings({{-1.0f, 0.5f, 0.9f, 1.6f}});
     const Patch source = patchAt(0.0), receiver = patchAt(4.0);
     const HiddenSampleMap map = CpuBitmaskSampler(window).sample(source, receiver);
-    const std::vector<suggest::ViewGap> gaps = suggest::findViewGaps(worldTriangles(window), source, receiver, {}, map);
+    const std::vector<suggest::Opening> gaps = suggest::findViewGaps(worldTriangles(window), source, receiver, {}, map);
     ASSERT_EQ(gaps.size(), 1u);
     EXPECT_NEAR(gaps[0].centre.z, 2.0, 0.1);
     EXPECT_GT(gaps[0].min.y, 0.8);
@@ -94,4 +95,56 @@ TEST(ViewGaps, AWindowAboveALowWallAndAClosedViewHasNone)
     const Scene closed = wallWithOpenings({});
     const HiddenSampleMap none = CpuBitmaskSampler(closed).sample(source, receiver);
     EXPECT_TRUE(suggest::findViewGaps(worldTriangles(closed), source, receiver, {}, none).empty());
+}
+
+// The PVS reference's gaps are openings by the same mechanism: from a cell in front of the wall
+// with two doors, a target behind it that an (empty) PVS culls is seen through both doors, and
+// every witness of each gap passes through that gap's door.
+TEST(PvsGaps, AMissedPairIsGroupedIntoTheDoorsItIsSeenThrough)
+{
+    Scene scene = wallWithOpenings({{-2.0f, -1.0f, 0.0f, 2.0f}, {1.0f, 1.5f, 0.0f, 2.0f}});
+    const Scene target = sceneOf({quad({-3.0f, 0.0f, 4.0f}, {6.0f, 0.0f, 0.0f}, {0.0f, 3.0f, 0.0f}, "target")});
+    scene.meshes.push_back(target.meshes[0]);
+    Instance instance = target.instances[0];
+    instance.mesh = std::uint32_t(scene.meshes.size() - 1);
+    scene.instances.push_back(instance);
+
+    pvs::PvsData pvs;
+    pvs.sceneSha256 = std::string(64, 'a');
+    pvs.cells = {Bounds{{-1.0f, 0.5f, 0.3f}, {1.0f, 1.5f, 0.8f}}};
+    pvs::PvsObject object;
+    object.name = "target";
+    object.instance = std::uint32_t(scene.instances.size() - 1);
+    object.instances = {object.instance};
+    object.bounds = Bounds{{-3.0f, 0.0f, 4.0f}, {3.0f, 3.0f, 4.0f}};
+    pvs.objects = {object};
+    pvs.rows = pvs::VisibilityRows(1, 1);   // everything culled
+
+    const pvs::AccuracyReport report = pvs::measureAccuracy(scene, pvs, {});
+    ASSERT_EQ(report.missed, 1u);
+    ASSERT_EQ(report.gaps.size(), 2u);
+    EXPECT_GE(report.gaps[0].opening.rays, report.gaps[1].opening.rays);
+    const std::array<std::pair<double, double>, 2> doors{{{-2.0, -1.0}, {1.0, 1.5}}};
+    for (std::size_t k = 0; k < 2; ++k) {
+        const pvs::Gap& gap = report.gaps[k];
+        EXPECT_EQ(gap.cell, 0u);
+        EXPECT_EQ(gap.object, 0u);
+        EXPECT_NEAR(gap.opening.centre.z, 2.0, 0.2) << k;
+        EXPECT_GT(gap.opening.centre.x, doors[k].first) << k;
+        EXPECT_LT(gap.opening.centre.x, doors[k].second) << k;
+        ASSERT_FALSE(gap.witnesses.empty());
+        EXPECT_LE(gap.witnesses.size(), std::min<std::size_t>(pvs::kGapWitnessSample, gap.opening.rays));
+        auto throughDoor = [&](glm::vec3 from, glm::vec3 to) {
+            const float t = (2.0f - from.z) / (to.z - from.z);
+            const float x = from.x + t * (to.x - from.x);
+            return x >= doors[k].first - 1e-3 && x <= doors[k].second + 1e-3;
+        };
+        EXPECT_TRUE(throughDoor(gap.from, gap.to)) << k;
+        EXPECT_NEAR(gap.to.z, 4.0f, 1e-3f);
+        for (const auto& [from, to] : gap.witnesses) {
+            EXPECT_TRUE(throughDoor(from, to)) << k;
+            EXPECT_GE(from.z, 0.3f);
+            EXPECT_LE(from.z, 0.8f);
+        }
+    }
 }

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
+
+#include <glm/geometric.hpp>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -19,6 +22,63 @@ struct CellResult {
     std::uint64_t referenceVisible = 0, bakedVisible = 0, missed = 0, extra = 0, pixels = 0, wrongPixels = 0, rays = 0;
     std::vector<Gap> gaps;
 };
+
+double soupArea(const std::vector<glm::vec3>& soup)
+{
+    double area = 0.0;
+    for (std::size_t t = 0; t + 2 < soup.size(); t += 3)
+        area += 0.5 * glm::length(glm::cross(glm::dvec3(soup[t + 1] - soup[t]), glm::dvec3(soup[t + 2] - soup[t])));
+    return area;
+}
+
+/// The gaps of a missed pair: every reference ray from the cell's points that reaches the object,
+/// grouped into the openings they pass through among the other objects' triangles. `spacing`: how far apart neighbouring rays'
+/// ends lie (stratified points: about a stratum and a half).
+std::vector<Gap> missedPairGaps(const WorldTriangles& world, const FirstHitCaster& caster, const std::vector<std::int32_t>& objectOf,
+                                std::uint32_t cell, std::uint32_t object, const std::vector<glm::vec3>& from,
+                                const std::vector<glm::vec3>& targets, double spacing, std::uint64_t& rays)
+{
+    std::vector<suggest::OpeningRay> witnesses;
+    for (std::size_t q = 0; q < targets.size(); ++q)
+        for (std::size_t p = 0; p < from.size(); ++p) {
+            ++rays;
+            const RayHit hit = caster.cast(from[p], targets[q] - from[p], 1.0f + 1e-3f);
+            if (hit.instance >= 0 && objectOf[std::size_t(hit.instance)] == std::int32_t(object))
+                witnesses.push_back({glm::dvec3(from[p]), glm::dvec3(from[p] + hit.t * (targets[q] - from[p])), witnesses.size()});
+        }
+    // The openings are shaped by what stands between: the object's own surface, where every
+    // witness ends, is left out.
+    WorldTriangles blockers;
+    for (std::size_t t = 0; t < world.size(); ++t)
+        if (objectOf[world.instanceOf[t]] != std::int32_t(object)) {
+            blockers.vertices.insert(blockers.vertices.end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
+            blockers.instanceOf.push_back(world.instanceOf[t]);
+        }
+    std::vector<Gap> gaps;
+    for (suggest::Opening& opening : suggest::groupOpenings(blockers, witnesses, spacing)) {
+        Gap gap{cell, object, {}, {}, {}, {}};
+        double closest = std::numeric_limits<double>::infinity();
+        for (std::uint64_t id : opening.raySample) {
+            const suggest::OpeningRay& ray = witnesses[std::size_t(id)];
+            if (gap.witnesses.size() < kGapWitnessSample)
+                gap.witnesses.emplace_back(glm::vec3(ray.from), glm::vec3(ray.to));
+            // The representative: the witness passing nearest the opening's centre.
+            const glm::dvec3 d = ray.to - ray.from;
+            const double t = std::clamp(glm::dot(opening.centre - ray.from, d) / std::max(glm::dot(d, d), 1e-24), 0.0, 1.0);
+            const double miss = glm::length(ray.from + t * d - opening.centre);
+            if (miss < closest) {
+                closest = miss;
+                gap.from = glm::vec3(ray.from);
+                gap.to = glm::vec3(ray.to);
+            }
+        }
+        opening.raySample.clear();
+        gap.opening = std::move(opening);
+        gaps.push_back(std::move(gap));
+    }
+    return gaps;
+}
+
 } // namespace
 
 AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const ReferenceSettings& settings)
@@ -52,8 +112,11 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
         if (o >= 0)
             soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
     }
-    for (std::size_t o = 0; o < objectCount; ++o)
+    std::vector<double> objectSpacing(objectCount);
+    for (std::size_t o = 0; o < objectCount; ++o) {
         targets[o] = surfacePoints(soup[o], settings.objectPoints, mixSeed(seed ^ 0x726566ull, o));
+        objectSpacing[o] = 1.5 * std::sqrt(soupArea(soup[o]) / double(std::max(settings.objectPoints, 1)));
+    }
     const FirstHitCaster caster(scene);
 
     std::vector<CellResult> results(order.size());
@@ -64,18 +127,18 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
             const std::uint32_t c = order[k];
             CellResult& r = results[k];
             const std::vector<glm::vec3> from = boxPoints(pvs.cells[c], settings.cellPoints, mixSeed(seed, c));
+            const double cellSpacing = 1.5 * glm::length(glm::dvec3(pvs.cells[c].max - pvs.cells[c].min)) /
+                                       std::cbrt(double(std::max(settings.cellPoints, 1)));
             for (std::size_t o = 0; o < objectCount; ++o) {
                 if (settings.cancel && settings.cancel->load())
                     return;
                 bool seen = false;
-                Gap witness;
                 for (std::size_t q = 0; q < targets[o].size() && !seen; ++q)
                     for (const glm::vec3& p : from) {
                         ++r.rays;
                         const RayHit hit = caster.cast(p, targets[o][q] - p, 1.0f + 1e-3f);
                         if (hit.instance >= 0 && objectOf[std::size_t(hit.instance)] == std::int32_t(o)) {
                             seen = true;
-                            witness = {c, std::uint32_t(o), p, p + hit.t * (targets[o][q] - p)};
                             break;
                         }
                     }
@@ -84,7 +147,9 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
                 r.bakedVisible += kept;
                 if (seen && !kept) {
                     ++r.missed;
-                    r.gaps.push_back(witness);
+                    const double spacing = std::max(cellSpacing, objectSpacing[o]);
+                    for (Gap& gap : missedPairGaps(world, caster, objectOf, c, std::uint32_t(o), from, targets[o], spacing, r.rays))
+                        r.gaps.push_back(std::move(gap));
                 }
                 if (kept && !seen)
                     ++r.extra;

@@ -13,14 +13,16 @@
 //    the object it shows is culled by the cell's row; rate = wrong pixels / all pixels;
 //  - PVS size: the bake's visible pairs over the reference's, in those cells (>= 1 can be the
 //    bake's conservative boxes or the reference's own sampling misses);
-//  - gap list: each missed pair with the reference's witness ray (from a point of the cell to a
-//    point of the object): an opening the bake's samples stepped over.
+//  - gap list: for each missed pair, every witness ray of the reference (from a point of the cell
+//    to where it meets the object) grouped into the openings they pass through, by the same
+//    mechanism as a view's openings (suggest/Openings.h): one gap per opening the bake stepped over.
 
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
 #include "visibility/Scene.h"
+#include "visibility/suggest/Openings.h"
 #include "visibility/pvs/PvsData.h"
 
 namespace sightline::pvs {
@@ -38,9 +40,16 @@ struct ReferenceSettings {
     const std::atomic<bool>* cancel = nullptr;
 };
 
+/// The witness rays kept per gap for drawing.
+inline constexpr std::size_t kGapWitnessSample = 64;
+
 struct Gap {
     std::uint32_t cell = 0, object = 0;
-    glm::vec3 from{0.0f}, to{0.0f};   ///< the reference's witness: a point of the cell, where it meets the object
+    glm::vec3 from{0.0f}, to{0.0f};   ///< the witness passing closest to the opening's centre: a point of the cell, where it meets the object
+    /// Where the pair's witnesses pass (rays: how many of the reference's rays from the cell to the
+    /// object pass through it; raySample is left empty, the rays are in `witnesses`).
+    suggest::Opening opening;
+    std::vector<std::pair<glm::vec3, glm::vec3>> witnesses;   ///< up to kGapWitnessSample of its witness rays
 };
 
 struct AccuracyReport {
