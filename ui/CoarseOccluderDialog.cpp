@@ -5,7 +5,9 @@
 
 #include <QComboBox>
 #include <QDialogButtonBox>
+#include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QHBoxLayout>
 #include <QLabel>
 #include <QLocale>
 #include <QPushButton>
@@ -97,8 +99,29 @@ CoarseOccluderDialog::CoarseOccluderDialog(const QString& objectName, std::size_
     chartView_->hide();
     form->addRow(chartView_);
     connect(measure_, &QPushButton::clicked, this, [this] { startMeasuring(); });
+
+    auto* fitRow = new QHBoxLayout;
+    tolerance_ = new QDoubleSpinBox(this);
+    tolerance_->setObjectName("coarseTolerance");
+    tolerance_->setRange(0.0, 100.0);
+    tolerance_->setDecimals(3);
+    tolerance_->setSingleStep(0.05);
+    tolerance_->setValue(0.1);
+    tolerance_->setSuffix(tr(" % of the rays"));
+    tolerance_->setToolTip(tr("The share of the pair's rays the stand-in may answer differently from the full mesh"));
+    fit_ = new QPushButton(tr("Fewest Triangles"), this);
+    fit_->setObjectName("coarseFit");
+    fit_->setToolTip(tr("Find the fewest triangles whose stand-in stays within the share, each count checked by the "
+                        "exact sampler on the current pair"));
+    fitRow->addWidget(tolerance_);
+    fitRow->addWidget(fit_);
+    form->addRow(tr("Within"), fitRow);
+    fitStatus_ = new QLabel(this);
+    fitStatus_->setWordWrap(true);
+    form->addRow(fitStatus_);
+    connect(fit_, &QPushButton::clicked, this, [this] { startFitting(); });
     if (triangles <= 8 || !input_.scene)
-        measure_->setEnabled(false);
+        setBusy(true);   // nothing to measure
 
     auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, this);
     connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
@@ -114,7 +137,7 @@ void CoarseOccluderDialog::showKind()
     resolution_->setEnabled(kind == Inner);
     explanation_->setText(kind == FullMesh ? tr("Every triangle of the object blocks rays, as in the file.")
                           : kind == Closest
-                              ? tr("OpenMesh's decimater (quadric error): may block a few rays the mesh lets through and "
+                              ? tr("OpenMesh's decimater (quadric error), fitted back onto the surface: may block a few rays the mesh lets through and "
                                    "the reverse. View > Disagreement With Exact shows which.")
                               : tr("Faces around a region strictly inside the mesh: the view can only become more "
                                    "visible, never less (safe for culling)."));
@@ -130,6 +153,56 @@ void CoarseOccluderDialog::stopMeasuring()
     cancel_ = false;
 }
 
+void CoarseOccluderDialog::setBusy(bool busy)
+{
+    measure_->setEnabled(!busy);
+    fit_->setEnabled(!busy);
+}
+
+void CoarseOccluderDialog::startFitting()
+{
+    stopMeasuring();
+    CoarseToleranceRequest request;
+    request.tolerance = tolerance_->value() / 100.0;
+    request.instance = input_.instance;
+    request.cancel = &cancel_;
+    setBusy(true);
+    fitStatus_->setText(tr("Finding the fewest triangles within %1% of the rays...").arg(tolerance_->value()));
+    worker_ = std::thread([this, request, input = input_] {
+        QString error;
+        std::optional<CoarseToleranceFit> fit;
+        try {
+            fit = fitCoarseToTolerance(*input.scene, input.source, input.receiver, input.heights.get(), request);
+        } catch (const std::exception& e) {
+            error = QString::fromStdString(e.what());
+        }
+        QMetaObject::invokeMethod(this, [this, fit, error] { showFit(fit, error); }, Qt::QueuedConnection);
+    });
+}
+
+void CoarseOccluderDialog::showFit(const std::optional<CoarseToleranceFit>& fit, const QString& error)
+{
+    if (worker_.joinable())
+        worker_.join();
+    setBusy(false);
+    fitResult_ = fit;
+    if (!error.isEmpty())
+        fitStatus_->setText(tr("Cannot search: %1").arg(error));
+    else if (!fit->chosen)
+        fitStatus_->setText(tr("Only the full mesh stays within %1% of the rays (%2 counts tried).")
+                                .arg(tolerance_->value())
+                                .arg(fit->tried.points.size()));
+    else {
+        kind_->setCurrentIndex(Closest);
+        triangles_->setValue(int(std::min<std::size_t>(fit->chosen->asked, 100'000'000)));
+        fitStatus_->setText(tr("%1 triangles: %2% of the rays differ (%3 counts tried).")
+                                .arg(QLocale().toString(qulonglong(fit->chosen->asked)))
+                                .arg(100.0 * double(fit->chosen->disagreeing()) / double(std::max<std::uint64_t>(fit->tried.rays, 1)), 0, 'f', 3)
+                                .arg(fit->tried.points.size()));
+    }
+    emit fitted();
+}
+
 void CoarseOccluderDialog::startMeasuring()
 {
     stopMeasuring();
@@ -137,7 +210,7 @@ void CoarseOccluderDialog::startMeasuring()
     request.counts = defaultSweepCounts(triangleCount_);
     request.instance = input_.instance;
     request.repeat = 1;   // a chart to choose by; `sightline-cli coarse --sweep` times medians
-    measure_->setEnabled(false);
+    setBusy(true);
     measureStatus_->setText(tr("Measuring %1 triangle counts...").arg(request.counts.size()));
     // The worker posts each point to this dialog; posts to a closed dialog are dropped with it,
     // and closing waits for the sampling under way (cancel_ stops the next).
@@ -161,14 +234,14 @@ void CoarseOccluderDialog::showSweep(const CoarseSweep& sweep, bool finished, co
 {
     if (!error.isEmpty()) {
         measureStatus_->setText(tr("Cannot measure: %1").arg(error));
-        measure_->setEnabled(true);
+        setBusy(false);
         emit measured(true);
         return;
     }
     if (finished) {
         if (worker_.joinable())
             worker_.join();
-        measure_->setEnabled(true);
+        setBusy(false);
     }
     if (sweep.points.empty())
         return;

@@ -4,7 +4,8 @@
 // count, or the conservative inner occluder of a closed mesh. The object is still drawn, lit and
 // baked from its full mesh. Measure charts, for the current pair, what each triangle count costs
 // and saves (project/CoarseSweep.h on a worker thread, report/CoarseChart.h); a click on a point
-// takes its count.
+// takes its count. Fewest Triangles finds, on the worker, the fewest triangles whose stand-in
+// answers at most the given share of the pair's rays differently (fitCoarseToTolerance).
 
 #include <atomic>
 #include <cstddef>
@@ -19,6 +20,7 @@
 
 class QChartView;
 class QComboBox;
+class QDoubleSpinBox;
 class QLabel;
 class QPushButton;
 class QSpinBox;
@@ -50,6 +52,10 @@ public:
     QSpinBox* trianglesField() const { return triangles_; }
     QSpinBox* resolutionField() const { return resolution_; }
     QPushButton* measureButton() const { return measure_; }
+    QDoubleSpinBox* toleranceField() const { return tolerance_; }
+    QPushButton* fitButton() const { return fit_; }
+    /// The last Fewest Triangles search (none before one ends).
+    const std::optional<CoarseToleranceFit>& toleranceFit() const { return fitResult_; }
     QChartView* chartView() const { return chartView_; }
     /// The sweep measured so far (empty before Measure).
     const CoarseSweep& sweep() const { return sweep_; }
@@ -59,12 +65,17 @@ public:
 signals:
     /// A point of the sweep arrived (`finished`: the last).
     void measured(bool finished);
+    /// A Fewest Triangles search ended.
+    void fitted();
 
 private:
     void showKind();
     void startMeasuring();
     void showSweep(const CoarseSweep& sweep, bool finished, const QString& error);
     void stopMeasuring();
+    void startFitting();
+    void showFit(const std::optional<CoarseToleranceFit>& fit, const QString& error);
+    void setBusy(bool busy);
 
     QComboBox* kind_ = nullptr;
     QSpinBox* triangles_ = nullptr;
@@ -72,6 +83,10 @@ private:
     QLabel* explanation_ = nullptr;
     QPushButton* measure_ = nullptr;
     QLabel* measureStatus_ = nullptr;
+    QDoubleSpinBox* tolerance_ = nullptr;
+    QPushButton* fit_ = nullptr;
+    QLabel* fitStatus_ = nullptr;
+    std::optional<CoarseToleranceFit> fitResult_;
     QChartView* chartView_ = nullptr;
     CoarseMeasureInput input_;
     std::size_t triangleCount_ = 0;

@@ -118,7 +118,8 @@ int runSweep(const CoarseArgs& args, const Project& project, const Scene& origin
     return 0;
 }
 
-int runOnce(const CoarseArgs& args, const Project& project, const Scene& original, const ReceiverHeights& heights)
+int runOnce(const CoarseArgs& args, const Project& project, const Scene& original, const ReceiverHeights& heights,
+            const CoarseToleranceFit* fit = nullptr)
 {
     CoarseOccluder spec;
     spec.kind = args.kind == "inner" ? CoarseKind::Inner : CoarseKind::Closest;
@@ -160,6 +161,14 @@ int runOnce(const CoarseArgs& args, const Project& project, const Scene& origina
                     {"speedup", originalMs / std::max(p.ms, 1e-9)}};
         if (!args.write.empty())
             out["written"] = args.write;
+        if (fit) {
+            json tried = json::array();
+            for (const CoarseSweepPoint& p : fit->tried.points)
+                tried.push_back({{"asked", p.asked}, {"false_blocked", p.falseBlocked}, {"false_free", p.falseFree}});
+            out["tolerance"] = args.tolerance;
+            out["triangles"] = args.triangles;
+            out["tried"] = std::move(tried);
+        }
         std::cout << dumpJson(out) << "\n";
         return 0;
     }
@@ -173,6 +182,34 @@ int runOnce(const CoarseArgs& args, const Project& project, const Scene& origina
     if (!args.write.empty())
         std::printf("wrote      %s (the stand-ins in coarse_occluders)\n", args.write.c_str());
     return 0;
+}
+
+/// --tolerance: the fewest triangles within it (the bisection's steps listed), then as one run at
+/// that count, timed and written like --triangles.
+int runTolerance(const CoarseArgs& args, const Project& project, const Scene& original, const ReceiverHeights& heights)
+{
+    CoarseToleranceRequest request;
+    request.tolerance = args.tolerance;
+    request.threads = args.threads;
+    const CoarseToleranceFit fit =
+        fitCoarseToTolerance(original, project.source, project.receiver, heights.empty() ? nullptr : &heights, request);
+    if (!fit.chosen) {
+        const auto best = std::min_element(fit.tried.points.begin(), fit.tried.points.end(),
+                                           [](const auto& a, const auto& b) { return a.disagreeing() < b.disagreeing(); });
+        throw Error("--tolerance " + std::to_string(args.tolerance) + ": only the full meshes answer so few rays differently (the "
+                    "closest tried, " + std::to_string(best->asked) + " triangles, differs on " +
+                    std::to_string(best->disagreeing()) + " of " + std::to_string(fit.tried.rays) + " rays); loosen it");
+    }
+    if (!args.json) {
+        std::printf("tolerance  %.4f%% of %llu rays: %zu counts tried\n", 100.0 * args.tolerance,
+                    (unsigned long long)fit.tried.rays, fit.tried.points.size());
+        for (const CoarseSweepPoint& p : fit.tried.points)
+            std::printf("  %9zu triangles a mesh: %8.4f%% differ%s\n", p.asked, 100.0 * double(p.disagreeing()) / double(fit.tried.rays),
+                        p.asked == fit.chosen->asked ? "  <- kept" : "");
+    }
+    CoarseArgs once = args;
+    once.triangles = int(fit.chosen->asked);
+    return runOnce(once, project, original, heights, &fit);
 }
 
 } // namespace
@@ -199,6 +236,12 @@ CLI::App* addCoarseCommand(CLI::App& app, CoarseArgs& args)
     command->add_option("--sweep", args.sweep,
                         "Measure several triangle counts in one run (closest kind): e.g. 500,1000,2000, or auto (halving "
                         "from half the largest mesh)");
+    command->add_option("--tolerance", args.tolerance,
+                        "closest: the fewest triangles a mesh whose level answers at most this fraction of the pair's rays "
+                        "differently (e.g. 0.001), found by bisection and checked by the exact sampler")
+        ->check(CLI::Range(0.0, 1.0))
+        ->excludes("--sweep")
+        ->excludes("--triangles");
     command->add_option("--chart", args.chart, "With --sweep: a PNG chart of rays answered differently and sampling time "
                                                "against triangles")
         ->check(outputFile());
@@ -224,6 +267,11 @@ int runCoarse(const CoarseArgs& args)
     checkOutputs({{"--write", args.write}, {"--chart", args.chart}}, projectInputs(args.project, project));
     const ReceiverHeights heights = validatedPairHeights(project);
     const Scene original = buildScene(project);   // the full meshes, whatever stand-ins the project keeps
+    if (args.tolerance >= 0.0) {
+        if (args.kind == "inner")
+            throw Error("--tolerance picks the closest kind's triangle count; the inner kind has none (drop --kind inner)");
+        return runTolerance(args, project, original, heights);
+    }
     return args.sweep.empty() ? runOnce(args, project, original, heights) : runSweep(args, project, original, heights);
 }
 

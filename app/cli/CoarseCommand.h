@@ -4,7 +4,8 @@
 // plugins/MeshSimplification.h) or the conservative (visibility/InnerOccluder.h), and the
 // project's pair is sampled exactly with each: the triangles, the sampling times side by side and
 // the rays the coarse level answers differently, each way. `--sweep` measures several triangle
-// counts in one run (project/CoarseSweep.h) and `--chart` draws them; `--write` keeps the stand-ins
+// counts in one run (project/CoarseSweep.h) and `--chart` draws them; `--tolerance` finds the fewest
+// triangles that answer at most a fraction of the rays differently; `--write` keeps the stand-ins
 // in a copy of the project ("coarse_occluders", project/CoarseOccluders.h).
 
 #include <string>
@@ -23,6 +24,7 @@ struct CoarseArgs {
     int repeat = 3;
     int threads = 0;
     std::string sweep;        ///< comma-separated triangle counts, or "auto"; empty: one run
+    double tolerance = -1.0;  ///< a fraction of the rays: the fewest triangles within it (negative: not given)
     std::string chart;        ///< PNG of the sweep
     std::string write;        ///< a copy of the project with the stand-ins kept
     bool json = false;

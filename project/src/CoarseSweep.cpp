@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <cmath>
 
 #include "project/CoarseOccluders.h"
 #include "visibility/CpuBitmaskSampler.h"
@@ -109,6 +110,64 @@ CoarseSweep sweepCoarseOccluders(const Scene& scene, const Patch& source, const 
             break;
     }
     return sweep;
+}
+
+CoarseToleranceFit fitCoarseToTolerance(const Scene& scene, const Patch& source, const Patch& receiver,
+                                        const ReceiverHeights* heights, const CoarseToleranceRequest& request)
+{
+    validatePatchPair(source, receiver);
+    if (!(request.tolerance >= 0.0 && request.tolerance <= 1.0))
+        throw Error("the tolerance is a fraction of the rays in [0, 1], got " + std::to_string(request.tolerance));
+    if (request.instance && *request.instance >= scene.instances.size())
+        throw Error("object " + std::to_string(*request.instance) + " does not exist (the scene has " +
+                    std::to_string(scene.instances.size()) + " objects)");
+    std::size_t largest = 0;
+    for (std::size_t i = 0; i < scene.instances.size(); ++i)
+        if (!request.instance || *request.instance == i)
+            largest = std::max(largest, scene.meshes[scene.instances[i].mesh].triangleCount());
+    if (largest <= 8)
+        throw Error(request.instance ? "the object's mesh has no more than 8 triangles: nothing to simplify"
+                                     : "no mesh of the level has more than 8 triangles: nothing to simplify");
+    const BitmaskOptions options = sweepOptions(heights, request.threads);
+    CoarseToleranceFit fit;
+    HiddenSampleMap exact;
+    fit.tried.triangles = scene.triangleCount();
+    fit.tried.ms = medianSampleMs(CpuBitmaskSampler(scene), source, receiver, options, 1, exact);
+    fit.tried.rays = exact.rayCount();
+    const auto allowed = std::uint64_t(std::floor(request.tolerance * double(exact.rayCount())));
+    CoarseMeshCache cache;
+    const auto measure = [&](std::size_t count) {
+        const Scene coarse = coarseLevel(scene, count, request.instance, cache);
+        HiddenSampleMap map;
+        CoarseSweepPoint point;
+        point.asked = count;
+        point.triangles = coarse.triangleCount();
+        point.ms = medianSampleMs(CpuBitmaskSampler(coarse), source, receiver, options, 1, map);
+        countDifferences(exact, map, point.falseBlocked, point.falseFree);
+        fit.tried.points.push_back(point);
+        return point;
+    };
+    // Invariant: `hi` meets the tolerance (the full meshes, at first, answer every ray alike) and
+    // `lo` does not, or is the floor.
+    std::size_t lo = 4, hi = largest;
+    if (const CoarseSweepPoint floor = measure(lo); floor.disagreeing() <= allowed) {
+        fit.chosen = floor;
+        return fit;
+    }
+    const double resolution = std::max(request.resolution, 1.0001);
+    while (double(hi) / double(lo) > resolution && hi - lo > 1 && !(request.cancel && request.cancel->load())) {
+        const auto mid = std::size_t(std::llround(std::sqrt(double(lo) * double(hi))));
+        if (mid <= lo || mid >= hi)
+            break;
+        const CoarseSweepPoint point = measure(mid);
+        if (point.disagreeing() <= allowed) {
+            hi = mid;
+            fit.chosen = point;
+        } else {
+            lo = mid;
+        }
+    }
+    return fit;
 }
 
 std::vector<std::size_t> defaultSweepCounts(std::size_t triangles)

@@ -1,7 +1,8 @@
 // `sightline-cli coarse` as a user runs it: the conservative (inner) kind never blocks a ray the
 // original lets through, counted over every one of 32x32 x 32x32 rays by the exact sampler; the
 // closest kind keeps to its triangle budget and says how many rays it answers differently; a
-// sweep is the same measurement at several counts, charted; --write keeps the stand-ins so that
+// sweep is the same measurement at several counts, charted; --tolerance finds the fewest triangles
+// within a share of the rays; --write keeps the stand-ins so that
 // the copy's rays are the coarse level's.
 #include <filesystem>
 #include <fstream>
@@ -106,4 +107,41 @@ TEST_F(CoarseCli, SweepChartsAndWriteKeepsTheStandInsForTheRays)
     EXPECT_EQ(readAll(folder / "p.json"), before);
     EXPECT_FALSE(fs::exists(folder / "x.png"));
     EXPECT_FALSE(fs::exists(folder / "y.json"));
+}
+
+// --tolerance: the fewest triangles (to the bisection's 5%) whose level answers at most that share
+// of the rays differently, kept as a single run at that count would measure it; a count 10% below
+// it, measured the same way, exceeds the tolerance or was itself tried and refused.
+TEST_F(CoarseCli, ToleranceFindsTheFewestTrianglesWithinIt)
+{
+    const std::string project = (folder / "p.json").string();
+    const double tolerance = 0.002;
+    const json fit = runJson("coarse " + project + " --tolerance 0.002 --repeat 1 --json");
+    const std::int64_t rays = fit["rays"].get<std::int64_t>();
+    const std::int64_t differ = fit["false_blocked"].get<std::int64_t>() + fit["false_free"].get<std::int64_t>();
+    EXPECT_LE(double(differ), tolerance * double(rays));
+    const int chosen = fit["triangles"].get<int>();
+    EXPECT_LT(chosen, 192 * 48 * 2);
+    ASSERT_FALSE(fit["tried"].empty());
+    bool tried = false;
+    for (const json& point : fit["tried"])
+        tried = tried || (point["asked"] == chosen &&
+                          point["false_blocked"].get<std::int64_t>() + point["false_free"].get<std::int64_t>() == differ);
+    EXPECT_TRUE(tried) << fit.dump();
+    const json single = runJson("coarse " + project + " --triangles " + std::to_string(chosen) + " --repeat 1 --json");
+    EXPECT_EQ(single["false_blocked"], fit["false_blocked"]);
+    EXPECT_EQ(single["false_free"], fit["false_free"]);
+    // Fewer triangles than the bisection's resolution below it were over the tolerance when tried.
+    for (const json& point : fit["tried"])
+        if (point["asked"].get<int>() < chosen)
+            EXPECT_GT(double(point["false_blocked"].get<std::int64_t>() + point["false_free"].get<std::int64_t>()),
+                      tolerance * double(rays));
+
+    for (const std::string& bad : {std::string(" --tolerance 2"), std::string(" --tolerance 0.01 --sweep auto"),
+                                   std::string(" --tolerance 0.01 --kind inner"), std::string(" --tolerance 0.01 --triangles 500"),
+                                   std::string(" --tolerance 0")}) {
+        const CliRun run = runCli("coarse " + project + bad);
+        EXPECT_NE(run.code, 0) << bad;
+        EXPECT_TRUE(oneLine(run.err)) << bad << ": " << run.err;
+    }
 }

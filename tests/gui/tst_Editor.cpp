@@ -3288,6 +3288,61 @@ private slots:
         document.undoStack()->setClean();
     }
 
+    // The Coarse Occluder dialog's Fewest Triangles: the count the search takes is the one
+    // fitCoarseToTolerance finds for the same pair and object, and OK keeps it.
+    void coarseOccluderFewestTrianglesWithinAShare()
+    {
+        EditorDocument& document = window_->document();
+        const std::filesystem::path file = writeBunnyProject("bunny-fit.json");
+        QVERIFY(window_->openFile(QString::fromStdString(file.string())));
+        waitForUpdate();
+        document.select({ObjectKind::SceneObject, 0});
+        std::optional<CoarseToleranceFit> fit;
+        bool started = false;
+        QTimer timer;
+        timer.setInterval(50);
+        QObject::connect(&timer, &QTimer::timeout, [&] {
+            auto* dialog = qobject_cast<CoarseOccluderDialog*>(QApplication::activeModalWidget());
+            if (!dialog)
+                return;
+            if (!started) {
+                started = true;
+                dialog->toleranceField()->setValue(0.5);
+                QTest::mouseClick(dialog->fitButton(), Qt::LeftButton);
+                return;
+            }
+            if (!dialog->toleranceFit())
+                return;   // still searching
+            timer.stop();
+            fit = dialog->toleranceFit();
+            if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())
+                dialog->grab().save(QString::fromUtf8(shots) + "/window-coarse-fit.png");
+            dialog->accept();
+        });
+        timer.start();
+        window_->findChild<QAction*>("coarseOccluder")->trigger();
+        QTRY_VERIFY_WITH_TIMEOUT(!QApplication::activeModalWidget() && fit, 120000);
+        timer.stop();
+        QVERIFY(fit->chosen);
+
+        const Project& project = document.project();
+        CoarseToleranceRequest request;
+        request.tolerance = 0.005;
+        request.instance = 0;
+        const ReceiverHeights& heights = window_->viewport().receiverHeights();
+        const CoarseToleranceFit expected = fitCoarseToTolerance(document.scene(), project.source, project.receiver,
+                                                                 heights.empty() ? nullptr : &heights, request);
+        QVERIFY(expected.chosen);
+        QCOMPARE(fit->chosen->asked, expected.chosen->asked);
+        QVERIFY(fit->chosen->disagreeing() <= std::uint64_t(0.005 * double(fit->tried.rays)));
+        QCOMPARE(document.coarseOccluders().size(), std::size_t(1));
+        QCOMPARE(document.coarseOccluders()[0].triangles, expected.chosen->asked);
+
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        document.undoStack()->setClean();
+    }
+
     void cleanupTestCase()
     {
         window_->document().undoStack()->setClean();

@@ -5,6 +5,7 @@
 // two answer differently. `sightline-cli coarse --sweep` charts it to PNG and the editor's
 // Coarse Occluder dialog on screen (report/CoarseChart.h, through coarseChartData), the same figures.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -57,6 +58,30 @@ CoarseComparison compareCoarseLevel(const Scene& original, const Scene& coarse, 
 /// not have.
 CoarseSweep sweepCoarseOccluders(const Scene& scene, const Patch& source, const Patch& receiver,
                                  const ReceiverHeights* heights, const CoarseSweepRequest& request);
+
+/// The fewest triangles, to within `resolution` (a ratio above 1), whose stand-ins answer at most
+/// `tolerance` of the pair's rays differently, checked by the exact sampler on the pair: a
+/// bisection over the count (on a log scale) between 4 and the largest mesh's triangles, each step
+/// a coarse level sampled against the original's answer. Not every count below the result is
+/// refused (the disagreement need not fall steadily with the count), but the result holds: its
+/// point is measured. `points` holds every count tried, in the order tried (ms: one untimed
+/// sampling each); `chosen` the one kept (none when only the full meshes meet the tolerance).
+struct CoarseToleranceFit {
+    CoarseSweep tried;
+    std::optional<CoarseSweepPoint> chosen;
+};
+struct CoarseToleranceRequest {
+    double tolerance = 0.001;                 ///< a fraction of the rays, in [0, 1]
+    std::optional<std::size_t> instance;      ///< only this instance's mesh; else every mesh above the count
+    int threads = 0;
+    double resolution = 1.05;
+    /// Checked before each count; true ends the search with what it found so far.
+    const std::atomic<bool>* cancel = nullptr;
+};
+/// Throws sightline::Error for an invalid pair, a tolerance outside [0, 1], an instance `scene`
+/// does not have, or a level (or instance) without a mesh of more than 8 triangles.
+CoarseToleranceFit fitCoarseToTolerance(const Scene& scene, const Patch& source, const Patch& receiver,
+                                        const ReceiverHeights* heights, const CoarseToleranceRequest& request);
 
 /// The counts a sweep of a mesh of `triangles` tries when none are given: halving from a half of
 /// it down to 100 (at most 8 counts).
