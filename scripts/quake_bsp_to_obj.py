@@ -4,10 +4,10 @@ real architectural interior (docs/benchmarks.md, "A real interior"). No level da
 repository: the original levels' sources were released under the GNU GPL v2 by John Romero in
 2006, and compiled copies are at github.com/fzwoch/quake_map_source (bsp/*.bsp).
 
-    quake_bsp_to_obj.py LEVEL.bsp LEVEL.obj LEVEL-origins.jsonl
+    quake_bsp_to_obj.py LEVEL.bsp LEVEL.obj|LEVEL.ply LEVEL-origins.jsonl
 
-Writes the static world (model 0) as OBJ in metres with Y up (1 Quake unit = 1 inch), each face
-fan-triangulated; liquid faces (textures named '*...') are left out, as a player sees through
+Writes the static world (model 0) as OBJ (or, named .ply, binary PLY with welded positions) in metres with Y up (1 Quake unit = 1 inch), each face
+fan-triangulated and wound counter-clockwise seen from the front (Quake winds clockwise); liquid faces (textures named '*...') are left out, as a player sees through
 them. Also writes the entities' origins (lights, monsters, items: points in open space), one JSON
 object a line, from which interior_layouts.py places patches."""
 import json
@@ -51,6 +51,7 @@ def main(src, dst, origins_out):
     first, numfaces = struct.unpack_from('<ii', lump(14), 56)   # model 0, the world
 
     lines, triangles, next_vertex = [], 0, 1
+    welded, corners = {}, []   # for .ply: each position once, triangles by index
     for f in range(first, first + numfaces):
         _, _, firstedge, numedges, tex = faces[f][:5]
         miptex = texinfo[tex][8]
@@ -61,10 +62,25 @@ def main(src, dst, origins_out):
             s = surfedges[e]
             polygon.append(vertices[edges[s][0]] if s >= 0 else vertices[edges[-s][1]])
         lines += ['v %.6f %.6f %.6f' % yup(p) for p in polygon]
-        lines += [f'f {next_vertex} {next_vertex + k} {next_vertex + k + 1}' for k in range(1, len(polygon) - 1)]
+        ids = [welded.setdefault(yup(p), len(welded)) for p in polygon]
+        corners += [(ids[0], ids[k + 1], ids[k]) for k in range(1, len(polygon) - 1)]
+        # Quake winds a face clockwise seen from its front; OBJ counter-clockwise.
+        lines += [f'f {next_vertex} {next_vertex + k + 1} {next_vertex + k}' for k in range(1, len(polygon) - 1)]
         triangles += max(0, len(polygon) - 2)
         next_vertex += len(polygon)
-    open(dst, 'w').write('\n'.join(lines) + '\n')
+    if dst.endswith('.ply'):
+        # Binary PLY, positions welded: a third of the OBJ's size, for levels kept as test data.
+        header = ('ply\nformat binary_little_endian 1.0\ncomment ' + src.split('/')[-1] + ' (Quake 1 BSP, world model), '
+                  'metres, Y up\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n'
+                  'element face %d\nproperty list uchar int vertex_indices\nend_header\n') % (len(welded), len(corners))
+        with open(dst, 'wb') as out:
+            out.write(header.encode('ascii'))
+            for p in sorted(welded, key=welded.get):
+                out.write(struct.pack('<3f', *p))
+            for c in corners:
+                out.write(struct.pack('<B3i', 3, *c))
+    else:
+        open(dst, 'w').write('\n'.join(lines) + '\n')
 
     with open(origins_out, 'w') as out:
         for block in lump(0).decode('latin-1').split('}'):

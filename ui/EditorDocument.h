@@ -204,19 +204,6 @@ private:
     void refreshSceneFileLights();
 };
 
-/// Patches across a level: a source and a receiver of `side` metres, 1.5 m above the floor,
-/// facing each other along the level's longer horizontal axis, 32x32 samples each.
-std::pair<Patch, Patch> defaultPatches(const Bounds& level, double side = 1.0);
-
-/// defaultPatches, moved into open space: each patch's centre at least half a side (and 10 cm)
-/// from every triangle, the pair as far apart as the candidates allow and, where one exists, with
-/// a clear line between their centres. Candidates lie along the longer axis at 8-35% from each
-/// end and across it at 20-80%, at defaultPatches' height over a floor (a surface facing up)
-/// under them: one under a terrain or inside a floor slab is lifted over the surface above it,
-/// and candidates over a floor are preferred. A level with no open candidate, or of more than 2M
-/// triangles (the search is brute force), keeps defaultPatches' pair.
-std::pair<Patch, Patch> defaultPatchesInOpenSpace(const Scene& level, double side = 1.0);
-
 /// Whether a path names a mesh file the editor opens as a scene.
 bool isMeshFile(const std::filesystem::path& file);
 

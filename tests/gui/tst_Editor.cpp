@@ -2688,6 +2688,31 @@ private slots:
         waitForUpdate();
     }
 
+    // A real Quake map opened alone: the pair stands in its rooms, over a floor, seeing across.
+    void aQuakeMapOpensWithItsPairInsideARoom()
+    {
+        EditorDocument& document = window_->document();
+        const std::filesystem::path map = std::filesystem::path(SIGHTLINE_TEST_DATA) / "levels" / "quake-e1m1.ply";
+        QVERIFY(window_->openFile(QString::fromStdString(map.string())));
+        waitForUpdate();
+        QCOMPARE(document.sceneImportSettings().up, std::string("+y"));
+        const Viewport& viewport = window_->viewport();
+        QVERIFY(viewport.visibility().valid);
+        QVERIFY2(viewport.visibility().visibleFraction() > 0.1, qPrintable(QString::number(viewport.visibility().visibleFraction())));
+        const WorldTriangles triangles = worldTriangles(document.scene());
+        for (const Patch* patch : {&document.project().source, &document.project().receiver}) {
+            const auto floor = pickSurface(triangles, Ray{patch->centre(), {0.0, -1.0, 0.0}});
+            QVERIFY(floor && std::abs(floor->distance - 1.5) < 0.02);
+            QVERIFY(pickSurface(triangles, Ray{patch->centre(), {0.0, 1.0, 0.0}}));   // a ceiling overhead
+        }
+        window_->controller().frameSelection();   // nothing selected: the patches
+        waitForFrame();
+        saveWindowShot("quake-e1m1-opened");
+        document.undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+    }
+
     // A PVS baked by the CLI opens in the PVS debugger (File > Open PVS, or dropped on the window),
     // instead of "invalid JSON" and a bake of its own.
     void aPvsBakedByTheCliOpensInTheDebugger()

@@ -1324,3 +1324,4 @@ TEST(PatchWarnings, APatchOnTheWrongSideOfAWallOrUnderTheFloorIsCalledOut)
 }
 
 } // namespace sightline::ui
+
