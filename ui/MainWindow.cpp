@@ -926,6 +926,12 @@ void MainWindow::addPvsDebuggerItems(QMenu* view)
         if (pvsView->isChecked())
             statusBar()->showMessage(status);
     });
+    // A framed gap is seen with the section cut off: with it on, the culled object behind the
+    // walls would look exposed (C brings the cut back).
+    connect(viewport_, &Viewport::pvsGapFramed, this, [this] {
+        if (cutAction_->isChecked())
+            cutAction_->trigger();
+    });
 }
 
 void MainWindow::addAoEnvironmentItems(QMenu* view)
@@ -977,6 +983,7 @@ void MainWindow::addSectionCutItems(QMenu* view)
     });
     cutAction_->setCheckable(true);
     cutAction_->setChecked(true);
+    cutAction_->setObjectName("sectionCut");
     auto moveCut = [this](double metres) {
         ViewStyle& style = viewport_->style();
         style.cutHeight += metres;

@@ -482,6 +482,8 @@ void Viewport::paintGL()
     frame.gapSelected = pvsGapSelected_;
     if (style_.pvsDebugger && pvsGapSelected_ >= 0 && std::size_t(pvsGapSelected_) < pvsGaps_.size())
         frame.gapWitnesses = pvsGaps_[std::size_t(pvsGapSelected_)].witnesses;
+    if (style_.pvsDebugger && pvsShownCell_ && *pvsShownCell_ < pvsCells_.size())
+        frame.viewCell = pvsCells_[*pvsShownCell_];
     renderer_->render(frame);
     raysDrawn_ = renderer_->raysDrawn();
     if (renderer_->levelIncomplete())
@@ -891,6 +893,7 @@ void Viewport::framePvsGap(std::size_t k)
     if (pvsFrozen_)
         pvsFrozenCell_ = gap.cell;   // a frozen view shows the gap's cell
     pvsUploaded_ = false;
+    emit pvsGapFramed(k);
     emit pvsUpdated(pvsStatus());
     update();
 }

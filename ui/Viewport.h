@@ -180,6 +180,8 @@ signals:
     void disagreementUpdated(const QString& status, bool failed);
     /// The PVS debugger's state for the status bar.
     void pvsUpdated(const QString& status);
+    /// Gap k of the PVS debugger's list was framed (a click on its marker, or N / Shift+N).
+    void pvsGapFramed(std::size_t k);
     /// An AO level arrived and is shown (k directions of `target`; `relit`: the same level lit
     /// anew), or the computation failed.
     /// A level of AO arrived (k of `target` directions; aoInstances() says for what), or failed.

@@ -1354,6 +1354,17 @@ void ViewportRenderer::Impl::drawGuides(const FrameState& f, const Patch* overla
             overlay.push_back({marker.at + reach, ray});
         }
     }
+    if (f.viewCell) {
+        const glm::vec4 colour(kViewCellRgb[0] / 255.0f, kViewCellRgb[1] / 255.0f, kViewCellRgb[2] / 255.0f, 1.0f);
+        const glm::vec3 lo = f.viewCell->min, hi = f.viewCell->max;
+        const auto corner = [&](int k) { return glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z); };
+        for (int a = 0; a < 8; ++a)
+            for (int bit = 1; bit < 8; bit <<= 1)
+                if (!(a & bit)) {   // each of the box's 12 edges once
+                    overlay.push_back({corner(a), colour});
+                    overlay.push_back({corner(a | bit), colour});
+                }
+    }
     appendLightMarkers(overlay, f);
     if (f.scissor) {   // a dashed frame just beyond the near plane, over everything
         const glm::dvec4 r = *f.scissor;

@@ -100,6 +100,9 @@ std::vector<std::uint32_t> blockedDrawnRays(const HiddenSampleMap& map, const Ra
 /// none of the free, blocked or disagreement colours is.
 inline constexpr std::uint8_t kSelectedRayRgb[3] = {80, 235, 255};
 
+/// The colour of the PVS debugger's view-cell outline: a magenta no ray, patch or gap marker has.
+inline constexpr std::uint8_t kViewCellRgb[3] = {255, 70, 230};
+
 /// The rays a disagreement view draws (RayDisagreement.h): every false-blocked, false-free and tie
 /// ray, or an even spread of `cap` of them, each listed as k | class << 30 with k = i * receivers + j
 /// (the whole map as one subset: raySubset with strides 1) and class 1 false-blocked, 2 false-free,
@@ -152,6 +155,9 @@ struct FrameState {
     std::vector<GapMarker> gapMarkers;
     int gapSelected = -1;
     std::vector<std::pair<glm::vec3, glm::vec3>> gapWitnesses;
+    /// The PVS debugger's shown view cell (the camera's, or the frozen one), outlined over
+    /// everything in kViewCellRgb.
+    std::optional<Bounds> viewCell;
     /// The project's lights, drawn over everything as markers in their colour (orange when
     /// selected): a star at a point light, a star and its outer cone at a spot, an arrow from the
     /// sun's anchor (LightObjects.h), an area light's rectangle and normal.

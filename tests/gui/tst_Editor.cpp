@@ -2549,6 +2549,20 @@ private slots:
         QVERIFY(picked);
         QCOMPARE(selectedRayPixels(viewport.grabFramebuffer()), 0);   // no gap selected: no witnesses drawn
         saveWindowShot("pvs-gap-markers");
+        // From inside a view cell, the cell is outlined in its own colour.
+        {
+            Camera inside = controller.camera();
+            const Bounds& cellBox = viewport.pvsCells()[gaps[0].cell];
+            inside.target = glm::dvec3(0.5f * (cellBox.min + cellBox.max));
+            inside.distance = 0.05;
+            controller.setCamera(inside);
+            waitForFrame();
+            QTRY_VERIFY(viewport.pvsCell().has_value());
+            waitForFrame();
+            QVERIFY2(pixelsOf(viewport.grabFramebuffer(), kViewCellRgb) > 50, "the camera's view cell is not outlined");
+            controller.setCamera(above);
+            waitForFrame();
+        }
         QTest::mouseClick(&viewport, Qt::LeftButton, {}, QPoint(int(std::lround(px.x)), int(std::lround(px.y))));
         QTRY_COMPARE(viewport.pvsGapSelected(), int(*picked));
         const pvs::Gap& gap = gaps[*picked];
@@ -2559,6 +2573,10 @@ private slots:
         QVERIFY2(viewport.pvsStatus().contains(QString("gap %1 of %2").arg(*picked + 1).arg(gaps.size())) &&
                      viewport.pvsStatus().contains(QString::fromStdString(viewport.pvsObjects()[gap.object].name)),
                  qPrintable(viewport.pvsStatus()));
+        // Framed with the section cut off (the culled object is not exposed by the cut), the
+        // cell outlined.
+        QVERIFY(!viewport.style().cutaway);
+        QVERIFY(!window_->findChild<QAction*>("sectionCut")->isChecked());
         // Its witness rays through the opening, in the colour of picked rays.
         QVERIFY(!gap.witnesses.empty());
         waitForFrame();
@@ -2596,6 +2614,8 @@ private slots:
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
         document.undoStack()->undo();                              // the rough settings
         viewport.style().showRays = rays;
+        window_->findChild<QAction*>("sectionCut")->trigger();     // the cut back on, as the other tests have it
+        QVERIFY(viewport.style().cutaway);
         controller.setCamera(view);
         waitForUpdate();
     }
@@ -3375,18 +3395,19 @@ private slots:
     }
 
 private:
-    /// Pixels of `frame` in the colour of picked rays (kSelectedRayRgb, give or take blending).
-    static int selectedRayPixels(const QImage& frame)
+    /// Pixels of `frame` in the colour `rgb`, give or take blending.
+    static int pixelsOf(const QImage& frame, const std::uint8_t (&rgb)[3])
     {
         int n = 0;
         for (int y = 0; y < frame.height(); ++y)
             for (int x = 0; x < frame.width(); ++x) {
                 const QRgb c = frame.pixel(x, y);
-                n += std::abs(qRed(c) - kSelectedRayRgb[0]) + std::abs(qGreen(c) - kSelectedRayRgb[1]) +
-                         std::abs(qBlue(c) - kSelectedRayRgb[2]) < 60;
+                n += std::abs(qRed(c) - rgb[0]) + std::abs(qGreen(c) - rgb[1]) + std::abs(qBlue(c) - rgb[2]) < 60;
             }
         return n;
     }
+    /// Pixels of `frame` in the colour of picked rays.
+    static int selectedRayPixels(const QImage& frame) { return pixelsOf(frame, kSelectedRayRgb); }
 
     /// Adds a 0.6 m box 2 m along z from `inShaft`, selected, with the move gizmo; returns the
     /// point on the gizmo's z handle to grab for dragging it back along z.
