@@ -141,8 +141,7 @@ int runAo(const AoArgs& args)
     const std::string what = std::filesystem::path(args.input).filename().string();
     if (occluders.triangleCount() == 0)   // refused before the importer's warnings: one line
         throw Error(what + ": no triangles (an empty mesh has nothing to occlude or shade)");
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
+    printWarnings(warnings);
 
     const bool texelMode = args.texel > 0.0;
     AoPoints points;

@@ -163,8 +163,8 @@ int runOnce(const CoarseArgs& args, const Project& project, const Scene& origina
             out["written"] = args.write;
         if (fit) {
             json tried = json::array();
-            for (const CoarseSweepPoint& p : fit->tried.points)
-                tried.push_back({{"asked", p.asked}, {"false_blocked", p.falseBlocked}, {"false_free", p.falseFree}});
+            for (const CoarseSweepPoint& point : fit->tried.points)
+                tried.push_back({{"asked", point.asked}, {"false_blocked", point.falseBlocked}, {"false_free", point.falseFree}});
             out["tolerance"] = args.tolerance;
             out["triangles"] = args.triangles;
             out["tried"] = std::move(tried);

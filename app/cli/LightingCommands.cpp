@@ -15,6 +15,7 @@
 
 #include "cli/OptionRules.h"
 #include "cli/OutputLimits.h"
+#include "cli/Timing.h"
 #include "cli/OutputPaths.h"
 #include "lighting/SoftShadow.h"
 #include "project/Animation.h"
@@ -58,17 +59,6 @@ void applyGrids(const GridOverrides& grids, Project& project)
     applyGrid(grids.sourceSamples, "--source-samples", kMaxSourceSamples, project.source);
     applyGrid(grids.receiverSamples, "--receiver-samples", kMaxReceiverSide, project.receiver);
     validatePatch(project.source, "source");   // e.g. 64x32 = 2048 source samples
-}
-
-void printWarnings(const std::vector<std::string>& warnings)
-{
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
-}
-
-double millisecondsSince(std::chrono::steady_clock::time_point start)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 void addGridOptions(CLI::App* command, GridOverrides& grids)

@@ -406,8 +406,7 @@ int printSets(const LightsArgs& args, const Project& project, const std::vector<
 {
     std::vector<std::string> warnings;
     const Scene scene = buildScene(project, &warnings);
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
+    printWarnings(warnings);
     const LightingScene lighting(scene);
     LightSetOptions options;
     options.threads = args.threads;
@@ -518,8 +517,7 @@ int runLights(const LightsArgs& args)
 
     std::vector<std::string> warnings;
     const Scene scene = buildScene(project, &warnings);
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
+    printWarnings(warnings);
 
     std::vector<ShadingPoint> points;
     std::optional<TexelBake> bake;

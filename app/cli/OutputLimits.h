@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -39,6 +40,13 @@ inline void checkImageSize(int width, int height, const std::string& what, int b
 inline std::string dumpJson(const nlohmann::json& value)
 {
     return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+/// The importers' and builders' warnings, one "sightline-cli: warning: ..." line each on stderr.
+inline void printWarnings(const std::vector<std::string>& warnings)
+{
+    for (const std::string& w : warnings)
+        std::fprintf(stderr, "sightline-cli: warning: %s\n", w.c_str());
 }
 
 } // namespace sightline::cli

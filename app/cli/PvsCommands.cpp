@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/OutputLimits.h"
+#include "cli/Timing.h"
 #include "cli/OutputPaths.h"
 #include "cli/PvsBakeJob.h"
 #include "cli/SuggestCommand.h"
@@ -33,11 +34,6 @@ using nlohmann::json;
 namespace sightline::cli {
 
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start)
-{
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 std::string bytesOf(const std::vector<glm::vec3>& v)
 {
@@ -363,8 +359,7 @@ PvsBakeJob prepareBakeJob(const PvsBakeArgs& args, const std::vector<FileRole>& 
     job.data.sceneSha256 = pvs::sha256Hex(readInputFile(sceneFile, sceneFile.filename().string()));
     std::vector<std::string> warnings;
     job.scene = buildScene(project, &warnings);
-    for (const std::string& w : warnings)
-        std::cerr << "sightline-cli: warning: " << w << "\n";
+    printWarnings(warnings);
     if (setup.gridCells) {
         const pvs::FirstHitCaster caster(job.scene);
         try {
