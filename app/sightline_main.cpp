@@ -320,8 +320,6 @@ int stallBenchmark(const Arguments& args, int width, int height)
     return 0;
 }
 
-} // namespace
-
 /// The editor allocates and frees the same large blocks every update (the sampler's per-call
 /// buffers, llvmpipe's per-frame bins). By default glibc returns the freed top of each heap to the
 /// system at once (128 KiB trim threshold) and the next update faults it back in: thousands of
@@ -336,12 +334,16 @@ void keepFreedMemory()
 #endif
 }
 
-int main(int argc, char** argv)
+/// The options whose presence (not only value) matters after parsing.
+struct OptionHandles {
+    CLI::Option* frames = nullptr;
+    CLI::Option* litShows = nullptr;
+    CLI::Option* litBudget = nullptr;
+};
+
+OptionHandles addOptions(CLI::App& app, Arguments& args)
 {
-    keepFreedMemory();
-    CLI::App app{"Sightline: see which rays between two patches of a level are blocked, live.\n"
-                 "Without options, opens the editor (on FILE if given)."};
-    Arguments args;
+    OptionHandles handles;
     app.add_option("file", args.file, "Project (.json) or level (.glb .gltf .obj .ply .off .stl) to open");
     app.add_option("--screenshot", args.screenshot, "Render FILE's view (its saved camera, else across the shaft) to this PNG "
                                                     "without a display, then exit");
@@ -363,7 +365,7 @@ int main(int argc, char** argv)
                    "Benchmark: what moves: the project's recorded path (path), the scripted drag of the receiver "
                    "(drag), or the path when the project has one (auto)")
         ->check(CLI::IsMember({"auto", "path", "drag"}));
-    CLI::Option* frames = app.add_option("--frames", args.frames,
+    handles.frames = app.add_option("--frames", args.frames,
                                          "Benchmark frames (default 300, or the recorded path's length when "
                                          "replaying it); recording frames (default: the recorded path's length, "
                                          "else the animation's frames)")
@@ -386,11 +388,11 @@ int main(int argc, char** argv)
     app.add_flag("--lit", args.lit, "The lit view (the project's lights on the level's light-map texels, shadowed exactly). "
                                     "Screenshot: lit and exact; benchmark: drag the first light with the lit view on and "
                                     "print the lit view's update rate and how soon it is exact again");
-    auto* litShows = app.add_option("--lit-shows", args.litShows,
+    handles.litShows = app.add_option("--lit-shows", args.litShows,
                                     "Screenshot with --lit: what the lit view shows: light, complexity (shadow complexity), "
                                     "overlap (lights a texel against --lit-budget), staleness or error (against the reference path)")
                          ->check(CLI::IsMember({"light", "complexity", "overlap", "staleness", "error"}));
-    auto* litBudget = app.add_option("--lit-budget", args.litBudget, "Screenshot with --lit: the overlapping lights a texel may take (default 4)")
+    handles.litBudget = app.add_option("--lit-budget", args.litBudget, "Screenshot with --lit: the overlapping lights a texel may take (default 4)")
                           ->check(CLI::Range(1, 1000));
     app.add_option("--disagreement", args.disagreement,
                    "Screenshot: draw, in place of the rays, those an approximation answers differently from the exact "
@@ -400,23 +402,20 @@ int main(int argc, char** argv)
     app.add_flag("--allow-outside-paths", args.allowOutsidePaths,
                  "Read files the project names by a relative path that leaves its folder (refused otherwise; "
                  "the editor's File menu keeps this as a setting)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        // One line, as sightline-cli does (CLI11's default adds a second "Run with --help").
-        std::fprintf(stderr, "sightline: error: %s (see --help)\n", e.what());
-        return 2;
-    }
-    args.framesGiven = frames->count() > 0;
+    return handles;
+}
+
+/// Refuses, with one line on stderr, what the parser cannot: empty output names, a bad size,
+/// options that need others; returns 2 then, else 0 with the view size in `width` x `height`.
+int checkArguments(const CLI::App& app, Arguments& args, const OptionHandles& handles, int& width, int& height)
+{
+    args.framesGiven = handles.frames->count() > 0;
     // An empty name would read as "option not given" below and open the editor instead.
     for (const auto& [option, output] : {std::pair{"--record", &args.record}, std::pair{"--screenshot", &args.screenshot}})
         if (app.get_option(option)->count() > 0 && output->empty()) {
             std::fprintf(stderr, "sightline: %s needs an output file name, got ''\n", option);
             return 2;
         }
-    int width = 0, height = 0;
     if (!parseSize(args.size, width, height)) {
         std::fprintf(stderr, "sightline: --size must be WxH with whole positive sides, got '%s'\n", args.size.c_str());
         return 2;
@@ -432,7 +431,7 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "sightline: --screenshot, --record, --benchmark-interaction and --benchmark-stalls need a project file\n");
         return 2;
     }
-    if ((litShows->count() > 0 || litBudget->count() > 0) && (!args.lit || args.screenshot.empty())) {
+    if ((handles.litShows->count() > 0 || handles.litBudget->count() > 0) && (!args.lit || args.screenshot.empty())) {
         std::fprintf(stderr, "sightline: --lit-shows and --lit-budget apply to --screenshot --lit\n");
         return 2;
     }
@@ -463,6 +462,12 @@ int main(int argc, char** argv)
             return 2;
         }
     }
+    return 0;
+}
+
+/// Runs what the arguments ask: a recording, a screenshot, a benchmark or the editor.
+int run(const Arguments& args, int width, int height, int argc, char** argv)
+{
     QCoreApplication::setOrganizationName("Sightline");
     QCoreApplication::setApplicationName("Sightline");
     try {
@@ -506,4 +511,28 @@ int main(int argc, char** argv)
         std::fprintf(stderr, "sightline: %s\n", describeFailure(e, doing).c_str());
         return 1;
     }
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    keepFreedMemory();
+    CLI::App app{"Sightline: see which rays between two patches of a level are blocked, live.\n"
+                 "Without options, opens the editor (on FILE if given)."};
+    Arguments args;
+    const OptionHandles handles = addOptions(app, args);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // One line, as sightline-cli does (CLI11's default adds a second "Run with --help").
+        std::fprintf(stderr, "sightline: error: %s (see --help)\n", e.what());
+        return 2;
+    }
+    int width = 0, height = 0;
+    if (const int refused = checkArguments(app, args, handles, width, height))
+        return refused;
+    return run(args, width, height, argc, argv);
 }
