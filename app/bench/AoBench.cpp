@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <ctime>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -67,54 +68,59 @@ double rmse(const std::vector<float>& a, const std::vector<float>& b)
     return n ? std::sqrt(sum / double(n)) : 0.0;
 }
 
-} // namespace
 
-int main(int argc, char** argv)
-{
+/// The command line: sightline-ao-bench [MESH] [--mc N] [--threads N] [--repeat N] [--texel D]
+/// [--cells C] [--no-gl] [--gl-backend osmesa|egl].
+struct AoBenchArgs {
     std::string mesh = std::string(SIGHTLINE_TEST_DATA) + "/meshes/bun_zipper.ply";
     int mcRays = 4096, threads = 0, repeat = 3;
     double texel = 4.0;
     double cellsPerTriangle = AoBinnedOptions{}.cellsPerTriangle;
     bool gl = true;
     gl::Backend glBackend = gl::Backend::OSMesa;
+};
+
+/// The arguments, or none after a one-line error on stderr.
+std::optional<AoBenchArgs> parseArguments(int argc, char** argv)
+{
+    AoBenchArgs args;
     for (int a = 1; a < argc; ++a) {
         const std::string arg = argv[a];
         if (arg == "--mc" && a + 1 < argc)
-            mcRays = std::atoi(argv[++a]);
+            args.mcRays = std::atoi(argv[++a]);
         else if (arg == "--threads" && a + 1 < argc)
-            threads = std::atoi(argv[++a]);
+            args.threads = std::atoi(argv[++a]);
         else if (arg == "--repeat" && a + 1 < argc)
-            repeat = std::max(1, std::atoi(argv[++a]));
+            args.repeat = std::max(1, std::atoi(argv[++a]));
         else if (arg == "--texel" && a + 1 < argc)
-            texel = std::atof(argv[++a]);
+            args.texel = std::atof(argv[++a]);
         else if (arg == "--cells" && a + 1 < argc)
-            cellsPerTriangle = std::atof(argv[++a]);
+            args.cellsPerTriangle = std::atof(argv[++a]);
         else if (arg == "--no-gl")
-            gl = false;
+            args.gl = false;
         else if (arg == "--gl-backend" && a + 1 < argc) {
             const std::string name = argv[++a];
             if (name != "egl" && name != "osmesa") {
                 std::fprintf(stderr, "error: --gl-backend takes osmesa or egl, not '%s'\n", name.c_str());
-                return 2;
+                return std::nullopt;
             }
-            glBackend = name == "egl" ? gl::Backend::Egl : gl::Backend::OSMesa;
+            args.glBackend = name == "egl" ? gl::Backend::Egl : gl::Backend::OSMesa;
         }
         else if (arg[0] != '-')
-            mesh = arg;
+            args.mesh = arg;
     }
-    const Scene scene = loadScene(mesh);
-    const AoOccluders occluders = aoOccluders(scene);
-    AoPoints points = aoVertexPoints(scene);
-    points.offsetOrigins(kAoOffsetRelative * occluders.diagonal());
-    std::printf("mesh %s: %zu points (%zu of no face, %zu zero normals), %zu triangles, offset %.3g m\n", mesh.c_str(),
-                points.size(), points.count(AoPointStatus::NoFace), points.count(AoPointStatus::ZeroNormal),
-                occluders.triangleCount(), kAoOffsetRelative * occluders.diagonal());
+    return args;
+}
 
+/// The binned caster against the best Embree traversal a user could pick, at k = 258 and 1026.
+void benchCasters(const AoBenchArgs& args, const AoOccluders& occluders, const AoPoints& points,
+                  AoBinnedCaster& binned)
+{
+    const int threads = args.threads, repeat = args.repeat;
     // The baseline: Embree tuned as a user would, the faster of single rays and packets of 16
     // directions from a point (same answers), chosen per k by their times in this run.
     AoEmbreeCaster singles(occluders, threads, AoEmbreeTraversal::SingleRays);
     AoEmbreeCaster packets(occluders, threads, AoEmbreeTraversal::DirectionPackets);
-    AoBinnedCaster binned(occluders, {.threads = threads, .cellsPerTriangle = cellsPerTriangle});
     for (int k : {258, 1026}) {
         VisibilityMatrix me, mb;
         const double ts = timeMs(repeat, [&] {
@@ -148,128 +154,163 @@ int main(int argc, char** argv)
         const std::clock_t c2 = std::clock();
         std::printf("        processor time: embree %.0f ms, cpu binned %.0f ms, ratio %.2fx\n", 1e3 * double(c1 - c0) / CLOCKS_PER_SEC,
                     1e3 * double(c2 - c1) / CLOCKS_PER_SEC, double(c1 - c0) / double(c2 - c1));
-        if (std::getenv("AO_BENCH_CASTERS_ONLY"))
-            continue;
     }
+}
 
+/// The GL caster at k = 258 against the CPU's bits and the Monte-Carlo reference `mc`.
+void benchGl(const AoBenchArgs& args, const AoOccluders& occluders, const AoPoints& points, const VisibilityMatrix& cpu,
+             const std::vector<float>& mc)
+{
+    try {
+        const auto context = gl::HeadlessContext::create(args.glBackend);
+        // The default (occluders simplified within a quarter texel) and every triangle.
+        for (const auto& [resolution, simplify] : {std::pair{1024, 0.25}, std::pair{1024, 0.0}, std::pair{2048, 0.25}}) {
+            AoGlCaster caster(context->functions(), occluders, {.resolution = resolution, .simplifyTexels = simplify});
+            VisibilityMatrix m;
+            const double t = timeMs(1, [&] {
+                m = VisibilityMatrix(points.size(), 258);
+                caster.fill(points, aoDirections(258), 0, 258, m);
+            });
+            std::uint64_t differ = 0;
+            for (std::size_t i = 0; i < points.size(); ++i)
+                for (int w = 0; w < m.words(); ++w)
+                    differ += unsigned(std::popcount((m.row(i)[w] ^ cpu.row(i)[w]) & (w == 4 ? 0x3ull : ~0ull)));
+            std::printf("gl k=258 %dx%d, %zu triangles (within %.2f texel) (%s): %.0f ms, RMSE vs MC %.4f, bits "
+                        "differing from cpu %llu\n",
+                        resolution, resolution, caster.drawnTriangles(), simplify, context->renderer().c_str(), t,
+                        rmse(ambientOcclusion(m, points, 258), mc), (unsigned long long)differ);
+        }
+    } catch (const std::exception& e) {
+        std::printf("gl: skipped (%s)\n", e.what());
+    }
+}
+
+/// Progressive refinement from scratch, relighting, accuracy against Monte Carlo and the GL caster.
+void benchProgressive(const AoBenchArgs& args, const AoOccluders& occluders, const AoPoints& points,
+                      AoBinnedCaster& binned)
+{
+    const int threads = args.threads, repeat = args.repeat, mcRays = args.mcRays;
+    // Progressive: time to each level from scratch, each reusing the bits before (§3.4).
+    AoComputation computation(binned, points, 1026);
+    const auto start = std::chrono::steady_clock::now();
+    std::printf("progressive (cpu binned, from scratch):");
+    for (int k : kAoDirectionCounts) {
+        computation.refineLevel();
+        std::printf("  k=%d %.1f ms", k, msSince(start));
+    }
+    std::printf("\n");
+
+    // Relight: an environment change (new rotation) at k = 258 for every vertex.
+    std::vector<glm::vec3> sky(64 * 32);
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 64; ++x)
+            sky[std::size_t(y * 64 + x)] = y < 16 ? glm::vec3(0.4f, 0.6f, 1.0f) * (1.0f + 4.0f * (x > 28 && x < 34 && y > 8))
+                                                   : glm::vec3(0.2f, 0.15f, 0.1f);
+    const AoEnvironment env = AoEnvironment::fromPixels(64, 32, sky);
+    const auto buildStart = std::chrono::steady_clock::now();
+    const AoRelighter relighter(computation.matrix(), points, 258);
+    const double buildMs = msSince(buildStart);
+    double degrees = 0.0;
+    std::vector<glm::vec3> colours;
+    const double relightMs = timeMs(std::max(repeat, 5), [&] {
+        degrees += 10.0;
+        colours = relighter.shade(env.directionRadiance(aoDirections(258), degrees, 0.0), threads);
+    });
+    std::printf("relight k=258: %.2f ms for %zu points (rotation + shading; relighter set-up once %.1f ms)\n", relightMs,
+                points.size(), buildMs);
+
+    // Accuracy against the Monte-Carlo reference, every level from the one nested matrix.
+    const AoEmbreeScene reference(occluders);
+    const auto mcStart = std::chrono::steady_clock::now();
+    const std::vector<float> mc = monteCarloAo(reference, points, mcRays, 1, threads);
+    std::printf("MC reference: %d cosine-weighted rays per point, %.0f ms\n", mcRays, msSince(mcStart));
+    std::printf("RMSE vs MC:   k     solid-angle   plain count (the paper's)\n");
+    for (int k : kAoDirectionCounts)
+        std::printf("           %5d   %.4f        %.4f\n", k, rmse(ambientOcclusion(computation.matrix(), points, k), mc),
+                    rmse(ambientOcclusion(computation.matrix(), points, k, AoWeighting::PlainCount), mc));
+
+    if (args.gl)
+        benchGl(args, occluders, points, computation.matrix(), mc);
+}
+
+/// The demo level in texel mode: time to a first picture (k = 6) and to k = 258.
+void benchDemoTexels(const AoBenchArgs& args)
+{
+    const int threads = args.threads;
+    const double texel = args.texel;
+    const auto start = std::chrono::steady_clock::now();
+    const Scene level = demo::makeDemoLevel();
+    const AoOccluders levelOccluders = aoOccluders(level);
+    AoPoints texels;
+    const AoTexelLayout layout = aoTexelPoints(levelOccluders, texel, texels);
+    texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
+    AoBinnedCaster levelCaster(levelOccluders, {.threads = threads});
+    const double setupMs = msSince(start);
+    AoComputation computation(levelCaster, texels, 258);
+    computation.refineLevel();
+    std::vector<float> first = ambientOcclusion(computation.matrix(), texels, 6);
+    const double firstMs = msSince(start);
+    computation.run();
+    std::vector<float> full = ambientOcclusion(computation.matrix(), texels, 258);
+    const double fullMs = msSince(start);
+    std::printf("demo level texel mode: %zu triangles, %zu texels at %.1f/m (atlas %dx%d), set-up %.0f ms, first "
+                "picture (k=6) %.0f ms, k=258 %.0f ms\n",
+                levelOccluders.triangleCount(), texels.size(), texel, layout.width, layout.height, setupMs, firstMs, fullMs);
+}
+
+/// As the editor runs it (ui/AoPreview.h): one thread, occluders within 2 m, and the relighter an
+/// environment change uses (its memory is the editor's largest AO cost).
+void benchDemoAsTheEditor(const AoBenchArgs& args)
+{
+    const int repeat = args.repeat;
+    const double texel = args.texel;
+    const auto start = std::chrono::steady_clock::now();
+    const Scene level = demo::makeDemoLevel();
+    const AoOccluders levelOccluders = aoOccluders(level);
+    AoPoints texels;
+    aoTexelPoints(levelOccluders, texel, texels);
+    texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
+    AoBinnedCaster levelCaster(levelOccluders, {.threads = 1, .maxDistance = 2.0});
+    AoComputation computation(levelCaster, texels, 258);
+    computation.refineLevel();
+    const double firstMs = msSince(start);
+    computation.run();
+    const double fullMs = msSince(start);
+    const auto relightStart = std::chrono::steady_clock::now();
+    const AoRelighter relighter(computation.matrix(), texels, 258);
+    const double setupMs = msSince(relightStart);
+    const AoEnvironment env = AoEnvironment::fromPixels(2, 1, {glm::vec3(0.4f, 0.6f, 1.0f), glm::vec3(0.2f, 0.15f, 0.1f)});
+    double degrees = 0.0;
+    const double relightMs = timeMs(std::max(repeat, 3), [&] {
+        degrees += 15.0;
+        relighter.shade(env.directionRadiance(aoDirections(258), degrees, 0.0), 1);
+    });
+    std::printf("demo level as the editor (1 thread, 2 m reach): first picture (k=6) %.0f ms, k=258 %.0f ms; "
+                "relighter set-up %.0f ms, %.1f MB for %llu visible bits, relight %.1f ms (1 thread)\n",
+                firstMs, fullMs, setupMs, double(relighter.bytes()) / 1e6,
+                (unsigned long long)computation.matrix().visibleCount(258), relightMs);
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+    const std::optional<AoBenchArgs> args = parseArguments(argc, argv);
+    if (!args)
+        return 2;
+    const Scene scene = loadScene(args->mesh);
+    const AoOccluders occluders = aoOccluders(scene);
+    AoPoints points = aoVertexPoints(scene);
+    points.offsetOrigins(kAoOffsetRelative * occluders.diagonal());
+    std::printf("mesh %s: %zu points (%zu of no face, %zu zero normals), %zu triangles, offset %.3g m\n", args->mesh.c_str(),
+                points.size(), points.count(AoPointStatus::NoFace), points.count(AoPointStatus::ZeroNormal),
+                occluders.triangleCount(), kAoOffsetRelative * occluders.diagonal());
+    AoBinnedCaster binned(occluders, {.threads = args->threads, .cellsPerTriangle = args->cellsPerTriangle});
+    benchCasters(*args, occluders, points, binned);
     if (std::getenv("AO_BENCH_CASTERS_ONLY"))
         return 0;
-    // Progressive: time to each level from scratch, each reusing the bits before (§3.4).
-    {
-        AoComputation computation(binned, points, 1026);
-        const auto start = std::chrono::steady_clock::now();
-        std::printf("progressive (cpu binned, from scratch):");
-        for (int k : kAoDirectionCounts) {
-            computation.refineLevel();
-            std::printf("  k=%d %.1f ms", k, msSince(start));
-        }
-        std::printf("\n");
-
-        // Relight: an environment change (new rotation) at k = 258 for every vertex.
-        std::vector<glm::vec3> sky(64 * 32);
-        for (int y = 0; y < 32; ++y)
-            for (int x = 0; x < 64; ++x)
-                sky[std::size_t(y * 64 + x)] = y < 16 ? glm::vec3(0.4f, 0.6f, 1.0f) * (1.0f + 4.0f * (x > 28 && x < 34 && y > 8))
-                                                       : glm::vec3(0.2f, 0.15f, 0.1f);
-        const AoEnvironment env = AoEnvironment::fromPixels(64, 32, sky);
-        const auto buildStart = std::chrono::steady_clock::now();
-        const AoRelighter relighter(computation.matrix(), points, 258);
-        const double buildMs = msSince(buildStart);
-        double degrees = 0.0;
-        std::vector<glm::vec3> colours;
-        const double relightMs = timeMs(std::max(repeat, 5), [&] {
-            degrees += 10.0;
-            colours = relighter.shade(env.directionRadiance(aoDirections(258), degrees, 0.0), threads);
-        });
-        std::printf("relight k=258: %.2f ms for %zu points (rotation + shading; relighter set-up once %.1f ms)\n", relightMs,
-                    points.size(), buildMs);
-
-        // Accuracy against the Monte-Carlo reference, every level from the one nested matrix.
-        const AoEmbreeScene reference(occluders);
-        const auto mcStart = std::chrono::steady_clock::now();
-        const std::vector<float> mc = monteCarloAo(reference, points, mcRays, 1, threads);
-        std::printf("MC reference: %d cosine-weighted rays per point, %.0f ms\n", mcRays, msSince(mcStart));
-        std::printf("RMSE vs MC:   k     solid-angle   plain count (the paper's)\n");
-        for (int k : kAoDirectionCounts)
-            std::printf("           %5d   %.4f        %.4f\n", k, rmse(ambientOcclusion(computation.matrix(), points, k), mc),
-                        rmse(ambientOcclusion(computation.matrix(), points, k, AoWeighting::PlainCount), mc));
-
-        if (gl) {
-            try {
-                const auto context = gl::HeadlessContext::create(glBackend);
-                // The default (occluders simplified within a quarter texel) and every triangle.
-                for (const auto& [resolution, simplify] : {std::pair{1024, 0.25}, std::pair{1024, 0.0}, std::pair{2048, 0.25}}) {
-                    AoGlCaster caster(context->functions(), occluders, {.resolution = resolution, .simplifyTexels = simplify});
-                    VisibilityMatrix m;
-                    const double t = timeMs(1, [&] {
-                        m = VisibilityMatrix(points.size(), 258);
-                        caster.fill(points, aoDirections(258), 0, 258, m);
-                    });
-                    std::uint64_t differ = 0;
-                    for (std::size_t i = 0; i < points.size(); ++i)
-                        for (int w = 0; w < m.words(); ++w)
-                            differ += unsigned(std::popcount((m.row(i)[w] ^ computation.matrix().row(i)[w]) &
-                                                                              (w == 4 ? 0x3ull : ~0ull)));
-                    std::printf("gl k=258 %dx%d, %zu triangles (within %.2f texel) (%s): %.0f ms, RMSE vs MC %.4f, bits "
-                                "differing from cpu %llu\n",
-                                resolution, resolution, caster.drawnTriangles(), simplify, context->renderer().c_str(), t,
-                                rmse(ambientOcclusion(m, points, 258), mc), (unsigned long long)differ);
-                }
-            } catch (const std::exception& e) {
-                std::printf("gl: skipped (%s)\n", e.what());
-            }
-        }
-    }
-
-    // The demo level in texel mode: time to a first picture (k = 6) and to k = 258.
-    {
-        const auto start = std::chrono::steady_clock::now();
-        const Scene level = demo::makeDemoLevel();
-        const AoOccluders levelOccluders = aoOccluders(level);
-        AoPoints texels;
-        const AoTexelLayout layout = aoTexelPoints(levelOccluders, texel, texels);
-        texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
-        AoBinnedCaster levelCaster(levelOccluders, {.threads = threads});
-        const double setupMs = msSince(start);
-        AoComputation computation(levelCaster, texels, 258);
-        computation.refineLevel();
-        std::vector<float> first = ambientOcclusion(computation.matrix(), texels, 6);
-        const double firstMs = msSince(start);
-        computation.run();
-        std::vector<float> full = ambientOcclusion(computation.matrix(), texels, 258);
-        const double fullMs = msSince(start);
-        std::printf("demo level texel mode: %zu triangles, %zu texels at %.1f/m (atlas %dx%d), set-up %.0f ms, first "
-                    "picture (k=6) %.0f ms, k=258 %.0f ms\n",
-                    levelOccluders.triangleCount(), texels.size(), texel, layout.width, layout.height, setupMs, firstMs, fullMs);
-    }
-    // As the editor runs it (ui/AoPreview.h): one thread, occluders within 2 m, and the
-    // relighter an environment change uses (its memory is the editor's largest AO cost).
-    {
-        const auto start = std::chrono::steady_clock::now();
-        const Scene level = demo::makeDemoLevel();
-        const AoOccluders levelOccluders = aoOccluders(level);
-        AoPoints texels;
-        aoTexelPoints(levelOccluders, texel, texels);
-        texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
-        AoBinnedCaster levelCaster(levelOccluders, {.threads = 1, .maxDistance = 2.0});
-        AoComputation computation(levelCaster, texels, 258);
-        computation.refineLevel();
-        const double firstMs = msSince(start);
-        computation.run();
-        const double fullMs = msSince(start);
-        const auto relightStart = std::chrono::steady_clock::now();
-        const AoRelighter relighter(computation.matrix(), texels, 258);
-        const double setupMs = msSince(relightStart);
-        const AoEnvironment env = AoEnvironment::fromPixels(2, 1, {glm::vec3(0.4f, 0.6f, 1.0f), glm::vec3(0.2f, 0.15f, 0.1f)});
-        double degrees = 0.0;
-        const double relightMs = timeMs(std::max(repeat, 3), [&] {
-            degrees += 15.0;
-            relighter.shade(env.directionRadiance(aoDirections(258), degrees, 0.0), 1);
-        });
-        std::printf("demo level as the editor (1 thread, 2 m reach): first picture (k=6) %.0f ms, k=258 %.0f ms; "
-                    "relighter set-up %.0f ms, %.1f MB for %llu visible bits, relight %.1f ms (1 thread)\n",
-                    firstMs, fullMs, setupMs, double(relighter.bytes()) / 1e6,
-                    (unsigned long long)computation.matrix().visibleCount(258), relightMs);
-    }
+    benchProgressive(*args, occluders, points, binned);
+    benchDemoTexels(*args);
+    benchDemoAsTheEditor(*args);
     return 0;
 }
