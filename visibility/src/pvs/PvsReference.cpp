@@ -79,6 +79,29 @@ std::vector<Gap> missedPairGaps(const WorldTriangles& world, const FirstHitCaste
     return gaps;
 }
 
+/// Panoramas from `eyes` (random points of cell c), "rendered" with first-hit rays: the pixels
+/// that show an object the cell's row culls are wrong.
+void countPanoramaErrors(const FirstHitCaster& caster, const std::vector<std::int32_t>& objectOf, const PvsData& pvs,
+                         std::uint32_t c, const std::vector<glm::vec3>& eyes, const ReferenceSettings& settings, CellResult& r)
+{
+    for (const glm::vec3& eye : eyes)
+        for (int y = 0; y < settings.height; ++y)
+            for (int x = 0; x < settings.width; ++x) {
+                const double theta = std::numbers::pi * (y + 0.5) / settings.height;
+                const double phi = 2.0 * std::numbers::pi * (x + 0.5) / settings.width;
+                const glm::vec3 d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
+                                  float(std::sin(theta) * std::sin(phi)));
+                ++r.pixels;
+                ++r.rays;
+                const RayHit hit = caster.cast(eye, d, 1e7f);
+                if (hit.instance < 0)
+                    continue;
+                const std::int32_t o = objectOf[std::size_t(hit.instance)];
+                if (o >= 0 && !pvs.rows.visible(c, std::size_t(o)))
+                    ++r.wrongPixels;
+            }
+}
+
 } // namespace
 
 AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const ReferenceSettings& settings)
@@ -154,24 +177,8 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
                 if (kept && !seen)
                     ++r.extra;
             }
-            // Panoramas from random points of the cell.
-            const std::vector<glm::vec3> eyes = boxPoints(pvs.cells[c], settings.views, mixSeed(seed ^ 0x657965ull, c));
-            for (const glm::vec3& eye : eyes)
-                for (int y = 0; y < settings.height; ++y)
-                    for (int x = 0; x < settings.width; ++x) {
-                        const double theta = std::numbers::pi * (y + 0.5) / settings.height;
-                        const double phi = 2.0 * std::numbers::pi * (x + 0.5) / settings.width;
-                        const glm::vec3 d(float(std::sin(theta) * std::cos(phi)), float(std::cos(theta)),
-                                          float(std::sin(theta) * std::sin(phi)));
-                        ++r.pixels;
-                        ++r.rays;
-                        const RayHit hit = caster.cast(eye, d, 1e7f);
-                        if (hit.instance < 0)
-                            continue;
-                        const std::int32_t o = objectOf[std::size_t(hit.instance)];
-                        if (o >= 0 && !pvs.rows.visible(c, std::size_t(o)))
-                            ++r.wrongPixels;
-                    }
+            countPanoramaErrors(caster, objectOf, pvs, c, boxPoints(pvs.cells[c], settings.views, mixSeed(seed ^ 0x657965ull, c)),
+                                settings, r);
         });
     });
     if (settings.cancel && settings.cancel->load())
