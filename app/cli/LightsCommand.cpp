@@ -22,6 +22,7 @@
 #include "lighting/ao/AoTexels.h"
 #include "cli/AoFiles.h"
 #include "cli/OutputLimits.h"
+#include "cli/Timing.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
 #include "visibility/Error.h"
@@ -496,155 +497,122 @@ void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
             throw Error(std::string(option) + " needs --indirect N (the VPL count)");
 }
 
-int runLights(const LightsArgs& args)
-{
-    const auto start = std::chrono::steady_clock::now();
-    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
-    const std::string what = std::filesystem::path(args.project).filename().string();
-    bool fromScene = false;
-    std::vector<Light> lights = lightsToUse(project, &fromScene);
-    if (fromScene && !lights.empty())
-        std::cerr << "sightline-cli: note: " << what << " has no \"lights\"; using the " << lights.size()
-                  << " KHR_lights_punctual lights of its scene file\n";
-    if (args.sets)
-        return printSets(args, project, lights);
-    if (args.vpls > 0)
-        validateIndirectOptions({.vpls = args.vpls, .seed = args.seed, .albedo = args.albedo, .clampMetres = args.clamp});
-    std::vector<FileRole> inputs = projectInputs(args.project, project);
-    if (!args.points.empty())
-        inputs.push_back({"--points", args.points});
-    checkOutputs({{"--npy", args.npy}, {"--lightmap", args.lightmap}, {"--gltf", args.gltf}}, inputs);
+namespace {
 
-    std::vector<std::string> warnings;
-    const Scene scene = buildScene(project, &warnings);
-    printWarnings(warnings);
-
+/// What one run computed, for its report.
+struct LightsRun {
+    std::vector<Light> lights;
     std::vector<ShadingPoint> points;
     std::optional<TexelBake> bake;
-    const bool onReceiver = args.points.empty() && args.texel <= 0.0;
-    if (args.texel > 0.0) {
-        bake = texelBake(scene, args.texel);
-        points = bake->points;
-    } else if (onReceiver) {
-        validatePatch(project.receiver, "receiver");
-        points = patchShadingPoints(project.receiver);
-    } else {
-        points = readPoints(args.points);
-    }
-    std::size_t lightSamples = 0;
-    for (const Light& light : lights)
-        lightSamples += std::size_t(light.sampleCount());
-    if (double(points.size()) * double(lightSamples) > kMaxTerms)
-        throw Error(what + ": " + std::to_string(points.size()) + " points x " + std::to_string(lightSamples) +
-                    " light samples is more than " + std::to_string(std::uint64_t(kMaxTerms)) +
-                    " shadow rays; use fewer points or coarser area lights");
-    if (lights.empty())
-        std::cerr << "sightline-cli: warning: " << what << " has no \"lights\" (nor its scene file); every irradiance is 0\n";
-
-    const auto setupStart = std::chrono::steady_clock::now();
-    const LightingScene lighting(scene);
-    const double setupMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - setupStart).count();
-
-    DirectLightOptions options;
-    options.path = args.reference ? LightingPath::Reference : LightingPath::Fast;
-    options.threads = args.threads;
-    options.receiverGrid = onReceiver ? &project.receiver : nullptr;
-    options.bitmaskAreaLights = args.bitmaskArea;
-    std::unique_ptr<gl::HeadlessContext> glContext;
-    std::unique_ptr<GlDirectLight> glPath;
-    if (args.gl) {
-        glContext = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
-        glPath = std::make_unique<GlDirectLight>(glContext->functions(), lighting.triangles(),
-                                                 GlDirectLightOptions{.resolution = args.glResolution});
-    }
-    // The first call in a process pays one-time costs (the thread pool's start, first touches of
-    // the acceleration structures): a call over a few points pays them before anything is timed,
-    // so that each path's time is what a warm editor or a second call sees, and --compare times
-    // both paths alike.
-    directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), std::min<std::size_t>(points.size(), 256)),
-                     DirectLightOptions{.threads = args.threads});
+    bool onReceiver = false;
     DirectLightStats stats;
-    json glJson, comparison;
-    const std::vector<glm::dvec3> irradiance =
-        args.gl ? glIrradiance(*glPath, glContext->renderer(), lighting, lights, points, args, glJson, comparison, stats)
-                : directIrradiance(lighting, lights, points, options, &stats);
+    double setupMs = 0.0, totalMs = 0.0;
+    std::size_t triangles = 0;
+    glm::dvec3 mean{0.0}, peak{0.0};
+    json glJson, comparison, indirectJson, dragJson, texelJson;
+};
 
-    if (args.compare && !args.gl) {
-        DirectLightOptions other = options;
-        other.path = args.reference ? LightingPath::Fast : LightingPath::Reference;
-        DirectLightStats otherStats;
-        const std::vector<glm::dvec3> second = directIrradiance(lighting, lights, points, other, &otherStats);
-        std::size_t differing = 0;
-        const double worst = largestRelativeDifference(irradiance, second, &differing);
-        const double fastMs = args.reference ? otherStats.ms : stats.ms, referenceMs = args.reference ? stats.ms : otherStats.ms;
-        comparison = {{"reference_ms", referenceMs},
-                      {"fast_ms", fastMs},
-                      {"speedup", fastMs > 0.0 ? referenceMs / fastMs : 0.0},
-                      {"max_relative_difference", worst},
-                      {"points_differing", differing}};
+/// Where the irradiance is computed: light-map texels (--texel), the receiver's samples, or the
+/// points of --points.
+void choosePoints(const LightsArgs& args, const Project& project, const Scene& scene, LightsRun& run)
+{
+    run.onReceiver = args.points.empty() && args.texel <= 0.0;
+    if (args.texel > 0.0) {
+        run.bake = texelBake(scene, args.texel);
+        run.points = run.bake->points;
+    } else if (run.onReceiver) {
+        validatePatch(project.receiver, "receiver");
+        run.points = patchShadingPoints(project.receiver);
+    } else {
+        run.points = readPoints(args.points);
     }
+}
 
-    json indirectJson;
-    std::vector<glm::dvec3> total = irradiance;
-    if (args.vpls > 0)
-        indirectJson = addIndirectBounce(lighting, lights, points, args, total, glPath.get());
+/// --compare without --gl: the other exact path on the same points, its time and how far apart.
+json compareExactPaths(const LightsArgs& args, const LightingScene& lighting, const LightsRun& run,
+                       const DirectLightOptions& options, const std::vector<glm::dvec3>& irradiance)
+{
+    DirectLightOptions other = options;
+    other.path = args.reference ? LightingPath::Fast : LightingPath::Reference;
+    DirectLightStats otherStats;
+    const std::vector<glm::dvec3> second = directIrradiance(lighting, run.lights, run.points, other, &otherStats);
+    std::size_t differing = 0;
+    const double worst = largestRelativeDifference(irradiance, second, &differing);
+    const double fastMs = args.reference ? otherStats.ms : run.stats.ms, referenceMs = args.reference ? run.stats.ms : otherStats.ms;
+    return {{"reference_ms", referenceMs},
+            {"fast_ms", fastMs},
+            {"speedup", fastMs > 0.0 ? referenceMs / fastMs : 0.0},
+            {"max_relative_difference", worst},
+            {"points_differing", differing}};
+}
 
-    json dragJson;
-    if (args.drag > 0)
-        dragJson = timeDrag(lighting, lights, points, args);
-
-    std::vector<float> values(3 * irradiance.size());
-    glm::dvec3 mean(0.0), peak(0.0);
+/// The irradiance as .npy or light-map outputs, and its mean and peak.
+void writeIrradiance(const LightsArgs& args, const Project& project, const std::vector<glm::dvec3>& total, LightsRun& run)
+{
+    std::vector<float> values(3 * total.size());
     for (std::size_t j = 0; j < total.size(); ++j) {
         for (int c = 0; c < 3; ++c)
             values[3 * j + std::size_t(c)] = float(total[j][c]);
-        mean += total[j];
-        peak = glm::max(peak, total[j]);
+        run.mean += total[j];
+        run.peak = glm::max(run.peak, total[j]);
     }
     if (!total.empty())
-        mean /= double(total.size());
-    json texelJson;
-    if (bake) {
-        texelJson = writeTexelOutputs(args, *bake, total);
+        run.mean /= double(total.size());
+    if (run.bake) {
+        run.texelJson = writeTexelOutputs(args, *run.bake, total);
     } else if (!args.npy.empty()) {
-        const std::vector<std::size_t> shape = onReceiver ? std::vector<std::size_t>{std::size_t(project.receiver.nb), std::size_t(project.receiver.na), 3}
-                                                          : std::vector<std::size_t>{points.size(), 3};
+        const std::vector<std::size_t> shape = run.onReceiver
+                                                   ? std::vector<std::size_t>{std::size_t(project.receiver.nb), std::size_t(project.receiver.na), 3}
+                                                   : std::vector<std::size_t>{run.points.size(), 3};
         writeFloatNpy(values, shape, args.npy);
     }
+}
 
-    const double totalMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    if (args.json) {
-        json out = {{"lights", stats.lights},
-                    {"light_samples", stats.lightSamples},
-                    {"points", stats.points},
-                    {"path", args.gl ? "gl" : args.reference ? "reference" : "fast"},
-                    {"ms", stats.ms},
-                    {"setup_ms", setupMs},
-                    {"total_ms", totalMs},
-                    {"terms", stats.terms},
-                    {"segments_cast", stats.segmentsCast},
-                    {"tiles_unreached", stats.tilesUnreached},
-                    {"tiles_proven_shadowed", stats.tilesProvenShadowed},
-                    {"tiles_proven_lit", stats.tilesProvenLit},
-                    {"tiles_cast", stats.tilesCast},
-                    {"bitmask_lights", stats.bitmaskLights},
-                    {"bitmask_rays", stats.bitmaskRays},
-                    {"triangles", scene.triangleCount()},
-                    {"irradiance_mean", {mean.x, mean.y, mean.z}},
-                    {"irradiance_max", {peak.x, peak.y, peak.z}}};
-        if (args.compare)
-            out["compare"] = comparison;
-        if (args.gl)
-            out["gl"] = glJson;
-        if (args.vpls > 0)
-            out["indirect"] = indirectJson;
-        if (bake)
-            out["texel"] = texelJson;
-        if (args.drag > 0)
-            out["drag"] = dragJson;
-        std::cout << out.dump() << "\n";
-        return 0;
-    }
+json lightsRunJson(const LightsArgs& args, const LightsRun& run)
+{
+    const DirectLightStats& stats = run.stats;
+    const glm::dvec3 mean = run.mean, peak = run.peak;
+    json out = {{"lights", stats.lights},
+                {"light_samples", stats.lightSamples},
+                {"points", stats.points},
+                {"path", args.gl ? "gl" : args.reference ? "reference" : "fast"},
+                {"ms", stats.ms},
+                {"setup_ms", run.setupMs},
+                {"total_ms", run.totalMs},
+                {"terms", stats.terms},
+                {"segments_cast", stats.segmentsCast},
+                {"tiles_unreached", stats.tilesUnreached},
+                {"tiles_proven_shadowed", stats.tilesProvenShadowed},
+                {"tiles_proven_lit", stats.tilesProvenLit},
+                {"tiles_cast", stats.tilesCast},
+                {"bitmask_lights", stats.bitmaskLights},
+                {"bitmask_rays", stats.bitmaskRays},
+                {"triangles", run.triangles},
+                {"irradiance_mean", {mean.x, mean.y, mean.z}},
+                {"irradiance_max", {peak.x, peak.y, peak.z}}};
+    if (args.compare)
+        out["compare"] = run.comparison;
+    if (args.gl)
+        out["gl"] = run.glJson;
+    if (args.vpls > 0)
+        out["indirect"] = run.indirectJson;
+    if (run.bake)
+        out["texel"] = run.texelJson;
+    if (args.drag > 0)
+        out["drag"] = run.dragJson;
+    return out;
+}
+
+void printLightsRun(const LightsArgs& args, const Project& project, const LightsRun& run)
+{
+    const DirectLightStats& stats = run.stats;
+    const std::vector<Light>& lights = run.lights;
+    const std::vector<ShadingPoint>& points = run.points;
+    const std::optional<TexelBake>& bake = run.bake;
+    const bool onReceiver = run.onReceiver;
+    const json &glJson = run.glJson, &comparison = run.comparison, &indirectJson = run.indirectJson, &dragJson = run.dragJson;
+    const glm::dvec3 mean = run.mean, peak = run.peak;
+    const double setupMs = run.setupMs;
     std::printf("lights     %zu (%s), %zu light samples\n", lights.size(), lightSummary(lights).c_str(), stats.lightSamples);
     if (bake)
         std::printf("points     %zu light-map texels (%zu charts, a %dx%d atlas at %g texels a metre)\n", points.size(),
@@ -666,7 +634,7 @@ int runLights(const LightsArgs& args)
                     (unsigned long long)stats.tilesUnreached, (unsigned long long)stats.tilesProvenShadowed,
                     (unsigned long long)stats.tilesProvenLit, (unsigned long long)stats.tilesCast, stats.bitmaskLights);
     std::printf("irradiance mean (%.6g, %.6g, %.6g), max (%.6g, %.6g, %.6g) W/m²\n", mean.x, mean.y, mean.z, peak.x, peak.y, peak.z);
-    std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, scene.triangleCount());
+    std::printf("time       %.2f ms (scene setup %.1f ms, %zu triangles)\n", stats.ms, setupMs, run.triangles);
     if (args.vpls > 0) {
         std::printf("indirect   %zu VPLs from %d photons (%.1f ms) in %.1f ms%s", indirectJson["vpls"].get<std::size_t>(),
                     indirectJson["photons"].get<int>(), indirectJson["trace_ms"].get<double>(), indirectJson["ms"].get<double>(),
@@ -696,6 +664,85 @@ int runLights(const LightsArgs& args)
                     comparison["reference_ms"].get<double>(), comparison["fast_ms"].get<double>(),
                     comparison["speedup"].get<double>(), comparison["max_relative_difference"].get<double>(),
                     comparison["points_differing"].get<std::size_t>());
+}
+
+} // namespace
+
+int runLights(const LightsArgs& args)
+{
+    const auto start = std::chrono::steady_clock::now();
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    const std::string what = std::filesystem::path(args.project).filename().string();
+    LightsRun run;
+    bool fromScene = false;
+    run.lights = lightsToUse(project, &fromScene);
+    const std::vector<Light>& lights = run.lights;
+    if (fromScene && !lights.empty())
+        std::cerr << "sightline-cli: note: " << what << " has no \"lights\"; using the " << lights.size()
+                  << " KHR_lights_punctual lights of its scene file\n";
+    if (args.sets)
+        return printSets(args, project, lights);
+    if (args.vpls > 0)
+        validateIndirectOptions({.vpls = args.vpls, .seed = args.seed, .albedo = args.albedo, .clampMetres = args.clamp});
+    std::vector<FileRole> inputs = projectInputs(args.project, project);
+    if (!args.points.empty())
+        inputs.push_back({"--points", args.points});
+    checkOutputs({{"--npy", args.npy}, {"--lightmap", args.lightmap}, {"--gltf", args.gltf}}, inputs);
+
+    std::vector<std::string> warnings;
+    const Scene scene = buildScene(project, &warnings);
+    printWarnings(warnings);
+    run.triangles = scene.triangleCount();
+    choosePoints(args, project, scene, run);
+    const std::vector<ShadingPoint>& points = run.points;
+    std::size_t lightSamples = 0;
+    for (const Light& light : lights)
+        lightSamples += std::size_t(light.sampleCount());
+    if (double(points.size()) * double(lightSamples) > kMaxTerms)
+        throw Error(what + ": " + std::to_string(points.size()) + " points x " + std::to_string(lightSamples) +
+                    " light samples is more than " + std::to_string(std::uint64_t(kMaxTerms)) +
+                    " shadow rays; use fewer points or coarser area lights");
+    if (lights.empty())
+        std::cerr << "sightline-cli: warning: " << what << " has no \"lights\" (nor its scene file); every irradiance is 0\n";
+
+    const auto setupStart = std::chrono::steady_clock::now();
+    const LightingScene lighting(scene);
+    run.setupMs = millisecondsSince(setupStart);
+
+    DirectLightOptions options;
+    options.path = args.reference ? LightingPath::Reference : LightingPath::Fast;
+    options.threads = args.threads;
+    options.receiverGrid = run.onReceiver ? &project.receiver : nullptr;
+    options.bitmaskAreaLights = args.bitmaskArea;
+    std::unique_ptr<gl::HeadlessContext> glContext;
+    std::unique_ptr<GlDirectLight> glPath;
+    if (args.gl) {
+        glContext = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
+        glPath = std::make_unique<GlDirectLight>(glContext->functions(), lighting.triangles(),
+                                                 GlDirectLightOptions{.resolution = args.glResolution});
+    }
+    // The first call in a process pays one-time costs (the thread pool's start, first touches of
+    // the acceleration structures): a call over a few points pays them before anything is timed,
+    // so that each path's time is what a warm editor or a second call sees, and --compare times
+    // both paths alike.
+    directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), std::min<std::size_t>(points.size(), 256)),
+                     DirectLightOptions{.threads = args.threads});
+    const std::vector<glm::dvec3> irradiance =
+        args.gl ? glIrradiance(*glPath, glContext->renderer(), lighting, lights, points, args, run.glJson, run.comparison, run.stats)
+                : directIrradiance(lighting, lights, points, options, &run.stats);
+    if (args.compare && !args.gl)
+        run.comparison = compareExactPaths(args, lighting, run, options, irradiance);
+    std::vector<glm::dvec3> total = irradiance;
+    if (args.vpls > 0)
+        run.indirectJson = addIndirectBounce(lighting, lights, points, args, total, glPath.get());
+    if (args.drag > 0)
+        run.dragJson = timeDrag(lighting, lights, points, args);
+    writeIrradiance(args, project, total, run);
+    run.totalMs = millisecondsSince(start);
+    if (args.json)
+        std::cout << lightsRunJson(args, run).dump() << "\n";
+    else
+        printLightsRun(args, project, run);
     return 0;
 }
 
