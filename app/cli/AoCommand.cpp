@@ -117,6 +117,69 @@ void checkAoOptions(const CLI::App& command, const AoArgs& args)
         throw Error("--rotate and --exposure must be finite (exposure within +-64 EV)");
 }
 
+namespace {
+
+/// The caster --method names, and what keeps it alive (a GL context).
+struct AoCasterChoice {
+    std::unique_ptr<gl::HeadlessContext> context;
+    std::unique_ptr<AoFiller> filler;
+    std::string renderer;              ///< the GL renderer, for --method gl
+    const AoGlCaster* gl = nullptr;    ///< `filler`, for --method gl
+};
+
+AoCasterChoice chooseCaster(const AoArgs& args, const AoOccluders& occluders)
+{
+    AoCasterChoice choice;
+    if (args.method == "cpu") {
+        choice.filler = std::make_unique<AoBinnedCaster>(occluders, AoBinnedOptions{.threads = args.threads});
+    } else if (args.method == "embree") {
+        choice.filler = std::make_unique<AoEmbreeCaster>(occluders, args.threads);
+    } else {
+        choice.context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
+        choice.renderer = choice.context->renderer();
+        auto caster = std::make_unique<AoGlCaster>(choice.context->functions(), occluders,
+                                                   AoGlOptions{.resolution = args.glResolution, .simplifyTexels = args.glSimplify});
+        choice.gl = caster.get();
+        choice.filler = std::move(caster);
+    }
+    return choice;
+}
+
+/// --npy (per vertex, or the texel atlas with NaN between tiles), --ply, --lightmap and --gltf.
+/// `layout`: the texel atlas in texel mode, else null.
+void writeAoOutputs(const AoArgs& args, const AoOccluders& occluders, const AoTexelLayout* layout, const std::vector<float>& ao,
+                    const std::vector<glm::vec3>& colours)
+{
+    if (!args.npy.empty()) {
+        if (layout) {
+            std::vector<float> atlas(std::size_t(layout->width) * std::size_t(layout->height), std::nanf(""));
+            for (const AoTexelTile& tile : layout->tiles)
+                for (int t = 0; t < tile.height; ++t)
+                    for (int s = 0; s < tile.width; ++s)
+                        atlas[std::size_t(tile.y + t) * std::size_t(layout->width) + std::size_t(tile.x + s)] =
+                            ao[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
+            writeAoNpy(atlas, args.npy, layout->width);
+        } else {
+            writeAoNpy(ao, args.npy);
+        }
+    }
+    if (!args.ply.empty())
+        writeColouredPly(occluders, colours, args.ply);
+    if (layout && !args.lightmap.empty())
+        writeLightmapPng(*layout, colours, args.lightmap);
+    if (!args.gltf.empty()) {
+        if (layout) {
+            const std::filesystem::path gltfFolder = std::filesystem::absolute(args.gltf).parent_path();
+            const std::filesystem::path png = std::filesystem::absolute(args.lightmap);
+            writeLightmappedGltf(occluders, *layout, png.lexically_relative(gltfFolder).generic_string(), args.gltf);
+        } else {
+            writeColouredGltf(occluders, colours, args.gltf);
+        }
+    }
+}
+
+} // namespace
+
 int runAo(const AoArgs& args)
 {
     const auto start = std::chrono::steady_clock::now();
@@ -155,25 +218,12 @@ int runAo(const AoArgs& args)
     points.offsetOrigins(offset);
     const double loadMs = msSince(start);
 
-    std::unique_ptr<gl::HeadlessContext> context;
-    std::unique_ptr<AoFiller> filler;
-    std::string renderer;
-    const AoGlCaster* glCaster = nullptr;
-    if (args.method == "cpu") {
-        filler = std::make_unique<AoBinnedCaster>(occluders, AoBinnedOptions{.threads = args.threads});
-    } else if (args.method == "embree") {
-        filler = std::make_unique<AoEmbreeCaster>(occluders, args.threads);
-    } else {
-        context = gl::HeadlessContext::create(gl::parseBackend(args.glBackend));
-        renderer = context->renderer();
-        auto caster = std::make_unique<AoGlCaster>(context->functions(), occluders,
-                                                   AoGlOptions{.resolution = args.glResolution, .simplifyTexels = args.glSimplify});
-        glCaster = caster.get();
-        filler = std::move(caster);
-    }
+    const AoCasterChoice caster = chooseCaster(args, occluders);
+    const std::string& renderer = caster.renderer;
+    const AoGlCaster* glCaster = caster.gl;
 
     // Progressive, level by level: each level's time is reported (the editor shows each at once).
-    AoComputation computation(*filler, points, args.k);
+    AoComputation computation(*caster.filler, points, args.k);
     const auto fillStart = std::chrono::steady_clock::now();
     json levels = json::array();
     for (int s = 0; s <= level; ++s) {
@@ -213,33 +263,7 @@ int runAo(const AoArgs& args)
     if (zeroNormal)
         std::cerr << "sightline-cli: warning: " << what << ": " << zeroNormal
                   << " vertices have a zero normal (only degenerate faces): no AO (NaN in --npy, black in colours)\n";
-
-    if (!args.npy.empty()) {
-        if (texelMode) {
-            std::vector<float> atlas(std::size_t(layout.width) * std::size_t(layout.height), std::nanf(""));
-            for (const AoTexelTile& tile : layout.tiles)
-                for (int t = 0; t < tile.height; ++t)
-                    for (int s = 0; s < tile.width; ++s)
-                        atlas[std::size_t(tile.y + t) * std::size_t(layout.width) + std::size_t(tile.x + s)] =
-                            ao[tile.firstPoint + std::size_t(t) * std::size_t(tile.width) + std::size_t(s)];
-            writeAoNpy(atlas, args.npy, layout.width);
-        } else {
-            writeAoNpy(ao, args.npy);
-        }
-    }
-    if (!args.ply.empty())
-        writeColouredPly(occluders, colours, args.ply);
-    if (texelMode && !args.lightmap.empty())
-        writeLightmapPng(layout, colours, args.lightmap);
-    if (!args.gltf.empty()) {
-        if (texelMode) {
-            const std::filesystem::path gltfFolder = std::filesystem::absolute(args.gltf).parent_path();
-            const std::filesystem::path png = std::filesystem::absolute(args.lightmap);
-            writeLightmappedGltf(occluders, layout, png.lexically_relative(gltfFolder).generic_string(), args.gltf);
-        } else {
-            writeColouredGltf(occluders, colours, args.gltf);
-        }
-    }
+    writeAoOutputs(args, occluders, texelMode ? &layout : nullptr, ao, colours);
 
     const double mean = shaded ? sum / double(shaded) : 0.0;
     if (args.json) {
