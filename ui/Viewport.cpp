@@ -268,6 +268,39 @@ void Viewport::paintGL()
     controller_.setViewportSize(width(), height());
     if (!renderer_)
         return;
+    syncRenderer();
+    const Project& project = document_.project();
+    const auto [resampled, deferred] = updateAnswer(project);
+    startAoPreview();
+    startLitPreview();
+    takeLitFrame();
+    takeAoLevel();
+    updatePvs(project);
+    const bool overlayChanged = overlay_.version() != overlayVersion_;
+    if (overlayChanged) {
+        overlayVersion_ = overlay_.version();
+        renderer_->setOverlay(overlayPatch(overlay_.kind()), &overlay_.texels());
+    }
+    renderer_->render(frameState(project, w, h));
+    raysDrawn_ = renderer_->raysDrawn();
+    if (renderer_->levelIncomplete())
+        update();   // the rest of a new level's first draw
+
+    if (resampled || deferred) {
+        if (resampled)
+            updateTimes_.push_back(clock_.nsecsElapsed());
+        while (updateTimes_.size() > kRateWindow)
+            updateTimes_.pop_front();
+        emit visibilityUpdated();
+    }
+    if (overlayChanged)
+        emit overlayUpdated();
+}
+
+/// The level, occluders, hidden objects, the worker's ray scene and the picked rays, where edits
+/// changed them.
+void Viewport::syncRenderer()
+{
     const bool sceneChanged = sceneFileDirty_ || occludersDirty_;
     if (levelDirty_)
         updateLevel();
@@ -288,8 +321,13 @@ void Viewport::paintGL()
         renderer_->setSelectedRays(selectedRays_, selectedSources_, selectedReceivers_);
         selectedRaysDirty_ = false;
     }
+}
 
-    const Project& project = document_.project();
+/// The samples for the pair: sampled in the frame (GL), or asked of the worker and taken when
+/// they arrive; the overlay and the disagreement view follow a new answer. Returns whether a new
+/// answer is shown, and whether sampling was put off for a drag.
+std::pair<bool, bool> Viewport::updateAnswer(const Project& project)
+{
     if (!backendChosen_) {
         backendChosen_ = true;
         backendReport_ = QString::fromStdString(visibility_.chooseBackend(project.source, project.receiver));
@@ -342,66 +380,87 @@ void Viewport::paintGL()
     } else if (overlay_.needsLive()) {
         overlay_.setLive(result_, answeredProject(), false);
     }
-    if (aoStale_) {
-        aoStale_ = false;
-        aoShownK_ = 0;
-        if (!ao_)
-            ao_ = std::make_unique<AoPreview>([this](AoPreviewLevel level) {
-                QMetaObject::invokeMethod(
-                    this, [this, l = std::move(level)]() mutable {
-                        if (l.generation != aoGeneration_)
-                            return;   // for a level or a setting since replaced
-                        aoArrived_ = std::move(l);
-                        update();
-                    },
-                    Qt::QueuedConnection);
-            });
-        ao_->setLighting(aoLighting_);
-        aoInstances_ = aoOfSelection_ ? selectedInstances() : std::vector<std::uint32_t>{};
-        ao_->start(++aoGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()), .instances = aoInstances_});
+    return {resampled, deferred};
+}
+
+/// The AO preview (again) on a worker, after the level or its settings changed.
+void Viewport::startAoPreview()
+{
+    if (!aoStale_)
+        return;
+    aoStale_ = false;
+    aoShownK_ = 0;
+    if (!ao_)
+        ao_ = std::make_unique<AoPreview>([this](AoPreviewLevel level) {
+            QMetaObject::invokeMethod(
+                this, [this, l = std::move(level)]() mutable {
+                    if (l.generation != aoGeneration_)
+                        return;   // for a level or a setting since replaced
+                    aoArrived_ = std::move(l);
+                    update();
+                },
+                Qt::QueuedConnection);
+        });
+    ao_->setLighting(aoLighting_);
+    aoInstances_ = aoOfSelection_ ? selectedInstances() : std::vector<std::uint32_t>{};
+    ao_->start(++aoGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()), .instances = aoInstances_});
+}
+
+/// The lit view (again) on a worker, after the level or its lights changed.
+void Viewport::startLitPreview()
+{
+    if (!litStale_)
+        return;
+    litStale_ = false;
+    litExact_ = false;
+    if (!lit_)
+        lit_ = std::make_unique<LitPreview>([this](LitPreviewFrame frame) {
+            QMetaObject::invokeMethod(
+                this, [this, f = std::move(frame)]() mutable {
+                    if (f.generation != litGeneration_)
+                        return;   // for a level since replaced
+                    ++litReceived_;
+                    litArrived_ = std::move(f);
+                    // Taken now where the renderer has the scene it is for: a dragged light's
+                    // next pass then starts without waiting for the window's next paint.
+                    if (renderer_ && !levelDirty_ && !sceneFileDirty_ && !occludersDirty_ && !litStale_) {
+                        makeCurrent();
+                        takeLitFrame();
+                    }
+                    update();
+                },
+                Qt::QueuedConnection);
+        });
+    litFailed_ = false;
+    litWanted_ = lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
+                                   .lights = document_.lights(),
+                                   .shading = litShading_,
+                                   .budget = litBudget_,
+                                   .indirect = litIndirect_});
+    if (setsShown_)
+        requestLightSets();
+}
+
+/// An AO level that arrived, into the renderer (unless the lit view holds the map).
+void Viewport::takeAoLevel()
+{
+    if (!aoArrived_)
+        return;
+    AoPreviewLevel level = std::move(*aoArrived_);
+    aoArrived_.reset();
+    if (level.error.empty() && style_.litView) {
+        aoShownK_ = 0;   // the lit view holds the map; AO is computed again when it ends
+    } else if (level.error.empty()) {
+        renderer_->setAmbientOcclusion(level.uvs, level.width, level.height, level.map);
+        aoShownK_ = level.k;
     }
-    if (litStale_) {
-        litStale_ = false;
-        litExact_ = false;
-        if (!lit_)
-            lit_ = std::make_unique<LitPreview>([this](LitPreviewFrame frame) {
-                QMetaObject::invokeMethod(
-                    this, [this, f = std::move(frame)]() mutable {
-                        if (f.generation != litGeneration_)
-                            return;   // for a level since replaced
-                        ++litReceived_;
-                        litArrived_ = std::move(f);
-                        // Taken now where the renderer has the scene it is for: a dragged light's
-                        // next pass then starts without waiting for the window's next paint.
-                        if (renderer_ && !levelDirty_ && !sceneFileDirty_ && !occludersDirty_ && !litStale_) {
-                            makeCurrent();
-                            takeLitFrame();
-                        }
-                        update();
-                    },
-                    Qt::QueuedConnection);
-            });
-        litFailed_ = false;
-        litWanted_ = lit_->start(++litGeneration_, {.scene = std::make_shared<const Scene>(document_.scene()),
-                                       .lights = document_.lights(),
-                                       .shading = litShading_,
-                                       .budget = litBudget_,
-                                       .indirect = litIndirect_});
-        if (setsShown_)
-            requestLightSets();
-    }
-    takeLitFrame();
-    if (aoArrived_) {
-        AoPreviewLevel level = std::move(*aoArrived_);
-        aoArrived_.reset();
-        if (level.error.empty() && style_.litView) {
-            aoShownK_ = 0;   // the lit view holds the map; AO is computed again when it ends
-        } else if (level.error.empty()) {
-            renderer_->setAmbientOcclusion(level.uvs, level.width, level.height, level.map);
-            aoShownK_ = level.k;
-        }
-        emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error), level.relit);
-    }
+    emit aoUpdated(level.k, level.targetK, level.ms, QString::fromStdString(level.error), level.relit);
+}
+
+/// The PVS debugger: a bake (again) after the level changed, and the culled objects of the
+/// eye's (or the frozen) view cell.
+void Viewport::updatePvs(const Project& project)
+{
     if (pvsStale_) {
         resetPvs({}, {}, {}, false);
         if (!pvs_)
@@ -429,12 +488,11 @@ void Viewport::paintGL()
             emit pvsUpdated(pvsStatus());
         }
     }
-    const bool overlayChanged = overlay_.version() != overlayVersion_;
-    if (overlayChanged) {
-        overlayVersion_ = overlay_.version();
-        renderer_->setOverlay(overlayPatch(overlay_.kind()), &overlay_.texels());
-    }
+}
 
+/// What the renderer draws this frame.
+FrameState Viewport::frameState(const Project& project, int w, int h)
+{
     FrameState frame;
     frame.camera = controller_.camera();
     frame.width = w;
@@ -484,20 +542,7 @@ void Viewport::paintGL()
         frame.gapWitnesses = pvsGaps_[std::size_t(pvsGapSelected_)].witnesses;
     if (style_.pvsDebugger && pvsShownCell_ && *pvsShownCell_ < pvsCells_.size())
         frame.viewCell = pvsCells_[*pvsShownCell_];
-    renderer_->render(frame);
-    raysDrawn_ = renderer_->raysDrawn();
-    if (renderer_->levelIncomplete())
-        update();   // the rest of a new level's first draw
-
-    if (resampled || deferred) {
-        if (resampled)
-            updateTimes_.push_back(clock_.nsecsElapsed());
-        while (updateTimes_.size() > kRateWindow)
-            updateTimes_.pop_front();
-        emit visibilityUpdated();
-    }
-    if (overlayChanged)
-        emit overlayUpdated();
+    return frame;
 }
 
 void Viewport::setAmbientOcclusion(bool on)

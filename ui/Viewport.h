@@ -213,6 +213,14 @@ protected:
     void keyReleaseEvent(QKeyEvent* event) override;
 
 private:
+    // The steps of a frame (paintGL), in order.
+    void syncRenderer();
+    std::pair<bool, bool> updateAnswer(const Project& project);
+    void startAoPreview();
+    void startLitPreview();
+    void takeAoLevel();
+    void updatePvs(const Project& project);
+    FrameState frameState(const Project& project, int w, int h);
     /// Posts the document's pair to the background sampler (CPU back end).
     void requestSample();
     /// On the GUI thread: a background answer arrived.

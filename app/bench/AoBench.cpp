@@ -233,17 +233,31 @@ void benchProgressive(const AoBenchArgs& args, const AoOccluders& occluders, con
         benchGl(args, occluders, points, computation.matrix(), mc);
 }
 
+/// The demo level's occluders and its light-map texels at `texel` a metre, offset off the surfaces.
+struct DemoTexels {
+    AoOccluders occluders;
+    AoPoints points;
+    AoTexelLayout layout;
+};
+
+DemoTexels demoTexels(double texel)
+{
+    DemoTexels out{aoOccluders(demo::makeDemoLevel()), {}, {}};
+    out.layout = aoTexelPoints(out.occluders, texel, out.points);
+    out.points.offsetOrigins(kAoOffsetRelative * out.occluders.diagonal());
+    return out;
+}
+
 /// The demo level in texel mode: time to a first picture (k = 6) and to k = 258.
 void benchDemoTexels(const AoBenchArgs& args)
 {
     const int threads = args.threads;
     const double texel = args.texel;
     const auto start = std::chrono::steady_clock::now();
-    const Scene level = demo::makeDemoLevel();
-    const AoOccluders levelOccluders = aoOccluders(level);
-    AoPoints texels;
-    const AoTexelLayout layout = aoTexelPoints(levelOccluders, texel, texels);
-    texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
+    DemoTexels level = demoTexels(texel);
+    const AoOccluders& levelOccluders = level.occluders;
+    AoPoints& texels = level.points;
+    const AoTexelLayout& layout = level.layout;
     AoBinnedCaster levelCaster(levelOccluders, {.threads = threads});
     const double setupMs = msSince(start);
     AoComputation computation(levelCaster, texels, 258);
@@ -265,12 +279,9 @@ void benchDemoAsTheEditor(const AoBenchArgs& args)
     const int repeat = args.repeat;
     const double texel = args.texel;
     const auto start = std::chrono::steady_clock::now();
-    const Scene level = demo::makeDemoLevel();
-    const AoOccluders levelOccluders = aoOccluders(level);
-    AoPoints texels;
-    aoTexelPoints(levelOccluders, texel, texels);
-    texels.offsetOrigins(kAoOffsetRelative * levelOccluders.diagonal());
-    AoBinnedCaster levelCaster(levelOccluders, {.threads = 1, .maxDistance = 2.0});
+    DemoTexels level = demoTexels(texel);
+    const AoPoints& texels = level.points;
+    AoBinnedCaster levelCaster(level.occluders, {.threads = 1, .maxDistance = 2.0});
     AoComputation computation(levelCaster, texels, 258);
     computation.refineLevel();
     const double firstMs = msSince(start);

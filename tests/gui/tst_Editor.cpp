@@ -3158,17 +3158,8 @@ private slots:
         // Drawn in place of the rays: red and blue lines across the shaft.
         window_->controller().setCamera(facing(project.source, 6.0));
         waitForFrame();
-        const auto count = [&](const std::uint8_t rgb[3]) {
-            const QImage frame = viewport.grabFramebuffer();
-            int n = 0;
-            for (int y = 0; y < frame.height(); ++y)
-                for (int x = 0; x < frame.width(); ++x) {
-                    const QRgb c = frame.pixel(x, y);
-                    n += std::abs(qRed(c) - rgb[0]) + std::abs(qGreen(c) - rgb[1]) + std::abs(qBlue(c) - rgb[2]) < 90;
-                }
-            return n;
-        };
-        const int red = count(kFalseBlockedRgb), blue = count(kFalseFreeRgb);
+        const QImage drawn = viewport.grabFramebuffer();
+        const int red = pixelsOf(drawn, kFalseBlockedRgb, 90), blue = pixelsOf(drawn, kFalseFreeRgb, 90);
         QVERIFY2(red > 50 && blue > 50, qPrintable(QString("%1 red, %2 blue pixels").arg(red).arg(blue)));
         // Every one up to 16,384, else every k-th (the smallest k that fits).
         const std::uint64_t differing = shown.falseBlockedCount + shown.falseFreeCount + shown.tieCount;
@@ -3395,14 +3386,15 @@ private slots:
     }
 
 private:
-    /// Pixels of `frame` in the colour `rgb`, give or take blending.
-    static int pixelsOf(const QImage& frame, const std::uint8_t (&rgb)[3])
+    /// Pixels of `frame` in the colour `rgb`, give or take blending (`tolerance`: the largest sum
+    /// of the channels' differences).
+    static int pixelsOf(const QImage& frame, const std::uint8_t (&rgb)[3], int tolerance = 60)
     {
         int n = 0;
         for (int y = 0; y < frame.height(); ++y)
             for (int x = 0; x < frame.width(); ++x) {
                 const QRgb c = frame.pixel(x, y);
-                n += std::abs(qRed(c) - rgb[0]) + std::abs(qGreen(c) - rgb[1]) + std::abs(qBlue(c) - rgb[2]) < 60;
+                n += std::abs(qRed(c) - rgb[0]) + std::abs(qGreen(c) - rgb[1]) + std::abs(qBlue(c) - rgb[2]) < tolerance;
             }
         return n;
     }
