@@ -24,6 +24,16 @@ using namespace sightline::test;
 
 namespace {
 
+/// A request on the plane at `depth` for `share` of the rays, as `shape` (the rest defaulted).
+suggest::Request request(double depth, double share, suggest::Shape shape)
+{
+    suggest::Request r;
+    r.depth = depth;
+    r.share = share;
+    r.shape = shape;
+    return r;
+}
+
 struct SuggestCase {
     std::string name;
     Scene scene;
@@ -120,7 +130,7 @@ TEST(Suggest, OpenViewGivesTheHullOfTheCrossingsAsTheContractSays)
     const SuggestCase c = facingSquares(2.0);
     for (const double depth : {0.25, 0.5, 0.8})
         for (const suggest::Shape shape : {suggest::Shape::Convex, suggest::Shape::Rect}) {
-            const SuggestedOccluder s = checkSuggestion(c, {.depth = depth, .share = 1.0, .shape = shape});
+            const SuggestedOccluder s = checkSuggestion(c, request(depth, 1.0, shape));
             const double side = 31.0 / 32.0, margin = s.suggestion.margin;
             EXPECT_GE(s.suggestion.area, side * side);
             EXPECT_LE(s.suggestion.area, (side + 2.0 * margin) * (side + 2.0 * margin) + 1e-12);
@@ -133,10 +143,10 @@ TEST(Suggest, OpenViewGivesTheHullOfTheCrossingsAsTheContractSays)
 TEST(Suggest, ShareBelowOneBlocksAtLeastThatShareWithASmallerOccluder)
 {
     const SuggestCase c = facingSquares(3.0);
-    const SuggestedOccluder all = checkSuggestion(c, {.depth = 0.5, .share = 1.0, .shape = suggest::Shape::Convex});
+    const SuggestedOccluder all = checkSuggestion(c, request(0.5, 1.0, suggest::Shape::Convex));
     for (const suggest::Shape shape : {suggest::Shape::Convex, suggest::Shape::Rect})
         for (const double share : {0.95, 0.5}) {
-            const SuggestedOccluder part = checkSuggestion(c, {.depth = 0.5, .share = share, .shape = shape});
+            const SuggestedOccluder part = checkSuggestion(c, request(0.5, share, shape));
             EXPECT_LT(part.suggestion.area, all.suggestion.area) << share;
             EXPECT_EQ(part.suggestion.promised, std::uint64_t(1024 * 1024) - part.suggestion.required);
             EXPECT_GE(double(part.suggestion.required), share * 1024.0 * 1024.0 - 1.0);
@@ -148,9 +158,9 @@ TEST(Suggest, DemoLevelAtProductionSizes)
     const SuggestCase c = demoCase();
     for (const double depth : {0.3, 0.5, 0.7})
         for (const suggest::Shape shape : {suggest::Shape::Convex, suggest::Shape::Rect}) {
-            const SuggestedOccluder s = checkSuggestion(c, {.depth = depth, .share = 1.0, .shape = shape});
+            const SuggestedOccluder s = checkSuggestion(c, request(depth, 1.0, shape));
             EXPECT_EQ(s.unblockedAfter, 0u) << depth;
-            checkSuggestion(c, {.depth = depth, .share = 0.9, .shape = shape});
+            checkSuggestion(c, request(depth, 0.9, shape));
         }
 }
 
@@ -160,29 +170,29 @@ TEST(Suggest, GeneratedLevelsOnSeveralSeeds)
         for (const std::uint64_t seed : {1u, 2u}) {
             const demo::BenchScene bench = demo::makeBenchScene(kind, seed);
             const SuggestCase c{bench.name, bench.scene, bench.source, bench.receiver, {}};
-            checkSuggestion(c, {.depth = 0.4, .share = 1.0, .shape = suggest::Shape::Convex});
-            checkSuggestion(c, {.depth = 0.6, .share = 0.95, .shape = suggest::Shape::Rect});
+            checkSuggestion(c, request(0.4, 1.0, suggest::Shape::Convex));
+            checkSuggestion(c, request(0.6, 0.95, suggest::Shape::Rect));
         }
 }
 
 TEST(Suggest, FloorToWallPairAndABumpyReceiver)
 {
     SuggestCase c = floorToWall();
-    checkSuggestion(c, {.depth = 0.5, .share = 1.0, .shape = suggest::Shape::Convex});
-    checkSuggestion(c, {.depth = 0.5, .share = 1.0, .shape = suggest::Shape::Rect});
+    checkSuggestion(c, request(0.5, 1.0, suggest::Shape::Convex));
+    checkSuggestion(c, request(0.5, 1.0, suggest::Shape::Rect));
     SuggestCase bumpy = facingSquares(2.0);
     bumpy.name = "bumpy receiver";
     bumpy.heights = randomHeights(bumpy.receiver, 3, 0.3);
-    checkSuggestion(bumpy, {.depth = 0.5, .share = 1.0, .shape = suggest::Shape::Convex});
-    checkSuggestion(bumpy, {.depth = 0.7, .share = 0.95, .shape = suggest::Shape::Rect});
+    checkSuggestion(bumpy, request(0.5, 1.0, suggest::Shape::Convex));
+    checkSuggestion(bumpy, request(0.7, 0.95, suggest::Shape::Rect));
 }
 
 TEST(Suggest, KilometresFromTheOrigin)
 {
     for (const double distance : {1e3, 1e4, 1e5}) {
         const SuggestCase c = facingSquares(2.0, glm::dvec3(distance, -0.6 * distance, 0.3 * distance));
-        checkSuggestion(c, {.depth = 0.5, .share = 1.0, .shape = suggest::Shape::Convex});
-        checkSuggestion(c, {.depth = 0.35, .share = 1.0, .shape = suggest::Shape::Rect});
+        checkSuggestion(c, request(0.5, 1.0, suggest::Shape::Convex));
+        checkSuggestion(c, request(0.35, 1.0, suggest::Shape::Rect));
     }
 }
 
@@ -196,7 +206,7 @@ TEST(Suggest, EveryAdversarialCategory)
                 const SuggestCase c{a.name, std::move(a.scene), a.source, a.receiver, {}};
                 const suggest::Shape shape = seed == 1 ? suggest::Shape::Convex : suggest::Shape::Rect;
                 try {
-                    checkSuggestion(c, {.depth = 0.5, .share = 1.0, .shape = shape});
+                    checkSuggestion(c, request(0.5, 1.0, shape));
                     ++suggested;
                 } catch (const Error& e) {
                     // Only the two refusals the contract allows: nothing left to cut, or rays
@@ -214,13 +224,13 @@ TEST(Suggest, EveryAdversarialCategory)
 TEST(Suggest, RefusalsSayWhy)
 {
     SuggestCase c = facingSquares(2.0);
-    EXPECT_THROW(checkSuggestion(c, {.depth = 0.0}), Error);
-    EXPECT_THROW(checkSuggestion(c, {.depth = 1.0}), Error);
-    EXPECT_THROW(checkSuggestion(c, {.depth = 0.5, .share = 0.0}), Error);
-    EXPECT_THROW(checkSuggestion(c, {.depth = 0.5, .share = 1.5}), Error);
+    EXPECT_THROW(checkSuggestion(c, request(0.0, 1.0, suggest::Shape::Convex)), Error);
+    EXPECT_THROW(checkSuggestion(c, request(1.0, 1.0, suggest::Shape::Convex)), Error);
+    EXPECT_THROW(checkSuggestion(c, request(0.5, 0.0, suggest::Shape::Convex)), Error);
+    EXPECT_THROW(checkSuggestion(c, request(0.5, 1.5, suggest::Shape::Convex)), Error);
     c.scene = sceneOf({quad({-5.0f, -5.0f, 1.0f}, {10.0f, 0.0f, 0.0f}, {0.0f, 10.0f, 0.0f}, "wall")});
     try {
-        suggestOnScene(c.scene, c.source, c.receiver, {}, {.depth = 0.5}, "s", "s.glb");
+        suggestOnScene(c.scene, c.source, c.receiver, {}, request(0.5, 1.0, suggest::Shape::Convex), "s", "s.glb");
         ADD_FAILURE() << "a closed view has nothing to cut";
     } catch (const Error& e) {
         EXPECT_NE(std::string(e.what()).find("already blocked"), std::string::npos) << e.what();
@@ -242,7 +252,7 @@ TEST(Suggest, ImportanceWeightedShareBlocksTheLightAsked)
             bright[std::size_t(i)] = left ? 10.0 : 1.0;
             dark[std::size_t(i)] = left ? 1.0 : 0.0;
         }
-        const suggest::Request counted{.depth = 0.5, .share = 0.8, .shape = shape};
+        const suggest::Request counted = request(0.5, 0.8, shape);
         suggest::Request weighted = counted;
         weighted.sourceWeights = bright;
         const SuggestedOccluder w = checkSuggestion(c, weighted);
@@ -266,7 +276,7 @@ TEST(Suggest, ImportanceWeightedShareBlocksTheLightAsked)
     }
     // Refusals: weights that are not light, or no light at all.
     const SuggestCase c = floorToWall();
-    suggest::Request bad{.depth = 0.5, .share = 0.8};
+    suggest::Request bad = request(0.5, 0.8, suggest::Shape::Convex);
     bad.sourceWeights = std::vector<double>(std::size_t(c.source.sampleCount()), 0.0);
     EXPECT_THROW(suggestOnScene(c.scene, c.source, c.receiver, c.heights, bad, "s", "s.glb"), Error);
     bad.sourceWeights[0] = std::nan("");

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <ctime>
 #include <limits>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -295,370 +296,468 @@ HiddenSampleMap CpuBitmaskSampler::sampleByReceiverTiles(const Patch& source, co
     return map;
 }
 
-HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
-                                                  BitmaskStats* stats, bool swappedRoles) const
-{
-    // A bumpy receiver (§8). All-zero heights move no sample: the flat path, unchanged.
-    const bool bumpy = !flatReceiver(options.heights);
-    std::vector<glm::dvec3> displaced;
-    Bounds displacedBox;
-    glm::dvec3 normal(0.0);
-    double lowest = 0.0, highest = 0.0;
-    if (bumpy) {
-        // The same expression as RayCastScene's and displacedReceiverSample's: the same bits.
-        normal = receiverNormalTowardSource(source, receiver);
-        const std::vector<double>& metres = options.heights->metres;
-        displaced.resize(metres.size());
-        for (int j = 0; j < receiver.sampleCount(); ++j) {
-            displaced[std::size_t(j)] = receiver.sample(j) + metres[std::size_t(j)] * normal;
-            displacedBox.extend(glm::vec3(displaced[std::size_t(j)]));
-        }
-        const auto [lo, hi] = std::minmax_element(metres.begin(), metres.end());
-        lowest = *lo, highest = *hi;
+/// One sampleOriented call: the shaft, the triangle filter and the inner proxies, then Auto's
+/// choice between the bitmask and ray casting (an earlier choice, the cost model, or a probe that
+/// times both on a few tiles), and the pass or passes chosen. Its members are the call's state;
+/// each method one step.
+class CpuBitmaskSampler::OrientedCall {
+public:
+    OrientedCall(const CpuBitmaskSampler& sampler, const Patch& source, const Patch& receiver, const BitmaskOptions& options,
+                 bool swappedRoles, HiddenSampleMap& map, BitmaskStats& local, Workspace& work)
+        : sampler_(sampler), source_(source), receiver_(receiver), options_(options), swappedRoles_(swappedRoles), map_(map),
+          local_(local), work_(work), exact_(options.mode == MaskMode::Exact), narrow_(options.narrowShaft && exact_),
+          // Table mode is the paper's method as published: every triangle by bitmask, no narrowing.
+          strategy_(exact_ ? options.strategy : CpuStrategy::Bitmask)
+    {
+        displaceReceiver();
+        setupStart_ = Clock::now();
+        chooseTable();
     }
-    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
-    BitmaskStats local;
-    const auto setupStart = Clock::now();
 
-    std::shared_ptr<const HoughMaskTable> table;
-    if (options.mode == MaskMode::Table) {
-        const auto tableStart = Clock::now();
-        std::lock_guard lock(tableMutex_);
-        if (!table_ || table_->width() != options.tableWidth || table_->height() != options.tableHeight ||
-            table_->grid() != std::pair(source.na, source.nb)) {
-            table_ = std::make_shared<const HoughMaskTable>(source.na, source.nb, options.tableWidth, options.tableHeight);
-            local.tableMs = msSince(tableStart);
-        }
-        table = table_;
-    }
-    // Table mode is the paper's method as published: every triangle by bitmask, no narrowing.
-    const bool exact = options.mode == MaskMode::Exact;
-    const bool narrow = options.narrowShaft && exact;
-    const CpuStrategy strategy = exact ? options.strategy : CpuStrategy::Bitmask;
-
-    std::unique_ptr<Workspace> work = takeWorkspace();
-    auto body = [&] {
-        Shaft shaft(source, receiver, options.jitter, bumpy ? &displaced : nullptr);
-        shaft.table = table.get();
-        shaft.floatKernel = exact && options.simd && source.na <= 32 && detail::floatRowsAvailable();
-
-        // A bumpy receiver's segments end in the prism of the receiver between its lowest and
-        // highest bump (§8), so its shaft is the hull of the source's corners and that prism.
-        const ShaftHull hull = bumpy ? ShaftHull([&] {
-            std::vector<glm::dvec3> points;
-            for (int k = 0; k < 4; ++k) {
-                const glm::dvec3 rc = receiver.cornerPoint(k);
-                points.push_back(source.cornerPoint(k));
-                points.push_back(rc + lowest * normal);
-                points.push_back(rc + highest * normal);
-            }
-            return points;
-        }())
-                                     : ShaftHull(source, receiver);
-        TriangleFilter filter;
-        filter.triangles = &triangles_;
-        filter.hull = &hull;
-        filter.instanceOutside.resize(instances_.size());
-        for (std::size_t i = 0; i < instances_.size(); ++i)
-            filter.instanceOutside[i] = hull.excludesBox(instances_[i].bounds.min, instances_[i].bounds.max);
-        if (options.watertightCulling)
-            filter.cullable = cullableInstances(receiver, bumpy ? &displacedBox : nullptr);
-        for (int k = 0; k < 4; ++k)
-            filter.sourceCorners[std::size_t(k)] = source.cornerPoint(k);
-        std::vector<char> closedInstance(instances_.size());
-        for (std::size_t i = 0; i < instances_.size(); ++i)
-            closedInstance[i] = instances_[i].watertight;
-
-        // The inner proxies first (InnerProxy.h): the rays through the meshes' insides,
-        // by the bitmask on a few large faces, before any strategy looks at the meshes' triangles.
-        if (exact && options.innerProxy) {
-            const auto proxyStart = Clock::now();
-            std::vector<glm::dvec3> ends;
-            for (int k = 0; k < 4; ++k)
-                ends.push_back(receiver.cornerPoint(k));
-            const ProxyPass pass(shaft, hull, filter.sourceCorners, bumpy ? displaced : ends,
-                                 {source, receiver, options.jitter, bumpy ? options.heights : nullptr},
-                                 options.watertightCulling, narrow);
-            std::vector<std::shared_ptr<const InnerProxy>> proxies;
-            for (std::size_t i = 0; i < instances_.size(); ++i) {
-                const InstanceInfo& info = instances_[i];
-                if (info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
-                    continue;
-                const bool build = double(map.rayCount()) >= kProxyBuildRaysPerTriangle * double(info.count);
-                if (std::shared_ptr<const InnerProxy> proxy = innerProxy(i, build, &local.proxiesBuilt);
-                    proxy && !proxy->faces.empty())
-                    proxies.push_back(std::move(proxy));
-            }
-            if (!proxies.empty())
-                local.proxyFaces = seedFromInnerProxies(proxies, pass, work->occluders, work->bins, map);
-            if (local.proxyFaces > 0)
-                local.proxyBlocked = map.blockedCount();
-            local.proxyMs = msSince(proxyStart);
-        }
-
-        // Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
-        const auto castRays = [&](const RayCastOptions& rayOptions) {
-            const std::shared_ptr<const RayCastScene> reference = wholeSceneCaster();
-            const std::shared_ptr<const raycast::ProvenRayCaster> proven = provenCaster();
-            raycast::ProvenCastStats cast;
-            proven->sampleUnblocked(source, receiver, map, rayOptions, *reference, raycast::CastMode::Auto, &cast);
-            local.raysCast += cast.floatRays;
-            local.provenHits += cast.provenHits;
-            local.exactHitTests += cast.exactTests;
-            local.raysConfirmed += cast.confirmRays;
-            local.rayFloatMs += cast.floatMs;
-            local.rayConfirmMs += cast.confirmMs;
-            local.rayPackets = cast.packets;
-        };
-        // A probe measures each method by one thread's processor time (so that other jobs sharing
-        // the machine, which stretch the wall time of whatever runs while they do, do not decide
-        // it): its setup and its batches run on this thread alone.
-        tbb::task_arena one(1);
-        const auto onOneThread = [&](const auto& f) {
-            const double start = threadMs();
-            one.execute(f);
-            return threadMs() - start;
-        };
-
-        // Few source samples: ray casting everything may be cheaper than the bitmask, whose cost
-        // follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on
-        // a similar configuration serves without estimating again: the estimate prepares every
-        // 32nd triangle, about a sixth of a call on a dense mesh.
-        Plan plan = Plan::Bitmask;
-        const Configuration configuration{source, receiver, options.jitter.enabled(), bumpy, shaft.floatKernel};
-        bool warmGrids = false;   // Auto sampled these grids before: a probe's times are what later calls pay
-        // A choice for later calls on a similar configuration (ProbeMemo).
-        const auto remember = [&](bool rays, int calls, bool measured) {
-            std::lock_guard lock(probeMutex_);
-            probeMemo_ = std::make_unique<StrategyChoiceCache>(StrategyChoiceCache{{configuration, rays, calls, measured}});
-        };
-        if (strategy == CpuStrategy::Auto) {
-            bool remembered = false;
-            {
-                std::lock_guard lock(probeMutex_);
-                const std::array<int, 4> grids{source.na, source.nb, receiver.na, receiver.nb};
-                warmGrids = std::find(sampledGrids_.begin(), sampledGrids_.end(), grids) != sampledGrids_.end();
-                if (!warmGrids)
-                    sampledGrids_.push_back(grids);
-                if (probeMemo_ && probeMemo_->memo.callsLeft > 0 &&
-                    similarConfiguration(probeMemo_->memo.configuration, configuration)) {
-                    --probeMemo_->memo.callsLeft;
-                    local.reusedChoice = true;
-                    local.reusedTimedChoice = probeMemo_->memo.measured;
-                    plan = probeMemo_->memo.rays ? Plan::RayCast : Plan::Bitmask;
-                    remembered = true;
-                }
-            }
-            if (!remembered) {
-                const PairEstimate estimate = estimatePairs(shaft, filter);
-                local.estimatedPairs = estimate.pairs;
-                local.estimatedTriangles = estimate.triangles;
-                const CostEstimate cost{.rays = map.rayCount(), .estimatedPairs = estimate.pairs,
-                                        .estimatedTriangles = estimate.triangles, .floatKernel = shaft.floatKernel,
-                                        .bumpy = bumpy, .receiverSamples = receiver.sampleCount(),
-                                        .finerSamples = std::max(source.sampleCount(), receiver.sampleCount()),
-                                        .swappedRoles = swappedRoles,
-                                        .openShare = 1.0 - double(local.proxyBlocked) / double(map.rayCount())};
-                const CostModel& model = measuredCosts(shaft.floatKernel);
-                plan = planFor(cost, model);
-                local.predictedBitmaskMs = predictedBitmaskMs(cost, model);
-                local.predictedRayMs = predictedRayMs(cost, model);
-                if (plan != Plan::Probe)
-                    remember(plan == Plan::RayCast, kProbeReuse, /*measured=*/false);
-            }
-        }
-        // With the roles swapped the receiver has too few tiles to time the bitmask on: the rays
-        // of a few receiver samples are timed (their rows are final either way) and, unless they
-        // are clearly cheaper than the bitmask's prediction, the bitmask is timed on this call's
-        // whole answer (swappedRaysOrTimeBitmask, swappedMeasuredChoosesRays).
-        std::vector<int> raySamples;   // the receiver samples left to cast, when not all
-        bool timeSwappedBitmask = false;   // against the probe's rays, local.probeRayMs
-        if (plan == Plan::Probe && swappedRoles) {
-            std::vector<int> probe;
-            swappedProbeSamples(receiver.sampleCount(), probe, raySamples);
-            const auto probeStart = Clock::now();
-            wholeSceneCaster(), provenCaster();
-            const double probeMs =
-                onOneThread([&] { castRays({.jitter = options.jitter, .receiverSubset = &probe}); });
-            local.rayMs += msSince(probeStart);
-            local.probed = true;
-            local.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), std::size_t(receiver.sampleCount()));
-            if (swappedRaysOrTimeBitmask(local.predictedBitmaskMs, local.probeRayMs) == SwappedVerdict::Rays) {
-                plan = Plan::RayCast;
-                remember(true, warmGrids ? kProbeReuse : 0, /*measured=*/true);
-            } else {
-                plan = Plan::Bitmask;
-                timeSwappedBitmask = true;
-            }
-        }
-        if (strategy == CpuStrategy::RayCast || plan == Plan::RayCast) {
-            local.strategy = "raycast";
-            wholeSceneCaster(), provenCaster();   // built on first use, counted as setup
-            local.setupMs = msSince(setupStart);
-            const auto rayStart = Clock::now();
-            castRays({.jitter = options.jitter,
-                      .heights = options.heights,
-                      .receiverSubset = local.probed ? &raySamples : nullptr});
-            local.rayMs += msSince(rayStart);
+    void run()
+    {
+        shaft_.emplace(source_, receiver_, options_.jitter, bumpy_ ? &displaced_ : nullptr);
+        shaft_->table = table_.get();
+        shaft_->floatKernel = exact_ && options_.simd && source_.na <= 32 && detail::floatRowsAvailable();
+        buildFilter();
+        if (exact_ && options_.innerProxy)
+            seedInnerProxies();
+        if (strategy_ == CpuStrategy::Auto)
+            choosePlan();
+        if (plan_ == Plan::Probe && swappedRoles_)
+            probeSwappedRays();
+        if (strategy_ == CpuStrategy::RayCast || plan_ == Plan::RayCast) {
+            castEverything();
             return;
         }
-        const bool probing = plan == Plan::Probe;
-        const bool timed = probing || timeSwappedBitmask;   // one thread's processor time, for a verdict
-        double setupThreadMs = 0.0;
-        if (timed)
-            setupThreadMs += onOneThread([&] { work->occluders.prepare(shaft, filter); });
+        prepareBitmask();
+        const auto sampleStart = Clock::now();
+        if (plan_ == Plan::Probe && smallTriangles_.empty()) {
+            probeTilesAndFinish();
+            local_.sampleMs = msSince(sampleStart) - local_.rayMs;
+            return;
+        }
+        runBitmask();
+        local_.sampleMs = msSince(sampleStart);
+        if (!smallTriangles_.empty())
+            castSmallTriangles();
+    }
+
+private:
+    /// A bumpy receiver (§8). All-zero heights move no sample: the flat path, unchanged.
+    void displaceReceiver()
+    {
+        bumpy_ = !flatReceiver(options_.heights);
+        if (!bumpy_)
+            return;
+        // The same expression as RayCastScene's and displacedReceiverSample's: the same bits.
+        normal_ = receiverNormalTowardSource(source_, receiver_);
+        const std::vector<double>& metres = options_.heights->metres;
+        displaced_.resize(metres.size());
+        for (int j = 0; j < receiver_.sampleCount(); ++j) {
+            displaced_[std::size_t(j)] = receiver_.sample(j) + metres[std::size_t(j)] * normal_;
+            displacedBox_.extend(glm::vec3(displaced_[std::size_t(j)]));
+        }
+        const auto [lo, hi] = std::minmax_element(metres.begin(), metres.end());
+        lowest_ = *lo, highest_ = *hi;
+    }
+
+    /// Table mode's Hough table: the last one built when it fits.
+    void chooseTable()
+    {
+        if (options_.mode != MaskMode::Table)
+            return;
+        const auto tableStart = Clock::now();
+        std::lock_guard lock(sampler_.tableMutex_);
+        if (!sampler_.table_ || sampler_.table_->width() != options_.tableWidth ||
+            sampler_.table_->height() != options_.tableHeight || sampler_.table_->grid() != std::pair(source_.na, source_.nb)) {
+            sampler_.table_ = std::make_shared<const HoughMaskTable>(source_.na, source_.nb, options_.tableWidth, options_.tableHeight);
+            local_.tableMs = msSince(tableStart);
+        }
+        table_ = sampler_.table_;
+    }
+
+    /// The shaft's hull and what it lets through: instances outside it, front faces a closed
+    /// mesh may cull.
+    void buildFilter()
+    {
+        // A bumpy receiver's segments end in the prism of the receiver between its lowest and
+        // highest bump (§8), so its shaft is the hull of the source's corners and that prism.
+        if (bumpy_) {
+            std::vector<glm::dvec3> points;
+            for (int k = 0; k < 4; ++k) {
+                const glm::dvec3 rc = receiver_.cornerPoint(k);
+                points.push_back(source_.cornerPoint(k));
+                points.push_back(rc + lowest_ * normal_);
+                points.push_back(rc + highest_ * normal_);
+            }
+            hull_.emplace(points);
+        } else {
+            hull_.emplace(source_, receiver_);
+        }
+        const auto& instances = sampler_.instances_;
+        filter_.triangles = &sampler_.triangles_;
+        filter_.hull = &*hull_;
+        filter_.instanceOutside.resize(instances.size());
+        for (std::size_t i = 0; i < instances.size(); ++i)
+            filter_.instanceOutside[i] = hull_->excludesBox(instances[i].bounds.min, instances[i].bounds.max);
+        if (options_.watertightCulling)
+            filter_.cullable = sampler_.cullableInstances(receiver_, bumpy_ ? &displacedBox_ : nullptr);
+        for (int k = 0; k < 4; ++k)
+            filter_.sourceCorners[std::size_t(k)] = source_.cornerPoint(k);
+        closedInstance_.resize(instances.size());
+        for (std::size_t i = 0; i < instances.size(); ++i)
+            closedInstance_[i] = instances[i].watertight;
+    }
+
+    /// The inner proxies first (InnerProxy.h): the rays through the meshes' insides, by the
+    /// bitmask on a few large faces, before any strategy looks at the meshes' triangles.
+    void seedInnerProxies()
+    {
+        const auto proxyStart = Clock::now();
+        std::vector<glm::dvec3> ends;
+        for (int k = 0; k < 4; ++k)
+            ends.push_back(receiver_.cornerPoint(k));
+        const ProxyPass pass(*shaft_, *hull_, filter_.sourceCorners, bumpy_ ? displaced_ : ends,
+                             {source_, receiver_, options_.jitter, bumpy_ ? options_.heights : nullptr},
+                             options_.watertightCulling, narrow_);
+        std::vector<std::shared_ptr<const InnerProxy>> proxies;
+        for (std::size_t i = 0; i < sampler_.instances_.size(); ++i) {
+            const InstanceInfo& info = sampler_.instances_[i];
+            if (info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
+                continue;
+            const bool build = double(map_.rayCount()) >= kProxyBuildRaysPerTriangle * double(info.count);
+            if (std::shared_ptr<const InnerProxy> proxy = sampler_.innerProxy(i, build, &local_.proxiesBuilt);
+                proxy && !proxy->faces.empty())
+                proxies.push_back(std::move(proxy));
+        }
+        if (!proxies.empty())
+            local_.proxyFaces = seedFromInnerProxies(proxies, pass, work_.occluders, work_.bins, map_);
+        if (local_.proxyFaces > 0)
+            local_.proxyBlocked = map_.blockedCount();
+        local_.proxyMs = msSince(proxyStart);
+    }
+
+    /// Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
+    void castRays(const RayCastOptions& rayOptions)
+    {
+        const std::shared_ptr<const RayCastScene> reference = sampler_.wholeSceneCaster();
+        const std::shared_ptr<const raycast::ProvenRayCaster> proven = sampler_.provenCaster();
+        raycast::ProvenCastStats cast;
+        proven->sampleUnblocked(source_, receiver_, map_, rayOptions, *reference, raycast::CastMode::Auto, &cast);
+        local_.raysCast += cast.floatRays;
+        local_.provenHits += cast.provenHits;
+        local_.exactHitTests += cast.exactTests;
+        local_.raysConfirmed += cast.confirmRays;
+        local_.rayFloatMs += cast.floatMs;
+        local_.rayConfirmMs += cast.confirmMs;
+        local_.rayPackets = cast.packets;
+    }
+
+    /// A probe measures each method by one thread's processor time (so that other jobs sharing
+    /// the machine, which stretch the wall time of whatever runs while they do, do not decide
+    /// it): its setup and its batches run on this thread alone.
+    template <typename F>
+    double onOneThread(const F& f)
+    {
+        const double start = threadMs();
+        one_.execute(f);
+        return threadMs() - start;
+    }
+
+    /// A choice for later calls on a similar configuration (ProbeMemo).
+    void remember(bool rays, int calls, bool measured)
+    {
+        std::lock_guard lock(sampler_.probeMutex_);
+        sampler_.probeMemo_ = std::make_unique<StrategyChoiceCache>(StrategyChoiceCache{{configuration(), rays, calls, measured}});
+    }
+
+    Configuration configuration() const
+    {
+        return {source_, receiver_, options_.jitter.enabled(), bumpy_, shaft_->floatKernel};
+    }
+
+    /// Few source samples: ray casting everything may be cheaper than the bitmask, whose cost
+    /// follows (triangle, receiver sample) pairs, not rays (Strategy.h). An earlier choice on a
+    /// similar configuration serves without estimating again: the estimate prepares every 32nd
+    /// triangle, about a sixth of a call on a dense mesh.
+    void choosePlan()
+    {
+        {
+            std::lock_guard lock(sampler_.probeMutex_);
+            const std::array<int, 4> grids{source_.na, source_.nb, receiver_.na, receiver_.nb};
+            auto& sampled = sampler_.sampledGrids_;
+            warmGrids_ = std::find(sampled.begin(), sampled.end(), grids) != sampled.end();
+            if (!warmGrids_)
+                sampled.push_back(grids);
+            auto& memo = sampler_.probeMemo_;
+            if (memo && memo->memo.callsLeft > 0 && similarConfiguration(memo->memo.configuration, configuration())) {
+                --memo->memo.callsLeft;
+                local_.reusedChoice = true;
+                local_.reusedTimedChoice = memo->memo.measured;
+                plan_ = memo->memo.rays ? Plan::RayCast : Plan::Bitmask;
+                return;
+            }
+        }
+        const PairEstimate estimate = estimatePairs(*shaft_, filter_);
+        local_.estimatedPairs = estimate.pairs;
+        local_.estimatedTriangles = estimate.triangles;
+        const CostEstimate cost{.rays = map_.rayCount(), .estimatedPairs = estimate.pairs,
+                                .estimatedTriangles = estimate.triangles, .floatKernel = shaft_->floatKernel,
+                                .bumpy = bumpy_, .receiverSamples = receiver_.sampleCount(),
+                                .finerSamples = std::max(source_.sampleCount(), receiver_.sampleCount()),
+                                .swappedRoles = swappedRoles_,
+                                .openShare = 1.0 - double(local_.proxyBlocked) / double(map_.rayCount())};
+        const CostModel& model = measuredCosts(shaft_->floatKernel);
+        plan_ = planFor(cost, model);
+        local_.predictedBitmaskMs = predictedBitmaskMs(cost, model);
+        local_.predictedRayMs = predictedRayMs(cost, model);
+        if (plan_ != Plan::Probe)
+            remember(plan_ == Plan::RayCast, kProbeReuse, /*measured=*/false);
+    }
+
+    /// With the roles swapped the receiver has too few tiles to time the bitmask on: the rays of a
+    /// few receiver samples are timed (their rows are final either way) and, unless they are
+    /// clearly cheaper than the bitmask's prediction, the bitmask is timed on this call's whole
+    /// answer (swappedRaysOrTimeBitmask, swappedMeasuredChoosesRays).
+    void probeSwappedRays()
+    {
+        std::vector<int> probe;
+        swappedProbeSamples(receiver_.sampleCount(), probe, raySamples_);
+        const auto probeStart = Clock::now();
+        sampler_.wholeSceneCaster(), sampler_.provenCaster();
+        const double probeMs = onOneThread([&] { castRays({.jitter = options_.jitter, .receiverSubset = &probe}); });
+        local_.rayMs += msSince(probeStart);
+        local_.probed = true;
+        local_.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), std::size_t(receiver_.sampleCount()));
+        if (swappedRaysOrTimeBitmask(local_.predictedBitmaskMs, local_.probeRayMs) == SwappedVerdict::Rays) {
+            plan_ = Plan::RayCast;
+            remember(true, warmGrids_ ? kProbeReuse : 0, /*measured=*/true);
+        } else {
+            plan_ = Plan::Bitmask;
+            timeSwappedBitmask_ = true;
+        }
+    }
+
+    /// Every ray (or those the swapped probe left) by ray casting.
+    void castEverything()
+    {
+        local_.strategy = "raycast";
+        sampler_.wholeSceneCaster(), sampler_.provenCaster();   // built on first use, counted as setup
+        local_.setupMs = msSince(setupStart_);
+        const auto rayStart = Clock::now();
+        castRays({.jitter = options_.jitter, .heights = options_.heights, .receiverSubset = local_.probed ? &raySamples_ : nullptr});
+        local_.rayMs += msSince(rayStart);
+    }
+
+    /// The occluders in the shaft, the hybrid's small triangles, and the receiver's tile bins.
+    void prepareBitmask()
+    {
+        timed_ = plan_ == Plan::Probe || timeSwappedBitmask_;   // one thread's processor time, for a verdict
+        if (timed_)
+            setupThreadMs_ += onOneThread([&] { work_.occluders.prepare(*shaft_, filter_); });
         else
-            work->occluders.prepare(shaft, filter);
-        const std::vector<const Occluder*>& occluders = work->occluders.occluders;
-        local.culledFrontFaces = work->occluders.culledFrontFaces;
-        local.trianglesInShaft = occluders.size();
+            work_.occluders.prepare(*shaft_, filter_);
+        const std::vector<const Occluder*>& occluders = work_.occluders.occluders;
+        local_.culledFrontFaces = work_.occluders.culledFrontFaces;
+        local_.trianglesInShaft = occluders.size();
 
         // Hybrid: the small triangles leave the bitmask pass for a ray pass. With the SIMD kernel
         // the plain bitmask beats the hybrid's ray pass, so Auto sends small triangles to ray
         // casting only without it.
-        std::vector<char>& small = work->small;
+        std::vector<char>& small = work_.small;
         small.assign(occluders.size(), 0);
-        std::vector<std::uint32_t> smallTriangles;
-        if (strategy != CpuStrategy::Bitmask)
+        if (strategy_ != CpuStrategy::Bitmask)
             for (std::size_t i = 0; i < occluders.size(); ++i)
-                if (occluders[i]->cells < options.smallCells)
-                    smallTriangles.push_back(std::uint32_t(i));
+                if (occluders[i]->cells < options_.smallCells)
+                    smallTriangles_.push_back(std::uint32_t(i));
         // (A CPU without AVX2, not a caller who asked for the double kernel.)
-        const bool hybrid = strategy == CpuStrategy::Hybrid ||
-                            (strategy == CpuStrategy::Auto && !detail::floatRowsAvailable() &&
-                             smallTriangles.size() >= kHybridMinSmallTriangles);
+        const bool hybrid = strategy_ == CpuStrategy::Hybrid ||
+                            (strategy_ == CpuStrategy::Auto && !detail::floatRowsAvailable() &&
+                             smallTriangles_.size() >= kHybridMinSmallTriangles);
         if (!hybrid)
-            smallTriangles.clear();
-        for (std::uint32_t& i : smallTriangles) {
+            smallTriangles_.clear();
+        for (std::uint32_t& i : smallTriangles_) {
             small[i] = 1;
-            i = work->occluders.triangleOf[i];
+            i = work_.occluders.triangleOf[i];
         }
-        local.strategy = hybrid ? "hybrid" : "bitmask";
-        local.smallTriangles = smallTriangles.size();
+        local_.strategy = hybrid ? "hybrid" : "bitmask";
+        local_.smallTriangles = smallTriangles_.size();
 
-        TileBins& bins = work->bins;
-        if (timed)
-            setupThreadMs += onOneThread([&] { bins.build(shaft, work->occluders, small, closedInstance, triangles_); });
+        if (timed_)
+            setupThreadMs_ += onOneThread(
+                [&] { work_.bins.build(*shaft_, work_.occluders, small, closedInstance_, sampler_.triangles_); });
         else
-            bins.build(shaft, work->occluders, small, closedInstance, triangles_);
-        local.setupMs = msSince(setupStart);
+            work_.bins.build(*shaft_, work_.occluders, small, closedInstance_, sampler_.triangles_);
+        local_.setupMs = msSince(setupStart_);
+    }
 
-        const auto addCounts = [&](const TilePassCounts& counts) {
-            local.pairs += counts.pairs;
-            local.floatPairs += counts.floatPairs;
-            local.floatFallbacks += counts.floatFallbacks;
-            local.narrowedAway += counts.narrowedAway;
+    void addCounts(const TilePassCounts& counts)
+    {
+        local_.pairs += counts.pairs;
+        local_.floatPairs += counts.floatPairs;
+        local_.floatFallbacks += counts.floatFallbacks;
+        local_.narrowedAway += counts.narrowedAway;
+    }
+
+    /// A few tiles (probeTilesPerMethod) by bitmask and as many by rays, a batch of each at a time,
+    /// timed; their rows are final either way. Pairs of neighbouring tiles drawn at random over the
+    /// whole receiver, one of each to each method (probeTiles): in row order the first batches
+    /// would all lie along one edge (a floor's edge by the wall costs nothing either way), and
+    /// tiles drawn independently for each method differ in work. The rest of the tiles go to the
+    /// method the verdict picks.
+    void probeTilesAndFinish()
+    {
+        TileBins& bins = work_.bins;
+        ProbeTiles split = probeTiles(bins.tileCount(), std::size_t(bins.tilesA()), probeTilesPerMethod(bins.tileCount()));
+        const std::vector<std::uint32_t>& bitmaskTiles = split.bitmask;
+        const std::vector<std::uint32_t>& rayTiles = split.rays;
+        std::vector<std::uint32_t>& rest = split.rest;
+        sampler_.wholeSceneCaster(), sampler_.provenCaster();
+        std::vector<int> samples;
+        const RayCastOptions rayOptions{.jitter = options_.jitter, .receiverSubset = &samples};
+        const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
+        std::size_t bitmaskDone = 0, rayDone = 0;
+        double bitmaskMs = 0.0, rayMs = 0.0;
+        // Each method's work per tile (Strategy.h, probeShare): the bitmask's bin entries, and the
+        // rays still free (the inner proxies may have answered many).
+        std::vector<double> rayUnits(bins.tileCount());
+        double bitmaskTotal = 0.0, rayTotal = 0.0;
+        for (std::size_t t = 0; t < bins.tileCount(); ++t) {
+            samples.clear();
+            bins.tileSamples(t, receiver_.na, receiver_.nb, samples);
+            for (int j : samples)
+                rayUnits[t] += double(source_.sampleCount() - std::as_const(map_).blockedCount(j));
+            bitmaskTotal += double(bins.bin(t).size()), rayTotal += rayUnits[t];
+        }
+        double bitmaskProbed = 0.0, rayProbed = 0.0;
+        const auto parts = [&] {
+            return std::pair(ProbePart{bitmaskMs, probeShare(bitmaskProbed, bitmaskTotal, bitmaskDone, bins.tileCount())},
+                             ProbePart{rayMs, probeShare(rayProbed, rayTotal, rayDone, bins.tileCount())});
         };
-        const auto sampleStart = Clock::now();
-        if (plan == Plan::Probe && smallTriangles.empty()) {
-            // A few tiles (probeTilesPerMethod) by bitmask and as many by rays, a batch of each at a time,
-            // timed; their rows are final either way. Pairs of neighbouring tiles drawn at random
-            // over the whole receiver, one of each to each method (probeTiles): in row order the
-            // first batches would all lie along one edge (a floor's edge by the wall costs nothing
-            // either way), and tiles drawn independently for each method differ in work.
-            ProbeTiles split =
-                probeTiles(bins.tileCount(), std::size_t(bins.tilesA()), probeTilesPerMethod(bins.tileCount()));
-            const std::vector<std::uint32_t>& bitmaskTiles = split.bitmask;
-            const std::vector<std::uint32_t>& rayTiles = split.rays;
-            std::vector<std::uint32_t>& rest = split.rest;
-            wholeSceneCaster(), provenCaster();
-            std::vector<int> samples;
-            RayCastOptions rayOptions{.jitter = options.jitter, .receiverSubset = &samples};
-            const std::size_t batch = std::max<std::size_t>(4, 2 * std::size_t(tbb::this_task_arena::max_concurrency()));
-            std::size_t bitmaskDone = 0, rayDone = 0;
-            double bitmaskMs = 0.0, rayMs = 0.0;
-            // Each method's work per tile (Strategy.h, probeShare): the bitmask's bin entries, and
-            // the rays still free (the inner proxies may have answered many).
-            std::vector<double> rayUnits(bins.tileCount());
-            double bitmaskTotal = 0.0, rayTotal = 0.0;
-            for (std::size_t t = 0; t < bins.tileCount(); ++t) {
+        while (bitmaskDone < bitmaskTiles.size() || rayDone < rayTiles.size()) {
+            if (bitmaskDone < bitmaskTiles.size()) {
+                const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
+                const std::vector<std::uint32_t> part(bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone),
+                                                      bitmaskTiles.begin() + std::ptrdiff_t(end));
+                bitmaskMs += onOneThread([&] { addCounts(bitmaskPass(*shaft_, bins, map_, narrow_, &part)); });
+                for (std::uint32_t t : part)
+                    bitmaskProbed += double(bins.bin(t).size());
+                bitmaskDone = end;
+            }
+            if (rayDone < rayTiles.size()) {
+                const std::size_t end = std::min(rayDone + batch, rayTiles.size());
                 samples.clear();
-                bins.tileSamples(t, receiver.na, receiver.nb, samples);
-                for (int j : samples)
-                    rayUnits[t] += double(source.sampleCount() - std::as_const(map).blockedCount(j));
-                bitmaskTotal += double(bins.bin(t).size()), rayTotal += rayUnits[t];
-            }
-            double bitmaskProbed = 0.0, rayProbed = 0.0;
-            const auto parts = [&] {
-                return std::pair(
-                    ProbePart{bitmaskMs, probeShare(bitmaskProbed, bitmaskTotal, bitmaskDone, bins.tileCount())},
-                    ProbePart{rayMs, probeShare(rayProbed, rayTotal, rayDone, bins.tileCount())});
-            };
-            while (bitmaskDone < bitmaskTiles.size() || rayDone < rayTiles.size()) {
-                if (bitmaskDone < bitmaskTiles.size()) {
-                    const std::size_t end = std::min(bitmaskDone + batch, bitmaskTiles.size());
-                    const std::vector<std::uint32_t> part(bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone),
-                                                          bitmaskTiles.begin() + std::ptrdiff_t(end));
-                    bitmaskMs += onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow, &part)); });
-                    for (std::uint32_t t : part)
-                        bitmaskProbed += double(bins.bin(t).size());
-                    bitmaskDone = end;
+                for (std::size_t k = rayDone; k < end; ++k) {
+                    bins.tileSamples(rayTiles[k], receiver_.na, receiver_.nb, samples);
+                    rayProbed += rayUnits[rayTiles[k]];
                 }
-                if (rayDone < rayTiles.size()) {
-                    const std::size_t end = std::min(rayDone + batch, rayTiles.size());
-                    samples.clear();
-                    for (std::size_t k = rayDone; k < end; ++k) {
-                        bins.tileSamples(rayTiles[k], receiver.na, receiver.nb, samples);
-                        rayProbed += rayUnits[rayTiles[k]];
-                    }
-                    const auto start = Clock::now();
-                    rayMs += onOneThread([&] { castRays(rayOptions); });
-                    local.rayMs += msSince(start);
-                    rayDone = end;
-                }
-                if (const auto [bitmask, rays] = parts(); probeIsDecided(bitmask, bitmaskDone, rays, rayDone, batch))
-                    break;
+                const auto start = Clock::now();
+                rayMs += onOneThread([&] { castRays(rayOptions); });
+                local_.rayMs += msSince(start);
+                rayDone = end;
             }
-            rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
-            rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
-            local.probed = true;
-            const auto [bitmaskPart, rayPart] = parts();
-            const ProbeVerdict verdict = probeVerdict(bitmaskPart, rayPart, setupThreadMs, warmGrids);
-            remember(verdict.memoRays, verdict.memoCalls, /*measured=*/true);
-            if (!verdict.restByRays) {
-                local.strategy = "bitmask";
-                addCounts(bitmaskPass(shaft, bins, map, narrow, &rest));
-            } else {
-                local.strategy = "raycast";
-                samples.clear();
-                for (std::uint32_t t : rest)
-                    bins.tileSamples(t, receiver.na, receiver.nb, samples);
-                const auto restStart = Clock::now();
-                castRays(rayOptions);
-                local.rayMs += msSince(restStart);
-            }
-            local.sampleMs = msSince(sampleStart) - local.rayMs;
+            if (const auto [bitmask, rays] = parts(); probeIsDecided(bitmask, bitmaskDone, rays, rayDone, batch))
+                break;
+        }
+        rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
+        rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
+        local_.probed = true;
+        const auto [bitmaskPart, rayPart] = parts();
+        const ProbeVerdict verdict = probeVerdict(bitmaskPart, rayPart, setupThreadMs_, warmGrids_);
+        remember(verdict.memoRays, verdict.memoCalls, /*measured=*/true);
+        if (!verdict.restByRays) {
+            local_.strategy = "bitmask";
+            addCounts(bitmaskPass(*shaft_, bins, map_, narrow_, &rest));
+        } else {
+            local_.strategy = "raycast";
+            samples.clear();
+            for (std::uint32_t t : rest)
+                bins.tileSamples(t, receiver_.na, receiver_.nb, samples);
+            const auto restStart = Clock::now();
+            castRays(rayOptions);
+            local_.rayMs += msSince(restStart);
+        }
+    }
+
+    /// The bitmask pass over every tile; timed against the swapped probe's rays when asked.
+    void runBitmask()
+    {
+        if (!timeSwappedBitmask_) {
+            addCounts(bitmaskPass(*shaft_, work_.bins, map_, narrow_));
             return;
         }
-        if (timeSwappedBitmask) {
-            const double passMs = onOneThread([&] { addCounts(bitmaskPass(shaft, bins, map, narrow)); });
-            local.probeBitmaskMs = setupThreadMs + passMs;
-            const bool rays = swappedMeasuredChoosesRays(local.probeRayMs, setupThreadMs, passMs);
-            remember(rays, !warmGrids ? 0 : rays ? swappedRaysMemoCalls(local.probeRayMs, local.probeBitmaskMs) : kProbeReuse,
-                     /*measured=*/true);
+        const double passMs = onOneThread([&] { addCounts(bitmaskPass(*shaft_, work_.bins, map_, narrow_)); });
+        local_.probeBitmaskMs = setupThreadMs_ + passMs;
+        const bool rays = swappedMeasuredChoosesRays(local_.probeRayMs, setupThreadMs_, passMs);
+        remember(rays, !warmGrids_ ? 0 : rays ? swappedRaysMemoCalls(local_.probeRayMs, local_.probeBitmaskMs) : kProbeReuse,
+                 /*measured=*/true);
+    }
+
+    /// The hybrid's ray pass: the still-unblocked rays against a BVH of the small triangles only.
+    void castSmallTriangles()
+    {
+        const auto rayStart = Clock::now();
+        const WorldTriangles& triangles = sampler_.triangles_;
+        WorldTriangles subset;
+        subset.vertices.reserve(3 * smallTriangles_.size());
+        for (std::uint32_t t : smallTriangles_) {
+            subset.vertices.insert(subset.vertices.end(), &triangles.vertices[3 * t], &triangles.vertices[3 * t] + 3);
+            subset.instanceOf.push_back(triangles.instanceOf[t]);
+        }
+        const RayCastScene rays(subset, /*fastBuild=*/true);
+        local_.raysCast = rays.sampleUnblocked(source_, receiver_, map_, {.jitter = options_.jitter, .heights = options_.heights});
+        local_.rayMs = msSince(rayStart);
+    }
+
+    const CpuBitmaskSampler& sampler_;
+    const Patch& source_;
+    const Patch& receiver_;
+    const BitmaskOptions& options_;
+    const bool swappedRoles_;
+    HiddenSampleMap& map_;
+    BitmaskStats& local_;
+    Workspace& work_;
+    const bool exact_, narrow_;
+    const CpuStrategy strategy_;
+
+    bool bumpy_ = false;
+    std::vector<glm::dvec3> displaced_;
+    Bounds displacedBox_;
+    glm::dvec3 normal_{0.0};
+    double lowest_ = 0.0, highest_ = 0.0;
+    Clock::time_point setupStart_;
+    std::shared_ptr<const HoughMaskTable> table_;
+
+    std::optional<Shaft> shaft_;
+    std::optional<ShaftHull> hull_;
+    TriangleFilter filter_;
+    std::vector<char> closedInstance_;
+    tbb::task_arena one_{1};
+
+    Plan plan_ = Plan::Bitmask;
+    bool warmGrids_ = false;            ///< Auto sampled these grids before: a probe's times are what later calls pay
+    std::vector<int> raySamples_;       ///< the receiver samples left to cast after the swapped probe, when not all
+    bool timeSwappedBitmask_ = false;   ///< against the swapped probe's rays, local_.probeRayMs
+    bool timed_ = false;                ///< setup and passes timed on one thread, for a verdict
+    double setupThreadMs_ = 0.0;
+    std::vector<std::uint32_t> smallTriangles_;   ///< the hybrid's, as indices into the world triangles
+};
+
+HiddenSampleMap CpuBitmaskSampler::sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
+                                                  BitmaskStats* stats, bool swappedRoles) const
+{
+    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+    BitmaskStats local;
+    std::unique_ptr<Workspace> work = takeWorkspace();
+    {
+        OrientedCall call(*this, source, receiver, options, swappedRoles, map, local, *work);
+        if (options.threads > 0) {
+            tbb::task_arena arena(options.threads);
+            arena.execute([&] { call.run(); });
         } else {
-            addCounts(bitmaskPass(shaft, bins, map, narrow));
+            call.run();
         }
-        local.sampleMs = msSince(sampleStart);
-        if (!smallTriangles.empty()) {
-            // The still-unblocked rays against a BVH of the small triangles only.
-            const auto rayStart = Clock::now();
-            WorldTriangles subset;
-            subset.vertices.reserve(3 * smallTriangles.size());
-            for (std::uint32_t t : smallTriangles) {
-                subset.vertices.insert(subset.vertices.end(), &triangles_.vertices[3 * t], &triangles_.vertices[3 * t] + 3);
-                subset.instanceOf.push_back(triangles_.instanceOf[t]);
-            }
-            const RayCastScene rays(subset, /*fastBuild=*/true);
-            local.raysCast = rays.sampleUnblocked(source, receiver, map, {.jitter = options.jitter, .heights = options.heights});
-            local.rayMs = msSince(rayStart);
-        }
-    };
-    if (options.threads > 0) {
-        tbb::task_arena arena(options.threads);
-        arena.execute(body);
-    } else {
-        body();
     }
     returnWorkspace(std::move(work));
     if (stats)

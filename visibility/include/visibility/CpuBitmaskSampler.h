@@ -182,6 +182,8 @@ public:
                            BitmaskStats* stats = nullptr) const;
 
 private:
+    /// One sampleOriented call's steps and state.
+    class OrientedCall;
     /// sample() on a validated pair, in the roles given (`swappedRoles`: the caller's receiver
     /// is `source` here, for Auto's choice).
     HiddenSampleMap sampleOriented(const Patch& source, const Patch& receiver, const BitmaskOptions& options,
