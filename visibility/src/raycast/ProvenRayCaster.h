@@ -86,6 +86,8 @@ public:
     struct Impl;
 
 private:
+    /// One sampleUnblocked call's traversals and state.
+    class Call;
     std::unique_ptr<Impl> impl_;
     /// CastMode::Auto's last timed choice, serving the next calls on a similar configuration
     /// (as Auto's choice of strategy does, bitmask/Strategy.h).
