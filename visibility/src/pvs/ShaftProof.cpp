@@ -150,6 +150,138 @@ struct UnionFind {
     }
 };
 
+/// An axis-aligned triangle keyed by its plane (axis, facing, coordinate: exact float values).
+struct PlaneKey {
+    int axis, facing;
+    float offset;
+    std::uint32_t triangle;
+};
+
+/// The axis-aligned triangles of `vertices` (3 per triangle) with a non-zero area, sorted by
+/// plane so that each plane's triangles are a run.
+std::vector<PlaneKey> axisAlignedTriangles(const std::vector<glm::vec3>& vertices)
+{
+    std::vector<PlaneKey> keys;
+    for (std::size_t t = 0; 3 * t < vertices.size(); ++t) {
+        const glm::vec3* p = &vertices[3 * t];
+        for (int k = 0; k < 3; ++k)
+            if (p[0][k] == p[1][k] && p[1][k] == p[2][k]) {
+                const double area = cross2(drop(glm::dvec3(p[1]) - glm::dvec3(p[0]), k), drop(glm::dvec3(p[2]) - glm::dvec3(p[0]), k));
+                if (area != 0.0)
+                    keys.push_back({k, area > 0.0 ? 1 : -1, p[0][k], std::uint32_t(t)});
+                break;
+            }
+    }
+    std::sort(keys.begin(), keys.end(), [](const PlaneKey& a, const PlaneKey& b) {
+        return std::tie(a.axis, a.facing, a.offset, a.triangle) < std::tie(b.axis, b.facing, b.offset, b.triangle);
+    });
+    return keys;
+}
+
+/// A plane's edges, in its 2-D coordinates (axis + 1, axis + 2). Axis-aligned ones (the usual
+/// case: walls cut into quads, tile grids) are kept as intervals on their line, so that a
+/// T-junction (one wall cut at a door height, its neighbour not) still joins the two and is not
+/// taken for a boundary.
+struct PlaneLine {
+    int kind;          // 0: u = c, 1: v = c
+    float c, lo, hi;   // the line and the interval on it
+    int side;          // +1 / -1: where the triangle lies
+    std::uint32_t local;
+};
+struct PlaneOtherEdge {
+    float a0, a1, b0, b1;   // sorted end points
+    int side;
+    std::uint32_t local;
+};
+using BoundaryPieces = std::vector<std::pair<std::uint32_t, std::array<glm::dvec2, 2>>>;   // (local triangle, edge)
+
+void planeEdges(const std::vector<glm::vec3>& vertices, const std::vector<std::uint32_t>& triangles, int axis,
+                std::vector<PlaneLine>& lines, std::vector<PlaneOtherEdge>& others)
+{
+    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    for (std::size_t k = 0; k < triangles.size(); ++k) {
+        const glm::vec3* p = &vertices[3 * triangles[k]];
+        for (int e = 0; e < 3; ++e) {
+            const glm::vec3 &x = p[e], &y = p[(e + 1) % 3], &z = p[(e + 2) % 3];
+            const std::uint32_t local = std::uint32_t(k);
+            if (x[ua] == y[ua])
+                lines.push_back({0, x[ua], std::min(x[va], y[va]), std::max(x[va], y[va]), z[ua] > x[ua] ? 1 : -1, local});
+            else if (x[va] == y[va])
+                lines.push_back({1, x[va], std::min(x[ua], y[ua]), std::max(x[ua], y[ua]), z[va] > x[va] ? 1 : -1, local});
+            else {
+                glm::vec2 m(x[ua], x[va]), n(y[ua], y[va]);
+                if (std::tie(n.x, n.y) < std::tie(m.x, m.y))
+                    std::swap(m, n);
+                const double o = orient(glm::dvec2(m), glm::dvec2(n), glm::dvec2(z[ua], z[va]));
+                others.push_back({m.x, m.y, n.x, n.y, o > 0.0 ? 1 : -1, local});
+            }
+        }
+    }
+}
+
+/// Along each axis-aligned line: triangles on opposite sides of a shared stretch are one region,
+/// and the stretches covered on one side only are boundary.
+void joinAlongLines(std::vector<PlaneLine>& lines, UnionFind& components, BoundaryPieces& boundary)
+{
+    auto point = [&](int kind, double c, double t) { return kind == 0 ? glm::dvec2(c, t) : glm::dvec2(t, c); };
+    std::sort(lines.begin(), lines.end(), [](const PlaneLine& a, const PlaneLine& b) {
+        return std::tie(a.kind, a.c, a.lo, a.hi, a.local) < std::tie(b.kind, b.c, b.lo, b.hi, b.local);
+    });
+    for (std::size_t g0 = 0; g0 < lines.size();) {
+        std::size_t g1 = g0 + 1;
+        while (g1 < lines.size() && lines[g1].kind == lines[g0].kind && lines[g1].c == lines[g0].c)
+            ++g1;
+        for (std::size_t i = g0; i < g1; ++i)
+            for (std::size_t j = i + 1; j < g1 && lines[j].lo < lines[i].hi; ++j)
+                if (lines[j].side != lines[i].side && std::min(lines[i].hi, lines[j].hi) > lines[j].lo)
+                    components.join(lines[i].local, lines[j].local);
+        std::vector<float> cuts;
+        for (std::size_t i = g0; i < g1; ++i)
+            cuts.insert(cuts.end(), {lines[i].lo, lines[i].hi});
+        std::sort(cuts.begin(), cuts.end());
+        cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
+        for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+            bool plus = false, minus = false;
+            for (std::size_t i = g0; i < g1; ++i)
+                if (lines[i].lo <= cuts[k] && lines[i].hi >= cuts[k + 1])
+                    (lines[i].side > 0 ? plus : minus) = true;
+            if (plus == minus)
+                continue;   // inside (both sides) or no edge there at all
+            const std::array<glm::dvec2, 2> piece = {point(lines[g0].kind, lines[g0].c, cuts[k]),
+                                                     point(lines[g0].kind, lines[g0].c, cuts[k + 1])};
+            for (std::size_t i = g0; i < g1; ++i)
+                if (lines[i].lo <= cuts[k] && lines[i].hi >= cuts[k + 1])
+                    boundary.push_back({lines[i].local, piece});
+        }
+        g0 = g1;
+    }
+}
+
+/// The other edges: one shared by exactly two triangles on opposite sides is inner, any other
+/// is boundary.
+void joinAcrossEdges(std::vector<PlaneOtherEdge>& others, UnionFind& components, BoundaryPieces& boundary)
+{
+    std::sort(others.begin(), others.end(), [](const PlaneOtherEdge& a, const PlaneOtherEdge& b) {
+        return std::tie(a.a0, a.a1, a.b0, a.b1, a.local) < std::tie(b.a0, b.a1, b.b0, b.b1, b.local);
+    });
+    auto sameEdge = [](const PlaneOtherEdge& a, const PlaneOtherEdge& b) {
+        return a.a0 == b.a0 && a.a1 == b.a1 && a.b0 == b.b0 && a.b1 == b.b1;
+    };
+    for (std::size_t e = 0; e < others.size();) {
+        std::size_t f = e + 1;
+        while (f < others.size() && sameEdge(others[e], others[f]))
+            ++f;
+        if (f - e == 2 && others[e].side != others[e + 1].side) {
+            components.join(others[e].local, others[e + 1].local);   // an inner edge
+        } else {
+            const std::array<glm::dvec2, 2> piece = {glm::dvec2(others[e].a0, others[e].a1), glm::dvec2(others[e].b0, others[e].b1)};
+            for (std::size_t k = e; k < f; ++k)
+                boundary.push_back({others[k].local, piece});
+        }
+        e = f;
+    }
+}
+
 } // namespace
 
 double Quad::radius() const { return 0.5 * std::max(glm::length(u + v), glm::length(u - v)); }
@@ -219,159 +351,76 @@ ShaftProver::ShaftProver(const Scene& scene)
     WorldTriangles world = worldTriangles(scene);
     vertices_ = std::move(world.vertices);
     instanceOf_ = std::move(world.instanceOf);
-    const std::size_t count = instanceOf_.size();
-    regionOf_.assign(count, -1);
-
-    // Axis-aligned triangles keyed by (axis, facing, plane coordinate), all exact float values.
-    struct Key {
-        int axis, facing;
-        float offset;
-        std::uint32_t triangle;
-    };
-    std::vector<Key> keys;
-    for (std::size_t t = 0; t < count; ++t) {
-        const glm::vec3* p = &vertices_[3 * t];
-        for (int k = 0; k < 3; ++k)
-            if (p[0][k] == p[1][k] && p[1][k] == p[2][k]) {
-                const double area = cross2(drop(glm::dvec3(p[1]) - glm::dvec3(p[0]), k), drop(glm::dvec3(p[2]) - glm::dvec3(p[0]), k));
-                if (area != 0.0)
-                    keys.push_back({k, area > 0.0 ? 1 : -1, p[0][k], std::uint32_t(t)});
-                break;
-            }
-    }
-    std::sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
-        return std::tie(a.axis, a.facing, a.offset, a.triangle) < std::tie(b.axis, b.facing, b.offset, b.triangle);
-    });
+    regionOf_.assign(instanceOf_.size(), -1);
+    const std::vector<PlaneKey> keys = axisAlignedTriangles(vertices_);
     for (std::size_t begin = 0; begin < keys.size();) {
         std::size_t end = begin + 1;
         while (end < keys.size() && keys[end].axis == keys[begin].axis && keys[end].facing == keys[begin].facing &&
                keys[end].offset == keys[begin].offset)
             ++end;
-        const int axis = keys[begin].axis;
-        // The plane's edges. Axis-aligned ones (the usual case: walls cut into quads, tile grids)
-        // are kept as intervals on their line, so that a T-junction (one wall cut at a door
-        // height, its neighbour not) still joins the two and is not taken for a boundary.
-        struct Line {
-            int kind;          // 0: u = c, 1: v = c
-            float c, lo, hi;   // the line and the interval on it
-            int side;          // +1 / -1: where the triangle lies
-            std::uint32_t local;
-        };
-        struct Other {
-            float a0, a1, b0, b1;   // sorted end points
-            int side;
-            std::uint32_t local;
-        };
-        std::vector<Line> lines;
-        std::vector<Other> others;
-        const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
-        for (std::size_t k = begin; k < end; ++k) {
-            const glm::vec3* p = &vertices_[3 * keys[k].triangle];
-            for (int e = 0; e < 3; ++e) {
-                const glm::vec3 &x = p[e], &y = p[(e + 1) % 3], &z = p[(e + 2) % 3];
-                const std::uint32_t local = std::uint32_t(k - begin);
-                if (x[ua] == y[ua])
-                    lines.push_back({0, x[ua], std::min(x[va], y[va]), std::max(x[va], y[va]), z[ua] > x[ua] ? 1 : -1, local});
-                else if (x[va] == y[va])
-                    lines.push_back({1, x[va], std::min(x[ua], y[ua]), std::max(x[ua], y[ua]), z[va] > x[va] ? 1 : -1, local});
-                else {
-                    glm::vec2 m(x[ua], x[va]), n(y[ua], y[va]);
-                    if (std::tie(n.x, n.y) < std::tie(m.x, m.y))
-                        std::swap(m, n);
-                    const double o = orient(glm::dvec2(m), glm::dvec2(n), glm::dvec2(z[ua], z[va]));
-                    others.push_back({m.x, m.y, n.x, n.y, o > 0.0 ? 1 : -1, local});
-                }
-            }
-        }
-        UnionFind components(end - begin);
-        std::vector<std::pair<std::uint32_t, std::array<glm::dvec2, 2>>> boundary;   // (local triangle, edge)
-        auto point = [&](int kind, double c, double t) { return kind == 0 ? glm::dvec2(c, t) : glm::dvec2(t, c); };
-        std::sort(lines.begin(), lines.end(), [](const Line& a, const Line& b) {
-            return std::tie(a.kind, a.c, a.lo, a.hi, a.local) < std::tie(b.kind, b.c, b.lo, b.hi, b.local);
-        });
-        for (std::size_t g0 = 0; g0 < lines.size();) {
-            std::size_t g1 = g0 + 1;
-            while (g1 < lines.size() && lines[g1].kind == lines[g0].kind && lines[g1].c == lines[g0].c)
-                ++g1;
-            // Triangles on opposite sides of a shared stretch of the line are one region.
-            for (std::size_t i = g0; i < g1; ++i)
-                for (std::size_t j = i + 1; j < g1 && lines[j].lo < lines[i].hi; ++j)
-                    if (lines[j].side != lines[i].side && std::min(lines[i].hi, lines[j].hi) > lines[j].lo)
-                        components.join(lines[i].local, lines[j].local);
-            // Boundary: the stretches covered on one side only.
-            std::vector<float> cuts;
-            for (std::size_t i = g0; i < g1; ++i)
-                cuts.insert(cuts.end(), {lines[i].lo, lines[i].hi});
-            std::sort(cuts.begin(), cuts.end());
-            cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
-            for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-                bool plus = false, minus = false;
-                for (std::size_t i = g0; i < g1; ++i)
-                    if (lines[i].lo <= cuts[k] && lines[i].hi >= cuts[k + 1])
-                        (lines[i].side > 0 ? plus : minus) = true;
-                if (plus == minus)
-                    continue;   // inside (both sides) or no edge there at all
-                const std::array<glm::dvec2, 2> piece = {point(lines[g0].kind, lines[g0].c, cuts[k]),
-                                                         point(lines[g0].kind, lines[g0].c, cuts[k + 1])};
-                for (std::size_t i = g0; i < g1; ++i)
-                    if (lines[i].lo <= cuts[k] && lines[i].hi >= cuts[k + 1])
-                        boundary.push_back({lines[i].local, piece});
-            }
-            g0 = g1;
-        }
-        std::sort(others.begin(), others.end(), [](const Other& a, const Other& b) {
-            return std::tie(a.a0, a.a1, a.b0, a.b1, a.local) < std::tie(b.a0, b.a1, b.b0, b.b1, b.local);
-        });
-        auto sameEdge = [](const Other& a, const Other& b) { return a.a0 == b.a0 && a.a1 == b.a1 && a.b0 == b.b0 && a.b1 == b.b1; };
-        for (std::size_t e = 0; e < others.size();) {
-            std::size_t f = e + 1;
-            while (f < others.size() && sameEdge(others[e], others[f]))
-                ++f;
-            if (f - e == 2 && others[e].side != others[e + 1].side) {
-                components.join(others[e].local, others[e + 1].local);   // an inner edge
-            } else {
-                const std::array<glm::dvec2, 2> piece = {glm::dvec2(others[e].a0, others[e].a1), glm::dvec2(others[e].b0, others[e].b1)};
-                for (std::size_t k = e; k < f; ++k)
-                    boundary.push_back({others[k].local, piece});
-            }
-            e = f;
-        }
-        // One region per component.
-        std::vector<std::int32_t> regionOfComponent(end - begin, -1);
-        for (std::size_t k = begin; k < end; ++k) {
-            const std::uint32_t c = components.find(std::uint32_t(k - begin));
-            if (regionOfComponent[c] < 0) {
-                regionOfComponent[c] = std::int32_t(regions_.size());
-                Region r;
-                r.axis = axis;
-                r.offset = double(keys[begin].offset);
-                regions_.push_back(std::move(r));
-            }
-            Region& r = regions_[std::size_t(regionOfComponent[c])];
-            r.triangles.push_back(keys[k].triangle);
-            r.instances.push_back(instanceOf_[keys[k].triangle]);
-            regionOf_[keys[k].triangle] = regionOfComponent[c];
-        }
-        for (const auto& [local, piece] : boundary)
-            regions_[std::size_t(regionOfComponent[components.find(local)])].boundary.push_back(piece);
+        std::vector<std::uint32_t> triangles;
+        for (std::size_t k = begin; k < end; ++k)
+            triangles.push_back(keys[k].triangle);
+        addPlaneRegions(keys[begin].axis, double(keys[begin].offset), triangles);
         begin = end;
     }
-    for (Region& r : regions_) {
-        std::sort(r.instances.begin(), r.instances.end());
-        r.instances.erase(std::unique(r.instances.begin(), r.instances.end()), r.instances.end());
-        auto less = [](const std::array<glm::dvec2, 2>& a, const std::array<glm::dvec2, 2>& b) {
-            return std::tie(a[0].x, a[0].y, a[1].x, a[1].y) < std::tie(b[0].x, b[0].y, b[1].x, b[1].y);
-        };
-        std::sort(r.boundary.begin(), r.boundary.end(), less);
-        r.boundary.erase(std::unique(r.boundary.begin(), r.boundary.end()), r.boundary.end());
-        indexRegion(r);
-    }
+    for (Region& r : regions_)
+        finishRegion(r);
+    addClosedSolids(scene);
+}
 
+/// The regions of one plane's triangles (x[axis] = offset): triangles joined across inner edges,
+/// each region with its boundary.
+void ShaftProver::addPlaneRegions(int axis, double offset, const std::vector<std::uint32_t>& triangles)
+{
+    const std::size_t count = triangles.size();
+    std::vector<PlaneLine> lines;
+    std::vector<PlaneOtherEdge> others;
+    planeEdges(vertices_, triangles, axis, lines, others);
+    UnionFind components(count);
+    BoundaryPieces boundary;
+    joinAlongLines(lines, components, boundary);
+    joinAcrossEdges(others, components, boundary);
+    // One region per component.
+    std::vector<std::int32_t> regionOfComponent(count, -1);
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::uint32_t c = components.find(std::uint32_t(k));
+        if (regionOfComponent[c] < 0) {
+            regionOfComponent[c] = std::int32_t(regions_.size());
+            Region r;
+            r.axis = axis;
+            r.offset = offset;
+            regions_.push_back(std::move(r));
+        }
+        Region& r = regions_[std::size_t(regionOfComponent[c])];
+        r.triangles.push_back(triangles[k]);
+        r.instances.push_back(instanceOf_[triangles[k]]);
+        regionOf_[triangles[k]] = regionOfComponent[c];
+    }
+    for (const auto& [local, piece] : boundary)
+        regions_[std::size_t(regionOfComponent[components.find(local)])].boundary.push_back(piece);
+}
+
+/// A region's instances and boundary without repeats, and its grid index.
+void ShaftProver::finishRegion(Region& r)
+{
+    std::sort(r.instances.begin(), r.instances.end());
+    r.instances.erase(std::unique(r.instances.begin(), r.instances.end()), r.instances.end());
+    auto less = [](const std::array<glm::dvec2, 2>& a, const std::array<glm::dvec2, 2>& b) {
+        return std::tie(a[0].x, a[0].y, a[1].x, a[1].y) < std::tie(b[0].x, b[0].y, b[1].x, b[1].y);
+    };
+    std::sort(r.boundary.begin(), r.boundary.end(), less);
+    r.boundary.erase(std::unique(r.boundary.begin(), r.boundary.end()), r.boundary.end());
+    indexRegion(r);
+}
+
+void ShaftProver::addClosedSolids(const Scene& scene)
+{
     // Closed solids: the connected parts (triangles joined by shared edges) of instances of
     // closed, consistently wound meshes (Scene.h closedAndOutward: every edge is shared by two
     // triangles in opposite directions, so each part is closed on its own: a chair's legs, one
     // casing of the trim, one book).
-    solidOf_.assign(count, -1);
+    solidOf_.assign(instanceOf_.size(), -1);
     std::vector<signed char> closedMesh(scene.meshes.size(), -1);
     std::size_t first = 0;
     for (std::size_t i = 0; i < scene.instances.size(); ++i) {

@@ -109,7 +109,10 @@ private:
     };
 
     bool regionContains(const Region& r, const std::vector<glm::dvec2>& hull, const OwnInstances& own) const;
+    void addPlaneRegions(int axis, double offset, const std::vector<std::uint32_t>& triangles);
+    void finishRegion(Region& r);
     void indexRegion(Region& r);
+    void addClosedSolids(const Scene& scene);
     void addSolids(std::size_t firstTriangle, std::size_t count);
 
     std::vector<glm::vec3> vertices_;          ///< world triangles, 3 vertices each
