@@ -4,6 +4,7 @@
 // (--benchmark-interaction, optionally with an overlay on).
 
 #include <algorithm>
+#include <atomic>
 #include <charconv>
 #include <climits>
 #include <cstdint>
@@ -11,7 +12,9 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <utility>
+#include <vector>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -58,6 +61,7 @@ struct Arguments {
     std::string replay = "auto";
     int frames = 300;   ///< benchmark default; recordings use the path's or animation's length
     bool framesGiven = false;
+    int backgroundLoad = 0;   ///< benchmarks: busy threads beside the editor
     double fps = 0.0;   ///< 0: the recorded path's, else 30
     std::string size = "1280x720";
     int rays = 4096;
@@ -209,6 +213,34 @@ int record(const Arguments& args, int width, int height)
                 f.seconds, f.framesPerSecond(), f.sampleMs / f.frames, f.renderMs / f.frames, f.encodeMs / f.frames);
     return 0;
 }
+
+/// Threads that keep cores busy while a benchmark runs, as other work on a shared desktop does
+/// (a build, a game, a render): the editor's rate and stalls are then what a designer sees there.
+class BackgroundLoad {
+public:
+    explicit BackgroundLoad(int threads)
+    {
+        for (int k = 0; k < threads; ++k)
+            threads_.emplace_back([this] {
+                volatile std::uint64_t x = 0;
+                while (!stop_.load(std::memory_order_relaxed))
+                    for (int i = 0; i < 100000; ++i)
+                        x = x * 6364136223846793005ull + 1442695040888963407ull;
+            });
+    }
+    ~BackgroundLoad()
+    {
+        stop_ = true;
+        for (std::thread& t : threads_)
+            t.join();
+    }
+    BackgroundLoad(const BackgroundLoad&) = delete;
+    BackgroundLoad& operator=(const BackgroundLoad&) = delete;
+
+private:
+    std::atomic<bool> stop_{false};
+    std::vector<std::thread> threads_;
+};
 
 int benchmark(const Arguments& args, int width, int height)
 {
@@ -383,6 +415,10 @@ OptionHandles addOptions(CLI::App& app, Arguments& args)
                    "mean, max or ever")
         ->check(CLI::IsMember({"mean", "max", "ever"}));
     app.add_flag("--accumulate", args.accumulate, "Benchmark: accumulate importance while dragging; recording: over the video's frames");
+    app.add_option("--background-load", args.backgroundLoad,
+                   "Benchmarks: keep this many threads busy beside the editor during the run, as other work on a "
+                   "shared desktop does (the rate and stalls under load)")
+        ->check(CLI::Range(0, 256));
     app.add_flag("--ao", args.ao, "Benchmark: start the level's ambient occlusion preview with the drag and report the "
                                   "update rate while it computes (to k = 258)");
     app.add_flag("--lit", args.lit, "The lit view (the project's lights on the level's light-map texels, shadowed exactly). "
@@ -443,6 +479,10 @@ int checkArguments(const CLI::App& app, Arguments& args, const OptionHandles& ha
         std::fprintf(stderr, "sightline: --lit applies to --screenshot and --benchmark-interaction (the editor's lit view is View > Lit View, I)\n");
         return 2;
     }
+    if (args.backgroundLoad > 0 && !args.benchmark && !args.stalls) {
+        std::fprintf(stderr, "sightline: --background-load applies to --benchmark-interaction and --benchmark-stalls\n");
+        return 2;
+    }
     if (args.ao && !args.benchmark) {
         std::fprintf(stderr, "sightline: --ao applies to --benchmark-interaction only (the editor's AO is View > Ambient Occlusion, O)\n");
         return 2;
@@ -494,10 +534,12 @@ int run(const Arguments& args, int width, int height, int argc, char** argv)
         format.setSwapInterval(0);   // measure and draw as fast as the frame is ready
         QSurfaceFormat::setDefaultFormat(format);
         QApplication application(argc, argv);
-        if (args.benchmark)
-            return benchmark(args, width, height);
-        if (args.stalls)
-            return stallBenchmark(args, width, height);
+        if (args.benchmark || args.stalls) {
+            const BackgroundLoad load(args.backgroundLoad);
+            if (args.backgroundLoad > 0)
+                std::printf("background load: %d busy threads\n", args.backgroundLoad);
+            return args.benchmark ? benchmark(args, width, height) : stallBenchmark(args, width, height);
+        }
         MainWindow window;
         window.show();
         if (!args.file.empty())
