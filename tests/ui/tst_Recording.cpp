@@ -329,6 +329,8 @@ TEST(RecordCommand, BadNamesSizesAndPathsAreRefusedBeforeAnyWindow)
         {"--record " + out + " " + flatFile, "frame 4: "},
         {"--record " + out + " " + projectiveFile, "'recorded_path.edits[0].transform' must be affine"},
         {"--record " + out + " " + slowFile + " --fps 240", "at most 1000000 are recorded"},
+        {"--background-load 2 " + p, "--background-load applies to --benchmark-interaction and --benchmark-stalls"},
+        {"--benchmark-stalls --background-load 999 " + p, "--background-load"},
     };
     for (const auto& [arguments, says] : cases) {
         const test::CliRun run = test::runProgram(editor, arguments, 120);
