@@ -3324,6 +3324,25 @@ private slots:
         document.undoStack()->setClean();
     }
 
+    // A resized window redraws the view at its new size at once, without waiting for input.
+    void aResizedWindowRedrawsWithoutInput()
+    {
+        // (The fixture holds the view at 800 x 600; here it is the view's own size that changes.)
+        Viewport& viewport = window_->viewport();
+        waitForFrame();
+        QWidget* container = window_->viewportContainer();
+        const QSize viewBefore = viewport.size();
+        QSignalSpy swapped(&viewport, &QOpenGLWindow::frameSwapped);
+        container->setFixedSize(640, 480);
+        QTRY_VERIFY(viewport.size() != viewBefore);
+        swapped.clear();
+        // No event but the resize: a frame at the new size follows on its own.
+        QTRY_VERIFY_WITH_TIMEOUT(swapped.count() > 0, 5000);
+        QCOMPARE(viewport.size(), QSize(640, 480));
+        container->setFixedSize(800, 600);
+        waitForFrame();
+    }
+
     // The Coarse Occluder dialog's Fewest Triangles: the count the search takes is the one
     // fitCoarseToTolerance finds for the same pair and object, and OK keeps it.
     void coarseOccluderFewestTrianglesWithinAShare()
