@@ -2989,11 +2989,7 @@ private slots:
         EditorDocument& document = window_->document();
         Viewport& viewport = window_->viewport();
         ViewportController& controller = window_->controller();
-        document.undoStack()->setClean();
-        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
-        waitForUpdate();
-        window_->activateWindow();
-        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        reopenDemo();
         QTest::keyClick(window_.get(), Qt::Key_B, Qt::ControlModifier | Qt::AltModifier);
         OccluderAssistant& assistant = window_->occluderAssistant();
         QTRY_VERIFY_WITH_TIMEOUT(assistant.isVisible() && assistant.suggestion().has_value(), 20000);
@@ -3104,11 +3100,7 @@ private slots:
     {
         EditorDocument& document = window_->document();
         Viewport& viewport = window_->viewport();
-        document.undoStack()->setClean();
-        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
-        waitForUpdate();
-        window_->activateWindow();
-        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+        reopenDemo();
         QTest::keyClick(window_.get(), Qt::Key_D, Qt::ControlModifier | Qt::ShiftModifier);
         QVERIFY(viewport.disagreementView().has_value());
         QCOMPARE(approximationName(*viewport.disagreementView()), std::string("table-256x128"));
@@ -3514,6 +3506,16 @@ private:
 
     /// Until the viewport drew a frame of the document and view as they are now (flags and the
     /// view change no ray: no new answer comes).
+    /// The demo project opened afresh (edits so far dropped) in the active window.
+    void reopenDemo()
+    {
+        window_->document().undoStack()->setClean();
+        QVERIFY(window_->openFile(QString::fromStdString(project_.string())));
+        waitForUpdate();
+        window_->activateWindow();
+        QVERIFY(QTest::qWaitForWindowActive(window_.get()));
+    }
+
     void waitForFrame()
     {
         QSignalSpy spy(&window_->viewport(), &QOpenGLWindow::frameSwapped);
