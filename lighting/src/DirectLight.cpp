@@ -113,9 +113,17 @@ struct Run {
             }
             const std::vector<glm::dvec3>& emitters = samples[l];
             const std::size_t count = light.type == LightType::Directional ? 1 : emitters.size();
+            const EmitterTerm term(light);
+            if (!anyTerm(light, term, emitters, count, t))
+                continue;
+            // Shadowed whole: its terms are never weighed (as many as the rays they would have cast,
+            // weighing them cost about what the proof saved).
+            if (!maps[l] && provenShadowed(light, emitters, t)) {
+                ++provenTiles;
+                continue;
+            }
             s.weights.assign(n * count, 0.0);
             std::uint64_t nonZero = 0;
-            const EmitterTerm term(light);
             for (std::size_t k = 0; k < n; ++k) {
                 const ShadingPoint& p = points[t.points[k]];
                 for (std::size_t i = 0; i < count; ++i) {
@@ -124,17 +132,12 @@ struct Run {
                         s.weights[k * count + i] = w, ++nonZero;
                 }
             }
-            if (nonZero == 0)
-                continue;
             terms += nonZero;
             s.blocked.assign(n * count, 0);
             if (maps[l]) {
                 for (std::size_t k = 0; k < n; ++k)
                     for (std::size_t i = 0; i < count; ++i)
                         s.blocked[k * count + i] = maps[l]->blocked(int(t.points[k]), int(i));
-            } else if (provenShadowed(light, emitters, t)) {
-                ++provenTiles;
-                continue;
             } else if (count > 1 && provenLit(light, t)) {   // worth its cost where a pair holds many segments
                 ++litTiles;   // every segment free: `blocked` stays all zero
             } else {
@@ -148,6 +151,20 @@ struct Run {
         }
         for (std::size_t k = 0; k < n; ++k)
             sums[t.points[k]] = s.sums[k];
+    }
+
+    /// Whether some point of the tile gets a non-zero term from the light (the first found ends
+    /// the search, so a tile the light reaches costs about one term).
+    bool anyTerm(const Light& light, const EmitterTerm& term, const std::vector<glm::dvec3>& emitters, std::size_t count,
+                 const lights::PointTile& t) const
+    {
+        for (const std::uint32_t j : t.points) {
+            const ShadingPoint& p = points[j];
+            for (std::size_t i = 0; i < count; ++i)
+                if (term(light.type == LightType::Directional ? p.position : emitters[i], p.position, p.normal) > 0.0)
+                    return true;
+        }
+        return false;
     }
 
     TileClass classify(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t) const

@@ -302,7 +302,11 @@ TEST(Lights, AWallOfBandsShadowsWholeTilesAndItsWindowLetsLightThrough)
     EXPECT_EQ(disagreements(scene, low, points, nullptr, nullptr, &stats), 0);
     EXPECT_EQ(stats.tilesCast, 0u);
     EXPECT_GE(stats.tilesProvenShadowed, 6u);
+    EXPECT_EQ(stats.terms, 0u);   // proved shadowed before a term was weighed
     const LightingScene lighting(scene);
+    DirectLightStats reference;
+    directIrradiance(lighting, low, points, {.path = LightingPath::Reference}, &reference);
+    EXPECT_EQ(reference.terms, points.size());   // the lamp faces every point
     for (const glm::dvec3& e : irradiance(lighting, low, points, LightingPath::Fast))
         EXPECT_EQ(e, glm::dvec3(0.0));
     // A panel high behind it shines through the window onto part of the floor.

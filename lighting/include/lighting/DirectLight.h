@@ -123,7 +123,9 @@ struct DirectLightStats {
     std::size_t lights = 0;
     std::size_t lightSamples = 0;        ///< emitters: one per point, spot or directional light, na x nb per area light
     std::size_t points = 0;
-    std::uint64_t terms = 0;             ///< (point, emitter) pairs with a non-zero unshadowed term
+    /// (point, emitter) pairs with a non-zero unshadowed term, less (fast path) those of the (tile,
+    /// light) pairs a proof shadowed whole: those are never weighed.
+    std::uint64_t terms = 0;
     std::uint64_t segmentsCast = 0;      ///< of those, decided by ray casting
     std::uint64_t tilesUnreached = 0;    ///< fast: (tile, light) pairs skipped by a box test
     std::uint64_t tilesProvenShadowed = 0;   ///< fast: (tile, light) pairs one triangle, or one coplanar region, shadows whole
