@@ -8,7 +8,12 @@ first N light samples' worth (panels, lamps, spots and the sun in their order; p
 `sightline-cli lights PROJECT --compare --json` and prints one row: N, both times, the ratio,
 the points that differ (ties only) and how the fast path settled its (tile, light) pairs.
 
-    scripts/lights_sweep.py build/demo/demo_lights.json 10,30,100,300,1000,3000 [--side 256]
+With --cut E1,E2,... it adds, for each N, a row per light-cut error E (`--light-cut E`: the point
+lights through a light tree's cut, an approximation): its time against the same run's reference
+and its error (mean, 99th percentile and largest relative difference per point, and the share of
+points beyond 1% and 5%).
+
+    scripts/lights_sweep.py build/demo/demo_lights.json 10,30,100,300,1000,3000 [--side 256] [--cut 0.1,0.03,0.01]
 """
 import json
 import os
@@ -41,6 +46,7 @@ def main():
         sys.exit(__doc__)
     project_file, counts = sys.argv[1], [int(n) for n in sys.argv[2].split(",")]
     side = int(sys.argv[sys.argv.index("--side") + 1]) if "--side" in sys.argv else 256
+    cuts = [float(e) for e in sys.argv[sys.argv.index("--cut") + 1].split(",")] if "--cut" in sys.argv else []
     cli = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "app", "sightline-cli")
     with open(project_file) as f:
         project = json.load(f)
@@ -60,6 +66,16 @@ def main():
         print("%7d  %6d  %7.0f  %12.0f  %6.2fx  %9d  %9d  %8d  %5d" % (
             r["light_samples"], r["lights"], c["fast_ms"], c["reference_ms"], c["speedup"], c["points_differing"],
             r["tiles_unreached"], r["tiles_proven_shadowed"], r["tiles_cast"]))
+        for error in cuts:
+            run = subprocess.run([cli, "lights", path, "--compare", "--json", "--light-cut", str(error)],
+                                 capture_output=True, text=True, check=True)
+            r = json.loads(run.stdout)
+            c, e = r["compare"], r["compare"]["light_cut"]
+            print("%7d  cut %-6g  %7.0f ms (%.1f Hz)  reference %6.0f ms  %6.2fx  error mean %.4f  p99 %.3f  max %.3g  "
+                  "beyond 1%% %.3f  beyond 5%% %.3f  clusters %d" % (
+                      r["light_samples"], error, c["fast_ms"], 1000.0 / c["fast_ms"], c["reference_ms"], c["speedup"],
+                      e["mean_relative"], e["p99_relative"], e["max_relative"], e["points_beyond_1pct"],
+                      e["points_beyond_5pct"], r["cut_clusters"]))
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <numeric>
 #include <optional>
 
 #include <CLI/CLI.hpp>
@@ -88,6 +89,35 @@ double largestRelativeDifference(const std::vector<glm::dvec3>& a, const std::ve
         worst = std::max(worst, here);
     }
     return worst;
+}
+
+/// How far the light cut's answer is from the reference's: the relative difference of each point's
+/// brightest channel (a floor of 1e-6 of the largest reference value, so that dark points compare
+/// absolutely), its mean, 99th percentile and largest, and the share of points beyond 1% and 5%.
+json lightCutError(const std::vector<glm::dvec3>& cut, const std::vector<glm::dvec3>& reference)
+{
+    double peak = 0.0;
+    for (const glm::dvec3& e : reference)
+        peak = std::max({peak, e.x, e.y, e.z});
+    const double floor = std::max(1e-6 * peak, 1e-12);
+    std::vector<double> relative(cut.size());
+    for (std::size_t j = 0; j < cut.size(); ++j) {
+        double here = 0.0;
+        for (int c = 0; c < 3; ++c)
+            here = std::max(here, std::abs(cut[j][c] - reference[j][c]) / std::max(reference[j][c], floor));
+        relative[j] = here;
+    }
+    const double n = std::max<double>(1.0, double(relative.size()));
+    const double mean = std::accumulate(relative.begin(), relative.end(), 0.0) / n;
+    const auto beyond = [&](double limit) { return double(std::count_if(relative.begin(), relative.end(), [&](double r) { return r > limit; })) / n; };
+    std::vector<double> sorted = relative;
+    std::sort(sorted.begin(), sorted.end());
+    const double p99 = sorted.empty() ? 0.0 : sorted[std::min(sorted.size() - 1, std::size_t(0.99 * double(sorted.size())))];
+    return {{"mean_relative", mean},
+            {"p99_relative", p99},
+            {"max_relative", sorted.empty() ? 0.0 : sorted.back()},
+            {"points_beyond_1pct", beyond(0.01)},
+            {"points_beyond_5pct", beyond(0.05)}};
 }
 
 /// Light-map texels as shading points (lighting/TexelCharts.h): the charts' texels on the surface,
@@ -353,6 +383,11 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
     command->add_flag("--gl-no-pyramid", args.glNoPyramid,
                       "--gl: read a shadow map for every pair, without the occlusion pyramid's proved tile classes "
                       "(out of reach, shadowed, lit) that settle most pairs and spare the maps of lights they settle");
+    command->add_option("--light-cut", args.lightCut,
+                        "Point lights through a light tree's cut per tile of points (Lightcuts): a cluster whose bound "
+                        "on any point is below ERROR times the tile's estimated total is shaded by one representative "
+                        "(approximate; --compare gives its error against the exact reference)")
+        ->check(CLI::Range(1e-6, 1.0));
     command->add_flag("--bitmask-area", args.bitmaskArea,
                       "Without --points: area lights facing the receiver by the exact bitmask sampler (Eisemann & "
                       "Décoret §8) instead of tiles of rays");
@@ -480,7 +515,7 @@ void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
             if (given(command, option))
                 throw Error(std::string(option) + " needs --gl (the GL path)");
     } else {
-        for (const char* option : {"--reference", "--bitmask-area", "--drag", "--sets"})
+        for (const char* option : {"--reference", "--bitmask-area", "--drag", "--sets", "--light-cut"})
             if (given(command, option))
                 throw Error(std::string(option) + " does not apply to --gl (it answers direct light by shadow maps)");
     }
@@ -488,6 +523,8 @@ void checkLightsOptions(const CLI::App& command, const LightsArgs& args)
         for (const char* option : {"--points", "--npy", "--reference", "--compare", "--bitmask-area", "--indirect", "--texel"})
             if (given(command, option))
                 throw Error(std::string(option) + " does not apply to --sets (it prints the sets, no irradiance)");
+    if (args.reference && given(command, "--light-cut"))
+        throw Error("--light-cut does not apply to --reference (the brute force sums every light exactly)");
     if (given(command, "--pvs") && !args.sets)
         throw Error("--pvs needs --sets (it serves O'Rorke's V and L)");
     if (args.vpls > 0)
@@ -539,11 +576,14 @@ json compareExactPaths(const LightsArgs& args, const LightingScene& lighting, co
     std::size_t differing = 0;
     const double worst = largestRelativeDifference(irradiance, second, &differing);
     const double fastMs = args.reference ? otherStats.ms : run.stats.ms, referenceMs = args.reference ? run.stats.ms : otherStats.ms;
-    return {{"reference_ms", referenceMs},
-            {"fast_ms", fastMs},
-            {"speedup", fastMs > 0.0 ? referenceMs / fastMs : 0.0},
-            {"max_relative_difference", worst},
-            {"points_differing", differing}};
+    json out = {{"reference_ms", referenceMs},
+                {"fast_ms", fastMs},
+                {"speedup", fastMs > 0.0 ? referenceMs / fastMs : 0.0},
+                {"max_relative_difference", worst},
+                {"points_differing", differing}};
+    if (args.lightCut > 0.0)
+        out["light_cut"] = lightCutError(args.reference ? second : irradiance, args.reference ? irradiance : second);
+    return out;
 }
 
 /// The irradiance as .npy or light-map outputs, and its mean and peak.
@@ -587,6 +627,8 @@ json lightsRunJson(const LightsArgs& args, const LightsRun& run)
                 {"tiles_cast", stats.tilesCast},
                 {"bitmask_lights", stats.bitmaskLights},
                 {"bitmask_rays", stats.bitmaskRays},
+                {"cut_clusters", stats.cutClusters},
+                {"cut_lights", stats.cutLights},
                 {"triangles", run.triangles},
                 {"irradiance_mean", {mean.x, mean.y, mean.z}},
                 {"irradiance_max", {peak.x, peak.y, peak.z}}};
@@ -714,6 +756,7 @@ int runLights(const LightsArgs& args)
     options.threads = args.threads;
     options.receiverGrid = run.onReceiver ? &project.receiver : nullptr;
     options.bitmaskAreaLights = args.bitmaskArea;
+    options.lightCutError = args.lightCut;
     std::unique_ptr<gl::HeadlessContext> glContext;
     std::unique_ptr<GlDirectLight> glPath;
     if (args.gl) {

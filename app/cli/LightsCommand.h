@@ -17,6 +17,7 @@ struct LightsArgs {
     bool reference = false;   ///< brute force: every light sample at every point by ray casting
     bool compare = false;     ///< also run the other path, report its time and the largest difference
     bool bitmaskArea = false; ///< area lights facing the receiver grid by the bitmask sampler
+    double lightCut = 0.0;    ///< > 0: point lights by a light tree's cut with this error (approximate)
     bool gl = false;          ///< the GL path (octahedral shadow maps) instead of the exact fast path
     std::string glBackend = "osmesa";
     int glResolution = 512;

@@ -13,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include "TaskArena.h"
+#include "lighting/LightTree.h"
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
 #include "lights/EdgeNeighbours.h"
@@ -24,6 +25,9 @@
 namespace sightline {
 
 namespace {
+
+/// Entries a tile's light cut may hold (LightTree::cut stops splitting there).
+constexpr std::size_t kMaxCutEntries = 512;
 
 
 /// What each task reuses between calls.
@@ -48,6 +52,8 @@ struct TileScratch {
     std::vector<std::uint8_t> blocked;     ///< likewise
     std::vector<std::uint32_t> index;
     std::vector<std::uint8_t> answer;
+    std::vector<LightTree::Entry> cut;
+    std::vector<glm::dvec3> cutEmitter;
 };
 
 thread_local TileScratch tileScratch;
@@ -58,6 +64,7 @@ struct Run {
     std::span<const ShadingPoint> points;
     std::vector<glm::dvec3>& sums;
     std::atomic<std::uint64_t> terms{0}, cast{0}, unreachedTiles{0}, provenTiles{0}, litTiles{0}, castTiles{0};
+    std::atomic<std::uint64_t> cutEntries{0}, cutLights{0};
 
     void addTerms(std::uint64_t t, std::uint64_t c)
     {
@@ -98,59 +105,75 @@ struct Run {
     }
 
     /// The fast path over one tile: light by light, a box test, then a proof or the segments.
-    /// `maps[l]`: light l's hidden-samples map over the receiver grid, or null.
+    /// `maps[l]`: light l's hidden-samples map over the receiver grid, or null. With a light tree,
+    /// the lights it holds are shaded through the tile's cut instead, after the others.
     void tile(const lights::PointTile& t, const std::vector<std::vector<glm::dvec3>>& samples,
-              const std::vector<std::unique_ptr<HiddenSampleMap>>& maps)
+              const std::vector<std::unique_ptr<HiddenSampleMap>>& maps, const LightTree* tree, double cutError)
     {
         TileScratch& s = tileScratch;
         const std::size_t n = t.points.size();
         s.sums.assign(n, glm::dvec3(0.0));
-        for (std::size_t l = 0; l < lights.size(); ++l) {
-            const Light& light = lights[l];
-            if (unreached(light, t)) {
-                ++unreachedTiles;
-                continue;
+        for (std::size_t l = 0; l < lights.size(); ++l)
+            if (!tree || !tree->clusters(l))
+                shade(lights[l], samples[l], maps[l].get(), t);
+        if (tree) {
+            tree->cut(t.lo, t.hi, cutError, kMaxCutEntries, s.cut);
+            for (const LightTree::Entry& entry : s.cut) {
+                s.cutEmitter.assign(1, entry.standIn.position);
+                shade(entry.standIn, s.cutEmitter, nullptr, t);
+                cutEntries += entry.count > 1;
+                cutLights += entry.count;
             }
-            const std::vector<glm::dvec3>& emitters = samples[l];
-            const std::size_t count = light.type == LightType::Directional ? 1 : emitters.size();
-            const EmitterTerm term(light);
-            if (!anyTerm(light, term, emitters, count, t))
-                continue;
-            // Shadowed whole: its terms are never weighed (as many as the rays they would have cast,
-            // weighing them cost about what the proof saved).
-            if (!maps[l] && provenShadowed(light, emitters, t)) {
-                ++provenTiles;
-                continue;
-            }
-            s.weights.assign(n * count, 0.0);
-            std::uint64_t nonZero = 0;
-            for (std::size_t k = 0; k < n; ++k) {
-                const ShadingPoint& p = points[t.points[k]];
-                for (std::size_t i = 0; i < count; ++i) {
-                    const double w = term(light.type == LightType::Directional ? p.position : emitters[i], p.position, p.normal);
-                    if (w > 0.0)
-                        s.weights[k * count + i] = w, ++nonZero;
-                }
-            }
-            terms += nonZero;
-            s.blocked.assign(n * count, 0);
-            if (maps[l]) {
-                for (std::size_t k = 0; k < n; ++k)
-                    for (std::size_t i = 0; i < count; ++i)
-                        s.blocked[k * count + i] = maps[l]->blocked(int(t.points[k]), int(i));
-            } else if (count > 1 && provenLit(light, t)) {   // worth its cost where a pair holds many segments
-                ++litTiles;   // every segment free: `blocked` stays all zero
-            } else {
-                cast += castTile(light, emitters, t, count);
-                ++castTiles;
-            }
-            for (std::size_t k = 0; k < n; ++k)
-                for (std::size_t i = 0; i < count; ++i)
-                    if (s.weights[k * count + i] > 0.0 && !s.blocked[k * count + i])
-                        s.sums[k] += light.colour * s.weights[k * count + i];
         }
         for (std::size_t k = 0; k < n; ++k)
             sums[t.points[k]] = s.sums[k];
+    }
+
+    /// One light's share of the tile, added to the scratch's sums.
+    void shade(const Light& light, const std::vector<glm::dvec3>& emitters, const HiddenSampleMap* map, const lights::PointTile& t)
+    {
+        TileScratch& s = tileScratch;
+        const std::size_t n = t.points.size();
+        if (unreached(light, t)) {
+            ++unreachedTiles;
+            return;
+        }
+        const std::size_t count = light.type == LightType::Directional ? 1 : emitters.size();
+        const EmitterTerm term(light);
+        if (!anyTerm(light, term, emitters, count, t))
+            return;
+        // Shadowed whole: its terms are never weighed (as many as the rays they would have cast,
+        // weighing them cost about what the proof saved).
+        if (!map && provenShadowed(light, emitters, t)) {
+            ++provenTiles;
+            return;
+        }
+        s.weights.assign(n * count, 0.0);
+        std::uint64_t nonZero = 0;
+        for (std::size_t k = 0; k < n; ++k) {
+            const ShadingPoint& p = points[t.points[k]];
+            for (std::size_t i = 0; i < count; ++i) {
+                const double w = term(light.type == LightType::Directional ? p.position : emitters[i], p.position, p.normal);
+                if (w > 0.0)
+                    s.weights[k * count + i] = w, ++nonZero;
+            }
+        }
+        terms += nonZero;
+        s.blocked.assign(n * count, 0);
+        if (map) {
+            for (std::size_t k = 0; k < n; ++k)
+                for (std::size_t i = 0; i < count; ++i)
+                    s.blocked[k * count + i] = map->blocked(int(t.points[k]), int(i));
+        } else if (count > 1 && provenLit(light, t)) {   // worth its cost where a pair holds many segments
+            ++litTiles;   // every segment free: `blocked` stays all zero
+        } else {
+            cast += castTile(light, emitters, t, count);
+            ++castTiles;
+        }
+        for (std::size_t k = 0; k < n; ++k)
+            for (std::size_t i = 0; i < count; ++i)
+                if (s.weights[k * count + i] > 0.0 && !s.blocked[k * count + i])
+                    s.sums[k] += light.colour * s.weights[k * count + i];
     }
 
     /// Whether some point of the tile gets a non-zero term from the light (the first found ends
@@ -415,6 +438,8 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
     std::uint64_t bitmaskRays = 0;
     if (options.receiverGrid && std::size_t(options.receiverGrid->sampleCount()) != points.size())
         throw Error("directIrradiance: the receiver grid's samples and the points differ in number");
+    if (!(options.lightCutError >= 0.0) || !std::isfinite(options.lightCutError))
+        throw Error("directIrradiance: the light cut's error must be a finite number >= 0");
     if (options.tiling && options.tiling->pointCount() != points.size())
         throw Error("directIrradiance: the tiling was built for other points");
     inArena(options.threads, [&] {
@@ -439,13 +464,16 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
                 samples[l].push_back(light.position);
             }
         }
+        std::unique_ptr<LightTree> tree;
+        if (options.lightCutError > 0.0)
+            tree = std::make_unique<LightTree>(lights);
         std::vector<lights::PointTile> own;
         if (!options.tiling)
             own = lights::makePointTiles(points);
         const std::vector<lights::PointTile>& tiles = options.tiling ? options.tiling->tiles() : own;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
             for (std::size_t t = range.begin(); t != range.end(); ++t)
-                run.tile(tiles[t], samples, maps);
+                run.tile(tiles[t], samples, maps, tree.get(), options.lightCutError);
         });
     });
     if (stats) {
@@ -462,6 +490,8 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
         stats->tilesProvenShadowed = run.provenTiles.load();
         stats->tilesProvenLit = run.litTiles.load();
         stats->tilesCast = run.castTiles.load();
+        stats->cutClusters = run.cutEntries.load();
+        stats->cutLights = run.cutLights.load();
         stats->ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     }
     return sums;

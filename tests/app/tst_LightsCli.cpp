@@ -190,6 +190,50 @@ TEST_F(LightsCli, GlPathReportsItsAgreementWithTheExactAnswer)
     }
 }
 
+// A light cut (--light-cut) is an approximation: --compare says how far it is from the reference,
+// point by point, as the written answers show.
+TEST_F(LightsCli, LightCutReportsItsErrorAgainstTheReference)
+{
+    json lightList = lights();
+    for (int k = 0; k < 200; ++k)
+        lightList.push_back({{"type", "point"}, {"position", {-2.8 + 0.028 * k, 1.0 + 0.005 * k, -2.8 + 0.021 * (k % 100)}},
+                             {"intensity", 0.2}, {"range", 3}});
+    write("p.json", project(lightList));
+    const std::string base = "lights " + (folder / "p.json").string();
+    const CliRun cut = runCli(base + " --light-cut 0.05 --compare --json --npy " + (folder / "c.npy").string());
+    ASSERT_EQ(cut.code, 0) << cut.err;
+    const CliRun reference = runCli(base + " --reference --json --npy " + (folder / "r.npy").string());
+    ASSERT_EQ(reference.code, 0) << reference.err;
+    const json out = json::parse(cut.out);
+    EXPECT_GT(out["cut_clusters"].get<std::uint64_t>(), 0u);
+    EXPECT_GT(out["cut_lights"].get<std::uint64_t>(), out["cut_clusters"].get<std::uint64_t>());
+    const json& error = out["compare"]["light_cut"];
+    const Npy c = readNpy(folder / "c.npy"), r = readNpy(folder / "r.npy");
+    ASSERT_EQ(c.shape, r.shape);
+    // The mean of each point's largest relative difference over its channels, from the files.
+    double peak = 0.0, mean = 0.0, worst = 0.0;
+    for (const float v : r.values)
+        peak = std::max(peak, double(v));
+    const std::size_t points = r.values.size() / 3;
+    for (std::size_t j = 0; j < points; ++j) {
+        double here = 0.0;
+        for (std::size_t k = 3 * j; k < 3 * j + 3; ++k)
+            here = std::max(here, std::abs(double(c.values[k]) - double(r.values[k])) / std::max(double(r.values[k]), 1e-6 * peak));
+        mean += here / double(points);
+        worst = std::max(worst, here);
+    }
+    EXPECT_NEAR(error["mean_relative"].get<double>(), mean, 1e-4 + 1e-3 * mean);   // the files hold float32
+    EXPECT_NEAR(error["max_relative"].get<double>(), worst, 1e-4 + 1e-3 * worst);
+    EXPECT_GT(error["mean_relative"].get<double>(), 0.0);
+    EXPECT_LE(error["p99_relative"].get<double>(), error["max_relative"].get<double>());
+    EXPECT_LE(error["points_beyond_5pct"].get<double>(), error["points_beyond_1pct"].get<double>());
+    for (const char* bad : {" --light-cut 0", " --light-cut 2", " --light-cut nan", " --light-cut 0.1 --reference", " --gl --light-cut 0.1"}) {
+        const CliRun refused = runCli(base + bad);
+        EXPECT_NE(refused.code, 0) << bad;
+        EXPECT_TRUE(oneLine(refused.err)) << bad << ": " << refused.err;
+    }
+}
+
 TEST_F(LightsCli, BadLightsAndPointsGetOneLineErrors)
 {
     const auto refused = [&](const json& lightList, const std::string& needle, const std::string& extra = "") {

@@ -117,6 +117,9 @@ struct DirectLightOptions {
     bool bitmaskAreaLights = false;
     /// Fast path: tiles built once for these same points (else built per call). Not owned.
     const PointTiling* tiling = nullptr;
+    /// Fast path, > 0: point lights through a light tree's cut per tile with this error (LightTree.h),
+    /// an approximation of the exact sum; 0: exact.
+    double lightCutError = 0.0;
 };
 
 struct DirectLightStats {
@@ -133,6 +136,8 @@ struct DirectLightStats {
     std::uint64_t tilesCast = 0;         ///< fast: (tile, light) pairs whose segments were cast
     std::size_t bitmaskLights = 0;       ///< area lights decided by the bitmask sampler
     std::uint64_t bitmaskRays = 0;       ///< rays those calls answered
+    std::uint64_t cutClusters = 0;       ///< light cut: (tile, cluster) pairs shaded by a stand-in
+    std::uint64_t cutLights = 0;         ///< light cut: (tile, light) pairs those and the cut's single lights stood for
     double ms = 0.0;
 };
 
