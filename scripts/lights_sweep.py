@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The lighting benchmark's light-count sweep (docs/lights.md): the demo level lit by N light
-samples over its floor, the fast path against the brute-force reference in the same run.
+samples over its floor, the fast path against the brute-force reference in the same run, and
+against the brute force a user would write with Embree's float rays alone (not exact).
 
 For each N it writes a project beside the demo's demo_lights.json whose lights are the demo's
 first N light samples' worth (panels, lamps, spots and the sun in their order; past the demo's
@@ -52,7 +53,7 @@ def main():
         project = json.load(f)
     base = project["lights"]
     folder = os.path.dirname(os.path.abspath(project_file))
-    print("samples  lights  fast_ms  reference_ms  speedup  differing  unreached  shadowed  cast")
+    print("samples  lights  fast_ms  reference_ms  speedup  differing  embree_float_ms  fast_vs_float  float_differing  unreached  shadowed  cast")
     for count in counts:
         document = dict(project)
         document["lights"] = lights_for(base, count, random.Random(count))
@@ -63,8 +64,9 @@ def main():
         run = subprocess.run([cli, "lights", path, "--compare", "--json"], capture_output=True, text=True, check=True)
         r = json.loads(run.stdout)
         c = r["compare"]
-        print("%7d  %6d  %7.0f  %12.0f  %6.2fx  %9d  %9d  %8d  %5d" % (
+        print("%7d  %6d  %7.0f  %12.0f  %6.2fx  %9d  %15.0f  %12.2fx  %15d  %9d  %8d  %5d" % (
             r["light_samples"], r["lights"], c["fast_ms"], c["reference_ms"], c["speedup"], c["points_differing"],
+            c["embree_float_ms"], c["speedup_over_embree_float"], c["embree_float_points_differing"],
             r["tiles_unreached"], r["tiles_proven_shadowed"], r["tiles_cast"]))
         for error in cuts:
             run = subprocess.run([cli, "lights", path, "--compare", "--json", "--light-cut", str(error)],

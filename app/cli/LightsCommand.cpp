@@ -565,7 +565,9 @@ void choosePoints(const LightsArgs& args, const Project& project, const Scene& s
     }
 }
 
-/// --compare without --gl: the other exact path on the same points, its time and how far apart.
+/// --compare without --gl: the other exact path on the same points, its time and how far apart;
+/// and the brute force a user would write with Embree alone (float rays, not exact): its time and
+/// how many points it gets wrong against the reference.
 json compareExactPaths(const LightsArgs& args, const LightingScene& lighting, const LightsRun& run,
                        const DirectLightOptions& options, const std::vector<glm::dvec3>& irradiance)
 {
@@ -576,11 +578,21 @@ json compareExactPaths(const LightsArgs& args, const LightingScene& lighting, co
     std::size_t differing = 0;
     const double worst = largestRelativeDifference(irradiance, second, &differing);
     const double fastMs = args.reference ? otherStats.ms : run.stats.ms, referenceMs = args.reference ? run.stats.ms : otherStats.ms;
+    // The float baseline, warmed as the exact paths were (its scene built, a first small call).
+    const DirectLightOptions user{.path = LightingPath::EmbreeFloat, .threads = args.threads};
+    directIrradiance(lighting, run.lights, std::span<const ShadingPoint>(run.points.data(), std::min<std::size_t>(run.points.size(), 256)), user);
+    DirectLightStats userStats;
+    const std::vector<glm::dvec3> floatAnswer = directIrradiance(lighting, run.lights, run.points, user, &userStats);
+    std::size_t floatDiffering = 0;
+    largestRelativeDifference(floatAnswer, args.reference ? irradiance : second, &floatDiffering);
     json out = {{"reference_ms", referenceMs},
                 {"fast_ms", fastMs},
                 {"speedup", fastMs > 0.0 ? referenceMs / fastMs : 0.0},
                 {"max_relative_difference", worst},
-                {"points_differing", differing}};
+                {"points_differing", differing},
+                {"embree_float_ms", userStats.ms},
+                {"speedup_over_embree_float", fastMs > 0.0 ? userStats.ms / fastMs : 0.0},
+                {"embree_float_points_differing", floatDiffering}};
     if (args.lightCut > 0.0)
         out["light_cut"] = lightCutError(args.reference ? second : irradiance, args.reference ? irradiance : second);
     return out;
@@ -702,10 +714,12 @@ void printLightsRun(const LightsArgs& args, const Project& project, const Lights
                     (unsigned long long)comparison["false_shadowed"].get<std::uint64_t>(),
                     100.0 * comparison["points_within_1pct"].get<double>(), comparison["mean_relative_difference"].get<double>());
     else if (args.compare)
-        std::printf("compare    reference %.2f ms, fast %.2f ms: %.2fx; largest relative difference %.3g, %zu points differ\n",
+        std::printf("compare    reference %.2f ms, fast %.2f ms: %.2fx; largest relative difference %.3g, %zu points differ; "
+                    "Embree's float rays alone %.2f ms (%.2fx the fast path's time), %zu points off the reference\n",
                     comparison["reference_ms"].get<double>(), comparison["fast_ms"].get<double>(),
                     comparison["speedup"].get<double>(), comparison["max_relative_difference"].get<double>(),
-                    comparison["points_differing"].get<std::size_t>());
+                    comparison["points_differing"].get<std::size_t>(), comparison["embree_float_ms"].get<double>(),
+                    comparison["speedup_over_embree_float"].get<double>(), comparison["embree_float_points_differing"].get<std::size_t>());
 }
 
 } // namespace

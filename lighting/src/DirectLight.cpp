@@ -17,6 +17,7 @@
 #include "visibility/Error.h"
 #include "visibility/ExactSegment.h"
 #include "lights/EdgeNeighbours.h"
+#include "lights/FloatShadowRays.h"
 #include "lights/PointTiles.h"
 #include "lights/ShaftBlocker.h"
 #include "lights/TriangleBoxTree.h"
@@ -72,8 +73,9 @@ struct Run {
         cast += c;
     }
 
-    /// Every emitter of every light at each point, cast from the point.
-    void reference(const std::vector<Emitter>& emitters)
+    /// Every emitter of every light at each point, cast from the point: by the contract's test, or
+    /// (`embreeFloat`) as Embree's float rays alone.
+    void reference(const std::vector<Emitter>& emitters, bool embreeFloat)
     {
         std::vector<EmitterTerm> termOf;
         for (const Light& light : lights)
@@ -93,7 +95,10 @@ struct Run {
                     s.index.push_back(e.light);
                 }
                 s.blocked.resize(s.ends.size());
-                scene.rays().segmentsBlocked(p.position, s.ends, s.blocked.data());
+                if (embreeFloat)
+                    scene.floatRays().blocked(p.position, s.ends, s.blocked.data());
+                else
+                    scene.rays().segmentsBlocked(p.position, s.ends, s.blocked.data());
                 glm::dvec3 sum(0.0);
                 for (std::size_t k = 0; k < s.ends.size(); ++k)
                     if (!s.blocked[k])
@@ -427,6 +432,12 @@ const CpuBitmaskSampler& LightingScene::bitmask() const
     return *bitmask_;
 }
 
+const lights::FloatShadowRays& LightingScene::floatRays() const
+{
+    std::call_once(floatOnce_, [&] { floatRays_ = std::make_unique<lights::FloatShadowRays>(triangles_); });
+    return *floatRays_;
+}
+
 std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::vector<Light>& lights,
                                          std::span<const ShadingPoint> points, const DirectLightOptions& options,
                                          DirectLightStats* stats)
@@ -443,8 +454,8 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
     if (options.tiling && options.tiling->pointCount() != points.size())
         throw Error("directIrradiance: the tiling was built for other points");
     inArena(options.threads, [&] {
-        if (options.path == LightingPath::Reference) {
-            run.reference(lightEmitters(lights));
+        if (options.path != LightingPath::Fast) {
+            run.reference(lightEmitters(lights), options.path == LightingPath::EmbreeFloat);
             return;
         }
         std::vector<std::unique_ptr<HiddenSampleMap>> maps(lights.size());

@@ -141,6 +141,12 @@ TEST_F(LightsCli, ReceiverSamplesGiveShapeNbNa3AndTheReferenceAgrees)
         }
     EXPECT_EQ(out["compare"]["points_differing"], differing);
     EXPECT_LE(differing, tiedPoints);
+    // The yardstick a user would write (Embree's float rays): timed, its ratio and its misses told.
+    const json& compare = out["compare"];
+    EXPECT_GT(compare["embree_float_ms"].get<double>(), 0.0);
+    EXPECT_NEAR(compare["speedup_over_embree_float"].get<double>(),
+                compare["embree_float_ms"].get<double>() / compare["fast_ms"].get<double>(), 1e-9);
+    EXPECT_LE(compare["embree_float_points_differing"].get<std::size_t>(), 320u);
 }
 
 // The GL path (octahedral shadow maps) is not exact: --compare says how far it is, pair by pair

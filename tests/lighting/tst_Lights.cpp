@@ -275,6 +275,36 @@ TEST(Lights, AWallWithADoorwayIsNotProvedShut)
     EXPECT_GE(stats.tilesCast, 1u);
 }
 
+// The yardstick (a user's float Embree brute force) answers the same sums where no segment comes
+// near an edge or an end: a lamp and a panel over a floor with a block well inside its shadow.
+TEST(Lights, TheEmbreeFloatYardstickAgreesAwayFromEdges)
+{
+    const Scene scene = sceneOf({quad({-4, 0, -4}, {8, 0, 0}, {0, 0, 8}, "floor"), quad({-1, 1, -1}, {2, 0, 0}, {0, 0, 2}, "slab")});
+    const LightingScene lighting(scene);
+    Patch panel;
+    panel.corner = {-0.25, 3.0, -0.25};
+    panel.u = {0.5, 0.0, 0.0};
+    panel.v = {0.0, 0.0, 0.5};   // facing down
+    panel.na = panel.nb = 2;
+    const std::vector<Light> lights = {pointLight({0.0, 2.5, 0.0}, 10.0), areaLight(panel, 5.0)};
+    // Points under the slab's middle (every segment crosses it well inside) and far outside its
+    // shadow (every segment free, far from its edges).
+    std::vector<ShadingPoint> points;
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 8; ++j) {
+            points.push_back({{-0.3 + 0.08 * i, 0.01, -0.3 + 0.08 * j}, {0.0, 1.0, 0.0}});
+            points.push_back({{3.0 + 0.1 * i, 0.01, -3.5 + 0.1 * j}, {0.0, 1.0, 0.0}});
+        }
+    const std::vector<glm::dvec3> exact = irradiance(lighting, lights, points, LightingPath::Reference);
+    const std::vector<glm::dvec3> yardstick = irradiance(lighting, lights, points, LightingPath::EmbreeFloat);
+    int lit = 0;
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        EXPECT_EQ(yardstick[j], exact[j]) << j;
+        lit += exact[j].x > 0.0;
+    }
+    EXPECT_EQ(lit, 64);   // the far half
+}
+
 // A wall built of bands around a window (coplanar cells sharing edges): where a tile's shaft
 // crosses several cells, no triangle or pair covers it, but the cells together do.
 TEST(Lights, AWallOfBandsShadowsWholeTilesAndItsWindowLetsLightThrough)

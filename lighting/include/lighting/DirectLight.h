@@ -50,6 +50,7 @@ void validateShadingPoints(std::span<ShadingPoint> points, const std::string& wh
 
 namespace lights {
 class TriangleBoxTree;
+class FloatShadowRays;
 }
 
 /// The scene as lighting asks about it, built once: exact segment queries, the bitmask sampler,
@@ -70,6 +71,8 @@ public:
     const lights::TriangleBoxTree& boxTree() const { return *boxTree_; }
     /// Built on first use (its set-up is not free, and only area lights over a grid ask for it).
     const CpuBitmaskSampler& bitmask() const;
+    /// Embree's own float scene for LightingPath::EmbreeFloat, built on first use.
+    const lights::FloatShadowRays& floatRays() const;
 
 private:
     Scene scene_;
@@ -81,9 +84,17 @@ private:
     DirectionalReach reach_;
     mutable std::once_flag bitmaskOnce_;
     mutable std::unique_ptr<CpuBitmaskSampler> bitmask_;
+    mutable std::once_flag floatOnce_;
+    mutable std::unique_ptr<lights::FloatShadowRays> floatRays_;
 };
 
-enum class LightingPath { Fast, Reference };
+enum class LightingPath {
+    Fast,
+    Reference,
+    /// Not the contract: the brute force a user would write with Embree alone (float rays over its
+    /// own triangles, lights/FloatShadowRays.h), the yardstick the exact paths' speed is told against.
+    EmbreeFloat,
+};
 
 namespace lights {
 struct PointTile;

@@ -1,0 +1,104 @@
+#include "lights/FloatShadowRays.h"
+
+#include <algorithm>
+#include <string>
+
+#include <embree3/rtcore.h>
+
+#include "visibility/Error.h"
+
+namespace sightline::lights {
+
+namespace {
+
+void onEmbreeError(void* user, RTCError, const char* message)
+{
+    *static_cast<std::string*>(user) = message ? message : "unknown error";
+}
+
+constexpr float kEndOffset = 1e-4f;   ///< of the way, off each end (the shaded point and the light)
+
+} // namespace
+
+struct FloatShadowRays::Embree {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::string error;
+    std::size_t triangles = 0;
+
+    ~Embree()
+    {
+        if (scene)
+            rtcReleaseScene(scene);
+        if (device)
+            rtcReleaseDevice(device);
+    }
+};
+
+FloatShadowRays::FloatShadowRays(const WorldTriangles& triangles) : embree_(std::make_unique<Embree>())
+{
+    Embree& e = *embree_;
+    e.device = rtcNewDevice(nullptr);
+    if (!e.device)
+        throw Error("Embree: cannot create a device");
+    rtcSetDeviceErrorFunction(e.device, onEmbreeError, &e.error);
+    e.scene = rtcNewScene(e.device);
+    rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
+    e.triangles = triangles.vertices.size() / 3;
+    if (e.triangles > 0) {
+        RTCGeometry g = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                              triangles.vertices.size()));
+        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+                                                                   e.triangles));
+        if (!v || !idx)
+            throw Error("Embree: out of memory for " + std::to_string(e.triangles) + " triangles");
+        for (std::size_t k = 0; k < triangles.vertices.size(); ++k) {
+            v[3 * k] = triangles.vertices[k].x, v[3 * k + 1] = triangles.vertices[k].y, v[3 * k + 2] = triangles.vertices[k].z;
+            idx[k] = unsigned(k);
+        }
+        rtcCommitGeometry(g);
+        rtcAttachGeometry(e.scene, g);
+        rtcReleaseGeometry(g);
+    }
+    rtcCommitScene(e.scene);
+    if (!e.error.empty())
+        throw Error("Embree: " + e.error);
+}
+
+FloatShadowRays::~FloatShadowRays() = default;
+
+void FloatShadowRays::blocked(const glm::dvec3& start, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const
+{
+    std::fill(blocked, blocked + ends.size(), std::uint8_t(0));
+    if (embree_->triangles == 0)
+        return;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    const glm::vec3 org(start);
+    alignas(64) RTCRay16 rays;
+    alignas(64) int valid[16];
+    for (std::size_t first = 0; first < ends.size(); first += 16) {
+        for (int k = 0; k < 16; ++k) {
+            const std::size_t i = first + std::size_t(k);
+            valid[k] = i < ends.size() ? -1 : 0;
+            const glm::vec3 dir = i < ends.size() ? glm::vec3(ends[i] - start) : glm::vec3(1.0f, 0.0f, 0.0f);
+            rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
+            rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
+            rays.tnear[k] = kEndOffset;
+            rays.tfar[k] = 1.0f - kEndOffset;
+            rays.time[k] = 0.0f;
+            rays.mask[k] = 0xffffffffu;
+            rays.id[k] = unsigned(k);
+            rays.flags[k] = 0;
+        }
+        rtcOccluded16(valid, embree_->scene, &context, &rays);
+        for (int k = 0; k < 16 && first + std::size_t(k) < ends.size(); ++k)
+            blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
+    }
+    if (!embree_->error.empty())
+        throw Error("Embree: " + embree_->error);
+}
+
+} // namespace sightline::lights
