@@ -53,8 +53,8 @@ double expectedOverlap(const BundleOnScreen& bundle, std::uint64_t rays);
 
 /// The layer's resolution, as a divisor of the view's (1, 2, 4 or 8): full where rays are sparse
 /// enough to be told apart (at most 2 a pixel), a half up to 8, a quarter up to 256, else an
-/// eighth (65,536 rays on the demo's default view: up to two fifths off an llvmpipe frame, and
-/// the haze looks the same).
+/// eighth (a dense haze of rays looks the same at an eighth, and software GL's fill rate is what
+/// the frame rate spends).
 int rayLayerDivisor(double overlap);
 
 /// One ray's opacity so that `overlap` rays at full resolution reach `coverage` (in (0, 1]) where

@@ -597,7 +597,7 @@ struct ViewportRenderer::Impl {
         gl.TextureBuffer(buffer.hiddenTexture, GL_R8UI, buffer.hiddenBuffer);
     }
 
-    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selected, const glm::vec4& flat, GLsizei first = 0,
+    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int highlight, const glm::vec4& flat, GLsizei first = 0,
                   GLsizei end = std::numeric_limits<GLsizei>::max())
     {
         end = std::min(end, buffer.vertices);
@@ -607,7 +607,7 @@ struct ViewportRenderer::Impl {
         if (buffer.anyHidden)
             gl.BindTextureUnit(5, buffer.hiddenTexture);
         gl.ProgramUniform3fv(meshProgram, loc(meshProgram, "baseColour"), 1, glm::value_ptr(colour));
-        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), selected);
+        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), highlight);
         gl.ProgramUniform4fv(meshProgram, loc(meshProgram, "flatColour"), 1, glm::value_ptr(flat));
         gl.BindVertexArray(buffer.vao);
         gl.DrawArrays(GL_TRIANGLES, first, end - first);
@@ -1119,8 +1119,8 @@ std::uint64_t ViewportRenderer::Impl::drawRays(const FrameState& f, const glm::m
         gl.ProgramUniform1i(p, d.loc(p, "useEnds"), useEnds ? 1 : 0);
         gl.ProgramUniform1i(p, d.loc(p, "marks"), 0);
         gl.ProgramUniform4fv(p, d.loc(p, "stopColour"), 1, glm::value_ptr(f.style.stopColour));
-        // Blocked rays hidden: only the free ones are drawn (on the demo 71% of rays are blocked,
-        // and each cost its vertex work to be clipped). Listed once per answer.
+        // Blocked rays hidden: only the free ones are drawn (in a level most rays are blocked,
+        // and each would cost its vertex work only to be clipped). Listed once per answer.
         const bool indirect = !f.style.showBlocked;
         if (d.listedMap != d.map || d.listedFree != indirect || d.listedSubset.receivers != subset.receivers ||
             d.listedSubset.receiverStride != subset.receiverStride ||

@@ -22,7 +22,8 @@ namespace sightline::bench {
 /// caller: which end the rays start at (a packet shares its origin, its 16 rays run to 4x4
 /// neighbouring samples of the other patch), and Embree's traversal hint: coherent (packet
 /// traversal to the leaves) or incoherent (Embree's default: the packet splits into single rays
-/// once some lanes leave it, 2x faster on dense meshes and 1.4x slower on sparse interiors).
+/// once some lanes leave it: faster where packets diverge, on dense meshes, and slower on sparse
+/// interiors, where they stay together; docs/benchmarks.md has the figures).
 struct TunedTraversal {
     bool fromSource = false;
     bool coherent = true;

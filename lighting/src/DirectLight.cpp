@@ -261,8 +261,8 @@ struct Run {
         }
         const std::span<const glm::dvec3> fromSpan(from, fromCount), toSpan(corners, 8);
         // Candidates: the first triangles met from the light's centre towards the tile's centre,
-        // and back. (Rays to the tile's corners as well proved 3% more pairs on the demo and cost
-        // more than they saved.)
+        // and back. Rays to the tile's corners as well find few more blockers than these two and
+        // cost more than they save (docs/lights.md).
         std::int64_t tried[2];
         int triedCount = 0;
         const auto attempt = [&](const glm::dvec3& rayFrom, const glm::dvec3& rayTo) {

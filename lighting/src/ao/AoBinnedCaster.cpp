@@ -47,7 +47,7 @@ constexpr std::size_t kLanes = 8;
 
 /// Every triangle against the binned points of the cells its projected bounding box overlaps
 /// (AoBinnedCaster.h): on x86-64 with GCC also compiled for AVX2, chosen at run time
-/// (target_clones; measured about 8% faster). FMA is not enabled: the exact negation of a shared
+/// (target_clones: eight lanes of the edge functions instead of four). FMA is not enabled: the exact negation of a shared
 /// edge's function (file comment) needs the same rounding in both triangles, which it keeps, but
 /// there is no gain worth the doubt.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)

@@ -186,9 +186,8 @@ struct ProbeTiles {
 /// neighbouring tiles (side by side, or one above the other on a grid one tile wide) drawn at
 /// random over the receiver (a fixed seed: the same tiles every call), one of each pair to each
 /// method, which gets the first alternating. Neighbours see nearly the same occluders, so both
-/// methods are timed on like work: tiles drawn independently for each had cost the rays 1.4x
-/// more per tile than the receiver's average on a cluttered room at 32x32 samples, and the choice
-/// went to the bitmask where rays were 1.3x faster.
+/// methods are timed on like work: tiles drawn independently for each can hand one method the
+/// receiver's costliest tiles, and the choice to the slower method.
 ProbeTiles probeTiles(std::size_t tiles, std::size_t tilesA, std::size_t perMethod);
 
 /// What a probe decides, for the call that made it and for later ones.

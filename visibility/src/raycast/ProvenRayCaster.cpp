@@ -585,10 +585,10 @@ void ProvenRayCaster::Call::pass()
     // ray, and cast the rest the cheaper way. A call with few items (Auto's probe casts a few
     // tiles at a time) is too small to tell: packets, and no memo. The items come in pairs of
     // neighbours (receiver samples j and j + 1, or blocks side by side), drawn at random,
-    // one of each pair to each traversal: neighbours keep nearly the same rays free. Items
-    // drawn independently, four each on a 32-sample receiver, held twice as many free rays
-    // for one traversal as for the other, and took packets where the incoherent traversal
-    // was 1.5x faster (dense-mesh-8, roles swapped); at least eight pairs.
+    // one of each pair to each traversal: neighbours keep nearly the same rays free, so both
+    // are timed on like work (items drawn independently can hand one traversal twice the free
+    // rays of the other, and the choice to the slower one); at least eight pairs, so that a
+    // 32-sample receiver still gives each traversal several.
     if (items_ < kModeProbeItems) {
         castAll(all, packets_, nullptr);
         return;

@@ -14,7 +14,7 @@
 // Antipodal directions d and -d share the plane, the projection and the edge functions: they are
 // answered in one pass over the triangles. Triangles are kept in Morton order of their centroids
 // (vertices renumbered by first use), so consecutive triangles touch neighbouring cells and points
-// in every projection: 1.25x faster on the bunny than the file's order.
+// in every projection, and the cells' points stay in cache from one triangle to the next.
 //
 // Parallel over directions (TBB); each direction writes a bit row over the points, transposed into
 // the point-major matrix at the end of the call.
