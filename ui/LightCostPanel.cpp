@@ -68,7 +68,7 @@ LightCostPanel::LightCostPanel(QWidget* parent) : QWidget(parent)
     layout->addWidget(summary_);
     table_ = new QTableWidget(0, ColumnCount, this);
     table_->setHorizontalHeaderLabels({tr("Light"), tr("Samples"), tr("Terms"), tr("Rays"), tr("ms"), tr("Age"), tr("State")});
-    table_->horizontalHeaderItem(TermsColumn)->setToolTip(tr("(texel, sample) pairs the light reaches before shadowing, less those of tiles proved shadowed whole"));
+    table_->horizontalHeaderItem(TermsColumn)->setToolTip(tr("(texel, sample) pairs the light reaches before shadowing"));
     table_->horizontalHeaderItem(RaysColumn)->setToolTip(tr("Shadow rays its last refresh cast; the rest of its terms were "
                                                              "decided whole by tile proofs (fully lit or shadowed)"));
     table_->horizontalHeaderItem(AgeColumn)->setToolTip(tr("Lit frames since it was last refreshed exactly"));

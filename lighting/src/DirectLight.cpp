@@ -64,6 +64,7 @@ struct Run {
     const std::vector<Light>& lights;
     std::span<const ShadingPoint> points;
     std::vector<glm::dvec3>& sums;
+    bool countAllTerms = false;
     std::atomic<std::uint64_t> terms{0}, cast{0}, unreachedTiles{0}, provenTiles{0}, litTiles{0}, castTiles{0};
     std::atomic<std::uint64_t> cutEntries{0}, cutLights{0};
 
@@ -147,23 +148,15 @@ struct Run {
         const EmitterTerm term(light);
         if (!anyTerm(light, term, emitters, count, t))
             return;
-        // Shadowed whole: its terms are never weighed (as many as the rays they would have cast,
-        // weighing them cost about what the proof saved).
+        // Shadowed whole: its terms are not weighed (as many as the rays they would have cast,
+        // weighing them cost about what the proof saved), unless they are to be counted.
         if (!map && provenShadowed(light, emitters, t)) {
             ++provenTiles;
+            if (countAllTerms)
+                terms += weigh(light, term, emitters, count, t);
             return;
         }
-        s.weights.assign(n * count, 0.0);
-        std::uint64_t nonZero = 0;
-        for (std::size_t k = 0; k < n; ++k) {
-            const ShadingPoint& p = points[t.points[k]];
-            for (std::size_t i = 0; i < count; ++i) {
-                const double w = term(light.type == LightType::Directional ? p.position : emitters[i], p.position, p.normal);
-                if (w > 0.0)
-                    s.weights[k * count + i] = w, ++nonZero;
-            }
-        }
-        terms += nonZero;
+        terms += weigh(light, term, emitters, count, t);
         s.blocked.assign(n * count, 0);
         if (map) {
             for (std::size_t k = 0; k < n; ++k)
@@ -179,6 +172,25 @@ struct Run {
             for (std::size_t i = 0; i < count; ++i)
                 if (s.weights[k * count + i] > 0.0 && !s.blocked[k * count + i])
                     s.sums[k] += light.colour * s.weights[k * count + i];
+    }
+
+    /// The tile's terms from the light into the scratch's weights, [point k][emitter i] (0 where
+    /// none); returns how many are non-zero.
+    std::uint64_t weigh(const Light& light, const EmitterTerm& term, const std::vector<glm::dvec3>& emitters, std::size_t count,
+                        const lights::PointTile& t)
+    {
+        TileScratch& s = tileScratch;
+        s.weights.assign(t.points.size() * count, 0.0);
+        std::uint64_t nonZero = 0;
+        for (std::size_t k = 0; k < t.points.size(); ++k) {
+            const ShadingPoint& p = points[t.points[k]];
+            for (std::size_t i = 0; i < count; ++i) {
+                const double w = term(light.type == LightType::Directional ? p.position : emitters[i], p.position, p.normal);
+                if (w > 0.0)
+                    s.weights[k * count + i] = w, ++nonZero;
+            }
+        }
+        return nonZero;
     }
 
     /// Whether some point of the tile gets a non-zero term from the light (the first found ends
@@ -444,7 +456,7 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
 {
     const auto start = std::chrono::steady_clock::now();
     std::vector<glm::dvec3> sums(points.size(), glm::dvec3(0.0));
-    Run run{scene, lights, points, sums};
+    Run run{scene, lights, points, sums, options.countAllTerms};
     std::size_t bitmaskLights = 0;
     std::uint64_t bitmaskRays = 0;
     if (options.receiverGrid && std::size_t(options.receiverGrid->sampleCount()) != points.size())

@@ -247,6 +247,7 @@ std::vector<float> LightingCache::roughField(const LightingScene& scene, const L
     DirectLightOptions options;
     options.threads = threads;
     options.tiling = coarseTiling_.get();
+    options.countAllTerms = true;   // the cost panel's terms: every pair the light reaches
     std::vector<float> field(points_.size(), 0.0f);
     const std::vector<glm::dvec3> coarse = directIrradiance(scene, {light}, coarsePoints_, options, &stats);
     for (std::size_t k = 0; k < coarse.size(); ++k)
@@ -326,6 +327,7 @@ LightingCache::Frame LightingCache::update(const LightingScene& scene, std::uint
     DirectLightOptions options;
     options.threads = threads;
     options.tiling = tiling_.get();
+    options.countAllTerms = true;   // the cost panel's terms: every pair the light reaches
     for (const std::size_t l : order) {
         const std::uint64_t cost = std::uint64_t(lights_[l].sampleCount()) * stalePointCount(l);
         if (frame.refreshed > 0 && frame.segments + cost > budget)

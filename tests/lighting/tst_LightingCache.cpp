@@ -455,18 +455,12 @@ TEST(LightingCache, EachLightsCostCountsItsTermsAndRaysAndItsAge)
     LightingCache cache(room.points, room.lights, lowResolutionPlan(tiles.layout, tiles.pointOfTexel, 2));
     while (!cache.update(scene, ~std::uint64_t(0)).exact) {
     }
-    // Terms: the (point, sample) pairs each light reaches before shadows, counted independently,
-    // less those in tiles the fast path's proof shadows whole (it never weighs them).
+    // Terms: the (point, sample) pairs each light reaches before shadows, counted independently.
     const std::vector<Emitter> emitters = lightEmitters(room.lights);
-    const TileClasses classes = classifyTiles(scene, room.lights, room.points);
     std::vector<std::uint64_t> terms(room.lights.size(), 0);
     for (const Emitter& e : emitters)
-        for (std::size_t j = 0; j < room.points.size(); ++j) {
-            const ShadingPoint& p = room.points[j];
-            if (emitterTerm(room.lights[e.light], e.position, p.position, p.normal) > 0.0 &&
-                classes.at(j, e.light) != TileClass::Shadowed)
-                ++terms[e.light];
-        }
+        for (const ShadingPoint& p : room.points)
+            terms[e.light] += emitterTerm(room.lights[e.light], e.position, p.position, p.normal) > 0.0 ? 1 : 0;
     std::uint64_t rays = 0;
     for (std::size_t l = 0; l < room.lights.size(); ++l) {
         const LightingCache::LightCost cost = cache.cost(l);

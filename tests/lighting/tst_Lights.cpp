@@ -334,9 +334,12 @@ TEST(Lights, AWallOfBandsShadowsWholeTilesAndItsWindowLetsLightThrough)
     EXPECT_GE(stats.tilesProvenShadowed, 6u);
     EXPECT_EQ(stats.terms, 0u);   // proved shadowed before a term was weighed
     const LightingScene lighting(scene);
-    DirectLightStats reference;
+    DirectLightStats reference, counted;
     directIrradiance(lighting, low, points, {.path = LightingPath::Reference}, &reference);
     EXPECT_EQ(reference.terms, points.size());   // the lamp faces every point
+    directIrradiance(lighting, low, points, {.countAllTerms = true}, &counted);
+    EXPECT_EQ(counted.terms, points.size());
+    EXPECT_EQ(counted.segmentsCast, 0u);
     for (const glm::dvec3& e : irradiance(lighting, low, points, LightingPath::Fast))
         EXPECT_EQ(e, glm::dvec3(0.0));
     // A panel high behind it shines through the window onto part of the floor.

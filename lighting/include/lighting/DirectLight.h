@@ -131,14 +131,18 @@ struct DirectLightOptions {
     /// Fast path, > 0: point lights through a light tree's cut per tile with this error (LightTree.h),
     /// an approximation of the exact sum; 0: exact.
     double lightCutError = 0.0;
+    /// Fast path: also weigh the terms of tiles proved shadowed whole, so that stats.terms counts
+    /// every non-zero term (a cost panel's "reaches before shadows"; it costs about what the proof
+    /// saves there).
+    bool countAllTerms = false;
 };
 
 struct DirectLightStats {
     std::size_t lights = 0;
     std::size_t lightSamples = 0;        ///< emitters: one per point, spot or directional light, na x nb per area light
     std::size_t points = 0;
-    /// (point, emitter) pairs with a non-zero unshadowed term, less (fast path) those of the (tile,
-    /// light) pairs a proof shadowed whole: those are never weighed.
+    /// (point, emitter) pairs with a non-zero unshadowed term, less (fast path without
+    /// countAllTerms) those of the (tile, light) pairs a proof shadowed whole, which are not weighed.
     std::uint64_t terms = 0;
     std::uint64_t segmentsCast = 0;      ///< of those, decided by ray casting
     std::uint64_t tilesUnreached = 0;    ///< fast: (tile, light) pairs skipped by a box test

@@ -90,7 +90,7 @@ public:
     /// worth their shadows), for the editor's cost panel.
     struct LightCost {
         int samples = 0;               ///< point lights it is sampled into (an area light's grid)
-        std::uint64_t terms = 0;       ///< (point, sample) pairs it lights before shadowing, less those a tile proof shadowed whole
+        std::uint64_t terms = 0;       ///< (point, sample) pairs it lights before shadowing
         std::uint64_t rays = 0;        ///< shadow rays those cost (the rest decided by tile proofs)
         double ms = 0.0;               ///< its last refresh
         std::uint64_t age = 0;         ///< frames since it was last refreshed exactly
