@@ -208,117 +208,115 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
     return map;
 }
 
-std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
-                                            const RayCastOptions& options) const
-{
-    if (map.sourceCount() != source.sampleCount() || map.receiverNa() != receiver.na || map.receiverNb() != receiver.nb)
-        throw Error("RayCastScene::sampleUnblocked: map dimensions do not match the patches");
-    // A bumpy receiver (§8): each ray starts at its displaced sample. All-zero heights are the
-    // flat patch and take the flat path unchanged. Checked even when nothing can block.
-    const raycast::SampleEnds sampleEnds(source, receiver, options.heights);   // positions in double (docs/design.md §2)
-    if (embree_->triangles == 0)
-        return 0;
-    const bool bumpy = sampleEnds.bumpy;
-    const int S = source.sampleCount();
-    const std::vector<glm::dvec3>& sourceExact = sampleEnds.source;
-    const auto receiverEnd = [&](int j) { return sampleEnds.receiverEnd(j); };
-
-    // The boxes must cover this call's float rays: widen (rebuild) first if its patches lie
-    // beyond what the build allowed for.
-    double farthest = 0.0, longest = 0.0;
-    for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 sc = source.cornerPoint(k);
-        const glm::dvec3 rc = receiver.cornerPoint(k);
-        farthest = std::max({farthest, maxAbs(sc), maxAbs(rc)});
-        for (int l = 0; l < 4; ++l)
-            longest = std::max(longest, maxAbs(rc - (source.corner + double(l & 1) * source.u + double(l >> 1) * source.v)));
-    }
-    if (bumpy)
-        for (int j = 0; j < receiver.sampleCount(); ++j)
-            farthest = std::max(farthest, maxAbs(receiverEnd(j)));
-    // Jitter moves a source sample by under a cell.
-    embree_->cover(kStrayPerMetre * (farthest + 2.0 * longest + maxAbs(source.u) + maxAbs(source.v)));
-    std::shared_lock lock(embree_->lock);
-    RTCScene scene = embree_->scene;
-    const std::vector<int> order = raycast::packetOrder(source);
+/// One sampleUnblocked call: the pair's exact sample ends and the map it fills, with one method
+/// per traversal (from each receiver sample to its source samples, or from each source sample to
+/// a block of 4x4 receiver samples).
+struct RayCastScene::UnblockedCall {
+    const Embree& embree;
+    RTCScene scene;
+    const Patch& source;
+    const RayCastOptions& options;
+    const raycast::SampleEnds& sampleEnds;
+    HiddenSampleMap& map;
+    const int S;
+    const std::vector<int> order;   ///< source samples in packet order
     std::atomic<std::uint64_t> cast{0};
 
-    // Each receiver sample casts its S rays: origin at the receiver sample, direction to the
-    // source sample (t = 1 at the source), all sharing one origin, hence coherent.
-    auto castFrom = [&](int j) {
-        const glm::dvec3 end = receiverEnd(j);
+    UnblockedCall(const Embree& e, const Patch& pairSource, const RayCastOptions& callOptions, const raycast::SampleEnds& ends,
+                  HiddenSampleMap& hidden)
+        : embree(e), scene(e.scene), source(pairSource), options(callOptions), sampleEnds(ends), map(hidden),
+          S(pairSource.sampleCount()), order(raycast::packetOrder(pairSource))
+    {
+    }
+
+    /// Receiver sample j casts its S rays: origin at the receiver sample, direction to the
+    /// source sample (t = 1 at the source), all sharing one origin, hence coherent.
+    void castFrom(int j)
+    {
+        const glm::dvec3 end = sampleEnds.receiverEnd(j);
         const glm::dvec3 shift = options.jitter.shift(source, j);
-        const glm::vec3 org(end);
-        auto bits = map.row(j);
-        std::uint64_t rowCast = 0;
-        auto alreadyBlocked = [&](int i) { return (bits[std::size_t(i >> 6)] >> (i & 63)) & 1u; };
         Embree::SegmentContext context;
         rtcInitIntersectContext(&context.base);
         context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        context.self = embree_.get();
+        context.self = &embree;
         context.receiverEnd = end;
         thread_local std::vector<glm::dvec3> directions;
         directions.resize(std::size_t(S));
         for (int i = 0; i < S; ++i)
-            directions[std::size_t(i)] = sourceExact[std::size_t(i)] + shift - end;
+            directions[std::size_t(i)] = sampleEnds.source[std::size_t(i)] + shift - end;
         context.directions = directions.data();
-        const auto direction = [&](int i) { return glm::vec3(directions[std::size_t(i)]); };
-        if (options.packets) {
-            alignas(64) RTCRay16 rays;
-            alignas(64) int valid[16];
-            for (int first = 0; first < S; first += 16) {
-                int lanes = 0;
-                for (int k = 0; k < 16; ++k) {
-                    const int i = first + k < S ? order[std::size_t(first + k)] : S;
-                    valid[k] = i < S && !alreadyBlocked(i) ? -1 : 0;
-                    lanes += valid[k] != 0;
-                    const glm::vec3 dir = i < S ? direction(i) : glm::vec3(1.0f);
-                    rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
-                    rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
-                    rays.tnear[k] = 0.0f;
-                    rays.tfar[k] = 1.0f;
-                    rays.time[k] = 0.0f;
-                    rays.mask[k] = 0xffffffffu;
-                    rays.id[k] = unsigned(i < S ? i : 0);
-                    rays.flags[k] = 0;
-                }
-                if (lanes == 0)
-                    continue;
-                rowCast += std::uint64_t(lanes);
-                rtcOccluded16(valid, scene, &context.base, &rays);
-                for (int k = 0; k < 16 && first + k < S; ++k)
-                    if (valid[k] && rays.tfar[k] < 0.0f) {
-                        const int i = order[std::size_t(first + k)];
-                        bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
-                    }
-            }
-        } else {
-            for (int i = 0; i < S; ++i) {
-                if (alreadyBlocked(i))
-                    continue;
-                ++rowCast;
-                const glm::vec3 dir = direction(i);
-                RTCRay ray{};
-                ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
-                ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
-                ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu, ray.id = unsigned(i);
-                rtcOccluded1(scene, &context.base, &ray);
-                if (ray.tfar < 0.0f)
-                    bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
-            }
-        }
-        cast += rowCast;
-    };
+        auto bits = map.row(j);
+        cast += options.packets ? castPacketsFrom(glm::vec3(end), directions, bits, context)
+                                : castSinglesFrom(glm::vec3(end), directions, bits, context);
+    }
 
-    // Packets from a source sample to a block of 4x4 receiver samples.
-    auto castFromSource = [&](const std::vector<int>& js) {
+    std::uint64_t castPacketsFrom(const glm::vec3& org, const std::vector<glm::dvec3>& directions, std::span<std::uint64_t> bits,
+                                  Embree::SegmentContext& context) const
+    {
+        std::uint64_t rowCast = 0;
+        alignas(64) RTCRay16 rays;
+        alignas(64) int valid[16];
+        for (int first = 0; first < S; first += 16) {
+            int lanes = 0;
+            for (int k = 0; k < 16; ++k) {
+                const int i = first + k < S ? order[std::size_t(first + k)] : S;
+                valid[k] = i < S && !blockedIn(bits, i) ? -1 : 0;
+                lanes += valid[k] != 0;
+                const glm::vec3 dir = i < S ? glm::vec3(directions[std::size_t(i)]) : glm::vec3(1.0f);
+                rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
+                rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
+                rays.tnear[k] = 0.0f;
+                rays.tfar[k] = 1.0f;
+                rays.time[k] = 0.0f;
+                rays.mask[k] = 0xffffffffu;
+                rays.id[k] = unsigned(i < S ? i : 0);
+                rays.flags[k] = 0;
+            }
+            if (lanes == 0)
+                continue;
+            rowCast += std::uint64_t(lanes);
+            rtcOccluded16(valid, scene, &context.base, &rays);
+            for (int k = 0; k < 16 && first + k < S; ++k)
+                if (valid[k] && rays.tfar[k] < 0.0f) {
+                    const int i = order[std::size_t(first + k)];
+                    bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
+                }
+        }
+        return rowCast;
+    }
+
+    std::uint64_t castSinglesFrom(const glm::vec3& org, const std::vector<glm::dvec3>& directions, std::span<std::uint64_t> bits,
+                                  Embree::SegmentContext& context) const
+    {
+        std::uint64_t rowCast = 0;
+        for (int i = 0; i < S; ++i) {
+            if (blockedIn(bits, i))
+                continue;
+            ++rowCast;
+            const glm::vec3 dir(directions[std::size_t(i)]);
+            RTCRay ray{};
+            ray.org_x = org.x, ray.org_y = org.y, ray.org_z = org.z;
+            ray.dir_x = dir.x, ray.dir_y = dir.y, ray.dir_z = dir.z;
+            ray.tnear = 0.0f, ray.tfar = 1.0f, ray.mask = 0xffffffffu, ray.id = unsigned(i);
+            rtcOccluded1(scene, &context.base, &ray);
+            if (ray.tfar < 0.0f)
+                bits[std::size_t(i >> 6)] |= std::uint64_t(1) << (i & 63);
+        }
+        return rowCast;
+    }
+
+    static bool blockedIn(std::span<const std::uint64_t> bits, int i) { return (bits[std::size_t(i >> 6)] >> (i & 63)) & 1u; }
+
+    /// Packets from each source sample to a block of 4x4 receiver samples `js`.
+    void castFromSource(const std::vector<int>& js)
+    {
         glm::dvec3 ends[16], shifts[16], toSource[16];
         for (std::size_t k = 0; k < js.size(); ++k)
-            ends[k] = receiverEnd(js[k]), shifts[k] = options.jitter.shift(source, js[k]);
+            ends[k] = sampleEnds.receiverEnd(js[k]), shifts[k] = options.jitter.shift(source, js[k]);
         Embree::SegmentContext context;
         rtcInitIntersectContext(&context.base);
         context.base.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        context.self = embree_.get();
+        context.self = &embree;
         context.directions = toSource;
         context.ends = ends;
         std::uint64_t blockCast = 0;
@@ -345,7 +343,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                     continue;
                 // The reference's direction, (source sample + shift) - receiver end, and the ray
                 // back from that source end: within the widening's bound of the exact segment.
-                const glm::dvec3 start = sourceExact[std::size_t(i)] + shifts[k];
+                const glm::dvec3 start = sampleEnds.source[std::size_t(i)] + shifts[k];
                 toSource[k] = start - ends[k];
                 const glm::vec3 org(start), dir(-toSource[k]);
                 rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
@@ -364,11 +362,12 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                     map.setBlocked(js[k], i);
         }
         cast += blockCast;
-    };
+    }
 
-    const std::vector<int>* subset = options.receiverSubset;
-    const int receivers = subset ? int(subset->size()) : receiver.sampleCount();
-    auto run = [&] {
+    /// Every receiver sample (or the options' subset), over the threads.
+    void run(const Patch& receiver)
+    {
+        const std::vector<int>* subset = options.receiverSubset;
         if (options.fromSource && options.packets) {
             const std::vector<std::vector<int>> blocks = raycast::receiverBlocks(receiver, subset);
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 1), [&](const auto& range) {
@@ -377,6 +376,7 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
             });
             return;
         }
+        const int receivers = subset ? int(subset->size()) : receiver.sampleCount();
         tbb::parallel_for(tbb::blocked_range<int>(0, receivers, 16), [&](const tbb::blocked_range<int>& range) {
             for (int k = range.begin(); k != range.end(); ++k) {
                 const int j = subset ? (*subset)[std::size_t(k)] : k;
@@ -385,16 +385,45 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
                 castFrom(j);
             }
         });
-    };
+    }
+};
+
+std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& receiver, HiddenSampleMap& map,
+                                            const RayCastOptions& options) const
+{
+    if (map.sourceCount() != source.sampleCount() || map.receiverNa() != receiver.na || map.receiverNb() != receiver.nb)
+        throw Error("RayCastScene::sampleUnblocked: map dimensions do not match the patches");
+    // A bumpy receiver (§8): each ray starts at its displaced sample. All-zero heights are the
+    // flat patch and take the flat path unchanged. Checked even when nothing can block.
+    const raycast::SampleEnds sampleEnds(source, receiver, options.heights);   // positions in double (docs/design.md §2)
+    if (embree_->triangles == 0)
+        return 0;
+    // The boxes must cover this call's float rays: widen (rebuild) first if its patches lie
+    // beyond what the build allowed for.
+    double farthest = 0.0, longest = 0.0;
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 sc = source.cornerPoint(k);
+        const glm::dvec3 rc = receiver.cornerPoint(k);
+        farthest = std::max({farthest, maxAbs(sc), maxAbs(rc)});
+        for (int l = 0; l < 4; ++l)
+            longest = std::max(longest, maxAbs(rc - (source.corner + double(l & 1) * source.u + double(l >> 1) * source.v)));
+    }
+    if (sampleEnds.bumpy)
+        for (int j = 0; j < receiver.sampleCount(); ++j)
+            farthest = std::max(farthest, maxAbs(sampleEnds.receiverEnd(j)));
+    // Jitter moves a source sample by under a cell.
+    embree_->cover(kStrayPerMetre * (farthest + 2.0 * longest + maxAbs(source.u) + maxAbs(source.v)));
+    std::shared_lock lock(embree_->lock);
+    UnblockedCall call(*embree_, source, options, sampleEnds, map);
     if (options.threads > 0) {
         tbb::task_arena arena(options.threads);
-        arena.execute(run);
+        arena.execute([&] { call.run(receiver); });
     } else {
-        run();
+        call.run(receiver);
     }
     if (!embree_->error.empty())
         throw Error("Embree: " + embree_->error);
-    return cast;
+    return call.cast.load();
 }
 
 namespace {

@@ -89,6 +89,7 @@ public:
 
 private:
     struct Embree;
+    struct UnblockedCall;
     std::unique_ptr<Embree> embree_;
 };
 
