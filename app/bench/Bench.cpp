@@ -195,37 +195,199 @@ void judgeDifferences(Row& row, const HiddenSampleMap& map, const HiddenSampleMa
     }
 }
 
+namespace {
+
+/// What one project's methods sample with: the reference and the CPU sampler at once, the others
+/// on first use (the GL context is shared by every project of a run).
+struct ProjectSamplers {
+    const Settings& settings;
+    std::unique_ptr<gl::HeadlessContext>& context;
+    Scene scene;
+    RayCastScene reference;
+    CpuBitmaskSampler cpu;
+    WorldTriangles triangles;
+    std::unique_ptr<TunedEmbree> tuned;
+    std::unique_ptr<GlBitmaskSampler> gpu;
+    std::unique_ptr<HeckbertHerfSampler> heckbertHerf;
+
+    ProjectSamplers(const Settings& runSettings, std::unique_ptr<gl::HeadlessContext>& sharedContext, Scene projectScene)
+        : settings(runSettings), context(sharedContext), scene(std::move(projectScene)), reference(scene), cpu(scene),
+          triangles(worldTriangles(scene))
+    {
+    }
+
+    gl::HeadlessContext& gl()
+    {
+        if (!context)
+            context = gl::HeadlessContext::create(settings.glBackend);
+        return *context;
+    }
+};
+
+/// One configuration (a source count and a receiver side) of a project.
+struct Configuration {
+    Patch source, receiver;
+    SourceJitter jitter{.seed = 1};
+};
+
+/// The candidates that answer `m.method` on the configuration: one, or the tuned tracer's
+/// traversals (every one a user tuning it could pick; the fastest is kept).
+void addCandidates(MethodRuns& m, ProjectSamplers& s, const Configuration& c)
+{
+    const std::string& method = m.method;
+    const Settings& settings = s.settings;
+    int w = 0, h = 0;
+    if (method == "embree-tuned") {
+        if (!s.tuned)
+            s.tuned = std::make_unique<TunedEmbree>(s.triangles);
+        for (const TunedTraversal& traversal : tunedTraversals()) {
+            Candidate& k = m.add(traversal.name());
+            k.run = [&, traversal] { k.map = s.tuned->sample(c.source, c.receiver, settings.threads, traversal); };
+        }
+    } else if (method == "raycast" || method == "raycast-jitter") {
+        const RayCastOptions options{.packets = true, .threads = settings.threads, .jitter = m.jittered ? c.jitter : SourceJitter{}};
+        Candidate& k = m.add();
+        k.run = [&, options] { k.map = s.reference.sample(c.source, c.receiver, options); };
+    } else if (method == "gl" || method == "gl-jitter" || parseTable(method, "gl-table-", w, h)) {
+        if (!s.gpu)
+            s.gpu = std::make_unique<GlBitmaskSampler>(s.gl().functions(), s.scene);
+        GlBitmaskOptions options;
+        if (m.jittered)
+            options.jitter = c.jitter;
+        else if (method != "gl")
+            options.mode = MaskMode::Table, options.tableWidth = w, options.tableHeight = h;
+        Candidate& k = m.add();
+        k.run = [&, options] { k.map = s.gpu->sample(c.source, c.receiver, options); };
+    } else if (method == "hh") {
+        if (!s.heckbertHerf)
+            s.heckbertHerf = std::make_unique<HeckbertHerfSampler>(s.gl().functions(), s.triangles);
+        Candidate& k = m.add();
+        k.run = [&] { k.counts = s.heckbertHerf->blockedCounts(c.source, c.receiver); };
+    } else {
+        BitmaskOptions options;
+        options.threads = settings.threads;
+        if (m.jittered)
+            options.jitter = c.jitter;
+        else if (method == "cpu-bitmask")
+            options.strategy = CpuStrategy::Bitmask;
+        else if (method == "cpu-hybrid")
+            options.strategy = CpuStrategy::Hybrid;
+        else if (method == "cpu-raycast")
+            options.strategy = CpuStrategy::RayCast;
+        else if (method == "cpu-scalar")
+            options.simd = false;
+        else if (parseTable(method, "cpu-table-", w, h))
+            options.mode = MaskMode::Table, options.tableWidth = w, options.tableHeight = h;
+        Candidate& k = m.add();
+        k.run = [&, options] {
+            BitmaskStats stats;
+            k.map = s.cpu.sample(c.source, c.receiver, options, &stats);
+            k.variant = strategyVariant(stats);
+        };
+    }
+}
+
+/// In each round every candidate runs once untimed, then timed until its batch has taken
+/// minBatchMs. The untimed run warms what the previous candidate evicted (a sub-millisecond call
+/// right after another method's runs slower than right after itself), so each is timed warm, as
+/// in the editor's repeated calls; the first round's pays the page faults, thread pools and shader
+/// compilation. A batch of at least minBatchMs gives a sub-millisecond call dozens of runs, where a
+/// median of three is mostly timing noise.
+void timeInRounds(const std::vector<MethodRuns>& methods, const Settings& settings)
+{
+    for (int k = 0; k < std::max(1, settings.repeat); ++k)
+        for (const MethodRuns& m : methods)
+            for (const auto& c : m.candidates) {
+                c->run();
+                const auto batchStart = std::chrono::steady_clock::now();
+                for (int n = 0; n < kMaxRunsPerRound; ++n) {
+                    c->timeOnce();
+                    if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - batchStart).count() >=
+                        settings.minBatchMs)
+                        break;
+                }
+            }
+}
+
+/// hh answers counts only: per receiver sample, the excess or shortfall of blocked rays (a lower
+/// bound on the rays in error).
+void judgeCounts(Row& row, const std::vector<std::uint32_t>& counts, const HiddenSampleMap& truth)
+{
+    for (int j = 0; j < truth.receiverCount(); ++j) {
+        std::int64_t expected = 0;
+        for (std::uint64_t word : truth.row(j))
+            expected += std::popcount(word);
+        const std::int64_t got = counts[std::size_t(j)];
+        row.blocked += std::uint64_t(got);
+        row.wronglyBlocked += std::uint64_t(std::max<std::int64_t>(0, got - expected));
+        row.wronglyFree += std::uint64_t(std::max<std::int64_t>(0, expected - got));
+    }
+}
+
+/// The row of a method's fastest candidate (by processor time on one thread, else by wall time),
+/// judged against the truth, with its light fractions' errors (§8) against the truth's and the
+/// dense reference's (when there is one).
+Row judgedRow(const MethodRuns& m, const Settings& settings, const Configuration& c, const HiddenSampleMap& truth,
+              Judges& judges, const ImportanceMap& dense)
+{
+    const auto cost = [&](const Candidate& k) { return settings.threads == 1 ? k.medianThreadMs() : k.medianMs(); };
+    const Candidate* best = m.candidates.front().get();
+    for (const auto& k : m.candidates)
+        if (cost(*k) < cost(*best))
+            best = k.get();
+    Row row;
+    row.method = m.method;
+    row.sourceSamples = c.source.sampleCount();
+    row.receiverSide = c.receiver.na;
+    row.ms = best->medianMs();
+    row.threadMs = best->medianThreadMs();
+    row.variant = best->variant;
+    row.runs = int(best->wall.size());
+    row.rays = truth.rayCount();
+    const bool counts = m.method == "hh";
+    if (counts) {
+        judgeCounts(row, best->counts, truth);
+    } else {
+        row.blocked = best->map.blockedCount();
+        judgeDifferences(row, best->map, truth, [&]() -> const ExactJudge& { return judges.forJitter(m.jittered ? c.jitter : SourceJitter{}); });
+    }
+    ImportanceMap light(c.receiver.na, c.receiver.nb);
+    for (int j = 0; j < truth.receiverCount(); ++j) {
+        const int blocked = counts ? int(best->counts[std::size_t(j)]) : best->map.blockedCount(j);
+        light.values[std::size_t(j)] = 1.0f - float(blocked) / float(row.sourceSamples);
+    }
+    row.lightMae = meanAbsoluteError(light, receiverImportance(truth));
+    if (!dense.values.empty())
+        row.denseMae = meanAbsoluteError(light, dense);
+    return row;
+}
+
+} // namespace
+
 std::vector<Row> run(const Settings& settings, const std::function<void(const Row&)>& progress)
 {
     std::vector<Row> rows;
-    std::unique_ptr<gl::HeadlessContext> context;   // made on first use of "gl"
+    std::unique_ptr<gl::HeadlessContext> context;   // made on first use of "gl" or "hh"
     for (const std::string& file : settings.projects) {
         const Project project = loadProject(file, {.allowOutsidePaths = settings.allowOutsidePaths});
-        const Scene scene = buildRayScene(project);
-        const RayCastScene reference(scene);
-        const CpuBitmaskSampler cpu(scene);
-        const WorldTriangles triangles = worldTriangles(scene);
-        std::unique_ptr<TunedEmbree> tuned;   // made on first use
-        std::unique_ptr<GlBitmaskSampler> gpu;
-        std::unique_ptr<HeckbertHerfSampler> heckbertHerf;
+        ProjectSamplers samplers(settings, context, buildRayScene(project));
         std::map<int, ImportanceMap> denseBySide;   // receiver side -> dense light fraction
         for (int count : settings.sourceCounts) {
             if (count < 1 || count > kMaxSourceSamples)
                 throw Error("bench: source sample count " + std::to_string(count) + " is outside [1, 1024]");
             for (int side : settings.receiverSides) {
-                Patch source = project.source, receiver = project.receiver;
-                std::tie(source.na, source.nb) = sourceGrid(count);
-                receiver.na = receiver.nb = side;
-                validatePatchPair(source, receiver);
-                const HiddenSampleMap regularTruth = reference.sample(source, receiver, {.packets = true, .threads = settings.threads});
-                const SourceJitter jitter{.seed = 1};
-                Judges judges{triangles, source, receiver};
+                Configuration c{project.source, project.receiver};
+                std::tie(c.source.na, c.source.nb) = sourceGrid(count);
+                c.receiver.na = c.receiver.nb = side;
+                validatePatchPair(c.source, c.receiver);
+                const RayCastOptions exact{.packets = true, .threads = settings.threads};
+                const HiddenSampleMap regularTruth = samplers.reference.sample(c.source, c.receiver, exact);
+                Judges judges{samplers.triangles, c.source, c.receiver};
                 std::unique_ptr<HiddenSampleMap> jitteredTruth;   // made for the first "-jitter" method
                 // The dense light does not depend on the source grid: once per receiver grid.
                 ImportanceMap& dense = denseBySide[side];
                 if (settings.denseSide > 0 && dense.values.empty())
-                    dense = denseLightFraction(reference, project.source, receiver, settings.denseSide,
-                                               {.packets = true, .threads = settings.threads});
+                    dense = denseLightFraction(samplers.reference, project.source, c.receiver, settings.denseSide, exact);
                 // Every method's runs are prepared first and timed in interleaved rounds (the
                 // Candidate comment says why); each is then judged and reported in method order.
                 std::vector<MethodRuns> methods;
@@ -234,140 +396,17 @@ std::vector<Row> run(const Settings& settings, const std::function<void(const Ro
                     MethodRuns& m = methods.emplace_back();
                     m.method = method;
                     m.jittered = method.ends_with("-jitter");
-                    if (m.jittered && !jitteredTruth)
-                        jitteredTruth = std::make_unique<HiddenSampleMap>(
-                            reference.sample(source, receiver, {.packets = true, .threads = settings.threads, .jitter = jitter}));
-                    int w = 0, h = 0;
-                    if (method == "embree-tuned") {
-                        if (!tuned)
-                            tuned = std::make_unique<TunedEmbree>(worldTriangles(scene));
-                        // Every traversal a user tuning it could pick; the fastest is kept.
-                        for (const TunedTraversal& traversal : tunedTraversals()) {
-                            Candidate& c = m.add(traversal.name());
-                            c.run = [&, traversal] { c.map = tuned->sample(source, receiver, settings.threads, traversal); };
-                        }
-                    } else if (method == "raycast" || method == "raycast-jitter") {
-                        const RayCastOptions options{.packets = true, .threads = settings.threads,
-                                                     .jitter = m.jittered ? jitter : SourceJitter{}};
-                        Candidate& c = m.add();
-                        c.run = [&, options] { c.map = reference.sample(source, receiver, options); };
-                    } else if (method == "gl" || method == "gl-jitter" || parseTable(method, "gl-table-", w, h)) {
-                        if (!context)
-                            context = gl::HeadlessContext::create(settings.glBackend);
-                        if (!gpu)
-                            gpu = std::make_unique<GlBitmaskSampler>(context->functions(), scene);
-                        GlBitmaskOptions options;
-                        if (m.jittered)
-                            options.jitter = jitter;
-                        else if (method != "gl") {
-                            options.mode = MaskMode::Table;
-                            options.tableWidth = w;
-                            options.tableHeight = h;
-                        }
-                        Candidate& c = m.add();
-                        c.run = [&, options] { c.map = gpu->sample(source, receiver, options); };
-                    } else if (method == "hh") {
-                        if (!context)
-                            context = gl::HeadlessContext::create(settings.glBackend);
-                        if (!heckbertHerf)
-                            heckbertHerf = std::make_unique<HeckbertHerfSampler>(context->functions(), worldTriangles(scene));
-                        Candidate& c = m.add();
-                        c.run = [&] { c.counts = heckbertHerf->blockedCounts(source, receiver); };
-                    } else {
-                        BitmaskOptions options;
-                        options.threads = settings.threads;
-                        if (m.jittered)
-                            options.jitter = jitter;
-                        else if (method == "cpu-bitmask")
-                            options.strategy = CpuStrategy::Bitmask;
-                        else if (method == "cpu-hybrid")
-                            options.strategy = CpuStrategy::Hybrid;
-                        else if (method == "cpu-raycast")
-                            options.strategy = CpuStrategy::RayCast;
-                        else if (method == "cpu-scalar")
-                            options.simd = false;
-                        else if (parseTable(method, "cpu-table-", w, h)) {
-                            options.mode = MaskMode::Table;
-                            options.tableWidth = w;
-                            options.tableHeight = h;
-                        }
-                        Candidate& c = m.add();
-                        c.run = [&, options] {
-                            BitmaskStats stats;
-                            c.map = cpu.sample(source, receiver, options, &stats);
-                            c.variant = strategyVariant(stats);
-                        };
+                    if (m.jittered && !jitteredTruth) {
+                        RayCastOptions jittered = exact;
+                        jittered.jitter = c.jitter;
+                        jitteredTruth = std::make_unique<HiddenSampleMap>(samplers.reference.sample(c.source, c.receiver, jittered));
                     }
+                    addCandidates(m, samplers, c);
                 }
-                // In each round every candidate runs once untimed, then timed until its batch has
-                // taken minBatchMs. The untimed run warms what the previous candidate evicted (a
-                // sub-millisecond call right after the tuned tracer took 1.2-1.5 times as long as
-                // right after itself), so each is timed warm, as in the editor's repeated calls;
-                // the first round's pays the page faults, thread pools and shader compilation. A
-                // batch of at least minBatchMs gives a sub-millisecond call dozens of runs, where
-                // a median of three is mostly timing noise.
-                for (int k = 0; k < std::max(1, settings.repeat); ++k)
-                    for (const MethodRuns& m : methods)
-                        for (const auto& c : m.candidates) {
-                            c->run();
-                            const auto batchStart = std::chrono::steady_clock::now();
-                            for (int n = 0; n < kMaxRunsPerRound; ++n) {
-                                c->timeOnce();
-                                if (std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - batchStart).count() >=
-                                    settings.minBatchMs)
-                                    break;
-                            }
-                        }
-
+                timeInRounds(methods, settings);
                 for (const MethodRuns& m : methods) {
-                    const std::string& method = m.method;
-                    // The tuned tracer keeps its fastest traversal: by processor time on one
-                    // thread (Settings::threads), else by wall time.
-                    const auto cost = [&](const Candidate& c) { return settings.threads == 1 ? c.medianThreadMs() : c.medianMs(); };
-                    const Candidate* best = m.candidates.front().get();
-                    for (const auto& c : m.candidates)
-                        if (cost(*c) < cost(*best))
-                            best = c.get();
-                    const HiddenSampleMap& map = best->map;
-                    const std::vector<std::uint32_t>& counts = best->counts;
-                    const HiddenSampleMap& truth = m.jittered ? *jitteredTruth : regularTruth;
-                    Row row;
+                    Row row = judgedRow(m, settings, c, m.jittered ? *jitteredTruth : regularTruth, judges, dense);
                     row.project = file;
-                    row.method = method;
-                    row.sourceSamples = count;
-                    row.receiverSide = side;
-                    row.ms = best->medianMs();
-                    row.threadMs = best->medianThreadMs();
-                    row.variant = best->variant;
-                    row.runs = int(best->wall.size());
-                    row.rays = truth.rayCount();
-                    if (method == "hh") {
-                        // Counts only: per receiver sample, the excess or shortfall of blocked
-                        // rays (a lower bound on the rays in error).
-                        for (int j = 0; j < truth.receiverCount(); ++j) {
-                            std::int64_t expected = 0;
-                            for (std::uint64_t word : truth.row(j))
-                                expected += std::popcount(word);
-                            const std::int64_t got = counts[std::size_t(j)];
-                            row.blocked += std::uint64_t(got);
-                            row.wronglyBlocked += std::uint64_t(std::max<std::int64_t>(0, got - expected));
-                            row.wronglyFree += std::uint64_t(std::max<std::int64_t>(0, expected - got));
-                        }
-                    } else {
-                        row.blocked = map.blockedCount();
-                        judgeDifferences(row, map, truth, [&]() -> const ExactJudge& {
-                            return judges.forJitter(m.jittered ? jitter : SourceJitter{});
-                        });
-                    }
-                    // Light fractions (§8): from the map, or from hh's counts.
-                    ImportanceMap light(receiver.na, receiver.nb);
-                    for (int j = 0; j < truth.receiverCount(); ++j) {
-                        const int blocked = method == "hh" ? int(counts[std::size_t(j)]) : map.blockedCount(j);
-                        light.values[std::size_t(j)] = 1.0f - float(blocked) / float(count);
-                    }
-                    row.lightMae = meanAbsoluteError(light, receiverImportance(truth));
-                    if (!dense.values.empty())
-                        row.denseMae = meanAbsoluteError(light, dense);
                     rows.push_back(row);
                     if (progress)
                         progress(row);
