@@ -295,6 +295,31 @@ void split(double x, float& hi, float& lo)
     lo = float(x - double(hi));
 }
 
+/// One sample() call's state between its stages: the shaft and its occluders, which of them the
+/// GPU takes (as polygons in split floats, with their regions), the samples' coordinates.
+struct GlCall {
+    const Patch& source;
+    const Patch& receiver;
+    const GlBitmaskOptions& options;
+    bool tableMode = false;
+    bitmask::Shaft shaft;
+    std::vector<char> closedInstance;   ///< per instance: watertight
+    std::vector<char> onGpu;            ///< per occluder
+    std::vector<GpuPolygon> polygons;
+    std::vector<std::int32_t> regions;
+    std::vector<float> samples;         ///< per receiver sample: source-frame coordinates (hi, lo) and jitter shift
+    GlBitmaskStats stats;
+
+    GlCall(const Patch& s, const Patch& r, const GlBitmaskOptions& o)
+        : source(s), receiver(r), options(o), tableMode(o.mode == MaskMode::Table), shaft(s, r, o.jitter, nullptr)
+    {
+        shaft.floatKernel = detail::floatRowsAvailable();   // for the CPU's share
+    }
+
+    int targets() const { return (source.sampleCount() + 127) / 128; }
+};
+
+
 } // namespace
 
 struct GlBitmaskSampler::Impl {
@@ -325,6 +350,14 @@ struct GlBitmaskSampler::Impl {
     bitmask::TileBins bins;
 
     explicit Impl(const gl::Functions& functions) : gl(functions) {}
+
+    // The stages of a call (sample()).
+    void prepareOccluders(GlCall& call);
+    void takeGpuShare(GlCall& call);
+    void bind(GlCall& call, GLuint program);
+    void draw(const GlCall& call, GLuint program);
+    std::vector<std::uint32_t> readBack(const GlCall& call, HiddenSampleMap& map);
+    void cpuShare(GlCall& call, const std::vector<std::uint32_t>& flags, HiddenSampleMap& map);
 
     ~Impl()
     {
@@ -443,54 +476,47 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
     return sample(source, receiver, GlBitmaskOptions{}, stats);
 }
 
-HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
-                                         GlBitmaskStats* stats)
+
+/// The occluders, prepared on the CPU in double as the CPU sampler prepares them.
+void GlBitmaskSampler::Impl::prepareOccluders(GlCall& call)
 {
     using namespace bitmask;
-    validatePatchPair(source, receiver);
-    const bool tableMode = options.mode == MaskMode::Table;
-    if (tableMode)
-        HoughMaskTable::checkResolution(options.tableWidth, options.tableHeight);
-    const gl::Functions& gl = impl_->gl;
-    GlBitmaskStats local;
-    const auto setupStart = Clock::now();
-
-    // The occluders, prepared on the CPU in double as the CPU sampler prepares them.
-    Shaft shaft(source, receiver, options.jitter, nullptr);
-    shaft.floatKernel = detail::floatRowsAvailable();   // for the CPU's share
-    const ShaftHull hull(source, receiver);
+    const ShaftHull hull(call.source, call.receiver);
     TriangleFilter filter;
-    filter.triangles = &impl_->triangles;
+    filter.triangles = &triangles;
     filter.hull = &hull;
-    std::vector<char> closedInstance(impl_->instances.size());
-    filter.instanceOutside.resize(impl_->instances.size());
-    if (options.watertightCulling)
-        filter.cullable.resize(impl_->instances.size());
-    for (std::size_t i = 0; i < impl_->instances.size(); ++i) {
-        const auto& instance = impl_->instances[i];
+    call.closedInstance.assign(instances.size(), 0);
+    filter.instanceOutside.resize(instances.size());
+    if (call.options.watertightCulling)
+        filter.cullable.resize(instances.size());
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        const auto& instance = instances[i];
         filter.instanceOutside[i] = hull.excludesBox(instance.bounds.min, instance.bounds.max);
-        closedInstance[i] = instance.watertight;
-        if (options.watertightCulling)
-            filter.cullable[i] = instance.watertight && receiverApartFrom(instance.bounds, receiver);
+        call.closedInstance[i] = instance.watertight;
+        if (call.options.watertightCulling)
+            filter.cullable[i] = instance.watertight && receiverApartFrom(instance.bounds, call.receiver);
     }
     for (int k = 0; k < 4; ++k)
-        filter.sourceCorners[std::size_t(k)] = source.cornerPoint(k);
-    OccluderSet& set = impl_->occluders;
-    set.prepare(shaft, filter);
+        filter.sourceCorners[std::size_t(k)] = call.source.cornerPoint(k);
+    occluders.prepare(call.shaft, filter);
+}
 
-    // The GPU's share: every occluder in table mode; in exact mode the well-conditioned ones,
-    // factors up to kMaxFloatFactor over their whole region.
-    std::vector<char> onGpu(set.occluders.size(), 0);
-    std::vector<GpuPolygon> polygons;
-    std::vector<std::int32_t> regions;
+/// The GPU's share: every occluder in table mode; in exact mode the well-conditioned ones, factors
+/// up to kMaxFloatFactor over their whole region. Also each receiver sample's coordinates.
+void GlBitmaskSampler::Impl::takeGpuShare(GlCall& call)
+{
+    using namespace bitmask;
+    const OccluderSet& set = occluders;
+    const Shaft& shaft = call.shaft;
+    call.onGpu.assign(set.occluders.size(), 0);
     for (std::size_t n = 0; n < set.occluders.size(); ++n) {
         const Occluder& o = *set.occluders[n];
         const double nearest = shaft.nearestSample(o.a0, o.a1, o.b0, o.b1);
-        if (!tableMode && !(o.maxD <= nearest * (1.0 - 1.0 / detail::kMaxFloatFactor)))
+        if (!call.tableMode && !(o.maxD <= nearest * (1.0 - 1.0 / detail::kMaxFloatFactor)))
             continue;
-        onGpu[n] = 1;
+        call.onGpu[n] = 1;
         GpuPolygon p{};
-        const bool closed = !closedInstance.empty() && closedInstance[impl_->triangles.instanceOf[set.triangleOf[n]]];
+        const bool closed = !call.closedInstance.empty() && call.closedInstance[triangles.instanceOf[set.triangleOf[n]]];
         p.info[0] = o.count, p.info[1] = closed, p.info[2] = shaft.parallel && o.path != Path::Clip;
         p.info[3] = o.path == Path::Clip;
         for (int i = 0; i < o.count; ++i) {
@@ -500,16 +526,14 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
             split(x.z, p.hi[i][2], p.lo[i][2]);
             p.hi[i][3] = shaft.parallel ? float(o.factor[std::size_t(i)]) : 0.0f;
         }
-        polygons.push_back(p);
-        regions.insert(regions.end(), {o.a0, o.a1, o.b0, o.b1});
+        call.polygons.push_back(p);
+        call.regions.insert(call.regions.end(), {o.a0, o.a1, o.b0, o.b1});
     }
-    local.gpuOccluders = polygons.size();
-    local.cpuOccluders = set.occluders.size() - polygons.size();
-
-    // Per receiver sample: its source-frame coordinates as float pairs, and its jitter shift.
-    std::vector<float> samples(std::size_t(receiver.sampleCount()) * 12, 0.0f);
-    for (int j = 0; j < receiver.sampleCount(); ++j) {
-        float* out = &samples[std::size_t(j) * 12];
+    call.stats.gpuOccluders = call.polygons.size();
+    call.stats.cpuOccluders = set.occluders.size() - call.polygons.size();
+    call.samples.assign(std::size_t(call.receiver.sampleCount()) * 12, 0.0f);
+    for (int j = 0; j < call.receiver.sampleCount(); ++j) {
+        float* out = &call.samples[std::size_t(j) * 12];
         const glm::dvec3& r = shaft.receiverInSource[std::size_t(j)];
         split(r.x, out[0], out[4]);
         split(r.y, out[1], out[5]);
@@ -517,67 +541,72 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
         out[8] = float(shaft.jitterShift[std::size_t(j)].x);
         out[9] = float(shaft.jitterShift[std::size_t(j)].y);
     }
-    const std::vector<std::uint32_t> noFlags(std::size_t(receiver.sampleCount()), 0u);
+}
 
-    const int targets = (source.sampleCount() + 127) / 128;
-    const GLuint program = impl_->program(targets, options.mode);
-    impl_->ensureTargets(targets, receiver.na, receiver.nb);
-    if (tableMode) {
-        local.tableMs = impl_->ensureTable(source.na, source.nb, options.tableWidth, options.tableHeight);
-        gl.BindTextureUnit(1, impl_->tableTexture);
+/// Uploads the call's buffers, binds them and sets the program's uniforms; clears the targets.
+void GlBitmaskSampler::Impl::bind(GlCall& call, GLuint program)
+{
+    const std::vector<std::uint32_t> noFlags(std::size_t(call.receiver.sampleCount()), 0u);
+    if (call.tableMode) {
+        call.stats.tableMs = ensureTable(call.source.na, call.source.nb, call.options.tableWidth, call.options.tableHeight);
+        gl.BindTextureUnit(1, tableTexture);
         gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uTable"), 1);
-        gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uTableSize"), options.tableWidth, options.tableHeight);
+        gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uTableSize"), call.options.tableWidth, call.options.tableHeight);
     }
     // Never empty: a zero-sized buffer cannot back a binding.
     const auto upload = [&](GLuint buffer, const void* data, std::size_t bytes) {
         static const std::uint32_t zero[4] = {};
         gl.NamedBufferData(buffer, GLsizeiptr(std::max<std::size_t>(bytes, sizeof zero)), bytes ? data : zero, GL_STREAM_DRAW);
     };
-    upload(impl_->polygonBuffer, polygons.data(), polygons.size() * sizeof(GpuPolygon));
-    upload(impl_->sampleBuffer, samples.data(), samples.size() * sizeof(float));
-    upload(impl_->flagBuffer, noFlags.data(), noFlags.size() * sizeof(std::uint32_t));
-    upload(impl_->regionBuffer, regions.data(), regions.size() * sizeof(std::int32_t));
-    gl.TextureBuffer(impl_->regionTexture, GL_RGBA32I, impl_->regionBuffer);
-    gl.BindTextureUnit(0, impl_->regionTexture);
-    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, impl_->polygonBuffer);
-    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, impl_->sampleBuffer);
-    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, impl_->flagBuffer);
+    upload(polygonBuffer, call.polygons.data(), call.polygons.size() * sizeof(GpuPolygon));
+    upload(sampleBuffer, call.samples.data(), call.samples.size() * sizeof(float));
+    upload(flagBuffer, noFlags.data(), noFlags.size() * sizeof(std::uint32_t));
+    upload(regionBuffer, call.regions.data(), call.regions.size() * sizeof(std::int32_t));
+    gl.TextureBuffer(regionTexture, GL_RGBA32I, regionBuffer);
+    gl.BindTextureUnit(0, regionTexture);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, polygonBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, sampleBuffer);
+    gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, flagBuffer);
     gl.ProgramUniform1i(program, gl.GetUniformLocation(program, "uRegions"), 0);
-    gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uSourceGrid"), source.na, source.nb);
-    gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uReceiverGrid"), receiver.na, receiver.nb);
-    if (!tableMode) {
-        gl.ProgramUniform2f(program, gl.GetUniformLocation(program, "uMetres"), float(shaft.metresPerS),
-                            float(shaft.metresPerT));
-        gl.ProgramUniform1f(program, gl.GetUniformLocation(program, "uBudget"), float(kFloatBandBudget));
+    gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uSourceGrid"), call.source.na, call.source.nb);
+    gl.ProgramUniform2i(program, gl.GetUniformLocation(program, "uReceiverGrid"), call.receiver.na, call.receiver.nb);
+    if (!call.tableMode) {
+        gl.ProgramUniform2f(program, gl.GetUniformLocation(program, "uMetres"), float(call.shaft.metresPerS),
+                            float(call.shaft.metresPerT));
+        gl.ProgramUniform1f(program, gl.GetUniformLocation(program, "uBudget"), float(bitmask::kFloatBandBudget));
     }
     const GLuint zero[4] = {0, 0, 0, 0};
-    for (int k = 0; k < targets; ++k)
-        gl.ClearNamedFramebufferuiv(impl_->framebuffer, GL_COLOR, k, zero);
-    local.setupMs = msSince(setupStart) - local.tableMs;
+    for (int k = 0; k < call.targets(); ++k)
+        gl.ClearNamedFramebufferuiv(framebuffer, GL_COLOR, k, zero);
+}
 
-    const auto drawStart = Clock::now();
-    gl.BindFramebuffer(GL_FRAMEBUFFER, impl_->framebuffer);
-    gl.Viewport(0, 0, receiver.na, receiver.nb);
+/// Draws every GPU polygon into the targets, OR-ed (section 5.1: the union over occluders, done
+/// by the blending stage).
+void GlBitmaskSampler::Impl::draw(const GlCall& call, GLuint program)
+{
+    gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    gl.Viewport(0, 0, call.receiver.na, call.receiver.nb);
     gl.Enable(GL_COLOR_LOGIC_OP);
-    gl.LogicOp(GL_OR);   // section 5.1: the union over occluders, done by the blending stage
+    gl.LogicOp(GL_OR);
     gl.UseProgram(program);
-    gl.BindVertexArray(impl_->vertexArray);
-    if (!polygons.empty())
-        gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(polygons.size()));
+    gl.BindVertexArray(vertexArray);
+    if (!call.polygons.empty())
+        gl.DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(call.polygons.size()));
     gl.MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
     gl.Finish();
     gl.Disable(GL_COLOR_LOGIC_OP);
     gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-    local.drawMs = msSince(drawStart);
+}
 
-    const auto readStart = Clock::now();
-    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
-    std::vector<std::uint32_t> pixels(std::size_t(receiver.na) * std::size_t(receiver.nb) * 4);
+/// The targets into the map, and (exact mode) the samples the shader flagged as unproven.
+std::vector<std::uint32_t> GlBitmaskSampler::Impl::readBack(const GlCall& call, HiddenSampleMap& map)
+{
+    std::vector<std::uint32_t> pixels(std::size_t(call.receiver.na) * std::size_t(call.receiver.nb) * 4);
     gl.PixelStorei(GL_PACK_ALIGNMENT, 4);
-    const int rowBytes = (source.sampleCount() + 7) / 8;
-    for (int k = 0; k < targets; ++k) {
-        gl.GetTextureImage(impl_->textures[k], 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
-                           GLsizei(pixels.size() * sizeof(std::uint32_t)), pixels.data());
+    const int rowBytes = (call.source.sampleCount() + 7) / 8;
+    for (int k = 0; k < call.targets(); ++k) {
+        gl.GetTextureImage(textures[k], 0, GL_RGBA_INTEGER, GL_UNSIGNED_INT, GLsizei(pixels.size() * sizeof(std::uint32_t)),
+                           pixels.data());
         // Target k holds source bits [128k, 128k + 128) of every receiver sample, little-endian
         // 32-bit words: the same byte layout as the map's rows.
         const int bytes = std::min(16, rowBytes - 16 * k);
@@ -585,42 +614,74 @@ HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& recei
             std::memcpy(reinterpret_cast<unsigned char*>(map.row(j).data()) + 16 * k, &pixels[std::size_t(j) * 4],
                         std::size_t(bytes));
     }
-    std::vector<std::uint32_t> flags(noFlags.size(), 0u);
-    if (!tableMode)
-        gl.GetNamedBufferSubData(impl_->flagBuffer, 0, GLsizeiptr(flags.size() * sizeof(std::uint32_t)), flags.data());
+    std::vector<std::uint32_t> flags(std::size_t(call.receiver.sampleCount()), 0u);
+    if (!call.tableMode)
+        gl.GetNamedBufferSubData(flagBuffer, 0, GLsizeiptr(flags.size() * sizeof(std::uint32_t)), flags.data());
     if (const GLenum error = gl.GetError(); error != GL_NO_ERROR)
         throw Error("GL bitmask sampler: OpenGL error " + std::to_string(error));
-    local.readbackMs = msSince(readStart);
+    return flags;
+}
 
-    if (!tableMode) {
-        // The CPU's share: the occluders the GPU did not take, on the CPU sampler's tile pass
-        // (narrowed by what the GPU already blocked); then every flagged sample's tile again,
-        // with the GPU's occluders in double.
-        const auto cpuStart = Clock::now();
-        TileBins& bins = impl_->bins;
-        bins.build(shaft, set, onGpu, closedInstance, impl_->triangles);
-        bitmaskPass(shaft, bins, map, /*narrow=*/true);
-        std::vector<std::uint32_t> flaggedTiles;
-        const int tilesA = (receiver.na + kTile - 1) / kTile;
-        for (int j = 0; j < receiver.sampleCount(); ++j)
-            if (flags[std::size_t(j)]) {
-                ++local.flaggedSamples;
-                flaggedTiles.push_back(std::uint32_t((j / receiver.na / kTile) * tilesA + (j % receiver.na) / kTile));
-            }
-        if (!flaggedTiles.empty()) {
-            std::sort(flaggedTiles.begin(), flaggedTiles.end());
-            flaggedTiles.erase(std::unique(flaggedTiles.begin(), flaggedTiles.end()), flaggedTiles.end());
-            std::vector<char> offGpu(onGpu.size());
-            for (std::size_t n = 0; n < onGpu.size(); ++n)
-                offGpu[n] = !onGpu[n];
-            shaft.floatKernel = false;   // the shader could not prove them: double, not float again
-            bins.build(shaft, set, offGpu, closedInstance, impl_->triangles);
-            bitmaskPass(shaft, bins, map, /*narrow=*/true, &flaggedTiles);
+/// The CPU's share (exact mode): the occluders the GPU did not take, on the CPU sampler's tile
+/// pass (narrowed by what the GPU already blocked); then every flagged sample's tile again, with
+/// the GPU's occluders in double.
+void GlBitmaskSampler::Impl::cpuShare(GlCall& call, const std::vector<std::uint32_t>& flags, HiddenSampleMap& map)
+{
+    using namespace bitmask;
+    bins.build(call.shaft, occluders, call.onGpu, call.closedInstance, triangles);
+    bitmaskPass(call.shaft, bins, map, /*narrow=*/true);
+    std::vector<std::uint32_t> flaggedTiles;
+    const int na = call.receiver.na;
+    const int tilesA = (na + kTile - 1) / kTile;
+    for (int j = 0; j < call.receiver.sampleCount(); ++j)
+        if (flags[std::size_t(j)]) {
+            ++call.stats.flaggedSamples;
+            flaggedTiles.push_back(std::uint32_t((j / na / kTile) * tilesA + (j % na) / kTile));
         }
-        local.cpuMs = msSince(cpuStart);
+    if (flaggedTiles.empty())
+        return;
+    std::sort(flaggedTiles.begin(), flaggedTiles.end());
+    flaggedTiles.erase(std::unique(flaggedTiles.begin(), flaggedTiles.end()), flaggedTiles.end());
+    std::vector<char> offGpu(call.onGpu.size());
+    for (std::size_t n = 0; n < call.onGpu.size(); ++n)
+        offGpu[n] = !call.onGpu[n];
+    call.shaft.floatKernel = false;   // the shader could not prove them: double, not float again
+    bins.build(call.shaft, occluders, offGpu, call.closedInstance, triangles);
+    bitmaskPass(call.shaft, bins, map, /*narrow=*/true, &flaggedTiles);
+}
+
+HiddenSampleMap GlBitmaskSampler::sample(const Patch& source, const Patch& receiver, const GlBitmaskOptions& options,
+                                         GlBitmaskStats* stats)
+{
+    validatePatchPair(source, receiver);
+    if (options.mode == MaskMode::Table)
+        HoughMaskTable::checkResolution(options.tableWidth, options.tableHeight);
+    Impl& impl = *impl_;
+    const auto setupStart = Clock::now();
+    GlCall call(source, receiver, options);
+    impl.prepareOccluders(call);
+    impl.takeGpuShare(call);
+    const GLuint program = impl.program(call.targets(), options.mode);
+    impl.ensureTargets(call.targets(), receiver.na, receiver.nb);
+    impl.bind(call, program);
+    call.stats.setupMs = msSince(setupStart) - call.stats.tableMs;
+
+    const auto drawStart = Clock::now();
+    impl.draw(call, program);
+    call.stats.drawMs = msSince(drawStart);
+
+    const auto readStart = Clock::now();
+    HiddenSampleMap map(source.sampleCount(), receiver.na, receiver.nb);
+    const std::vector<std::uint32_t> flags = impl.readBack(call, map);
+    call.stats.readbackMs = msSince(readStart);
+
+    if (!call.tableMode) {
+        const auto cpuStart = Clock::now();
+        impl.cpuShare(call, flags, map);
+        call.stats.cpuMs = msSince(cpuStart);
     }
     if (stats)
-        *stats = local;
+        *stats = call.stats;
     return map;
 }
 
