@@ -18,6 +18,10 @@
 #include "visibility/HoughMaskTable.h"
 #include "visibility/ShaftGeometry.h"
 #include "visibility/gl/GlShaders.h"
+#include "glsl/bitmask_common.glsl.h"
+#include "glsl/bitmask_exact.frag.h"
+#include "glsl/bitmask_regions.vert.h"
+#include "glsl/bitmask_table.frag.h"
 
 namespace sightline {
 
@@ -36,223 +40,6 @@ struct GpuPolygon {
 };
 static_assert(sizeof(GpuPolygon) == 272, "std430 layout of Polygon");
 
-/// Each occluder's influence region, drawn as a quad: receiver samples a0..a1 x b0..b1.
-const char* kVertexShader = R"(#version 450 core
-uniform isamplerBuffer uRegions;
-uniform ivec2 uReceiverGrid;
-flat out int vPolygon;
-void main()
-{
-    ivec4 region = texelFetch(uRegions, gl_InstanceID);
-    vec2 pixel = vec2((gl_VertexID & 1) != 0 ? region.y + 1 : region.x, (gl_VertexID & 2) != 0 ? region.w + 1 : region.z);
-    gl_Position = vec4(pixel / vec2(uReceiverGrid) * 2.0 - 1.0, 0.0, 1.0);
-    vPolygon = gl_InstanceID;
-}
-)";
-
-const char* kFragmentCommon = R"(
-struct Polygon {
-    ivec4 info;
-    vec4 hi[8];
-    vec4 lo[8];
-};
-layout(std430, binding = 0) readonly buffer Polygons { Polygon polygons[]; };
-// Per receiver sample: (s, t, d) in the source frame, their residuals, the jitter shift (§6.2).
-layout(std430, binding = 1) readonly buffer Samples { vec4 samples[]; };
-flat in int vPolygon;
-uniform ivec2 uSourceGrid, uReceiverGrid;
-
-uint mask[4 * TARGETS];
-
-void setRange(int first, int last)
-{
-    for (int w = first >> 5; w <= (last >> 5); ++w) {
-        int a = max(first, w * 32) - w * 32, b = min(last, w * 32 + 31) - w * 32;
-        uint bits = (b == 31 ? 0xffffffffu : ((1u << (b + 1)) - 1u)) & ~((1u << a) - 1u);
-        mask[w] |= bits;
-    }
-}
-)";
-
-// The exact masks: the CPU float kernel's filtered predicate (BitmaskRows.h), one receiver
-// sample per fragment. Differences of float pairs; per vertex and axis the bound
-//     8 |x - r| + (|r| + 6 |p|) / k
-// in float epsilons, a little wider than the CPU's (6, 4) for the GPU's 2.5-ulp division, and
-// the unit 1.25 times the float epsilon. A fragment over the budget flags its sample for the
-// CPU's double path and writes nothing.
-const char* kExactFragment = R"(
-layout(std430, binding = 2) buffer Flags { uint flags[]; };
-uniform vec2 uMetres;       // |u|, |v| of the source
-uniform float uBudget;      // metres between ray and occluder boundary
-const float kUnit = 1.25 / 16777216.0;
-
-void main()
-{
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    int j = pixel.y * uReceiverGrid.x + pixel.x;
-    int n = polygons[vPolygon].info.x;
-    bool closed = polygons[vPolygon].info.y != 0;
-    bool sharedFactor = polygons[vPolygon].info.z != 0;
-    precise vec3 r = samples[3 * j].xyz;
-    precise vec3 rLo = samples[3 * j + 1].xyz;
-    vec2 shift = samples[3 * j + 2].xy;
-    float ps[8], pt[8], magnitude[8], factor[8], rayS[8], rayT[8];
-    float tMin = 1e38, tMax = -1e38, rayMaxS = 0.0, rayMaxT = 0.0;
-    for (int i = 0; i < n; ++i) {
-        precise vec4 hi = polygons[vPolygon].hi[i];
-        precise vec3 lo = polygons[vPolygon].lo[i].xyz;
-        precise float k = sharedFactor ? hi.w : r.z / ((r.z - hi.z) + (rLo.z - lo.z));
-        precise float dS = (hi.x - r.x) + (lo.x - rLo.x);
-        precise float dT = (hi.y - r.y) + (lo.y - rLo.y);
-        ps[i] = fma(dS, k, r.x) - shift.x;
-        pt[i] = fma(dT, k, r.y) - shift.y;
-        tMin = min(tMin, pt[i]);
-        tMax = max(tMax, pt[i]);
-        magnitude[i] = abs(ps[i]) + abs(pt[i]);
-        factor[i] = k;
-        rayS[i] = 8.0 * abs(dS) + (abs(r.x) + 6.0 * abs(ps[i])) / k;
-        rayT[i] = 8.0 * abs(dT) + (abs(r.y) + 6.0 * abs(pt[i])) / k;
-        rayMaxS = max(rayMaxS, rayS[i]);
-        rayMaxT = max(rayMaxT, rayT[i]);
-    }
-    float eS = 0.0, eT = 0.0, kMin = 1e38, sMin = 1e38, sMax = -1e38;
-    for (int i = 0; i < n; ++i) {
-        eS = max(eS, rayS[i] * factor[i]);
-        eT = max(eT, rayT[i] * factor[i]);
-        kMin = min(kMin, factor[i]);
-        sMin = min(sMin, ps[i]);
-        sMax = max(sMax, ps[i]);
-    }
-    float errorS = kUnit * (eS + 2.0), errorT = kUnit * (eT + 2.0);
-    float band = kUnit * ((rayMaxS + 2.0) * uMetres.x + (rayMaxT + 2.0) * uMetres.y);
-    float slackS = 0.0, slackT = 0.0;
-    if (closed) {   // widened, so that no crack opens against a neighbour the CPU answers
-        band += (errorS * uMetres.x + errorT * uMetres.y) / kMin;
-        slackS = errorS;
-        slackT = errorT;
-    }
-    if (band > uBudget) {
-        // Nothing to prove when even the widened bounds hold no sample.
-        ivec2 columns = sampleRange(sMin - errorS, sMax + errorS, uSourceGrid.x);
-        ivec2 rows = sampleRange(tMin - errorT, tMax + errorT, uSourceGrid.y);
-        if (columns.x <= columns.y && rows.x <= rows.y)
-            flags[j] = 1u;
-        discard;
-    }
-    ivec2 rows = sampleRange(tMin - slackT, tMax + slackT, uSourceGrid.y);
-    if (rows.x > rows.y) discard;
-    for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
-    for (int b = rows.x; b <= rows.y; ++b) {
-        float tb = (float(b) + 0.5) / float(uSourceGrid.y);
-        float lo = 1e38, hi = -1e38;
-        // Crossings from each edge's end of smaller magnitude, kept within the edge's span of s;
-        // an edge along the row is left out (the edges at its ends bring them): BitmaskRows.h.
-        for (int i = 0, k = n - 1; i < n; k = i++) {
-            if (pt[k] == pt[i]) continue;
-            if (tb < min(pt[k], pt[i]) - slackT || tb > max(pt[k], pt[i]) + slackT) continue;
-            bool fromI = magnitude[i] < magnitude[k];
-            float s0 = fromI ? ps[i] : ps[k], t0 = fromI ? pt[i] : pt[k];
-            float slope = (ps[i] - ps[k]) / (pt[i] - pt[k]);
-            float dt = tb - t0;
-            float x = dt == 0.0 ? s0 : fma(dt, slope, s0);
-            x = clamp(x, min(ps[k], ps[i]), max(ps[k], ps[i]));
-            lo = min(lo, x);
-            hi = max(hi, x);
-        }
-        ivec2 columns = sampleRange(lo - slackS, hi + slackS, uSourceGrid.x);
-        if (columns.x <= columns.y)
-            setRange(b * uSourceGrid.x + columns.x, b * uSourceGrid.x + columns.y);
-    }
-    OUTPUTS
-}
-)";
-
-// Table mode (§5): the Hough table of HoughMaskTable, texel (i, k) at buffer texels
-// (k * width + i) * TARGETS + target, each 128 source bits in the render targets' order. Every
-// occluder is drawn; those reaching a receiver sample's distance are clipped per sample.
-const char* kTableFragment = R"(
-uniform usamplerBuffer uTable;
-uniform ivec2 uTableSize;             // (angles, distances)
-const float kPi = 3.14159265358979;
-const float kMaxDistance = 0.70710678118654752;   // sqrt(2) / 2
-
-int clipPolygon(inout vec3 p[8], int n, vec4 plane)
-{
-    vec3 q[8];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-        vec3 a = p[i], b = p[(i + 1) % n];
-        float da = dot(plane.xyz, a) + plane.w, db = dot(plane.xyz, b) + plane.w;
-        if (da > 0.0) q[m++] = a;
-        if ((da > 0.0) != (db > 0.0) && m < 8) q[m++] = a + (b - a) * (da / (da - db));
-    }
-    p = q;
-    return m;
-}
-
-// ANDs into mask the entry of the texel nearest to the line with left normal n (unit) at signed
-// distance dist from the source centre: HoughMaskTable::lookup's indexing (theta wraps, r clamps).
-void andTexel(vec2 n, float dist)
-{
-    float angle = atan(n.y, n.x);   // [-pi, pi]
-    int i = int(floor((angle + kPi) / (2.0 * kPi) * float(uTableSize.x)));
-    i = i < 0 ? i + uTableSize.x : (i >= uTableSize.x ? i - uTableSize.x : i);
-    int k = clamp(int(floor((dist + kMaxDistance) / (2.0 * kMaxDistance) * float(uTableSize.y))), 0, uTableSize.y - 1);
-    int base = (k * uTableSize.x + i) * TARGETS;
-    for (int t = 0; t < TARGETS; ++t) {
-        uvec4 bits = texelFetch(uTable, base + t);
-        mask[4 * t] &= bits.x; mask[4 * t + 1] &= bits.y; mask[4 * t + 2] &= bits.z; mask[4 * t + 3] &= bits.w;
-    }
-}
-
-// The CPU's tableMask: the AND of the masks of the backprojection's edges, inside on the left of
-// each. Each edge's line on the source plane (d = 0) comes from the plane through r and the 3D
-// edge, N = (p_k - r) x (p_i - r): the line is N.xy . X = N . r and the left normal of the
-// backprojected edge from p_k to p_i is -N.xy. The orientation is the polygon's seen from r,
-// found once for all edges; zero: seen edge-on, no inside.
-void tableMask(vec3 p[8], int n, vec3 r, vec2 shift)
-{
-    vec3 g = vec3(0.0);
-    for (int i = 0; i < n; ++i) g += p[i];
-    g /= float(n);
-    vec3 m = vec3(0.0);   // Newell normal of the clipped polygon
-    for (int i = 0, k = n - 1; i < n; k = i++) m += cross(p[k] - g, p[i] - g);
-    float orientation = dot(m, r - g);
-    for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = orientation == 0.0 ? 0u : 0xffffffffu;
-    if (orientation == 0.0) return;
-    float counterClockwise = orientation > 0.0 ? 1.0 : -1.0;
-    bool anyEdge = false;
-    for (int i = 0, k = n - 1; i < n; k = i++) {
-        vec3 normal = counterClockwise * cross(p[k] - r, p[i] - r);
-        float length2 = length(normal.xy);
-        if (length2 == 0.0) continue;   // both ends backproject to one point: the CPU skips it
-        vec2 left = -normal.xy / length2;
-        float dist = -dot(normal, r) / length2 - dot(left, vec2(0.5) + shift);
-        andTexel(left, dist);
-        anyEdge = true;
-    }
-    if (!anyEdge)
-        for (int w = 0; w < 4 * TARGETS; ++w) mask[w] = 0u;
-}
-
-void main()
-{
-    ivec2 pixel = ivec2(gl_FragCoord.xy);
-    int j = pixel.y * uReceiverGrid.x + pixel.x;
-    vec3 r = samples[3 * j].xyz;
-    vec2 shift = samples[3 * j + 2].xy;
-    int n = polygons[vPolygon].info.x;
-    vec3 p[8];
-    for (int i = 0; i < 8; ++i) p[i] = i < n ? polygons[vPolygon].hi[i].xyz : vec3(0.0);
-    if (polygons[vPolygon].info.w != 0) {   // points at or beyond this sample's distance lie on none of its rays
-        n = clipPolygon(p, n, vec4(0.0, 0.0, -1.0, r.z * (1.0 - 1e-6)));
-        if (n < 3) discard;
-    }
-    tableMask(p, n, r, shift);
-    OUTPUTS
-}
-)";
-
 /// "#version" and the compile-time switches shared by the fragment shaders.
 std::string fragmentSource(int targets, MaskMode mode)
 {
@@ -264,9 +51,9 @@ std::string fragmentSource(int targets, MaskMode mode)
         outputs.append("o").append(n).append(" = uvec4(mask[").append(w).append("], mask[").append(w)
             .append(" + 1], mask[").append(w).append(" + 2], mask[").append(w).append(" + 3]);\n    ");
     }
-    std::string body = mode == MaskMode::Table ? kTableFragment : kExactFragment;
+    std::string body = mode == MaskMode::Table ? glsl::bitmask_table_frag : glsl::bitmask_exact_frag;
     body.replace(body.find("OUTPUTS"), 7, outputs);
-    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n" + declarations + kFragmentCommon +
+    return "#version 450 core\n#define TARGETS " + std::to_string(targets) + "\n" + declarations + glsl::bitmask_common_glsl +
            gl::kSampleRangeGlsl + body;
 }
 
@@ -379,7 +166,7 @@ struct GlBitmaskSampler::Impl {
         GLuint& slot = programs[mode == MaskMode::Table ? 1 : 0][targets];
         if (slot)
             return slot;
-        return slot = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, fragmentSource(targets, mode)}},
+        return slot = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::bitmask_regions_vert}, {GL_FRAGMENT_SHADER, fragmentSource(targets, mode)}},
                                        "GL bitmask sampler");
     }
 
