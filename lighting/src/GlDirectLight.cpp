@@ -12,6 +12,11 @@
 #include "lighting/LightEmission.h"
 #include "visibility/Error.h"
 #include "visibility/gl/GlShaders.h"
+#include "glsl/lights_emitters.glsl.h"
+#include "glsl/lights_map.frag.h"
+#include "glsl/lights_map.geom.h"
+#include "glsl/lights_map.vert.h"
+#include "glsl/lights_shade.comp.h"
 
 namespace sightline {
 
@@ -28,206 +33,6 @@ namespace {
 struct GpuEmitter {
     glm::vec4 position, direction, params, colour, extra;
 };
-
-const char* const kEmitterGlsl = R"(
-struct Emitter { vec4 position, direction, params, colour, extra; };
-layout(std430, binding = 0) readonly buffer Emitters { Emitter emitters[]; };
-// The emitters of this pass; with maps, emitter batch[k]'s map is layer k.
-layout(std430, binding = 4) readonly buffer Batch { int batch[]; };
-const int kPoint = 0, kSpot = 1, kDirectional = 2, kArea = 3;
-// The directional map's axes: the same in both programs.
-void orthoBasis(vec3 d, out vec3 u, out vec3 v)
-{
-    vec3 helper = abs(d.x) < 0.6 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    u = normalize(cross(helper, d));
-    v = cross(d, u);
-}
-)";
-
-const char* const kMapVertex = R"(#version 450 core
-layout(location = 0) in vec3 position;
-out vec3 world;
-flat out int instance;
-void main()
-{
-    world = position;
-    instance = gl_InstanceID;
-}
-)";
-
-// Each triangle to every octant face it may enter (a face's octant is entered only if, on each
-// axis, some corner lies on its side), clipped to the octant by s.q >= 0, projected as
-// (q.x, q.y) / w on the upper faces and folded out as (s.x (w - s.y q.y), s.y (w - s.x q.x)) / w on
-// the lower ones, w = s.q = |q|_1: linear in clip space, so rasterised exactly.
-const char* const kMapGeometry = R"(
-layout(triangles) in;
-layout(triangle_strip, max_vertices = 24) out;
-in vec3 world[];
-flat in int instance[];
-out vec3 toPoint;
-out gl_PerVertex { vec4 gl_Position; float gl_ClipDistance[3]; };
-uniform float invRadius;
-void main()
-{
-    Emitter em = emitters[batch[instance[0]]];
-    if (int(em.position.w) == kDirectional) {
-        vec3 u, v;
-        orthoBasis(em.direction.xyz, u, v);
-        for (int i = 0; i < 3; ++i) {
-            vec3 p = world[i];
-            gl_Position = vec4(dot(p, u) * invRadius, dot(p, v) * invRadius, 0.0, 1.0);
-            gl_ClipDistance[0] = gl_ClipDistance[1] = gl_ClipDistance[2] = 1.0;
-            gl_Layer = instance[0];
-            toPoint = vec3(dot(p, em.direction.xyz), 0.0, 0.0);
-            EmitVertex();
-        }
-        EndPrimitive();
-        return;
-    }
-    vec3 q[3] = vec3[3](world[0] - em.position.xyz, world[1] - em.position.xyz, world[2] - em.position.xyz);
-    // A light with a range lights nothing past it, so a triangle whose box lies beyond it can
-    // shadow nothing it lights.
-    if (em.params.y > 0.0) {
-        vec3 lo = min(min(q[0], q[1]), q[2]), hi = max(max(q[0], q[1]), q[2]);
-        if (length(clamp(vec3(0.0), lo, hi)) > em.params.y)
-            return;
-    }
-    for (int o = 0; o < 8; ++o) {
-        vec3 s = vec3((o & 1) != 0 ? -1.0 : 1.0, (o & 2) != 0 ? -1.0 : 1.0, (o & 4) != 0 ? -1.0 : 1.0);
-        vec3 reach = max(max(s * q[0], s * q[1]), s * q[2]);
-        if (reach.x < 0.0 || reach.y < 0.0 || reach.z < 0.0)
-            continue;
-        for (int i = 0; i < 3; ++i) {
-            float w = dot(s, q[i]);
-            gl_Position = s.z > 0.0 ? vec4(q[i].x, q[i].y, 0.0, w)
-                                    : vec4(s.x * (w - s.y * q[i].y), s.y * (w - s.x * q[i].x), 0.0, w);
-            gl_ClipDistance[0] = s.x * q[i].x;
-            gl_ClipDistance[1] = s.y * q[i].y;
-            gl_ClipDistance[2] = s.z * q[i].z;
-            gl_Layer = instance[0];
-            toPoint = q[i];
-            EmitVertex();
-        }
-        EndPrimitive();
-    }
-}
-)";
-
-// Per point, the terms of the batch's emitters (LightEmission.h's formulas in float), each
-// counted where the map says the point is unshadowed.
-const char* const kShade = R"(
-layout(local_size_x = 64) in;
-layout(std430, binding = 1) readonly buffer Points { vec4 points[]; };   // position, normal
-layout(std430, binding = 2) buffer Irradiance { vec4 irradiance[]; };
-layout(std430, binding = 3) buffer Bits { uint bits[]; };
-layout(std430, binding = 5) readonly buffer Classes { uint classes[]; };   // 4 a word: [tile * lights + light]
-layout(std430, binding = 6) readonly buffer TileOf { uint tileOf[]; };
-layout(binding = 0) uniform sampler2DArray maps;
-uniform int emitterCount, pointBase, pointCount, resolution, wantBits, wordsPerPoint, useClasses, lightCount;
-uniform float invRadius, texelAngle, directionalTexel, maxBiasTexels;
-
-vec2 octahedral(vec3 v)
-{
-    float w = abs(v.x) + abs(v.y) + abs(v.z);
-    vec2 p = v.xy / w;
-    if (v.z < 0.0) {
-        vec2 s = vec2(v.x >= 0.0 ? 1.0 : -1.0, v.y >= 0.0 ? 1.0 : -1.0);
-        p = s * (1.0 - abs(p.yx));
-    }
-    return p;
-}
-
-float term(Emitter em, vec3 x, vec3 n)
-{
-    int type = int(em.position.w);
-    if (type == kDirectional)
-        return em.params.x * max(0.0, -dot(n, em.direction.xyz));
-    vec3 toLight = em.position.xyz - x;
-    float d2 = dot(toLight, toLight);
-    if (!(d2 > 0.0))
-        return 0.0;
-    float d = sqrt(d2);
-    vec3 l = toLight / d;
-    float cosReceiver = dot(n, l);
-    if (!(cosReceiver > 0.0))
-        return 0.0;
-    if (type == kArea) {
-        float cosLight = -dot(em.direction.xyz, l);
-        float facing = em.direction.w > 0.5 ? abs(cosLight) : max(0.0, cosLight);
-        return em.params.x * facing * cosReceiver / max(d2, em.colour.w);
-    }
-    float t = em.params.x * cosReceiver / d2;
-    if (em.params.y > 0.0) {
-        float r = d / em.params.y;
-        float window = clamp(1.0 - r * r * r * r, 0.0, 1.0);
-        t *= window * window;
-    }
-    if (type == kSpot) {
-        float cone = clamp((-dot(em.direction.xyz, l) - em.params.w) / (em.params.z - em.params.w), 0.0, 1.0);
-        t *= cone * cone;
-    }
-    return t;
-}
-
-bool unshadowed(Emitter em, int layer, vec3 x, vec3 n)
-{
-    int type = int(em.position.w);
-    vec2 uv;
-    float depth, lateral, cosTheta;
-    if (type == kDirectional) {
-        vec3 u, v;
-        orthoBasis(em.direction.xyz, u, v);
-        uv = vec2(dot(x, u), dot(x, v)) * invRadius;
-        if (any(greaterThan(abs(uv), vec2(1.0))))
-            return true;   // its ray passes beside the scene's bounding sphere: nothing on it
-        depth = dot(x, em.direction.xyz);
-        lateral = directionalTexel;
-        cosTheta = abs(dot(n, em.direction.xyz));
-    } else {
-        vec3 q = x - em.position.xyz;
-        depth = length(q);
-        if (!(depth > 0.0))
-            return true;
-        uv = octahedral(q);
-        lateral = depth * texelAngle;
-        cosTheta = abs(dot(n, q)) / depth;
-    }
-    ivec2 texel = clamp(ivec2(floor((uv * 0.5 + 0.5) * float(resolution))), ivec2(0), ivec2(resolution - 1));
-    float nearest = texelFetch(maps, ivec3(texel, layer), 0).r;
-    float tanTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta)) / max(cosTheta, 1e-6);
-    return depth <= nearest + lateral * min(1.0 + tanTheta, maxBiasTexels);
-}
-
-void main()
-{
-    int i = pointBase + int(gl_GlobalInvocationID.x);
-    if (i >= pointCount)
-        return;
-    vec3 x = points[2 * i].xyz, n = points[2 * i + 1].xyz;
-    vec3 sum = vec3(0.0);
-    uint tile = useClasses != 0 ? tileOf[i] : 0u;
-    for (int k = 0; k < emitterCount; ++k) {
-        int e = batch[k];
-        Emitter em = emitters[e];
-        float t = term(em, x, n);
-        if (t <= 0.0 && wantBits == 0)
-            continue;
-        // Barczak's classes: unreached and shadowed tiles take nothing, lit ones no shadow test.
-        uint cls = 3u;
-        if (useClasses != 0) {
-            uint at = tile * uint(lightCount) + uint(em.extra.x);
-            cls = (classes[at / 4u] >> (8u * (at % 4u))) & 255u;
-        }
-        if (cls < 2u || (cls == 3u && !unshadowed(em, k, x, n)))
-            continue;
-        if (t > 0.0)
-            sum += em.colour.rgb * t;
-        if (wantBits != 0)
-            bits[i * wordsPerPoint + e / 32] |= 1u << uint(e % 32);
-    }
-    irradiance[i] += vec4(sum, 0.0);
-}
-)";
 
 GpuEmitter gpuEmitter(const Light& light, std::uint32_t index, const glm::dvec3& position, const glm::dvec3& origin)
 {
@@ -326,20 +131,12 @@ GlDirectLight::GlDirectLight(const gl::Functions& gl, const WorldTriangles& tria
         local[k] = glm::vec3(glm::dvec3(triangles.vertices[k]) - m.origin);
     m.vertexCount = GLsizei(local.size());
 
-    const std::string emitters = std::string("#version 450 core\n") + kEmitterGlsl;
-    const std::string fragment = std::string("#version 450 core\n") + kEmitterGlsl + R"(
-in vec3 toPoint;
-layout(location = 0) out float nearest;
-void main()
-{
-    // A directional map keeps the depth along the light (in toPoint.x), an emitter's the distance.
-    nearest = int(emitters[batch[gl_Layer]].position.w) == kDirectional ? toPoint.x : length(toPoint);
-}
-)";
-    m.mapProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kMapVertex}, {GL_GEOMETRY_SHADER, emitters + kMapGeometry},
+    const std::string emitters = std::string("#version 450 core\n") + glsl::lights_emitters_glsl;
+    const std::string fragment = emitters + glsl::lights_map_frag;
+    m.mapProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::lights_map_vert}, {GL_GEOMETRY_SHADER, emitters + glsl::lights_map_geom},
                                          {GL_FRAGMENT_SHADER, fragment}},
                                     "GL lights shadow maps");
-    m.shadeProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, emitters + kShade}}, "GL lights shading");
+    m.shadeProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, emitters + glsl::lights_shade_comp}}, "GL lights shading");
 
     m.upload(m.vertexBuffer, local.data(), local.size() * sizeof(glm::vec3));
     m.vao = gl::positionVertexArray(gl, m.vertexBuffer);

@@ -9,6 +9,8 @@
 #include "visibility/gl/GlShaders.h"
 #include "visibility/Error.h"
 #include "visibility/ShaftGeometry.h"
+#include "glsl/hh_count.frag.h"
+#include "glsl/hh_projection.vert.h"
 
 namespace sightline {
 
@@ -16,30 +18,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-// Clipping to the segment interiors uses clip distances on D / Sd directly: a far plane in the
-// projection (z = k w - (k - 1) with k - 1 ~ 2e-6) drowns in float rounding of x and y's terms,
-// and let triangles behind the receiver plane count (the random-scene test caught it).
-const char* kVertexShader = R"(#version 450 core
-layout(location = 0) in vec3 aPosition;
-uniform mat4 uProjection;   // world -> clip, from one source sample onto the receiver grid
-uniform vec4 uDepth;        // world -> D / Sd: 1 at the source sample, 0 on the receiver plane
-uniform float uNear;
-out float gl_ClipDistance[2];
-void main()
-{
-    vec4 x = vec4(aPosition, 1.0);
-    gl_Position = uProjection * x;
-    float depth = dot(uDepth, x);
-    gl_ClipDistance[0] = depth;                  // in front of the receiver plane
-    gl_ClipDistance[1] = (1.0 - uNear) - depth;  // short of the source sample
-}
-)";
-
-const char* kFragmentShader = R"(#version 450 core
-layout(location = 0) out float oCount;
-void main() { oCount = 1.0; }
-)";
 
 /// How far short of the source sample the counted part of the segment stops, as a fraction of the
 /// way (a baseline that counts only; the exact samplers use ExactSegment.h's margin).
@@ -98,7 +76,7 @@ struct HeckbertHerfSampler::Impl {
 HeckbertHerfSampler::HeckbertHerfSampler(const gl::Functions& gl, WorldTriangles triangles)
     : impl_(std::make_unique<Impl>(gl, std::move(triangles)))
 {
-    impl_->program = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kVertexShader}, {GL_FRAGMENT_SHADER, kFragmentShader}},
+    impl_->program = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::hh_projection_vert}, {GL_FRAGMENT_SHADER, glsl::hh_count_frag}},
                                       "Heckbert-Herf sampler");
     gl.CreateBuffers(1, &impl_->buffer);
     impl_->vertexArray = gl::positionVertexArray(gl, impl_->buffer);

@@ -9,72 +9,13 @@
 
 #include "visibility/Error.h"
 #include "visibility/gl/GlShaders.h"
+#include "glsl/ao_compare.comp.h"
+#include "glsl/ao_depth.frag.h"
+#include "glsl/ao_depth.vert.h"
 
 namespace sightline {
 
 namespace {
-
-// One render answers a direction d and its antipode -d (the light sphere is centrally symmetric):
-// each texel keeps min(-p.d) (the surface nearest a light at +d) and min(p.d) (nearest -d),
-// written by MIN blending into a two-channel float target instead of a depth test. On llvmpipe
-// the cost is the triangles' set-up (69k small triangles per render for the bunny), not the
-// fragments, so this halves the GL mode's time (docs/ao.md).
-const char* const kDepthVertex = R"(#version 450 core
-layout(location = 0) in vec3 position;
-uniform vec3 centre, axisU, axisV, axisD;
-uniform float invRadius;
-out float along;
-void main()
-{
-    vec3 p = position - centre;
-    along = dot(p, axisD) * invRadius;   // in [-1, 1]: the bounding sphere
-    // Orthographic along d; z = 0 so nothing is clipped in depth (no depth test: MIN blending).
-    gl_Position = vec4(dot(p, axisU) * invRadius, dot(p, axisV) * invRadius, 0.0, 1.0);
-}
-)";
-
-const char* const kDepthFragment = R"(#version 450 core
-in float along;
-layout(location = 0) out vec2 nearest;
-void main() { nearest = vec2(-along, along); }
-)";
-
-// One dispatch per pair too: a point faces at most one of d and -d.
-const char* const kCompare = R"(#version 450 core
-layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Origins { vec4 origins[]; };
-layout(std430, binding = 1) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 2) buffer Bits { uint bits[]; };
-layout(binding = 0) uniform sampler2D nearestMap;
-uniform vec3 centre, axisU, axisV, axisD;
-uniform float invRadius, texelWorld, maxBiasTexels;
-uniform int resolution, pointCount, wordsPerPoint;
-uniform int directionPos, directionNeg;   // indices of d and -d; -1: not asked for in this call
-void main()
-{
-    int i = int(gl_GlobalInvocationID.x);
-    if (i >= pointCount)
-        return;
-    vec3 n = normals[i].xyz;
-    float c = dot(n, axisD);
-    int direction = c > 0.0 ? directionPos : c < 0.0 ? directionNeg : -1;
-    if (direction < 0)
-        return;   // facing directions only (zero normals face none)
-    c = abs(c);
-    vec3 p = origins[i].xyz - centre;
-    vec2 ndc = vec2(dot(p, axisU), dot(p, axisV)) * invRadius;
-    ivec2 texel = clamp(ivec2((ndc * 0.5 + 0.5) * float(resolution)), ivec2(0), ivec2(resolution - 1));
-    vec2 nearest = texelFetch(nearestMap, texel, 0).rg;
-    float along = dot(p, axisD) * invRadius;
-    // The point's distance from the light's side, and the surface nearest the light in its texel.
-    float depth = direction == directionPos ? -along : along;
-    float mapDepth = direction == directionPos ? nearest.r : nearest.g;
-    float tanTheta = sqrt(max(0.0, 1.0 - c * c)) / c;
-    float bias = texelWorld * min(1.0 + tanTheta, maxBiasTexels) * invRadius;
-    if (depth <= mapDepth + bias)
-        atomicOr(bits[i * wordsPerPoint + direction / 32], 1u << uint(direction % 32));
-}
-)";
 
 void basisOf(const glm::vec3& d, glm::vec3& u, glm::vec3& v)
 {
@@ -136,8 +77,8 @@ AoGlCaster::AoGlCaster(const gl::Functions& gl, const AoOccluders& occluders, Ao
     for (const glm::vec3& p : occluders.vertices)
         radius = std::max(radius, double(glm::length(p - m.centre)));
     m.radius = float(radius * 1.01 + 1e-6);
-    m.depthProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kDepthVertex}, {GL_FRAGMENT_SHADER, kDepthFragment}}, "GL AO depth map");
-    m.compareProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, kCompare}}, "GL AO depth compare");
+    m.depthProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::ao_depth_vert}, {GL_FRAGMENT_SHADER, glsl::ao_depth_frag}}, "GL AO depth map");
+    m.compareProgram = gl::buildProgram(gl, {{GL_COMPUTE_SHADER, glsl::ao_compare_comp}}, "GL AO depth compare");
 
     // Coarse occluders where they give the same answer: edge collapses that move the surface by
     // less than a fraction of a texel, which the compare's bias (at least a texel) and the map's
