@@ -3,54 +3,20 @@
 #include <string>
 
 #include "visibility/gl/GlShaders.h"
+#include "glsl/level_relight.frag.h"
+#include "glsl/level_relight.vert.h"
+#include "glsl/level_shading.glsl.h"
 
 namespace sightline::ui {
 
-const char* const kLevelShadingGlsl = R"(
-uniform int aoOn;            // ambient occlusion from the light map (AoPreview.h)
-uniform int litOn;           // the lit view: the light map is the light (LitPreview.h)
-layout(binding = 3) uniform sampler2D aoMap;
-vec3 shadeLevel(vec3 c, float light, vec2 mapUv) {
-    // The map has one level: an explicit lod keeps the relight pass's reads equal to the draw's.
-    if (litOn != 0 && aoOn != 0) {
-        // A faint headlight keeps unlit geometry readable; texels outside the map stay dark.
-        vec3 lit = mapUv.x >= 0.0 ? textureLod(aoMap, mapUv, 0.0).rgb : vec3(0.0);
-        return c * (0.06 * light + 1.25 * lit);
-    }
-    vec3 ambient = vec3(1.0);
-    if (aoOn != 0 && mapUv.x >= 0.0)   // a floor, so the darkest corner still reads; HDR light clamped
-        ambient = 0.3 + 0.7 * min(textureLod(aoMap, mapUv, 0.0).rgb, vec3(1.5));
-    return c * light * ambient;
-}
-)";
-
 namespace {
-
-const char* kRelightVertex = R"(#version 450 core
-void main() {   // one triangle over the whole target
-    vec2 p = vec2(float((gl_VertexID & 1) << 2), float((gl_VertexID & 2) << 1)) - 1.0;
-    gl_Position = vec4(p, 0.0, 1.0);
-}
-)";
-
-const char* kRelightFragment = R"(
-layout(binding = 6) uniform sampler2D surfaceMap;   // (map uv, headlight, 1 where the map shades it)
-layout(binding = 7) uniform sampler2D baseMap;      // the colour before light
-layout(location = 0) out vec4 colour;
-void main() {
-    ivec2 p = ivec2(gl_FragCoord.xy);
-    vec4 s = texelFetch(surfaceMap, p, 0);
-    if (s.w == 0.0) discard;   // background, wireframe, or drawn without the map: kept
-    colour = vec4(shadeLevel(texelFetch(baseMap, p, 0).rgb, s.z, s.xy), 1.0);
-}
-)";
 
 } // namespace
 
 LevelRelight::LevelRelight(const gl::Functions& gl) : gl_(gl)
 {
     program_ = gl::buildProgram(
-        gl, {{GL_VERTEX_SHADER, kRelightVertex}, {GL_FRAGMENT_SHADER, std::string("#version 450 core\n") + kLevelShadingGlsl + kRelightFragment}},
+        gl, {{GL_VERTEX_SHADER, glsl::level_relight_vert}, {GL_FRAGMENT_SHADER, std::string("#version 450 core\n") + glsl::level_shading_glsl + glsl::level_relight_frag}},
         "viewport relight");
     gl.ProgramUniform1i(program_, gl.GetUniformLocation(program_, "aoOn"), 1);
     gl.CreateVertexArrays(1, &vertexArray_);

@@ -5,18 +5,13 @@
 // also writes two surfaces beside the colour: per pixel where the light map is read (its uv), the
 // headlight term, and the surface's colour before light. When then only the light map's texels
 // change (a light dragged: the same uvs, a new map), one full-screen pass computes every map-shaded pixel again
-// from those surfaces with the very function the level's draw uses (kLevelShadingGlsl), so the
+// from those surfaces with the very function the level's draw uses (glsl/level_shading.glsl), so the
 // picture equals a whole draw's while costing a few texture reads a pixel, not the level's
 // triangles (on a software rasteriser most of a frame).
 
 #include "visibility/gl/GlFunctions.h"
 
 namespace sightline::ui {
-
-/// GLSL: the uniforms `aoOn`, `litOn`, `aoMap` (binding 3) and
-/// `vec3 shadeLevel(vec3 base, float headlight, vec2 mapUv)`, the level's colour under the AO
-/// or lit map (mapUv.x < 0: outside the map). Shared by the level's draw and the relight pass.
-extern const char* const kLevelShadingGlsl;
 
 class LevelRelight {
 public:

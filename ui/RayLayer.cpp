@@ -7,35 +7,12 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "visibility/gl/GlShaders.h"
+#include "glsl/layer_composite.frag.h"
+#include "glsl/layer_composite.vert.h"
 
 namespace sightline::ui {
 
 namespace {
-
-// A rectangle of the frame (NDC corners), each pixel reading the layer at its own place: the
-// layer covers the same view, so a frame pixel's texture coordinate is its position over the size.
-const char* kCompositeVertex = R"(#version 450 core
-uniform vec2 lo, hi;
-void main() {
-    const vec2 corners[4] = vec2[4](vec2(0, 0), vec2(1, 0), vec2(0, 1), vec2(1, 1));
-    gl_Position = vec4(mix(lo, hi, corners[gl_VertexID]), 0.0, 1.0);
-}
-)";
-
-// The layer counts rays; n rays of opacity a cover 1 - (1 - a)^n of a pixel.
-const char* kCompositeFragment = R"(#version 450 core
-layout(binding = 0) uniform sampler2D counts;
-uniform vec2 frameSize;
-uniform vec3 freeColour, blockedColour;
-uniform vec2 log2Clear;   // log2(1 - a) of a free ray, of a blocked ray
-layout(location = 0) out vec4 colour;
-void main() {
-    vec2 n = texture(counts, gl_FragCoord.xy / frameSize).rg;   // an R32F layer reads 0 blocked rays
-    vec2 c = 1.0 - exp2(n * log2Clear);
-    // Premultiplied: the free rays over the blocked ones.
-    colour = vec4(freeColour * c.r + blockedColour * c.g * (1.0 - c.r), c.r + c.g * (1.0 - c.r));
-}
-)";
 
 double cross(const glm::dvec2& o, const glm::dvec2& a, const glm::dvec2& b)
 {
@@ -124,7 +101,7 @@ float rayOpacity(double coverage, double overlap, int divisor)
 
 RayLayer::RayLayer(const gl::Functions& gl) : gl_(gl)
 {
-    program_ = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kCompositeVertex}, {GL_FRAGMENT_SHADER, kCompositeFragment}},
+    program_ = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::layer_composite_vert}, {GL_FRAGMENT_SHADER, glsl::layer_composite_frag}},
                                 "ray layer");
     gl.CreateVertexArrays(1, &vao_);   // attribute-less
 }

@@ -15,195 +15,20 @@
 #include "RayLayer.h"
 #include "visibility/SourceJitter.h"
 #include "visibility/gl/GlShaders.h"
+#include "glsl/level_shading.glsl.h"
+#include "glsl/view_line.frag.h"
+#include "glsl/view_line.vert.h"
+#include "glsl/view_mesh.frag.h"
+#include "glsl/view_mesh.vert.h"
+#include "glsl/view_overlay.frag.h"
+#include "glsl/view_overlay.vert.h"
+#include "glsl/view_rays.vert.h"
 
 namespace sightline::ui {
 
 namespace {
 
-const char* kMeshVertex = R"(#version 450 core
-layout(location = 0) in vec3 position;
-layout(location = 1) in vec3 normal;
-layout(location = 2) in uint object;
-layout(location = 3) in vec2 aoUv;   // where the vertex lies in the AO light map; x < 0: none
-uniform mat4 viewProj;
-uniform vec3 eye;
-uniform vec3 viewForward;
-uniform float cutDepth;      // cutaway: nearer than this along viewForward is clipped,
-uniform float cutHeight;     // and above this height (clip distances keep early depth tests)
-uniform int hideOn;          // objects the designer hid (ObjectFlags.h): clipped whole
-layout(binding = 5) uniform usamplerBuffer hiddenObjects;
-out vec3 vPosition;
-out vec3 vNormal;
-out vec2 vAoUv;
-flat out uint vObject;
-void main() {
-    vAoUv = aoUv;
-    vPosition = position;
-    vNormal = normal;
-    vObject = object;
-    gl_ClipDistance[0] = cutHeight - position.y;
-    gl_ClipDistance[1] = dot(position - eye, viewForward) - cutDepth;
-    gl_ClipDistance[2] = hideOn != 0 && texelFetch(hiddenObjects, int(object)).r != 0u ? -1.0 : 1.0;
-    gl_Position = viewProj * vec4(position, 1.0);
-}
-)";
-
-const char* kMeshFragmentBody = R"(
-in vec3 vPosition;
-in vec3 vNormal;
-in vec2 vAoUv;
-flat in uint vObject;
-uniform vec3 eye;
-uniform vec3 viewForward;
-uniform int orthographic;    // the headlight is the view direction, the same over the whole view
-uniform int pvsOn;           // the PVS debugger: scene-file objects the current cell cannot see
-layout(binding = 4) uniform usamplerBuffer pvsCulled;
-uniform vec3 baseColour;
-uniform int selected;        // object id, -1 for none
-uniform vec4 flatColour;     // alpha > 0: wireframe pass, no shading
-layout(location = 0) out vec4 colour;
-layout(location = 1) out vec4 surface;   // LevelRelight's: map uv, headlight, 1 where the map shades it
-layout(location = 2) out vec4 unlit;     // ... and the colour before light
-void main() {
-    if (flatColour.a > 0.0) {
-        colour = flatColour;
-        surface = vec4(-1.0, -1.0, 0.0, 0.0);
-        unlit = vec4(0.0);
-        return;
-    }
-    vec3 toEye = orthographic != 0 ? -viewForward : normalize(eye - vPosition);
-    vec3 n = normalize(vNormal);
-    if (dot(n, toEye) < 0.0) n = -n;           // both faces block rays; both are shaded
-    float light = 0.25 + 0.6 * max(dot(n, toEye), 0.0) + 0.15 * (0.5 + 0.5 * n.y);
-    // The inside of a solid, seen where the section cut opened it, reads as the cut's section
-    // (darker), so walls stand out from floors in a plan view, where every face would be as bright.
-    if (!gl_FrontFacing) light *= 0.55;
-    vec3 c = baseColour;
-    uint tint = pvsOn != 0 ? texelFetch(pvsCulled, int(vObject)).r : 0u;   // ViewportRenderer::setPvsCulled's classes
-    if (tint == 1u) c = mix(c, vec3(0.85, 0.1, 0.45), 0.7);
-    else if (tint == 2u) c = mix(c, vec3(1.0, 0.85, 0.2), 0.55);
-    else if (tint == 3u) c = mix(c, vec3(0.55, 0.35, 0.95), 0.6);
-    else if (tint == 4u) c *= 0.35;
-    // The selection's tint is faint where AO shades the level: a strong one would hide the very
-    // shading the designer selected the object to see (View > AO of Selected Object Only).
-    if (int(vObject) == selected) c = mix(c, vec3(1.0, 0.55, 0.1), aoOn != 0 ? 0.2 : 0.6);
-    surface = vec4(vAoUv, light, aoOn != 0 ? 1.0 : 0.0);
-    unlit = vec4(c, 1.0);
-    colour = vec4(shadeLevel(c, light, vAoUv), 1.0);
-}
-)";
-
-const std::string kMeshFragment = std::string("#version 450 core\n") + kLevelShadingGlsl + kMeshFragmentBody;
-
-const char* kLineVertex = R"(#version 450 core
-layout(location = 0) in vec3 position;
-layout(location = 1) in vec4 colourIn;
-uniform mat4 viewProj;
-out vec4 vColour;
-void main() { vColour = colourIn; gl_Position = viewProj * vec4(position, 1.0); }
-)";
-
-const char* kLineFragment = R"(#version 450 core
-in vec4 vColour;
-layout(location = 0) out vec4 colour;
-void main() { colour = vColour; }
-)";
-
-// Ray k of the subset (raySubset() in C++ computes the same pairs).
-const char* kRayVertex = R"(#version 450 core
-uniform mat4 viewProj;
-uniform vec3 sourceCorner, sourceU, sourceV;
-uniform ivec2 sourceGrid;
-uniform vec3 receiverCorner, receiverU, receiverV;
-uniform ivec2 receiverGrid;
-uniform uint receivers, receiverStride, sourceStride;
-uniform int showBlocked;
-uniform vec4 freeColour, blockedColour, stopColour;
-// useEnds: a blocked ray ends at its first stop (ends[k], a fraction of the way to the receiver).
-// marks: one vertex per ray, a dot at that stop (clipped for free rays and rays stopped nowhere).
-uniform int useEnds, marks;
-layout(binding = 2) uniform samplerBuffer ends;
-// The drawn rays, listed on the CPU once per answer (never the whole map: a 512x512 receiver's
-// is 32 MB). indirect: vertex pair n draws ray rays[n], the free rays of the subset (blocked rays
-// hidden: none of them costs vertex work). Otherwise ray k = n, blocked where bit k of rays is set.
-// disagreement: listed like indirect, each entry k | class << 30 (k < 2^30: 1024 x 1024^2 rays at
-// most), the class colouring it: 1 false-blocked, 2 false-free, 3 a tie (disagreementDrawnRays).
-uniform int indirect, disagreement;
-uniform vec4 falseBlockedColour, falseFreeColour, tieColour;
-layout(binding = 0) uniform usamplerBuffer rays;
-out vec4 vColour;
-uint mixBits(uint x) {
-    x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
-    return x;
-}
-vec3 samplePoint(vec3 corner, vec3 u, vec3 v, ivec2 grid, uint index) {
-    uint a = index % uint(grid.x), b = index / uint(grid.x);
-    return corner + (float(a) + 0.5) / float(grid.x) * u + (float(b) + 0.5) / float(grid.y) * v;
-}
-void main() {
-    uint id = marks != 0 ? uint(gl_VertexID) : uint(gl_VertexID) >> 1;
-    uint entry = indirect != 0 ? texelFetch(rays, int(id)).r : id;
-    uint kind = disagreement != 0 ? entry >> 30 : 0u;
-    uint k = disagreement != 0 ? entry & 0x3fffffffu : entry;
-    uint jk = k % receivers, ik = k / receivers;
-    uint j = jk * receiverStride + (receiverStride > 1u ? mixBits(jk) % receiverStride : 0u);
-    uint i = ik * sourceStride + (sourceStride > 1u ? mixBits(j ^ 0x5bd1e995u) % sourceStride : 0u);
-    bool blocked = indirect == 0 && ((texelFetch(rays, int(k >> 5)).r >> (k & 31u)) & 1u) != 0u;
-    vec3 s = samplePoint(sourceCorner, sourceU, sourceV, sourceGrid, i);
-    vec3 r = samplePoint(receiverCorner, receiverU, receiverV, receiverGrid, j);
-    float stop = (blocked && useEnds != 0) ? texelFetch(ends, int(k)).r : 1.0;
-    // The dot sits a hair in front of the surface it marks, so the depth test keeps it.
-    vec3 p = marks != 0 ? mix(s, r, max(stop - 0.002, 0.0)) : (gl_VertexID & 1) != 0 ? mix(s, r, stop) : s;
-    vColour = marks != 0       ? stopColour
-              : kind == 1u     ? falseBlockedColour
-              : kind == 2u     ? falseFreeColour
-              : kind == 3u     ? tieColour
-              : blocked        ? blockedColour
-                               : freeColour;
-    bool clipped = (blocked && showBlocked == 0) || (marks != 0 && !(blocked && stop < 1.0));
-    gl_Position = clipped ? vec4(2.0, 2.0, 2.0, 1.0) : viewProj * vec4(p, 1.0);
-    gl_PointSize = 4.0;
-}
-)";
-
-// The overlay: the patch's parallelogram, patch coordinates (s, t) in [0, 1]^2, lifted a little
-// towards the eye. Colours come from a buffer texture, sample (a, b) at texel b * na + a, fetched
-// by hand: texel (a, b) covers the cell [a/na, (a+1)/na) x [b/nb, (b+1)/nb) whose centre is sample
-// (a, b) (docs/design.md §2), exactly; `smoothing` interpolates between sample centres instead.
-const char* kOverlayVertex = R"(#version 450 core
-uniform mat4 viewProj;
-uniform vec3 corner, edgeU, edgeV, lift;
-out vec2 st;
-void main() {
-    const vec2 corners[6] = vec2[6](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
-    st = corners[gl_VertexID];
-    gl_Position = viewProj * vec4(corner + st.x * edgeU + st.y * edgeV + lift, 1.0);
-}
-)";
-
-const char* kOverlayFragment = R"(#version 450 core
-in vec2 st;
-uniform ivec2 grid;
-uniform int smoothing;
-layout(binding = 1) uniform samplerBuffer texels;
-layout(location = 0) out vec4 colour;
-vec4 texel(ivec2 p) {
-    p = clamp(p, ivec2(0), grid - 1);
-    return texelFetch(texels, p.y * grid.x + p.x);
-}
-void main() {
-    vec2 cell = st * vec2(grid);
-    if (smoothing == 0) {
-        colour = vec4(texel(ivec2(floor(cell))).rgb, 1.0);
-        return;
-    }
-    vec2 q = cell - 0.5;   // sample centres at integer q
-    ivec2 i = ivec2(floor(q));
-    vec2 f = q - vec2(i);
-    vec4 c = mix(mix(texel(i), texel(i + ivec2(1, 0)), f.x), mix(texel(i + ivec2(0, 1)), texel(i + ivec2(1, 1)), f.x), f.y);
-    colour = vec4(c.rgb, 1.0);
-}
-)";
+const std::string kMeshFragment = std::string("#version 450 core\n") + glsl::level_shading_glsl + glsl::view_mesh_frag;
 
 } // namespace
 
@@ -597,7 +422,7 @@ struct ViewportRenderer::Impl {
         gl.TextureBuffer(buffer.hiddenTexture, GL_R8UI, buffer.hiddenBuffer);
     }
 
-    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int highlight, const glm::vec4& flat, GLsizei first = 0,
+    void drawMesh(const MeshBuffer& buffer, const glm::vec3& colour, int selectedObject, const glm::vec4& flat, GLsizei first = 0,
                   GLsizei end = std::numeric_limits<GLsizei>::max())
     {
         end = std::min(end, buffer.vertices);
@@ -607,7 +432,7 @@ struct ViewportRenderer::Impl {
         if (buffer.anyHidden)
             gl.BindTextureUnit(5, buffer.hiddenTexture);
         gl.ProgramUniform3fv(meshProgram, loc(meshProgram, "baseColour"), 1, glm::value_ptr(colour));
-        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), highlight);
+        gl.ProgramUniform1i(meshProgram, loc(meshProgram, "selected"), selectedObject);
         gl.ProgramUniform4fv(meshProgram, loc(meshProgram, "flatColour"), 1, glm::value_ptr(flat));
         gl.BindVertexArray(buffer.vao);
         gl.DrawArrays(GL_TRIANGLES, first, end - first);
@@ -638,10 +463,10 @@ struct ViewportRenderer::Impl {
 ViewportRenderer::ViewportRenderer(const gl::Functions& gl) : impl_(std::make_unique<Impl>(gl))
 {
     Impl& d = *impl_;
-    d.meshProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kMeshVertex}, {GL_FRAGMENT_SHADER, kMeshFragment}}, "viewport");
-    d.lineProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kLineVertex}, {GL_FRAGMENT_SHADER, kLineFragment}}, "viewport");
-    d.rayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kRayVertex}, {GL_FRAGMENT_SHADER, kLineFragment}}, "viewport");
-    d.overlayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, kOverlayVertex}, {GL_FRAGMENT_SHADER, kOverlayFragment}}, "viewport");
+    d.meshProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::view_mesh_vert}, {GL_FRAGMENT_SHADER, kMeshFragment}}, "viewport");
+    d.lineProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::view_line_vert}, {GL_FRAGMENT_SHADER, glsl::view_line_frag}}, "viewport");
+    d.rayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::view_rays_vert}, {GL_FRAGMENT_SHADER, glsl::view_line_frag}}, "viewport");
+    d.overlayProgram = gl::buildProgram(gl, {{GL_VERTEX_SHADER, glsl::view_overlay_vert}, {GL_FRAGMENT_SHADER, glsl::view_overlay_frag}}, "viewport");
     d.makeMeshBuffer(d.sceneFile);
     d.makeMeshBuffer(d.occluders);
 
