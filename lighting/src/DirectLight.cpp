@@ -30,7 +30,6 @@ namespace {
 /// Entries a tile's light cut may hold (LightTree::cut stops splitting there).
 constexpr std::size_t kMaxCutEntries = 512;
 
-
 /// What each task reuses between calls.
 struct Scratch {
     std::vector<glm::dvec3> ends;

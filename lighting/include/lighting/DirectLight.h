@@ -19,6 +19,10 @@
 //   parallel). Optionally, an area light whose samples face a planar receiver grid (the receiver
 //   patch's samples) is the bitmask method's source patch (Eisemann & Décoret §8): one call of the
 //   exact CPU bitmask sampler answers all its samples against all the grid's points.
+//
+// Beside them, two answers that are not the contract's, each measured against the reference: the
+// fast path with a light cut (LightTree.h: clusters of point lights shaded by one representative),
+// and the yardstick a user would write with Embree alone (LightingPath::EmbreeFloat: float rays).
 
 #include <array>
 #include <cstdint>
