@@ -14,7 +14,11 @@ if [ ! -d "$dir/.git" ]; then
 fi
 sudo=""
 [ "$(id -u)" -eq 0 ] || sudo=sudo
-$sudo apt-get install -y --no-install-recommends libfmt-dev nlohmann-json3-dev libembree-dev libtbb-dev ninja-build >/dev/null
+packages="libfmt-dev nlohmann-json3-dev libembree-dev libtbb-dev ninja-build"
+if ! dpkg -s $packages >/dev/null 2>&1; then
+    $sudo apt-get update -qq
+    $sudo apt-get install -y --no-install-recommends $packages >/dev/null
+fi
 
 cat > "$dir/3rdparty/CMakeLists.txt" <<'EOF'
 set(CMAKE_FIND_PACKAGE_TARGETS_GLOBAL ON)
