@@ -10,6 +10,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "visibility/EmbreeTriangles.h"
 #include "visibility/Error.h"
 
 namespace sightline::bench {
@@ -33,21 +34,7 @@ TunedEmbree::TunedEmbree(const WorldTriangles& triangles) : impl_(std::make_uniq
         throw Error("Embree: cannot create a device");
     impl_->scene = rtcNewScene(impl_->device);   // flat, not robust, default (medium) quality
     if (triangles.size() > 0) {
-        RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        // Embree may read 16 bytes past a float3, so the vertex buffer is padded by one element.
-        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), triangles.vertices.size() + 1));
-        auto* indices = static_cast<unsigned*>(
-            rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), triangles.size()));
-        if (!vertices || !indices)
-            throw Error("Embree: out of memory for " + std::to_string(triangles.size()) + " triangles");
-        for (std::size_t i = 0; i < triangles.vertices.size(); ++i) {
-            vertices[3 * i] = triangles.vertices[i].x;
-            vertices[3 * i + 1] = triangles.vertices[i].y;
-            vertices[3 * i + 2] = triangles.vertices[i].z;
-        }
-        for (std::size_t i = 0; i < 3 * triangles.size(); ++i)
-            indices[i] = unsigned(i);
+        RTCGeometry geometry = newTriangleSoup(impl_->device, triangles.vertices);
         rtcCommitGeometry(geometry);
         rtcAttachGeometry(impl_->scene, geometry);
         rtcReleaseGeometry(geometry);

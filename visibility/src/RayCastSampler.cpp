@@ -208,6 +208,24 @@ HiddenSampleMap RayCastScene::sample(const Patch& source, const Patch& receiver,
     return map;
 }
 
+namespace {
+
+/// Lane k of a packet: the float ray org + t dir, 0 <= t <= 1, with `id` (by which the call's
+/// context finds its exact segment).
+void setLane(RTCRay16& rays, int k, const glm::vec3& org, const glm::vec3& dir, unsigned id)
+{
+    rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
+    rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
+    rays.tnear[k] = 0.0f;
+    rays.tfar[k] = 1.0f;
+    rays.time[k] = 0.0f;
+    rays.mask[k] = 0xffffffffu;
+    rays.id[k] = id;
+    rays.flags[k] = 0;
+}
+
+} // namespace
+
 /// One sampleUnblocked call: the pair's exact sample ends and the map it fills, with one method
 /// per traversal (from each receiver sample to its source samples, or from each source sample to
 /// a block of 4x4 receiver samples).
@@ -263,14 +281,7 @@ struct RayCastScene::UnblockedCall {
                 valid[k] = i < S && !blockedIn(bits, i) ? -1 : 0;
                 lanes += valid[k] != 0;
                 const glm::vec3 dir = i < S ? glm::vec3(directions[std::size_t(i)]) : glm::vec3(1.0f);
-                rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
-                rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
-                rays.tnear[k] = 0.0f;
-                rays.tfar[k] = 1.0f;
-                rays.time[k] = 0.0f;
-                rays.mask[k] = 0xffffffffu;
-                rays.id[k] = unsigned(i < S ? i : 0);
-                rays.flags[k] = 0;
+                setLane(rays, k, org, dir, unsigned(i < S ? i : 0));
             }
             if (lanes == 0)
                 continue;
@@ -345,15 +356,7 @@ struct RayCastScene::UnblockedCall {
                 // back from that source end: within the widening's bound of the exact segment.
                 const glm::dvec3 start = sampleEnds.source[std::size_t(i)] + shifts[k];
                 toSource[k] = start - ends[k];
-                const glm::vec3 org(start), dir(-toSource[k]);
-                rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
-                rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
-                rays.tnear[k] = 0.0f;
-                rays.tfar[k] = 1.0f;
-                rays.time[k] = 0.0f;
-                rays.mask[k] = 0xffffffffu;
-                rays.id[k] = unsigned(k);
-                rays.flags[k] = 0;
+                setLane(rays, int(k), glm::vec3(start), glm::vec3(-toSource[k]), unsigned(k));
             }
             blockCast += std::uint64_t(lanes);
             rtcOccluded16(valid, scene, &context.base, &rays);
@@ -428,20 +431,6 @@ std::uint64_t RayCastScene::sampleUnblocked(const Patch& source, const Patch& re
 
 namespace {
 
-/// Lane k of a packet: the float ray org + t dir, 0 <= t <= 1, with id k (its exact segment in the
-/// call's context by that id).
-void setLane(RTCRay16& rays, int k, const glm::vec3& org, const glm::vec3& dir)
-{
-    rays.org_x[k] = org.x, rays.org_y[k] = org.y, rays.org_z[k] = org.z;
-    rays.dir_x[k] = dir.x, rays.dir_y[k] = dir.y, rays.dir_z[k] = dir.z;
-    rays.tnear[k] = 0.0f;
-    rays.tfar[k] = 1.0f;
-    rays.time[k] = 0.0f;
-    rays.mask[k] = 0xffffffffu;
-    rays.id[k] = unsigned(k);
-    rays.flags[k] = 0;
-}
-
 /// `count` segments in packets of 16: `fill(k, i)` puts segment i's exact ends in the context's
 /// arrays at lane k and returns its float ray (i == count for an idle lane, which it fills
 /// harmlessly); blocked[i] gets the packet's answer.
@@ -455,7 +444,7 @@ void castPackets(RTCScene scene, RTCIntersectContext* context, std::size_t count
             const std::size_t i = std::min(first + std::size_t(k), count);
             valid[k] = i < count ? -1 : 0;
             const auto [org, dir] = fill(k, i);
-            setLane(rays, k, org, dir);
+            setLane(rays, k, org, dir, unsigned(k));
         }
         rtcOccluded16(valid, scene, context, &rays);
         for (int k = 0; k < 16 && first + std::size_t(k) < count; ++k)

@@ -5,6 +5,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "visibility/EmbreeTriangles.h"
 #include "visibility/Error.h"
 
 namespace sightline::lights {
@@ -46,17 +47,7 @@ FloatShadowRays::FloatShadowRays(const WorldTriangles& triangles) : embree_(std:
     rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
     e.triangles = triangles.vertices.size() / 3;
     if (e.triangles > 0) {
-        RTCGeometry g = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                              triangles.vertices.size()));
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
-                                                                   e.triangles));
-        if (!v || !idx)
-            throw Error("Embree: out of memory for " + std::to_string(e.triangles) + " triangles");
-        for (std::size_t k = 0; k < triangles.vertices.size(); ++k) {
-            v[3 * k] = triangles.vertices[k].x, v[3 * k + 1] = triangles.vertices[k].y, v[3 * k + 2] = triangles.vertices[k].z;
-            idx[k] = unsigned(k);
-        }
+        RTCGeometry g = newTriangleSoup(e.device, triangles.vertices);
         rtcCommitGeometry(g);
         rtcAttachGeometry(e.scene, g);
         rtcReleaseGeometry(g);

@@ -5,6 +5,7 @@
 
 #include <embree3/rtcore.h>
 
+#include "visibility/EmbreeTriangles.h"
 #include "visibility/Error.h"
 
 namespace sightline::pvs {
@@ -48,20 +49,7 @@ FirstHitCaster::FirstHitCaster(const Scene& scene) : embree_(std::make_unique<Em
     e.instanceOf = std::move(world.instanceOf);
     e.vertices = std::move(world.vertices);
     if (!e.instanceOf.empty()) {
-        RTCGeometry g = rtcNewGeometry(e.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                              3 * sizeof(float), e.vertices.size()));
-        auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned), e.instanceOf.size()));
-        if (!v || !idx)
-            throw Error("Embree: out of memory for " + std::to_string(e.instanceOf.size()) + " triangles");
-        for (std::size_t k = 0; k < e.vertices.size(); ++k) {
-            v[3 * k] = e.vertices[k].x;
-            v[3 * k + 1] = e.vertices[k].y;
-            v[3 * k + 2] = e.vertices[k].z;
-        }
-        for (std::size_t k = 0; k < e.vertices.size(); ++k)
-            idx[k] = unsigned(k);
+        RTCGeometry g = newTriangleSoup(e.device, e.vertices);
         rtcCommitGeometry(g);
         rtcAttachGeometry(e.scene, g);
         rtcReleaseGeometry(g);
