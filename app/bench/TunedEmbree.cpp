@@ -11,36 +11,16 @@
 #include <tbb/task_arena.h>
 
 #include "visibility/EmbreeTriangles.h"
-#include "visibility/Error.h"
 
 namespace sightline::bench {
 
+/// Flat, not robust, Embree's default (medium) build quality.
 struct TunedEmbree::Impl {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    ~Impl()
-    {
-        if (scene)
-            rtcReleaseScene(scene);
-        if (device)
-            rtcReleaseDevice(device);
-    }
+    EmbreeSoupScene soup;
+    explicit Impl(const WorldTriangles& triangles) : soup(triangles.vertices, RTC_SCENE_FLAG_NONE, RTC_BUILD_QUALITY_MEDIUM) {}
 };
 
-TunedEmbree::TunedEmbree(const WorldTriangles& triangles) : impl_(std::make_unique<Impl>())
-{
-    impl_->device = rtcNewDevice(nullptr);
-    if (!impl_->device)
-        throw Error("Embree: cannot create a device");
-    impl_->scene = rtcNewScene(impl_->device);   // flat, not robust, default (medium) quality
-    if (triangles.size() > 0) {
-        RTCGeometry geometry = newTriangleSoup(impl_->device, triangles.vertices);
-        rtcCommitGeometry(geometry);
-        rtcAttachGeometry(impl_->scene, geometry);
-        rtcReleaseGeometry(geometry);
-    }
-    rtcCommitScene(impl_->scene);
-}
+TunedEmbree::TunedEmbree(const WorldTriangles& triangles) : impl_(std::make_unique<Impl>(triangles)) {}
 
 TunedEmbree::~TunedEmbree() = default;
 
@@ -80,7 +60,7 @@ HiddenSampleMap TunedEmbree::sample(const Patch& source, const Patch& receiver, 
     std::vector<glm::dvec3> sources(static_cast<std::size_t>(S));
     for (int i = 0; i < S; ++i)
         sources[std::size_t(i)] = source.sample(i);
-    RTCScene scene = impl_->scene;
+    RTCScene scene = impl_->soup.scene;
     const RTCIntersectContextFlags flags =
         traversal.coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     // Casts up to 16 segments from `origin` (lane k to origin + dirs[k]); returns the occluded lanes.

@@ -6,6 +6,17 @@
 
 namespace sightline {
 
+namespace {
+
+void keepFirstError(void* user, RTCError code, const char* message)
+{
+    auto* text = static_cast<std::string*>(user);
+    if (text->empty())
+        *text = std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+} // namespace
+
 RTCGeometry newTriangleSoup(RTCDevice device, std::span<const glm::vec3> vertices)
 {
     const std::size_t triangles = vertices.size() / 3;
@@ -23,6 +34,42 @@ RTCGeometry newTriangleSoup(RTCDevice device, std::span<const glm::vec3> vertice
         index[k] = unsigned(k);
     }
     return geometry;
+}
+
+EmbreeSoupScene::EmbreeSoupScene(std::span<const glm::vec3> vertices, RTCSceneFlags flags, RTCBuildQuality quality)
+{
+    device = rtcNewDevice(nullptr);
+    if (!device)
+        throw Error("Embree: cannot create a device");
+    try {
+        rtcSetDeviceErrorFunction(device, keepFirstError, &error);
+        scene = rtcNewScene(device);
+        rtcSetSceneFlags(scene, flags);
+        rtcSetSceneBuildQuality(scene, quality);
+        if (vertices.size() >= 3) {
+            RTCGeometry geometry = newTriangleSoup(device, vertices);
+            rtcCommitGeometry(geometry);
+            rtcAttachGeometry(scene, geometry);
+            rtcReleaseGeometry(geometry);
+        }
+        rtcCommitScene(scene);
+        if (!error.empty())
+            throw Error("Embree: " + error);
+    } catch (...) {
+        release();   // a constructor that throws runs no destructor
+        throw;
+    }
+}
+
+EmbreeSoupScene::~EmbreeSoupScene() { release(); }
+
+void EmbreeSoupScene::release()
+{
+    if (scene)
+        rtcReleaseScene(scene);
+    if (device)
+        rtcReleaseDevice(device);
+    scene = nullptr, device = nullptr;
 }
 
 } // namespace sightline

@@ -12,50 +12,22 @@ namespace sightline::lights {
 
 namespace {
 
-void onEmbreeError(void* user, RTCError, const char* message)
-{
-    *static_cast<std::string*>(user) = message ? message : "unknown error";
-}
-
 constexpr float kEndOffset = 1e-4f;   ///< of the way, off each end (the shaded point and the light)
 
 } // namespace
 
+/// Flat, not robust, a high-quality build: what a user tuning Embree for speed would pick.
 struct FloatShadowRays::Embree {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    std::string error;
+    EmbreeSoupScene soup;
     std::size_t triangles = 0;
 
-    ~Embree()
+    explicit Embree(const WorldTriangles& world)
+        : soup(world.vertices, RTC_SCENE_FLAG_NONE, RTC_BUILD_QUALITY_HIGH), triangles(world.vertices.size() / 3)
     {
-        if (scene)
-            rtcReleaseScene(scene);
-        if (device)
-            rtcReleaseDevice(device);
     }
 };
 
-FloatShadowRays::FloatShadowRays(const WorldTriangles& triangles) : embree_(std::make_unique<Embree>())
-{
-    Embree& e = *embree_;
-    e.device = rtcNewDevice(nullptr);
-    if (!e.device)
-        throw Error("Embree: cannot create a device");
-    rtcSetDeviceErrorFunction(e.device, onEmbreeError, &e.error);
-    e.scene = rtcNewScene(e.device);
-    rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
-    e.triangles = triangles.vertices.size() / 3;
-    if (e.triangles > 0) {
-        RTCGeometry g = newTriangleSoup(e.device, triangles.vertices);
-        rtcCommitGeometry(g);
-        rtcAttachGeometry(e.scene, g);
-        rtcReleaseGeometry(g);
-    }
-    rtcCommitScene(e.scene);
-    if (!e.error.empty())
-        throw Error("Embree: " + e.error);
-}
+FloatShadowRays::FloatShadowRays(const WorldTriangles& triangles) : embree_(std::make_unique<Embree>(triangles)) {}
 
 FloatShadowRays::~FloatShadowRays() = default;
 
@@ -84,12 +56,12 @@ void FloatShadowRays::blocked(const glm::dvec3& start, std::span<const glm::dvec
             rays.id[k] = unsigned(k);
             rays.flags[k] = 0;
         }
-        rtcOccluded16(valid, embree_->scene, &context, &rays);
+        rtcOccluded16(valid, embree_->soup.scene, &context, &rays);
         for (int k = 0; k < 16 && first + std::size_t(k) < ends.size(); ++k)
             blocked[first + std::size_t(k)] = rays.tfar[k] < 0.0f ? 1 : 0;
     }
-    if (!embree_->error.empty())
-        throw Error("Embree: " + embree_->error);
+    if (!embree_->soup.error.empty())
+        throw Error("Embree: " + embree_->soup.error);
 }
 
 } // namespace sightline::lights

@@ -1,62 +1,29 @@
 #include "visibility/pvs/FirstHitCaster.h"
 
-#include <limits>
-#include <string>
-
 #include <embree3/rtcore.h>
 
 #include "visibility/EmbreeTriangles.h"
-#include "visibility/Error.h"
 
 namespace sightline::pvs {
 
-namespace {
-void onEmbreeError(void* user, RTCError code, const char* message)
-{
-    auto* text = static_cast<std::string*>(user);
-    if (text->empty())
-        *text = std::to_string(int(code)) + ": " + (message ? message : "");
-}
-} // namespace
-
+/// The world's triangles in Embree's robust mode (FirstHitCaster.h), and each one's instance.
 struct FirstHitCaster::Embree {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    std::string error;
     std::vector<std::uint32_t> instanceOf;
     std::vector<glm::vec3> vertices;
-    ~Embree()
+    EmbreeSoupScene soup;
+
+    explicit Embree(WorldTriangles world)
+        : instanceOf(std::move(world.instanceOf)), vertices(std::move(world.vertices)),
+          soup(vertices, RTC_SCENE_FLAG_ROBUST, RTC_BUILD_QUALITY_HIGH)
     {
-        if (scene)
-            rtcReleaseScene(scene);
-        if (device)
-            rtcReleaseDevice(device);
     }
 };
 
-FirstHitCaster::FirstHitCaster(const Scene& scene) : embree_(std::make_unique<Embree>())
+FirstHitCaster::FirstHitCaster(const Scene& scene)
 {
     WorldTriangles world = worldTriangles(scene);
     validateCoordinates(world, "scene");
-    Embree& e = *embree_;
-    e.device = rtcNewDevice(nullptr);
-    if (!e.device)
-        throw Error("Embree: cannot create a device");
-    rtcSetDeviceErrorFunction(e.device, onEmbreeError, &e.error);
-    e.scene = rtcNewScene(e.device);
-    rtcSetSceneFlags(e.scene, RTC_SCENE_FLAG_ROBUST);
-    rtcSetSceneBuildQuality(e.scene, RTC_BUILD_QUALITY_HIGH);
-    e.instanceOf = std::move(world.instanceOf);
-    e.vertices = std::move(world.vertices);
-    if (!e.instanceOf.empty()) {
-        RTCGeometry g = newTriangleSoup(e.device, e.vertices);
-        rtcCommitGeometry(g);
-        rtcAttachGeometry(e.scene, g);
-        rtcReleaseGeometry(g);
-    }
-    rtcCommitScene(e.scene);
-    if (!e.error.empty())
-        throw Error("Embree: " + e.error);
+    embree_ = std::make_unique<Embree>(std::move(world));
 }
 
 FirstHitCaster::~FirstHitCaster() = default;
@@ -89,7 +56,7 @@ RayHit FirstHitCaster::cast(const glm::vec3& origin, const glm::vec3& direction,
     rh.ray.mask = 0xffffffffu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(embree_->scene, &context, &rh);
+    rtcIntersect1(embree_->soup.scene, &context, &rh);
     RayHit out;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return out;
