@@ -180,16 +180,31 @@ void writeAoOutputs(const AoArgs& args, const AoOccluders& occluders, const AoTe
 
 } // namespace
 
-int runAo(const AoArgs& args)
-{
-    const auto start = std::chrono::steady_clock::now();
-    const int level = aoLevelOf(args.k);
-    // The environment first: a bad file is refused before the expensive scene work.
-    std::optional<AoEnvironment> environment;
-    if (!args.env.empty())
-        environment = AoEnvironment::load(args.env);
+namespace {
 
-    std::vector<std::string> warnings;
+/// What one `ao` run computed and measured, for its report.
+struct AoRun {
+    std::string what;               ///< the input's file name
+    std::optional<AoEnvironment> environment;
+    bool texelMode = false;
+    AoPoints points;
+    AoTexelLayout layout;
+    double offset = 0.0;
+    std::size_t triangles = 0;
+    std::string renderer;
+    const AoGlCaster* glCaster = nullptr;
+    json levels = json::array();
+    double loadMs = 0.0, fillMs = 0.0, shadeMs = 0.0, relightMs = 0.0;
+    std::vector<float> ao;
+    std::vector<glm::vec3> colours;
+    std::size_t shaded = 0, noFace = 0, zeroNormal = 0, visibleBits = 0;
+    double mean = 0.0;
+};
+
+/// The scene from the mesh or project, its outputs checked first against every file it reads;
+/// the importer's warnings into `warnings`.
+Scene loadAoScene(const AoArgs& args, std::vector<std::string>& warnings)
+{
     std::optional<Project> project;
     std::vector<FileRole> inputs{{"the mesh", args.input}};
     if (isProject(args.input)) {
@@ -199,114 +214,135 @@ int runAo(const AoArgs& args)
     if (!args.env.empty())
         inputs.push_back({"the environment", args.env});
     checkOutputs({{"--npy", args.npy}, {"--gltf", args.gltf}, {"--ply", args.ply}, {"--lightmap", args.lightmap}}, inputs);
-    const Scene scene = project ? buildScene(*project, &warnings) : loadScene(args.input, &warnings);
-    const AoOccluders occluders = aoOccluders(scene);
-    const std::string what = std::filesystem::path(args.input).filename().string();
-    if (occluders.triangleCount() == 0)   // refused before the importer's warnings: one line
-        throw Error(what + ": no triangles (an empty mesh has nothing to occlude or shade)");
-    printWarnings(warnings);
+    return project ? buildScene(*project, &warnings) : loadScene(args.input, &warnings);
+}
 
-    const bool texelMode = args.texel > 0.0;
-    AoPoints points;
-    AoTexelLayout layout;
-    if (texelMode) {
-        layout = aoTexelPoints(occluders, args.texel, points, kMaxImagePixels);
-    } else {
-        points = aoVertexPoints(scene);
-    }
-    const double offset = kAoOffsetRelative * occluders.diagonal();
-    points.offsetOrigins(offset);
-    const double loadMs = msSince(start);
-
-    const AoCasterChoice caster = chooseCaster(args, occluders);
-    const std::string& renderer = caster.renderer;
-    const AoGlCaster* glCaster = caster.gl;
-
-    // Progressive, level by level: each level's time is reported (the editor shows each at once).
-    AoComputation computation(*caster.filler, points, args.k);
-    const auto fillStart = std::chrono::steady_clock::now();
-    json levels = json::array();
-    for (int s = 0; s <= level; ++s) {
-        computation.refineLevel();
-        levels.push_back({{"k", computation.completedK()}, {"ms", msSince(fillStart)}});
-    }
-    const double fillMs = msSince(fillStart);
-
+/// AO from the matrix and, with an environment, the relit colours (else grey levels).
+void shadeAo(const AoArgs& args, const AoComputation& computation, AoRun& run)
+{
     const AoWeighting weighting = args.weights == "count" ? AoWeighting::PlainCount : AoWeighting::SolidAngle;
     const auto shadeStart = std::chrono::steady_clock::now();
-    const std::vector<float> ao = ambientOcclusion(computation.matrix(), points, args.k, weighting);
-    std::vector<glm::vec3> colours(ao.size());
-    double relightMs = 0.0;
-    if (environment) {
-        const AoRelighter relighter(computation.matrix(), points, args.k, weighting);
-        const std::vector<glm::vec3> radiance = environment->directionRadiance(aoDirections(args.k), args.rotate, args.exposure);
+    run.ao = ambientOcclusion(computation.matrix(), run.points, args.k, weighting);
+    run.colours.assign(run.ao.size(), glm::vec3(0.0f));
+    if (run.environment) {
+        const AoRelighter relighter(computation.matrix(), run.points, args.k, weighting);
+        const std::vector<glm::vec3> radiance = run.environment->directionRadiance(aoDirections(args.k), args.rotate, args.exposure);
         const auto relightStart = std::chrono::steady_clock::now();
-        colours = relighter.shade(radiance, args.threads);
-        relightMs = msSince(relightStart);
+        run.colours = relighter.shade(radiance, args.threads);
+        run.relightMs = msSince(relightStart);
     } else {
-        for (std::size_t i = 0; i < ao.size(); ++i)
-            colours[i] = glm::vec3(ao[i]);
+        for (std::size_t i = 0; i < run.ao.size(); ++i)
+            run.colours[i] = glm::vec3(run.ao[i]);
     }
-    const double shadeMs = msSince(shadeStart);
-
+    run.shadeMs = msSince(shadeStart);
     double sum = 0.0;
-    std::size_t shaded = 0;
-    for (float a : ao)
+    for (float a : run.ao)
         if (!std::isnan(a)) {
             sum += a;
-            ++shaded;
+            ++run.shaded;
         }
-    const std::size_t noFace = points.count(AoPointStatus::NoFace), zeroNormal = points.count(AoPointStatus::ZeroNormal);
-    if (noFace)
-        std::cerr << "sightline-cli: warning: " << what << ": " << noFace
+    run.mean = run.shaded ? sum / double(run.shaded) : 0.0;
+    run.noFace = run.points.count(AoPointStatus::NoFace);
+    run.zeroNormal = run.points.count(AoPointStatus::ZeroNormal);
+    if (run.noFace)
+        std::cerr << "sightline-cli: warning: " << run.what << ": " << run.noFace
                   << " vertices belong to no face: no normal, no AO (NaN in --npy, black in colours)\n";
-    if (zeroNormal)
-        std::cerr << "sightline-cli: warning: " << what << ": " << zeroNormal
+    if (run.zeroNormal)
+        std::cerr << "sightline-cli: warning: " << run.what << ": " << run.zeroNormal
                   << " vertices have a zero normal (only degenerate faces): no AO (NaN in --npy, black in colours)\n";
-    writeAoOutputs(args, occluders, texelMode ? &layout : nullptr, ao, colours);
+}
 
-    const double mean = shaded ? sum / double(shaded) : 0.0;
-    if (args.json) {
-        json out = {{"k", args.k},
-                    {"vertices", texelMode ? std::size_t(0) : points.size()},
-                    {"points", points.size()},
-                    {"mode", texelMode ? "texel" : "vertex"},
-                    {"method", args.method},
-                    {"weights", args.weights},
-                    {"ms", fillMs},
-                    {"levels", levels},
-                    {"shade_ms", shadeMs},
-                    {"load_ms", loadMs},
-                    {"triangles", occluders.triangleCount()},
-                    {"no_face", noFace},
-                    {"zero_normal", zeroNormal},
-                    {"shaded", shaded},
-                    {"mean_ao", mean},
-                    {"offset_m", offset},
-                    {"visible_bits", computation.matrix().visibleCount(args.k)}};
-        if (texelMode)
-            out["texel"] = {{"density", args.texel}, {"atlas", {layout.width, layout.height}}};
-        if (environment)
-            out["env"] = {{"file", args.env}, {"rotate", args.rotate}, {"exposure", args.exposure}, {"relight_ms", relightMs}};
-        if (!renderer.empty())
-            out["renderer"] = renderer;
-        if (glCaster)
-            out["gl"] = {{"resolution", args.glResolution}, {"texel_m", glCaster->texelSize()},
-                         {"drawn_triangles", glCaster->drawnTriangles()}, {"simplification_m", glCaster->simplificationError()}};
-        std::cout << dumpJson(out) << "\n";
-    } else {
-        std::printf("ao         %s: %zu %s, %zu triangles, k = %d (%s, %s weights)\n", what.c_str(), points.size(),
-                    texelMode ? "texels" : "vertices", occluders.triangleCount(), args.k, args.method.c_str(),
-                    args.weights.c_str());
-        std::printf("values     mean %.4f over %zu points (%zu of no face, %zu zero normals: NaN)\n", mean, shaded, noFace,
-                    zeroNormal);
-        if (glCaster)
-            std::printf("gl         %d^2 depth maps (texel %.3g m) of %zu triangles, simplified within %.3g m\n",
-                        args.glResolution, glCaster->texelSize(), glCaster->drawnTriangles(), glCaster->simplificationError());
-        std::printf("time       %.1f ms matrix, %.1f ms shading, %.0f ms loading\n", fillMs, shadeMs, loadMs);
-        for (const json& l : levels)
-            std::printf("           k = %4d after %.1f ms\n", l["k"].get<int>(), l["ms"].get<double>());
+json aoRunJson(const AoArgs& args, const AoRun& run)
+{
+    json out = {{"k", args.k},
+                {"vertices", run.texelMode ? std::size_t(0) : run.points.size()},
+                {"points", run.points.size()},
+                {"mode", run.texelMode ? "texel" : "vertex"},
+                {"method", args.method},
+                {"weights", args.weights},
+                {"ms", run.fillMs},
+                {"levels", run.levels},
+                {"shade_ms", run.shadeMs},
+                {"load_ms", run.loadMs},
+                {"triangles", run.triangles},
+                {"no_face", run.noFace},
+                {"zero_normal", run.zeroNormal},
+                {"shaded", run.shaded},
+                {"mean_ao", run.mean},
+                {"offset_m", run.offset},
+                {"visible_bits", run.visibleBits}};
+    if (run.texelMode)
+        out["texel"] = {{"density", args.texel}, {"atlas", {run.layout.width, run.layout.height}}};
+    if (run.environment)
+        out["env"] = {{"file", args.env}, {"rotate", args.rotate}, {"exposure", args.exposure}, {"relight_ms", run.relightMs}};
+    if (!run.renderer.empty())
+        out["renderer"] = run.renderer;
+    if (run.glCaster)
+        out["gl"] = {{"resolution", args.glResolution}, {"texel_m", run.glCaster->texelSize()},
+                     {"drawn_triangles", run.glCaster->drawnTriangles()}, {"simplification_m", run.glCaster->simplificationError()}};
+    return out;
+}
+
+void printAoRun(const AoArgs& args, const AoRun& run)
+{
+    std::printf("ao         %s: %zu %s, %zu triangles, k = %d (%s, %s weights)\n", run.what.c_str(), run.points.size(),
+                run.texelMode ? "texels" : "vertices", run.triangles, args.k, args.method.c_str(), args.weights.c_str());
+    std::printf("values     mean %.4f over %zu points (%zu of no face, %zu zero normals: NaN)\n", run.mean, run.shaded, run.noFace,
+                run.zeroNormal);
+    if (run.glCaster)
+        std::printf("gl         %d^2 depth maps (texel %.3g m) of %zu triangles, simplified within %.3g m\n", args.glResolution,
+                    run.glCaster->texelSize(), run.glCaster->drawnTriangles(), run.glCaster->simplificationError());
+    std::printf("time       %.1f ms matrix, %.1f ms shading, %.0f ms loading\n", run.fillMs, run.shadeMs, run.loadMs);
+    for (const json& l : run.levels)
+        std::printf("           k = %4d after %.1f ms\n", l["k"].get<int>(), l["ms"].get<double>());
+}
+
+} // namespace
+
+int runAo(const AoArgs& args)
+{
+    const auto start = std::chrono::steady_clock::now();
+    const int level = aoLevelOf(args.k);
+    AoRun run;
+    // The environment first: a bad file is refused before the expensive scene work.
+    if (!args.env.empty())
+        run.environment = AoEnvironment::load(args.env);
+    std::vector<std::string> warnings;
+    const Scene scene = loadAoScene(args, warnings);
+    const AoOccluders occluders = aoOccluders(scene);
+    run.what = std::filesystem::path(args.input).filename().string();
+    run.triangles = occluders.triangleCount();
+    if (run.triangles == 0)   // refused before the importer's warnings: one line
+        throw Error(run.what + ": no triangles (an empty mesh has nothing to occlude or shade)");
+    printWarnings(warnings);
+    run.texelMode = args.texel > 0.0;
+    if (run.texelMode)
+        run.layout = aoTexelPoints(occluders, args.texel, run.points, kMaxImagePixels);
+    else
+        run.points = aoVertexPoints(scene);
+    run.offset = kAoOffsetRelative * occluders.diagonal();
+    run.points.offsetOrigins(run.offset);
+    run.loadMs = msSince(start);
+
+    const AoCasterChoice caster = chooseCaster(args, occluders);
+    run.renderer = caster.renderer;
+    run.glCaster = caster.gl;
+    // Progressive, level by level: each level's time is reported (the editor shows each at once).
+    AoComputation computation(*caster.filler, run.points, args.k);
+    const auto fillStart = std::chrono::steady_clock::now();
+    for (int s = 0; s <= level; ++s) {
+        computation.refineLevel();
+        run.levels.push_back({{"k", computation.completedK()}, {"ms", msSince(fillStart)}});
     }
+    run.fillMs = msSince(fillStart);
+    run.visibleBits = computation.matrix().visibleCount(args.k);
+
+    shadeAo(args, computation, run);
+    writeAoOutputs(args, occluders, run.texelMode ? &run.layout : nullptr, run.ao, run.colours);
+    if (args.json)
+        std::cout << dumpJson(aoRunJson(args, run)) << "\n";
+    else
+        printAoRun(args, run);
     return 0;
 }
 
