@@ -493,7 +493,7 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
 
 CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
 {
-    CLI::App* pvsCmd = app.add_subcommand("pvs", "Potentially visible sets: bake, merge parts, check accuracy, make a test level");
+    CLI::App* pvsCmd = app.add_subcommand("pvs", "Potentially visible sets: bake, merge parts, check accuracy, make a test level, vis a Quake level");
     pvsCmd->require_subcommand(1);
 
     PvsBakeArgs& b = args.bake;
@@ -557,6 +557,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     level->add_option("--objects", l.objects, "Instances in all (walls, floor, props)")->check(CLI::Range(1, 1000000))->capture_default_str();
     level->add_option("--seed", l.seed, "Layout seed")->check(CLI::Range(0, 1000000))->capture_default_str();
     args.levelCmd = level;
+    args.visCmd = addPvsVisCommand(*pvsCmd, args.vis);
     return pvsCmd;
 }
 
@@ -575,6 +576,8 @@ int runPvs(PvsArgs& args, int argc, char** argv)
         args.level.roomsZ = args.level.roomsX;
         return runLevel(args.level);
     }
+    if (*args.visCmd)
+        return runPvsVis(args.vis);
     return 1;
 }
 

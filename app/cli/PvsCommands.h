@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "cli/PvsVisCommand.h"
+
 namespace CLI {
 class App;
 }
@@ -64,10 +66,12 @@ struct PvsArgs {
     PvsMergeArgs merge;
     PvsCheckArgs check;
     PvsLevelArgs level;
+    PvsVisArgs vis;
     CLI::App* bakeCmd = nullptr;
     CLI::App* mergeCmd = nullptr;
     CLI::App* checkCmd = nullptr;
     CLI::App* levelCmd = nullptr;
+    CLI::App* visCmd = nullptr;
 };
 
 CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args);

@@ -1,0 +1,289 @@
+#include "visibility/bsp/QuakeBsp.h"
+
+#include <cmath>
+#include <cstring>
+#include <unordered_map>
+
+#include "visibility/Error.h"
+#include "visibility/pvs/PvsFile.h"
+
+namespace sightline::bsp {
+
+namespace {
+
+struct Layout {
+    std::size_t node, leaf;
+};
+constexpr std::size_t kPlaneBytes = 20, kModelBytes = 64;
+constexpr Layout kBsp29{24, 28}, kBsp2{44, 44};
+constexpr std::uint32_t kBsp2Magic = 0x32505342;      // "BSP2"
+constexpr std::uint32_t kBsp2RmqMagic = 0x42535032;   // "2PSB"
+constexpr std::uint32_t kIbspMagic = 0x50534249;      // "IBSP" (Quake 2, Quake 3)
+
+std::uint32_t u32(const std::string& b, std::size_t at)
+{
+    std::uint32_t v;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;
+}
+std::int32_t i32(const std::string& b, std::size_t at) { return std::int32_t(u32(b, at)); }
+std::int16_t i16(const std::string& b, std::size_t at)
+{
+    std::int16_t v;
+    std::memcpy(&v, b.data() + at, 2);
+    return v;
+}
+float f32(const std::string& b, std::size_t at)
+{
+    float v;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;
+}
+void put32(std::string& out, std::size_t at, std::uint32_t v) { std::memcpy(out.data() + at, &v, 4); }
+
+std::string formatName(std::uint32_t version)
+{
+    if (version == kIbspMagic)
+        return "a Quake 2 / Quake 3 BSP (IBSP)";
+    if (version == kBsp2RmqMagic)
+        return "a 2PSB BSP (the older BSP2 variant)";
+    if (version == 30)
+        return "a Half-Life BSP (version 30)";
+    return "version " + std::to_string(version);
+}
+
+/// The records of lump `k`: their count, after checking the lump lies in the file and holds a whole
+/// number of `size`-byte records.
+std::size_t records(const QuakeBsp& bsp, int k, std::size_t size, const char* name, const std::string& what)
+{
+    const auto [offset, length] = bsp.lumps[std::size_t(k)];
+    if (length % size != 0)
+        throw Error(what + ": the " + name + " lump's " + std::to_string(length) + " bytes are not whole " +
+                    std::to_string(size) + "-byte records");
+    return length / size;
+}
+
+void readLumps(QuakeBsp& bsp, const std::string& what)
+{
+    const std::string& b = bsp.bytes;
+    const std::size_t header = 4 + 8 * kLumpCount;
+    if (b.size() < header)
+        throw Error(what + ": truncated (" + std::to_string(b.size()) + " bytes; a BSP header takes " +
+                    std::to_string(header) + ")");
+    const std::uint32_t version = u32(b, 0);
+    if (version == 29)
+        bsp.format = BspFormat::Bsp29;
+    else if (version == kBsp2Magic)
+        bsp.format = BspFormat::Bsp2;
+    else
+        throw Error(what + ": not a Quake 1 BSP (" + formatName(version) + "; BSP29 and BSP2 are read)");
+    for (int k = 0; k < kLumpCount; ++k) {
+        const std::uint32_t offset = u32(b, 4 + 8 * std::size_t(k)), length = u32(b, 8 + 8 * std::size_t(k));
+        if (std::int32_t(offset) < 0 || std::int32_t(length) < 0 || offset > b.size() || length > b.size() - offset)
+            throw Error(what + ": lump " + std::to_string(k) + " (offset " + std::to_string(std::int32_t(offset)) +
+                        ", " + std::to_string(std::int32_t(length)) + " bytes) lies outside the file's " +
+                        std::to_string(b.size()) + " bytes");
+        bsp.lumps[std::size_t(k)] = {offset, length};
+    }
+}
+
+void readPlanes(QuakeBsp& bsp, const std::string& what)
+{
+    const std::size_t n = records(bsp, kPlaneLump, kPlaneBytes, "planes", what);
+    const std::size_t base = bsp.lumps[kPlaneLump][0];
+    bsp.planes.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t at = base + k * kPlaneBytes;
+        BspPlane& p = bsp.planes[k];
+        p.normal = {f32(bsp.bytes, at), f32(bsp.bytes, at + 4), f32(bsp.bytes, at + 8)};
+        p.dist = f32(bsp.bytes, at + 12);
+        const double length = std::sqrt(p.normal.x * p.normal.x + p.normal.y * p.normal.y + p.normal.z * p.normal.z);
+        if (!std::isfinite(length) || !std::isfinite(p.dist) || length < 0.5 || length > 2.0)
+            throw Error(what + ": plane " + std::to_string(k) + " is not finite or has no unit normal");
+    }
+}
+
+void readNodes(QuakeBsp& bsp, const Layout& layout, const std::string& what)
+{
+    const std::size_t n = records(bsp, kNodeLump, layout.node, "nodes", what);
+    const std::size_t base = bsp.lumps[kNodeLump][0];
+    bsp.nodes.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t at = base + k * layout.node;
+        BspNode& node = bsp.nodes[k];
+        node.plane = i32(bsp.bytes, at);
+        for (int s = 0; s < 2; ++s)
+            node.children[std::size_t(s)] = bsp.format == BspFormat::Bsp29 ? int(i16(bsp.bytes, at + 4 + 2 * std::size_t(s)))
+                                                                            : i32(bsp.bytes, at + 4 + 4 * std::size_t(s));
+        if (node.plane < 0 || std::size_t(node.plane) >= bsp.planes.size())
+            throw Error(what + ": node " + std::to_string(k) + "'s plane " + std::to_string(node.plane) +
+                        " is not one of the " + std::to_string(bsp.planes.size()) + " planes");
+    }
+}
+
+void readLeaves(QuakeBsp& bsp, const Layout& layout, const std::string& what)
+{
+    const std::size_t n = records(bsp, kLeafLump, layout.leaf, "leaves", what);
+    const std::size_t base = bsp.lumps[kLeafLump][0];
+    const std::uint32_t visBytes = bsp.lumps[kVisibilityLump][1];
+    bsp.leaves.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t at = base + k * layout.leaf;
+        BspLeaf& leaf = bsp.leaves[k];
+        leaf.contents = i32(bsp.bytes, at);
+        leaf.visofs = i32(bsp.bytes, at + 4);
+        if (leaf.visofs < -1 || (leaf.visofs >= 0 && std::uint32_t(leaf.visofs) >= visBytes))
+            throw Error(what + ": leaf " + std::to_string(k) + "'s visofs " + std::to_string(leaf.visofs) +
+                        " lies outside the " + std::to_string(visBytes) + "-byte visibility lump");
+    }
+    if (n == 0)
+        throw Error(what + ": no leaves (a level has at least the shared solid leaf)");
+}
+
+void readWorldModel(QuakeBsp& bsp, const std::string& what)
+{
+    if (records(bsp, kModelLump, kModelBytes, "models", what) == 0)
+        throw Error(what + ": no models (model 0 is the world)");
+    const std::size_t at = bsp.lumps[kModelLump][0];
+    for (int a = 0; a < 3; ++a) {
+        bsp.mins[a] = f32(bsp.bytes, at + 4 * std::size_t(a));
+        bsp.maxs[a] = f32(bsp.bytes, at + 12 + 4 * std::size_t(a));
+        if (!std::isfinite(bsp.mins[a]) || !std::isfinite(bsp.maxs[a]) || bsp.mins[a] > bsp.maxs[a])
+            throw Error(what + ": the world model's bounds are not finite and ordered");
+        if (std::abs(bsp.mins[a]) > kMaxBspCoordinate || std::abs(bsp.maxs[a]) > kMaxBspCoordinate)
+            throw Error(what + ": the world model's bounds reach beyond " + std::to_string(int(kMaxBspCoordinate)) +
+                        " units (Quake levels fit in +-32768)");
+    }
+    bsp.headnode = i32(bsp.bytes, at + 36);
+    bsp.visleafs = i32(bsp.bytes, at + 52);
+    if (bsp.headnode < 0 || std::size_t(bsp.headnode) >= bsp.nodes.size())
+        throw Error(what + ": the world model's head node " + std::to_string(bsp.headnode) + " is not one of the " +
+                    std::to_string(bsp.nodes.size()) + " nodes");
+    if (bsp.visleafs < 0 || std::size_t(bsp.visleafs) >= bsp.leaves.size())
+        throw Error(what + ": the world model's visleafs " + std::to_string(bsp.visleafs) + " is beyond its " +
+                    std::to_string(bsp.leaves.size()) + " leaves (leaf 0 is the solid leaf)");
+}
+
+/// Every node and leaf the world tree reaches, once: children in range and no node reached twice,
+/// so every walk of the tree ends (a hostile file could otherwise loop forever).
+void checkWorldTree(const QuakeBsp& bsp, const std::string& what)
+{
+    std::vector<char> seen(bsp.nodes.size(), 0);
+    std::vector<int> todo{bsp.headnode};
+    while (!todo.empty()) {
+        const int n = todo.back();
+        todo.pop_back();
+        if (seen[std::size_t(n)])
+            throw Error(what + ": node " + std::to_string(n) + " is reached twice from the world's head node (not a tree)");
+        seen[std::size_t(n)] = 1;
+        for (int child : bsp.nodes[std::size_t(n)].children) {
+            if (child >= 0) {
+                if (std::size_t(child) >= bsp.nodes.size())
+                    throw Error(what + ": node " + std::to_string(n) + "'s child " + std::to_string(child) +
+                                " is not one of the " + std::to_string(bsp.nodes.size()) + " nodes");
+                todo.push_back(child);
+            } else if (std::size_t(QuakeBsp::leafOfChild(child)) >= bsp.leaves.size()) {
+                throw Error(what + ": node " + std::to_string(n) + "'s child leaf " +
+                            std::to_string(QuakeBsp::leafOfChild(child)) + " is not one of the " +
+                            std::to_string(bsp.leaves.size()) + " leaves");
+            }
+        }
+    }
+}
+
+} // namespace
+
+QuakeBsp readQuakeBsp(std::string bytes, const std::string& what)
+{
+    QuakeBsp bsp;
+    bsp.bytes = std::move(bytes);
+    readLumps(bsp, what);
+    const Layout& layout = bsp.format == BspFormat::Bsp29 ? kBsp29 : kBsp2;
+    readPlanes(bsp, what);
+    readNodes(bsp, layout, what);
+    readLeaves(bsp, layout, what);
+    readWorldModel(bsp, what);
+    checkWorldTree(bsp, what);
+    return bsp;
+}
+
+pvs::VisibilityRows levelVisibility(const QuakeBsp& bsp, const std::string& what)
+{
+    const std::size_t n = std::size_t(bsp.visleafs);
+    pvs::VisibilityRows rows(n, n);
+    const std::string_view lump(bsp.bytes.data() + bsp.lumps[kVisibilityLump][0], bsp.lumps[kVisibilityLump][1]);
+    for (std::size_t l = 0; l < n; ++l) {
+        const int visofs = bsp.leaves[l + 1].visofs;
+        if (visofs < 0 || lump.empty()) {
+            for (std::size_t m = 0; m < n; ++m)
+                rows.set(l, m, true);
+            continue;
+        }
+        std::vector<std::uint8_t> row;
+        try {
+            row = pvs::decompressZeroRuns(lump, std::size_t(visofs), rows.rowBytes());
+        } catch (const Error& e) {
+            throw Error(what + ": leaf " + std::to_string(l + 1) + "'s visibility row: " + e.what());
+        }
+        std::copy(row.begin(), row.end(), rows.row(l));
+        for (std::size_t bit = n; bit < rows.rowBytes() * 8; ++bit)
+            rows.row(l)[bit / 8] &= std::uint8_t(~(1u << (bit % 8)));
+    }
+    return rows;
+}
+
+VisibilityLump encodeVisibilityLump(const pvs::VisibilityRows& rows)
+{
+    VisibilityLump out;
+    std::unordered_map<std::string, std::int32_t> stored;
+    for (std::size_t l = 0; l < rows.cellCount(); ++l) {
+        const auto packed = pvs::compressZeroRuns(rows.row(l), rows.rowBytes());
+        const auto [it, added] = stored.try_emplace(std::string(packed.begin(), packed.end()), std::int32_t(out.bytes.size()));
+        if (added)
+            out.bytes += it->first;
+        out.rowOffsets.push_back(it->second);
+    }
+    return out;
+}
+
+std::string withVisibility(const QuakeBsp& bsp, const pvs::VisibilityRows& rows)
+{
+    if (rows.cellCount() != std::size_t(bsp.visleafs) || rows.objectCount() != std::size_t(bsp.visleafs))
+        throw Error("visibility rows of " + std::to_string(rows.cellCount()) + " x " + std::to_string(rows.objectCount()) +
+                    " leaves for a level of " + std::to_string(bsp.visleafs) + " visleafs");
+    const VisibilityLump vis = encodeVisibilityLump(rows);
+    const Layout& layout = bsp.format == BspFormat::Bsp29 ? kBsp29 : kBsp2;
+
+    std::string leaves = bsp.bytes.substr(bsp.lumps[kLeafLump][0], bsp.lumps[kLeafLump][1]);
+    for (std::size_t k = 0; k < bsp.leaves.size(); ++k) {
+        const bool hasRow = k >= 1 && k <= std::size_t(bsp.visleafs);
+        put32(leaves, k * layout.leaf + 4, std::uint32_t(hasRow ? vis.rowOffsets[k - 1] : -1));
+    }
+
+    const std::size_t header = 4 + 8 * kLumpCount;
+    std::string out = bsp.bytes.substr(0, 4);
+    out.resize(header, '\0');
+    for (int k = 0; k < kLumpCount; ++k) {
+        const std::string_view data = k == kVisibilityLump ? std::string_view(vis.bytes)
+                                      : k == kLeafLump     ? std::string_view(leaves)
+                                                           : std::string_view(bsp.bytes).substr(bsp.lumps[std::size_t(k)][0],
+                                                                                                bsp.lumps[std::size_t(k)][1]);
+        out.resize((out.size() + 3) & ~std::size_t(3), '\0');
+        put32(out, 4 + 8 * std::size_t(k), std::uint32_t(out.size()));
+        put32(out, 8 + 8 * std::size_t(k), std::uint32_t(data.size()));
+        out.append(data);
+    }
+    return out;
+}
+
+int leafAt(const QuakeBsp& bsp, const glm::dvec3& p)
+{
+    int n = bsp.headnode;
+    while (n >= 0) {
+        const BspNode& node = bsp.nodes[std::size_t(n)];
+        n = node.children[bsp.planes[std::size_t(node.plane)].side(p) > 0.0 ? 0 : 1];
+    }
+    return QuakeBsp::leafOfChild(n);
+}
+
+} // namespace sightline::bsp
