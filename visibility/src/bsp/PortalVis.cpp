@@ -155,25 +155,40 @@ void appendSeparators(const Winding& a, const Winding& b, bool flip, std::vector
         const glm::dvec3& v1 = a[i];
         const glm::dvec3 edge = a[(i + 1) % na] - v1;
         for (const glm::dvec3& corner : b) {
-            glm::dvec3 n = glm::cross(edge, corner - v1);
+            const glm::dvec3 n = glm::cross(edge, corner - v1);   // not normalised until kept
             const double length = glm::length(n);
             if (length < 1e-9)
                 continue;
-            n /= length;
-            double aMin = std::numeric_limits<double>::max(), aMax = -aMin, bMin = aMin, bMax = -aMin;
+            const double tolerance = kSeparated * length;
+            double aMin = std::numeric_limits<double>::max(), aMax = -aMin;
             for (const glm::dvec3& v : a) {
-                const double s = glm::dot(n, v);
-                aMin = std::min(aMin, s), aMax = std::max(aMax, s);
+                const double x = glm::dot(n, v);
+                aMin = std::min(aMin, x), aMax = std::max(aMax, x);
             }
+            // The plane holds an edge of `a`, so `a` lies on one side of it unless the plane cuts
+            // it; `b` must then lie wholly on the other. Most planes fail on b's first corners.
+            const double onPlane = glm::dot(n, corner);
+            const bool aBelow = aMax - onPlane <= tolerance, aAbove = onPlane - aMin <= tolerance;
+            if (aBelow == aAbove)
+                continue;   // a on both sides, or a in the plane: no separation
+            double bMin = std::numeric_limits<double>::max(), bMax = -bMin;
+            bool separated = true;
             for (const glm::dvec3& v : b) {
-                const double s = glm::dot(n, v);
-                bMin = std::min(bMin, s), bMax = std::max(bMax, s);
+                const double x = glm::dot(n, v);
+                bMin = std::min(bMin, x), bMax = std::max(bMax, x);
+                if (aBelow ? x < aMax - tolerance : x > aMin + tolerance) {
+                    separated = false;
+                    break;
+                }
             }
+            if (!separated)
+                continue;
             // Lines from the first winding through the second keep going the same way along n.
-            if (bMin >= aMax - kSeparated)          // a below, b above
-                cuts.push_back(flip ? Cut{-n, -aMax} : Cut{n, bMin});
-            else if (bMax <= aMin + kSeparated)     // a above, b below
-                cuts.push_back(flip ? Cut{n, aMin} : Cut{-n, -bMax});
+            const glm::dvec3 unit = n / length;
+            if (aBelow)
+                cuts.push_back(flip ? Cut{-unit, -aMax / length} : Cut{unit, bMin / length});
+            else
+                cuts.push_back(flip ? Cut{unit, aMin / length} : Cut{-unit, -bMax / length});
         }
     }
 }
@@ -272,7 +287,8 @@ private:
 
     struct Step {
         const Winding* source;
-        const Winding* pass;   ///< the last portal crossed, cut; null before the first
+        const Winding* pass;     ///< the last portal crossed, cut; null before the first
+        const Winding* before;   ///< the portal crossed before `pass`, cut; null before the second
         const PortalBits* might;
     };
 
@@ -280,7 +296,7 @@ private:
     struct Frame {
         explicit Frame(std::size_t portals) : might(portals) {}
         PortalBits might;
-        Winding source, pass, spare;
+        Winding narrowed, source, pass, spare;
         std::vector<Cut> sharedCuts, ownCuts;   ///< separators of the step's source and pass; of a cut source
         bool sharedReady = false;
     };
@@ -289,7 +305,7 @@ private:
     {
         const DirectedPortal& start = portals_[p];
         std::size_t steps = 0;
-        const Step head{&start.w, nullptr, &mightSee_[p]};
+        const Step head{&start.w, nullptr, nullptr, &mightSee_[p]};
         std::deque<Frame> frames;   // one per depth; a deque keeps the shallower ones where they are
         if (!walk(p, start.into, head, 0, frames, steps)) {
             seen_[p] = mightSee_[p];   // the flood is safe, only looser
@@ -308,6 +324,7 @@ private:
             frames.emplace_back(portals_.size());
         Frame& f = frames[depth];
         f.sharedReady = false;
+        const Winding* origin = prev.source;   // narrowed on first use (below)
         for (std::size_t q : leaving_[std::size_t(leaf)]) {
             if (!prev.might->test(q))
                 continue;
@@ -317,12 +334,24 @@ private:
             const bool more = f.might.assignAndHasBeyond(*prev.might, beyond, seen);
             if (!more && seen.test(q))
                 continue;   // nothing this way that is not already seen
+            if (origin == prev.source && prev.before) {
+                // The chain's lines run backwards from the last portal through the one before
+                // reach the source: cut it to that anti-penumbra too, once per leaf, when a
+                // portal leaving it needs the source.
+                f.narrowed.assign(prev.source->begin(), prev.source->end());
+                f.ownCuts.clear();
+                appendSeparators(*prev.pass, *prev.before, false, f.ownCuts);
+                appendSeparators(*prev.before, *prev.pass, true, f.ownCuts);
+                if (!applyCuts(f.ownCuts, f.narrowed, f.spare))
+                    return true;   // no line through the whole chain
+                origin = &f.narrowed;
+            }
             const DirectedPortal& next = portals_[q];
             f.pass.assign(next.w.begin(), next.w.end());
             chopInPlace(f.pass, {start.n, start.d}, f.spare);
             if (f.pass.empty())
                 continue;
-            f.source.assign(prev.source->begin(), prev.source->end());
+            f.source.assign(origin->begin(), origin->end());
             const bool sourceCut = chopInPlace(f.source, {-next.n, -next.d}, f.spare);
             if (f.source.empty())
                 continue;
@@ -337,15 +366,15 @@ private:
                     cuts = &f.ownCuts;
                 } else if (!f.sharedReady) {
                     f.sharedCuts.clear();
-                    appendSeparators(*prev.source, *prev.pass, false, f.sharedCuts);
-                    appendSeparators(*prev.pass, *prev.source, true, f.sharedCuts);
+                    appendSeparators(*origin, *prev.pass, false, f.sharedCuts);
+                    appendSeparators(*prev.pass, *origin, true, f.sharedCuts);
                     f.sharedReady = true;
                 }
                 if (!applyCuts(*cuts, f.pass, f.spare))
                     continue;
             }
             seen.set(q);
-            if (!walk(p, next.into, Step{&f.source, &f.pass, &f.might}, depth + 1, frames, steps))
+            if (!walk(p, next.into, Step{&f.source, &f.pass, prev.pass, &f.might}, depth + 1, frames, steps))
                 return false;
         }
         return true;
