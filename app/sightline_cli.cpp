@@ -11,7 +11,8 @@
 //                                                                                 (cli/SuggestCommand)
 //   sightline-cli gaps PROJECT.json [--json]                                      (cli/SuggestCommand)
 //   sightline-cli coarse PROJECT.json [--kind closest|inner] [--triangles N] [--json] (cli/CoarseCommand)
-//   sightline-cli pvs bake|merge|check|level ...   (cli/PvsCommands, docs/pvs.md)
+//   sightline-cli pvs bake|merge|check|level|vis ...   (cli/PvsCommands, docs/pvs.md)
+//   sightline-cli chart SPEC.json --out CHART.png   (cli/ChartCommand: the benchmark scripts' charts)
 //
 // Success returns 0; any failure prints one line "sightline-cli: error: ..." on stderr and
 // returns non-zero.
@@ -25,6 +26,7 @@
 
 #include "cli/AoCommand.h"
 #include "cli/BenchCommand.h"
+#include "cli/ChartCommand.h"
 #include "cli/CoarseCommand.h"
 #include "cli/DemoCommand.h"
 #include "cli/DisagreementCommand.h"
@@ -97,6 +99,8 @@ int main(int argc, char** argv)
     commands.push_back({addPvsCommand(app, pvs), [&] { return runPvs(pvs, argc, argv); }});
     DemoArgs demo;
     commands.push_back({addDemoCommand(app, demo), [&] { return runDemo(demo); }});
+    ChartArgs chart;
+    commands.push_back({addChartCommand(app, chart), [&] { return runChart(chart); }});
 
     // CLI11 answers a misspelt subcommand ("sightline-cli shaf p.json") with "A subcommand is
     // required", as if none were given: name it and the ones there are.

@@ -14,13 +14,20 @@ lights through a light tree's cut, an approximation): its time against the same 
 and its error (mean, 99th percentile and largest relative difference per point, and the share of
 points beyond 1% and 5%).
 
+With --chart PREFIX it also draws the sweep (`sightline-cli chart`): PREFIX-time.png, each path's
+time against the light samples; PREFIX-speedup.png, the fast path's speed-up over the brute force
+and over the float Embree brute force; and with --cut, PREFIX-cut.png, time against mean error for
+each light count (the exact fast path at error 0 as the last point of each line).
+
     scripts/lights_sweep.py build/demo/demo_lights.json 10,30,100,300,1000,3000 [--side 256] [--cut 0.1,0.03,0.01]
+        [--chart PREFIX]
 """
 import json
 import os
 import random
 import subprocess
 import sys
+import tempfile
 
 
 def lights_for(base, count, rng):
@@ -42,12 +49,25 @@ def lights_for(base, count, rng):
     return out
 
 
+def draw(cli, prefix, name, title, x, y, series):
+    spec = {"title": title, "x": x, "y": y, "series": [{"name": k, "points": v} for k, v in series.items() if v]}
+    with tempfile.TemporaryDirectory() as folder:
+        path = os.path.join(folder, "chart.json")
+        with open(path, "w") as f:
+            json.dump(spec, f)
+        subprocess.run([cli, "chart", path, "--out", "%s-%s.png" % (prefix, name)], check=True)
+
+
 def main():
     if len(sys.argv) < 3:
         sys.exit(__doc__)
     project_file, counts = sys.argv[1], [int(n) for n in sys.argv[2].split(",")]
     side = int(sys.argv[sys.argv.index("--side") + 1]) if "--side" in sys.argv else 256
     cuts = [float(e) for e in sys.argv[sys.argv.index("--cut") + 1].split(",")] if "--cut" in sys.argv else []
+    chart = sys.argv[sys.argv.index("--chart") + 1] if "--chart" in sys.argv else None
+    times = {"exact fast path": [], "exact brute force (reference)": [], "Embree float brute force (not exact)": []}
+    speedups = {"over the exact brute force": [], "over the Embree float brute force": []}
+    cut_lines = {}
     cli = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "app", "sightline-cli")
     with open(project_file) as f:
         project = json.load(f)
@@ -68,6 +88,13 @@ def main():
             r["light_samples"], r["lights"], c["fast_ms"], c["reference_ms"], c["speedup"], c["points_differing"],
             c["embree_float_ms"], c["speedup_over_embree_float"], c["embree_float_points_differing"],
             r["tiles_unreached"], r["tiles_proven_shadowed"], r["tiles_cast"]))
+        n = r["light_samples"]
+        times["exact fast path"].append([n, c["fast_ms"]])
+        times["exact brute force (reference)"].append([n, c["reference_ms"]])
+        times["Embree float brute force (not exact)"].append([n, c["embree_float_ms"]])
+        speedups["over the exact brute force"].append([n, c["speedup"]])
+        speedups["over the Embree float brute force"].append([n, c["speedup_over_embree_float"]])
+        exact_ms = c["fast_ms"]
         for error in cuts:
             run = subprocess.run([cli, "lights", path, "--compare", "--json", "--light-cut", str(error)],
                                  capture_output=True, text=True, check=True)
@@ -78,6 +105,17 @@ def main():
                       r["light_samples"], error, c["fast_ms"], 1000.0 / c["fast_ms"], c["reference_ms"], c["speedup"],
                       e["mean_relative"], e["p99_relative"], e["max_relative"], e["points_beyond_1pct"],
                       e["points_beyond_5pct"], r["cut_clusters"]))
+            cut_lines.setdefault("%d light samples" % r["light_samples"], []).append([100.0 * e["mean_relative"], c["fast_ms"]])
+        if cuts:
+            cut_lines["%d light samples" % n].append([0.0, exact_ms])
+    if chart:
+        samples = {"title": "light samples", "log": True}
+        draw(cli, chart, "time", "Many lights over %dx%d floor points: time" % (side, side), samples,
+             {"title": "ms", "log": True}, times)
+        draw(cli, chart, "speedup", "The exact fast path's speed-up", samples, {"title": "speed-up (x)"}, speedups)
+        if cuts:
+            draw(cli, chart, "cut", "The light cut: time against error", {"title": "mean error (%)"},
+                 {"title": "ms", "log": True}, {k: sorted(v) for k, v in cut_lines.items()})
 
 
 if __name__ == "__main__":

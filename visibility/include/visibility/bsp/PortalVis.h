@@ -10,7 +10,8 @@
 //    what lies behind the next portal's plane;
 //  - inside the anti-penumbra of the source and the previous portal: every plane through an edge of
 //    one and a corner of the other that has one wholly on each side separates them, so a line
-//    through both stays beyond it (docs/pvs.md derives it).
+//    through both stays beyond it (docs/pvs.md derives it); and the source is cut, the same way, to
+//    what the lines through the last two portals reach when followed backwards.
 // Each separation is tested on the windings' actual extents (min/max along the plane's normal), not
 // on a fixed epsilon, and every cut keeps a margin of kPortalOnPlane: windings only ever grow by
 // rounding, so the rows hold every leaf a line reaches (lines within the margin of an edge are ties).
