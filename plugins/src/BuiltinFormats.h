@@ -10,5 +10,6 @@ namespace sightline {
 std::unique_ptr<SceneImporter> makeGltfImporter();
 std::unique_ptr<SceneExporter> makeGltfExporter();
 std::unique_ptr<SceneImporter> makeMeshFileImporter();
+std::unique_ptr<SceneImporter> makeQuakeBspImporter();
 
 } // namespace sightline

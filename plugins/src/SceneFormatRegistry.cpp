@@ -50,6 +50,7 @@ const SceneFormatRegistry& SceneFormatRegistry::builtin()
         r.add(makeGltfImporter());
         r.add(makeGltfExporter());
         r.add(makeMeshFileImporter());
+        r.add(makeQuakeBspImporter());
         return r;
     }();
     return registry;

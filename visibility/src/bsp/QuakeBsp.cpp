@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <cstdint>
 #include <unordered_map>
 
 #include "visibility/Error.h"
@@ -272,6 +273,94 @@ std::string withVisibility(const QuakeBsp& bsp, const pvs::VisibilityRows& rows)
         put32(out, 4 + 8 * std::size_t(k), std::uint32_t(out.size()));
         put32(out, 8 + 8 * std::size_t(k), std::uint32_t(data.size()));
         out.append(data);
+    }
+    return out;
+}
+
+namespace {
+
+/// Texture names by texinfo: the texinfo's miptex index into the texture lump's directory.
+std::vector<std::string> texinfoNames(const QuakeBsp& bsp, const std::string& what)
+{
+    constexpr std::size_t kTexinfoBytes = 40;
+    const std::size_t count = records(bsp, kTexinfoLump, kTexinfoBytes, "texinfo", what);
+    const auto [texOffset, texLength] = bsp.lumps[kTextureLump];
+    std::size_t mipCount = 0;
+    if (texLength >= 4) {
+        const std::int32_t declared = i32(bsp.bytes, texOffset);
+        if (declared < 0 || std::size_t(declared) > (texLength - 4) / 4)
+            throw Error(what + ": the texture lump's " + std::to_string(declared) + " textures do not fit its " +
+                        std::to_string(texLength) + " bytes");
+        mipCount = std::size_t(declared);
+    }
+    std::vector<std::string> names(count);
+    for (std::size_t k = 0; k < count; ++k) {
+        const std::int32_t miptex = i32(bsp.bytes, bsp.lumps[kTexinfoLump][0] + k * kTexinfoBytes + 32);
+        if (miptex < 0 || std::size_t(miptex) >= mipCount)
+            continue;   // no texture data (compilers may strip it): a face without a name
+        const std::int32_t at = i32(bsp.bytes, texOffset + 4 + 4 * std::size_t(miptex));
+        if (at < 0 || std::size_t(at) + 16 > texLength)
+            continue;   // -1 marks a texture missing from the file
+        const char* name = bsp.bytes.data() + texOffset + std::size_t(at);
+        names[k] = std::string(name, strnlen(name, 16));
+    }
+    return names;
+}
+
+} // namespace
+
+std::vector<BspFace> worldFaces(const QuakeBsp& bsp, const std::string& what)
+{
+    const bool wide = bsp.format == BspFormat::Bsp2;
+    const std::size_t faceBytes = wide ? 28 : 20, edgeBytes = wide ? 8 : 4;
+    const std::size_t faces = records(bsp, kFaceLump, faceBytes, "faces", what);
+    const std::size_t vertices = records(bsp, kVertexLump, 12, "vertices", what);
+    const std::size_t edges = records(bsp, kEdgeLump, edgeBytes, "edges", what);
+    const std::size_t surfedges = records(bsp, kSurfedgeLump, 4, "surfedges", what);
+    const std::vector<std::string> names = texinfoNames(bsp, what);
+    const std::size_t model = bsp.lumps[kModelLump][0];
+    const std::int32_t first = i32(bsp.bytes, model + 56), count = i32(bsp.bytes, model + 60);
+    if (first < 0 || count < 0 || std::size_t(first) > faces || std::size_t(count) > faces - std::size_t(first))
+        throw Error(what + ": the world model's faces " + std::to_string(first) + "+" + std::to_string(count) +
+                    " are not among the " + std::to_string(faces) + " faces");
+    const std::string& b = bsp.bytes;
+    auto vertex = [&](std::size_t v, std::size_t face) {
+        if (v >= vertices)
+            throw Error(what + ": face " + std::to_string(face) + " names vertex " + std::to_string(v) + " of " +
+                        std::to_string(vertices));
+        const std::size_t at = bsp.lumps[kVertexLump][0] + 12 * v;
+        const glm::dvec3 p(f32(b, at), f32(b, at + 4), f32(b, at + 8));
+        for (int a = 0; a < 3; ++a)
+            if (!std::isfinite(p[a]) || std::abs(p[a]) > kMaxBspCoordinate)
+                throw Error(what + ": vertex " + std::to_string(v) + " is not finite or lies beyond " +
+                            std::to_string(int(kMaxBspCoordinate)) + " units");
+        return p;
+    };
+    std::vector<BspFace> out;
+    out.reserve(std::size_t(count));
+    for (std::size_t f = std::size_t(first); f < std::size_t(first) + std::size_t(count); ++f) {
+        const std::size_t at = bsp.lumps[kFaceLump][0] + f * faceBytes;
+        const std::int64_t firstEdge = i32(b, at + (wide ? 8 : 4));
+        const std::int64_t edgeCount = wide ? i32(b, at + 12) : i16(b, at + 8);
+        const std::int64_t texinfo = wide ? i32(b, at + 16) : i16(b, at + 10);
+        if (edgeCount < 3 || edgeCount > kMaxFaceEdges || firstEdge < 0 || std::uint64_t(firstEdge + edgeCount) > surfedges)
+            throw Error(what + ": face " + std::to_string(f) + "'s " + std::to_string(edgeCount) + " edges from surfedge " +
+                        std::to_string(firstEdge) + " are not 3 to " + std::to_string(kMaxFaceEdges) + " of the " +
+                        std::to_string(surfedges) + " surfedges");
+        BspFace face;
+        if (texinfo >= 0 && std::size_t(texinfo) < names.size())
+            face.texture = names[std::size_t(texinfo)];
+        for (std::int64_t e = firstEdge; e < firstEdge + edgeCount; ++e) {
+            const std::int32_t surfedge = i32(b, bsp.lumps[kSurfedgeLump][0] + 4 * std::size_t(e));
+            const std::uint64_t edge = surfedge < 0 ? std::uint64_t(-std::int64_t(surfedge)) : std::uint64_t(surfedge);
+            if (edge >= edges)
+                throw Error(what + ": face " + std::to_string(f) + " names edge " + std::to_string(edge) + " of " +
+                            std::to_string(edges));
+            const std::size_t edgeAt = bsp.lumps[kEdgeLump][0] + edgeBytes * edge + (surfedge < 0 ? edgeBytes / 2 : 0);
+            const std::size_t v = wide ? std::size_t(u32(b, edgeAt)) : std::size_t(std::uint16_t(i16(b, edgeAt)));
+            face.polygon.push_back(vertex(v, f));
+        }
+        out.push_back(std::move(face));
     }
     return out;
 }

@@ -30,7 +30,9 @@ inline constexpr int kLumpCount = 15;
 /// The largest world coordinate read, in Quake units (BSP29 levels fit in +-32768; BSP2 ones a
 /// little beyond): far enough for any level, near enough that double windings stay exact to 1e-6.
 inline constexpr double kMaxBspCoordinate = 1e6;
-inline constexpr int kVisibilityLump = 4, kNodeLump = 5, kLeafLump = 10, kPlaneLump = 1, kModelLump = 14;
+inline constexpr int kPlaneLump = 1, kTextureLump = 2, kVertexLump = 3, kVisibilityLump = 4, kNodeLump = 5,
+                     kTexinfoLump = 6, kFaceLump = 7, kLeafLump = 10, kEdgeLump = 12, kSurfedgeLump = 13,
+                     kModelLump = 14;
 
 struct BspPlane {
     glm::dvec3 normal{0.0};   ///< as stored (float), not renormalised: the level's own planes
@@ -89,6 +91,20 @@ VisibilityLump encodeVisibilityLump(const pvs::VisibilityRows& rows);
 /// the leaves' visofs (leaves 1..visleafs point at their rows; the others keep -1), lumps laid out
 /// in order on 4-byte boundaries. `rows` must be visleafs x visleafs.
 std::string withVisibility(const QuakeBsp& bsp, const pvs::VisibilityRows& rows);
+
+/// One face of the world model: a convex polygon in the level's units and axes (Quake's: Z up),
+/// wound as Quake winds it (clockwise seen from the front), and its texture's name ("*..." for
+/// water, slime and lava, "sky..." for sky; empty where the level has no texture data).
+struct BspFace {
+    std::vector<glm::dvec3> polygon;
+    std::string texture;
+};
+
+/// The world model's faces (model 0's firstface..+numfaces). Throws sightline::Error for a face,
+/// edge, surfedge, vertex or texture reference out of range, a face of fewer than 3 or more than
+/// kMaxFaceEdges edges, or a vertex that is not finite or lies beyond kMaxBspCoordinate.
+inline constexpr int kMaxFaceEdges = 1024;
+std::vector<BspFace> worldFaces(const QuakeBsp& bsp, const std::string& what);
 
 /// The leaf holding `p` (Quake's point-in-leaf: on a plane counts as behind it).
 int leafAt(const QuakeBsp& bsp, const glm::dvec3& p);

@@ -1,0 +1,72 @@
+// Compiled Quake 1 levels (.bsp: BSP29, BSP2) as scenes: the world model's faces, in metres with Y
+// up (1 Quake unit = 1 inch = 0.0254 m; Quake's Z up becomes Y, its Y becomes -Z, a rotation),
+// each polygon fan-triangulated and wound counter-clockwise seen from its front as glTF winds.
+// Liquid surfaces (textures named "*...") are left out: a player sees through them. Sky faces
+// stay: they close the level. Brush entities (doors, lifts: models 1..n) are not the world and
+// are left out, as scripts/quake_bsp_to_obj.py leaves them.
+
+#include <string>
+
+#include "BuiltinFormats.h"
+#include "plugins/MeshTopology.h"
+#include "visibility/Error.h"
+#include "visibility/InputFile.h"
+#include "visibility/bsp/QuakeBsp.h"
+
+namespace sightline {
+
+namespace {
+
+constexpr double kMetresPerUnit = 0.0254;
+
+glm::vec3 yUpMetres(const glm::dvec3& q) { return glm::vec3(glm::dvec3(q.x, q.z, -q.y) * kMetresPerUnit); }
+
+class QuakeBspImporter final : public SceneImporter {
+public:
+    std::string name() const override { return "Quake BSP"; }
+    std::vector<std::string> extensions() const override { return {".bsp"}; }
+
+    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings) const override
+    {
+        const std::string what = file.string();
+        const bsp::QuakeBsp level = bsp::readQuakeBsp(readInputFile(file, "scene"), what);
+        std::vector<glm::vec3> corners;
+        std::size_t liquids = 0;
+        for (const bsp::BspFace& face : bsp::worldFaces(level, what)) {
+            if (!face.texture.empty() && face.texture[0] == '*') {
+                ++liquids;
+                continue;
+            }
+            // Quake winds clockwise seen from the front: walk the polygon backwards.
+            const std::size_t n = face.polygon.size();
+            for (std::size_t k = 1; k + 1 < n; ++k) {
+                corners.push_back(yUpMetres(face.polygon[0]));
+                corners.push_back(yUpMetres(face.polygon[n - k]));
+                corners.push_back(yUpMetres(face.polygon[n - k - 1]));
+            }
+        }
+        if (liquids)
+            warnings.push_back(what + ": " + std::to_string(liquids) + " liquid surfaces left out (seen through)");
+        if (corners.empty())
+            warnings.push_back(what + ": the world model has no faces");
+
+        Mesh mesh;
+        mesh.name = file.stem().string();
+        std::vector<std::uint32_t> representative;
+        const std::vector<std::uint32_t> ids = weldPositions(corners.data(), corners.size(), &representative);
+        for (std::uint32_t r : representative)
+            mesh.positions.push_back(corners[r]);
+        mesh.indices = ids;
+        mesh.watertight = meshTopology(mesh).closedAndOutward();
+        Scene scene;
+        scene.addMeshInstance(std::move(mesh));
+        validate(scene, what);
+        return scene;
+    }
+};
+
+} // namespace
+
+std::unique_ptr<SceneImporter> makeQuakeBspImporter() { return std::make_unique<QuakeBspImporter>(); }
+
+} // namespace sightline
