@@ -16,7 +16,7 @@ seconds=30
 if [ "${1:-}" = "--ci" ]; then ci=1; shift
 elif [ -n "${1:-}" ] && [[ "$1" =~ ^[0-9]+$ ]]; then seconds="$1"; shift; fi
 readers=("$@")
-[ ${#readers[@]} -gt 0 ] || readers=(gltf glb obj ply off stl project npy image pvs bsp)
+[ ${#readers[@]} -gt 0 ] || readers=(gltf glb obj ply off stl map project npy image pvs bsp)
 
 cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j "$(nproc)" >/dev/null

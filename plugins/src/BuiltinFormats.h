@@ -11,5 +11,6 @@ std::unique_ptr<SceneImporter> makeGltfImporter();
 std::unique_ptr<SceneExporter> makeGltfExporter();
 std::unique_ptr<SceneImporter> makeMeshFileImporter();
 std::unique_ptr<SceneImporter> makeQuakeBspImporter();
+std::unique_ptr<SceneImporter> makeQuakeMapImporter();
 
 } // namespace sightline

@@ -51,6 +51,7 @@ const SceneFormatRegistry& SceneFormatRegistry::builtin()
         r.add(makeGltfExporter());
         r.add(makeMeshFileImporter());
         r.add(makeQuakeBspImporter());
+        r.add(makeQuakeMapImporter());
         return r;
     }();
     return registry;

@@ -1,5 +1,5 @@
 // libFuzzer harness for one scene reader, chosen at build time by SIGHTLINE_FUZZ_EXTENSION
-// (".gltf", ".glb", ".obj", ".ply", ".off", ".stl"). Bad input must end in sightline::Error; any
+// (".gltf", ".glb", ".obj", ".ply", ".off", ".stl", ".map"; ".bsp" has fuzz_bsp.cpp). Bad input must end in sightline::Error; any
 // other exception, a crash, a sanitizer report, a hang or runaway memory is a finding. A scene
 // that loads must hold what Scene's contract promises (finite coordinates in range, valid indices).
 
