@@ -106,7 +106,7 @@ json runJson(const PvsVisArgs& args, const VisRun& run)
 {
     const RowSizes ours = rowSizes(run.rows, run.lumpBytes);
     json out{{"bsp", args.bsp},
-             {"format", run.level.format == bsp::BspFormat::Bsp29 ? "BSP29" : "BSP2"},
+             {"format", bsp::formatName(run.level.format)},
              {"visleafs", run.level.visleafs},
              {"liquids", args.opaqueLiquids ? "opaque" : "clear"},
              {"portals", run.openPortals},
@@ -141,7 +141,7 @@ void printRun(const PvsVisArgs& args, const VisRun& run)
 {
     const RowSizes ours = rowSizes(run.rows, run.lumpBytes);
     std::printf("%s: %s, %d visleafs, %zu portals (liquids %s)\n", args.bsp.c_str(),
-                run.level.format == bsp::BspFormat::Bsp29 ? "BSP29" : "BSP2", run.level.visleafs, run.openPortals,
+                bsp::formatName(run.level.format), run.level.visleafs, run.openPortals,
                 args.opaqueLiquids ? "opaque" : "clear");
     std::printf("vis: %.2f s (portals %.2f s): %.1f leaves visible per leaf, lump %zu bytes\n", run.visMs / 1000.0,
                 run.portalMs / 1000.0, ours.meanVisible, ours.lumpBytes);
@@ -171,7 +171,7 @@ void printRun(const PvsVisArgs& args, const VisRun& run)
 
 CLI::App* addPvsVisCommand(CLI::App& pvs, PvsVisArgs& a)
 {
-    CLI::App* vis = pvs.add_subcommand("vis", "Leaf-to-leaf visibility for a compiled Quake 1 level (BSP29 or BSP2), safe: "
+    CLI::App* vis = pvs.add_subcommand("vis", "Leaf-to-leaf visibility for a compiled Quake 1 or Half-Life level (BSP29, BSP2, BSP30), safe: "
                                               "written into a copy of the BSP (docs/pvs.md)");
     vis->add_option("bsp", a.bsp, "The compiled level (.bsp)")->required();
     vis->add_option("--out", a.out, "Write a copy of the level with the new visibility lump")->check(outputFile());

@@ -1,6 +1,7 @@
 #pragma once
-// sightline-cli pvs vis: leaf-to-leaf visibility for a compiled Quake 1 level (BSP29 or BSP2),
-// written back into a copy of the BSP as its visibility lump (docs/pvs.md, "Quake levels").
+// sightline-cli pvs vis: leaf-to-leaf visibility for a compiled Quake 1 or Half-Life level (BSP29,
+// BSP2, BSP30), written back into a copy of the BSP as its visibility lump (docs/pvs.md, "Quake
+// levels").
 
 #include <string>
 

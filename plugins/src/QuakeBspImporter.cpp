@@ -1,7 +1,7 @@
-// Compiled Quake 1 levels (.bsp: BSP29, BSP2) as scenes: the world model's faces, in metres with Y
+// Compiled Quake 1 and Half-Life levels (.bsp: BSP29, BSP2, BSP30) as scenes: the world model's faces, in metres with Y
 // up (1 Quake unit = 1 inch = 0.0254 m; Quake's Z up becomes Y, its Y becomes -Z, a rotation),
 // each polygon fan-triangulated and wound counter-clockwise seen from its front as glTF winds.
-// Liquid surfaces (textures named "*...") are left out: a player sees through them. Sky faces
+// Liquid surfaces (textures named "*...", in Half-Life "!...") are left out: a player sees through them. Sky faces
 // stay: they close the level. Brush entities (doors, lifts: models 1..n) are not the world and
 // are left out, as scripts/quake_bsp_to_obj.py leaves them.
 
@@ -33,7 +33,7 @@ public:
         std::vector<glm::vec3> corners;
         std::size_t liquids = 0;
         for (const bsp::BspFace& face : bsp::worldFaces(level, what)) {
-            if (!face.texture.empty() && face.texture[0] == '*') {
+            if (!face.texture.empty() && (face.texture[0] == '*' || (level.format == bsp::BspFormat::HalfLife30 && face.texture[0] == '!'))) {
                 ++liquids;
                 continue;
             }

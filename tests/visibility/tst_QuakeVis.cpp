@@ -325,7 +325,6 @@ TEST(QuakeVis, BadFilesGetOneLineErrors)
     refuses(good.substr(0, 30), "truncated");
     refuses(put32(good, 0, 0x50534249), "Quake 2");
     refuses(put32(good, 0, 0x42535032), "2PSB");
-    refuses(put32(good, 0, 30), "Half-Life");
     refuses(put32(good, 4 + 8 * kNodeLump, 1 << 30), "outside the file");
     const test::EngineBsp engine = test::readEngineBsp(good);
     const std::size_t nodes = std::size_t(engine.lumps[kNodeLump].first);
@@ -342,4 +341,23 @@ TEST(QuakeVis, BadFilesGetOneLineErrors)
 
     const QuakeBsp level = readQuakeBsp(good, "x.bsp");
     EXPECT_THROW(withVisibility(level, pvs::VisibilityRows(1, 1)), Error);
+}
+
+TEST(QuakeVis, HalfLifesVersion30IsReadWithQuakesLayoutAndKeptOnWrite)
+{
+    VoxelLevel v = makeVoxelLevel(9, 7, 5);
+    carve(v, 1, 3, 1, 5, 1, 3);
+    carve(v, 4, 4, 3, 3, 1, 2);
+    carve(v, 5, 7, 1, 5, 1, 3);
+    const Baked quake = bake(v, BspVersion::Bsp29);
+    std::string bytes = quake.voxels.bytes;
+    const std::int32_t thirty = 30;
+    std::memcpy(bytes.data(), &thirty, 4);
+    const QuakeBsp halfLife = readQuakeBsp(bytes, "hl.bsp");
+    EXPECT_EQ(halfLife.format, BspFormat::HalfLife30);
+    const pvs::VisibilityRows rows = portalVis(halfLife, openPortals(halfLife, true), {.threads = 2});
+    EXPECT_EQ(rows, quake.rows);
+    const std::string written = withVisibility(halfLife, rows);
+    EXPECT_EQ(written.substr(0, 4), bytes.substr(0, 4));
+    EXPECT_EQ(levelVisibility(readQuakeBsp(written, "hl.bsp"), "hl.bsp"), rows);
 }

@@ -42,14 +42,12 @@ float f32(const std::string& b, std::size_t at)
 }
 void put32(std::string& out, std::size_t at, std::uint32_t v) { std::memcpy(out.data() + at, &v, 4); }
 
-std::string formatName(std::uint32_t version)
+std::string versionName(std::uint32_t version)
 {
     if (version == kIbspMagic)
         return "a Quake 2 / Quake 3 BSP (IBSP)";
     if (version == kBsp2RmqMagic)
         return "a 2PSB BSP (the older BSP2 variant)";
-    if (version == 30)
-        return "a Half-Life BSP (version 30)";
     return "version " + std::to_string(version);
 }
 
@@ -76,8 +74,10 @@ void readLumps(QuakeBsp& bsp, const std::string& what)
         bsp.format = BspFormat::Bsp29;
     else if (version == kBsp2Magic)
         bsp.format = BspFormat::Bsp2;
+    else if (version == 30)
+        bsp.format = BspFormat::HalfLife30;
     else
-        throw Error(what + ": not a Quake 1 BSP (" + formatName(version) + "; BSP29 and BSP2 are read)");
+        throw Error(what + ": not a Quake 1 BSP (" + versionName(version) + "; BSP29, BSP2 and Half-Life's 30 are read)");
     for (int k = 0; k < kLumpCount; ++k) {
         const std::uint32_t offset = u32(b, 4 + 8 * std::size_t(k)), length = u32(b, 8 + 8 * std::size_t(k));
         if (std::int32_t(offset) < 0 || std::int32_t(length) < 0 || offset > b.size() || length > b.size() - offset)
@@ -114,7 +114,7 @@ void readNodes(QuakeBsp& bsp, const Layout& layout, const std::string& what)
         BspNode& node = bsp.nodes[k];
         node.plane = i32(bsp.bytes, at);
         for (int s = 0; s < 2; ++s)
-            node.children[std::size_t(s)] = bsp.format == BspFormat::Bsp29 ? int(i16(bsp.bytes, at + 4 + 2 * std::size_t(s)))
+            node.children[std::size_t(s)] = !wideRecords(bsp.format) ? int(i16(bsp.bytes, at + 4 + 2 * std::size_t(s)))
                                                                             : i32(bsp.bytes, at + 4 + 4 * std::size_t(s));
         if (node.plane < 0 || std::size_t(node.plane) >= bsp.planes.size())
             throw Error(what + ": node " + std::to_string(k) + "'s plane " + std::to_string(node.plane) +
@@ -199,7 +199,7 @@ QuakeBsp readQuakeBsp(std::string bytes, const std::string& what)
     QuakeBsp bsp;
     bsp.bytes = std::move(bytes);
     readLumps(bsp, what);
-    const Layout& layout = bsp.format == BspFormat::Bsp29 ? kBsp29 : kBsp2;
+    const Layout& layout = wideRecords(bsp.format) ? kBsp2 : kBsp29;
     readPlanes(bsp, what);
     readNodes(bsp, layout, what);
     readLeaves(bsp, layout, what);
@@ -253,7 +253,7 @@ std::string withVisibility(const QuakeBsp& bsp, const pvs::VisibilityRows& rows)
         throw Error("visibility rows of " + std::to_string(rows.cellCount()) + " x " + std::to_string(rows.objectCount()) +
                     " leaves for a level of " + std::to_string(bsp.visleafs) + " visleafs");
     const VisibilityLump vis = encodeVisibilityLump(rows);
-    const Layout& layout = bsp.format == BspFormat::Bsp29 ? kBsp29 : kBsp2;
+    const Layout& layout = wideRecords(bsp.format) ? kBsp2 : kBsp29;
 
     std::string leaves = bsp.bytes.substr(bsp.lumps[kLeafLump][0], bsp.lumps[kLeafLump][1]);
     for (std::size_t k = 0; k < bsp.leaves.size(); ++k) {
@@ -311,7 +311,7 @@ std::vector<std::string> texinfoNames(const QuakeBsp& bsp, const std::string& wh
 
 std::vector<BspFace> worldFaces(const QuakeBsp& bsp, const std::string& what)
 {
-    const bool wide = bsp.format == BspFormat::Bsp2;
+    const bool wide = wideRecords(bsp.format);
     const std::size_t faceBytes = wide ? 28 : 20, edgeBytes = wide ? 8 : 4;
     const std::size_t faces = records(bsp, kFaceLump, faceBytes, "faces", what);
     const std::size_t vertices = records(bsp, kVertexLump, 12, "vertices", what);

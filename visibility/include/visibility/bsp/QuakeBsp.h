@@ -1,5 +1,6 @@
 #pragma once
-// A compiled Quake 1 level (BSP29, and BSP2 as modern compilers write it): what leaf-to-leaf
+// A compiled Quake 1 level (BSP29, BSP2 as modern compilers write it, and Half-Life's BSP30, which
+// keeps Quake's layout): what leaf-to-leaf
 // visibility needs from it (the world model's planes, nodes and leaves, and its visibility lump),
 // and a copy of the file with a new visibility lump that engines and tools read unchanged.
 //
@@ -20,7 +21,14 @@
 
 namespace sightline::bsp {
 
-enum class BspFormat { Bsp29, Bsp2 };
+/// Quake 1's BSP29, BSP2 (Quake 1 with 32-bit indices and float boxes, as modern compilers write
+/// it), and Half-Life's version 30 (Quake 1's records, its own textures and liquids named "!...").
+enum class BspFormat { Bsp29, Bsp2, HalfLife30 };
+inline bool wideRecords(BspFormat f) { return f == BspFormat::Bsp2; }
+inline const char* formatName(BspFormat f)
+{
+    return f == BspFormat::Bsp29 ? "BSP29" : f == BspFormat::Bsp2 ? "BSP2" : "Half-Life BSP30";
+}
 
 /// Leaf contents as Quake writes them.
 inline constexpr int kContentsEmpty = -1, kContentsSolid = -2, kContentsWater = -3,
@@ -66,7 +74,7 @@ struct QuakeBsp {
 };
 
 /// Parses a BSP's bytes; `what` names the file in errors. Throws sightline::Error for another
-/// format (naming it: Quake 2's IBSP, Half-Life's 30, the 2PSB variant), a lump outside the file or
+/// format (naming it: Quake 2's IBSP, the 2PSB variant), a lump outside the file or
 /// of a length that is not a whole number of records, a plane that is not finite or has no normal,
 /// world bounds beyond kMaxBspCoordinate, a node's plane or child out of range, a world tree that reaches a node twice (a cycle or a
 /// shared subtree: not a tree), a visleafs count beyond the leaves, or a leaf's visofs outside the
