@@ -130,7 +130,8 @@ json accuracyJson(const pvs::AccuracyReport& a)
             {"baked_visible_pairs", a.bakedVisible}, {"missed_pairs", a.missed}, {"extra_pairs", a.extra},
             {"object_miss_rate", a.objectMissRate()}, {"pixels", a.pixels}, {"wrong_pixels", a.wrongPixels},
             {"pixel_error_rate", a.pixelErrorRate()}, {"pvs_size_ratio", a.sizeRatio()}, {"reference_rays", a.rays},
-            {"reference_ms", a.ms}, {"gaps", a.gaps.size()}};
+            {"reference_ms", a.ms}, {"gaps", a.gaps.size()}, {"edge_visible_pairs", a.edgeVisible},
+            {"edge_missed_pairs", a.edgeMissed}, {"edge_rays", a.edgeRays}, {"adversarial_miss_rate", a.adversarialMissRate()}};
 }
 
 void writeGaps(const std::string& path, const pvs::AccuracyReport& a, const pvs::PvsData& data)
@@ -148,6 +149,10 @@ void printAccuracy(const pvs::AccuracyReport& a)
     std::printf("reference  %zu cells: %llu visible pairs; PVS keeps %llu (%.3fx), misses %llu (object miss rate %.3g)\n",
                 a.cells.size(), (unsigned long long)a.referenceVisible, (unsigned long long)a.bakedVisible, a.sizeRatio(),
                 (unsigned long long)a.missed, a.objectMissRate());
+    std::printf("edges      %llu more visible pairs found along the blockers' edges, %llu of them culled (miss rate with "
+                "them %.3g; %llu rays)\n",
+                (unsigned long long)a.edgeVisible, (unsigned long long)a.edgeMissed, a.adversarialMissRate(),
+                (unsigned long long)a.edgeRays);
     std::printf("pixels     %llu rendered, %llu culled wrongly (pixel error rate %.3g); %.1f ms\n",
                 (unsigned long long)a.pixels, (unsigned long long)a.wrongPixels, a.pixelErrorRate(), a.ms);
 }

@@ -680,6 +680,51 @@ TEST(PvsAccuracy, TheReferenceFindsWhatAnEmptyPvsMissesAndNothingInAFullOne)
 }
 
 
+// A 1 mm slit in a wall between a cell and an object: a handful of area rays misses it, the edge
+// search along the blockers' edges finds it, and counts it apart (a miss if the PVS culls the pair).
+TEST(PvsAccuracy, TheEdgeSearchFindsASlitTheAreaRaysMiss)
+{
+    Scene scene;
+    addBox(scene, "object", {-0.15f, -0.15f, 3.0f}, {0.15f, 0.15f, 3.1f});
+    addBox(scene, "left wall", {-5.0f, -5.0f, -0.01f}, {0.05f, 5.0f, 0.01f});
+    addBox(scene, "right wall", {0.051f, -5.0f, -0.01f}, {5.0f, 5.0f, 0.01f});
+    PvsData d;
+    d.sceneSha256 = "12";
+    d.cells = {box({-0.15f, -0.15f, -3.15f}, {0.15f, 0.15f, -2.85f})};
+    d.objects = sceneObjects(scene, false);
+    d.rows = VisibilityRows(1, d.objects.size());
+    d.rows.set(0, 1, true);   // the walls are seen; the object behind them is culled
+    d.rows.set(0, 2, true);
+    ReferenceSettings r;
+    r.cellPoints = 2;
+    r.objectPoints = 2;
+    r.views = 0;
+    r.edgeBlockers = 0;
+    const AccuracyReport area = measureAccuracy(scene, d, r);
+    ASSERT_EQ(area.referenceVisible, 2u) << "the area rays see the walls and miss the slit (the setup)";
+    EXPECT_EQ(area.missed, 0u);
+    EXPECT_EQ(area.edgeVisible, 0u);
+    r.edgeBlockers = 12;
+    const AccuracyReport edges = measureAccuracy(scene, d, r);
+    EXPECT_EQ(edges.referenceVisible, 2u);
+    EXPECT_EQ(edges.edgeVisible, 1u) << "the object, through the slit";
+    EXPECT_EQ(edges.edgeMissed, 1u);
+    EXPECT_DOUBLE_EQ(edges.adversarialMissRate(), 1.0 / 3.0);
+    EXPECT_GT(edges.edgeRays, 0u);
+    d.rows.set(0, 0, true);
+    const AccuracyReport kept = measureAccuracy(scene, d, r);
+    EXPECT_EQ(kept.edgeVisible, 1u);
+    EXPECT_EQ(kept.edgeMissed, 0u);
+    EXPECT_EQ(kept.extra, 0u) << "a pair the edge search sees is not extra";
+    // Closed: nothing to find.
+    addBox(scene, "plug", {0.049f, -5.0f, -0.02f}, {0.052f, 5.0f, 0.02f});
+    d.objects = sceneObjects(scene, false);
+    d.rows = VisibilityRows(1, d.objects.size());
+    const AccuracyReport plugged = measureAccuracy(scene, d, r);
+    EXPECT_EQ(plugged.edgeVisible, 0u);
+    EXPECT_EQ(plugged.referenceVisible, plugged.missed) << "only what the area rays see is missed here";
+}
+
 // The editor opens `.pvs.json` files too: the text pvsJson writes reads back to the same data
 // (the binary encoding of both is byte-identical), and anything else is one error naming the key.
 TEST(PvsFiles, PvsJsonReadsBackAndRefusesWhatItWouldNotWrite)
