@@ -13,6 +13,7 @@
 #include <tbb/task_arena.h>
 
 #include "visibility/Error.h"
+#include "visibility/pvs/EdgeRays.h"
 #include "visibility/pvs/FirstHitCaster.h"
 #include "visibility/pvs/PvsBake.h"
 
@@ -83,62 +84,6 @@ std::vector<Gap> missedPairGaps(const WorldTriangles& world, const FirstHitCaste
 
 /// Panoramas from `eyes` (random points of cell c), "rendered" with first-hit rays: the pixels
 /// that show an object the cell's row culls are wrong.
-/// The edge search (PvsReference.h): whether a ray from one of `from` passing just outside an edge
-/// of one of `blockers` (triangle indices, most met first) first meets object `o`.
-bool edgeWitness(const WorldTriangles& world, const FirstHitCaster& caster, const std::vector<std::int32_t>& objectOf,
-                 std::int32_t o, const Bounds& objectBox, const std::vector<glm::vec3>& from,
-                 const std::vector<std::int64_t>& blockers, std::uint64_t& rays)
-{
-    for (std::int64_t t : blockers) {
-        const glm::vec3* v = &world.vertices[3 * std::size_t(t)];
-        for (int e = 0; e < 3; ++e) {
-            const glm::vec3 a = v[e], b = v[(e + 1) % 3], opposite = v[(e + 2) % 3];
-            const glm::vec3 edge = b - a;
-            const float length = glm::length(edge);
-            if (!(length > 0.0f))
-                continue;
-            // Out of the triangle, in its plane, across this edge.
-            glm::vec3 out = (a + b) * 0.5f - opposite;
-            out -= edge * (glm::dot(out, edge) / (length * length));
-            const float outLength = glm::length(out);
-            if (!(outLength > 0.0f))
-                continue;
-            out *= std::max(1e-5f * length, 2e-5f) / outLength;
-            for (float s : {0.25f, 0.5f, 0.75f}) {
-                const glm::vec3 past = a + edge * s + out;
-                for (const glm::vec3& p : from) {
-                    const glm::vec3 direction = past - p;
-                    const float d = glm::length(direction);
-                    if (!(d > 0.0f))
-                        continue;
-                    // On to the object's far side.
-                    float reach = 0.0f;
-                    for (int k = 0; k < 8; ++k) {
-                        const glm::vec3 corner((k & 1) ? objectBox.max.x : objectBox.min.x, (k & 2) ? objectBox.max.y : objectBox.min.y,
-                                               (k & 4) ? objectBox.max.z : objectBox.min.z);
-                        reach = std::max(reach, glm::length(corner - p));
-                    }
-                    ++rays;
-                    const RayHit hit = caster.cast(p, direction, reach / d * 1.01f);
-                    if (hit.instance >= 0 && objectOf[std::size_t(hit.instance)] == o)
-                        return true;
-                }
-            }
-        }
-    }
-    return false;
-}
-
-/// The `count` triangles met first most often (ties by index), from (triangle, times) pairs.
-std::vector<std::int64_t> mostMet(std::vector<std::pair<std::int64_t, int>> met, int count)
-{
-    std::sort(met.begin(), met.end(), [](const auto& x, const auto& y) { return x.second != y.second ? x.second > y.second : x.first < y.first; });
-    std::vector<std::int64_t> out;
-    for (std::size_t k = 0; k < met.size() && out.size() < std::size_t(std::max(count, 0)); ++k)
-        out.push_back(met[k].first);
-    return out;
-}
-
 void countPanoramaErrors(const FirstHitCaster& caster, const std::vector<std::int32_t>& objectOf, const PvsData& pvs,
                          std::uint32_t c, const std::vector<glm::vec3>& eyes, const ReferenceSettings& settings, CellResult& r)
 {
@@ -232,8 +177,9 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
                 const bool kept = pvs.rows.visible(c, o);
                 bool edgeSeen = false;
                 if (!seen && settings.edgeBlockers > 0 && !met.empty()) {
-                    const std::vector<std::int64_t> blockers = mostMet({met.begin(), met.end()}, settings.edgeBlockers);
-                    edgeSeen = edgeWitness(world, caster, objectOf, std::int32_t(o), pvs.objects[o].bounds, edgeFrom, blockers, r.edgeRays);
+                    const std::vector<std::int64_t> blockers = mostMet(met, settings.edgeBlockers);
+                    edgeSeen = edgeWitness(world.vertices, caster, objectOf, std::int32_t(o), pvs.objects[o].bounds, edgeFrom,
+                                           blockers, r.edgeRays);
                     r.edgeVisible += edgeSeen;
                     r.edgeMissed += edgeSeen && !kept;
                 }

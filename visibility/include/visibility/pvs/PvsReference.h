@@ -16,19 +16,16 @@
 //  - gap list: for each missed pair, every witness ray of the reference (from a point of the cell
 //    to where it meets the object) grouped into the openings they pass through, by the same
 //    mechanism as a view's openings (suggest/Openings.h): one gap per opening the bake stepped over;
-//  - the edge search, for every pair the area rays did not see: slivers of visibility open along the
-//    silhouettes of what blocks them, where area samples rarely fall. The triangles the pair's rays
-//    met first (the most met first) are its blockers; rays from points of the cell pass just outside
-//    each blocker edge (at a quarter, half and three quarters of it, 1e-5 of its length or 20 um,
-//    whichever is more, off the triangle in its plane: inside any opening wider than that) and on; one whose first hit is the object is a witness the area
-//    rays missed. Its finds are reported apart (edgeVisible, edgeMissed), so the area figures keep
-//    their meaning, and together in adversarialMissRate().
+//  - the edge search (EdgeRays.h), for every pair the area rays did not see: rays past the edges of
+//    the triangles those rays met first. Its finds are reported apart (edgeVisible, edgeMissed), so
+//    the area figures keep their meaning, and together in adversarialMissRate().
 
 #include <atomic>
 #include <cstdint>
 #include <vector>
 
 #include "visibility/Scene.h"
+#include "visibility/pvs/EdgeRays.h"
 #include "visibility/suggest/Openings.h"
 #include "visibility/pvs/PvsData.h"
 
@@ -40,8 +37,8 @@ struct ReferenceSettings {
     int objectPoints = 64;
     int views = 4;           ///< panoramas per cell
     int width = 64, height = 32;
-    int edgeBlockers = 12;     ///< blockers per unseen pair whose edges the edge search grazes; 0: no edge search
-    int edgeCellPoints = 8;    ///< cell points the edge rays start from
+    int edgeBlockers = kEdgeBlockers;       ///< blockers per unseen pair the edge search grazes; 0: none
+    int edgeCellPoints = kEdgeCellPoints;   ///< cell points the edge rays start from
     std::uint64_t seed = 0x5eed;   ///< mixed with the scene hash
     int threads = 0;
     /// Checked between objects; true stops the measurement (measureAccuracy then throws
