@@ -8,7 +8,7 @@
 #include <string>
 
 #include "BuiltinFormats.h"
-#include "plugins/MeshTopology.h"
+#include "QuakeUnits.h"
 #include "visibility/Error.h"
 #include "visibility/InputFile.h"
 #include "visibility/bsp/QuakeBsp.h"
@@ -16,10 +16,6 @@
 namespace sightline {
 
 namespace {
-
-constexpr double kMetresPerUnit = 0.0254;
-
-glm::vec3 yUpMetres(const glm::dvec3& q) { return glm::vec3(glm::dvec3(q.x, q.z, -q.y) * kMetresPerUnit); }
 
 class QuakeBspImporter final : public SceneImporter {
 public:
@@ -40,9 +36,9 @@ public:
             // Quake winds clockwise seen from the front: walk the polygon backwards.
             const std::size_t n = face.polygon.size();
             for (std::size_t k = 1; k + 1 < n; ++k) {
-                corners.push_back(yUpMetres(face.polygon[0]));
-                corners.push_back(yUpMetres(face.polygon[n - k]));
-                corners.push_back(yUpMetres(face.polygon[n - k - 1]));
+                corners.push_back(quakeToYUpMetres(face.polygon[0]));
+                corners.push_back(quakeToYUpMetres(face.polygon[n - k]));
+                corners.push_back(quakeToYUpMetres(face.polygon[n - k - 1]));
             }
         }
         if (liquids)
@@ -50,18 +46,7 @@ public:
         if (corners.empty())
             warnings.push_back(what + ": the world model has no faces");
 
-        Mesh mesh;
-        mesh.name = file.stem().string();
-        std::vector<std::uint32_t> representative;
-        const std::vector<std::uint32_t> ids = weldPositions(corners.data(), corners.size(), &representative);
-        for (std::uint32_t r : representative)
-            mesh.positions.push_back(corners[r]);
-        mesh.indices = ids;
-        mesh.watertight = meshTopology(mesh).closedAndOutward();
-        Scene scene;
-        scene.addMeshInstance(std::move(mesh));
-        validate(scene, what);
-        return scene;
+        return quakeLevelScene(corners, file);
     }
 };
 

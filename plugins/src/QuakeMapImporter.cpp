@@ -12,7 +12,7 @@
 #include <string>
 
 #include "BuiltinFormats.h"
-#include "plugins/MeshTopology.h"
+#include "QuakeUnits.h"
 #include "plugins/QuakeMap.h"
 #include "visibility/Error.h"
 #include "visibility/InputFile.h"
@@ -20,10 +20,6 @@
 namespace sightline {
 
 namespace {
-
-constexpr double kMetresPerUnit = 0.0254;
-
-glm::vec3 yUpMetres(const glm::dvec3& q) { return glm::vec3(glm::dvec3(q.x, q.z, -q.y) * kMetresPerUnit); }
 
 std::string lower(std::string s)
 {
@@ -75,7 +71,7 @@ public:
                     }
                     for (std::size_t k = 1; k + 1 < face.polygon.size(); ++k)
                         for (std::size_t c : {std::size_t(0), k, k + 1})
-                            corners.push_back(yUpMetres(face.polygon[c]));
+                            corners.push_back(quakeToYUpMetres(face.polygon[c]));
                 }
         }
         if (entitiesLeftOut)
@@ -89,17 +85,7 @@ public:
         if (corners.empty())
             warnings.push_back(what + ": no world brushes");
 
-        Mesh mesh;
-        mesh.name = file.stem().string();
-        std::vector<std::uint32_t> representative;
-        mesh.indices = weldPositions(corners.data(), corners.size(), &representative);
-        for (std::uint32_t r : representative)
-            mesh.positions.push_back(corners[r]);
-        mesh.watertight = meshTopology(mesh).closedAndOutward();
-        Scene scene;
-        scene.addMeshInstance(std::move(mesh));
-        validate(scene, what);
-        return scene;
+        return quakeLevelScene(corners, file);
     }
 };
 

@@ -65,6 +65,14 @@ inline CliRun runCli(const std::string& arguments, int timeoutSeconds = 0)
 
 inline bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == s.size() - 1; }
 
+/// A failed run that said why in one line holding `words`.
+inline void expectOneLineError(const CliRun& run, const std::string& words)
+{
+    EXPECT_NE(run.code, 0);
+    EXPECT_TRUE(oneLine(run.err)) << run.err;
+    EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
+}
+
 /// A test with a fresh folder of its own (removed after it), and the CLI's JSON answers parsed.
 class CliFolderTest : public ::testing::Test {
 protected:

@@ -14,28 +14,14 @@
 namespace sightline::test {
 namespace {
 
-class ChartCli : public ::testing::Test {
+class ChartCli : public CliFolderTest {
 protected:
-    void SetUp() override
-    {
-        dir = uniqueFolder();
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-    }
-    void TearDown() override { fs::remove_all(dir); }
     fs::path spec(const std::string& name, const std::string& text)
     {
-        const fs::path file = dir / name;
+        const fs::path file = folder / name;
         std::ofstream(file) << text;
         return file;
     }
-    void expectOneLineError(const CliRun& run, const std::string& words)
-    {
-        EXPECT_NE(run.code, 0);
-        EXPECT_TRUE(oneLine(run.err)) << run.err;
-        EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
-    }
-    fs::path dir;
 };
 
 TEST_F(ChartCli, DrawsEachSeriesInItsOwnColourAtTheAskedSize)
@@ -44,7 +30,7 @@ TEST_F(ChartCli, DrawsEachSeriesInItsOwnColourAtTheAskedSize)
         "y": {"title": "ms", "log": true},
         "series": [{"name": "fast", "points": [[10, 5], [100, 40], [1000, 300]]},
                    {"name": "reference", "points": [[10, 9], [100, 90], [1000, 900]]}]})");
-    const fs::path png = dir / "sweep.png";
+    const fs::path png = folder / "sweep.png";
     const CliRun run = runCli("chart " + file.string() + " --out " + png.string() + " --width 800 --height 500", 120);
     ASSERT_EQ(run.code, 0) << run.err;
     const QImage image(QString::fromStdString(png.string()));
@@ -62,7 +48,7 @@ TEST_F(ChartCli, DrawsEachSeriesInItsOwnColourAtTheAskedSize)
 TEST_F(ChartCli, DescriptionsItCannotDrawGetOneLine)
 {
     const std::string axes = R"("x": {"title": "n", "log": true}, "y": {"title": "ms"})";
-    const fs::path png = dir / "out.png";
+    const fs::path png = folder / "out.png";
     auto refuses = [&](const std::string& name, const std::string& text, const std::string& words) {
         const fs::path file = spec(name, text);
         expectOneLineError(runCli("chart " + file.string() + " --out " + png.string(), 60), words);

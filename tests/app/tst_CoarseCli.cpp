@@ -132,10 +132,12 @@ TEST_F(CoarseCli, ToleranceFindsTheFewestTrianglesWithinIt)
     EXPECT_EQ(single["false_blocked"], fit["false_blocked"]);
     EXPECT_EQ(single["false_free"], fit["false_free"]);
     // Fewer triangles than the bisection's resolution below it were over the tolerance when tried.
-    for (const json& point : fit["tried"])
-        if (point["asked"].get<int>() < chosen)
+    for (const json& point : fit["tried"]) {
+        if (point["asked"].get<int>() < chosen) {
             EXPECT_GT(double(point["false_blocked"].get<std::int64_t>() + point["false_free"].get<std::int64_t>()),
                       tolerance * double(rays));
+        }
+    }
 
     for (const std::string& bad : {std::string(" --tolerance 2"), std::string(" --tolerance 0.01 --sweep auto"),
                                    std::string(" --tolerance 0.01 --kind inner"), std::string(" --tolerance 0.01 --triangles 500"),

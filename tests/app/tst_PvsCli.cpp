@@ -62,12 +62,6 @@ protected:
         std::ofstream(file) << p.dump();
         return file.string();
     }
-    void expectOneLineError(const CliRun& run, const std::string& words)
-    {
-        EXPECT_NE(run.code, 0);
-        EXPECT_TRUE(oneLine(run.err)) << run.err;
-        EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
-    }
 
     fs::path dir;
     std::string project;

@@ -25,29 +25,20 @@ std::string slurp(const fs::path& file)
     return s.str();
 }
 
-class PvsVisCli : public ::testing::Test {
+class PvsVisCli : public CliFolderTest {
 protected:
     void SetUp() override
     {
-        dir = uniqueFolder();
-        fs::remove_all(dir);
-        fs::create_directories(dir);
-        level = dir / "dm4.bsp";
+        CliFolderTest::SetUp();
+        level = folder / "dm4.bsp";
         fs::copy_file(kLevel, level);
     }
-    void TearDown() override { fs::remove_all(dir); }
-    void expectOneLineError(const CliRun& run, const std::string& words)
-    {
-        EXPECT_NE(run.code, 0);
-        EXPECT_TRUE(oneLine(run.err)) << run.err;
-        EXPECT_NE(run.err.find(words), std::string::npos) << run.err;
-    }
-    fs::path dir, level;
+    fs::path level;
 };
 
 TEST_F(PvsVisCli, WritesACopyAnEngineReadsWithRowsNoWitnessContradicts)
 {
-    const fs::path out = dir / "dm4-vis.bsp", prt = dir / "dm4.prt";
+    const fs::path out = folder / "dm4-vis.bsp", prt = folder / "dm4.prt";
     const std::string before = slurp(level);
     const CliRun run = runCli("pvs vis " + level.string() + " --out " + out.string() + " --prt " + prt.string() +
                                   " --check 16 --threads 2 --print-json",
@@ -91,8 +82,8 @@ TEST_F(PvsVisCli, NeverWritesOverTheLevelOrOneOutputWithAnother)
 {
     const std::string before = slurp(level);
     expectOneLineError(runCli("pvs vis " + level.string() + " --out " + level.string()), "would replace the level");
-    expectOneLineError(runCli("pvs vis " + level.string() + " --out " + (dir / "./dm4.bsp").string()), "would replace");
-    const fs::path same = dir / "same";
+    expectOneLineError(runCli("pvs vis " + level.string() + " --out " + (folder / "./dm4.bsp").string()), "would replace");
+    const fs::path same = folder / "same";
     expectOneLineError(runCli("pvs vis " + level.string() + " --out " + same.string() + " --prt " + same.string()), "--prt");
     EXPECT_FALSE(fs::exists(same));
     EXPECT_EQ(slurp(level), before);
@@ -101,7 +92,7 @@ TEST_F(PvsVisCli, NeverWritesOverTheLevelOrOneOutputWithAnother)
 TEST_F(PvsVisCli, BadFilesGetOneLine)
 {
     const std::string bytes = slurp(level);
-    const fs::path truncated = dir / "truncated.bsp", quake2 = dir / "q2.bsp", lumps = dir / "lumps.bsp";
+    const fs::path truncated = folder / "truncated.bsp", quake2 = folder / "q2.bsp", lumps = folder / "lumps.bsp";
     std::ofstream(truncated, std::ios::binary) << bytes.substr(0, bytes.size() / 3);
     std::string ibsp = bytes;
     ibsp.replace(0, 4, "IBSP");
@@ -112,8 +103,8 @@ TEST_F(PvsVisCli, BadFilesGetOneLine)
     expectOneLineError(runCli("pvs vis " + truncated.string(), 60), "lies outside the file");
     expectOneLineError(runCli("pvs vis " + quake2.string(), 60), "Quake 2");
     expectOneLineError(runCli("pvs vis " + lumps.string(), 60), "lump 10");
-    expectOneLineError(runCli("pvs vis " + dir.string(), 60), "not a regular file");
-    expectOneLineError(runCli("pvs vis " + (dir / "missing.bsp").string(), 60), "missing.bsp");
+    expectOneLineError(runCli("pvs vis " + folder.string(), 60), "not a regular file");
+    expectOneLineError(runCli("pvs vis " + (folder / "missing.bsp").string(), 60), "missing.bsp");
 }
 
 } // namespace

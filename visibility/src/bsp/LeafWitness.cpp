@@ -134,12 +134,13 @@ WitnessCount searchWitnesses(const QuakeBsp& bsp, const std::vector<LeafPortal>&
                              const pvs::VisibilityRows& rows, bool culled, const WitnessOptions& options)
 {
     const std::size_t n = std::size_t(bsp.visleafs);
-    const auto points = leafPoints(bsp, treePortals, options);
+    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+    std::vector<std::vector<glm::dvec3>> points;
+    arena.execute([&] { points = leafPoints(bsp, treePortals, options); });
     const auto label = regions(bsp, treePortals, options.clearLiquids);
     std::atomic<std::size_t> pairs{0}, witnessed{0};
     std::mutex examplesLock;
     WitnessCount out;
-    tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), n, [&](std::size_t a) {
             const int contents = bsp.leaves[a + 1].contents;
