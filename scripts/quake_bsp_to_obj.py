@@ -21,11 +21,12 @@ def yup(v):
     return (v[0] * SCALE, v[2] * SCALE, -v[1] * SCALE)
 
 
-def main(src, dst, origins_out):
+def read_bsp(src, versions=(29,)):
+    """The file's lumps: lump(k) gives lump k's bytes, records(k, fmt) its records unpacked."""
     data = open(src, 'rb').read()
     version, = struct.unpack_from('<i', data, 0)
-    if version != 29:
-        raise SystemExit(f'{src}: not a Quake 1 BSP (version {version}, expected 29)')
+    if version not in versions:
+        raise SystemExit(f'{src}: not a Quake 1 BSP (version {version}, expected {" or ".join(map(str, versions))})')
     lumps = [struct.unpack_from('<ii', data, 4 + 8 * k) for k in range(15)]
 
     def lump(k):
@@ -36,6 +37,11 @@ def main(src, dst, origins_out):
         size = struct.calcsize(fmt)
         raw = lump(k)
         return [struct.unpack_from(fmt, raw, size * i) for i in range(len(raw) // size)]
+    return lump, records
+
+
+def main(src, dst, origins_out):
+    lump, records = read_bsp(src)
 
     vertices = records(3, '<3f')
     edges = records(12, '<2H')

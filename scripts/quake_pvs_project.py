@@ -15,25 +15,7 @@ import struct
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from quake_bsp_to_obj import SCALE, yup  # noqa: E402
-
-
-def read(path):
-    data = open(path, 'rb').read()
-    version, = struct.unpack_from('<i', data, 0)
-    if version not in (29, 30):
-        raise SystemExit(f'{path}: not a BSP29/BSP30 level (version {version})')
-    lumps = [struct.unpack_from('<ii', data, 4 + 8 * k) for k in range(15)]
-
-    def lump(k):
-        offset, length = lumps[k]
-        return data[offset:offset + length]
-
-    def records(k, fmt):
-        size = struct.calcsize(fmt)
-        raw = lump(k)
-        return [struct.unpack_from(fmt, raw, size * i) for i in range(len(raw) // size)]
-    return lump, records
+from quake_bsp_to_obj import read_bsp, yup  # noqa: E402
 
 
 def glb(meshes):
@@ -69,7 +51,7 @@ def main():
         raise SystemExit(__doc__)
     src, out = sys.argv[1], sys.argv[2]
     cells_wanted = int(sys.argv[sys.argv.index('--cells') + 1]) if '--cells' in sys.argv else 200
-    lump, records = read(src)
+    lump, records = read_bsp(src, versions=(29, 30))
     vertices = records(3, '<3f')
     edges = records(12, '<2H')
     surfedges = [s[0] for s in records(13, '<i')]
