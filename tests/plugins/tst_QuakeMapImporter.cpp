@@ -187,3 +187,97 @@ TEST(QuakeMap, BadTextGetsOneLineNamingTheLine)
     refuses("{ \"key\" }", "no quoted value");
     refuses("{ { junk } }", "patchDef/brushDef");
 }
+
+namespace {
+
+/// Whether segment p-q crosses triangle abc strictly between its ends (double, Moeller-Trumbore).
+bool crosses(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
+{
+    const glm::dvec3 d = q - p, e1 = b - a, e2 = c - a, h = glm::cross(d, e2);
+    const double det = glm::dot(e1, h);
+    if (std::abs(det) < 1e-12)
+        return false;
+    const glm::dvec3 s = p - a;
+    const double u = glm::dot(s, h) / det;
+    const glm::dvec3 k = glm::cross(s, e1);
+    const double v = glm::dot(d, k) / det, t = glm::dot(e2, k) / det;
+    return u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 1e-9 && t < 1.0 - 1e-9;
+}
+
+std::string cube(glm::dvec3 lo, glm::dvec3 hi, const std::string& texture = "WALL")
+{
+    auto pt = [](double x, double y, double z) {
+        return "( " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(z) + " ) ";
+    };
+    const double x0 = lo.x, y0 = lo.y, z0 = lo.z, x1 = hi.x, y1 = hi.y, z1 = hi.z;
+    return "{\n" + pt(x0, y0, z0) + pt(x0, y1, z0) + pt(x0, y1, z1) + texture + " 0 0 0 1 1\n" +
+           pt(x1, y1, z0) + pt(x1, y0, z0) + pt(x1, y0, z1) + texture + " 0 0 0 1 1\n" +
+           pt(x1, y0, z0) + pt(x0, y0, z0) + pt(x0, y0, z1) + texture + " 0 0 0 1 1\n" +
+           pt(x0, y1, z0) + pt(x1, y1, z0) + pt(x1, y1, z1) + texture + " 0 0 0 1 1\n" +
+           pt(x0, y1, z0) + pt(x0, y0, z0) + pt(x1, y0, z0) + texture + " 0 0 0 1 1\n" +
+           pt(x0, y0, z1) + pt(x0, y1, z1) + pt(x1, y1, z1) + texture + " 0 0 0 1 1\n}\n";
+}
+
+} // namespace
+
+// Faces inside other brushes (overlaps, brushes touching, a brush given twice) are left out, and
+// the level still blocks exactly the segments the brushes' every face blocks.
+TEST(QuakeMap, FacesInsideOtherBrushesGoAndBlockNothingMore)
+{
+    const std::string text = "{\n\"classname\" \"worldspawn\"\n" + cube({0, 0, 0}, {64, 64, 64}) + cube({32, 16, 16}, {96, 48, 48}) +
+                             cube({0, 0, 64}, {64, 64, 80}) + cube({0, 0, 64}, {64, 64, 80}) +
+                             cube({100, 0, 0}, {164, 64, 64}, "*WATER") + cube({120, 16, 16}, {140, 48, 48}) + "}\n";
+    const fs::path file = fs::temp_directory_path() / ("sightline_overlap_" + std::to_string(::getpid()) + ".map");
+    std::ofstream(file) << text;
+    std::vector<std::string> warnings;
+    const Scene scene = loadScene(file, &warnings);
+    fs::remove(file);
+    // Every face of every brush, as the reader gives them (the water's left out).
+    const QuakeMap map = parseQuakeMap(text, "overlap.map");
+    std::vector<glm::dvec3> all;
+    for (const MapBrush& b : map.entities[0].brushes)
+        for (const BrushFace& f : brushFaces(b))
+            if (f.texture[0] != '*')
+                for (std::size_t k = 1; k + 1 < f.polygon.size(); ++k)
+                    all.insert(all.end(), {f.polygon[0], f.polygon[k], f.polygon[k + 1]});
+    const Mesh& mesh = scene.meshes[0];
+    std::vector<glm::dvec3> kept;
+    for (std::uint32_t i : mesh.indices) {
+        const glm::vec3 p = mesh.positions[i];
+        kept.push_back(glm::dvec3(p.x, -p.z, p.y) / 0.0254);
+    }
+    EXPECT_LT(kept.size(), all.size()) << "buried faces left out";
+    bool said = false;
+    for (const std::string& w : warnings)
+        said = said || w.find("inside other brushes") != std::string::npos;
+    EXPECT_TRUE(said);
+    // The duplicated slab keeps one copy of its top: some triangle still lies at z = 80.
+    bool top = false;
+    for (const glm::dvec3& p : kept)
+        top = top || std::abs(p.z - 80.0) < 1e-3;
+    EXPECT_TRUE(top);
+
+    // Segments between random points outside every brush: blocked by the kept faces exactly when by all.
+    std::mt19937_64 random(3);
+    std::uniform_real_distribution<double> coordinate(-40.0, 200.0);
+    int segments = 0;
+    while (segments < 3000) {
+        glm::dvec3 ends[2];
+        bool open = true;
+        for (glm::dvec3& e : ends) {
+            e = {coordinate(random), coordinate(random) * 0.6, coordinate(random) * 0.6};
+            for (const MapBrush& b : map.entities[0].brushes)
+                open = open && !insideBrush(b, e, -0.5);
+        }
+        if (!open)
+            continue;
+        ++segments;
+        auto blocked = [&](const std::vector<glm::dvec3>& t) {
+            for (std::size_t k = 0; k + 2 < t.size(); k += 3)
+                if (crosses(ends[0], ends[1], t[k], t[k + 1], t[k + 2]))
+                    return true;
+            return false;
+        };
+        ASSERT_EQ(blocked(kept), blocked(all)) << "segment " << segments;
+    }
+}
