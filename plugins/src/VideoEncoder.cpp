@@ -99,6 +99,7 @@ struct VideoEncoder::Impl {
     fs::path target;        ///< the name the user gave (messages)
     fs::path replaced;      ///< the file the rename replaces: a symlink's target, so the link stays
     fs::path temp;
+    fs::path folder;        ///< where the temporary and the video go
     VideoFormat format;
     VideoSettings settings;
     AVFormatContext* muxer = nullptr;
@@ -132,6 +133,131 @@ struct VideoEncoder::Impl {
         throw Error("video '" + target.string() + "': " + doing + ": " + avError(code));
     }
 
+    /// The temporary file beside the target (so the final rename stays on one file system), and the
+    /// file the rename replaces: through a symlink, the file it names, keeping the link (as every
+    /// save does, visibility/AtomicFile.h).
+    void placeTemporary()
+    {
+        const fs::path& file = target;
+        std::error_code ec;
+        if (fs::is_directory(file, ec))
+            throw Error("video '" + file.string() + "': is a folder");
+        std::error_code linkError;
+        const bool link = fs::is_symlink(fs::symlink_status(file, ec));   // ec set for a file not there yet
+        replaced = link ? fs::weakly_canonical(file, linkError) : file;
+        if (linkError)
+            throw Error("video '" + file.string() + "': cannot follow the symlink (" + linkError.message() + ")");
+        folder = replaced.has_parent_path() ? replaced.parent_path() : fs::path(".");
+        if (!fs::is_directory(folder, ec))
+            throw Error("video '" + file.string() + "': the folder '" + folder.string() + "' does not exist");
+        temp = folder / atomicTempName(replaced, static_cast<unsigned long>(getpid()), static_cast<unsigned long>(std::random_device{}()));
+    }
+
+    /// The muxer, the stream and the encoder, opened with the settings' size, rate and quality.
+    void openEncoder()
+    {
+        // libav's own log lines would break the one-line error rule; its errors reach the user through
+        // av_strerror in our messages instead.
+        static std::once_flag quiet;
+        std::call_once(quiet, [] { av_log_set_level(AV_LOG_QUIET); });
+        // The muxer is named, not guessed from the temporary's name; the url lets MP4's faststart
+        // pass reopen the file.
+        int rc = avformat_alloc_output_context2(&muxer, nullptr, format.container.c_str(), temp.c_str());
+        if (rc < 0 || !muxer)
+            fail("no " + format.container + " muxer", rc);
+        const AVCodec* encoder = avcodec_find_encoder_by_name(format.encoder.c_str());
+        stream = avformat_new_stream(muxer, nullptr);
+        codec = avcodec_alloc_context3(encoder);
+        frame = av_frame_alloc();
+        packet = av_packet_alloc();
+        if (!stream || !codec || !frame || !packet)
+            throw Error("video '" + target.string() + "': out of memory");
+
+        // A fixed rate: frame k at k / fps exactly (a rational time base, not rounded milliseconds).
+        const AVRational rate = av_d2q(settings.fps, 100000);
+        AVCodecContext* c = codec;
+        c->width = settings.width;
+        c->height = settings.height;
+        c->pix_fmt = AV_PIX_FMT_YUV420P;   // what players decode everywhere
+        c->time_base = av_inv_q(rate);
+        c->framerate = rate;
+        c->gop_size = std::max(1, int(std::lround(2.0 * settings.fps)));   // a key frame every 2 s, for seeking
+        // Rendered images are full-range RGB; tag the video as BT.709, which the conversion below uses.
+        c->colorspace = AVCOL_SPC_BT709;
+        c->color_primaries = AVCOL_PRI_BT709;
+        c->color_trc = AVCOL_TRC_BT709;
+        c->color_range = AVCOL_RANGE_MPEG;
+        if (muxer->oformat->flags & AVFMT_GLOBALHEADER)
+            c->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+        AVDictionary* options = encoderOptions();
+        rc = avcodec_open2(c, encoder, &options);
+        av_dict_free(&options);
+        if (rc < 0)
+            fail("cannot open the " + format.encoder + " encoder", rc);
+        rc = avcodec_parameters_from_context(stream->codecpar, c);
+        if (rc < 0)
+            fail("stream parameters", rc);
+        stream->time_base = c->time_base;
+        stream->avg_frame_rate = rate;
+    }
+
+    /// The encoder's quality and speed options (sets the codec's bit rate where libvpx needs one).
+    AVDictionary* encoderOptions()
+    {
+        AVDictionary* options = nullptr;
+        if (format.codec == "h264") {
+            av_dict_set(&options, "preset", "veryfast", 0);   // 2 cores: encoding must not dominate rendering
+            av_dict_set(&options, "crf", std::to_string(settings.quality).c_str(), 0);
+            return options;
+        }
+        // libvpx: constant quality on its 0-63 scale, realtime speed.
+        const int crf = std::clamp(int(std::lround(settings.quality * 63.0 / 51.0)) + 10, 4, 63);
+        codec->bit_rate = 0;
+        av_dict_set(&options, "crf", std::to_string(crf).c_str(), 0);
+        av_dict_set(&options, "deadline", "realtime", 0);
+        av_dict_set(&options, "cpu-used", "8", 0);
+        if (format.codec == "vp9")
+            av_dict_set(&options, "row-mt", "1", 0);
+        else
+            codec->bit_rate = (long long)settings.width * settings.height * 4;   // VP8 needs a ceiling with crf
+        return options;
+    }
+
+    /// The temporary file opened and the container's header written.
+    void openOutput()
+    {
+        int rc = avio_open(&muxer->pb, temp.c_str(), AVIO_FLAG_WRITE);
+        if (rc < 0) {
+            temp.clear();   // nothing was created
+            throw Error("video '" + target.string() + "': cannot write in '" + folder.string() + "': " + avError(rc));
+        }
+        AVDictionary* muxOptions = nullptr;
+        if (format.container == "mp4")
+            av_dict_set(&muxOptions, "movflags", "+faststart", 0);   // index first: plays while downloading
+        rc = avformat_write_header(muxer, &muxOptions);
+        av_dict_free(&muxOptions);
+        if (rc < 0)
+            fail("writing the header", rc);
+    }
+
+    /// The frame the images are converted into, and the conversion: RGB full range in, BT.709
+    /// limited range out (the tags openEncoder sets).
+    void prepareFrames()
+    {
+        frame->format = codec->pix_fmt;
+        frame->width = codec->width;
+        frame->height = codec->height;
+        const int rc = av_frame_get_buffer(frame, 0);
+        if (rc < 0)
+            fail("frame buffer", rc);
+        scaler = sws_getContext(codec->width, codec->height, AV_PIX_FMT_RGBA, codec->width, codec->height, AV_PIX_FMT_YUV420P,
+                                SWS_BILINEAR, nullptr, nullptr, nullptr);
+        if (!scaler)
+            throw Error("video '" + target.string() + "': no RGBA to YUV 4:2:0 conversion");
+        const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
+        sws_setColorspaceDetails(scaler, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
+    }
+
     /// Sends `input` (nullptr drains) and writes every packet the encoder has ready.
     void encode(const AVFrame* input)
     {
@@ -160,107 +286,10 @@ VideoEncoder::VideoEncoder(const fs::path& file, const VideoSettings& settings) 
     m.settings = settings;
     m.format = videoFormatFor(file);
     checkVideoSettings(settings);
-    std::error_code ec;
-    if (fs::is_directory(file, ec))
-        throw Error("video '" + file.string() + "': is a folder");
-    // Saving through a symlink replaces the file it names and keeps the link (as every save does,
-    // visibility/AtomicFile.h).
-    std::error_code linkError;
-    const bool link = fs::is_symlink(fs::symlink_status(file, ec));   // ec set for a file not there yet
-    m.replaced = link ? fs::weakly_canonical(file, linkError) : file;
-    if (linkError)
-        throw Error("video '" + file.string() + "': cannot follow the symlink (" + linkError.message() + ")");
-    const fs::path folder = m.replaced.has_parent_path() ? m.replaced.parent_path() : fs::path(".");
-    if (!fs::is_directory(folder, ec))
-        throw Error("video '" + file.string() + "': the folder '" + folder.string() + "' does not exist");
-    // Beside the target, so the final rename stays on one file system.
-    m.temp = folder / atomicTempName(m.replaced, static_cast<unsigned long>(getpid()), static_cast<unsigned long>(std::random_device{}()));
-
-    // libav's own log lines would break the one-line error rule; its errors reach the user through
-    // av_strerror in our messages instead.
-    static std::once_flag quiet;
-    std::call_once(quiet, [] { av_log_set_level(AV_LOG_QUIET); });
-    // The muxer is named, not guessed from the temporary's name; the url lets MP4's faststart
-    // pass reopen the file.
-    int rc = avformat_alloc_output_context2(&m.muxer, nullptr, m.format.container.c_str(), m.temp.c_str());
-    if (rc < 0 || !m.muxer)
-        m.fail("no " + m.format.container + " muxer", rc);
-    const AVCodec* encoder = avcodec_find_encoder_by_name(m.format.encoder.c_str());
-    m.stream = avformat_new_stream(m.muxer, nullptr);
-    m.codec = avcodec_alloc_context3(encoder);
-    m.frame = av_frame_alloc();
-    m.packet = av_packet_alloc();
-    if (!m.stream || !m.codec || !m.frame || !m.packet)
-        throw Error("video '" + file.string() + "': out of memory");
-
-    // A fixed rate: frame k at k / fps exactly (a rational time base, not rounded milliseconds).
-    const AVRational rate = av_d2q(settings.fps, 100000);
-    AVCodecContext* c = m.codec;
-    c->width = settings.width;
-    c->height = settings.height;
-    c->pix_fmt = AV_PIX_FMT_YUV420P;   // what players decode everywhere
-    c->time_base = av_inv_q(rate);
-    c->framerate = rate;
-    c->gop_size = std::max(1, int(std::lround(2.0 * settings.fps)));   // a key frame every 2 s, for seeking
-    // Rendered images are full-range RGB; tag the video as BT.709, which the conversion below uses.
-    c->colorspace = AVCOL_SPC_BT709;
-    c->color_primaries = AVCOL_PRI_BT709;
-    c->color_trc = AVCOL_TRC_BT709;
-    c->color_range = AVCOL_RANGE_MPEG;
-    if (m.muxer->oformat->flags & AVFMT_GLOBALHEADER)
-        c->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-    AVDictionary* options = nullptr;
-    if (m.format.codec == "h264") {
-        av_dict_set(&options, "preset", "veryfast", 0);   // 2 cores: encoding must not dominate rendering
-        av_dict_set(&options, "crf", std::to_string(settings.quality).c_str(), 0);
-    } else {
-        // libvpx: constant quality on its 0-63 scale, realtime speed.
-        const int crf = std::clamp(int(std::lround(settings.quality * 63.0 / 51.0)) + 10, 4, 63);
-        c->bit_rate = 0;
-        av_dict_set(&options, "crf", std::to_string(crf).c_str(), 0);
-        av_dict_set(&options, "deadline", "realtime", 0);
-        av_dict_set(&options, "cpu-used", "8", 0);
-        if (m.format.codec == "vp9")
-            av_dict_set(&options, "row-mt", "1", 0);
-        else
-            c->bit_rate = (long long)settings.width * settings.height * 4;   // VP8 needs a ceiling with crf
-    }
-    rc = avcodec_open2(c, encoder, &options);
-    av_dict_free(&options);
-    if (rc < 0)
-        m.fail("cannot open the " + m.format.encoder + " encoder", rc);
-    rc = avcodec_parameters_from_context(m.stream->codecpar, c);
-    if (rc < 0)
-        m.fail("stream parameters", rc);
-    m.stream->time_base = c->time_base;
-    m.stream->avg_frame_rate = rate;
-
-    rc = avio_open(&m.muxer->pb, m.temp.c_str(), AVIO_FLAG_WRITE);
-    if (rc < 0) {
-        m.temp.clear();   // nothing was created
-        throw Error("video '" + file.string() + "': cannot write in '" + folder.string() + "': " + avError(rc));
-    }
-    AVDictionary* muxOptions = nullptr;
-    if (m.format.container == "mp4")
-        av_dict_set(&muxOptions, "movflags", "+faststart", 0);   // index first: plays while downloading
-    rc = avformat_write_header(m.muxer, &muxOptions);
-    av_dict_free(&muxOptions);
-    if (rc < 0)
-        m.fail("writing the header", rc);
-
-    m.frame->format = c->pix_fmt;
-    m.frame->width = c->width;
-    m.frame->height = c->height;
-    rc = av_frame_get_buffer(m.frame, 0);
-    if (rc < 0)
-        m.fail("frame buffer", rc);
-    m.scaler = sws_getContext(c->width, c->height, AV_PIX_FMT_RGBA, c->width, c->height, AV_PIX_FMT_YUV420P,
-                              SWS_BILINEAR, nullptr, nullptr, nullptr);
-    if (!m.scaler)
-        throw Error("video '" + file.string() + "': no RGBA to YUV 4:2:0 conversion");
-    // RGB full range in, BT.709 limited range out (the tags above).
-    const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-    sws_setColorspaceDetails(m.scaler, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
+    m.placeTemporary();
+    m.openEncoder();
+    m.openOutput();
+    m.prepareFrames();
 }
 
 VideoEncoder::~VideoEncoder() = default;
