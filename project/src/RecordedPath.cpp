@@ -77,6 +77,95 @@ int RecordedPath::frameAtTime(double seconds) const
     return int(std::clamp(f, 0.0, double(frames - 1)));
 }
 
+namespace {
+
+/// The array under `field` of a recorded path: absent is empty; not an array, or longer than
+/// kMaxPathKeys, is refused naming it.
+const json* keyArray(const json& object, const char* field, const char* contents, const std::string& what, const std::string& root)
+{
+    if (!object.contains(field))
+        return nullptr;
+    const json& keys = object.at(field);
+    const std::string name = root + "." + field;
+    if (!keys.is_array())
+        fail(what, name, std::string("must be an array of ") + contents);
+    if (keys.size() > kMaxPathKeys)
+        fail(what, name, "has " + std::to_string(keys.size()) + " keys; at most " + std::to_string(kMaxPathKeys) + " are read");
+    return &keys;
+}
+
+PathCameraKey cameraKey(const json& k, const std::string& what, const std::string& key, int frames)
+{
+    if (!k.is_object())
+        fail(what, key, "must be an object with frame, target, distance, yaw, pitch and fov_y");
+    PathCameraKey cam;
+    cam.frame = frameOf(k, what, key, frames);
+    cam.camera.target = vec3(k, "target", what, key);
+    cam.camera.distance = number(k, "distance", what, key);
+    cam.camera.yaw = number(k, "yaw", what, key);
+    cam.camera.pitch = number(k, "pitch", what, key);
+    cam.camera.fovY = number(k, "fov_y", what, key);
+    if (const auto flag = k.find("orthographic"); flag != k.end()) {
+        if (!flag->is_boolean())
+            fail(what, key + ".orthographic", "must be true or false");
+        cam.camera.orthographic = flag->get<bool>();
+    }
+    if (!(cam.camera.distance > 0.0))
+        fail(what, key + ".distance", "must be positive");
+    if (!(std::abs(cam.camera.pitch) < 1.5708))
+        fail(what, key + ".pitch", "must be in (-pi/2, pi/2)");
+    if (!(cam.camera.fovY > 0.05 && cam.camera.fovY < 3.0))
+        fail(what, key + ".fov_y", "must be in (0.05, 3) radians");
+    return cam;
+}
+
+/// An occluder's edit: its index, name and affine transform.
+void occluderEdit(const json& k, const std::string& what, const std::string& key, PathEdit& edit)
+{
+    edit.object = PathEdit::Object::Occluder;
+    const json& index = k.value("index", json());
+    if (!index.is_number_unsigned())
+        fail(what, key + ".index", "must be an occluder's index (an integer >= 0)");
+    edit.index = index.get<std::size_t>();
+    if (!k.contains("name") || !k.at("name").is_string())
+        fail(what, key + ".name", "must be the occluder's name");
+    edit.name = k.at("name").get<std::string>();
+    const json& m = k.value("transform", json());
+    if (!m.is_array() || m.size() != 16)
+        fail(what, key + ".transform", "must be an array of 16 numbers (column-major)");
+    for (int i = 0; i < 16; ++i) {
+        if (!m[std::size_t(i)].is_number() || !std::isfinite(m[std::size_t(i)].get<double>()))
+            fail(what, key + ".transform", "must be an array of 16 finite numbers");
+        edit.transform[i / 4][i % 4] = m[std::size_t(i)].get<float>();
+    }
+    // Occluders move rigidly or scale; a projective last row would warp them.
+    if (edit.transform[0][3] != 0.0f || edit.transform[1][3] != 0.0f || edit.transform[2][3] != 0.0f ||
+        edit.transform[3][3] != 1.0f)
+        fail(what, key + ".transform", "must be affine: its last row (elements 3, 7, 11, 15) must be 0, 0, 0, 1");
+}
+
+PathEdit pathEdit(const json& k, const std::string& what, const std::string& key, int frames)
+{
+    if (!k.is_object())
+        fail(what, key, "must be an object with frame and object");
+    PathEdit edit;
+    edit.frame = frameOf(k, what, key, frames);
+    const std::string kind = k.value("object", std::string());
+    if (kind == "source" || kind == "receiver") {
+        edit.object = kind == "source" ? PathEdit::Object::Source : PathEdit::Object::Receiver;
+        edit.patch.corner = vec3(k, "corner", what, key);
+        edit.patch.u = vec3(k, "u", what, key);
+        edit.patch.v = vec3(k, "v", what, key);
+    } else if (kind == "occluder") {
+        occluderEdit(k, what, key, edit);
+    } else {
+        fail(what, key + ".object", "must be \"source\", \"receiver\" or \"occluder\"");
+    }
+    return edit;
+}
+
+} // namespace
+
 RecordedPath parseRecordedPath(const Project& project, const std::string& what)
 {
     RecordedPath path;
@@ -97,87 +186,22 @@ RecordedPath parseRecordedPath(const Project& project, const std::string& what)
         fail(what, root + ".frames", "must be in [1, " + std::to_string(kMaxRecordedFrames) + "]");
     path.frames = int(frames);
 
-    if (object.contains("camera")) {
-        const json& keys = object.at("camera");
-        if (!keys.is_array())
-            fail(what, root + ".camera", "must be an array of camera keys");
-        if (keys.size() > kMaxPathKeys)
-            fail(what, root + ".camera", "has " + std::to_string(keys.size()) + " keys; at most " + std::to_string(kMaxPathKeys) + " are read");
-        for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (const json* keys = keyArray(object, "camera", "camera keys", what, root))
+        for (std::size_t k = 0; k < keys->size(); ++k) {
             const std::string key = root + ".camera[" + std::to_string(k) + "]";
-            if (!keys[k].is_object())
-                fail(what, key, "must be an object with frame, target, distance, yaw, pitch and fov_y");
-            PathCameraKey cam;
-            cam.frame = frameOf(keys[k], what, key, path.frames);
-            cam.camera.target = vec3(keys[k], "target", what, key);
-            cam.camera.distance = number(keys[k], "distance", what, key);
-            cam.camera.yaw = number(keys[k], "yaw", what, key);
-            cam.camera.pitch = number(keys[k], "pitch", what, key);
-            cam.camera.fovY = number(keys[k], "fov_y", what, key);
-            if (const auto flag = keys[k].find("orthographic"); flag != keys[k].end()) {
-                if (!flag->is_boolean())
-                    fail(what, key + ".orthographic", "must be true or false");
-                cam.camera.orthographic = flag->get<bool>();
-            }
-            if (!(cam.camera.distance > 0.0))
-                fail(what, key + ".distance", "must be positive");
-            if (!(std::abs(cam.camera.pitch) < 1.5708))
-                fail(what, key + ".pitch", "must be in (-pi/2, pi/2)");
-            if (!(cam.camera.fovY > 0.05 && cam.camera.fovY < 3.0))
-                fail(what, key + ".fov_y", "must be in (0.05, 3) radians");
+            const PathCameraKey cam = cameraKey((*keys)[k], what, key, path.frames);
             if (!path.camera.empty() && cam.frame <= path.camera.back().frame)
                 fail(what, key + ".frame", "must be greater than the previous key's frame");
             path.camera.push_back(cam);
         }
-    }
-
-    if (object.contains("edits")) {
-        const json& keys = object.at("edits");
-        if (!keys.is_array())
-            fail(what, root + ".edits", "must be an array of edit keys");
-        if (keys.size() > kMaxPathKeys)
-            fail(what, root + ".edits", "has " + std::to_string(keys.size()) + " keys; at most " + std::to_string(kMaxPathKeys) + " are read");
-        for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (const json* keys = keyArray(object, "edits", "edit keys", what, root))
+        for (std::size_t k = 0; k < keys->size(); ++k) {
             const std::string key = root + ".edits[" + std::to_string(k) + "]";
-            if (!keys[k].is_object())
-                fail(what, key, "must be an object with frame and object");
-            PathEdit edit;
-            edit.frame = frameOf(keys[k], what, key, path.frames);
-            const std::string kind = keys[k].value("object", std::string());
-            if (kind == "source" || kind == "receiver") {
-                edit.object = kind == "source" ? PathEdit::Object::Source : PathEdit::Object::Receiver;
-                edit.patch.corner = vec3(keys[k], "corner", what, key);
-                edit.patch.u = vec3(keys[k], "u", what, key);
-                edit.patch.v = vec3(keys[k], "v", what, key);
-            } else if (kind == "occluder") {
-                edit.object = PathEdit::Object::Occluder;
-                const json& index = keys[k].value("index", json());
-                if (!index.is_number_unsigned())
-                    fail(what, key + ".index", "must be an occluder's index (an integer >= 0)");
-                edit.index = index.get<std::size_t>();
-                if (!keys[k].contains("name") || !keys[k].at("name").is_string())
-                    fail(what, key + ".name", "must be the occluder's name");
-                edit.name = keys[k].at("name").get<std::string>();
-                const json& m = keys[k].value("transform", json());
-                if (!m.is_array() || m.size() != 16)
-                    fail(what, key + ".transform", "must be an array of 16 numbers (column-major)");
-                for (int i = 0; i < 16; ++i) {
-                    if (!m[std::size_t(i)].is_number() || !std::isfinite(m[std::size_t(i)].get<double>()))
-                        fail(what, key + ".transform", "must be an array of 16 finite numbers");
-                    edit.transform[i / 4][i % 4] = m[std::size_t(i)].get<float>();
-                }
-                // Occluders move rigidly or scale; a projective last row would warp them.
-                if (edit.transform[0][3] != 0.0f || edit.transform[1][3] != 0.0f || edit.transform[2][3] != 0.0f ||
-                    edit.transform[3][3] != 1.0f)
-                    fail(what, key + ".transform", "must be affine: its last row (elements 3, 7, 11, 15) must be 0, 0, 0, 1");
-            } else {
-                fail(what, key + ".object", "must be \"source\", \"receiver\" or \"occluder\"");
-            }
+            const PathEdit edit = pathEdit((*keys)[k], what, key, path.frames);
             if (!path.edits.empty() && edit.frame < path.edits.back().frame)
                 fail(what, key + ".frame", "must not be less than the previous edit's frame");
             path.edits.push_back(edit);
         }
-    }
     return path;
 }
 
