@@ -10,6 +10,12 @@ namespace sightline::pvs {
 
 namespace {
 
+/// The segments a pair of quads holds: the product of their areas.
+double pairMeasure(const Quad& f, const Quad& g)
+{
+    return glm::length(glm::cross(f.u, f.v)) * glm::length(glm::cross(g.u, g.v));
+}
+
 constexpr double kHopelessGaps = 4.0;     // blockers below this many smallest gaps are hopeless
 constexpr int kBlockersPerRay = 6;        // triangles along a central segment tried as blockers
 constexpr double kBeforeTarget = 1e-7;    // a hit this close to the target face is not "before" it
@@ -263,6 +269,34 @@ ShaftSearch::Outcome ShaftSearch::evaluate(const Bounds& cell, const SearchTarge
     return Outcome::Open;
 }
 
+Reach ShaftSearch::residue(const SearchTarget& target, const std::vector<std::pair<Quad, Quad>>& open, double total,
+                           const SearchLimits& limits, std::uint64_t seed, SearchStats& stats) const
+{
+    // Rays spread over the open sub-shafts by their share of the pair's segments (area x area), as
+    // many as `residueRays` would put there if spread over the whole pair, at least 64: where the
+    // proofs left room, sampling is dense.
+    std::vector<double> cumulative;
+    double openMeasure = 0.0;
+    for (const auto& [f, g] : open)
+        cumulative.push_back(openMeasure += pairMeasure(f, g));
+    const double share = total > 0.0 ? openMeasure / total : 1.0;
+    const int rays = std::min(limits.residueRays, std::max(64, int(std::ceil(limits.residueRays * share))));
+    Stream random{seed};
+    for (int i = 0; i < rays && openMeasure > 0.0; ++i) {
+        const double u = (i + random.next()) / rays * openMeasure;
+        const std::size_t k = std::min<std::size_t>(
+            std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()), open.size() - 1);
+        const auto& [f, g] = open[k];
+        const glm::dvec3 from = f.at(random.next(), random.next()), to = g.at(random.next(), random.next());
+        ++stats.residueRays;
+        if (witnessRay(target, from, to, stats)) {
+            ++stats.residueWitnesses;
+            return Reach::Visible;
+        }
+    }
+    return Reach::Unknown;
+}
+
 Reach ShaftSearch::search(const Bounds& cell, const SearchTarget& target, const SearchLimits& limits, std::uint64_t seed,
                           SearchStats* statsOut) const
 {
@@ -285,9 +319,7 @@ Reach ShaftSearch::search(const Bounds& cell, const SearchTarget& target, const 
     auto sizeFirst = [&](std::uint32_t x, std::uint32_t y) {
         return entries[x].size != entries[y].size ? entries[x].size < entries[y].size : x > y;
     };
-    auto measure = [](const Quad& f, const Quad& g) {
-        return glm::length(glm::cross(f.u, f.v)) * glm::length(glm::cross(g.u, g.v));
-    };
+    const auto measure = pairMeasure;
     std::size_t pending = 0;
     auto push = [&](const Quad& f, const Quad& g, double reach) {
         entries.push_back({f, g, reach, measure(f, g), false});
@@ -356,31 +388,8 @@ Reach ShaftSearch::search(const Bounds& cell, const SearchTarget& target, const 
             if (!e.done)
                 open.emplace_back(e.f, e.g);
         if (!open.empty()) {
-            answer = Reach::Unknown;
             stats.openShafts += open.size();
-            // The residue: rays spread over the open sub-shafts by their share of the pair's
-            // segments (area x area), as many as `residueRays` would put there if spread over
-            // the whole pair, at least 64: where the proofs left room, sampling is dense.
-            std::vector<double> cumulative;
-            double openMeasure = 0.0;
-            for (const auto& [f, g] : open)
-                cumulative.push_back(openMeasure += measure(f, g));
-            const double share = total > 0.0 ? openMeasure / total : 1.0;
-            const int rays = std::min(limits.residueRays, std::max(64, int(std::ceil(limits.residueRays * share))));
-            Stream random{seed};
-            for (int i = 0; i < rays && openMeasure > 0.0; ++i) {
-                const double u = (i + random.next()) / rays * openMeasure;
-                const std::size_t k = std::min<std::size_t>(
-                    std::size_t(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin()), open.size() - 1);
-                const auto& [f, g] = open[k];
-                const glm::dvec3 from = f.at(random.next(), random.next()), to = g.at(random.next(), random.next());
-                ++stats.residueRays;
-                if (witnessRay(target, from, to, stats)) {
-                    ++stats.residueWitnesses;
-                    answer = Reach::Visible;
-                    break;
-                }
-            }
+            answer = residue(target, open, total, limits, seed, stats);
         }
     }
     if (statsOut)

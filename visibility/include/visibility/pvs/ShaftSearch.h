@@ -92,6 +92,10 @@ private:
     Outcome evaluate(const Bounds& cell, const SearchTarget& target, const Quad& f, const Quad& g, Split* split,
                      SearchStats& stats) const;
     bool witnessRay(const SearchTarget& target, const glm::dvec3& from, const glm::dvec3& to, SearchStats& stats) const;
+    /// The default mode's residue over the sub-shafts the search left open (of the pair's `total`
+    /// measure): Visible when a ray is a witness, else Unknown.
+    Reach residue(const SearchTarget& target, const std::vector<std::pair<Quad, Quad>>& open, double total,
+                  const SearchLimits& limits, std::uint64_t seed, SearchStats& stats) const;
 
     const FirstHitCaster& caster_;
     const ShaftProver& prover_;
