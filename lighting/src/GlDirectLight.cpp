@@ -108,7 +108,72 @@ struct GlDirectLight::Impl {
             gl.CreateBuffers(1, &buffer);
         gl.NamedBufferData(buffer, GLsizeiptr(std::max<std::size_t>(bytes, 16)), data, GL_DYNAMIC_DRAW);
     }
+
+    /// One octahedral (or orthographic) map per emitter of `batch`, a layer each: the nearest
+    /// blocker's distance, by min blending, both faces of every triangle drawn.
+    void renderMaps(const GLint* batch, GLsizei count)
+    {
+        const float farthest[4] = {std::numeric_limits<float>::max(), 0.0f, 0.0f, 0.0f};
+        upload(batchBuffer, batch, std::size_t(count) * sizeof(GLint));
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, batchBuffer);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+        gl.Viewport(0, 0, options.resolution, options.resolution);
+        gl.Disable(GL_DEPTH_TEST);
+        gl.Disable(GL_CULL_FACE);   // both faces of a triangle block
+        for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
+            gl.Enable(plane);
+        gl.Enable(GL_BLEND);
+        gl.BlendEquation(GL_MIN);
+        gl.ClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, farthest);
+        gl.UseProgram(mapProgram);
+        gl.BindVertexArray(vao);
+        if (vertexCount > 0)
+            gl.DrawArraysInstanced(GL_TRIANGLES, 0, vertexCount, count);
+        gl.Disable(GL_BLEND);
+        gl.BlendEquation(GL_FUNC_ADD);
+        for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
+            gl.Disable(plane);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        gl.Finish();
+    }
+
+    /// Adds the emitters of `batch` to every point's irradiance (their maps in the layers, or none
+    /// for emitters settled by their tiles' classes).
+    void shade(const GLint* batch, std::size_t count, std::size_t points)
+    {
+        upload(batchBuffer, batch, count * sizeof(GLint));
+        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, batchBuffer);
+        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
+        gl.UseProgram(shadeProgram);
+        gl.ProgramUniform1i(shadeProgram, gl.GetUniformLocation(shadeProgram, "emitterCount"), GLint(count));
+        gl.BindTextureUnit(0, mapTexture);
+        // At most 65,535 groups a dispatch (the least GL guarantees).
+        const std::size_t perDispatch = std::size_t(65535) * 64;
+        for (std::size_t base = 0; base < points; base += perDispatch) {
+            gl.ProgramUniform1i(shadeProgram, gl.GetUniformLocation(shadeProgram, "pointBase"), GLint(base));
+            gl.DispatchCompute(GLuint((std::min(perDispatch, points - base) + 63) / 64), 1, 1);
+        }
+        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        gl.Finish();
+    }
 };
+
+namespace {
+
+/// The tile classes packed four to a word for the shader; `partial` marks the lights with a
+/// partial tile (the only ones that need maps).
+std::vector<std::uint32_t> packClasses(const TileClasses& classes, std::vector<bool>& partial)
+{
+    std::vector<std::uint32_t> packed((classes.classes.size() + 3) / 4, 0u);
+    for (std::size_t k = 0; k < classes.classes.size(); ++k) {
+        packed[k / 4] |= std::uint32_t(classes.classes[k]) << (8 * (k % 4));
+        if (classes.classes[k] == TileClass::Partial)
+            partial[k % partial.size()] = true;
+    }
+    return packed;
+}
+
+} // namespace
 
 GlDirectLight::GlDirectLight(const gl::Functions& gl, const WorldTriangles& triangles, GlDirectLightOptions options)
     : impl_(std::make_unique<Impl>(gl))
@@ -193,15 +258,7 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
     // With classes, only the lights with a partial tile need maps; the others are shaded from
     // their classes alone.
     std::vector<bool> partial(lights.size(), classes == nullptr);
-    std::vector<std::uint32_t> packed;
-    if (classes) {
-        packed.assign((classes->classes.size() + 3) / 4, 0u);
-        for (std::size_t k = 0; k < classes->classes.size(); ++k) {
-            packed[k / 4] |= std::uint32_t(classes->classes[k]) << (8 * (k % 4));
-            if (classes->classes[k] == TileClass::Partial)
-                partial[k % lights.size()] = true;
-        }
-    }
+    const std::vector<std::uint32_t> packed = classes ? packClasses(*classes, partial) : std::vector<std::uint32_t>{};
     std::vector<GLint> mapped, unmapped;
     for (std::size_t e = 0; e < emitters.size(); ++e)
         (partial[emitters[e].light] ? mapped : unmapped).push_back(GLint(e));
@@ -243,48 +300,14 @@ std::vector<glm::dvec3> GlDirectLight::irradiance(const std::vector<Light>& ligh
     s.triangles = std::size_t(m.vertexCount) / 3;
     const auto shade = [&](const GLint* batch, std::size_t count) {
         const auto phase = std::chrono::steady_clock::now();
-        m.upload(m.batchBuffer, batch, count * sizeof(GLint));
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m.batchBuffer);
-        gl.MemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT);
-        gl.UseProgram(sp);
-        gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "emitterCount"), GLint(count));
-        gl.BindTextureUnit(0, m.mapTexture);
-        // At most 65,535 groups a dispatch (the least GL guarantees).
-        const std::size_t perDispatch = std::size_t(65535) * 64;
-        for (std::size_t base = 0; base < points.size(); base += perDispatch) {
-            gl.ProgramUniform1i(sp, gl.GetUniformLocation(sp, "pointBase"), GLint(base));
-            gl.DispatchCompute(GLuint((std::min(perDispatch, points.size() - base) + 63) / 64), 1, 1);
-        }
-        gl.MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-        gl.Finish();
+        m.shade(batch, count, points.size());
         s.shadeMs += msSince(phase);
     };
-    const float farthest[4] = {std::numeric_limits<float>::max(), 0.0f, 0.0f, 0.0f};
     for (std::size_t first = 0; first < mapped.size(); first += std::size_t(m.layers)) {
         const GLsizei count = GLsizei(std::min<std::size_t>(std::size_t(m.layers), mapped.size() - first));
         ++s.batches;
         const auto phase = std::chrono::steady_clock::now();
-        m.upload(m.batchBuffer, &mapped[first], std::size_t(count) * sizeof(GLint));
-        gl.BindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, m.batchBuffer);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, m.framebuffer);
-        gl.Viewport(0, 0, m.options.resolution, m.options.resolution);
-        gl.Disable(GL_DEPTH_TEST);
-        gl.Disable(GL_CULL_FACE);   // both faces of a triangle block
-        for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
-            gl.Enable(plane);
-        gl.Enable(GL_BLEND);
-        gl.BlendEquation(GL_MIN);
-        gl.ClearNamedFramebufferfv(m.framebuffer, GL_COLOR, 0, farthest);
-        gl.UseProgram(mp);
-        gl.BindVertexArray(m.vao);
-        if (m.vertexCount > 0)
-            gl.DrawArraysInstanced(GL_TRIANGLES, 0, m.vertexCount, count);
-        gl.Disable(GL_BLEND);
-        gl.BlendEquation(GL_FUNC_ADD);
-        for (GLenum plane : {GL_CLIP_DISTANCE0, GL_CLIP_DISTANCE1, GL_CLIP_DISTANCE2})
-            gl.Disable(plane);
-        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-        gl.Finish();
+        m.renderMaps(&mapped[first], count);
         s.renderMs += msSince(phase);
         shade(&mapped[first], std::size_t(count));
     }
