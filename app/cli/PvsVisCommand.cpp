@@ -59,6 +59,8 @@ struct VisRun {
     bsp::QuakeBsp level;
     std::size_t treePortals = 0, openPortals = 0;
     pvs::VisibilityRows rows, levelRows;
+    std::string levelDamage;   ///< why the level's own rows could not be read (they are replaced all the same)
+    bool compared() const { return level.hasVisibility() && levelDamage.empty(); }
     bsp::PortalVisStats stats;
     std::size_t lumpBytes = 0;
     double portalMs = 0.0, visMs = 0.0, checkMs = 0.0;
@@ -84,13 +86,20 @@ VisRun bake(const PvsVisArgs& args)
     run.rows = bsp::portalVis(run.level, open, {.threads = args.threads}, &run.stats);
     run.visMs = millisecondsSince(start);
     run.lumpBytes = bsp::encodeVisibilityLump(run.rows).bytes.size();
-    run.levelRows = bsp::levelVisibility(run.level, args.bsp);
+    // The lump this replaces may be damaged: say so and go on, a new one is what is asked for.
+    try {
+        run.levelRows = bsp::levelVisibility(run.level, args.bsp);
+    } catch (const Error& e) {
+        run.levelDamage = e.what();
+        std::cerr << "sightline-cli: warning: the level's own visibility lump is damaged (" << run.levelDamage
+                  << "); it is not compared, and --out replaces it\n";
+    }
 
     if (args.check > 0) {
         start = Clock::now();
         const bsp::WitnessOptions options{.segmentsPerPair = args.check, .clearLiquids = clearLiquids, .threads = args.threads};
         run.culled = bsp::searchWitnesses(run.level, tree, run.rows, true, options);
-        if (run.level.hasVisibility())
+        if (run.compared())
             run.levelCulled = bsp::searchWitnesses(run.level, tree, run.levelRows, true, options);
         run.kept = bsp::searchWitnesses(run.level, tree, run.rows, false, options);
         run.checkMs = millisecondsSince(start);
@@ -117,7 +126,7 @@ json runJson(const PvsVisArgs& args, const VisRun& run)
              {"portals_over_budget", run.stats.portalsOverBudget},
              {"visible_mean", ours.meanVisible},
              {"lump_bytes", ours.lumpBytes}};
-    if (run.level.hasVisibility()) {
+    if (run.compared()) {
         const RowSizes level = rowSizes(run.levelRows, run.level.lumps[bsp::kVisibilityLump][1]);
         out["level"] = {{"visible_mean", level.meanVisible},
                         {"lump_bytes", level.lumpBytes},
@@ -130,6 +139,8 @@ json runJson(const PvsVisArgs& args, const VisRun& run)
         if (run.levelCulled)
             out["check"]["level_culled"] = witnessJson(*run.levelCulled);
     }
+    if (!run.levelDamage.empty())
+        out["level_damage"] = run.levelDamage;
     if (!args.out.empty())
         out["out"] = args.out;
     if (!args.prt.empty())
@@ -148,7 +159,7 @@ void printRun(const PvsVisArgs& args, const VisRun& run)
     if (run.stats.portalsOverBudget)
         std::printf("  %zu portals ran past their step budget: their rows are their floods (safe, looser)\n",
                     run.stats.portalsOverBudget);
-    if (run.level.hasVisibility()) {
+    if (run.compared()) {
         const RowSizes level = rowSizes(run.levelRows, run.level.lumps[bsp::kVisibilityLump][1]);
         std::printf("the level's own rows: %.1f leaves visible per leaf, lump %zu bytes; %zu of its visible pairs culled "
                     "here, %zu of its culled pairs kept here\n",

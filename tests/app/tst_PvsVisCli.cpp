@@ -1,6 +1,7 @@
 // sightline-cli pvs vis: an original Quake level in, a copy with new visibility rows out that an
 // engine's reading of the format accepts; the input is never written; bad files get one line.
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -105,6 +106,30 @@ TEST_F(PvsVisCli, BadFilesGetOneLine)
     expectOneLineError(runCli("pvs vis " + lumps.string(), 60), "lump 10");
     expectOneLineError(runCli("pvs vis " + folder.string(), 60), "not a regular file");
     expectOneLineError(runCli("pvs vis " + (folder / "missing.bsp").string(), 60), "missing.bsp");
+}
+
+TEST_F(PvsVisCli, ADamagedVisibilityLumpIsReplacedWithAWarning)
+{
+    // Leaf 1's row pointed at the lump's last byte, made a zero: its run's count lies past the end.
+    std::string bytes = slurp(level);
+    std::int32_t visOffset = 0, visLength = 0, leafOffset = 0;
+    std::memcpy(&visOffset, bytes.data() + 4 + 8 * 4, 4);
+    std::memcpy(&visLength, bytes.data() + 4 + 8 * 4 + 4, 4);
+    std::memcpy(&leafOffset, bytes.data() + 4 + 8 * 10, 4);
+    const std::int32_t last = visLength - 1;
+    std::memcpy(bytes.data() + leafOffset + 28 + 4, &last, 4);
+    bytes[std::size_t(visOffset + last)] = 0;
+    const fs::path damaged = folder / "damaged.bsp", out = folder / "fixed.bsp";
+    std::ofstream(damaged, std::ios::binary) << bytes;
+    const CliRun run = runCli("pvs vis " + damaged.string() + " --out " + out.string() + " --threads 2 --print-json", 300);
+    ASSERT_EQ(run.code, 0) << run.err;
+    EXPECT_NE(run.err.find("visibility lump is damaged"), std::string::npos) << run.err;
+    EXPECT_TRUE(oneLine(run.err)) << run.err;
+    const nlohmann::json report = nlohmann::json::parse(run.out);
+    EXPECT_TRUE(report.contains("level_damage"));
+    EXPECT_FALSE(report.contains("level"));
+    const EngineBsp fixed = readEngineBsp(slurp(out));   // every row decodes again
+    EXPECT_EQ(fixed.visleafs, 434);
 }
 
 } // namespace
