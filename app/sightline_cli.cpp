@@ -36,7 +36,7 @@
 #include "cli/PvsCommands.h"
 #include "cli/ShaftCommand.h"
 #include "cli/SuggestCommand.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::cli;

@@ -28,7 +28,7 @@
 #include <QSurfaceFormat>
 
 #include "AnimationImportance.h"
-#include "DisagreementWorker.h"
+#include "editor/DisagreementWorker.h"
 #include "EditorDocument.h"
 #include "InteractionBenchmark.h"
 #include "MainWindow.h"
@@ -37,14 +37,15 @@
 #include "OverlayLegend.h"
 #include "StallBenchmark.h"
 #include "VideoRecording.h"
-#include "ViewSettings.h"
+#include "editor/ViewSettings.h"
 #include "Viewport.h"
 #include "cli/OutputLimits.h"
 #include "cli/OutputPaths.h"
 #include "plugins/VideoEncoder.h"
 #include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
-#include "visibility/Error.h"
+#include "report/PngFile.h"
+#include "base/Error.h"
 
 namespace {
 

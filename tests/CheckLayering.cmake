@@ -1,24 +1,27 @@
 # The layering of docs/design.md §1, checked on every include line (run by ctest as `Layering`):
-#   app -> ui -> report, project -> lighting, plugins -> visibility (and data/ beside them).
+#   app -> ui -> editor, report -> project -> lighting, plugins -> visibility -> base (and levelgen/
+#   beside them).
 # A library may include only the libraries below it; nothing outside app/ includes app/;
-# visibility/, lighting/ and project/ include no Qt. Usage: cmake -DROOT=<source dir> -P CheckLayering.cmake
+# base/, visibility/, lighting/, plugins/, project/ and editor/ include no Qt. Usage: cmake -DROOT=<source dir> -P CheckLayering.cmake
 cmake_minimum_required(VERSION 3.25)
 if(NOT ROOT)
   message(FATAL_ERROR "pass -DROOT=<source dir>")
 endif()
 
 # What each library's files may not include, by the first folder of the include's path.
-set(forbidden_visibility lighting plugins project report ui app bench cli)
-set(forbidden_lighting plugins project report ui app bench cli)
-set(forbidden_plugins lighting project report ui app bench cli)
-set(forbidden_project report ui app bench cli)
-set(forbidden_report project ui app bench cli)
-set(forbidden_data ui app bench cli report)
+set(forbidden_base visibility lighting plugins project report levelgen demo editor ui app bench cli)
+set(forbidden_visibility lighting plugins project report levelgen demo editor ui app bench cli)
+set(forbidden_lighting plugins project report levelgen demo editor ui app bench cli)
+set(forbidden_plugins lighting project report levelgen demo editor ui app bench cli)
+set(forbidden_project report levelgen demo editor ui app bench cli)
+set(forbidden_report project levelgen demo editor ui app bench cli)
+set(forbidden_levelgen editor ui app bench cli report)
+set(forbidden_editor report levelgen demo ui app bench cli)
 set(forbidden_ui app bench cli)
-set(no_qt visibility lighting project plugins)
+set(no_qt base visibility lighting project plugins editor)
 
 set(failures "")
-foreach(library visibility lighting plugins project report data ui)
+foreach(library base visibility lighting plugins project report levelgen editor ui)
   file(GLOB_RECURSE files "${ROOT}/${library}/*.h" "${ROOT}/${library}/*.cpp")
   foreach(file ${files})
     file(STRINGS "${file}" includes REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"]")

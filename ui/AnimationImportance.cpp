@@ -2,7 +2,7 @@
 
 #include "project/LightingSetup.h"
 #include "project/ProjectSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

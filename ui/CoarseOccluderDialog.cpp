@@ -17,7 +17,7 @@
 #include <QtCharts/QXYSeries>
 
 #include "CoarseSweepChart.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

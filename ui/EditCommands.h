@@ -5,8 +5,8 @@
 
 #include <QUndoCommand>
 
-#include "ObjectEdits.h"
-#include "ObjectFlags.h"
+#include "editor/ObjectEdits.h"
+#include "editor/ObjectFlags.h"
 #include "project/Project.h"
 
 namespace sightline::ui {

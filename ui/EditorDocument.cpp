@@ -1,7 +1,7 @@
 #include "EditorDocument.h"
-#include "DefaultPatches.h"
+#include "editor/DefaultPatches.h"
 
-#include "Picking.h"
+#include "editor/Picking.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,12 +12,12 @@
 #include <glm/matrix.hpp>
 
 #include "EditCommands.h"
-#include "LightObjects.h"
+#include "editor/LightObjects.h"
 #include "plugins/SceneFormats.h"
 #include "project/ProjectLights.h"
 #include "project/SceneImport.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

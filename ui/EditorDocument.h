@@ -16,8 +16,8 @@
 #include <QObject>
 #include <QUndoStack>
 
-#include "ObjectEdits.h"
-#include "ObjectFlags.h"
+#include "editor/ObjectEdits.h"
+#include "editor/ObjectFlags.h"
 #include "lighting/Light.h"
 #include "project/CoarseOccluders.h"
 #include "project/Project.h"
@@ -72,7 +72,7 @@ public:
     /// then.
     void open(const std::filesystem::path& file);
     /// Whether files the project names may lie outside its folder by a relative path
-    /// (visibility/PathRule.h): the editor's setting or --allow-outside-paths, applied to every
+    /// (base/PathRule.h): the editor's setting or --allow-outside-paths, applied to every
     /// document opened from now on and to the current one.
     void setAllowOutsidePaths(bool allow);
     bool allowOutsidePaths() const { return allowOutsidePaths_; }

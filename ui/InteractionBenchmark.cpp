@@ -20,7 +20,7 @@
 #include "ViewportController.h"
 #include "lighting/Light.h"
 #include "project/ProjectMotion.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

@@ -1,13 +1,12 @@
 #include "MainWindow.h"
 
-#include "LightObjects.h"
+#include "editor/LightObjects.h"
 
 #include <QAction>
 #include <QActionGroup>
 #include <QApplication>
 #include <QCloseEvent>
 #include <QComboBox>
-#include <QBuffer>
 #include <QDir>
 #include <QDockWidget>
 #include <QAbstractItemView>
@@ -39,21 +38,21 @@
 #include "LightCostPanel.h"
 #include "OccluderAssistant.h"
 #include "OutlinePanel.h"
-#include "PatchPairFix.h"
-#include "PatchWarnings.h"
-#include "PatchPresets.h"
+#include "editor/PatchPairFix.h"
+#include "editor/PatchWarnings.h"
+#include "editor/PatchPresets.h"
 #include "OverlayControls.h"
 #include "OverlayLegend.h"
-#include "Picking.h"
+#include "editor/Picking.h"
 #include "PreferencesDialog.h"
 #include "PropertiesPanel.h"
 #include "RecordingControls.h"
-#include "ViewSettings.h"
+#include "editor/ViewSettings.h"
 #include "Viewport.h"
 #include "plugins/SceneFormats.h"
 #include "project/Approximation.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "report/PngFile.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 
@@ -358,7 +357,7 @@ void MainWindow::createFileMenu()
         }
     });
     importSettings->setObjectName("importSettingsAction");
-    // The project-path rule (visibility/PathRule.h): a file someone sent must not read files
+    // The project-path rule (base/PathRule.h): a file someone sent must not read files
     // outside its folder unless the user says so; the choice is remembered.
     QAction* outside = file->addAction(tr("Allow Project Paths &Outside Its Folder"));
     outside->setCheckable(true);
@@ -1189,16 +1188,13 @@ bool MainWindow::saveTo(const QString& file)
 bool MainWindow::screenshotTo(const QString& file)
 {
     const QImage image = viewport_->grabFramebuffer();
-    QByteArray bytes;
-    QBuffer buffer(&bytes);
-    buffer.open(QIODevice::WriteOnly);
-    if (image.isNull() || !image.save(&buffer, "PNG")) {
+    if (image.isNull()) {
         QMessageBox::warning(this, tr("Screenshot"), tr("Could not encode the screenshot as PNG"));
         return false;
     }
     try {
         // Atomic, keeping the old file's mode and a symlink, like every other save.
-        writeFileAtomically(file.toStdString(), std::string_view(bytes.constData(), std::size_t(bytes.size())));
+        savePng(image, file.toStdString());
     } catch (const std::exception& e) {
         QMessageBox::warning(this, tr("Screenshot"), QString::fromStdString(describeFailure(e, "saving the screenshot")));
         return false;

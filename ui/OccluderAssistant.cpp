@@ -20,7 +20,7 @@
 #include "ViewportController.h"
 #include "plugins/SceneFormats.h"
 #include "project/SuggestedOccluder.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

@@ -18,7 +18,7 @@
 
 #include <QWidget>
 
-#include "LatestRequestWorker.h"
+#include "editor/LatestRequestWorker.h"
 #include "visibility/suggest/OccluderSuggestion.h"
 #include "visibility/suggest/ViewGaps.h"
 

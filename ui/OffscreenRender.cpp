@@ -1,9 +1,9 @@
 #include "OffscreenRender.h"
 
 #include "EditorDocument.h"
-#include "LitPreview.h"
-#include "RayEnds.h"
-#include "visibility/Error.h"
+#include "editor/LitPreview.h"
+#include "editor/RayEnds.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

@@ -7,10 +7,10 @@
 
 #include <optional>
 
-#include "Camera.h"
-#include "LiveVisibility.h"
+#include "editor/Camera.h"
+#include "editor/LiveVisibility.h"
 #include "PatchOverlay.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewportRenderer.h"
 #include "project/Approximation.h"
 #include "visibility/gl/HeadlessContext.h"
 

@@ -10,7 +10,7 @@
 
 #include <vector>
 
-#include "ObjectEdits.h"
+#include "editor/ObjectEdits.h"
 
 class QAction;
 class QLineEdit;

@@ -21,7 +21,7 @@
 #include "AnimationImportance.h"
 #include "EditorDocument.h"
 #include "OverlayLegend.h"
-#include "Picking.h"
+#include "editor/Picking.h"
 #include "Viewport.h"
 #include "ViewportController.h"
 

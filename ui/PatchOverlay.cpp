@@ -3,7 +3,7 @@
 #include <QObject>
 
 #include "project/LightingSetup.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

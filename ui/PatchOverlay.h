@@ -22,9 +22,9 @@
 
 #include <QString>
 
-#include "LiveVisibility.h"
-#include "ObjectEdits.h"
-#include "OverlayTexels.h"
+#include "editor/LiveVisibility.h"
+#include "editor/ObjectEdits.h"
+#include "editor/OverlayTexels.h"
 #include "lighting/AreaLight.h"
 #include "lighting/SoftShadow.h"
 #include "project/Project.h"

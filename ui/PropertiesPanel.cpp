@@ -15,10 +15,10 @@
 #include <numbers>
 
 #include "EditorDocument.h"
-#include "LightObjects.h"
-#include "PatchPresets.h"
+#include "editor/LightObjects.h"
+#include "editor/PatchPresets.h"
 #include "project/ProjectLights.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

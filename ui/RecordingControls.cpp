@@ -20,7 +20,7 @@
 #include "ViewportController.h"
 #include "EditCommands.h"
 #include "plugins/VideoEncoder.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

@@ -20,7 +20,7 @@
 #include <QString>
 #include <QTimer>
 
-#include "Camera.h"
+#include "editor/Camera.h"
 #include "project/Project.h"
 #include "project/RecordedPath.h"
 

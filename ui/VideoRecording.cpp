@@ -5,11 +5,11 @@
 #include <vector>
 
 #include "EditorDocument.h"
-#include "LiveVisibility.h"
-#include "RayEnds.h"
+#include "editor/LiveVisibility.h"
+#include "editor/RayEnds.h"
 #include "plugins/VideoEncoder.h"
 #include "project/ProjectMotion.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

@@ -15,9 +15,9 @@
 #include <functional>
 #include <string>
 
-#include "Camera.h"
+#include "editor/Camera.h"
 #include "PatchOverlay.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewportRenderer.h"
 #include "project/Animation.h"
 #include "project/Project.h"
 #include "project/RecordedPath.h"

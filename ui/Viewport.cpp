@@ -10,7 +10,7 @@
 #include <QWheelEvent>
 
 #include "project/PvsSetup.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 

@@ -20,15 +20,15 @@
 #include <optional>
 #include <utility>
 
-#include "AoPreview.h"
-#include "LitPreview.h"
-#include "PvsDebugger.h"
-#include "BackgroundSampler.h"
-#include "DisagreementWorker.h"
-#include "LiveVisibility.h"
+#include "editor/AoPreview.h"
+#include "editor/LitPreview.h"
+#include "editor/PvsDebugger.h"
+#include "editor/BackgroundSampler.h"
+#include "editor/DisagreementWorker.h"
+#include "editor/LiveVisibility.h"
 #include "PatchOverlay.h"
 #include "ViewportController.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewportRenderer.h"
 
 namespace sightline::ui {
 

@@ -1,7 +1,7 @@
 #include "ViewportController.h"
 
-#include "LightObjects.h"
-#include "PatchPairFix.h"
+#include "editor/LightObjects.h"
+#include "editor/PatchPairFix.h"
 
 #include <cmath>
 

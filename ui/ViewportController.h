@@ -10,12 +10,12 @@
 #include <QObject>
 #include <QPointF>
 
-#include "Camera.h"
+#include "editor/Camera.h"
 #include "EditorDocument.h"
-#include "Gizmo.h"
-#include "Picking.h"
-#include "SectionCutHandle.h"
-#include "ViewportRenderer.h"
+#include "editor/Gizmo.h"
+#include "editor/Picking.h"
+#include "editor/SectionCutHandle.h"
+#include "editor/ViewportRenderer.h"
 
 namespace sightline::ui {
 

@@ -17,7 +17,7 @@
 #include "project/CoarseOccluders.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactJudge.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/HeckbertHerfSampler.h"

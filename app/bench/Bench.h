@@ -41,7 +41,7 @@ struct Settings {
     /// fraction (denseLightFraction: denseSide x denseSide regular source samples by Embree), and
     /// rows report their light's mean absolute error against it.
     int denseSide = 0;
-    bool allowOutsidePaths = false;   ///< project paths may leave their folders (visibility/PathRule.h)
+    bool allowOutsidePaths = false;   ///< project paths may leave their folders (base/PathRule.h)
 };
 
 struct Row {

@@ -15,7 +15,7 @@
 
 #include "report/ChartImage.h"
 #include "report/OffscreenApplication.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::bench {
 

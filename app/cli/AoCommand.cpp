@@ -23,7 +23,7 @@
 #include "lighting/ao/AoTexels.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::cli {

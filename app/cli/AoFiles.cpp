@@ -5,11 +5,11 @@
 #include <cstring>
 #include <sstream>
 
-#include <stb/stb_image_write.h>
 #include <tiny_gltf.h>
 
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "report/PngFile.h"
+#include "base/Error.h"
 
 namespace sightline::cli {
 
@@ -234,18 +234,7 @@ void writeAtlasPng(int width, int height, const std::vector<glm::vec3>& pixels, 
         rgb[3 * k + 1] = srgbByte(pixels[k].g);
         rgb[3 * k + 2] = srgbByte(pixels[k].b);
     }
-    writeRgbPng(width, height, rgb, file);
-}
-
-void writeRgbPng(int width, int height, const std::vector<unsigned char>& rgb, const std::filesystem::path& file)
-{
-    std::string bytes;
-    auto append = [](void* context, void* data, int size) {
-        static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
-    };
-    if (!stbi_write_png_to_func(append, &bytes, width, height, 3, rgb.data(), width * 3))
-        throw Error(file.string() + ": PNG encoding failed");
-    writeFileAtomically(file, bytes);
+    saveRgbPng(width, height, rgb, file);
 }
 
 void writeLightmapPng(const AoTexelLayout& layout, const std::vector<glm::vec3>& texelColours, const std::filesystem::path& file)

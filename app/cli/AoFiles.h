@@ -2,7 +2,7 @@
 // The files `sightline-cli ao` writes for a designer's engine: the AO as float32
 // .npy (docs/design.md §4), a PLY with vertex colours, a glTF binary with the AO (or the relit colour)
 // baked into COLOR_0, and for the texel mode the light-map atlas PNG with the glTF's TEXCOORD_1
-// and occlusionTexture pointing at it. All are written atomically (visibility/AtomicFile.h).
+// and occlusionTexture pointing at it. All are written atomically (base/AtomicFile.h).
 //
 // Colour encoding: glTF COLOR_0 is linear (as the glTF spec says); PLY and PNG bytes are sRGB
 // encoded (Sattler et al. §5: "standard gamma correction"). Values are clamped to [0, 1]; points
@@ -38,8 +38,6 @@ void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& lay
                           const std::filesystem::path& file);
 /// An atlas of linear [0, 1] colours (row-major, row 0 at the top) as an 8-bit sRGB PNG.
 void writeAtlasPng(int width, int height, const std::vector<glm::vec3>& pixels, const std::filesystem::path& file);
-/// A width x height PNG of sRGB bytes (rows top to bottom), written atomically.
-void writeRgbPng(int width, int height, const std::vector<unsigned char>& rgb, const std::filesystem::path& file);
 /// The atlas as an 8-bit sRGB PNG: RGB colours per texel (gutter black), row 0 at the top.
 void writeLightmapPng(const AoTexelLayout& layout, const std::vector<glm::vec3>& texelColours, const std::filesystem::path& file);
 

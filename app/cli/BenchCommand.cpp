@@ -10,8 +10,8 @@
 #include "cli/OptionRules.h"
 #include "cli/OutputPaths.h"
 #include "project/Project.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
 #include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::cli {

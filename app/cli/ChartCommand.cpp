@@ -7,9 +7,9 @@
 
 #include "cli/OutputPaths.h"
 #include "report/SeriesChart.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
-#include "visibility/JsonDepth.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
+#include "base/JsonDepth.h"
 
 using nlohmann::json;
 

@@ -19,7 +19,7 @@
 #include "project/Project.h"
 #include "project/SceneImport.h"
 #include "report/CoarseChart.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace fs = std::filesystem;
 

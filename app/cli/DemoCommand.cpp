@@ -12,7 +12,7 @@
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::cli {
 
@@ -83,7 +83,7 @@ int writeDemo(const std::string& folder, int firstSeed, int lastSeed)
                      {{"lights", lights}});
     for (const demo::BenchScene& bench : {demo::makeFewOccludersScene(), demo::makeDenseMeshScene()})
         writeDemoProject(folder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
-                         "Sightline benchmark scene '" + bench.name + "' (data/demo/DemoLevel.h)");
+                         "Sightline benchmark scene '" + bench.name + "' (levelgen/demo/DemoLevel.h)");
     // Seeds of every generated kind (1-3 by default): the CPU sampler's strategy choice is tuned on
     // those and checked on others (--seeds); `bench` takes any seed's project the same way.
     const fs::path benchFolder = fs::path(folder) / "bench";
@@ -95,7 +95,7 @@ int writeDemo(const std::string& folder, int firstSeed, int lastSeed)
             const demo::BenchScene bench = demo::makeBenchScene(kind, std::uint64_t(seed));
             writeDemoProject(benchFolder, bench.name, bench.name, &bench.scene, bench.source, bench.receiver,
                              "Sightline benchmark scene '" + bench.name + "', layout '" + bench.layout +
-                                 "' (data/demo/BenchScenes.h)",
+                                 "' (levelgen/demo/BenchScenes.h)",
                              {{"bench", {{"kind", demo::benchKindName(kind)}, {"seed", seed}, {"layout", bench.layout}}}});
         }
     return 0;

@@ -1,6 +1,6 @@
 #pragma once
 // sightline-cli demo: the built-in demo level and its projects, the benchmark scenes and seeds of
-// each generated bench kind, written to a folder (data/demo/).
+// each generated bench kind, written to a folder (levelgen/demo/).
 
 #include <string>
 #include <vector>

@@ -16,8 +16,9 @@
 #include "project/CoarseOccluders.h"
 #include "project/LightingSetup.h"
 #include "project/Project.h"
+#include "report/PngFile.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/RayDisagreement.h"
 #include "visibility/gl/HeadlessContext.h"
 
@@ -84,7 +85,7 @@ int runDisagreement(const DisagreementArgs& args)
 
     if (!args.image.empty()) {
         const DisagreementImage image = disagreementImage(exact, d, project.source.na, project.source.nb);
-        writeRgbPng(image.width, image.height, image.rgb, args.image);
+        saveRgbPng(image.width, image.height, image.rgb, args.image);
     }
     if (args.json) {
         nlohmann::json out = {{"approximation", approximationName(approximation)},

@@ -26,9 +26,10 @@
 #include "project/ProjectSampler.h"
 #include "report/MapImage.h"
 #include "report/OffscreenApplication.h"
-#include "visibility/Error.h"
+#include "report/PngFile.h"
+#include "base/Error.h"
 #include "visibility/HeckbertHerfSampler.h"
-#include "visibility/NpyWriter.h"
+#include "base/NpyFile.h"
 #include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::cli {
@@ -143,7 +144,7 @@ int runImportance(const ImportanceArgs& args)
     std::vector<std::string> warnings;
     SamplerSettings settings;
     settings.method = args.method;
-    settings.glBackend = args.glBackend;
+    settings.glContext = gl::contextFactory(gl::parseBackend(args.glBackend));
     settings.threads = args.threads;
     settings.jitter = SourceJitter{.seed = args.jitter};
     settings.heights = projectReceiverHeights(project, project.receiver, what);
@@ -266,7 +267,7 @@ int runShadow(const ShadowArgs& args)
     double ms = 0.0;
     if (args.method != "hh") {
         SamplerSettings settings{
-            .method = args.method, .glBackend = args.glBackend, .threads = args.threads, .jitter = jitter, .heights = heights};
+            .method = args.method, .glContext = gl::contextFactory(gl::parseBackend(args.glBackend)), .threads = args.threads, .jitter = jitter, .heights = heights};
         ProjectSampler sampler(project, loadProjectMeshes(project, &warnings), settings);
         map = sampler.sample(project);
         ms = sampler.lastSampleMs();

@@ -26,14 +26,14 @@
 #include "cli/Timing.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
-#include "visibility/Error.h"
-#include "visibility/NpyWriter.h"
+#include "base/Error.h"
+#include "base/NpyFile.h"
 #include "visibility/gl/HeadlessContext.h"
 #include "visibility/pvs/PvsData.h"
-#include "Camera.h"
-#include "CameraVisibility.h"
-#include "PvsDebugger.h"
-#include "ViewSettings.h"
+#include "editor/Camera.h"
+#include "editor/CameraVisibility.h"
+#include "editor/PvsDebugger.h"
+#include "editor/ViewSettings.h"
 
 namespace sightline::cli {
 

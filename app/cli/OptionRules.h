@@ -9,7 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::cli {
 
@@ -20,7 +20,7 @@ inline bool given(const CLI::App& command, const std::string& name)
     return command.get_option(name)->count() > 0;
 }
 
-/// --allow-outside-paths, on every subcommand that loads a project (visibility/PathRule.h).
+/// --allow-outside-paths, on every subcommand that loads a project (base/PathRule.h).
 inline void addAllowOutsidePaths(CLI::App* command, bool& allow)
 {
     command->add_flag("--allow-outside-paths", allow,

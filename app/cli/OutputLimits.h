@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::cli {
 

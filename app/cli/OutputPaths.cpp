@@ -3,7 +3,7 @@
 #include <system_error>
 
 #include "project/Project.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::cli {
 

@@ -19,9 +19,9 @@
 #include "demo/PvsLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/pvs/FirstHitCaster.h"
 #include "visibility/pvs/PvsFile.h"
 #include "visibility/pvs/PvsObjects.h"
@@ -317,7 +317,7 @@ int runLevel(const PvsLevelArgs& args)
         cells.push_back({{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}});
     project.extra["pvs"] = {{"cells", cells}};
     project.extra["description"] = "Sightline PVS benchmark level: " + std::to_string(args.roomsX) + " x " +
-                                   std::to_string(args.roomsZ) + " rooms (data/demo/PvsLevel.h)";
+                                   std::to_string(args.roomsZ) + " rooms (levelgen/demo/PvsLevel.h)";
     saveProject(project, projectFile);
     std::printf("wrote %s (%zu instances, %zu triangles) and %s (%zu cells)\n", sceneFile.c_str(), level.scene.instances.size(),
                 level.scene.triangleCount(), projectFile.c_str(), level.cells.size());

@@ -11,7 +11,7 @@
 #include <mpi.h>
 
 #include "cli/PvsBakeJob.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/pvs/PvsFile.h"
 
 namespace sightline::cli {

@@ -1,7 +1,7 @@
 // sightline-cli pvs bake --mpi where CMake found no MPI: says so, in one line.
 
 #include "cli/PvsBakeJob.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::cli {
 

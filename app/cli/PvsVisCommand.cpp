@@ -11,9 +11,9 @@
 
 #include "cli/OutputPaths.h"
 #include "cli/Timing.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/bsp/BspPortals.h"
 #include "visibility/bsp/LeafWitness.h"
 #include "visibility/bsp/PortalVis.h"

@@ -19,11 +19,11 @@
 #include "project/LightingSetup.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/HeckbertHerfSampler.h"
 #include "visibility/HoughMaskTable.h"
-#include "visibility/NpyWriter.h"
+#include "visibility/MaskNpy.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/gl/HeadlessContext.h"
 

@@ -18,7 +18,7 @@
 #include "project/Project.h"
 #include "project/SuggestedOccluder.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/suggest/ViewGaps.h"
 
 namespace sightline::cli {

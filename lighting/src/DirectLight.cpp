@@ -14,7 +14,7 @@
 
 #include "TaskArena.h"
 #include "lighting/LightTree.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactSegment.h"
 #include "lights/EdgeNeighbours.h"
 #include "lights/FloatShadowRays.h"

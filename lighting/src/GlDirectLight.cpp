@@ -10,7 +10,7 @@
 #include <glm/vec4.hpp>
 
 #include "lighting/LightEmission.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/gl/GlShaders.h"
 #include "glsl/lights_emitters.glsl.h"
 #include "glsl/lights_map.frag.h"

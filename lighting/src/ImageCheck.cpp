@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "lighting/ImageFile.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::image {
 

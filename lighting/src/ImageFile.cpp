@@ -7,8 +7,8 @@
 #include <stb/stb_image.h>
 
 #include "ImageCheck.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 
 namespace sightline {
 

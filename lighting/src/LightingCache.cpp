@@ -11,7 +11,7 @@
 
 #include "lights/PointTiles.h"
 #include "lights/RegionShafts.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -9,7 +9,7 @@
 
 #include <glm/common.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

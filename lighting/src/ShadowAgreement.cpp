@@ -5,7 +5,7 @@
 
 #include "TaskArena.h"
 #include "lighting/LightEmission.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -10,7 +10,7 @@
 #include "lighting/ao/AoTexels.h"
 #include "lights/EdgeNeighbours.h"
 #include "NearestOnTriangle.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

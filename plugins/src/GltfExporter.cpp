@@ -13,8 +13,8 @@
 #include <tiny_gltf.h>
 
 #include "BuiltinFormats.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -33,9 +33,9 @@
 #include "plugins/GltfLights.h"
 #include "plugins/MeshTopology.h"
 #include "plugins/JsonText.h"
-#include "visibility/Error.h"
-#include "visibility/PathRule.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/PathRule.h"
+#include "base/InputFile.h"
 #include "visibility/Scene.h"
 #include "visibility/SceneLimits.h"
 

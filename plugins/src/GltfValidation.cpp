@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/SceneLimits.h"
 
 namespace sightline::gltf {

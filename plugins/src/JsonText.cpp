@@ -3,8 +3,8 @@
 #include <iterator>
 #include <new>
 
-#include "visibility/Error.h"
-#include "visibility/JsonDepth.h"
+#include "base/Error.h"
+#include "base/JsonDepth.h"
 
 namespace sightline {
 

@@ -13,7 +13,7 @@
 //    files as empty).
 //
 // Rules every reader follows:
-//  - the file is checked (regular file, size limit; visibility/InputFile.h) before a byte is read,
+//  - the file is checked (regular file, size limit; base/InputFile.h) before a byte is read,
 //    then read whole; what is allocated grows with the data actually read, never with a count a
 //    header declares, so memory stays a small multiple of the file's size;
 //  - numbers are decimal, read by std::from_chars (locale-independent: a Qt program runs under the
@@ -39,8 +39,8 @@
 
 #include "BuiltinFormats.h"
 #include "plugins/MeshTopology.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/Scene.h"
 
 namespace sightline {

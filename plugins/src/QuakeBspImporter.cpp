@@ -9,8 +9,8 @@
 
 #include "BuiltinFormats.h"
 #include "QuakeUnits.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/bsp/QuakeBsp.h"
 
 namespace sightline {

@@ -19,8 +19,8 @@
 #include "BuiltinFormats.h"
 #include "QuakeUnits.h"
 #include "plugins/QuakeMap.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 
 namespace sightline {
 

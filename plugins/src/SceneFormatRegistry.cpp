@@ -5,7 +5,7 @@
 
 #include "BuiltinFormats.h"
 #include "plugins/SceneFormats.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -18,8 +18,8 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
 
 namespace sightline {
 
@@ -135,7 +135,7 @@ struct VideoEncoder::Impl {
 
     /// The temporary file beside the target (so the final rename stays on one file system), and the
     /// file the rename replaces: through a symlink, the file it names, keeping the link (as every
-    /// save does, visibility/AtomicFile.h).
+    /// save does, base/AtomicFile.h).
     void placeTemporary()
     {
         const fs::path& file = target;

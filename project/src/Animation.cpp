@@ -5,7 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -7,7 +7,7 @@
 
 #include "project/CoarseOccluders.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactJudge.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/RayDisagreement.h"

@@ -3,7 +3,7 @@
 #include <set>
 
 #include "plugins/MeshSimplification.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/InnerOccluder.h"
 
 namespace sightline {

@@ -7,7 +7,7 @@
 
 #include "project/CoarseOccluders.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

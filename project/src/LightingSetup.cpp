@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include "lighting/ImageFile.h"
-#include "visibility/Error.h"
-#include "visibility/NpyWriter.h"
+#include "base/Error.h"
+#include "base/NpyFile.h"
 
 namespace sightline {
 

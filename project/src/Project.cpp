@@ -10,10 +10,10 @@
 #include "plugins/SceneFormats.h"
 #include "project/CoarseOccluders.h"
 #include "project/SceneImport.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
-#include "visibility/PathRule.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
+#include "base/PathRule.h"
 
 namespace sightline {
 
@@ -395,7 +395,7 @@ namespace {
 
 /// Rewrites a path written relative to `from` so that it means the same file from `to`
 /// (absolute when `absolute`, or when the relative form would climb out of `to`: such a path is
-/// refused on load, visibility/PathRule.h, while an absolute one is taken as written).
+/// refused on load, base/PathRule.h, while an absolute one is taken as written).
 std::string rebase(const std::string& path, const std::filesystem::path& from, const std::filesystem::path& to, bool absolute)
 {
     if (path.empty())

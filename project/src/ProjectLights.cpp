@@ -5,7 +5,7 @@
 
 #include "plugins/GltfLights.h"
 #include "project/SceneImport.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <string>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/Patch.h"
 
 namespace sightline {

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/gl/HeadlessContext.h"
 
@@ -18,8 +18,11 @@ ProjectSampler::ProjectSampler(const Project& project, ProjectMeshes meshes, Sam
         throw Error("unknown method '" + settings_.method + "' (use cpu, raycast or gl)");
     if (settings_.method == "gl" && !settings_.heights.empty())
         throw Error("the GL sampler does not take receiver heights; use cpu or raycast for a bumpy receiver");
-    if (settings_.method == "gl")
-        context_ = gl::HeadlessContext::create(gl::parseBackend(settings_.glBackend));
+    if (settings_.method == "gl") {
+        if (!settings_.glContext)
+            throw Error("the GL sampler needs an OpenGL context, and none was provided");
+        context_ = settings_.glContext();
+    }
     applyCoarseOccluders(coarseOccluders(project), meshes_.level);
     rebuild(project);
 }

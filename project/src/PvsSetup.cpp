@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -5,7 +5,7 @@
 #include <map>
 #include <utility>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "plugins/SceneFormats.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

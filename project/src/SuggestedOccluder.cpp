@@ -8,7 +8,7 @@
 #include "project/CoarseOccluders.h"
 #include "project/LightingSetup.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

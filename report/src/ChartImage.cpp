@@ -7,7 +7,7 @@
 #include <QPainter>
 #include <QtCharts/QChart>
 
-#include "report/MapImage.h"
+#include "report/PngFile.h"
 
 namespace sightline {
 

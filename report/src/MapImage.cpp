@@ -3,12 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include <QBuffer>
 #include <QPainter>
 
-#include "visibility/AtomicFile.h"
-#include "visibility/ColourMap.h"
-#include "visibility/Error.h"
+#include "base/ColourMap.h"
 
 namespace sightline {
 
@@ -116,16 +113,6 @@ QImage renderLightImage(const LightImage& light, int scale, bool intensity)
         }
     }
     return image;
-}
-
-void savePng(const QImage& image, const std::filesystem::path& file)
-{
-    QByteArray bytes;
-    QBuffer buffer(&bytes);
-    buffer.open(QIODevice::WriteOnly);
-    if (!image.save(&buffer, "PNG"))
-        throw Error(file.string() + ": cannot encode the image as PNG");
-    writeFileAtomically(file, std::string_view(bytes.constData(), std::size_t(bytes.size())));
 }
 
 } // namespace sightline

@@ -15,7 +15,7 @@
 #include "bench/BenchChart.h"
 #include "bench/TunedEmbree.h"
 #include "project/Project.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactJudge.h"
 #include "visibility/RayCastSampler.h"
 

@@ -21,7 +21,7 @@
 #include "demo/DemoLevel.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
-#include "visibility/NpyWriter.h"
+#include "visibility/MaskNpy.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ReceiverHeights.h"
 

@@ -15,7 +15,7 @@
 #include "project/CoarseSweep.h"
 #include "project/Project.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::test;

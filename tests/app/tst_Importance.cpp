@@ -16,9 +16,9 @@
 #include "project/ProjectSampler.h"
 #include "project/RecordedPath.h"
 #include "report/MapImage.h"
-#include "visibility/ColourMap.h"
-#include "visibility/Error.h"
-#include "visibility/NpyWriter.h"
+#include "base/ColourMap.h"
+#include "base/Error.h"
+#include "base/NpyFile.h"
 #include "visibility/RayCastSampler.h"
 
 using namespace sightline;
@@ -203,6 +203,20 @@ TEST_F(ImportanceProject, AccumulatingTwoAlternatingConfigurationsGivesTheirAver
         accumulateImportance(sampler, project, animation, 4, ImportanceSide::Receiver, [](int, int) { return false; });
     EXPECT_EQ(stopped.framesDone, 1);
     EXPECT_TRUE(stopped.cancelled);
+}
+
+TEST_F(ImportanceProject, TheGlSamplerWithoutAContextFactoryIsRefusedInOneLine)
+{
+    const Project project = loadProject(projectFile());
+    SamplerSettings settings;
+    settings.method = "gl";
+    try {
+        ProjectSampler sampler(project, loadProjectMeshes(project), settings);
+        FAIL() << "a GL sampler without a context was accepted";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("OpenGL context"), std::string::npos) << e.what();
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(ImportanceProject, ImportanceOverARecordedPathEqualsTheSameFramesAccumulatedByHand)

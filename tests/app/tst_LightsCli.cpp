@@ -13,8 +13,8 @@
 #include "lighting/LightEmission.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"
-#include "visibility/Error.h"
-#include "visibility/NpyWriter.h"
+#include "base/Error.h"
+#include "base/NpyFile.h"
 
 using namespace sightline;
 using namespace sightline::test;

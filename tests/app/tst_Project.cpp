@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "project/Project.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using nlohmann::json;

@@ -10,7 +10,7 @@
 #include "project/Project.h"
 #include "project/ProjectMotion.h"
 #include "project/RecordedPath.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/Patch.h"
 
 using namespace sightline;

@@ -12,7 +12,7 @@
 #include "TestScenes.h"
 #include "project/Project.h"
 #include "project/SceneImport.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using nlohmann::json;

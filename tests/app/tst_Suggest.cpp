@@ -17,7 +17,7 @@
 #include "demo/DemoLevel.h"
 #include "project/SuggestedOccluder.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::test;

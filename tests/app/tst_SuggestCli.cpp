@@ -10,7 +10,7 @@
 
 #include "CliRunner.h"
 #include "TestScenes.h"
-#include "visibility/NpyWriter.h"
+#include "base/NpyFile.h"
 #include "visibility/suggest/ConvexHull2.h"
 
 using namespace sightline;

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/bsp/BspPortals.h"
 #include "visibility/bsp/PortalVis.h"
 #include "visibility/bsp/QuakeBsp.h"

@@ -5,7 +5,7 @@
 #include "FuzzInput.h"
 #include "lighting/ImageFile.h"
 #include "lighting/ao/AoEnvironment.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

@@ -2,8 +2,8 @@
 // (docs/design.md §4). Bad input must end in sightline::Error; anything else is a finding.
 
 #include "FuzzInput.h"
-#include "visibility/Error.h"
-#include "visibility/NpyWriter.h"
+#include "base/Error.h"
+#include "visibility/MaskNpy.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

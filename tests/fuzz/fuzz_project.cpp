@@ -3,7 +3,7 @@
 
 #include "FuzzInput.h"
 #include "project/Project.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

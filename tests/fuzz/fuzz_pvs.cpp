@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/pvs/PvsFile.h"
 #include "visibility/pvs/Sha256.h"
 

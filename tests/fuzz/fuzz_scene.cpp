@@ -7,7 +7,7 @@
 
 #include "FuzzInput.h"
 #include "plugins/SceneFormats.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {

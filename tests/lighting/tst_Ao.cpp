@@ -22,7 +22,7 @@
 #include "lighting/ao/AoEnvironment.h"
 #include "lighting/ao/AoShading.h"
 #include "lighting/ao/AoTexels.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 

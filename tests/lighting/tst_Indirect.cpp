@@ -12,7 +12,7 @@
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Indirect.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 

@@ -13,7 +13,7 @@
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/LightTree.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::test;

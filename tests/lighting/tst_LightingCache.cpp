@@ -16,7 +16,7 @@
 #include "lighting/LightingCache.h"
 #include "lighting/LowResolutionPass.h"
 #include "lighting/SceneChange.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::test;

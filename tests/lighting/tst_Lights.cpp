@@ -14,7 +14,7 @@
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::test;

@@ -8,7 +8,7 @@
 #include "TestScenes.h"
 #include "lighting/DirectLight.h"
 #include "lighting/TexelCharts.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactJudge.h"
 
 using namespace sightline;

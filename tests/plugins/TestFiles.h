@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::test {
 

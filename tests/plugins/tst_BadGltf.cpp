@@ -15,8 +15,8 @@
 #include "GltfTestDoc.h"
 #include "TestFiles.h"
 #include "plugins/SceneFormats.h"
-#include "visibility/InputFile.h"
-#include "visibility/JsonDepth.h"
+#include "base/InputFile.h"
+#include "base/JsonDepth.h"
 #include "visibility/SceneLimits.h"
 
 using namespace sightline;

@@ -13,7 +13,7 @@
 #include "TestScenes.h"
 #include "plugins/SceneFormats.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/InnerOccluder.h"
 #include "visibility/Scene.h"
 

@@ -14,8 +14,8 @@
 #include <glm/geometric.hpp>
 
 #include "plugins/SceneFormats.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/bsp/QuakeBsp.h"
 
 using namespace sightline;

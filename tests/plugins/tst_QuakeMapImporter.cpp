@@ -15,8 +15,8 @@
 
 #include "plugins/QuakeMap.h"
 #include "plugins/SceneFormats.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/bsp/QuakeBsp.h"
 
 using namespace sightline;

@@ -14,7 +14,7 @@
 
 #include "VideoDecoder.h"
 #include "plugins/VideoEncoder.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 namespace {

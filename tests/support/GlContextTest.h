@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/gl/HeadlessContext.h"
 
 namespace sightline::test {

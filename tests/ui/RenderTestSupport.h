@@ -8,7 +8,7 @@
 #include <QImage>
 
 #include "TestScenes.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewportRenderer.h"
 #include "visibility/Scene.h"
 #include "visibility/gl/GlFunctions.h"
 

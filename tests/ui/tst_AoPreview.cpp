@@ -10,7 +10,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "AoPreview.h"
+#include "editor/AoPreview.h"
 #include "TestScenes.h"
 
 using namespace sightline;

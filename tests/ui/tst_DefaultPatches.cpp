@@ -7,11 +7,11 @@
 #include <filesystem>
 #include <string>
 
-#include "DefaultPatches.h"
+#include "editor/DefaultPatches.h"
 #include "EditorDocument.h"
-#include "LiveVisibility.h"
-#include "PatchWarnings.h"
-#include "Picking.h"
+#include "editor/LiveVisibility.h"
+#include "editor/PatchWarnings.h"
+#include "editor/Picking.h"
 #include "UiTestScene.h"
 #include "demo/BenchScenes.h"
 #include "demo/DemoLevel.h"

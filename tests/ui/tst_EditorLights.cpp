@@ -14,10 +14,10 @@
 
 #include "EditorDocument.h"
 #include "LightCostPanel.h"
-#include "LightObjects.h"
-#include "LitIndirect.h"
-#include "LitPreview.h"
-#include "LitReference.h"
+#include "editor/LightObjects.h"
+#include "editor/LitIndirect.h"
+#include "editor/LitPreview.h"
+#include "editor/LitReference.h"
 #include "TestScenes.h"
 #include "UiTestScene.h"
 #include "lighting/DirectLight.h"
@@ -25,7 +25,7 @@
 #include "lighting/LightEmission.h"
 #include "lighting/LightSets.h"
 #include "project/ProjectLights.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 using namespace sightline;
 using namespace sightline::ui;

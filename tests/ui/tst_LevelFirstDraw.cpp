@@ -7,10 +7,10 @@
 #include <QImage>
 #include <gtest/gtest.h>
 
-#include "Camera.h"
+#include "editor/Camera.h"
 #include "RenderTestSupport.h"
 #include "TestScenes.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewportRenderer.h"
 #include "visibility/Scene.h"
 #include "visibility/gl/HeadlessContext.h"
 

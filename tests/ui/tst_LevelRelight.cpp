@@ -8,12 +8,12 @@
 #include <QImage>
 #include <gtest/gtest.h>
 
-#include "Camera.h"
-#include "LitPreview.h"
+#include "editor/Camera.h"
+#include "editor/LitPreview.h"
 #include "RenderTestSupport.h"
 #include "TestScenes.h"
-#include "TexelAtlas.h"
-#include "ViewportRenderer.h"
+#include "editor/TexelAtlas.h"
+#include "editor/ViewportRenderer.h"
 #include "visibility/Scene.h"
 #include "visibility/gl/HeadlessContext.h"
 

@@ -15,14 +15,14 @@
 
 #include "AnimationImportance.h"
 #include "EditorDocument.h"
-#include "LiveVisibility.h"
+#include "editor/LiveVisibility.h"
 #include "OffscreenRender.h"
 #include "PatchOverlay.h"
-#include "Picking.h"
+#include "editor/Picking.h"
 #include "UiTestScene.h"
 #include "project/Project.h"
-#include "visibility/ColourMap.h"
-#include "visibility/Error.h"
+#include "base/ColourMap.h"
+#include "base/Error.h"
 
 namespace sightline::ui {
 namespace {

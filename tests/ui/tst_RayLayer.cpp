@@ -5,13 +5,13 @@
 
 #include <gtest/gtest.h>
 
-#include "Camera.h"
+#include "editor/Camera.h"
 #include "EditorDocument.h"
 #include "OffscreenRender.h"
-#include "RayLayer.h"
+#include "editor/RayLayer.h"
 #include "UiTestScene.h"
-#include "ViewSettings.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewSettings.h"
+#include "editor/ViewportRenderer.h"
 
 using namespace sightline;
 using namespace sightline::ui;

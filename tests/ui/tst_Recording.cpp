@@ -16,7 +16,7 @@
 #include "UiTestScene.h"
 #include "VideoDecoder.h"
 #include "VideoRecording.h"
-#include "ViewSettings.h"
+#include "editor/ViewSettings.h"
 #include "project/Animation.h"
 #include "project/RecordedPath.h"
 

@@ -13,31 +13,31 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "BackgroundSampler.h"
-#include "Camera.h"
+#include "editor/BackgroundSampler.h"
+#include "editor/Camera.h"
 #include "EditorDocument.h"
-#include "Gizmo.h"
-#include "LiveVisibility.h"
-#include "ObjectEdits.h"
-#include "ObjectFlags.h"
-#include "PatchPairFix.h"
-#include "PatchWarnings.h"
-#include "PvsDebugger.h"
-#include "PatchPresets.h"
+#include "editor/Gizmo.h"
+#include "editor/LiveVisibility.h"
+#include "editor/ObjectEdits.h"
+#include "editor/ObjectFlags.h"
+#include "editor/PatchPairFix.h"
+#include "editor/PatchWarnings.h"
+#include "editor/PvsDebugger.h"
+#include "editor/PatchPresets.h"
 #include "OffscreenRender.h"
-#include "Picking.h"
-#include "RayEnds.h"
-#include "SectionCutHandle.h"
+#include "editor/Picking.h"
+#include "editor/RayEnds.h"
+#include "editor/SectionCutHandle.h"
 #include "TestScenes.h"
 #include "UiTestScene.h"
-#include "ViewSettings.h"
+#include "editor/ViewSettings.h"
 #include "ViewportController.h"
-#include "ViewportRenderer.h"
+#include "editor/ViewportRenderer.h"
 #include "plugins/SceneFormats.h"
 #include "project/Project.h"
 #include "project/SceneImport.h"
-#include "visibility/Error.h"
-#include "visibility/NpyWriter.h"
+#include "base/Error.h"
+#include "base/NpyFile.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/gl/HeadlessContext.h"
 
@@ -635,7 +635,7 @@ TEST(EditorDocument, SaveAndReopenRoundTripsAndRebasesPaths)
     document.save(folder / "projects" / "level.json");
     EXPECT_FALSE(document.isModified());
     // The relative form would climb out of the project's folder, which loading refuses
-    // (visibility/PathRule.h): the editor writes the path absolute instead.
+    // (base/PathRule.h): the editor writes the path absolute instead.
     EXPECT_EQ(document.project().scene, std::filesystem::absolute(folder / "levels" / "floor.obj").lexically_normal().string());
 
     EditorDocument again;

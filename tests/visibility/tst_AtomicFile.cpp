@@ -9,8 +9,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
 
 using namespace sightline;
 namespace fs = std::filesystem;

@@ -10,7 +10,7 @@
 #include "bitmask/Strategy.h"
 #include "bitmask/TilePass.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ReceiverHeights.h"
 

@@ -9,7 +9,7 @@
 #include "GlContextTest.h"
 #include "TestScenes.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/GlBitmaskSampler.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/gl/HeadlessContext.h"

@@ -7,7 +7,7 @@
 #include "BruteForceCaster.h"
 #include "GlContextTest.h"
 #include "TestScenes.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/HeckbertHerfSampler.h"
 
 using namespace sightline;

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/HiddenSampleMap.h"
-#include "visibility/NpyWriter.h"
+#include "visibility/MaskNpy.h"
 
 using namespace sightline;
 

@@ -3,7 +3,7 @@
 
 #include "TestScenes.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/HoughMaskTable.h"
 #include "visibility/RayCastSampler.h"
 

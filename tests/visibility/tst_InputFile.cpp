@@ -4,8 +4,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 
 using namespace sightline;
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "TestScenes.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/Patch.h"
 
 using namespace sightline;

@@ -1,11 +1,11 @@
-// The path rule (visibility/PathRule.h): relative paths written in a file stay inside its folder.
+// The path rule (base/PathRule.h): relative paths written in a file stay inside its folder.
 #include <fstream>
 
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include "visibility/Error.h"
-#include "visibility/PathRule.h"
+#include "base/Error.h"
+#include "base/PathRule.h"
 
 using namespace sightline;
 namespace fs = std::filesystem;

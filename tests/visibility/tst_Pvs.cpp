@@ -16,7 +16,7 @@
 #include <gtest/gtest.h>
 
 #include "TestScenes.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/pvs/FirstHitCaster.h"
 #include "visibility/pvs/PvsBake.h"
 #include "visibility/pvs/PvsFile.h"

@@ -11,8 +11,8 @@
 
 #include "EngineBspReader.h"
 #include "VoxelBsp.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 #include "visibility/bsp/BspPortals.h"
 #include "visibility/bsp/LeafWitness.h"
 #include "visibility/bsp/PortalVis.h"

@@ -5,7 +5,7 @@
 
 #include "BruteForceCaster.h"
 #include "TestScenes.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/RayCastSampler.h"
 
 using namespace sightline;

@@ -11,7 +11,7 @@
 #include "BruteForceCaster.h"
 #include "TestScenes.h"
 #include "visibility/CpuBitmaskSampler.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/RayCastSampler.h"
 #include "visibility/ReceiverHeights.h"
 

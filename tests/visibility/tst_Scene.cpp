@@ -7,8 +7,8 @@
 #include <gtest/gtest.h>
 
 #include "TestScenes.h"
-#include "visibility/AtomicFile.h"
-#include "visibility/Error.h"
+#include "base/AtomicFile.h"
+#include "base/Error.h"
 #include "visibility/Scene.h"
 
 using namespace sightline;

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -14,7 +14,7 @@
 #include "bitmask/Occluders.h"
 #include "bitmask/Shaft.h"
 #include "bitmask/TilePass.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/HoughMaskTable.h"
 #include "visibility/ShaftGeometry.h"
 #include "visibility/gl/GlShaders.h"

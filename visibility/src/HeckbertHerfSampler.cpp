@@ -7,7 +7,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "visibility/gl/GlShaders.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ShaftGeometry.h"
 #include "glsl/hh_count.frag.h"
 #include "glsl/hh_projection.vert.h"

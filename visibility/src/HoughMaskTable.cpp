@@ -6,7 +6,7 @@
 #include <string>
 #include <numbers>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

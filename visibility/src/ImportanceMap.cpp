@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -1,7 +1,7 @@
 #include "visibility/InnerOccluder.h"
 
 #include "bitmask/InnerProxy.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactSegment.h"
 
 namespace sightline {

@@ -17,7 +17,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactSegment.h"
 #include "raycast/RayPackets.h"
 

@@ -30,7 +30,7 @@ inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t(1) << 25;
 inline constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(192) << 20;
 
 /// Throws sightline::Error with the file name when the file is missing, not a regular file
-/// (visibility/InputFile.h), not a readable image, larger than the limits above, or shorter than
+/// (base/InputFile.h), not a readable image, larger than the limits above, or shorter than
 /// its header declares (a truncated file is an error, never black pixels). A Radiance HDR is
 /// read too (its RGBE values clamped to [0, 1]), checked as AoEnvironment's are.
 RgbImage loadRgbImage(const std::filesystem::path& file);

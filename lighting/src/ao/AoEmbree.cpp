@@ -13,7 +13,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -10,8 +10,8 @@
 
 #include "ImageCheck.h"
 #include "lighting/ImageFile.h"
-#include "visibility/Error.h"
-#include "visibility/InputFile.h"
+#include "base/Error.h"
+#include "base/InputFile.h"
 
 namespace sightline {
 

@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 #include <meshoptimizer.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/gl/GlShaders.h"
 #include "glsl/ao_compare.comp.h"
 #include "glsl/ao_depth.frag.h"

@@ -9,7 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "NearestOnTriangle.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline {
 

@@ -6,7 +6,7 @@
 #include <embree3/rtcore.h>
 
 #include "visibility/EmbreeTriangles.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::lights {
 

@@ -1,6 +1,6 @@
 #pragma once
 // The one way Sightline parses untrusted JSON text (glTF documents, project files): nesting depth is
-// checked before the parser runs (visibility/JsonDepth.h), and every parser failure becomes one
+// checked before the parser runs (base/JsonDepth.h), and every parser failure becomes one
 // sightline::Error naming the file, what is wrong in words and where, never nlohmann's bracketed
 // exception ids.
 

@@ -4,7 +4,7 @@
 // libavformat and libswscale; no Qt, no GL: the caller renders, this only encodes.
 //
 // Saving never leaves a half file under the user's name: frames go to a temporary beside the
-// target (the ".NAME.tmp-PID-NONCE" of visibility/AtomicFile.h), and finish() renames it over the
+// target (the ".NAME.tmp-PID-NONCE" of base/AtomicFile.h), and finish() renames it over the
 // target once the trailer is written. An encoder destroyed before finish() (an error, a cancelled
 // recording) removes its temporary and leaves the target as it was. A target that is a symlink keeps
 // the link: the file it names is replaced.

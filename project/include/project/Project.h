@@ -37,7 +37,7 @@ struct Project {
     std::filesystem::path folder;
     /// Names the project in errors (its file name as given).
     std::string name = "project";
-    /// Lets relative paths leave `folder` (--allow-outside-paths; visibility/PathRule.h). Not saved:
+    /// Lets relative paths leave `folder` (--allow-outside-paths; base/PathRule.h). Not saved:
     /// it is the user's choice for one run, not the file's.
     bool allowOutsidePaths = false;
     /// Scene file as written in the project (relative or absolute); empty for none.
@@ -60,7 +60,7 @@ struct Project {
 
     /// The file a path written in the project means (scene, occluder mesh, light image, ...);
     /// `key` says where it was written ("scene"). A relative path that leaves `folder` throws
-    /// sightline::Error unless allowOutsidePaths (visibility/PathRule.h). Every place a project
+    /// sightline::Error unless allowOutsidePaths (base/PathRule.h). Every place a project
     /// names a file goes through here.
     std::filesystem::path resolve(const std::string& path, const std::string& key) const;
 };
@@ -72,7 +72,7 @@ Project parseProject(const nlohmann::json& document, const std::filesystem::path
 struct ProjectLoadOptions {
     bool allowOutsidePaths = false;   ///< see Project::allowOutsidePaths
 };
-/// Reads and parses a project file (a regular file of bounded size, visibility/InputFile.h).
+/// Reads and parses a project file (a regular file of bounded size, base/InputFile.h).
 Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions& options = {});
 
 nlohmann::json toJson(const Project& project);

@@ -3,6 +3,7 @@
 // keeping what does not change: the level's triangles, the CPU sampler's warm buffers, Embree's
 // BVH while no occluder moves.
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,7 +24,9 @@ class HeadlessContext;
 struct SamplerSettings {
     std::string method = "cpu";     ///< "cpu" (exact bitmask, auto strategy), "raycast" (Embree) or
                                     ///< "gl" (the paper's GPU pass in a headless context)
-    std::string glBackend = "osmesa";   ///< "gl": "osmesa" (software) or "egl" (a GPU)
+    /// "gl": makes the headless context the sampler runs in (current on the calling thread from
+    /// then on). Passed in, so that the project model links no windowing system (OSMesa, EGL).
+    std::function<std::unique_ptr<gl::HeadlessContext>()> glContext;
     int threads = 0;                ///< 0 = all cores
     SourceJitter jitter{};          ///< decorrelated source samples (§6.2)
     ReceiverHeights heights;        ///< a bumpy receiver (§8); empty = flat
@@ -31,7 +34,8 @@ struct SamplerSettings {
 
 class ProjectSampler {
 public:
-    /// Throws sightline::Error for an unknown method, or "gl" with heights or without a context.
+    /// Throws sightline::Error for an unknown method, or "gl" with heights or without a context
+    /// factory (or whatever the factory throws).
     ProjectSampler(const Project& project, ProjectMeshes meshes, SamplerSettings settings);
     ~ProjectSampler();
 

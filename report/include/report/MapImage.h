@@ -6,7 +6,6 @@
 // Orientation: sample (a, b) of a patch is drawn with a to the right and b up (the patch seen
 // from the side its normal points to, u right and v up), so the image's top row is b = nb - 1.
 
-#include <filesystem>
 #include <string>
 
 #include <QImage>
@@ -40,8 +39,5 @@ void paintLegend(QPainter& painter, const QRect& bar, const QString& caption, QR
 /// The light image: one pixel per receiver sample, scaled by `scale` (nearest). With
 /// `intensity` the shadow intensity 1 - L (grey, mean over channels) instead of the light.
 QImage renderLightImage(const LightImage& light, int scale = 1, bool intensity = false);
-
-/// Saves as PNG atomically; throws sightline::Error with the path on failure.
-void savePng(const QImage& image, const std::filesystem::path& file);
 
 } // namespace sightline

@@ -30,7 +30,7 @@ glm::dvec3 receiverNormalTowardSource(const Patch& source, const Patch& receiver
 /// The displaced position of receiver sample j (receiver.sample(j) when heights are empty).
 glm::dvec3 displacedReceiverSample(const Patch& source, const Patch& receiver, const ReceiverHeights& heights, int j);
 
-/// Throws sightline::Error (visibility/Error.h) with a one-line message a user can act on unless:
+/// Throws sightline::Error (base/Error.h) with a one-line message a user can act on unless:
 /// metres.size() == receiver.sampleCount() (or empty), every value finite, and every displaced
 /// sample strictly on the receiver's side of the source plane (it must not reach the source).
 /// Call it on a pair that validatePatchPair accepts.

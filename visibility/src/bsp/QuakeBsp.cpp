@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <unordered_map>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/pvs/PvsFile.h"
 
 namespace sightline::bsp {

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::gl {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::gl {
 

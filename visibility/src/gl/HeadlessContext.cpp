@@ -6,7 +6,7 @@
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::gl {
 
@@ -125,6 +125,11 @@ std::unique_ptr<HeadlessContext> HeadlessContext::create(Backend backend)
     if (backend == Backend::Egl)
         return std::make_unique<EglContextImpl>();
     return std::make_unique<OSMesaContextImpl>();
+}
+
+std::function<std::unique_ptr<HeadlessContext>()> contextFactory(Backend backend)
+{
+    return [backend] { return HeadlessContext::create(backend); };
 }
 
 Backend parseBackend(const std::string& name)

@@ -11,7 +11,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/pvs/FirstHitCaster.h"
 #include "visibility/pvs/ViewCells.h"
 

@@ -6,7 +6,7 @@
 
 #include <glm/vector_relational.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::pvs {
 

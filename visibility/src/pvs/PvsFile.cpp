@@ -9,9 +9,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactSegment.h"
-#include "visibility/JsonDepth.h"
+#include "base/JsonDepth.h"
 #include "visibility/pvs/Sha256.h"
 #include "visibility/pvs/ViewCells.h"
 

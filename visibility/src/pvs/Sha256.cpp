@@ -2,7 +2,7 @@
 
 #include <openssl/evp.h>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::pvs {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactSegment.h"
 #include "visibility/pvs/FirstHitCaster.h"
 

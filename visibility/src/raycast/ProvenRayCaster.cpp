@@ -20,7 +20,7 @@
 #include "HitProof.h"
 #include "../bitmask/Strategy.h"
 #include "RayPackets.h"
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/ExactSegment.h"
 #include "visibility/ReceiverHeights.h"
 

@@ -3,7 +3,7 @@
 #include <numeric>
 #include <string>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::raycast {
 

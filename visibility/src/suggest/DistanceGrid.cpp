@@ -7,7 +7,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::suggest {
 

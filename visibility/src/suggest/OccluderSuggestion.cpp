@@ -10,7 +10,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/suggest/ShareTrimming.h"
 
 namespace sightline::suggest {

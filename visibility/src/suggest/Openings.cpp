@@ -9,7 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 #include "visibility/suggest/DistanceGrid.h"
 
 namespace sightline::suggest {

@@ -4,7 +4,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "visibility/Error.h"
+#include "base/Error.h"
 
 namespace sightline::suggest {
 

@@ -3,6 +3,7 @@
 // default, works anywhere Mesa is installed) and EGL surfaceless (real GPUs on servers). The
 // context renders only into framebuffer objects; it owns no window.
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -32,5 +33,9 @@ protected:
 };
 
 Backend parseBackend(const std::string& name);   ///< "osmesa" or "egl"; throws otherwise
+
+/// HeadlessContext::create(backend) as a factory, for code that is handed the means to make a
+/// context rather than linking the contexts itself (project/ProjectSampler.h).
+std::function<std::unique_ptr<HeadlessContext>()> contextFactory(Backend backend);
 
 } // namespace sightline::gl
