@@ -1,0 +1,46 @@
+#pragma once
+// OBJ, PLY (ASCII and binary), OFF and STL, each format read by a small strict reader of its own
+// (ObjReader.cpp, PlyReader.cpp, OffReader.cpp, StlReader.cpp) from the file's bytes.
+//
+// Which reader, and why:
+//  - OBJ, PLY and OFF went through OpenMesh's readers behind guards until bad input showed that
+//    guarding them meant re-reading every token anyway: they turn values they cannot parse
+//    ("nan", "1e39", "abc") into zeros or skip them, drop faces with unreadable or huge indices and
+//    faces of 1-2 vertices, read a CR-only OBJ as empty, take a UTF-8 BOM as part of the first
+//    statement, trust a PLY list count read from garbage (allocating gigabytes), load truncated
+//    binary PLY partly, and their halfedge importer drops non-manifold faces. Visibility needs only
+//    positions and polygons, so a strict reader of those few statements is smaller and safer than
+//    the guards. No C or C++ PLY library is packaged for Debian, so PLY is read here too.
+//  - STL is a trivial format (OpenMesh's reader dropped degenerate facets and accepted truncated
+//    files as empty).
+//
+// Rules every reader follows:
+//  - the file is checked (regular file, size limit; base/InputFile.h) before a byte is read,
+//    then read whole; what is allocated grows with the data actually read, never with a count a
+//    header declares, so memory stays a small multiple of the file's size;
+//  - numbers are decimal, read by std::from_chars (locale-independent: a Qt program runs under the
+//    user's LC_NUMERIC, where strtod may read "1,5"), finite and within float range. Hexadecimal
+//    floats ("0x1p3") are refused: none of these formats defines them, and readers that accept
+//    them (strtod) and readers that do not (streams) would see different geometry in one file;
+//  - a text line ends at "\n", "\r\n" or a lone "\r"; a UTF-8 byte order mark at the start is
+//    skipped;
+//  - every polygon of 3 or more vertices is fan-triangulated and kept (degenerate and non-manifold
+//    ones too: every triangle blocks rays); polygons of 1-2 vertices and anything unreadable are
+//    refused with one line naming the file, the line (text) or element (binary), and the problem.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "visibility/Scene.h"
+
+namespace sightline::meshio {
+
+/// Each reads a whole file's bytes (`what` names it in messages) into one mesh; throws
+/// sightline::Error with one line on anything it does not accept.
+Mesh readObj(std::string_view text, const std::string& what, std::vector<std::string>& warnings);
+Mesh readPly(std::string_view text, const std::string& what);
+Mesh readOff(std::string_view text, const std::string& what);
+Mesh readStl(std::string_view bytes, const std::string& what);
+
+} // namespace sightline::meshio

@@ -1,0 +1,121 @@
+#include "mesh/MeshReaders.h"
+
+#include <algorithm>
+
+#include "base/Error.h"
+#include "mesh/MeshText.h"
+
+namespace sightline::meshio {
+
+namespace {
+
+/// "v x y z [w | r g b [a]]": every value must be a number; only x, y, z are kept.
+glm::vec3 objVertex(Tokens& t, const std::string& what, std::size_t line)
+{
+    glm::vec3 p(0.0f);
+    int n = 0;
+    for (std::string_view token; t.next(token); ++n) {
+        float value = 0.0f;
+        if (const std::string why = readFloat(token, value); !why.empty())
+            failAt(what, line, "vertex value " + why);
+        if (n < 3)
+            p[n] = value;
+    }
+    if (n < 3)
+        failAt(what, line, "vertex has " + std::to_string(n) + " coordinates, 3 are needed");
+    if (n > 7)
+        failAt(what, line, "vertex has " + std::to_string(n) + " values (x y z, then at most w or r g b [a])");
+    return p;
+}
+
+/// One face corner "v", "v/vt", "v//vn" or "v/vt/vn" as a 0-based position index. Positive
+/// indices count from 1, negative ones back from the last vertex so far; both must name a vertex
+/// already read (OBJ defines them that way). vt and vn are not needed but must be integers.
+std::uint32_t objCorner(std::string_view token, std::size_t vertices, const std::string& what, std::size_t line)
+{
+    const std::string_view index = token.substr(0, token.find('/'));
+    if (index.empty())
+        failAt(what, line, "face index is empty in " + quote(token));
+    for (std::size_t at = token.find('/'), parts = 1; at != npos; at = token.find('/', at + 1), ++parts) {
+        const std::size_t end = token.find('/', at + 1);
+        const std::string_view part = token.substr(at + 1, end == npos ? npos : end - at - 1);
+        long long ignored = 0;
+        if (parts >= 3)
+            failAt(what, line, "face corner " + quote(token) + " has more than v/vt/vn");
+        if (!part.empty())
+            if (const std::string why = readInteger(part, ignored); !why.empty())
+                failAt(what, line, "face corner " + quote(token) + ": " + why);
+    }
+    long long k = 0;
+    if (const std::string why = readInteger(index, k); !why.empty())
+        failAt(what, line, "face index " + why);
+    const auto count = static_cast<long long>(vertices);
+    if (k == 0)
+        failAt(what, line, "face index 0 is invalid (OBJ counts from 1, or back from -1)");
+    const long long resolved = k > 0 ? k - 1 : count + k;
+    if (resolved < 0 || resolved >= count)
+        failAt(what, line, "face index " + std::string(index) + " is out of range (" + plural(vertices, "vertex") + ")");
+    return static_cast<std::uint32_t>(resolved);
+}
+
+/// Statements that carry no surface geometry (attributes, grouping, materials, curve settings).
+bool objIgnorable(std::string_view keyword)
+{
+    static const char* const kIgnored[] = {"vt", "vn", "vp", "o", "g", "s", "mg", "usemtl", "mtllib", "maplib",
+                                           "usemap", "lod", "shadow_obj", "trace_obj", "ctech", "stech", "bevel",
+                                           "c_interp", "d_interp", "cstype", "deg", "bmat", "step", "parm",
+                                           "trim", "hole", "scrv", "sp", "end", "con", "call", "csh"};
+    return std::find(std::begin(kIgnored), std::end(kIgnored), keyword) != std::end(kIgnored);
+}
+
+/// OBJ read by a strict line scanner: v and f (fo) make the mesh; points and lines block no rays and
+/// are counted in a warning; free-form curves and surfaces would be geometry lost, so they are
+/// refused; unknown statements are warned about, and a line that starts with no keyword is refused.
+
+} // namespace
+
+Mesh readObj(std::string_view text, const std::string& what, std::vector<std::string>& warnings)
+{
+    Mesh mesh;
+    Lines lines(text);
+    std::vector<std::uint32_t> polygon;
+    std::size_t pointsAndLines = 0, unknown = 0, firstUnknown = 0;
+    std::string unknownKeyword;
+    for (std::string_view line; lines.next(line);) {
+        const std::size_t number = lines.number();
+        if (line.find('\0') != npos)
+            failAt(what, number, "contains a NUL byte (binary data, not OBJ text)");
+        Tokens t(line.substr(0, line.find('#')));
+        std::string_view keyword;
+        if (!t.next(keyword))
+            continue;
+        if (keyword == "v") {
+            mesh.positions.push_back(objVertex(t, what, number));
+        } else if (keyword == "f" || keyword == "fo") {
+            polygon.clear();
+            for (std::string_view token; t.next(token);)
+                polygon.push_back(objCorner(token, mesh.positions.size(), what, number));
+            if (polygon.size() < 3)
+                failAt(what, number, "face " + polygonTooSmall(polygon.size()));
+            addFan(mesh, polygon);
+        } else if (keyword == "p" || keyword == "l") {
+            ++pointsAndLines;
+        } else if (keyword == "curv" || keyword == "curv2" || keyword == "surf") {
+            failAt(what, number, "free-form curves and surfaces are not supported (export the mesh as polygons)");
+        } else if (!std::isalpha(static_cast<unsigned char>(keyword[0]))) {
+            failAt(what, number, quote(keyword) + " is not an OBJ statement");
+        } else if (!objIgnorable(keyword) && unknown++ == 0) {
+            firstUnknown = number;
+            unknownKeyword = std::string(keyword);
+        }
+    }
+    if (pointsAndLines > 0)
+        warnings.push_back(what + ": " + std::to_string(pointsAndLines) +
+                           " point and line statements ignored (they block no rays)");
+    if (unknown > 0)
+        warnings.push_back(what + ": " + std::to_string(unknown) + " unknown statements ignored (the first, " +
+                           quote(unknownKeyword) + ", at line " + std::to_string(firstUnknown) + ")");
+    return mesh;
+}
+
+} // namespace sightline::meshio
