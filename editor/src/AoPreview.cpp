@@ -48,35 +48,9 @@ AoPreview::AoPreview(Deliver deliver) : deliver_(std::move(deliver)) {}
 
 AoPreview::~AoPreview() { stop(); }
 
-void AoPreview::cancel()
-{
-    if (current_.cancel) {
-        {
-            std::lock_guard lock(mutex_);   // a finished worker waits for a new lighting under it
-            current_.cancel->store(true);
-        }
-        wake_.notify_all();
-        retired_.push_back(std::move(current_));
-        current_ = {};
-    }
-    reap(false);
-}
+void AoPreview::cancel() { worker_.cancel(); }
 
-void AoPreview::reap(bool wait)
-{
-    std::erase_if(retired_, [wait](Worker& worker) {
-        if (!wait && !worker.done->load())
-            return false;
-        worker.thread.join();
-        return true;
-    });
-}
-
-void AoPreview::stop()
-{
-    cancel();
-    reap(true);
-}
+void AoPreview::stop() { worker_.stop(); }
 
 void AoPreview::setLighting(AoLighting lighting)
 {
@@ -90,14 +64,7 @@ void AoPreview::setLighting(AoLighting lighting)
 
 void AoPreview::start(std::uint64_t generation, AoPreviewRequest request)
 {
-    cancel();
-    current_.cancel = std::make_shared<std::atomic<bool>>(false);
-    current_.done = std::make_shared<std::atomic<bool>>(false);
-    current_.thread = std::thread([this, generation, request = std::move(request), cancel = current_.cancel, done = current_.done] {
-        struct Ended {
-            std::atomic<bool>& done;
-            ~Ended() { done.store(true); }
-        } ended{*done};
+    worker_.start([this, generation, request = std::move(request)](std::shared_ptr<const std::atomic<bool>> cancel) {
         lowerThisThreadsPriority();
         const auto start = std::chrono::steady_clock::now();
         const auto ms = [&] { return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count(); };

@@ -298,40 +298,9 @@ LitPreview::LitPreview(Deliver deliver) : deliver_(std::move(deliver)) {}
 
 LitPreview::~LitPreview() { stop(); }
 
-void LitPreview::cancel()
-{
-    if (current_.cancel) {
-        {
-            // Under the lock the worker tests its wake-up under: set between its test and its
-            // wait, the flag's notification would be lost and the worker (and stop()) never return.
-            std::lock_guard lock(mutex_);
-            current_.cancel->store(true);
-        }
-        wake_.notify_all();
-        retired_.push_back(std::move(current_));
-        current_ = {};
-    }
-    reap(false);
-}
+void LitPreview::cancel() { worker_.cancel(); }
 
-void LitPreview::reap(bool wait)
-{
-    for (auto it = retired_.begin(); it != retired_.end();) {
-        if (wait || it->done->load()) {
-            if (it->thread.joinable())
-                it->thread.join();
-            it = retired_.erase(it);
-            continue;
-        }
-        ++it;
-    }
-}
-
-void LitPreview::stop()
-{
-    cancel();
-    reap(true);
-}
+void LitPreview::stop() { worker_.stop(); }
 
 std::uint64_t LitPreview::setLights(std::vector<Light> lights)
 {
@@ -349,7 +318,7 @@ std::uint64_t LitPreview::setLights(std::vector<Light> lights)
 /// lights (LightingCache) and what the overlays keep, and the steps of one frame.
 class LitPreview::Session {
 public:
-    Session(LitPreview& owner, std::uint64_t generation, LitPreviewRequest request, std::shared_ptr<std::atomic<bool>> cancel)
+    Session(LitPreview& owner, std::uint64_t generation, LitPreviewRequest request, std::shared_ptr<const std::atomic<bool>> cancel)
         : owner_(owner), generation_(generation), request_(std::move(request)), cancel_(std::move(cancel)),
           sceneShared_(request_.scene)
     {
@@ -606,7 +575,7 @@ private:
     LitPreview& owner_;
     const std::uint64_t generation_;
     const LitPreviewRequest request_;
-    const std::shared_ptr<std::atomic<bool>> cancel_;
+    const std::shared_ptr<const std::atomic<bool>> cancel_;
     const std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
 
     std::shared_ptr<const Scene> sceneShared_;
@@ -642,15 +611,9 @@ std::uint64_t LitPreview::start(std::uint64_t generation, LitPreviewRequest requ
         indirect_ = request.indirect;
         sceneChange_.reset();
     }
-    current_.cancel = std::make_shared<std::atomic<bool>>(false);
-    current_.done = std::make_shared<std::atomic<bool>>(false);
-    current_.thread = std::thread([this, generation, request = std::move(request), cancel = current_.cancel, done = current_.done] {
-        struct Ended {
-            std::atomic<bool>& done;
-            ~Ended() { done.store(true); }
-        } ended{*done};
+    worker_.start([this, generation, request = std::move(request)](std::shared_ptr<const std::atomic<bool>> cancel) {
         lowerThisThreadsPriority();
-        Session(*this, generation, std::move(request), cancel).run();
+        Session(*this, generation, std::move(request), std::move(cancel)).run();
     });
     return started;
 }

@@ -19,6 +19,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "editor/RestartingWorker.h"
 #include "lighting/ao/AoEnvironment.h"
 #include "visibility/Scene.h"
 
@@ -88,20 +89,12 @@ public:
     void setLighting(AoLighting lighting);
 
 private:
-    struct Worker {
-        std::thread thread;
-        std::shared_ptr<std::atomic<bool>> cancel, done;
-    };
-    /// Joins the retired workers that have ended (all of them when `wait`).
-    void reap(bool wait);
-
     Deliver deliver_;
     std::mutex mutex_;
     std::condition_variable wake_;
     AoLighting lighting_;
     std::uint64_t lightingVersion_ = 0;
-    Worker current_;
-    std::vector<Worker> retired_;   ///< cancelled, ending on their own
+    RestartingWorker worker_{mutex_, wake_};   // last: its jobs use the above
 };
 
 /// The light-map texel density the preview uses for the triangles with these `corners` (three a

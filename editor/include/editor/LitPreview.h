@@ -25,6 +25,7 @@
 
 #include "editor/Camera.h"
 #include "editor/LitShading.h"
+#include "editor/RestartingWorker.h"
 #include "lighting/DirectLight.h"
 #include "lighting/Light.h"
 #include "lighting/LightSets.h"
@@ -149,11 +150,6 @@ public:
     void stop();
 
 private:
-    struct Worker {
-        std::thread thread;
-        std::shared_ptr<std::atomic<bool>> cancel, done;
-    };
-    void reap(bool wait);
     class Session;   ///< the worker's state and its frames
 
     Deliver deliver_;
@@ -169,8 +165,7 @@ private:
     std::optional<SetsRequest> setsRequest_;
     std::uint64_t setsVersion_ = 0;
     std::vector<glm::vec3> spareMap_;   ///< recycle()'s
-    Worker current_;
-    std::vector<Worker> retired_;
+    RestartingWorker worker_{mutex_, wake_};   // last: its jobs use the above
 };
 
 /// Runs a LitPreview to its exact frame and returns it (or the failed frame): the headless
