@@ -864,7 +864,7 @@ void MainWindow::addPvsDebuggerItems(QMenu* view)
     // the shown cell, kept in the project's pvs.overrides (undoable), applied as `pvs bake` does.
     const auto overrideSelected = [this](const char* visible) {
         const ObjectRef selection = document_.selection();
-        const std::optional<std::size_t> cell = viewport_->pvsCell();
+        const std::optional<std::size_t> cell = viewport_->pvsView().shownCell();
         if (selection.kind != ObjectKind::SceneObject || !cell) {
             statusBar()->showMessage(tr("Select an object of the level, with the PVS debugger on and the camera in a cell "
                                         "(or the cell frozen)"),
@@ -896,14 +896,14 @@ void MainWindow::addPvsDebuggerItems(QMenu* view)
     const auto stepGap = [this](int step) {
         if (!viewport_->style().pvsDebugger && assistantDock_->isVisible() && assistant_->stepGap(step))
             return;
-        const std::size_t n = viewport_->pvsGaps().size();
-        if (!viewport_->pvsGapsReady() || n == 0) {
-            statusBar()->showMessage(viewport_->pvsGapsReady() ? tr("PVS: the reference found no gaps")
+        const std::size_t n = viewport_->pvsView().gaps().size();
+        if (!viewport_->pvsView().gapsReady() || n == 0) {
+            statusBar()->showMessage(viewport_->pvsView().gapsReady() ? tr("PVS: the reference found no gaps")
                                                                : tr("PVS: no gap list yet (the debugger checks the bake once it is over)"),
                                      5000);
             return;
         }
-        const int at = viewport_->pvsGapSelected();
+        const int at = viewport_->pvsView().gapSelected();
         viewport_->framePvsGap(std::size_t(((at < 0 ? (step > 0 ? -1 : 0) : at) + step + int(n)) % int(n)));
     };
     action(view, tr("Next Gap (PVS or Openings)"), QKeySequence(Qt::Key_N), [stepGap] { stepGap(1); })->setObjectName("pvsNextGap");

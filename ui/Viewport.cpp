@@ -9,6 +9,7 @@
 #include <QOpenGLContext>
 #include <QWheelEvent>
 
+#include "PvsStatusText.h"
 #include "project/PvsSetup.h"
 #include "base/Error.h"
 
@@ -78,15 +79,11 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         if (changes == ProjectKeysChanged) {
             // Overrides and the distance cut-off are shown anew over the same bake; other PVS
             // settings (cells, sample budgets, the mode) need a new one.
-            pvsRowsChanged_ = true;
+            pvsView_.markRowsChanged();
             if (pvsBakeKey(document_.project()) != pvsBakeKey_) {
                 pvsStale_ = style_.pvsDebugger;
-                if (!style_.pvsDebugger) {
-                    if (pvs_)
-                        pvs_->stop();
-                    ++pvsGeneration_;
-                    pvsCells_.clear();
-                }
+                if (!style_.pvsDebugger)
+                    dropPvs();
             }
             update();
             return;
@@ -126,20 +123,8 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         if (changes & (OccludersChanged | SceneFileChanged | DocumentReset)) {
             // Baked for the old scene: again now while the debugger is on, else when it is next.
             pvsStale_ = style_.pvsDebugger;
-            if (!style_.pvsDebugger) {
-                if (pvs_)
-                    pvs_->stop();
-                ++pvsGeneration_;   // an answer on its way is dropped
-                pvsCells_.clear();
-                pvsRows_ = {};
-                pvsShown_ = {};
-                pvsCoarse_ = pvsRefined_ = 0;
-                pvsCellRefined_.clear();
-                pvsGaps_.clear();
-                pvsGapsReady_ = false;
-                pvsGapSelected_ = -1;
-                pvsFinished_ = false;
-            }
+            if (!style_.pvsDebugger)
+                dropPvs();
         }
         // An animation's accumulation described the document before this change.
         if (changes & DocumentReset) {
@@ -462,7 +447,8 @@ void Viewport::takeAoLevel()
 void Viewport::updatePvs(const Project& project)
 {
     if (pvsStale_) {
-        resetPvs({}, {}, {}, false);
+        pvsStale_ = false;
+        pvsView_.reset({}, {}, {}, false);
         if (!pvs_)
             pvs_ = std::make_unique<PvsDebugger>([this](PvsDebugEvent event) {
                 QMetaObject::invokeMethod(
@@ -474,16 +460,12 @@ void Viewport::updatePvs(const Project& project)
     }
     if (style_.pvsDebugger) {
         // The cell the eye is in (or the frozen one); the level's objects it cannot see are tinted.
-        std::optional<std::size_t> cell = pvsFrozen_ ? pvsFrozenCell_ : pvs::cellAt(pvsCells_, controller_.camera().eye());
-        if (pvsFrozen_ && !pvsFrozenCell_)
-            cell = pvsFrozenCell_ = pvs::cellAt(pvsCells_, controller_.camera().eye());
-        if (cell != pvsShownCell_ || pvsRowsChanged_ || !pvsUploaded_) {
-            pvsShownCell_ = cell;
-            pvsRowsChanged_ = false;
+        if (pvsView_.showFrom(controller_.camera().eye()) || !pvsUploaded_) {
             pvsUploaded_ = true;
+            const std::optional<std::size_t> cell = pvsView_.shownCell();
             const pvs::VisibilityRows& rows = pvsShownRows();
             renderer_->setPvsCulled(cell && *cell < rows.cellCount()
-                                        ? culledInstances(pvsObjects_, rows.row(*cell), document_.sceneFile().instances.size())
+                                        ? culledInstances(pvsView_.objects(), rows.row(*cell), document_.sceneFile().instances.size())
                                         : std::vector<std::uint8_t>{});
             emit pvsUpdated(pvsStatus());
         }
@@ -535,13 +517,14 @@ FrameState Viewport::frameState(const Project& project, int w, int h)
         setsRest_.start();   // V follows the camera once it rests
     frame.style = style_;
     if (style_.pvsDebugger)
-        for (const pvs::Gap& gap : pvsGaps_)
-            frame.gapMarkers.push_back({gap.from, gap.to, glm::vec3(gap.opening.centre), pvsShownCell_ == std::optional<std::size_t>(gap.cell)});
-    frame.gapSelected = pvsGapSelected_;
-    if (style_.pvsDebugger && pvsGapSelected_ >= 0 && std::size_t(pvsGapSelected_) < pvsGaps_.size())
-        frame.gapWitnesses = pvsGaps_[std::size_t(pvsGapSelected_)].witnesses;
-    if (style_.pvsDebugger && pvsShownCell_ && *pvsShownCell_ < pvsCells_.size())
-        frame.viewCell = pvsCells_[*pvsShownCell_];
+        for (const pvs::Gap& gap : pvsView_.gaps())
+            frame.gapMarkers.push_back({gap.from, gap.to, glm::vec3(gap.opening.centre), pvsView_.shownCell() == std::optional<std::size_t>(gap.cell)});
+    const int selectedGap = pvsView_.gapSelected();
+    frame.gapSelected = selectedGap;
+    if (style_.pvsDebugger && selectedGap >= 0 && std::size_t(selectedGap) < pvsView_.gaps().size())
+        frame.gapWitnesses = pvsView_.gaps()[std::size_t(selectedGap)].witnesses;
+    if (style_.pvsDebugger && pvsView_.shownCell() && *pvsView_.shownCell() < pvsView_.cells().size())
+        frame.viewCell = pvsView_.cells()[*pvsView_.shownCell()];
     return frame;
 }
 
@@ -654,12 +637,12 @@ void Viewport::requestLightSets()
     setsCamera_ = controller_.camera();
     LitPreview::SetsRequest request{selected.index, *setsCamera_, std::nullopt, std::nullopt};
     // A finished, current PVS serves them: V the camera cell's row, L bounded by the light's cells'.
-    if (pvsFinished_ && !pvsStale_ && pvsError_.isEmpty() && !pvsCells_.empty() && selected.index < document_.lights().size()) {
+    if (pvsView_.usable() && !pvsStale_ && selected.index < document_.lights().size()) {
         const pvs::VisibilityRows& rows = pvsShownRows();
-        const std::optional<std::size_t> cell = pvs::cellAt(pvsCells_, setsCamera_->eye());
-        if (cell && rows.cellCount() == pvsCells_.size()) {
-            request.visible = pvs::instancesVisibleFrom(rows, pvsObjects_, *cell);
-            request.reach = pvsReach(pvsCells_, rows, pvsObjects_, document_.lights()[selected.index]);
+        const std::optional<std::size_t> cell = pvs::cellAt(pvsView_.cells(), setsCamera_->eye());
+        if (cell && rows.cellCount() == pvsView_.cells().size()) {
+            request.visible = pvs::instancesVisibleFrom(rows, pvsView_.objects(), *cell);
+            request.reach = pvsReach(pvsView_.cells(), rows, pvsView_.objects(), document_.lights()[selected.index]);
         }
     }
     lit_->requestSets(std::move(request));
@@ -776,49 +759,24 @@ std::vector<std::uint32_t> Viewport::selectedInstances() const
 void Viewport::setPvsDebugger(bool on)
 {
     style_.pvsDebugger = on;
-    if (on && pvsCells_.empty())   // never baked, baked for an older scene, or failed: (again) now
+    if (on && pvsView_.cells().empty())   // never baked, baked for an older scene, or failed: (again) now
         pvsStale_ = true;
     pvsUploaded_ = false;
     update();
 }
 
-const pvs::VisibilityRows& Viewport::pvsShownRows()
+void Viewport::dropPvs()
 {
-    // The designer's distance cut-off and overrides (the project's pvs.max_distance and
-    // pvs.overrides) over the bake, as `pvs bake` applies them: shown at once, no new bake.
-    pvsShown_ = pvsRows_;
-    pvsOverrideError_.clear();
-    if (pvsRows_.cellCount() > 0) {
-        try {
-            const PvsSetup setup = parsePvsSetup(document_.project(), document_.displayName().toStdString());
-            pvsCutoff_ = setup.settings.maxDistance;
-            applyDistanceCutoff(pvsCells_, pvsObjects_, pvsCutoff_, pvsShown_);
-            applyPvsOverrides(resolvePvsOverrides(setup.overridesJson, pvsObjects_, pvsCells_.size(),
-                                                  document_.displayName().toStdString()),
-                              pvsShown_);
-        } catch (const std::exception& e) {
-            pvsOverrideError_ = QString::fromUtf8(e.what());
-        }
-    }
-    return pvsShown_;
+    if (pvs_)
+        pvs_->stop();
+    ++pvsGeneration_;   // an answer on its way is dropped
+    pvsView_.clear();
 }
 
-void Viewport::resetPvs(std::vector<Bounds> cells, std::vector<pvs::PvsObject> objects, pvs::VisibilityRows rows, bool finished)
+const pvs::VisibilityRows& Viewport::pvsShownRows()
 {
-    pvsStale_ = false;
-    pvsFromFile_.clear();
-    const std::size_t done = finished ? cells.size() : 0;
-    pvsCells_ = std::move(cells);
-    pvsObjects_ = std::move(objects);
-    pvsRows_ = std::move(rows);
-    pvsCoarse_ = pvsRefined_ = done;
-    pvsCellRefined_.assign(done, 1);
-    pvsGaps_.clear();
-    pvsGapsReady_ = false;
-    pvsGapSelected_ = -1;
-    pvsFinished_ = finished;
-    pvsFrozenCell_.reset();
-    pvsRowsChanged_ = true;
+    // The designer's distance cut-off and overrides over the bake: shown at once, no new bake.
+    return pvsView_.applyProjectSettings(document_.project(), document_.displayName().toStdString());
 }
 
 void Viewport::showBakedPvs(pvs::PvsData data, const QString& file)
@@ -826,13 +784,12 @@ void Viewport::showBakedPvs(pvs::PvsData data, const QString& file)
     if (pvs_)
         pvs_->stop();
     ++pvsGeneration_;   // a bake on its way is dropped
-    pvsError_.clear();
-    resetPvs(std::move(data.cells), std::move(data.objects), std::move(data.rows), true);
+    pvsStale_ = false;
+    pvsView_.reset(std::move(data.cells), std::move(data.objects), std::move(data.rows), true, file.toStdString());
     pvsUploaded_ = false;
     if (setsShown_)
         requestLightSets();   // the file now serves V and L
     pvsBakeKey_ = pvsBakeKey(document_.project());
-    pvsFromFile_ = file;
     style_.pvsDebugger = true;
     emit pvsUpdated(pvsStatus());
     update();
@@ -840,91 +797,18 @@ void Viewport::showBakedPvs(pvs::PvsData data, const QString& file)
 
 void Viewport::setPvsFrozen(bool frozen)
 {
-    pvsFrozen_ = frozen;
-    pvsFrozenCell_ = frozen ? pvsShownCell_ : std::nullopt;
+    pvsView_.setFrozen(frozen);
     pvsUploaded_ = false;
     update();
 }
 
-namespace {
-
-/// "3-7, 12, 20-254" for the cells still coarse (at most `most` runs, then "...").
-QString cellRuns(const std::vector<std::uint8_t>& refined, std::size_t count, int most = 4)
-{
-    QStringList runs;
-    for (std::size_t c = 0; c < count;) {
-        if (c < refined.size() && refined[c]) {
-            ++c;
-            continue;
-        }
-        std::size_t end = c;
-        while (end + 1 < count && !(end + 1 < refined.size() && refined[end + 1]))
-            ++end;
-        if (runs.size() == most) {
-            runs << QStringLiteral("...");
-            break;
-        }
-        runs << (end == c ? QString::number(c) : QStringLiteral("%1-%2").arg(c).arg(end));
-        c = end + 1;
-    }
-    return runs.join(QStringLiteral(", "));
-}
-
-} // namespace
-
-QString Viewport::pvsStatus() const
-{
-    if (!pvsError_.isEmpty())
-        return tr("PVS: %1").arg(pvsError_);
-    if (pvsCells_.empty())
-        return tr("PVS: finding view cells and objects...");
-    const std::size_t cells = pvsCells_.size();
-    QString progress;
-    if (pvsFinished_)
-        progress = tr("baked");
-    else if (pvsCoarse_ < cells)
-        progress = tr("coarse %1 of %2 cells").arg(pvsCoarse_).arg(cells);
-    else
-        progress = tr("refining: %1 of %2 cells refined, still coarse: %3").arg(pvsRefined_).arg(cells).arg(cellRuns(pvsCellRefined_, cells));
-    if (!pvsFromFile_.isEmpty())
-        progress = tr("from %1").arg(pvsFromFile_);
-    else if (pvsFinished_)
-        progress += pvsGapsReady_ ? tr(", %n gap(s) against the reference", "", int(pvsGaps_.size()))
-                                  : tr(", checking against the reference...");
-    if (pvsCutoff_ > 0.0)
-        progress += tr(", cut-off %1 m").arg(pvsCutoff_);
-    if (!pvsOverrideError_.isEmpty())
-        return tr("PVS %1 · overrides ignored: %2").arg(progress, pvsOverrideError_);
-    if (pvsGapSelected_ >= 0 && std::size_t(pvsGapSelected_) < pvsGaps_.size()) {
-        const pvs::Gap& gap = pvsGaps_[std::size_t(pvsGapSelected_)];
-        progress += tr(" · gap %1 of %2: %3 reference ray(s) from cell %4 reach '%5' through an opening at (%6, %7, %8), clearance %9 m")
-                        .arg(pvsGapSelected_ + 1)
-                        .arg(pvsGaps_.size())
-                        .arg(gap.opening.rays)
-                        .arg(gap.cell)
-                        .arg(gap.object < pvsObjects_.size() ? QString::fromStdString(pvsObjects_[gap.object].name) : QString())
-                        .arg(gap.opening.centre.x, 0, 'f', 2)
-                        .arg(gap.opening.centre.y, 0, 'f', 2)
-                        .arg(gap.opening.centre.z, 0, 'f', 2)
-                        .arg(gap.opening.clearance, 0, 'f', 2);
-    }
-    if (!pvsShownCell_)
-        return tr("PVS %1 · the camera is in no view cell").arg(progress);
-    const bool coarse = !pvsFinished_ && pvsCellCoarse(*pvsShownCell_);
-    return tr("PVS %1 · cell %2%3%4 sees %5 of %6 objects (culled ones tinted)")
-        .arg(progress)
-        .arg(*pvsShownCell_)
-        .arg(pvsFrozen_ ? tr(" (frozen)") : QString())
-        .arg(coarse ? tr(" (coarse answer)") : QString())
-        .arg(pvsShown_.cellCount() > *pvsShownCell_ ? pvsShown_.visibleCount(*pvsShownCell_) : 0)
-        .arg(pvsObjects_.size());
-}
+QString Viewport::pvsStatus() const { return pvsStatusText(pvsView_); }
 
 void Viewport::framePvsGap(std::size_t k)
 {
-    if (k >= pvsGaps_.size())
+    if (k >= pvsView_.gaps().size())
         return;
-    const pvs::Gap& gap = pvsGaps_[k];
+    const pvs::Gap& gap = pvsView_.gaps()[k];
     const glm::dvec3 from(gap.from), to(gap.to);
     const glm::dvec3 along = to - from;
     const double length = glm::length(along);
@@ -934,9 +818,7 @@ void Viewport::framePvsGap(std::size_t k)
     const glm::dvec3 direction = along / length;
     Camera camera = lookThrough(from - 0.01 * direction, direction, to, std::max(0.3, 0.1 * length));
     controller_.setCamera(camera);
-    pvsGapSelected_ = int(k);
-    if (pvsFrozen_)
-        pvsFrozenCell_ = gap.cell;   // a frozen view shows the gap's cell
+    pvsView_.selectGap(k);
     pvsUploaded_ = false;
     emit pvsGapFramed(k);
     emit pvsUpdated(pvsStatus());
@@ -945,12 +827,13 @@ void Viewport::framePvsGap(std::size_t k)
 
 std::optional<std::size_t> Viewport::pvsGapAt(QPointF position, double radius) const
 {
-    if (!style_.pvsDebugger || pvsGaps_.empty())
+    const std::vector<pvs::Gap>& gaps = pvsView_.gaps();
+    if (!style_.pvsDebugger || gaps.empty())
         return std::nullopt;
     std::optional<std::size_t> best;
     double bestDistance = radius;
-    for (std::size_t k = 0; k < pvsGaps_.size(); ++k) {
-        const glm::dvec3 p = toPixels(controller_.camera(), pvsGaps_[k].opening.centre, width(), height());
+    for (std::size_t k = 0; k < gaps.size(); ++k) {
+        const glm::dvec3 p = toPixels(controller_.camera(), gaps[k].opening.centre, width(), height());
         if (p.z <= 0.0)
             continue;   // behind the eye
         const double d = std::hypot(p.x - position.x(), p.y - position.y());
@@ -966,40 +849,15 @@ void Viewport::takePvsEvent(PvsDebugEvent event)
 {
     if (event.generation != pvsGeneration_)
         return;   // a bake since replaced
-    if (!event.error.empty()) {
-        pvsError_ = QString::fromStdString(event.error);
-        pvsFinished_ = true;
+    const bool failed = !event.error.empty(), started = event.started, finished = event.finished;
+    pvsView_.take(std::move(event));
+    if (failed) {
         emit pvsUpdated(pvsStatus());
         return;
     }
-    pvsError_.clear();
-    if (event.started) {
-        pvsCells_ = std::move(event.cells);
-        pvsObjects_ = std::move(event.objects);
-        pvsRows_ = pvs::VisibilityRows(pvsCells_.size(), pvsObjects_.size());
-    }
-    if (event.checked) {
-        pvsGaps_ = std::move(event.gaps);
-        pvsGapsReady_ = true;
-        pvsReferenceCells_ = event.referenceCells;
-        pvsReferenceVisible_ = event.referenceVisible;
-        pvsMissed_ = event.missed;
-    }
-    if (event.cell && *event.cell < pvsRows_.cellCount() && event.row.size() == pvsRows_.rowBytes()) {
-        std::copy(event.row.begin(), event.row.end(), pvsRows_.row(*event.cell));
-        ++(event.pass == pvs::PvsPass::Coarse ? pvsCoarse_ : pvsRefined_);
-        if (event.pass == pvs::PvsPass::Refine) {
-            pvsCellRefined_.resize(pvsRows_.cellCount(), 0);
-            pvsCellRefined_[*event.cell] = 1;
-        }
-        pvsRowsChanged_ = pvsRowsChanged_ || event.cell == pvsShownCell_;
-    }
-    if (event.finished) {
-        pvsFinished_ = true;
-        if (setsShown_)
-            requestLightSets();   // the bake now serves V and L
-    }
-    pvsUploaded_ = pvsUploaded_ && !event.started;
+    if (finished && setsShown_)
+        requestLightSets();   // the bake now serves V and L
+    pvsUploaded_ = pvsUploaded_ && !started;
     emit pvsUpdated(pvsStatus());
     update();
 }

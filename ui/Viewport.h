@@ -23,6 +23,7 @@
 #include "editor/AoPreview.h"
 #include "editor/LitPreview.h"
 #include "editor/PvsDebugger.h"
+#include "editor/PvsView.h"
 #include "editor/BackgroundSampler.h"
 #include "editor/DisagreementWorker.h"
 #include "editor/LiveVisibility.h"
@@ -127,33 +128,17 @@ public:
     void setPvsDebugger(bool on);
     /// Keeps the current cell while the camera moves (fly around it and look at what it culls).
     void setPvsFrozen(bool frozen);
-    bool pvsFrozen() const { return pvsFrozen_; }
-    /// The cell whose answer is shown, if the camera is in one (or the frozen one).
-    std::optional<std::size_t> pvsCell() const { return pvsShownCell_; }
-    const std::vector<Bounds>& pvsCells() const { return pvsCells_; }
-    const std::vector<pvs::PvsObject>& pvsObjects() const { return pvsObjects_; }
     /// Shows a PVS read from a file (readBakedPvs) in the debugger instead of baking one; `file`
     /// names it in the status. A change that needs a new bake bakes as usual.
     void showBakedPvs(pvs::PvsData data, const QString& file);
-    const pvs::VisibilityRows& pvsRows() const { return pvsRows_; }
-    /// What is shown: the rows with the project's overrides applied.
-    const pvs::VisibilityRows& pvsShown() const { return pvsShown_; }
-    /// Cells with a coarse answer, and with a refined one; whether the bake is over.
-    std::size_t pvsCoarseDone() const { return pvsCoarse_; }
-    std::size_t pvsRefinedDone() const { return pvsRefined_; }
-    bool pvsFinished() const { return pvsFinished_; }
-    /// Whether cell c's shown answer is still the coarse one (refinement has not reached it).
-    bool pvsCellCoarse(std::size_t cell) const { return cell >= pvsCellRefined_.size() || !pvsCellRefined_[cell]; }
+    /// What the debugger shows: cells, objects, rows as baked and as shown, the shown cell, gaps.
+    const PvsView& pvsView() const { return pvsView_; }
     /// The status bar's text for the PVS debugger.
     QString pvsStatus() const;
-    /// The gap list of the last bake's accuracy check (PvsDebugger.h), once it is in.
-    bool pvsGapsReady() const { return pvsGapsReady_; }
-    const std::vector<pvs::Gap>& pvsGaps() const { return pvsGaps_; }
     /// Frames gap k: the eye at the reference's witness point in the cell, looking along the
     /// witness ray at the object the bake culled (tinted, seen through the opening it missed).
     void framePvsGap(std::size_t k);
     /// The gap last framed (-1: none); drawn highlighted.
-    int pvsGapSelected() const { return pvsGapSelected_; }
     /// The gap marker within `radius` pixels of `position` (logical pixels), nearest first.
     std::optional<std::size_t> pvsGapAt(QPointF position, double radius = 10.0) const;
 
@@ -250,32 +235,17 @@ private:
     std::optional<DisagreementAnswer> disagreement_;
     std::unique_ptr<PvsDebugger> pvs_;
     std::uint64_t pvsGeneration_ = 0;
-    bool pvsStale_ = false, pvsFrozen_ = false, pvsFinished_ = false, pvsRowsChanged_ = false;
+    bool pvsStale_ = false;      ///< a bake is wanted at the next frame
+    bool pvsUploaded_ = false;   ///< the renderer has the shown cell's culled objects
     bool setsServed_ = false;   ///< the light sets shown took V and L from the PVS
-    std::vector<Bounds> pvsCells_;
-    std::vector<pvs::PvsObject> pvsObjects_;
-    pvs::VisibilityRows pvsRows_;
-    std::size_t pvsCoarse_ = 0, pvsRefined_ = 0;
-    std::optional<std::size_t> pvsShownCell_, pvsFrozenCell_;
-    bool pvsUploaded_ = false;
-    void takePvsEvent(PvsDebugEvent event);
-    std::vector<std::uint8_t> pvsCellRefined_;   ///< per cell: 1 once its refined row is in
-    std::vector<pvs::Gap> pvsGaps_;
-    bool pvsGapsReady_ = false;
-    std::size_t pvsReferenceCells_ = 0;
-    std::uint64_t pvsReferenceVisible_ = 0, pvsMissed_ = 0;
-    int pvsGapSelected_ = -1;
-    std::vector<glm::vec3> occluderGhost_;   ///< setOccluderGhost
-    double pvsCutoff_ = 0.0;   ///< the project's pvs.max_distance when the rows were last shown
+    PvsView pvsView_;
     std::string pvsBakeKey_;   ///< the settings the running (or last) bake was started with
-    /// The bake's rows with the project's overrides applied (kept in pvsShown_).
+    void takePvsEvent(PvsDebugEvent event);
+    /// Stops a bake and forgets its rows: the scene they were for is gone.
+    void dropPvs();
+    /// The bake's rows with the project's overrides applied (PvsView::shown).
     const pvs::VisibilityRows& pvsShownRows();
-    QString pvsError_, pvsOverrideError_;
-    QString pvsFromFile_;   ///< the file the shown PVS was read from; empty for the editor's bake
-    /// The debugger's state for these rows: a bake about to start (empty, not finished) or rows
-    /// read from a file (every cell done).
-    void resetPvs(std::vector<Bounds> cells, std::vector<pvs::PvsObject> objects, pvs::VisibilityRows rows, bool finished);
-    pvs::VisibilityRows pvsShown_;
+    std::vector<glm::vec3> occluderGhost_;   ///< setOccluderGhost
     std::unique_ptr<AoPreview> ao_;
     std::unique_ptr<LitPreview> lit_;
     std::uint64_t litGeneration_ = 0;

@@ -1240,8 +1240,8 @@ private slots:
         // (every instance of the objects it may see), L lies within the row of the light's cell.
         const Camera overview = window_->controller().camera();
         window_->findChild<QAction*>("pvsDebugger")->trigger();
-        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
-        const std::vector<Bounds>& cells = viewport.pvsCells();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsView().finished(), 240000);
+        const std::vector<Bounds>& cells = viewport.pvsView().cells();
         const std::optional<std::size_t> lightCell = pvs::cellAt(cells, document.lights()[0].position);
         QVERIFY(lightCell.has_value());   // the lamp was placed 0.3 m over the floor
         Camera inCell = overview;
@@ -1252,10 +1252,10 @@ private slots:
         window_->controller().setCamera(inCell);
         QTRY_VERIFY_WITH_TIMEOUT(window_->statusBar()->currentMessage().contains("from the camera's PVS cell"), 120000);
         QTRY_VERIFY_WITH_TIMEOUT(viewport.lightSets().has_value(), 120000);
-        const pvs::VisibilityRows& rows = viewport.pvsShown();
+        const pvs::VisibilityRows& rows = viewport.pvsView().shown();
         std::vector<std::uint32_t> cellRow;
         for (std::uint32_t o : rows.visibleObjects(*lightCell))
-            cellRow.insert(cellRow.end(), viewport.pvsObjects()[o].instances.begin(), viewport.pvsObjects()[o].instances.end());
+            cellRow.insert(cellRow.end(), viewport.pvsView().objects()[o].instances.begin(), viewport.pvsView().objects()[o].instances.end());
         std::sort(cellRow.begin(), cellRow.end());
         QVERIFY(viewport.lightSets()->V == cellRow);
         QVERIFY(std::includes(cellRow.begin(), cellRow.end(), viewport.lightSets()->L.begin(), viewport.lightSets()->L.end()));
@@ -1729,15 +1729,15 @@ private slots:
         ViewportController& controller = window_->controller();
         const Camera view = controller.camera();
         window_->findChild<QAction*>("pvsDebugger")->trigger();
-        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsView().finished(), 240000);
         QVERIFY2(window_->statusBar()->currentMessage().contains("PVS"), qPrintable(window_->statusBar()->currentMessage()));
-        const std::vector<Bounds>& cells = viewport.pvsCells();
+        const std::vector<Bounds>& cells = viewport.pvsView().cells();
         QVERIFY(!cells.empty());
-        QCOMPARE(viewport.pvsCoarseDone(), cells.size());
+        QCOMPARE(viewport.pvsView().coarseDone(), cells.size());
         // The cell that sees the fewest objects: most to tint.
         std::size_t cell = 0;
         for (std::size_t c = 1; c < cells.size(); ++c)
-            if (viewport.pvsRows().visibleCount(c) < viewport.pvsRows().visibleCount(cell))
+            if (viewport.pvsView().rows().visibleCount(c) < viewport.pvsView().rows().visibleCount(cell))
                 cell = c;
         Camera inside;
         inside.distance = 4.0;
@@ -1745,22 +1745,22 @@ private slots:
         const glm::dvec3 centre = 0.5 * (glm::dvec3(cells[cell].min) + glm::dvec3(cells[cell].max));
         inside.target = centre + inside.distance * inside.forward();   // the eye at the cell's centre
         controller.setCamera(inside);
-        QTRY_VERIFY(viewport.pvsCell() == cell);
+        QTRY_VERIFY(viewport.pvsView().shownCell() == cell);
         // The same answer from a bake of that cell alone.
         const EditorDocument& document = window_->document();
         PvsSetup setup = parsePvsSetup(document.project(), "test");
         const std::vector<pvs::PvsObject> objects = pvs::sceneObjects(document.scene(), setup.groupByName);
         const pvs::PvsBaker baker(document.scene(), cells, objects, editorPvsSeed(document.scene()), setup.settings);
         const pvs::VisibilityRows alone = baker.bake({cell});
-        QVERIFY(alone.visibleObjects(cell) == viewport.pvsRows().visibleObjects(cell));
+        QVERIFY(alone.visibleObjects(cell) == viewport.pvsView().rows().visibleObjects(cell));
         QVERIFY(alone.visibleCount(cell) < objects.size());
         // Freeze the cell and fly out to look at what it culls: tinted in the window, magenta pixels
         // with the debugger on, none with it off.
         window_->findChild<QAction*>("pvsFreeze")->trigger();
-        QVERIFY(viewport.pvsFrozen());
+        QVERIFY(viewport.pvsView().frozen());
         controller.setCamera(view);
         waitForUpdate();
-        QTRY_VERIFY(viewport.pvsCell() == cell);   // still the frozen cell, though the eye left it
+        QTRY_VERIFY(viewport.pvsView().shownCell() == cell);   // still the frozen cell, though the eye left it
         QTest::qWait(200);
         saveWindowShot("pvs-debugger");
         const auto magenta = [](const QImage& image) {
@@ -1777,17 +1777,17 @@ private slots:
         // shown at once (no new bake), undone.
         std::size_t culledObject = objects.size();
         for (std::size_t o = 0; o < objects.size() && culledObject == objects.size(); ++o)
-            if (!viewport.pvsShown().visible(cell, o) && objects[o].instance < document.sceneFile().instances.size())
+            if (!viewport.pvsView().shown().visible(cell, o) && objects[o].instance < document.sceneFile().instances.size())
                 culledObject = o;
         QVERIFY(culledObject < objects.size());
         EditorDocument& editable = window_->document();
         editable.select({ObjectKind::SceneObject, objects[culledObject].instance});
         window_->findChild<QAction*>("pvsAlways")->trigger();
-        QTRY_VERIFY(viewport.pvsShown().visible(cell, culledObject));
+        QTRY_VERIFY(viewport.pvsView().shown().visible(cell, culledObject));
         QCOMPARE(editable.project().extra.at("pvs").at("overrides").back().at("visible").get<std::string>(), std::string("always"));
-        QVERIFY(viewport.pvsFinished());   // not baked again
+        QVERIFY(viewport.pvsView().finished());   // not baked again
         editable.undoStack()->undo();
-        QTRY_VERIFY(!viewport.pvsShown().visible(cell, culledObject));
+        QTRY_VERIFY(!viewport.pvsView().shown().visible(cell, culledObject));
         editable.select({});
 
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
@@ -1800,9 +1800,9 @@ private slots:
         crate.mesh = "box";
         crate.transform = glm::translate(glm::mat4(1.0f), glm::vec3(0, -40, 0));
         editable.addOccluder(crate);
-        QVERIFY(viewport.pvsCells().empty() && !viewport.pvsFinished());
+        QVERIFY(viewport.pvsView().cells().empty() && !viewport.pvsView().finished());
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // on: a new bake
-        QVERIFY(viewport.pvsCoarseDone() == 0);
+        QVERIFY(viewport.pvsView().coarseDone() == 0);
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off again
         editable.undoStack()->undo();
         controller.setCamera(view);
@@ -2519,18 +2519,18 @@ private slots:
         const auto connection = connect(&viewport, &Viewport::pvsUpdated, [&statuses](const QString& s) { statuses << s; });
         document.undoStack()->push(new SetProjectKeyCommand(document, "pvs", before, rough, "rough PVS"));
         window_->findChild<QAction*>("pvsDebugger")->trigger();
-        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsFinished(), 240000);
-        const std::size_t cells = viewport.pvsCells().size();
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsView().finished(), 240000);
+        const std::size_t cells = viewport.pvsView().cells().size();
         QVERIFY(cells > 0);
         bool namedCoarse = false;
         for (const QString& s : statuses)
             namedCoarse = namedCoarse || s.contains("still coarse: ");
         QVERIFY2(namedCoarse, qPrintable(statuses.join('\n').left(2000)));
         for (std::size_t c = 0; c < cells; ++c)
-            QVERIFY(!viewport.pvsCellCoarse(c));
-        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsGapsReady(), 240000);
+            QVERIFY(!viewport.pvsView().cellCoarse(c));
+        QTRY_VERIFY_WITH_TIMEOUT(viewport.pvsView().gapsReady(), 240000);
         disconnect(connection);
-        const std::vector<pvs::Gap> gaps = viewport.pvsGaps();
+        const std::vector<pvs::Gap> gaps = viewport.pvsView().gaps();
         QVERIFY(!gaps.empty());
         QVERIFY2(viewport.pvsStatus().contains("gap"), qPrintable(viewport.pvsStatus()));
 
@@ -2552,26 +2552,26 @@ private slots:
         // From inside a view cell, the cell is outlined in its own colour.
         {
             Camera inside = controller.camera();
-            const Bounds& cellBox = viewport.pvsCells()[gaps[0].cell];
+            const Bounds& cellBox = viewport.pvsView().cells()[gaps[0].cell];
             inside.target = glm::dvec3(0.5f * (cellBox.min + cellBox.max));
             inside.distance = 0.05;
             controller.setCamera(inside);
             waitForFrame();
-            QTRY_VERIFY(viewport.pvsCell().has_value());
+            QTRY_VERIFY(viewport.pvsView().shownCell().has_value());
             waitForFrame();
             QVERIFY2(pixelsOf(viewport.grabFramebuffer(), kViewCellRgb) > 50, "the camera's view cell is not outlined");
             controller.setCamera(above);
             waitForFrame();
         }
         QTest::mouseClick(&viewport, Qt::LeftButton, {}, QPoint(int(std::lround(px.x)), int(std::lround(px.y))));
-        QTRY_COMPARE(viewport.pvsGapSelected(), int(*picked));
+        QTRY_COMPARE(viewport.pvsView().gapSelected(), int(*picked));
         const pvs::Gap& gap = gaps[*picked];
         QVERIFY(glm::length(controller.camera().eye() - glm::dvec3(gap.from)) < 1e-3);
-        QTRY_VERIFY(viewport.pvsCell() == std::optional<std::size_t>(gap.cell));
-        QVERIFY(!viewport.pvsShown().visible(gap.cell, gap.object));   // the culled object, tinted ahead
+        QTRY_VERIFY(viewport.pvsView().shownCell() == std::optional<std::size_t>(gap.cell));
+        QVERIFY(!viewport.pvsView().shown().visible(gap.cell, gap.object));   // the culled object, tinted ahead
         // The status names the gap: its object, its cell and the reference rays through its opening.
         QVERIFY2(viewport.pvsStatus().contains(QString("gap %1 of %2").arg(*picked + 1).arg(gaps.size())) &&
-                     viewport.pvsStatus().contains(QString::fromStdString(viewport.pvsObjects()[gap.object].name)),
+                     viewport.pvsStatus().contains(QString::fromStdString(viewport.pvsView().objects()[gap.object].name)),
                  qPrintable(viewport.pvsStatus()));
         // Framed with the section cut off (the culled object is not exposed by the cut), the
         // cell outlined.
@@ -2585,20 +2585,20 @@ private slots:
         QTest::qWait(200);
         saveWindowShot("pvs-gap-framed");
         window_->findChild<QAction*>("pvsNextGap")->trigger();
-        QCOMPARE(viewport.pvsGapSelected(), int((*picked + 1) % gaps.size()));
+        QCOMPARE(viewport.pvsView().gapSelected(), int((*picked + 1) % gaps.size()));
 
         // The distance cut-off: far objects culled from the shown rows at once; undone.
         const std::size_t cell = gap.cell;
-        const std::size_t seen = viewport.pvsShown().visibleCount(cell);
-        const std::size_t coarseDone = viewport.pvsCoarseDone();
+        const std::size_t seen = viewport.pvsView().shown().visibleCount(cell);
+        const std::size_t coarseDone = viewport.pvsView().coarseDone();
         window_->setPvsDistanceCutoff(3.0);
-        QTRY_VERIFY(viewport.pvsShown().visibleCount(cell) < seen);
-        QCOMPARE(viewport.pvsCoarseDone(), coarseDone);   // not baked again
+        QTRY_VERIFY(viewport.pvsView().shown().visibleCount(cell) < seen);
+        QCOMPARE(viewport.pvsView().coarseDone(), coarseDone);   // not baked again
         QVERIFY2(viewport.pvsStatus().contains("cut-off 3 m"), qPrintable(viewport.pvsStatus()));
-        const Bounds& box = viewport.pvsCells()[cell];
+        const Bounds& box = viewport.pvsView().cells()[cell];
         const std::vector<pvs::PvsObject> objects = pvs::sceneObjects(document.scene(), false);
         for (std::size_t o = 0; o < objects.size(); ++o)
-            if (viewport.pvsShown().visible(cell, o)) {
+            if (viewport.pvsView().shown().visible(cell, o)) {
                 double d2 = 0.0;
                 for (int k = 0; k < 3; ++k) {
                     const double g = std::max({0.0, double(box.min[k] - objects[o].bounds.max[k]), double(objects[o].bounds.min[k] - box.max[k])});
@@ -2609,7 +2609,7 @@ private slots:
         QCOMPARE(document.project().extra.at("pvs").at("max_distance").get<double>(), 3.0);
         saveWindowShot("pvs-cutoff");
         document.undoStack()->undo();
-        QTRY_COMPARE(viewport.pvsShown().visibleCount(cell), seen);
+        QTRY_COMPARE(viewport.pvsView().shown().visibleCount(cell), seen);
 
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
         document.undoStack()->undo();                              // the rough settings
@@ -2744,9 +2744,9 @@ private slots:
         QVERIFY(window_->openPvsFile(QString::fromStdString(baked.string())));
         QVERIFY(window_->findChild<QAction*>("pvsDebugger")->isChecked());
         const pvs::PvsData data = pvs::decodePvs(readInputFile(baked, "demo.pvs"), "demo.pvs");
-        QVERIFY(viewport.pvsRows() == data.rows);
-        QCOMPARE(viewport.pvsCells().size(), data.cells.size());
-        QVERIFY(viewport.pvsFinished());
+        QVERIFY(viewport.pvsView().rows() == data.rows);
+        QCOMPARE(viewport.pvsView().cells().size(), data.cells.size());
+        QVERIFY(viewport.pvsView().finished());
         waitForUpdate();
         QTRY_VERIFY(window_->statusBar()->currentMessage().contains("demo.pvs"));
         saveWindowShot("pvs-opened-from-file");
@@ -2765,7 +2765,7 @@ private slots:
         QVERIFY(!window_->openPvsFile(QString::fromStdString((folder_ / "other.pvs").string())));
         timer.stop();
         QVERIFY(warned);
-        QVERIFY(viewport.pvsRows() == data.rows);
+        QVERIFY(viewport.pvsView().rows() == data.rows);
         window_->findChild<QAction*>("pvsDebugger")->trigger();   // off
         waitForUpdate();
     }
