@@ -1,5 +1,5 @@
 #!/bin/sh
-# PVS bake benchmark (issue 17, docs/pvs.md): the demo level (255 cells x 175 objects) and the
+# PVS bake benchmark (docs/pvs.md): the demo level (255 cells x 175 objects) and the
 # generated level (4,096 cells x 2,000 objects), each baked and checked against the dense
 # reference in one run, in the default and the safe mode; prints the load average, one JSON
 # summary per run (time, passes, miss rates, sizes) and the process's CPU time.

@@ -39,6 +39,22 @@ CoarseOccluderDialog::CoarseOccluderDialog(const QString& objectName, std::size_
     what->setWordWrap(true);
     form->addRow(what);
 
+    addStandInRows(form, triangles, closed, current);
+    addMeasureRows(form);
+    addFitRows(form);
+    if (triangles <= 8 || !input_.scene)
+        setBusy(true);   // nothing to measure
+
+    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, this);
+    connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+    connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
+    form->addRow(buttons);
+    setMinimumWidth(460);
+}
+
+void CoarseOccluderDialog::addStandInRows(QFormLayout* form, std::size_t triangles, bool closed,
+                                          const std::optional<CoarseOccluder>& current)
+{
     kind_ = new QComboBox(this);
     kind_->setObjectName("coarseKind");
     kind_->addItem(tr("Full mesh (no stand-in)"));
@@ -84,7 +100,10 @@ CoarseOccluderDialog::CoarseOccluderDialog(const QString& objectName, std::size_
     }
     connect(kind_, &QComboBox::currentIndexChanged, this, [this] { showKind(); });
     showKind();
+}
 
+void CoarseOccluderDialog::addMeasureRows(QFormLayout* form)
+{
     measure_ = new QPushButton(tr("Measure"), this);
     measure_->setObjectName("coarseMeasure");
     measure_->setToolTip(tr("Sample the current pair exactly with the full mesh and with the closest stand-in at "
@@ -99,7 +118,10 @@ CoarseOccluderDialog::CoarseOccluderDialog(const QString& objectName, std::size_
     chartView_->hide();
     form->addRow(chartView_);
     connect(measure_, &QPushButton::clicked, this, [this] { startMeasuring(); });
+}
 
+void CoarseOccluderDialog::addFitRows(QFormLayout* form)
+{
     auto* fitRow = new QHBoxLayout;
     tolerance_ = new QDoubleSpinBox(this);
     tolerance_->setObjectName("coarseTolerance");
@@ -120,14 +142,6 @@ CoarseOccluderDialog::CoarseOccluderDialog(const QString& objectName, std::size_
     fitStatus_->setWordWrap(true);
     form->addRow(fitStatus_);
     connect(fit_, &QPushButton::clicked, this, [this] { startFitting(); });
-    if (triangles <= 8 || !input_.scene)
-        setBusy(true);   // nothing to measure
-
-    auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, this);
-    connect(buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
-    connect(buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
-    form->addRow(buttons);
-    setMinimumWidth(460);
 }
 
 void CoarseOccluderDialog::showKind()

@@ -21,6 +21,7 @@
 class QChartView;
 class QComboBox;
 class QDoubleSpinBox;
+class QFormLayout;
 class QLabel;
 class QPushButton;
 class QSpinBox;
@@ -69,6 +70,12 @@ signals:
     void fitted();
 
 private:
+    /// The Stand-in, Triangles and Resolution rows, starting at `current` (or the closest mesh).
+    void addStandInRows(QFormLayout* form, std::size_t triangles, bool closed, const std::optional<CoarseOccluder>& current);
+    /// The Measure button, its status and the sweep's chart (hidden until a sweep).
+    void addMeasureRows(QFormLayout* form);
+    /// The Within row (the tolerance and Fewest Triangles) and the search's status.
+    void addFitRows(QFormLayout* form);
     void showKind();
     void startMeasuring();
     void showSweep(const CoarseSweep& sweep, bool finished, const QString& error);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <ctime>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <QApplication>
@@ -62,42 +63,32 @@ void runUntil(Done done, int ms)
         loop.exec();
 }
 
-} // namespace
-
-Patch scriptedReceiver(const Patch& start, int frame, int frames)
+/// Processes events until the viewport is exposed (10 s at most).
+void waitUntilExposed(Viewport& viewport)
 {
-    const double t = 2.0 * std::numbers::pi * double(frame) / std::max(frames, 1);
-    Patch p = start;
-    p.corner += 0.3 * std::sin(t) * start.u + 0.2 * std::sin(2.0 * t) * start.v;
-    return p;
-}
-
-InteractionFigures runInteractionBenchmark(MainWindow& window, const InteractionOptions& options)
-{
-    EditorDocument& document = window.document();
-    const Project start = document.project();
-    RecordedPath path;
-    const bool replayPath = options.replay == InteractionReplay::RecordedPath;
-    if (replayPath) {
-        path = parseRecordedPath(start, document.displayName().toStdString());
-        if (path.empty())
-            throw Error(document.displayName().toStdString() +
-                        " has no recorded path (\"recorded_path\"): record one in the editor (F9), or drag instead");
-    }
-
-    InteractionFigures figures;
-    figures.width = options.width;
-    figures.height = options.height;
-    figures.replay = replayPath ? "recorded path, " + std::to_string(path.frames) + " frames" : "scripted drag";
-    window.viewportContainer()->setFixedSize(options.width, options.height);
-    window.show();
-    Viewport& viewport = window.viewport();
-    ViewportController& controller = window.controller();
-    const Camera camera = controller.camera();
     QElapsedTimer wait;
     wait.start();
     while (!viewport.isExposed() && wait.elapsed() < 10'000)
         QApplication::processEvents(QEventLoop::AllEvents, 50);
+}
+
+/// What runInteractionBenchmark's frames measured, summarised into its figures once it is over.
+struct InteractionSamples {
+    std::vector<double> answerMs, drawMs, frameMs, sampleMs, aoAnswerMs;
+    double visible = 0.0;
+    int drawn = 0;
+    double cpuMs = 0.0, wallMs = 0.0;
+};
+
+/// Runs the motion (warm-up, then the counted frames) and collects its intervals; the AO preview's
+/// completion is written into `figures` as it happens.
+InteractionSamples measureInteraction(MainWindow& window, const InteractionOptions& options, const Project& start,
+                                      const RecordedPath& path, InteractionFigures& figures)
+{
+    EditorDocument& document = window.document();
+    Viewport& viewport = window.viewport();
+    ViewportController& controller = window.controller();
+    const bool replayPath = options.replay == InteractionReplay::RecordedPath;
 
     // A motion as a hand makes it: the next pose after every frame drawn, whether or not an answer
     // came (the sampler works on a worker thread, the latest request wins).
@@ -183,6 +174,67 @@ InteractionFigures runInteractionBenchmark(MainWindow& window, const Interaction
     QObject::disconnect(answerConnection);
     if (options.withAo)
         viewport.setAmbientOcclusion(false);
+    return {std::move(answerMs), std::move(drawMs), std::move(frameMs), std::move(sampleMs), std::move(aoAnswerMs),
+            visible, drawn, cpuMs, wallMs};
+}
+
+/// The figures the samples give: intervals, rates, processor time and the AO preview's updates.
+void summariseInteraction(const InteractionSamples& s, InteractionFigures& figures)
+{
+    figures.answers = int(s.answerMs.size());
+    figures.medianFrameMs = percentile(s.answerMs, 0.5);
+    figures.p90FrameMs = percentile(s.answerMs, 0.9);
+    figures.medianHz = figures.medianFrameMs > 0.0 ? 1000.0 / figures.medianFrameMs : 0.0;
+    figures.medianSampleMs = percentile(s.sampleMs, 0.5);
+    figures.medianDrawMs = percentile(s.drawMs, 0.5);
+    figures.p90DrawMs = percentile(s.drawMs, 0.9);
+    const double medianFrame = percentile(s.frameMs, 0.5);
+    figures.drawnHz = medianFrame > 0.0 ? 1000.0 / medianFrame : 0.0;
+    figures.cpuMsPerAnswer = s.answerMs.empty() ? 0.0 : s.cpuMs / double(s.answerMs.size());
+    figures.cpuLoad = s.wallMs > 0.0 ? s.cpuMs / s.wallMs : 0.0;
+    figures.aoFrames = int(s.aoAnswerMs.size());
+    figures.aoP90FrameMs = percentile(s.aoAnswerMs, 0.9);
+    const double aoMedian = percentile(s.aoAnswerMs, 0.5);
+    figures.aoMedianHz = aoMedian > 0.0 ? 1000.0 / aoMedian : 0.0;
+    figures.framesPerAnswer = s.answerMs.empty() ? 0.0 : double(s.drawn) / double(s.answerMs.size());
+    figures.meanVisibleFraction = s.answerMs.empty() ? 0.0 : s.visible / double(s.answerMs.size());
+}
+
+} // namespace
+
+Patch scriptedReceiver(const Patch& start, int frame, int frames)
+{
+    const double t = 2.0 * std::numbers::pi * double(frame) / std::max(frames, 1);
+    Patch p = start;
+    p.corner += 0.3 * std::sin(t) * start.u + 0.2 * std::sin(2.0 * t) * start.v;
+    return p;
+}
+
+InteractionFigures runInteractionBenchmark(MainWindow& window, const InteractionOptions& options)
+{
+    EditorDocument& document = window.document();
+    const Project start = document.project();
+    RecordedPath path;
+    const bool replayPath = options.replay == InteractionReplay::RecordedPath;
+    if (replayPath) {
+        path = parseRecordedPath(start, document.displayName().toStdString());
+        if (path.empty())
+            throw Error(document.displayName().toStdString() +
+                        " has no recorded path (\"recorded_path\"): record one in the editor (F9), or drag instead");
+    }
+
+    InteractionFigures figures;
+    figures.width = options.width;
+    figures.height = options.height;
+    figures.replay = replayPath ? "recorded path, " + std::to_string(path.frames) + " frames" : "scripted drag";
+    window.viewportContainer()->setFixedSize(options.width, options.height);
+    window.show();
+    Viewport& viewport = window.viewport();
+    ViewportController& controller = window.controller();
+    const Camera camera = controller.camera();
+    waitUntilExposed(viewport);
+
+    const InteractionSamples samples = measureInteraction(window, options, start, path, figures);
 
     // Back to where it started.
     showProjectState(document, start);
@@ -190,23 +242,7 @@ InteractionFigures runInteractionBenchmark(MainWindow& window, const Interaction
     runUntil([&] { return !viewport.resultIsStale(); }, 10'000);
 
     figures.frames = options.frames;
-    figures.answers = int(answerMs.size());
-    figures.medianFrameMs = percentile(answerMs, 0.5);
-    figures.p90FrameMs = percentile(answerMs, 0.9);
-    figures.medianHz = figures.medianFrameMs > 0.0 ? 1000.0 / figures.medianFrameMs : 0.0;
-    figures.medianSampleMs = percentile(sampleMs, 0.5);
-    figures.medianDrawMs = percentile(drawMs, 0.5);
-    figures.p90DrawMs = percentile(drawMs, 0.9);
-    const double medianFrame = percentile(frameMs, 0.5);
-    figures.drawnHz = medianFrame > 0.0 ? 1000.0 / medianFrame : 0.0;
-    figures.cpuMsPerAnswer = answerMs.empty() ? 0.0 : cpuMs / double(answerMs.size());
-    figures.cpuLoad = wallMs > 0.0 ? cpuMs / wallMs : 0.0;
-    figures.aoFrames = int(aoAnswerMs.size());
-    figures.aoP90FrameMs = percentile(aoAnswerMs, 0.9);
-    const double aoMedian = percentile(aoAnswerMs, 0.5);
-    figures.aoMedianHz = aoMedian > 0.0 ? 1000.0 / aoMedian : 0.0;
-    figures.framesPerAnswer = answerMs.empty() ? 0.0 : double(drawn) / double(answerMs.size());
-    figures.meanVisibleFraction = answerMs.empty() ? 0.0 : visible / double(answerMs.size());
+    summariseInteraction(samples, figures);
     figures.rays = viewport.visibility().rays;
     figures.raysDrawn = viewport.raysDrawn();
     figures.backend = viewport.backendName();
@@ -262,70 +298,46 @@ void measureOccluderMoves(EditorDocument& document, Viewport& viewport, LitFigur
         document.undoStack()->undo();
 }
 
-} // namespace
-
-LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height)
+/// The camera orbits, one step a frame drawn, the lit view shown exact all the while.
+void measureOrbit(MainWindow& window, Viewport& viewport, int frames, LitFigures& figures)
 {
-    EditorDocument& document = window.document();
-    if (document.lights().empty())
-        throw Error(document.displayName().toStdString() + " has no lights to drag: add one (Create > Add Point Light) or a \"lights\" key");
-    window.viewportContainer()->setFixedSize(width, height);
-    window.show();
-    Viewport& viewport = window.viewport();
-    QElapsedTimer clock;
-    clock.start();
-    while (!viewport.isExposed() && clock.elapsed() < 10'000)
-        QApplication::processEvents(QEventLoop::AllEvents, 50);
-
-    LitFigures figures;
-    figures.lights = document.lights().size();
-    figures.dragged = displayName(document.lights(), 0);
-    constexpr int kExactWithinMs = 300'000;
-    clock.restart();
-    viewport.setLitView(true);
-    runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
-    if (viewport.litExact())
-        figures.firstExactMs = double(clock.nsecsElapsed()) * 1e-6;
-    figures.texels = viewport.litTexels();
-
-    // The camera orbits, one step a frame drawn, the lit view shown exact all the while.
-    {
-        ViewportController& controller = window.controller();
-        const Camera camera = controller.camera();
-        std::vector<double> drawnMs;
-        QEventLoop orbitLoop;
-        QElapsedTimer frameClock;
-        const auto swapped = QObject::connect(&viewport, &QOpenGLWindow::frameSwapped, &viewport, [&] {
-            drawnMs.push_back(double(frameClock.nsecsElapsed()) * 1e-6);
-            frameClock.restart();
-            if (int(drawnMs.size()) > frames) {
-                orbitLoop.quit();
-                return;
-            }
-            Camera next = controller.camera();
-            orbit(next, 6.0, 0.0);
-            controller.setCamera(next);
-            viewport.update();
-        });
-        frameClock.start();
+    ViewportController& controller = window.controller();
+    const Camera camera = controller.camera();
+    std::vector<double> drawnMs;
+    QEventLoop orbitLoop;
+    QElapsedTimer frameClock;
+    const auto swapped = QObject::connect(&viewport, &QOpenGLWindow::frameSwapped, &viewport, [&] {
+        drawnMs.push_back(double(frameClock.nsecsElapsed()) * 1e-6);
+        frameClock.restart();
+        if (int(drawnMs.size()) > frames) {
+            orbitLoop.quit();
+            return;
+        }
+        Camera next = controller.camera();
+        orbit(next, 6.0, 0.0);
+        controller.setCamera(next);
         viewport.update();
-        QTimer::singleShot(std::min(frames, 100'000) * 2'000, &orbitLoop, &QEventLoop::quit);
-        orbitLoop.exec();
-        QObject::disconnect(swapped);
-        controller.setCamera(camera);
-        if (!drawnMs.empty())
-            drawnMs.erase(drawnMs.begin());   // from the request, not a frame interval
-        figures.orbitFrames = int(drawnMs.size());
-        const double median = percentile(drawnMs, 0.5);
-        figures.orbitHz = median > 0.0 ? 1000.0 / median : 0.0;
-        figures.orbitP90FrameMs = percentile(drawnMs, 0.9);
-    }
+    });
+    frameClock.start();
+    viewport.update();
+    QTimer::singleShot(std::min(frames, 100'000) * 2'000, &orbitLoop, &QEventLoop::quit);
+    orbitLoop.exec();
+    QObject::disconnect(swapped);
+    controller.setCamera(camera);
+    if (!drawnMs.empty())
+        drawnMs.erase(drawnMs.begin());   // from the request, not a frame interval
+    figures.orbitFrames = int(drawnMs.size());
+    const double median = percentile(drawnMs, 0.5);
+    figures.orbitHz = median > 0.0 ? 1000.0 / median : 0.0;
+    figures.orbitP90FrameMs = percentile(drawnMs, 0.9);
+}
 
-    // Each lit frame moves the light on (1 m across and 0.5 m along, a Lissajous figure) as it
-    // arrives; the interval counted is between the window's first swaps after each, so a frame
-    // replaced before it was drawn is not counted.
-    const ObjectRef light{ObjectKind::Light, 0};
-    const ObjectState start = document.state(light);
+/// Each lit frame moves the light on (1 m across and 0.5 m along, a Lissajous figure) as it
+/// arrives; the interval counted is between the window's first swaps after each, so a frame
+/// replaced before it was drawn is not counted.
+void measureLightDrag(EditorDocument& document, Viewport& viewport, const ObjectRef& light, const ObjectState& start, int frames,
+                      LitFigures& figures)
+{
     int step = 0;
     std::vector<double> frameMs;
     QEventLoop loop;
@@ -364,6 +376,37 @@ LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height
     figures.medianFrameMs = percentile(frameMs, 0.5);
     figures.p90FrameMs = percentile(frameMs, 0.9);
     figures.medianHz = figures.medianFrameMs > 0.0 ? 1000.0 / figures.medianFrameMs : 0.0;
+}
+
+} // namespace
+
+LitFigures runLitBenchmark(MainWindow& window, int frames, int width, int height)
+{
+    EditorDocument& document = window.document();
+    if (document.lights().empty())
+        throw Error(document.displayName().toStdString() + " has no lights to drag: add one (Create > Add Point Light) or a \"lights\" key");
+    window.viewportContainer()->setFixedSize(width, height);
+    window.show();
+    Viewport& viewport = window.viewport();
+    waitUntilExposed(viewport);
+
+    LitFigures figures;
+    figures.lights = document.lights().size();
+    figures.dragged = displayName(document.lights(), 0);
+    constexpr int kExactWithinMs = 300'000;
+    QElapsedTimer clock;
+    clock.start();
+    viewport.setLitView(true);
+    runUntil([&] { return viewport.litExact(); }, kExactWithinMs);
+    if (viewport.litExact())
+        figures.firstExactMs = double(clock.nsecsElapsed()) * 1e-6;
+    figures.texels = viewport.litTexels();
+
+    measureOrbit(window, viewport, frames, figures);
+
+    const ObjectRef light{ObjectKind::Light, 0};
+    const ObjectState start = document.state(light);
+    measureLightDrag(document, viewport, light, start, frames, figures);
 
     // Let go where it started: the view refines to the exact answer.
     clock.restart();

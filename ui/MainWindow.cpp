@@ -513,6 +513,17 @@ void MainWindow::createCreateMenu()
     QMenu* create = menuBar()->addMenu(tr("&Create"));
     action(create, tr("Place &Source on Surface"), QKeySequence(Qt::CTRL | Qt::Key_1), [this] { controller_->setTool(Tool::PlaceSource); });
     action(create, tr("Place &Receiver on Surface"), QKeySequence(Qt::CTRL | Qt::Key_2), [this] { controller_->setTool(Tool::PlaceReceiver); });
+    addPlacingSizeItems(create);
+    create->addSeparator();
+    addOccluderItems(create);
+    create->addSeparator();
+    addAssistantItems(create);
+    create->addSeparator();
+    addLightItems(create);
+}
+
+void MainWindow::addPlacingSizeItems(QMenu* create)
+{
     // The size placing gives a patch: its own, or a preset, checked in the menu.
     QMenu* placingSize = create->addMenu(tr("Placing Si&ze"));
     placingSize->setObjectName("placingSize");
@@ -529,7 +540,10 @@ void MainWindow::createCreateMenu()
         a->setObjectName("placingSize-" + name);
         sizes->addAction(a);
     }
-    create->addSeparator();
+}
+
+void MainWindow::addOccluderItems(QMenu* create)
+{
     auto addBuiltin = [this](const std::string& mesh) {
         OccluderSpec spec;
         spec.mesh = mesh;
@@ -570,11 +584,13 @@ void MainWindow::createCreateMenu()
             QMessageBox::warning(this, tr("Add Mesh Occluder"), QString::fromUtf8(e.what()));
         }
     });
+}
 
+void MainWindow::addAssistantItems(QMenu* create)
+{
     // The occluder assistant: the smallest occluder that cuts the view, as a ghost; Enter adds it
     // (except in the fields and lists outside the assistant, where Enter stays their own:
     // eventFilter).
-    create->addSeparator();
     action(create, tr("Suggest &Occluder..."), QKeySequence(Qt::CTRL | Qt::ALT | Qt::Key_B), [this] {
         assistantDock_->show();
         assistantDock_->raise();
@@ -590,8 +606,10 @@ void MainWindow::createCreateMenu()
     addSuggested->setEnabled(false);
     connect(assistant_, &OccluderAssistant::suggestionChanged, addSuggested,
             [this, addSuggested] { addSuggested->setEnabled(assistant_->suggestion().has_value()); });
+}
 
-    create->addSeparator();
+void MainWindow::addLightItems(QMenu* create)
+{
     // Lights on the surface a click picks (as the patches are placed), or at once at the orbit
     // target, half a metre up (in a room the target is usually on or over the floor); selected so
     // that the gizmo and the properties take them at once.

@@ -90,6 +90,14 @@ private:
     void createFileMenu();
     void createEditMenu();
     void createCreateMenu();
+    /// Create > Placing Size: the patch's own size or a preset, one checked.
+    void addPlacingSizeItems(QMenu* create);
+    /// Create's built-in box and plane occluders and the mesh occluder from a file.
+    void addOccluderItems(QMenu* create);
+    /// Create's occluder assistant items: show it, and add its suggestion (Enter).
+    void addAssistantItems(QMenu* create);
+    /// Create's lights: placed on a surface, the sun, or at the view's centre.
+    void addLightItems(QMenu* create);
     void createTransformMenu();   // also the tools toolbar
     void createViewMenu();
     void addPanelsAndCameraItems(QMenu* view);

@@ -53,6 +53,16 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
           }, Qt::QueuedConnection);
       })
 {
+    createControls();
+    layOutControls();
+    connectControls();
+    depthValue_->setText(tr("%1 %").arg(depth_->value()));
+    withdraw(tr("Open the assistant to see the occluder that cuts this view."));
+    setMinimumHeight(sizeHint().height());   // a dock below another keeps every row readable
+}
+
+void OccluderAssistant::createControls()
+{
     depth_ = new QSlider(Qt::Horizontal, this);
     depth_->setObjectName("suggestDepth");
     depth_->setRange(5, 95);
@@ -95,6 +105,10 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     pickSurface_->setObjectName("suggestPickSurface");
     pickSurface_->setToolTip(tr("Put the occluder on a surface the rays cross instead, such as a doorway's frame: click "
                                 "it in the view (moving the slider puts it between the patches again)"));
+}
+
+void OccluderAssistant::layOutControls()
+{
     auto* depthRow = new QHBoxLayout;
     depthRow->addWidget(depth_, 1);
     depthRow->addWidget(depthValue_);
@@ -112,7 +126,10 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
     layout->addWidget(add_);
     layout->addWidget(new QLabel(tr("Openings the view leaks through:"), this));
     layout->addWidget(gapList_, 1);
+}
 
+void OccluderAssistant::connectControls()
+{
     gather_ = new QTimer(this);
     gather_->setSingleShot(true);
     gather_->setInterval(kGatherMs);
@@ -141,9 +158,6 @@ OccluderAssistant::OccluderAssistant(EditorDocument& document, Viewport& viewpor
         addSuggestion(&message);
         emit added(message);
     });
-    depthValue_->setText(tr("%1 %").arg(depth_->value()));
-    withdraw(tr("Open the assistant to see the occluder that cuts this view."));
-    setMinimumHeight(sizeHint().height());   // a dock below another keeps every row readable
 }
 
 OccluderAssistant::~OccluderAssistant() = default;

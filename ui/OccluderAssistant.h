@@ -93,6 +93,12 @@ private:
         bool gapsFound = false;
         double ms = 0.0;
     };
+    /// The settings, the summary, the Add button, the openings list and Pick Surface.
+    void createControls();
+    /// The controls in their form and column.
+    void layOutControls();
+    /// The gathering timer, and what the controls, the surface picker and the document's edits do.
+    void connectControls();
     static Outcome work(const Job& job);
     void requestNow();
     void take(std::uint64_t generation, Outcome outcome);

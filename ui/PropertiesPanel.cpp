@@ -29,29 +29,31 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     title_->setStyleSheet("font-weight: bold");
     layout->addWidget(title_);
 
+    addPatchGroup(layout);
+    addLightGroup(layout);
+    addTransformGroup(layout);
+    layout->addStretch(1);
+
+    // The panel's width followed its content (the patch fields are wider than "Nothing
+    // selected"), and the viewport jumped between 745 and 1040 px as the selection changed. The widest
+    // content is measured once, every group shown, and kept as the minimum and the preferred width.
+    width_ = layout->sizeHint().width();
+    setMinimumWidth(width_);
+
+    connect(&document_, &EditorDocument::changed, this, &PropertiesPanel::refresh);
+    connect(&document_, &EditorDocument::selectionChanged, this, [this] {
+        samplesError_->hide();   // said of the patch that was selected
+        refresh();
+    });
+    refresh();
+}
+
+/// The patch's group: its size preset, centre, edges, sample grid and the errors under them.
+void PropertiesPanel::addPatchGroup(QVBoxLayout* layout)
+{
     patchBox_ = new QGroupBox(tr("Patch"), this);
     auto* patchForm = new QFormLayout(patchBox_);
-    // Size presets: doorway, window, player... (one undoable resize; "Custom" is what the fields say).
-    size_ = new QComboBox(patchBox_);
-    size_->setObjectName("patchSize");
-    size_->addItem(tr("Custom"));
-    for (const PatchPreset& preset : patchPresets())
-        size_->addItem(tr("%1 %2 × %3 m").arg(QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size())))
-                           .arg(preset.width, 0, 'g', 3)
-                           .arg(preset.height, 0, 'g', 3));
-    size_->setToolTip(tr("Width × height (height upwards on a wall, whose patch keeps its bottom edge)"));
-    connect(size_, &QComboBox::activated, this, [this](int index) {
-        const ObjectRef selection = document_.selection();
-        if (refreshing_ || index < 1 || !selection.isPatch() || document_.flags(selection).locked)
-            return;
-        const PatchPreset& preset = patchPresets()[std::size_t(index - 1)];
-        const Patch before = std::get<Patch>(document_.state(selection));
-        const Patch after = resizedPatch(before, preset.width, preset.height);
-        if (after.u != before.u || after.v != before.v || after.corner != before.corner)
-            document_.editState(selection, before, after,
-                                tr("Resize %1 to %2").arg(document_.objectName(selection), QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size())).toLower()));
-    });
-    patchForm->addRow(tr("Size"), size_);
+    addSizePresets(patchForm);
     centre_ = addVec3(patchForm, tr("Centre"), 0.05, " m");
     u_ = addVec3(patchForm, tr("Edge u"), 0.05, " m");
     v_ = addVec3(patchForm, tr("Edge v"), 0.05, " m");
@@ -81,7 +83,36 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     pairError_->setStyleSheet("color: #e05050");
     patchForm->addRow(pairError_);
     layout->addWidget(patchBox_);
+}
 
+/// Size presets: doorway, window, player... (one undoable resize; "Custom" is what the fields say).
+void PropertiesPanel::addSizePresets(QFormLayout* patchForm)
+{
+    size_ = new QComboBox(patchBox_);
+    size_->setObjectName("patchSize");
+    size_->addItem(tr("Custom"));
+    for (const PatchPreset& preset : patchPresets())
+        size_->addItem(tr("%1 %2 × %3 m").arg(QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size())))
+                           .arg(preset.width, 0, 'g', 3)
+                           .arg(preset.height, 0, 'g', 3));
+    size_->setToolTip(tr("Width × height (height upwards on a wall, whose patch keeps its bottom edge)"));
+    connect(size_, &QComboBox::activated, this, [this](int index) {
+        const ObjectRef selection = document_.selection();
+        if (refreshing_ || index < 1 || !selection.isPatch() || document_.flags(selection).locked)
+            return;
+        const PatchPreset& preset = patchPresets()[std::size_t(index - 1)];
+        const Patch before = std::get<Patch>(document_.state(selection));
+        const Patch after = resizedPatch(before, preset.width, preset.height);
+        if (after.u != before.u || after.v != before.v || after.corner != before.corner)
+            document_.editState(selection, before, after,
+                                tr("Resize %1 to %2").arg(document_.objectName(selection), QString::fromUtf8(preset.name.data(), qsizetype(preset.name.size())).toLower()));
+    });
+    patchForm->addRow(tr("Size"), size_);
+}
+
+/// The light's group: name, colour, intensity, range, spot cone, area samples and sides.
+void PropertiesPanel::addLightGroup(QVBoxLayout* layout)
+{
     lightBox_ = new QGroupBox(tr("Light"), this);
     lightForm_ = new QFormLayout(lightBox_);
     lightName_ = new QLineEdit(lightBox_);
@@ -138,27 +169,17 @@ PropertiesPanel::PropertiesPanel(EditorDocument& document, QWidget* parent) : QW
     lightError_->setVisible(false);
     lightForm_->addRow(lightError_);
     layout->addWidget(lightBox_);
+}
 
+/// The object's transform group: position, rotation and scale.
+void PropertiesPanel::addTransformGroup(QVBoxLayout* layout)
+{
     transformBox_ = new QGroupBox(tr("Transform"), this);
     auto* transformForm = new QFormLayout(transformBox_);
     position_ = addVec3(transformForm, tr("Position"), 0.05, " m");
     rotation_ = addVec3(transformForm, tr("Rotation"), 5.0, QString::fromUtf8("°"));
     scale_ = addVec3(transformForm, tr("Scale"), 0.05, "");
     layout->addWidget(transformBox_);
-    layout->addStretch(1);
-
-    // The panel's width followed its content (the patch fields are wider than "Nothing
-    // selected"), and the viewport jumped between 745 and 1040 px as the selection changed. The widest
-    // content is measured once, every group shown, and kept as the minimum and the preferred width.
-    width_ = layout->sizeHint().width();
-    setMinimumWidth(width_);
-
-    connect(&document_, &EditorDocument::changed, this, &PropertiesPanel::refresh);
-    connect(&document_, &EditorDocument::selectionChanged, this, [this] {
-        samplesError_->hide();   // said of the patch that was selected
-        refresh();
-    });
-    refresh();
 }
 
 QSize PropertiesPanel::sizeHint() const

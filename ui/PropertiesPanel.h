@@ -18,6 +18,7 @@ class QCheckBox;
 class QLabel;
 class QLineEdit;
 class QSpinBox;
+class QVBoxLayout;
 
 namespace sightline::ui {
 
@@ -40,6 +41,11 @@ public:
 private:
     using Vec3Fields = std::array<QDoubleSpinBox*, 3>;
     Vec3Fields addVec3(QFormLayout* form, const QString& label, double step, const QString& suffix);
+    // One builder per group of fields, in the panel's order (the tab order follows).
+    void addPatchGroup(QVBoxLayout* layout);
+    void addSizePresets(QFormLayout* patchForm);
+    void addLightGroup(QVBoxLayout* layout);
+    void addTransformGroup(QVBoxLayout* layout);
     void refresh();
     void refreshLight();
     void commit();

@@ -46,6 +46,101 @@ bool sameOccluders(const Project& a, const Project& b)
     return true;
 }
 
+/// Refuses a recording of no frames, or of a motion that `importance` would refuse.
+void validateRecording(const RecordingScene& scene, const RecordingOptions& options)
+{
+    if (options.frames < 1)
+        throw Error("a recording needs at least one frame");
+    // The checks `importance` makes on the same motion: a frame it refuses is not rendered either.
+    if (!scene.path.empty())
+        validateMotionFrames(withoutMotionKeys(scene.project), ProjectMotion::of(scene.path), scene.path.frames);
+    else
+        validateMotionFrames(withoutMotionKeys(scene.project), ProjectMotion::of(scene.animation), options.frames);
+}
+
+/// Samples, renders, reads back and encodes each frame in turn, timing each step into `figures`;
+/// returns whether `progress` cancelled the recording.
+bool renderFrames(const RecordingScene& scene, const RecordingOptions& options, const gl::Functions& gl, const RenderTarget& target,
+                  VideoEncoder& encoder, RecordingFigures& figures, const std::function<bool(int, int)>& progress)
+{
+    std::vector<std::uint8_t> pixels(std::size_t(options.width) * std::size_t(options.height) * 4);
+    bool cancelled = false;
+    ViewportRenderer renderer(gl);
+    renderer.setSceneFile(scene.meshes.level);
+    LiveVisibility visibility;
+    PatchOverlay overlay;
+    overlay.setKind(scene.overlay);
+    overlay.setStatistic(scene.statistic);
+    overlay.setAccumulating(scene.accumulate);
+
+    std::optional<Project> previous;   // what the scene and the receiver heights were built for
+    std::vector<std::size_t> occluderOf;
+    std::optional<pvs::FirstHitCaster> hits;   // blocked rays' first stops, when they are drawn
+    const bool drawStops = scene.style.showBlocked && scene.style.showRays;
+    double sceneRadius = 10.0;
+    for (int k = 0; k < options.frames; ++k) {
+        const RecordingFrame frame = recordingFrame(scene, k, options.fps);
+        const Project& project = frame.project;
+
+        Clock::time_point t = Clock::now();
+        if (!previous || !sameOccluders(*previous, project)) {
+            // Occluders moved (or the first frame): rebuild what the samplers and renderer see.
+            const Scene occluders = occluderScene(project, scene.meshes, occluderOf);
+            renderer.setOccluders(occluders, occluderOf);
+            Scene all = scene.meshes.level;
+            all.append(occluders);
+            const Bounds bounds = all.bounds();
+            sceneRadius = bounds.empty() ? 10.0 : 0.5 * glm::length(bounds.max - bounds.min);
+            visibility.setScene(all);
+            if (drawStops)
+                hits.emplace(all);
+        }
+        if (!previous || previous->receiver.na != project.receiver.na || previous->receiver.nb != project.receiver.nb)
+            visibility.loadReceiverHeights(project, scene.what);
+        const VisibilityResult result = visibility.sample(project.source, project.receiver);
+        renderer.setHiddenSamples(result.valid ? &result.map : nullptr);
+        if (result.valid && drawStops) {
+            // Blocked rays end where they are first stopped, as in the editor.
+            const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), scene.style.rayCap);
+            renderer.setRayEnds(drawnRayEnds(*hits, result.map, project.source, project.receiver, subset), scene.style.rayCap);
+        }
+        if (scene.overlay != OverlayKind::None) {
+            overlay.setLive(result, project, true);
+            renderer.setOverlay(overlayPatch(overlay.kind()), &overlay.texels());
+        }
+        previous = project;
+        figures.sampleMs += msSince(t);
+
+        t = Clock::now();
+        FrameState state;
+        state.camera = frame.camera;
+        state.width = options.width;
+        state.height = options.height;
+        state.framebuffer = target.framebuffer;
+        state.sceneRadius = sceneRadius;
+        state.source = project.source;
+        state.receiver = project.receiver;
+        state.pairValid = result.valid;
+        state.style = scene.style;
+        renderer.render(state);
+        gl.BindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
+        gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
+        gl.ReadPixels(0, 0, options.width, options.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+        gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
+        figures.renderMs += msSince(t);
+
+        t = Clock::now();
+        encoder.addFrame(pixels.data(), std::ptrdiff_t(options.width) * 4, /*bottomUp=*/true);   // GL rows run bottom-up
+        figures.encodeMs += msSince(t);
+        figures.frames = k + 1;
+        if (progress && !progress(k + 1, options.frames)) {
+            cancelled = true;
+            break;
+        }
+    }
+    return cancelled;
+}
+
 } // namespace
 
 Camera toCamera(const PathCamera& p)
@@ -106,13 +201,7 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
                              const std::function<bool(int, int)>& progress)
 {
     const Clock::time_point start = Clock::now();
-    if (options.frames < 1)
-        throw Error("a recording needs at least one frame");
-    // The checks `importance` makes on the same motion: a frame it refuses is not rendered either.
-    if (!scene.path.empty())
-        validateMotionFrames(withoutMotionKeys(scene.project), ProjectMotion::of(scene.path), scene.path.frames);
-    else
-        validateMotionFrames(withoutMotionKeys(scene.project), ProjectMotion::of(scene.animation), options.frames);
+    validateRecording(scene, options);
     VideoSettings settings;
     settings.width = options.width;
     settings.height = options.height;
@@ -132,83 +221,7 @@ RecordingFigures recordVideo(const RecordingScene& scene, const RecordingOptions
     RenderTarget target;
     if (!target.create(gl, options.width, options.height))
         throw Error("recording: the offscreen framebuffer is incomplete");
-    std::vector<std::uint8_t> pixels(std::size_t(options.width) * std::size_t(options.height) * 4);
-    bool cancelled = false;
-    {
-        ViewportRenderer renderer(gl);
-        renderer.setSceneFile(scene.meshes.level);
-        LiveVisibility visibility;
-        PatchOverlay overlay;
-        overlay.setKind(scene.overlay);
-        overlay.setStatistic(scene.statistic);
-        overlay.setAccumulating(scene.accumulate);
-
-        std::optional<Project> previous;   // what the scene and the receiver heights were built for
-        std::vector<std::size_t> occluderOf;
-        std::optional<pvs::FirstHitCaster> hits;   // blocked rays' first stops, when they are drawn
-        const bool drawStops = scene.style.showBlocked && scene.style.showRays;
-        double sceneRadius = 10.0;
-        for (int k = 0; k < options.frames; ++k) {
-            const RecordingFrame frame = recordingFrame(scene, k, options.fps);
-            const Project& project = frame.project;
-
-            Clock::time_point t = Clock::now();
-            if (!previous || !sameOccluders(*previous, project)) {
-                // Occluders moved (or the first frame): rebuild what the samplers and renderer see.
-                const Scene occluders = occluderScene(project, scene.meshes, occluderOf);
-                renderer.setOccluders(occluders, occluderOf);
-                Scene all = scene.meshes.level;
-                all.append(occluders);
-                const Bounds bounds = all.bounds();
-                sceneRadius = bounds.empty() ? 10.0 : 0.5 * glm::length(bounds.max - bounds.min);
-                visibility.setScene(all);
-                if (drawStops)
-                    hits.emplace(all);
-            }
-            if (!previous || previous->receiver.na != project.receiver.na || previous->receiver.nb != project.receiver.nb)
-                visibility.loadReceiverHeights(project, scene.what);
-            const VisibilityResult result = visibility.sample(project.source, project.receiver);
-            renderer.setHiddenSamples(result.valid ? &result.map : nullptr);
-            if (result.valid && drawStops) {
-                // Blocked rays end where they are first stopped, as in the editor.
-                const RaySubset subset = raySubset(result.map.sourceCount(), result.map.receiverCount(), scene.style.rayCap);
-                renderer.setRayEnds(drawnRayEnds(*hits, result.map, project.source, project.receiver, subset), scene.style.rayCap);
-            }
-            if (scene.overlay != OverlayKind::None) {
-                overlay.setLive(result, project, true);
-                renderer.setOverlay(overlayPatch(overlay.kind()), &overlay.texels());
-            }
-            previous = project;
-            figures.sampleMs += msSince(t);
-
-            t = Clock::now();
-            FrameState state;
-            state.camera = frame.camera;
-            state.width = options.width;
-            state.height = options.height;
-            state.framebuffer = target.framebuffer;
-            state.sceneRadius = sceneRadius;
-            state.source = project.source;
-            state.receiver = project.receiver;
-            state.pairValid = result.valid;
-            state.style = scene.style;
-            renderer.render(state);
-            gl.BindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
-            gl.PixelStorei(GL_PACK_ALIGNMENT, 1);
-            gl.ReadPixels(0, 0, options.width, options.height, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
-            gl.BindFramebuffer(GL_FRAMEBUFFER, 0);
-            figures.renderMs += msSince(t);
-
-            t = Clock::now();
-            encoder.addFrame(pixels.data(), std::ptrdiff_t(options.width) * 4, /*bottomUp=*/true);   // GL rows run bottom-up
-            figures.encodeMs += msSince(t);
-            figures.frames = k + 1;
-            if (progress && !progress(k + 1, options.frames)) {
-                cancelled = true;
-                break;
-            }
-        }
-    }
+    const bool cancelled = renderFrames(scene, options, gl, target, encoder, figures, progress);
     target.destroy(gl);
     if (!cancelled) {
         const Clock::time_point t = Clock::now();

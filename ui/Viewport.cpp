@@ -51,91 +51,7 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
     clock_.start();
     connect(this, &QOpenGLWindow::frameSwapped, this,
             [this] { lastDrawMs_ = double(clock_.nsecsElapsed() - paintStartNs_) * 1e-6; });
-    connect(&document_, &EditorDocument::changed, this, [this](unsigned changes) {
-        if (changes == NamesChanged)
-            return;   // a rename changes no ray and no pixel of the view
-        if (changes == FlagsChanged) {
-            flagsDirty_ = true;   // hidden, locked or isolated: drawn anew, not sampled (hidden objects block rays)
-            update();
-            return;
-        }
-        if (changes == LightsChanged) {
-            // The markers; the lights change no ray between the patches. The lit view refreshes
-            // the lights that changed, by priority (LitPreview.h).
-            if (style_.litView && lit_ && !litStale_) {
-                litWanted_ = lit_->setLights(document_.lights());
-                litExact_ = false;   // until a frame of these lights says so
-            }
-            update();
-            return;
-        }
-        if (changes == CoarseOccludersChanged) {
-            // The rays between the patches only: the level is drawn, lit and baked from full meshes.
-            raySceneDirty_ = true;
-            samplesDirty_ = true;
-            update();
-            return;
-        }
-        if (changes == ProjectKeysChanged) {
-            // Overrides and the distance cut-off are shown anew over the same bake; other PVS
-            // settings (cells, sample budgets, the mode) need a new one.
-            pvsView_.markRowsChanged();
-            if (pvsBakeKey(document_.project()) != pvsBakeKey_) {
-                pvsStale_ = style_.pvsDebugger;
-                if (!style_.pvsDebugger)
-                    dropPvs();
-            }
-            update();
-            return;
-        }
-        if (changes & (SceneFileChanged | DocumentReset)) {
-            litStale_ = style_.litView;   // a new level: the lit view starts again
-        } else if ((changes & OccludersChanged) && style_.litView && lit_ && !litStale_ && !litFailed_) {
-            // New shadows: each light refreshes the texels they could reach (LitPreview.h).
-            litWanted_ = lit_->setScene(std::make_shared<const Scene>(document_.scene()));
-            litExact_ = false;
-        } else if (changes & OccludersChanged) {
-            litStale_ = style_.litView;   // the last lit view failed (its worker has ended): start again
-        }
-        if (changes & (SceneFileChanged | OccludersChanged | DocumentReset)) {
-            // Placed occluders darken the level around them and get AO of their own.
-            aoStale_ = style_.ambientOcclusion;
-            aoShownK_ = 0;   // the map was for the old level
-            if (!aoStale_ && ao_) {
-                ao_->cancel();     // a finished worker kept while AO is off would relight the old level
-                ++aoGeneration_;
-            }
-        }
-        if (changes & (SceneFileChanged | DocumentReset)) {
-            sceneFileDirty_ = true;
-            levelDirty_ = true;
-            if (changes & DocumentReset)
-                prepareLevel();
-            else
-                levelStale_ = true;
-            // Which sampler is faster depends on the level: timed on an empty document, GL wins
-            // and would then cost many times the CPU sampler's update on the demo (llvmpipe).
-            backendChosen_ = false;
-        }
-        if (changes & (OccludersChanged | DocumentReset))
-            occludersDirty_ = true;
-        flagsDirty_ = flagsDirty_ || (changes & FlagsChanged);
-        if (changes & (OccludersChanged | SceneFileChanged | DocumentReset)) {
-            // Baked for the old scene: again now while the debugger is on, else when it is next.
-            pvsStale_ = style_.pvsDebugger;
-            if (!style_.pvsDebugger)
-                dropPvs();
-        }
-        // An animation's accumulation described the document before this change.
-        if (changes & DocumentReset) {
-            overlay_.clear();
-            heightsGrid_.reset();
-        }
-        else
-            overlay_.dropAnimationResult();
-        samplesDirty_ = true;
-        update();
-    });
+    connect(&document_, &EditorDocument::changed, this, &Viewport::documentChanged);
     connect(&document_, &EditorDocument::selectionChanged, this, [this] {
         if (style_.ambientOcclusion && aoOfSelection_ && selectedInstances() != aoInstances_) {
             aoStale_ = true;
@@ -156,6 +72,103 @@ Viewport::Viewport(EditorDocument& document, ViewportController& controller)
         if (!controller_.isFlying())
             flyTimer_.stop();
     });
+}
+
+void Viewport::documentChanged(unsigned changes)
+{
+    if (changes == NamesChanged)
+        return;   // a rename changes no ray and no pixel of the view
+    if (changes == FlagsChanged) {
+        flagsDirty_ = true;   // hidden, locked or isolated: drawn anew, not sampled (hidden objects block rays)
+        update();
+        return;
+    }
+    if (changes == LightsChanged) {
+        // The markers; the lights change no ray between the patches. The lit view refreshes
+        // the lights that changed, by priority (LitPreview.h).
+        if (style_.litView && lit_ && !litStale_) {
+            litWanted_ = lit_->setLights(document_.lights());
+            litExact_ = false;   // until a frame of these lights says so
+        }
+        update();
+        return;
+    }
+    if (changes == CoarseOccludersChanged) {
+        // The rays between the patches only: the level is drawn, lit and baked from full meshes.
+        raySceneDirty_ = true;
+        samplesDirty_ = true;
+        update();
+        return;
+    }
+    if (changes == ProjectKeysChanged) {
+        // Overrides and the distance cut-off are shown anew over the same bake; other PVS
+        // settings (cells, sample budgets, the mode) need a new one.
+        pvsView_.markRowsChanged();
+        if (pvsBakeKey(document_.project()) != pvsBakeKey_) {
+            pvsStale_ = style_.pvsDebugger;
+            if (!style_.pvsDebugger)
+                dropPvs();
+        }
+        update();
+        return;
+    }
+    restartShading(changes);
+    markSceneStale(changes);
+    samplesDirty_ = true;
+    update();
+}
+
+void Viewport::restartShading(unsigned changes)
+{
+    if (changes & (SceneFileChanged | DocumentReset)) {
+        litStale_ = style_.litView;   // a new level: the lit view starts again
+    } else if ((changes & OccludersChanged) && style_.litView && lit_ && !litStale_ && !litFailed_) {
+        // New shadows: each light refreshes the texels they could reach (LitPreview.h).
+        litWanted_ = lit_->setScene(std::make_shared<const Scene>(document_.scene()));
+        litExact_ = false;
+    } else if (changes & OccludersChanged) {
+        litStale_ = style_.litView;   // the last lit view failed (its worker has ended): start again
+    }
+    if (changes & (SceneFileChanged | OccludersChanged | DocumentReset)) {
+        // Placed occluders darken the level around them and get AO of their own.
+        aoStale_ = style_.ambientOcclusion;
+        aoShownK_ = 0;   // the map was for the old level
+        if (!aoStale_ && ao_) {
+            ao_->cancel();     // a finished worker kept while AO is off would relight the old level
+            ++aoGeneration_;
+        }
+    }
+}
+
+void Viewport::markSceneStale(unsigned changes)
+{
+    if (changes & (SceneFileChanged | DocumentReset)) {
+        sceneFileDirty_ = true;
+        levelDirty_ = true;
+        if (changes & DocumentReset)
+            prepareLevel();
+        else
+            levelStale_ = true;
+        // Which sampler is faster depends on the level: timed on an empty document, GL wins
+        // and would then cost many times the CPU sampler's update on the demo (llvmpipe).
+        backendChosen_ = false;
+    }
+    if (changes & (OccludersChanged | DocumentReset))
+        occludersDirty_ = true;
+    flagsDirty_ = flagsDirty_ || (changes & FlagsChanged);
+    if (changes & (OccludersChanged | SceneFileChanged | DocumentReset)) {
+        // Baked for the old scene: again now while the debugger is on, else when it is next.
+        pvsStale_ = style_.pvsDebugger;
+        if (!style_.pvsDebugger)
+            dropPvs();
+    }
+    // An animation's accumulation described the document before this change.
+    if (changes & DocumentReset) {
+        overlay_.clear();
+        heightsGrid_.reset();
+    }
+    else
+        overlay_.dropAnimationResult();
 }
 
 Viewport::~Viewport()

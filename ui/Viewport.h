@@ -198,6 +198,12 @@ protected:
     void keyReleaseEvent(QKeyEvent* event) override;
 
 private:
+    /// EditorDocument::changed: marks what the change makes stale and asks for a frame.
+    void documentChanged(unsigned changes);
+    /// Restarts or refreshes the lit view and the AO for a change to the level or its occluders.
+    void restartShading(unsigned changes);
+    /// Marks the level, the occluders, the flags, the PVS and the overlay stale for a change.
+    void markSceneStale(unsigned changes);
     // The steps of a frame (paintGL), in order.
     void syncRenderer();
     std::pair<bool, bool> updateAnswer(const Project& project);

@@ -47,6 +47,105 @@ json pointJson(const glm::dvec3& p)
     return json::array({p.x, p.y, p.z});
 }
 
+/// The plane, share and shape `suggest` asks for, checked before the level is loaded.
+suggest::Request requestFromArgs(const SuggestArgs& args, bool onSurface)
+{
+    suggest::Request request;
+    if (onSurface == !std::isnan(args.depth))
+        throw Error(onSurface ? "give the plane one way: --depth T, or --at X Y Z with --normal NX NY NZ, not both"
+                              : "where should the occluder lie? give --depth T (between the patches), or --at X Y Z with "
+                                "--normal NX NY NZ (a surface the rays cross)");
+    if (onSurface) {
+        if (args.at.size() != 3 || args.normal.size() != 3)
+            throw Error("--at and --normal go together, three numbers each");
+        request.surface = suggest::PickedSurface{{args.at[0], args.at[1], args.at[2]}, {args.normal[0], args.normal[1], args.normal[2]}};
+    } else {
+        request.depth = args.depth;
+    }
+    request.share = args.share;
+    request.shape = suggest::parseShape(args.shape);
+    suggest::validateRequest(request);   // before the level is loaded and sampled
+    return request;
+}
+
+/// Saves a copy of the project at --write with the suggested occluder added (and its mesh, if any).
+void writeWithOccluder(const SuggestArgs& args, const Project& project, const SuggestedOccluder& suggested,
+                       const fs::path& meshOut)
+{
+    const fs::path folder = fs::absolute(args.write).parent_path();
+    Project out = rebasedProject(project, folder, false);
+    out.occluders.push_back(suggested.spec);
+    if (!meshOut.empty())
+        saveScene(suggested.mesh, meshOut);
+    saveProject(out, args.write);
+}
+
+/// `suggest --json`: the suggestion, its check and what was written, as one object.
+void printSuggestionJson(const SuggestArgs& args, const Project& project, const SuggestedOccluder& suggested,
+                         const fs::path& meshOut, bool onSurface)
+{
+    const suggest::Suggestion& s = suggested.suggestion;
+    json corners = json::array();
+    for (const glm::dvec3& p : s.worldPolygon())
+        corners.push_back(pointJson(p));
+    json out = {{"area", s.area},
+                {"unblocked_before", s.unblockedBefore},
+                {"unblocked_after", suggested.unblockedAfter},
+                {"promised", s.promised},
+                {"required", s.required},
+                {"crossing", s.crossing},
+                {"rays", std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount())},
+                {"shape", suggest::shapeName(s.shape)},
+                {"depth", onSurface ? json(nullptr) : json(args.depth)},
+                {"share", args.share},
+                {"plane", {{"origin", pointJson(s.plane.origin)}, {"normal", pointJson(s.plane.normal)}}},
+                {"weighted", s.weighted},
+                {"corners", corners},
+                {"margin", s.margin},
+                {"attempts", suggested.attempts},
+                {"ms", suggested.sampleMs + suggested.suggestMs + suggested.checkMs},
+                {"sample_ms", suggested.sampleMs},
+                {"suggest_ms", suggested.suggestMs},
+                {"check_ms", suggested.checkMs}};
+    if (s.weighted) {
+        out["light_before"] = s.lightBefore;
+        out["light_required"] = s.lightRequired;
+        out["light_after"] = suggested.lightAfter;
+    }
+    if (!args.write.empty()) {
+        out["written"] = args.write;
+        out["occluder"] = {{"name", suggested.spec.name}, {"mesh", suggested.spec.mesh}};
+        if (!meshOut.empty())
+            out["mesh_file"] = meshOut.string();
+    }
+    std::cout << dumpJson(out) << "\n";
+}
+
+/// `suggest` as text: the plane, the occluder, the rays before and after, the time, what was written.
+void printSuggestionText(const SuggestArgs& args, const SuggestedOccluder& suggested, const fs::path& meshOut,
+                         bool onSurface)
+{
+    const suggest::Suggestion& s = suggested.suggestion;
+    std::printf("plane      %s: through [%.4f, %.4f, %.4f], normal [%.4f, %.4f, %.4f]\n",
+                onSurface ? "the picked surface's" : ("depth " + std::to_string(args.depth)).c_str(), s.plane.origin.x,
+                s.plane.origin.y, s.plane.origin.z, s.plane.normal.x, s.plane.normal.y, s.plane.normal.z);
+    std::printf("occluder   %s, %zu corners, %.6g m² (margin %.2g m)\n", suggest::shapeName(s.shape), s.polygon.size(), s.area,
+                s.margin);
+    std::printf("rays       %llu unblocked before, %llu cross the plane; must block %llu (share %.6g)\n",
+                (unsigned long long)s.unblockedBefore, (unsigned long long)s.crossing, (unsigned long long)s.required, args.share);
+    std::printf("after      %llu unblocked by the exact sampler (promised at most %llu)\n",
+                (unsigned long long)suggested.unblockedAfter, (unsigned long long)s.promised);
+    if (s.weighted)
+        std::printf("light      %.6g before, at least %.6g to block, %.6g left after\n", s.lightBefore, s.lightRequired,
+                    suggested.lightAfter);
+    std::printf("time       %.1f ms (sample %.1f, suggest %.1f, check %.1f)\n",
+                suggested.sampleMs + suggested.suggestMs + suggested.checkMs, suggested.sampleMs, suggested.suggestMs,
+                suggested.checkMs);
+    if (!args.write.empty())
+        std::printf("wrote      %s (occluder '%s'%s%s)\n", args.write.c_str(), suggested.spec.name.c_str(),
+                    meshOut.empty() ? "" : ", mesh ", meshOut.empty() ? "" : meshOut.string().c_str());
+}
+
 } // namespace
 
 CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
@@ -80,22 +179,8 @@ CLI::App* addSuggestCommand(CLI::App& app, SuggestArgs& args)
 
 int runSuggest(const SuggestArgs& args)
 {
-    suggest::Request request;
     const bool onSurface = !args.at.empty() || !args.normal.empty();
-    if (onSurface == !std::isnan(args.depth))
-        throw Error(onSurface ? "give the plane one way: --depth T, or --at X Y Z with --normal NX NY NZ, not both"
-                              : "where should the occluder lie? give --depth T (between the patches), or --at X Y Z with "
-                                "--normal NX NY NZ (a surface the rays cross)");
-    if (onSurface) {
-        if (args.at.size() != 3 || args.normal.size() != 3)
-            throw Error("--at and --normal go together, three numbers each");
-        request.surface = suggest::PickedSurface{{args.at[0], args.at[1], args.at[2]}, {args.normal[0], args.normal[1], args.normal[2]}};
-    } else {
-        request.depth = args.depth;
-    }
-    request.share = args.share;
-    request.shape = suggest::parseShape(args.shape);
-    suggest::validateRequest(request);   // before the level is loaded and sampled
+    suggest::Request request = requestFromArgs(args, onSurface);
     std::error_code ec;
     if (!args.write.empty() && fs::is_directory(args.write, ec))
         throw Error("--write " + args.write + " is a folder: name the project file to write");
@@ -110,72 +195,15 @@ int runSuggest(const SuggestArgs& args)
         request.sourceWeights = sourceLightWeights(project);
     const SuggestedOccluder suggested =
         suggestForProject(project, request, meshOut.empty() ? "suggested-occluder.glb" : meshOut.filename().string(), args.threads);
-    const suggest::Suggestion& s = suggested.suggestion;
 
-    if (!args.write.empty()) {
-        const fs::path folder = fs::absolute(args.write).parent_path();
-        Project out = rebasedProject(project, folder, false);
-        out.occluders.push_back(suggested.spec);
-        if (!meshOut.empty())
-            saveScene(suggested.mesh, meshOut);
-        saveProject(out, args.write);
-    }
+    if (!args.write.empty())
+        writeWithOccluder(args, project, suggested, meshOut);
 
     if (args.json) {
-        json corners = json::array();
-        for (const glm::dvec3& p : s.worldPolygon())
-            corners.push_back(pointJson(p));
-        json out = {{"area", s.area},
-                    {"unblocked_before", s.unblockedBefore},
-                    {"unblocked_after", suggested.unblockedAfter},
-                    {"promised", s.promised},
-                    {"required", s.required},
-                    {"crossing", s.crossing},
-                    {"rays", std::uint64_t(project.source.sampleCount()) * std::uint64_t(project.receiver.sampleCount())},
-                    {"shape", suggest::shapeName(s.shape)},
-                    {"depth", onSurface ? json(nullptr) : json(args.depth)},
-                    {"share", args.share},
-                    {"plane", {{"origin", pointJson(s.plane.origin)}, {"normal", pointJson(s.plane.normal)}}},
-                    {"weighted", s.weighted},
-                    {"corners", corners},
-                    {"margin", s.margin},
-                    {"attempts", suggested.attempts},
-                    {"ms", suggested.sampleMs + suggested.suggestMs + suggested.checkMs},
-                    {"sample_ms", suggested.sampleMs},
-                    {"suggest_ms", suggested.suggestMs},
-                    {"check_ms", suggested.checkMs}};
-        if (s.weighted) {
-            out["light_before"] = s.lightBefore;
-            out["light_required"] = s.lightRequired;
-            out["light_after"] = suggested.lightAfter;
-        }
-        if (!args.write.empty()) {
-            out["written"] = args.write;
-            out["occluder"] = {{"name", suggested.spec.name}, {"mesh", suggested.spec.mesh}};
-            if (!meshOut.empty())
-                out["mesh_file"] = meshOut.string();
-        }
-        std::cout << dumpJson(out) << "\n";
+        printSuggestionJson(args, project, suggested, meshOut, onSurface);
         return 0;
     }
-    std::printf("plane      %s: through [%.4f, %.4f, %.4f], normal [%.4f, %.4f, %.4f]\n",
-                onSurface ? "the picked surface's" : ("depth " + std::to_string(args.depth)).c_str(), s.plane.origin.x,
-                s.plane.origin.y, s.plane.origin.z, s.plane.normal.x, s.plane.normal.y, s.plane.normal.z);
-    std::printf("occluder   %s, %zu corners, %.6g m² (margin %.2g m)\n", suggest::shapeName(s.shape), s.polygon.size(), s.area,
-                s.margin);
-    std::printf("rays       %llu unblocked before, %llu cross the plane; must block %llu (share %.6g)\n",
-                (unsigned long long)s.unblockedBefore, (unsigned long long)s.crossing, (unsigned long long)s.required, args.share);
-    std::printf("after      %llu unblocked by the exact sampler (promised at most %llu)\n",
-                (unsigned long long)suggested.unblockedAfter, (unsigned long long)s.promised);
-    if (s.weighted)
-        std::printf("light      %.6g before, at least %.6g to block, %.6g left after\n", s.lightBefore, s.lightRequired,
-                    suggested.lightAfter);
-    std::printf("time       %.1f ms (sample %.1f, suggest %.1f, check %.1f)\n",
-                suggested.sampleMs + suggested.suggestMs + suggested.checkMs, suggested.sampleMs, suggested.suggestMs,
-                suggested.checkMs);
-    if (!args.write.empty())
-        std::printf("wrote      %s (occluder '%s'%s%s)\n", args.write.c_str(), suggested.spec.name.c_str(),
-                    meshOut.empty() ? "" : ", mesh ", meshOut.empty() ? "" : meshOut.string().c_str());
+    printSuggestionText(args, suggested, meshOut, onSurface);
     return 0;
 }
 

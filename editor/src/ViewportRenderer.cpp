@@ -748,6 +748,144 @@ void appendLightMarkers(std::vector<LineVertex>& lines, const FrameState& f)
     }
 }
 
+/// The source, the receiver and the placement ghost: each a tinted quad (none over the overlay)
+/// and its edges.
+void appendPatchQuads(std::vector<LineVertex>& triangles, std::vector<LineVertex>& lines, const FrameState& f,
+                      const Patch* overlaid)
+{
+    auto quad = [&](const Patch& patch, const glm::vec4& colour) {
+        const glm::vec3 c(patch.corner), u(patch.u), v(patch.v);
+        if (&patch != overlaid)   // a tint over the overlay would change its colours
+            for (const glm::vec3& p : {c, c + u, c + u + v, c, c + u + v, c + v})
+                triangles.push_back({p, colour});
+        const glm::vec4 edge(glm::vec3(colour) * 1.2f, 1.0f);
+        const glm::vec3 corners[4] = {c, c + u, c + u + v, c + v};
+        for (int k = 0; k < 4; ++k) {
+            lines.push_back({corners[k], edge});
+            lines.push_back({corners[(k + 1) % 4], edge});
+        }
+    };
+    const bool sourceSelected = f.selection.kind == ObjectKind::Source, receiverSelected = f.selection.kind == ObjectKind::Receiver;
+    if (!f.sourceHidden)
+        quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
+    if (!f.receiverHidden)
+        quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
+    if (f.placementGhost)
+        quad(*f.placementGhost, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
+}
+
+/// The occluder assistant's suggestion, magenta, over everything: it often stands in a
+/// doorway's wall, where a depth-tested fill would hide.
+void appendOccluderGhost(std::vector<LineVertex>& ghostFill, std::vector<LineVertex>& overlay, const FrameState& f)
+{
+    if (f.occluderGhost.size() >= 3) {
+        const std::vector<glm::vec3>& ghost = f.occluderGhost;
+        const glm::vec4 fill(1.0f, 0.25f, 0.9f, 0.3f), edge(1.0f, 0.45f, 1.0f, 1.0f);
+        for (std::size_t k = 1; k + 1 < ghost.size(); ++k)
+            for (const glm::vec3& p : {ghost[0], ghost[k], ghost[k + 1]})
+                ghostFill.push_back({p, fill});
+        for (std::size_t k = 0; k < ghost.size(); ++k) {
+            overlay.push_back({ghost[k], edge});
+            overlay.push_back({ghost[(k + 1) % ghost.size()], edge});
+        }
+    }
+}
+
+/// The shaft: corresponding corners joined; red when the pair cannot be sampled.
+void appendShaft(std::vector<LineVertex>& lines, const FrameState& f)
+{
+    const glm::vec4 shaftColour = f.pairValid ? glm::vec4(0.9f, 0.9f, 0.9f, 0.5f) : glm::vec4(1.0f, 0.2f, 0.2f, 0.9f);
+    for (int k = 0; k < 4; ++k) {
+        const glm::dvec3 s = f.source.cornerPoint(k);
+        const glm::dvec3 r = f.receiver.cornerPoint(k);
+        lines.push_back({glm::vec3(s), shaftColour});
+        lines.push_back({glm::vec3(r), shaftColour});
+    }
+}
+
+/// The cut plane's outline over the level's box, where the cut walls end.
+void appendCutOutline(std::vector<LineVertex>& lines, const FrameState& f, const Cutaway& cut)
+{
+    if (std::isfinite(cut.height) && !f.levelBounds.empty() && f.cutHandle && cut.height > f.levelBounds.min.y &&
+        cut.height < f.levelBounds.max.y) {
+        const glm::vec4 outline(kCutColour, f.cutHandleHovered ? 0.9f : 0.6f);
+        const float y = float(cut.height);
+        const glm::vec3 corners[4] = {{f.levelBounds.min.x, y, f.levelBounds.min.z}, {f.levelBounds.max.x, y, f.levelBounds.min.z},
+                                      {f.levelBounds.max.x, y, f.levelBounds.max.z}, {f.levelBounds.min.x, y, f.levelBounds.max.z}};
+        for (int k = 0; k < 4; ++k) {
+            lines.push_back({corners[k], outline});
+            lines.push_back({corners[(k + 1) % 4], outline});
+        }
+    }
+}
+
+/// PVS gaps: a cross at the opening, a witness ray through it for the shown cell's gaps, and
+/// the selected gap's witnesses (bright for the selected gap).
+void appendGapMarkers(std::vector<LineVertex>& overlay, const FrameState& f)
+{
+    const glm::vec4 witness(kSelectedRayRgb[0] / 255.0f, kSelectedRayRgb[1] / 255.0f, kSelectedRayRgb[2] / 255.0f, 1.0f);
+    for (const auto& [from, to] : f.gapWitnesses) {
+        overlay.push_back({from, glm::vec4(glm::vec3(witness), 0.5f)});
+        overlay.push_back({to, witness});
+    }
+    for (std::size_t k = 0; k < f.gapMarkers.size(); ++k) {
+        const bool picked = int(k) == f.gapSelected;
+        const glm::vec4 ray = picked ? glm::vec4(1.0f, 1.0f, 0.85f, 1.0f) : glm::vec4(1.0f, 0.55f, 0.1f, 0.9f);
+        const auto& marker = f.gapMarkers[k];
+        if (marker.ray || picked) {
+            overlay.push_back({marker.from, glm::vec4(glm::vec3(ray), 0.35f)});
+            overlay.push_back({marker.to, ray});
+        }
+        // The cross keeps a steady size on screen: a fraction of the distance to the eye.
+        const float arm = float(0.015 * glm::length(glm::dvec3(marker.at) - f.camera.eye())) * (picked ? 2.0f : 1.0f);
+        for (int axis = 0; axis < 3; ++axis) {
+            glm::vec3 reach(0.0f);
+            reach[axis] = arm;
+            overlay.push_back({marker.at - reach, ray});
+            overlay.push_back({marker.at + reach, ray});
+        }
+    }
+}
+
+/// The PVS debugger's shown view cell, its box's 12 edges.
+void appendViewCell(std::vector<LineVertex>& overlay, const FrameState& f)
+{
+    if (f.viewCell) {
+        const glm::vec4 colour(kViewCellRgb[0] / 255.0f, kViewCellRgb[1] / 255.0f, kViewCellRgb[2] / 255.0f, 1.0f);
+        const glm::vec3 lo = f.viewCell->min, hi = f.viewCell->max;
+        const auto corner = [&](int k) { return glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z); };
+        for (int a = 0; a < 8; ++a)
+            for (int bit = 1; bit < 8; bit <<= 1)
+                if (!(a & bit)) {   // each of the box's 12 edges once
+                    overlay.push_back({corner(a), colour});
+                    overlay.push_back({corner(a | bit), colour});
+                }
+    }
+}
+
+/// The selected light's scissor rectangle, dashed.
+void appendScissorFrame(std::vector<LineVertex>& overlay, const FrameState& f)
+{
+    if (f.scissor) {   // a dashed frame just beyond the near plane, over everything
+        const glm::dvec4 r = *f.scissor;
+        const glm::vec4 colour(1.0f, 0.85f, 0.2f, 0.9f);
+        const double depth = 0.02 * f.camera.distance;
+        auto at = [&](double x, double y) {
+            const Ray ray = pixelRay(f.camera, x, y, f.width, f.height);
+            return glm::vec3(ray.origin + ray.direction * (depth / std::max(glm::dot(ray.direction, f.camera.forward()), 1e-6)));
+        };
+        const glm::dvec2 corners[4] = {{r.x, r.y}, {r.z, r.y}, {r.z, r.w}, {r.x, r.w}};
+        for (int k = 0; k < 4; ++k) {
+            const glm::dvec2 a = corners[k], b = corners[(k + 1) % 4];
+            const int dashes = std::max(1, int(glm::length(b - a) / 12.0));
+            for (int i = 0; i < dashes; i += 2) {
+                overlay.push_back({at(glm::mix(a, b, double(i) / dashes).x, glm::mix(a, b, double(i) / dashes).y), colour});
+                overlay.push_back({at(glm::mix(a, b, double(i + 1) / dashes).x, glm::mix(a, b, double(i + 1) / dashes).y), colour});
+            }
+        }
+    }
+}
+
 } // namespace
 
 void ViewportRenderer::Impl::setCut(double height, double depth)
@@ -1102,113 +1240,15 @@ void ViewportRenderer::Impl::drawGuides(const FrameState& f, const Patch* overla
 {
     Impl& d = *this;
     std::vector<LineVertex> triangles, lines, overlay;
-    auto quad = [&](const Patch& patch, const glm::vec4& colour) {
-        const glm::vec3 c(patch.corner), u(patch.u), v(patch.v);
-        if (&patch != overlaid)   // a tint over the overlay would change its colours
-            for (const glm::vec3& p : {c, c + u, c + u + v, c, c + u + v, c + v})
-                triangles.push_back({p, colour});
-        const glm::vec4 edge(glm::vec3(colour) * 1.2f, 1.0f);
-        const glm::vec3 corners[4] = {c, c + u, c + u + v, c + v};
-        for (int k = 0; k < 4; ++k) {
-            lines.push_back({corners[k], edge});
-            lines.push_back({corners[(k + 1) % 4], edge});
-        }
-    };
-    const bool sourceSelected = f.selection.kind == ObjectKind::Source, receiverSelected = f.selection.kind == ObjectKind::Receiver;
-    if (!f.sourceHidden)
-        quad(f.source, sourceSelected ? glm::vec4(0.5f, 1.0f, 0.5f, 0.55f) : glm::vec4(0.25f, 0.8f, 0.35f, 0.45f));
-    if (!f.receiverHidden)
-        quad(f.receiver, receiverSelected ? glm::vec4(0.5f, 0.7f, 1.0f, 0.55f) : glm::vec4(0.25f, 0.5f, 0.95f, 0.45f));
-    if (f.placementGhost)
-        quad(*f.placementGhost, glm::vec4(1.0f, 1.0f, 1.0f, 0.3f));
-    // The occluder assistant's suggestion, magenta, over everything: it often stands in a
-    // doorway's wall, where a depth-tested fill would hide.
+    appendPatchQuads(triangles, lines, f, overlaid);
     std::vector<LineVertex> ghostFill;
-    if (f.occluderGhost.size() >= 3) {
-        const std::vector<glm::vec3>& ghost = f.occluderGhost;
-        const glm::vec4 fill(1.0f, 0.25f, 0.9f, 0.3f), edge(1.0f, 0.45f, 1.0f, 1.0f);
-        for (std::size_t k = 1; k + 1 < ghost.size(); ++k)
-            for (const glm::vec3& p : {ghost[0], ghost[k], ghost[k + 1]})
-                ghostFill.push_back({p, fill});
-        for (std::size_t k = 0; k < ghost.size(); ++k) {
-            overlay.push_back({ghost[k], edge});
-            overlay.push_back({ghost[(k + 1) % ghost.size()], edge});
-        }
-    }
-    // The shaft: corresponding corners joined; red when the pair cannot be sampled.
-    const glm::vec4 shaftColour = f.pairValid ? glm::vec4(0.9f, 0.9f, 0.9f, 0.5f) : glm::vec4(1.0f, 0.2f, 0.2f, 0.9f);
-    for (int k = 0; k < 4; ++k) {
-        const glm::dvec3 s = f.source.cornerPoint(k);
-        const glm::dvec3 r = f.receiver.cornerPoint(k);
-        lines.push_back({glm::vec3(s), shaftColour});
-        lines.push_back({glm::vec3(r), shaftColour});
-    }
-    // The cut plane's outline over the level's box, where the cut walls end.
-    if (std::isfinite(cut.height) && !f.levelBounds.empty() && f.cutHandle && cut.height > f.levelBounds.min.y &&
-        cut.height < f.levelBounds.max.y) {
-        const glm::vec4 outline(kCutColour, f.cutHandleHovered ? 0.9f : 0.6f);
-        const float y = float(cut.height);
-        const glm::vec3 corners[4] = {{f.levelBounds.min.x, y, f.levelBounds.min.z}, {f.levelBounds.max.x, y, f.levelBounds.min.z},
-                                      {f.levelBounds.max.x, y, f.levelBounds.max.z}, {f.levelBounds.min.x, y, f.levelBounds.max.z}};
-        for (int k = 0; k < 4; ++k) {
-            lines.push_back({corners[k], outline});
-            lines.push_back({corners[(k + 1) % 4], outline});
-        }
-    }
-    // PVS gaps: a cross at the opening, a witness ray through it for the shown cell's gaps, and
-    // the selected gap's witnesses (bright for the selected gap).
-    const glm::vec4 witness(kSelectedRayRgb[0] / 255.0f, kSelectedRayRgb[1] / 255.0f, kSelectedRayRgb[2] / 255.0f, 1.0f);
-    for (const auto& [from, to] : f.gapWitnesses) {
-        overlay.push_back({from, glm::vec4(glm::vec3(witness), 0.5f)});
-        overlay.push_back({to, witness});
-    }
-    for (std::size_t k = 0; k < f.gapMarkers.size(); ++k) {
-        const bool picked = int(k) == f.gapSelected;
-        const glm::vec4 ray = picked ? glm::vec4(1.0f, 1.0f, 0.85f, 1.0f) : glm::vec4(1.0f, 0.55f, 0.1f, 0.9f);
-        const auto& marker = f.gapMarkers[k];
-        if (marker.ray || picked) {
-            overlay.push_back({marker.from, glm::vec4(glm::vec3(ray), 0.35f)});
-            overlay.push_back({marker.to, ray});
-        }
-        // The cross keeps a steady size on screen: a fraction of the distance to the eye.
-        const float arm = float(0.015 * glm::length(glm::dvec3(marker.at) - f.camera.eye())) * (picked ? 2.0f : 1.0f);
-        for (int axis = 0; axis < 3; ++axis) {
-            glm::vec3 reach(0.0f);
-            reach[axis] = arm;
-            overlay.push_back({marker.at - reach, ray});
-            overlay.push_back({marker.at + reach, ray});
-        }
-    }
-    if (f.viewCell) {
-        const glm::vec4 colour(kViewCellRgb[0] / 255.0f, kViewCellRgb[1] / 255.0f, kViewCellRgb[2] / 255.0f, 1.0f);
-        const glm::vec3 lo = f.viewCell->min, hi = f.viewCell->max;
-        const auto corner = [&](int k) { return glm::vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z); };
-        for (int a = 0; a < 8; ++a)
-            for (int bit = 1; bit < 8; bit <<= 1)
-                if (!(a & bit)) {   // each of the box's 12 edges once
-                    overlay.push_back({corner(a), colour});
-                    overlay.push_back({corner(a | bit), colour});
-                }
-    }
+    appendOccluderGhost(ghostFill, overlay, f);
+    appendShaft(lines, f);
+    appendCutOutline(lines, f, cut);
+    appendGapMarkers(overlay, f);
+    appendViewCell(overlay, f);
     appendLightMarkers(overlay, f);
-    if (f.scissor) {   // a dashed frame just beyond the near plane, over everything
-        const glm::dvec4 r = *f.scissor;
-        const glm::vec4 colour(1.0f, 0.85f, 0.2f, 0.9f);
-        const double depth = 0.02 * f.camera.distance;
-        auto at = [&](double x, double y) {
-            const Ray ray = pixelRay(f.camera, x, y, f.width, f.height);
-            return glm::vec3(ray.origin + ray.direction * (depth / std::max(glm::dot(ray.direction, f.camera.forward()), 1e-6)));
-        };
-        const glm::dvec2 corners[4] = {{r.x, r.y}, {r.z, r.y}, {r.z, r.w}, {r.x, r.w}};
-        for (int k = 0; k < 4; ++k) {
-            const glm::dvec2 a = corners[k], b = corners[(k + 1) % 4];
-            const int dashes = std::max(1, int(glm::length(b - a) / 12.0));
-            for (int i = 0; i < dashes; i += 2) {
-                overlay.push_back({at(glm::mix(a, b, double(i) / dashes).x, glm::mix(a, b, double(i) / dashes).y), colour});
-                overlay.push_back({at(glm::mix(a, b, double(i + 1) / dashes).x, glm::mix(a, b, double(i + 1) / dashes).y), colour});
-            }
-        }
-    }
+    appendScissorFrame(overlay, f);
     std::vector<LineVertex> handles;   // triangles, over everything
     if (f.cutHandle)
         appendCutHandle(handles, *f.cutHandle, f.camera, f.cutHandleHovered);

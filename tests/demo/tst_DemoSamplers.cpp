@@ -66,10 +66,9 @@ TEST_F(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
 TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
 {
     // Few large occluders: the bitmask's case. A dense mesh of tiny triangles filling the shaft
-    // (a lumpy sphere, open in slits at its poles): once ray casting's case, then the bitmask's
-    // (its narrowed shaft against the exact ray caster: 40 against 106 ms), and since its inner
-    // proxy, capped over the slits, answers 86% of the rays, ray casting's again (40 against
-    // 127 ms, docs/benchmarks.md), which Auto's cost model must see.
+    // (a lumpy sphere, open in slits at its poles): the bitmask's narrowed shaft would beat the
+    // exact ray caster, but its inner proxy, capped over the slits, answers 86% of the rays, so
+    // ray casting wins again (docs/benchmarks.md), which Auto's cost model must see.
     const demo::BenchScene few = demo::makeFewOccludersScene();
     const demo::BenchScene dense = demo::makeDenseMeshScene();
     EXPECT_LT(few.scene.triangleCount(), 200u);

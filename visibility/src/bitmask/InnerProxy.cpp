@@ -71,6 +71,163 @@ float roundToward(double v, double toward)
     return f;
 }
 
+/// The voxels of innerProxyTriangles: cubes of side h from lo, nx x ny x nz of them.
+struct VoxelGrid {
+    glm::dvec3 lo;
+    double h = 0.0;
+    int nx = 0, ny = 0, nz = 0;
+
+    /// Index of voxel (x, y, z), x fastest.
+    std::size_t at(int x, int y, int z) const
+    {
+        return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x);
+    }
+};
+
+/// Marks in `touched` the voxels some triangle's grown box touches, and lists in `column` (per
+/// y, z) the triangles whose grown box reaches each x column.
+void touchVoxels(const glm::vec3* vertices, std::size_t triangleCount, const VoxelGrid& grid,
+                 std::vector<char>& touched, std::vector<std::vector<std::uint32_t>>& column)
+{
+    const glm::dvec3& lo = grid.lo;
+    const auto cellOf = [&](double v, double origin, int n) { return std::clamp(int(std::floor((v - origin) / grid.h)), 0, n - 1); };
+    for (std::size_t t = 0; t < triangleCount; ++t) {
+        const glm::dvec3 a(vertices[3 * t]), b(vertices[3 * t + 1]), c(vertices[3 * t + 2]);
+        const glm::dvec3 tlo = glm::min(a, glm::min(b, c)) - kInnerMarginMetres;
+        const glm::dvec3 thi = glm::max(a, glm::max(b, c)) + kInnerMarginMetres;
+        const int x0 = cellOf(tlo.x, lo.x, grid.nx), x1 = cellOf(thi.x, lo.x, grid.nx);
+        const int y0 = cellOf(tlo.y, lo.y, grid.ny), y1 = cellOf(thi.y, lo.y, grid.ny);
+        const int z0 = cellOf(tlo.z, lo.z, grid.nz), z1 = cellOf(thi.z, lo.z, grid.nz);
+        for (int z = z0; z <= z1; ++z)
+            for (int y = y0; y <= y1; ++y) {
+                column[std::size_t(z) * std::size_t(grid.ny) + std::size_t(y)].push_back(std::uint32_t(t));
+                for (int x = x0; x <= x1; ++x)
+                    touched[grid.at(x, y, z)] = 1;
+            }
+    }
+}
+
+/// Per voxel, 1 where it is untouched and its centre has parity 1 (counted along its x column,
+/// columns that pass too close to an edge left out).
+std::vector<char> innerVoxels(const glm::vec3* vertices, const VoxelGrid& grid, const std::vector<char>& touched,
+                              const std::vector<std::vector<std::uint32_t>>& column)
+{
+    const glm::dvec3& lo = grid.lo;
+    const double h = grid.h;
+    std::vector<char> inside(touched.size(), 0);
+    std::vector<double> crossings;
+    for (int z = 0; z < grid.nz; ++z)
+        for (int y = 0; y < grid.ny; ++y) {
+            const glm::dvec2 p(lo.y + (y + 0.5) * h, lo.z + (z + 0.5) * h);
+            crossings.clear();
+            bool unsure = false;
+            for (std::uint32_t t : column[std::size_t(z) * std::size_t(grid.ny) + std::size_t(y)]) {
+                double x = 0.0;
+                if (columnCrossing(p, glm::dvec3(vertices[3 * t]), glm::dvec3(vertices[3 * t + 1]),
+                                   glm::dvec3(vertices[3 * t + 2]), x, unsure))
+                    crossings.push_back(x);
+                if (unsure)
+                    break;
+            }
+            if (unsure)
+                continue;
+            std::sort(crossings.begin(), crossings.end());
+            for (int x = 0; x < grid.nx; ++x) {
+                if (touched[grid.at(x, y, z)])
+                    continue;
+                // No crossing lies in an untouched voxel, so the centre's side is unambiguous.
+                const double centre = lo.x + (x + 0.5) * h;
+                const auto above = crossings.end() - std::upper_bound(crossings.begin(), crossings.end(), centre);
+                inside[grid.at(x, y, z)] = char(above % 2);
+            }
+        }
+    return inside;
+}
+
+/// Merges the faces set in `mask` (nu x nv, cleared as it goes) on the plane `planeF` across
+/// `axis` greedily into rectangles (runs, then rows of equal runs), and appends each as two
+/// triangles facing `outward` along the axis.
+void appendRectangles(const VoxelGrid& grid, int axis, int nu, int nv, float planeF, int outward,
+                      std::vector<char>& mask, std::vector<glm::vec3>& triangles)
+{
+    const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+    const glm::dvec3& lo = grid.lo;
+    const double h = grid.h;
+    const auto maskAt = [&](int u, int v) -> char& { return mask[std::size_t(v) * std::size_t(nu) + std::size_t(u)]; };
+    for (int v = 0; v < nv; ++v)
+        for (int u = 0; u < nu; ++u) {
+            if (!maskAt(u, v))
+                continue;
+            int u1 = u;
+            while (u1 + 1 < nu && maskAt(u1 + 1, v))
+                ++u1;
+            int v1 = v;
+            const auto runFree = [&](int vv) {
+                for (int uu = u; uu <= u1; ++uu)
+                    if (!maskAt(uu, vv))
+                        return false;
+                return true;
+            };
+            while (v1 + 1 < nv && runFree(v1 + 1))
+                ++v1;
+            for (int vv = v; vv <= v1; ++vv)
+                for (int uu = u; uu <= u1; ++uu)
+                    maskAt(uu, vv) = 0;
+            // The rectangle, shrunk by the rounding to float.
+            const double u0m = lo[ua] + double(u) * h, u1m = lo[ua] + double(u1 + 1) * h;
+            const double v0m = lo[va] + double(v) * h, v1m = lo[va] + double(v1 + 1) * h;
+            const float uLo = roundToward(u0m, u1m), uHi = roundToward(u1m, u0m);
+            const float vLo = roundToward(v0m, v1m), vHi = roundToward(v1m, v0m);
+            if (!(uLo < uHi && vLo < vHi))
+                continue;
+            const auto corner = [&](float cu, float cv) {
+                glm::vec3 p;
+                p[axis] = planeF, p[ua] = cu, p[va] = cv;
+                return p;
+            };
+            // (ua, va, axis) is right-handed: counter-clockwise in (u, v) faces +axis.
+            std::array<glm::vec3, 4> q{corner(uLo, vLo), corner(uHi, vLo), corner(uHi, vHi), corner(uLo, vHi)};
+            if (outward < 0)
+                std::swap(q[1], q[3]);
+            triangles.insert(triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+        }
+}
+
+/// The union's boundary: per plane between two layers of voxels, the faces with an inner
+/// voxel on one side only, merged greedily into rectangles (runs, then rows of equal runs).
+std::vector<glm::vec3> boundaryFaces(const VoxelGrid& grid, const std::vector<char>& inside)
+{
+    std::vector<glm::vec3> triangles;
+    const std::array<int, 3> n{grid.nx, grid.ny, grid.nz};
+    std::vector<char> mask;
+    for (int axis = 0; axis < 3; ++axis) {
+        const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
+        const int nu = n[std::size_t(ua)], nv = n[std::size_t(va)];
+        const auto innerAt = [&](int k, int u, int v) {
+            if (k < 0 || k >= n[std::size_t(axis)])
+                return false;
+            std::array<int, 3> c{};
+            c[std::size_t(axis)] = k, c[std::size_t(ua)] = u, c[std::size_t(va)] = v;
+            return inside[grid.at(c[0], c[1], c[2])] == 1;
+        };
+        for (int k = 0; k <= n[std::size_t(axis)]; ++k)
+            for (const int outward : {+1, -1}) {
+                // outward +1: the inner voxel below the plane (layer k - 1), the outer above.
+                mask.assign(std::size_t(nu) * std::size_t(nv), 0);
+                for (int v = 0; v < nv; ++v)
+                    for (int u = 0; u < nu; ++u) {
+                        const bool below = innerAt(k - 1, u, v), above = innerAt(k, u, v);
+                        mask[std::size_t(v) * std::size_t(nu) + std::size_t(u)] = outward > 0 ? below && !above : above && !below;
+                    }
+                // The plane, moved toward the inner side by the rounding to float.
+                const double plane = grid.lo[axis] + double(k) * grid.h;
+                const float planeF = roundToward(plane, plane - double(outward));
+                appendRectangles(grid, axis, nu, nv, planeF, outward, mask, triangles);
+            }
+    }
+    return triangles;
+}
+
 } // namespace
 
 std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_t triangleCount, int resolution)
@@ -88,124 +245,17 @@ std::vector<glm::vec3> innerProxyTriangles(const glm::vec3* vertices, std::size_
         return {};
     const auto cells = [&](double e) { return std::clamp(int(std::ceil(e / h)), 1, resolution); };
     const int nx = cells(extent.x), ny = cells(extent.y), nz = cells(extent.z);
-    const auto cellOf = [&](double v, double origin, int n) { return std::clamp(int(std::floor((v - origin) / h)), 0, n - 1); };
-    const auto at = [&](int x, int y, int z) { return (std::size_t(z) * std::size_t(ny) + std::size_t(y)) * std::size_t(nx) + std::size_t(x); };
+    const VoxelGrid grid{lo, h, nx, ny, nz};
 
     // Voxels some triangle's grown box touches, and each column's triangles.
     std::vector<char> touched(std::size_t(nx) * std::size_t(ny) * std::size_t(nz), 0);
     std::vector<std::vector<std::uint32_t>> column(std::size_t(ny) * std::size_t(nz));
-    for (std::size_t t = 0; t < triangleCount; ++t) {
-        const glm::dvec3 a(vertices[3 * t]), b(vertices[3 * t + 1]), c(vertices[3 * t + 2]);
-        const glm::dvec3 tlo = glm::min(a, glm::min(b, c)) - kInnerMarginMetres;
-        const glm::dvec3 thi = glm::max(a, glm::max(b, c)) + kInnerMarginMetres;
-        const int x0 = cellOf(tlo.x, lo.x, nx), x1 = cellOf(thi.x, lo.x, nx);
-        const int y0 = cellOf(tlo.y, lo.y, ny), y1 = cellOf(thi.y, lo.y, ny);
-        const int z0 = cellOf(tlo.z, lo.z, nz), z1 = cellOf(thi.z, lo.z, nz);
-        for (int z = z0; z <= z1; ++z)
-            for (int y = y0; y <= y1; ++y) {
-                column[std::size_t(z) * std::size_t(ny) + std::size_t(y)].push_back(std::uint32_t(t));
-                for (int x = x0; x <= x1; ++x)
-                    touched[at(x, y, z)] = 1;
-            }
-    }
+    touchVoxels(vertices, triangleCount, grid, touched, column);
 
     // Parity of the untouched voxels, column by column.
-    std::vector<char> inside(touched.size(), 0);
-    std::vector<double> crossings;
-    for (int z = 0; z < nz; ++z)
-        for (int y = 0; y < ny; ++y) {
-            const glm::dvec2 p(lo.y + (y + 0.5) * h, lo.z + (z + 0.5) * h);
-            crossings.clear();
-            bool unsure = false;
-            for (std::uint32_t t : column[std::size_t(z) * std::size_t(ny) + std::size_t(y)]) {
-                double x = 0.0;
-                if (columnCrossing(p, glm::dvec3(vertices[3 * t]), glm::dvec3(vertices[3 * t + 1]),
-                                   glm::dvec3(vertices[3 * t + 2]), x, unsure))
-                    crossings.push_back(x);
-                if (unsure)
-                    break;
-            }
-            if (unsure)
-                continue;
-            std::sort(crossings.begin(), crossings.end());
-            for (int x = 0; x < nx; ++x) {
-                if (touched[at(x, y, z)])
-                    continue;
-                // No crossing lies in an untouched voxel, so the centre's side is unambiguous.
-                const double centre = lo.x + (x + 0.5) * h;
-                const auto above = crossings.end() - std::upper_bound(crossings.begin(), crossings.end(), centre);
-                inside[at(x, y, z)] = char(above % 2);
-            }
-        }
+    const std::vector<char> inside = innerVoxels(vertices, grid, touched, column);
 
-    // The union's boundary: per plane between two layers of voxels, the faces with an inner
-    // voxel on one side only, merged greedily into rectangles (runs, then rows of equal runs).
-    std::vector<glm::vec3> triangles;
-    const std::array<int, 3> n{nx, ny, nz};
-    std::vector<char> mask;
-    for (int axis = 0; axis < 3; ++axis) {
-        const int ua = (axis + 1) % 3, va = (axis + 2) % 3;
-        const int nu = n[std::size_t(ua)], nv = n[std::size_t(va)];
-        const auto innerAt = [&](int k, int u, int v) {
-            if (k < 0 || k >= n[std::size_t(axis)])
-                return false;
-            std::array<int, 3> c{};
-            c[std::size_t(axis)] = k, c[std::size_t(ua)] = u, c[std::size_t(va)] = v;
-            return inside[at(c[0], c[1], c[2])] == 1;
-        };
-        for (int k = 0; k <= n[std::size_t(axis)]; ++k)
-            for (const int outward : {+1, -1}) {
-                // outward +1: the inner voxel below the plane (layer k - 1), the outer above.
-                mask.assign(std::size_t(nu) * std::size_t(nv), 0);
-                for (int v = 0; v < nv; ++v)
-                    for (int u = 0; u < nu; ++u) {
-                        const bool below = innerAt(k - 1, u, v), above = innerAt(k, u, v);
-                        mask[std::size_t(v) * std::size_t(nu) + std::size_t(u)] = outward > 0 ? below && !above : above && !below;
-                    }
-                const auto maskAt = [&](int u, int v) -> char& { return mask[std::size_t(v) * std::size_t(nu) + std::size_t(u)]; };
-                // The plane, moved toward the inner side by the rounding to float.
-                const double plane = lo[axis] + double(k) * h;
-                const float planeF = roundToward(plane, plane - double(outward));
-                for (int v = 0; v < nv; ++v)
-                    for (int u = 0; u < nu; ++u) {
-                        if (!maskAt(u, v))
-                            continue;
-                        int u1 = u;
-                        while (u1 + 1 < nu && maskAt(u1 + 1, v))
-                            ++u1;
-                        int v1 = v;
-                        const auto runFree = [&](int vv) {
-                            for (int uu = u; uu <= u1; ++uu)
-                                if (!maskAt(uu, vv))
-                                    return false;
-                            return true;
-                        };
-                        while (v1 + 1 < nv && runFree(v1 + 1))
-                            ++v1;
-                        for (int vv = v; vv <= v1; ++vv)
-                            for (int uu = u; uu <= u1; ++uu)
-                                maskAt(uu, vv) = 0;
-                        // The rectangle, shrunk by the rounding to float.
-                        const double u0m = lo[ua] + double(u) * h, u1m = lo[ua] + double(u1 + 1) * h;
-                        const double v0m = lo[va] + double(v) * h, v1m = lo[va] + double(v1 + 1) * h;
-                        const float uLo = roundToward(u0m, u1m), uHi = roundToward(u1m, u0m);
-                        const float vLo = roundToward(v0m, v1m), vHi = roundToward(v1m, v0m);
-                        if (!(uLo < uHi && vLo < vHi))
-                            continue;
-                        const auto corner = [&](float cu, float cv) {
-                            glm::vec3 p;
-                            p[axis] = planeF, p[ua] = cu, p[va] = cv;
-                            return p;
-                        };
-                        // (ua, va, axis) is right-handed: counter-clockwise in (u, v) faces +axis.
-                        std::array<glm::vec3, 4> q{corner(uLo, vLo), corner(uHi, vLo), corner(uHi, vHi), corner(uLo, vHi)};
-                        if (outward < 0)
-                            std::swap(q[1], q[3]);
-                        triangles.insert(triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-                    }
-            }
-    }
-    return triangles;
+    return boundaryFaces(grid, inside);
 }
 
 std::vector<std::vector<glm::vec3>> boundaryCaps(const glm::vec3* vertices, std::size_t triangleCount)
@@ -502,13 +552,14 @@ bool proxyApplies(const Bounds& meshBounds, const ProxyPass& pass)
            apart(meshBounds, pass.receiverLo, pass.receiverHi) && !pass.hull.excludesBox(meshBounds.min, meshBounds.max);
 }
 
-std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& offered, const ProxyPass& pass,
-                                 OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
+namespace {
+
+/// Of the offered proxies, those that keep the grown boxes of the caps the shaft may meet within
+/// kProxyCapBoxesPerSource and kProxyMaxCapBoxesPerCall, in `proxies`; those boxes in `capBoxes`.
+void proxiesWithinCapBudget(const std::vector<std::shared_ptr<const InnerProxy>>& offered, const ProxyPass& pass,
+                            const HiddenSampleMap& map, std::vector<std::shared_ptr<const InnerProxy>>& proxies,
+                            std::vector<std::pair<glm::dvec3, glm::dvec3>>& capBoxes)
 {
-    // The grown boxes of the caps the shaft may meet; a proxy that would take them past
-    // kProxyCapBoxesPerSource and kProxyMaxCapBoxesPerCall sits the call out.
-    std::vector<std::shared_ptr<const InnerProxy>> proxies;
-    std::vector<std::pair<glm::dvec3, glm::dvec3>> capBoxes;
     const double boxesAllowed = std::clamp(kProxyCapBoxesPerSource * map.sourceCount(), 2.0, kProxyMaxCapBoxesPerCall);
     for (const std::shared_ptr<const InnerProxy>& proxy : offered) {
         std::vector<std::pair<glm::dvec3, glm::dvec3>> inShaft;
@@ -520,11 +571,13 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
         capBoxes.insert(capBoxes.end(), inShaft.begin(), inShaft.end());
         proxies.push_back(proxy);
     }
+}
 
-    // One soup whose instances are the proxies; per face, whether the shaft's rays leave R
-    // through it (kProxyFaceAxisCos).
-    WorldTriangles faces;
-    std::vector<char> across;
+/// The proxies' faces as one soup whose instances are the proxies, and per face whether it makes
+/// at least kProxyFaceAxisCos with the pass's axis.
+void proxyFaceSoup(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const ProxyPass& pass,
+                   WorldTriangles& faces, std::vector<char>& across)
+{
     for (std::size_t p = 0; p < proxies.size(); ++p) {
         const std::vector<glm::vec3>& f = proxies[p]->faces;
         faces.vertices.insert(faces.vertices.end(), f.begin(), f.end());
@@ -534,8 +587,12 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
             across.push_back(glm::dot(glm::normalize(glm::cross(b - a, c - a)), pass.axis) >= kProxyFaceAxisCos);
         }
     }
-    if (faces.size() == 0)
-        return 0;
+}
+
+/// Prepares the faces in the shaft as `occluders`, culled where the pass allows it.
+void prepareFaceOccluders(const std::vector<std::shared_ptr<const InnerProxy>>& proxies, const WorldTriangles& faces,
+                          const ProxyPass& pass, OccluderSet& occluders)
+{
     TriangleFilter filter;
     filter.triangles = &faces;
     filter.hull = &pass.hull;
@@ -547,9 +604,14 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
     if (pass.culling)
         filter.cullable.assign(proxies.size(), 1);
     occluders.prepare(pass.shaft, filter);
-    // Every face where its pairs are few for the rays, else the faces across the axis alone.
+}
+
+/// How many of the occluders the pass backprojects (0: it does not run), setting in `leave` those
+/// it leaves out (kProxyAllFacesPairsPerRay, kProxyPairsPerRay).
+std::size_t facesToUse(const OccluderSet& occluders, const std::vector<char>& across, const HiddenSampleMap& map,
+                       std::vector<char>& leave)
+{
     std::uint64_t pairsAll = 0, pairsAcross = 0;
-    std::vector<char> leave(occluders.occluders.size(), 0);
     for (std::size_t k = 0; k < occluders.occluders.size(); ++k) {
         const Occluder& o = *occluders.occluders[k];
         const std::uint64_t pairs = std::uint64_t(o.a1 - o.a0 + 1) * std::uint64_t(o.b1 - o.b0 + 1);
@@ -568,13 +630,13 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
         if (double(pairsAcross) > kProxyPairsPerRay * rays)
             used = 0;
     }
-    if (used == 0)
-        return 0;
-    bins.build(pass.shaft, occluders, leave, std::vector<char>(proxies.size(), 1), faces);
-    if (capBoxes.empty()) {
-        bitmaskPass(pass.shaft, bins, map, pass.narrow);
-        return used;
-    }
+    return used;
+}
+
+/// ORs into `map` the rays the binned faces block, less those that meet one of `capBoxes`.
+void seedLessCapRays(const ProxyPass& pass, const TileBins& bins,
+                     const std::vector<std::pair<glm::dvec3, glm::dvec3>>& capBoxes, HiddenSampleMap& map)
+{
     // With caps in the shaft: the proxies' answer less the rays that meet a cap's box. Only the
     // rays they blocked are tested: per receiver sample, the boxes its segments may reach (they
     // lie in the box of the sample and the source rectangle), the source samples that may meet
@@ -617,6 +679,37 @@ std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerPr
                 out[w] |= in[w];
         }
     });
+}
+
+} // namespace
+
+std::size_t seedFromInnerProxies(const std::vector<std::shared_ptr<const InnerProxy>>& offered, const ProxyPass& pass,
+                                 OccluderSet& occluders, TileBins& bins, HiddenSampleMap& map)
+{
+    // The grown boxes of the caps the shaft may meet; a proxy that would take them past
+    // kProxyCapBoxesPerSource and kProxyMaxCapBoxesPerCall sits the call out.
+    std::vector<std::shared_ptr<const InnerProxy>> proxies;
+    std::vector<std::pair<glm::dvec3, glm::dvec3>> capBoxes;
+    proxiesWithinCapBudget(offered, pass, map, proxies, capBoxes);
+
+    // One soup whose instances are the proxies; per face, whether the shaft's rays leave R
+    // through it (kProxyFaceAxisCos).
+    WorldTriangles faces;
+    std::vector<char> across;
+    proxyFaceSoup(proxies, pass, faces, across);
+    if (faces.size() == 0)
+        return 0;
+    prepareFaceOccluders(proxies, faces, pass, occluders);
+    // Every face where its pairs are few for the rays, else the faces across the axis alone.
+    std::vector<char> leave(occluders.occluders.size(), 0);
+    const std::size_t used = facesToUse(occluders, across, map, leave);
+    if (used == 0)
+        return 0;
+    bins.build(pass.shaft, occluders, leave, std::vector<char>(proxies.size(), 1), faces);
+    if (capBoxes.empty())
+        bitmaskPass(pass.shaft, bins, map, pass.narrow);
+    else
+        seedLessCapRays(pass, bins, capBoxes, map);
     return used;
 }
 

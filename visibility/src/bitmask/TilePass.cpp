@@ -107,6 +107,178 @@ void countingPass(const std::vector<SizeKey>& from, std::vector<SizeKey>& to, in
         to[start[(k.rank >> shift) & (kDigits - 1)]++] = k;
 }
 
+/// One tile's walk through its bin: its occluders, largest first, each on the cheapest path its
+/// samples allow, unless the narrowed shaft rules it out. Counts into `counts`.
+struct TileWalk {
+    TileWalk(const Shaft& shaft_, const TileBins& bins_, HiddenSampleMap& map_, std::size_t tile_,
+             TilePassCounts& counts_);
+
+    void run(bool narrow);
+
+    const Shaft& shaft;
+    const TileBins& bins;
+    HiddenSampleMap& map;
+    TilePassCounts& counts;
+    const std::size_t tile;
+    const int words, rna;
+    int a0, b0, aEnd, bEnd;   ///< the tile's receiver samples [a0, aEnd) x [b0, bEnd)
+    TileLanes lanes;
+    std::uint64_t full = 0;   ///< per lane: row already full
+
+private:
+    /// Switches off the lanes whose rows are full.
+    void checkFull();
+    /// Backprojects `o` to the tile's samples [ia0, ia1] x [ib0, ib1], a group of the kernel's rows
+    /// at a time.
+    void backprojectGroups(const TileOccluder& o, Path path, int ia0, int ia1, int ib0, int ib1);
+    /// Group g's lanes in columns ia0..ia1 of rows gb0..gb1 (`columns`) through the float kernel;
+    /// what it could not prove in double.
+    void floatGroup(const TileOccluder& o, int g, int gr0, int gb0, int gb1, unsigned columns);
+    /// The samples [ia0, ia1] x [gb0, gb1] whose rows are not full, on `groupPath` (not Float).
+    void exactGroup(const TileOccluder& o, Path groupPath, int ia0, int ia1, int gb0, int gb1);
+};
+
+TileWalk::TileWalk(const Shaft& shaft_, const TileBins& bins_, HiddenSampleMap& map_, std::size_t tile_,
+                   TilePassCounts& counts_)
+    : shaft(shaft_), bins(bins_), map(map_), counts(counts_), tile(tile_), words(map_.wordsPerRow()), rna(shaft_.rna)
+{
+    const int rnb = shaft.rnb;
+    const int ta = int(tile % std::size_t(bins.tilesA())), tb = int(tile / std::size_t(bins.tilesA()));
+    a0 = ta * kTile, b0 = tb * kTile;
+    aEnd = std::min(rna, a0 + kTile), bEnd = std::min(rnb, b0 + kTile);
+    if (shaft.floatKernel)
+        tileLanes(shaft, map, a0, b0, lanes);
+}
+
+void TileWalk::run(bool narrow)
+{
+    // Lanes whose rows are full are switched off; rechecked every this many float occluders.
+    constexpr int kFullRefresh = 32;
+    constexpr std::size_t kPrefetch = 4;
+    // The source samples the tile still sees. Kept per lane group instead (measured with
+    // 4x4 tiles and groups of 2x4), the sets rejected 15% more pairs on the 128x128 wall
+    // but cost more than they saved.
+    SourceBox open;
+    int sinceNarrowed = -1;   // -1: not narrowed yet
+    int sinceFullChecked = kFullRefresh;
+    const std::vector<std::uint32_t>& tileBin = bins.bin(tile);
+    for (std::size_t next = 0; next < tileBin.size(); ++next) {
+        if (next + kPrefetch < tileBin.size()) {
+            const char* ahead = reinterpret_cast<const char*>(&bins.occluder(tileBin[next + kPrefetch]));
+            for (std::size_t line = 0; line < sizeof(TileOccluder); line += 64)
+                __builtin_prefetch(ahead + line);
+        }
+        const TileOccluder& o = bins.occluder(tileBin[next]);
+        // This tile's part of the occluder's region, and the cheapest path there.
+        const int ia0 = std::max<int>(a0, o.a0), ia1 = std::min<int>(aEnd - 1, o.a1);
+        const int ib0 = std::max<int>(b0, o.b0), ib1 = std::min<int>(bEnd - 1, o.b1);
+        // (A Float occluder takes the double path where the shaft has no float kernel.)
+        const Path path = (o.path == Path::Float && shaft.floatKernel) || shaft.bumpy
+                              ? o.path
+                              : shaft.pathFor(o.maxD, shaft.nearestSample(ia0, ia1, ib0, ib1));
+        if (narrow) {
+            if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
+                open = unblockedBox(shaft, map, a0, aEnd - 1, b0, bEnd - 1);
+                sinceNarrowed = 0;
+                if (open.empty())
+                    break;   // the whole tile is blocked
+            }
+            ++sinceNarrowed;
+            if (!mayHitFrom(shaft, o, path, ia0, ia1, ib0, ib1, open)) {
+                ++counts.narrowedAway;
+                continue;
+            }
+        }
+        if (path == Path::Float && ++sinceFullChecked >= kFullRefresh) {
+            checkFull();
+            sinceFullChecked = 0;
+        }
+        backprojectGroups(o, path, ia0, ia1, ib0, ib1);
+    }
+}
+
+void TileWalk::checkFull()
+{
+    full = 0;
+    for (int lane = 0; lane < kTileLanes; ++lane)
+        if ((lanes.inside >> lane & 1) && rowFull(lanes.group[lane / 8].rows[lane % 8], words, shaft.S))
+            full |= std::uint64_t(1) << lane;
+}
+
+void TileWalk::backprojectGroups(const TileOccluder& o, Path path, int ia0, int ia1, int ib0, int ib1)
+{
+    // The kernel's groups of kRowsPerGroup rows.
+    const unsigned columns = ((2u << (ia1 - a0)) - 1u) & ~((1u << (ia0 - a0)) - 1u);
+    for (int g = (ib0 - b0) / kRowsPerGroup; g <= (ib1 - b0) / kRowsPerGroup; ++g) {
+        const int gr0 = b0 + kRowsPerGroup * g;
+        const int gb0 = std::max(ib0, gr0), gb1 = std::min(ib1, gr0 + kRowsPerGroup - 1);
+        // A sloping receiver's group may be well clear of an occluder that reaches the
+        // tile's nearest sample (furniture on a floor).
+        const Path groupPath = path == Path::Float || shaft.bumpy
+                                   ? path
+                                   : shaft.pathFor(o.maxD, shaft.nearestSample(ia0, ia1, gb0, gb1));
+        if (groupPath == Path::Float) {
+            floatGroup(o, g, gr0, gb0, gb1, columns);
+            continue;
+        }
+        exactGroup(o, groupPath, ia0, ia1, gb0, gb1);
+    }
+}
+
+void TileWalk::floatGroup(const TileOccluder& o, int g, int gr0, int gb0, int gb1, unsigned columns)
+{
+    // Lanes: columns ia0..ia1 of rows gb0..gb1, inside the grid, not full.
+    unsigned active = 0;
+    for (int b = gb0; b <= gb1; ++b)
+        active |= columns << (kTile * (b - gr0));
+    active &= unsigned(~full >> (8 * g) & lanes.inside >> (8 * g));
+    unsigned fallback = 0;
+    const int n = detail::backprojectRowsAvx2(o.single, lanes.group[g], active, shaft.na, shaft.nb, &fallback);
+    counts.pairs += std::uint64_t(n);
+    counts.floatPairs += std::uint64_t(n);
+    // What the kernel could not prove, in double.
+    for (; fallback; fallback &= fallback - 1) {
+        const int lane = std::countr_zero(fallback);
+        const int j = gr0 * rna + a0 + lane;
+        backproject(shaft, *o.occluder, Path::Double, j, map.row(j).data());
+        ++counts.pairs;
+        ++counts.floatFallbacks;
+    }
+}
+
+void TileWalk::exactGroup(const TileOccluder& o, Path groupPath, int ia0, int ia1, int gb0, int gb1)
+{
+    // A receiver row parallel to the source plane (a floor seen from a wall) lies
+    // at one distance: one clip serves all its samples. The distance is affine
+    // along the row, so its two ends tell.
+    const int j0 = gb0 * rna + ia0, j1 = gb1 * rna + ia1;
+    const double z0 = shaft.receiverInSource[std::size_t(j0)].z;
+    const bool sharedClip = groupPath == Path::Clip && !shaft.bumpy && o.maxD >= Shaft::clipDistance(z0) &&
+                            std::abs(shaft.receiverInSource[std::size_t(j1)].z - z0) <= 1e-12 * z0;
+    const auto eachOpenRow = [&](const auto& each) {
+        for (int b = gb0; b <= gb1; ++b)
+            for (int a = ia0; a <= ia1; ++a) {
+                const int j = b * rna + a;
+                std::uint64_t* row = map.row(j).data();
+                if (rowFull(row, words, shaft.S))
+                    continue;
+                each(j, row);
+                ++counts.pairs;
+            }
+    };
+    if (sharedClip) {
+        const ClippedPolygon clipped = clippedFor(*o.occluder, z0);
+        if (clipped.count >= 3)
+            eachOpenRow([&](int j, std::uint64_t* row) {
+                backprojectPolygon(shaft, clipped.vertices.data(), clipped.count,
+                                   shaft.receiverInSource[std::size_t(j)],
+                                   shaft.jitterShift[std::size_t(j)], row, nullptr);
+            });
+    } else {
+        eachOpenRow([&](int j, std::uint64_t* row) { backproject(shaft, *o.occluder, groupPath, j, row); });
+    }
+}
+
 } // namespace
 
 std::uint32_t sizeRank(double cells)
@@ -192,131 +364,15 @@ TilePassCounts bitmaskPass(const Shaft& shaft, const TileBins& bins, HiddenSampl
                            const std::vector<std::uint32_t>* only)
 {
     std::atomic<std::uint64_t> narrowedAway{0}, pairs{0}, floatPairs{0}, floatFallbacks{0};
-    const int words = map.wordsPerRow();
-    const int rna = shaft.rna, rnb = shaft.rnb;
-    // Lanes whose rows are full are switched off; rechecked every this many float occluders.
-    constexpr int kFullRefresh = 32;
-    constexpr std::size_t kPrefetch = 4;
     const std::size_t tileCount = only ? only->size() : bins.tileCount();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tileCount, 1), [&](const auto& range) {
-        std::uint64_t tilePairs = 0, tileFloatPairs = 0, tileSkipped = 0, tileFallbacks = 0;
-        for (std::size_t k = range.begin(); k != range.end(); ++k) {
-            const std::size_t tile = only ? (*only)[k] : k;
-            const int ta = int(tile % std::size_t(bins.tilesA())), tb = int(tile / std::size_t(bins.tilesA()));
-            const int a0 = ta * kTile, b0 = tb * kTile;
-            const int aEnd = std::min(rna, a0 + kTile), bEnd = std::min(rnb, b0 + kTile);
-            TileLanes lanes;
-            if (shaft.floatKernel)
-                tileLanes(shaft, map, a0, b0, lanes);
-            // The source samples the tile still sees. Kept per lane group instead (measured with
-            // 4x4 tiles and groups of 2x4), the sets rejected 15% more pairs on the 128x128 wall
-            // but cost more than they saved.
-            SourceBox open;
-            int sinceNarrowed = -1;   // -1: not narrowed yet
-            std::uint64_t full = 0;   // per lane: row already full
-            int sinceFullChecked = kFullRefresh;
-            const std::vector<std::uint32_t>& tileBin = bins.bin(tile);
-            for (std::size_t next = 0; next < tileBin.size(); ++next) {
-                if (next + kPrefetch < tileBin.size()) {
-                    const char* ahead = reinterpret_cast<const char*>(&bins.occluder(tileBin[next + kPrefetch]));
-                    for (std::size_t line = 0; line < sizeof(TileOccluder); line += 64)
-                        __builtin_prefetch(ahead + line);
-                }
-                const TileOccluder& o = bins.occluder(tileBin[next]);
-                // This tile's part of the occluder's region, and the cheapest path there.
-                const int ia0 = std::max<int>(a0, o.a0), ia1 = std::min<int>(aEnd - 1, o.a1);
-                const int ib0 = std::max<int>(b0, o.b0), ib1 = std::min<int>(bEnd - 1, o.b1);
-                // (A Float occluder takes the double path where the shaft has no float kernel.)
-                const Path path = (o.path == Path::Float && shaft.floatKernel) || shaft.bumpy
-                                      ? o.path
-                                      : shaft.pathFor(o.maxD, shaft.nearestSample(ia0, ia1, ib0, ib1));
-                if (narrow) {
-                    if (sinceNarrowed < 0 || sinceNarrowed >= kNarrowRefresh) {
-                        open = unblockedBox(shaft, map, a0, aEnd - 1, b0, bEnd - 1);
-                        sinceNarrowed = 0;
-                        if (open.empty())
-                            break;   // the whole tile is blocked
-                    }
-                    ++sinceNarrowed;
-                    if (!mayHitFrom(shaft, o, path, ia0, ia1, ib0, ib1, open)) {
-                        ++tileSkipped;
-                        continue;
-                    }
-                }
-                if (path == Path::Float && ++sinceFullChecked >= kFullRefresh) {
-                    full = 0;
-                    for (int lane = 0; lane < kTileLanes; ++lane)
-                        if ((lanes.inside >> lane & 1) && rowFull(lanes.group[lane / 8].rows[lane % 8], words, shaft.S))
-                            full |= std::uint64_t(1) << lane;
-                    sinceFullChecked = 0;
-                }
-                // The kernel's groups of kRowsPerGroup rows.
-                const unsigned columns = ((2u << (ia1 - a0)) - 1u) & ~((1u << (ia0 - a0)) - 1u);
-                for (int g = (ib0 - b0) / kRowsPerGroup; g <= (ib1 - b0) / kRowsPerGroup; ++g) {
-                    const int gr0 = b0 + kRowsPerGroup * g;
-                    const int gb0 = std::max(ib0, gr0), gb1 = std::min(ib1, gr0 + kRowsPerGroup - 1);
-                    // A sloping receiver's group may be well clear of an occluder that reaches the
-                    // tile's nearest sample (furniture on a floor).
-                    const Path groupPath = path == Path::Float || shaft.bumpy
-                                               ? path
-                                               : shaft.pathFor(o.maxD, shaft.nearestSample(ia0, ia1, gb0, gb1));
-                    if (groupPath == Path::Float) {
-                        // Lanes: columns ia0..ia1 of rows gb0..gb1, inside the grid, not full.
-                        unsigned active = 0;
-                        for (int b = gb0; b <= gb1; ++b)
-                            active |= columns << (kTile * (b - gr0));
-                        active &= unsigned(~full >> (8 * g) & lanes.inside >> (8 * g));
-                        unsigned fallback = 0;
-                        const int n =
-                            detail::backprojectRowsAvx2(o.single, lanes.group[g], active, shaft.na, shaft.nb, &fallback);
-                        tilePairs += std::uint64_t(n);
-                        tileFloatPairs += std::uint64_t(n);
-                        // What the kernel could not prove, in double.
-                        for (; fallback; fallback &= fallback - 1) {
-                            const int lane = std::countr_zero(fallback);
-                            const int j = gr0 * rna + a0 + lane;
-                            backproject(shaft, *o.occluder, Path::Double, j, map.row(j).data());
-                            ++tilePairs;
-                            ++tileFallbacks;
-                        }
-                        continue;
-                    }
-                    // A receiver row parallel to the source plane (a floor seen from a wall) lies
-                    // at one distance: one clip serves all its samples. The distance is affine
-                    // along the row, so its two ends tell.
-                    const int j0 = gb0 * rna + ia0, j1 = gb1 * rna + ia1;
-                    const double z0 = shaft.receiverInSource[std::size_t(j0)].z;
-                    const bool sharedClip = groupPath == Path::Clip && !shaft.bumpy && o.maxD >= Shaft::clipDistance(z0) &&
-                                            std::abs(shaft.receiverInSource[std::size_t(j1)].z - z0) <= 1e-12 * z0;
-                    const auto eachOpenRow = [&](const auto& each) {
-                        for (int b = gb0; b <= gb1; ++b)
-                            for (int a = ia0; a <= ia1; ++a) {
-                                const int j = b * rna + a;
-                                std::uint64_t* row = map.row(j).data();
-                                if (rowFull(row, words, shaft.S))
-                                    continue;
-                                each(j, row);
-                                ++tilePairs;
-                            }
-                    };
-                    if (sharedClip) {
-                        const ClippedPolygon clipped = clippedFor(*o.occluder, z0);
-                        if (clipped.count >= 3)
-                            eachOpenRow([&](int j, std::uint64_t* row) {
-                                backprojectPolygon(shaft, clipped.vertices.data(), clipped.count,
-                                                   shaft.receiverInSource[std::size_t(j)],
-                                                   shaft.jitterShift[std::size_t(j)], row, nullptr);
-                            });
-                    } else {
-                        eachOpenRow([&](int j, std::uint64_t* row) { backproject(shaft, *o.occluder, groupPath, j, row); });
-                    }
-                }
-            }
-        }
-        pairs += tilePairs;
-        floatPairs += tileFloatPairs;
-        narrowedAway += tileSkipped;
-        floatFallbacks += tileFallbacks;
+        TilePassCounts counts;
+        for (std::size_t k = range.begin(); k != range.end(); ++k)
+            TileWalk(shaft, bins, map, only ? (*only)[k] : k, counts).run(narrow);
+        pairs += counts.pairs;
+        floatPairs += counts.floatPairs;
+        narrowedAway += counts.narrowedAway;
+        floatFallbacks += counts.floatFallbacks;
     });
     return {pairs, floatPairs, floatFallbacks, narrowedAway};
 }

@@ -105,12 +105,11 @@ void countPanoramaErrors(const FirstHitCaster& caster, const std::vector<std::in
             }
 }
 
-} // namespace
-
-AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const ReferenceSettings& settings)
+/// Per scene instance, the index of the PVS object that holds it (-1: none); throws where an
+/// object names an instance the scene lacks.
+std::vector<std::int32_t> objectOfInstances(const Scene& scene, const PvsData& pvs)
 {
-    const auto start = std::chrono::steady_clock::now();
-    const std::size_t cellCount = pvs.cells.size(), objectCount = pvs.objects.size();
+    const std::size_t objectCount = pvs.objects.size();
     std::vector<std::int32_t> objectOf(scene.instances.size(), -1);
     for (std::size_t o = 0; o < objectCount; ++o)
         for (std::uint32_t i : pvs.objects[o].instances) {
@@ -119,30 +118,112 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
                             ", the scene has " + std::to_string(objectOf.size()) + " (another scene?)");
             objectOf[i] = std::int32_t(o);
         }
-    const std::uint64_t seed = mixSeed(seedFromSha(pvs.sceneSha256), settings.seed);
+    return objectOf;
+}
 
+/// The cells to check: `cells` (at least one) of the `cellCount`, drawn with `seed`, sorted.
+std::vector<std::uint32_t> sampledCells(std::size_t cellCount, int cells, std::uint64_t seed)
+{
     // Random cells without repeats: a seeded shuffle's first ones, then sorted.
     std::vector<std::uint32_t> order(cellCount);
     for (std::size_t c = 0; c < cellCount; ++c)
         order[c] = std::uint32_t(c);
     for (std::size_t k = cellCount; k > 1; --k)
         std::swap(order[k - 1], order[mixSeed(seed, k) % k]);
-    order.resize(std::min<std::size_t>(cellCount, std::size_t(std::max(settings.cells, 1))));
+    order.resize(std::min<std::size_t>(cellCount, std::size_t(std::max(cells, 1))));
     std::sort(order.begin(), order.end());
+    return order;
+}
 
+/// Per object, the points on it the reference casts toward, and how far apart they lie.
+void objectTargets(const WorldTriangles& world, const std::vector<std::int32_t>& objectOf, std::size_t objectCount,
+                   const ReferenceSettings& settings, std::uint64_t seed, std::vector<std::vector<glm::vec3>>& targets,
+                   std::vector<double>& objectSpacing)
+{
     // Targets on every object, from the reference's own seeds.
-    const WorldTriangles world = worldTriangles(scene);
-    std::vector<std::vector<glm::vec3>> soup(objectCount), targets(objectCount);
+    std::vector<std::vector<glm::vec3>> soup(objectCount);
+    targets.resize(objectCount);
     for (std::size_t t = 0; t < world.size(); ++t) {
         const std::int32_t o = objectOf[world.instanceOf[t]];
         if (o >= 0)
             soup[std::size_t(o)].insert(soup[std::size_t(o)].end(), &world.vertices[3 * t], &world.vertices[3 * t] + 3);
     }
-    std::vector<double> objectSpacing(objectCount);
+    objectSpacing.resize(objectCount);
     for (std::size_t o = 0; o < objectCount; ++o) {
         targets[o] = surfacePoints(soup[o], settings.objectPoints, mixSeed(seed ^ 0x726566ull, o));
         objectSpacing[o] = 1.5 * std::sqrt(soupArea(soup[o]) / double(std::max(settings.objectPoints, 1)));
     }
+}
+
+/// Checks cell c against every object into `r`: the reference's rays from random points of the
+/// cell, the edge search where they see nothing, the gaps of missed pairs, then the panoramas.
+/// Returns early, leaving `r` partial, when the settings' cancel flag is set.
+void checkCell(const WorldTriangles& world, const FirstHitCaster& caster, const std::vector<std::int32_t>& objectOf,
+               const PvsData& pvs, const ReferenceSettings& settings, std::uint64_t seed,
+               const std::vector<std::vector<glm::vec3>>& targets, const std::vector<double>& objectSpacing,
+               std::uint32_t c, CellResult& r)
+{
+    const std::size_t objectCount = pvs.objects.size();
+    const std::vector<glm::vec3> from = boxPoints(pvs.cells[c], settings.cellPoints, mixSeed(seed, c));
+    const double cellSpacing = 1.5 * glm::length(glm::dvec3(pvs.cells[c].max - pvs.cells[c].min)) /
+                               std::cbrt(double(std::max(settings.cellPoints, 1)));
+    const std::vector<glm::vec3> edgeFrom(from.begin(), from.begin() + std::min<std::ptrdiff_t>(std::ptrdiff_t(from.size()),
+                                                                                                std::max(settings.edgeCellPoints, 0)));
+    std::unordered_map<std::int64_t, int> met;
+    for (std::size_t o = 0; o < objectCount; ++o) {
+        if (settings.cancel && settings.cancel->load())
+            return;
+        bool seen = false;
+        met.clear();
+        for (std::size_t q = 0; q < targets[o].size() && !seen; ++q)
+            for (const glm::vec3& p : from) {
+                ++r.rays;
+                const RayHit hit = caster.cast(p, targets[o][q] - p, 1.0f + 1e-3f);
+                if (hit.instance >= 0 && objectOf[std::size_t(hit.instance)] == std::int32_t(o)) {
+                    seen = true;
+                    break;
+                }
+                if (hit.triangle >= 0)
+                    ++met[hit.triangle];
+            }
+        const bool kept = pvs.rows.visible(c, o);
+        bool edgeSeen = false;
+        if (!seen && settings.edgeBlockers > 0 && !met.empty()) {
+            const std::vector<std::int64_t> blockers = mostMet(met, settings.edgeBlockers);
+            edgeSeen = edgeWitness(world.vertices, caster, objectOf, std::int32_t(o), pvs.objects[o].bounds, edgeFrom,
+                                   blockers, r.edgeRays);
+            r.edgeVisible += edgeSeen;
+            r.edgeMissed += edgeSeen && !kept;
+        }
+        r.referenceVisible += seen;
+        r.bakedVisible += kept;
+        if (seen && !kept) {
+            ++r.missed;
+            const double spacing = std::max(cellSpacing, objectSpacing[o]);
+            for (Gap& gap : missedPairGaps(world, caster, objectOf, c, std::uint32_t(o), from, targets[o], spacing, r.rays))
+                r.gaps.push_back(std::move(gap));
+        }
+        if (kept && !seen && !edgeSeen)
+            ++r.extra;
+    }
+    countPanoramaErrors(caster, objectOf, pvs, c, boxPoints(pvs.cells[c], settings.views, mixSeed(seed ^ 0x657965ull, c)),
+                        settings, r);
+}
+
+} // namespace
+
+AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const ReferenceSettings& settings)
+{
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t cellCount = pvs.cells.size(), objectCount = pvs.objects.size();
+    const std::vector<std::int32_t> objectOf = objectOfInstances(scene, pvs);
+    const std::uint64_t seed = mixSeed(seedFromSha(pvs.sceneSha256), settings.seed);
+    const std::vector<std::uint32_t> order = sampledCells(cellCount, settings.cells, seed);
+
+    const WorldTriangles world = worldTriangles(scene);
+    std::vector<std::vector<glm::vec3>> targets;
+    std::vector<double> objectSpacing;
+    objectTargets(world, objectOf, objectCount, settings, seed, targets, objectSpacing);
     const FirstHitCaster caster(scene);
 
     std::vector<CellResult> results(order.size());
@@ -150,52 +231,7 @@ AccuracyReport measureAccuracy(const Scene& scene, const PvsData& pvs, const Ref
     tbb::task_arena arena(threads);
     arena.execute([&] {
         tbb::parallel_for(std::size_t(0), order.size(), [&](std::size_t k) {
-            const std::uint32_t c = order[k];
-            CellResult& r = results[k];
-            const std::vector<glm::vec3> from = boxPoints(pvs.cells[c], settings.cellPoints, mixSeed(seed, c));
-            const double cellSpacing = 1.5 * glm::length(glm::dvec3(pvs.cells[c].max - pvs.cells[c].min)) /
-                                       std::cbrt(double(std::max(settings.cellPoints, 1)));
-            const std::vector<glm::vec3> edgeFrom(from.begin(), from.begin() + std::min<std::ptrdiff_t>(std::ptrdiff_t(from.size()),
-                                                                                                        std::max(settings.edgeCellPoints, 0)));
-            std::unordered_map<std::int64_t, int> met;
-            for (std::size_t o = 0; o < objectCount; ++o) {
-                if (settings.cancel && settings.cancel->load())
-                    return;
-                bool seen = false;
-                met.clear();
-                for (std::size_t q = 0; q < targets[o].size() && !seen; ++q)
-                    for (const glm::vec3& p : from) {
-                        ++r.rays;
-                        const RayHit hit = caster.cast(p, targets[o][q] - p, 1.0f + 1e-3f);
-                        if (hit.instance >= 0 && objectOf[std::size_t(hit.instance)] == std::int32_t(o)) {
-                            seen = true;
-                            break;
-                        }
-                        if (hit.triangle >= 0)
-                            ++met[hit.triangle];
-                    }
-                const bool kept = pvs.rows.visible(c, o);
-                bool edgeSeen = false;
-                if (!seen && settings.edgeBlockers > 0 && !met.empty()) {
-                    const std::vector<std::int64_t> blockers = mostMet(met, settings.edgeBlockers);
-                    edgeSeen = edgeWitness(world.vertices, caster, objectOf, std::int32_t(o), pvs.objects[o].bounds, edgeFrom,
-                                           blockers, r.edgeRays);
-                    r.edgeVisible += edgeSeen;
-                    r.edgeMissed += edgeSeen && !kept;
-                }
-                r.referenceVisible += seen;
-                r.bakedVisible += kept;
-                if (seen && !kept) {
-                    ++r.missed;
-                    const double spacing = std::max(cellSpacing, objectSpacing[o]);
-                    for (Gap& gap : missedPairGaps(world, caster, objectOf, c, std::uint32_t(o), from, targets[o], spacing, r.rays))
-                        r.gaps.push_back(std::move(gap));
-                }
-                if (kept && !seen && !edgeSeen)
-                    ++r.extra;
-            }
-            countPanoramaErrors(caster, objectOf, pvs, c, boxPoints(pvs.cells[c], settings.views, mixSeed(seed ^ 0x657965ull, c)),
-                                settings, r);
+            checkCell(world, caster, objectOf, pvs, settings, seed, targets, objectSpacing, order[k], results[k]);
         });
     });
     if (settings.cancel && settings.cancel->load())
