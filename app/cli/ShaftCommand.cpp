@@ -152,11 +152,11 @@ std::string cpuStrategy(const BitmaskStats& stats, const std::string& masks, boo
         strategy += " (receiver in " + std::to_string(stats.receiverTiles) + " tiles)";
     if (stats.swappedRoles)
         strategy += " (patches' roles swapped: backprojected onto the receiver's finer grid)";
-    if (stats.probed)
+    if (stats.debug.probed)
         strategy += " (chosen by timing both on a few tiles)";
-    if (stats.reusedTimedChoice)
+    if (stats.debug.reusedTimedChoice)
         strategy += " (chosen by timing both on an earlier call)";
-    else if (stats.reusedChoice)
+    else if (stats.debug.reusedChoice)
         strategy += " (chosen from the estimate on an earlier call)";
     return strategy;
 }
@@ -186,18 +186,18 @@ ShaftRun sampleCpu(const ShaftArgs& args, const ShaftInput& in)
         options.mode == MaskMode::Table ? tableName("bitmask-hough-table-", args.table) : std::string("bitmask-exact-rows");
     run.strategy = cpuStrategy(stats, masks, options.strategy != CpuStrategy::Auto);
     run.split = {{"bitmask_ms", stats.sampleMs}, {"ray_ms", stats.rayMs}, {"triangles_in_shaft", stats.trianglesInShaft},
-                 {"small_triangles", stats.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.floatPairs},
-                 {"rays_cast", stats.raysCast}, {"proven_hits", stats.provenHits}, {"exact_hit_tests", stats.exactHitTests},
-                 {"rays_confirmed", stats.raysConfirmed}, {"ray_float_ms", stats.rayFloatMs},
-                 {"ray_confirm_ms", stats.rayConfirmMs}, {"ray_packets", stats.rayPackets},
-                 {"float_fallbacks", stats.floatFallbacks},
-                 {"culled_front_faces", stats.culledFrontFaces}, {"narrowed_away", stats.narrowedAway},
-                 {"proxy_faces", stats.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.proxyMs},
-                 {"proxies_built", stats.proxiesBuilt}, {"swapped_roles", stats.swappedRoles}, {"receiver_tiles", stats.receiverTiles},
-                 {"estimated_pairs", stats.estimatedPairs}, {"estimated_triangles", stats.estimatedTriangles},
-                 {"predicted_bitmask_ms", stats.predictedBitmaskMs}, {"predicted_ray_ms", stats.predictedRayMs},
-                 {"probed", stats.probed}, {"probe_ray_ms", stats.probeRayMs}, {"probe_bitmask_ms", stats.probeBitmaskMs},
-                 {"reused_timed_choice", stats.reusedTimedChoice}, {"reused_choice", stats.reusedChoice}};
+                 {"small_triangles", stats.debug.smallTriangles}, {"pairs", stats.pairs}, {"float_pairs", stats.debug.floatPairs},
+                 {"rays_cast", stats.raysCast}, {"proven_hits", stats.debug.provenHits}, {"exact_hit_tests", stats.debug.exactHitTests},
+                 {"rays_confirmed", stats.debug.raysConfirmed}, {"ray_float_ms", stats.debug.rayFloatMs},
+                 {"ray_confirm_ms", stats.debug.rayConfirmMs}, {"ray_packets", stats.debug.rayPackets},
+                 {"float_fallbacks", stats.debug.floatFallbacks},
+                 {"culled_front_faces", stats.debug.culledFrontFaces}, {"narrowed_away", stats.debug.narrowedAway},
+                 {"proxy_faces", stats.debug.proxyFaces}, {"proxy_blocked", stats.proxyBlocked}, {"proxy_ms", stats.debug.proxyMs},
+                 {"proxies_built", stats.debug.proxiesBuilt}, {"swapped_roles", stats.swappedRoles}, {"receiver_tiles", stats.receiverTiles},
+                 {"estimated_pairs", stats.debug.estimatedPairs}, {"estimated_triangles", stats.debug.estimatedTriangles},
+                 {"predicted_bitmask_ms", stats.debug.predictedBitmaskMs}, {"predicted_ray_ms", stats.debug.predictedRayMs},
+                 {"probed", stats.debug.probed}, {"probe_ray_ms", stats.debug.probeRayMs}, {"probe_bitmask_ms", stats.debug.probeBitmaskMs},
+                 {"reused_timed_choice", stats.debug.reusedTimedChoice}, {"reused_choice", stats.debug.reusedChoice}};
     return run;
 }
 

@@ -47,7 +47,7 @@ TEST_F(DemoSamplers, WatertightCullingKeepsTheDemoAnswer)
     const HiddenSampleMap b = sampler.sample(view.source, view.receiver,
                                              {.strategy = CpuStrategy::Bitmask, .watertightCulling = false}, &plain);
     EXPECT_EQ(a, b);
-    EXPECT_GT(culled.culledFrontFaces, 1000u);
+    EXPECT_GT(culled.debug.culledFrontFaces, 1000u);
     EXPECT_LT(culled.pairs, plain.pairs);
 }
 
@@ -59,7 +59,7 @@ TEST_F(DemoSamplers, NarrowedShaftKeepsTheDemoAnswer)
     const HiddenSampleMap b = sampler.sample(view.source, view.receiver,
                                              {.strategy = CpuStrategy::Bitmask, .narrowShaft = false}, &plain);
     EXPECT_EQ(a, b);
-    EXPECT_GT(narrowed.narrowedAway, 0u);
+    EXPECT_GT(narrowed.debug.narrowedAway, 0u);
     EXPECT_LT(narrowed.pairs, plain.pairs);
 }
 
@@ -84,10 +84,10 @@ TEST_F(DemoSamplers, BenchScenesAgreeWithTheReferenceAndPickTheirStrategy)
         EXPECT_LE(map.differenceCount(expected) * 10000, map.rayCount()) << bench->name;
         if (bench == &few) {
             EXPECT_STREQ(stats.strategy, "bitmask");
-            EXPECT_LT(stats.predictedBitmaskMs, 0.5 * stats.predictedRayMs);
+            EXPECT_LT(stats.debug.predictedBitmaskMs, 0.5 * stats.debug.predictedRayMs);
         } else {
             EXPECT_STREQ(stats.strategy, "raycast");
-            EXPECT_LT(stats.predictedRayMs, 0.5 * stats.predictedBitmaskMs);
+            EXPECT_LT(stats.debug.predictedRayMs, 0.5 * stats.debug.predictedBitmaskMs);
             EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 2);
         }
         const HiddenSampleMap bitmask =

@@ -47,8 +47,9 @@ void expectAPairToLookAcross(const Scene& level, const Patch& source, const Patc
         ASSERT_TRUE(floor) << "nothing under a patch at " << c.x << ", " << c.y << ", " << c.z;
         EXPECT_NEAR(floor->distance, 1.5, 0.02);
         EXPECT_TRUE(windingFacesUp(triangles, floor->triangle)) << "the surface under a patch is an underside";
-        if (indoors)
+        if (indoors) {
             EXPECT_TRUE(pickSurface(triangles, Ray{c, {0.0, 1.0, 0.0}})) << "open sky over an indoor patch";
+        }
         EXPECT_NEAR(patch->normal().y, 0.0, 1e-9);   // upright
     }
     EXPECT_GT(glm::length(receiver.centre() - source.centre()), 4.0) << "across the level, not side by side";

@@ -93,7 +93,7 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
         const HiddenSampleMap map = sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask}, &bitmaskStats);
         EXPECT_EQ(mismatchesOutsideGrazing(map, reference), 0u)
             << "seed " << seed << ": " << map.blockedCount() << " vs " << reference.blocked.blockedCount();
-        floatPairs += bitmaskStats.floatPairs;
+        floatPairs += bitmaskStats.debug.floatPairs;
         pairs += bitmaskStats.pairs;
         // Double precision everywhere (the path for CPUs without AVX2).
         const HiddenSampleMap scalar = sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask, .simd = false});
@@ -106,7 +106,7 @@ TEST(CpuBitmaskSampler, AgreesWithBruteForceOnRandomScenes)
         EXPECT_STREQ(stats.strategy, "hybrid");
         EXPECT_EQ(map, sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask, .narrowShaft = false}))
             << "narrowing changed the answer, seed " << seed;
-        smallTriangles += stats.smallTriangles;
+        smallTriangles += stats.debug.smallTriangles;
         rays += map.rayCount();
         blocked += map.blockedCount();
     }
@@ -195,8 +195,8 @@ TEST(CpuBitmaskSampler, WatertightCullingNeverChangesTheAnswer)
         // Each box lies wholly in front of the source, so at least its face towards the source
         // (2 triangles) faces all four source corners; boxes wholly outside the shaft's hull are
         // dropped before culling (about a quarter here).
-        EXPECT_GE(culledStats.culledFrontFaces, 40u) << "seed " << seed;
-        EXPECT_EQ(plainStats.culledFrontFaces, 0u);
+        EXPECT_GE(culledStats.debug.culledFrontFaces, 40u) << "seed " << seed;
+        EXPECT_EQ(plainStats.debug.culledFrontFaces, 0u);
         EXPECT_LT(culledStats.pairs, plainStats.pairs);
         const HiddenSampleMap reference = RayCastScene(scene).sample(source, receiver);
         EXPECT_LE(culled.differenceCount(reference) * 10000, culled.rayCount()) << "seed " << seed;
@@ -247,7 +247,7 @@ TEST(CpuBitmaskSampler, ObjectsStandingOnAFloorMatchTheReference)
             // Every box touches the floor: over its whole region it needs clipping, so the float
             // kernel runs only where a tile's own samples allow it (0 when the path was chosen
             // per occluder).
-            EXPECT_GT(stats.floatPairs, stats.pairs / 4) << stats.floatPairs << " of " << stats.pairs;
+            EXPECT_GT(stats.debug.floatPairs, stats.pairs / 4) << stats.debug.floatPairs << " of " << stats.pairs;
         }
     }
 }
@@ -286,17 +286,17 @@ TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
             BitmaskStats stats;
             const HiddenSampleMap map = sampler.sample(source, receiver, options, &stats);
             EXPECT_FALSE(stats.swappedRoles);
-            const double ratio = stats.predictedBitmaskMs / stats.predictedRayMs;
+            const double ratio = stats.debug.predictedBitmaskMs / stats.debug.predictedRayMs;
             if (ratio <= 0.5) {
                 EXPECT_STREQ(stats.strategy, "bitmask") << side << " " << r;
-                EXPECT_FALSE(stats.probed);
+                EXPECT_FALSE(stats.debug.probed);
                 ++clearBitmask;
             } else if (ratio >= 2.0) {
                 EXPECT_STREQ(stats.strategy, "raycast") << side << " " << r;
-                EXPECT_FALSE(stats.probed);
+                EXPECT_FALSE(stats.debug.probed);
                 ++clearRays;
             } else {
-                EXPECT_TRUE(stats.probed) << side << " " << r << ": ratio " << ratio;
+                EXPECT_TRUE(stats.debug.probed) << side << " " << r << ": ratio " << ratio;
                 ++probed;
             }
             const HiddenSampleMap expected = reference.sample(source, receiver);
@@ -311,9 +311,9 @@ TEST(CpuBitmaskSampler, AutoFollowsItsCostModel)
     const Patch one = xyPatch(0, 1, 1), receiver = xyPatch(2, 32, 32);
     BitmaskStats stats;
     const HiddenSampleMap map = CpuBitmaskSampler(soup).sample(one, receiver, options, &stats);
-    EXPECT_LE(stats.predictedRayMs, 0.5 * stats.predictedBitmaskMs);
+    EXPECT_LE(stats.debug.predictedRayMs, 0.5 * stats.debug.predictedBitmaskMs);
     EXPECT_STREQ(stats.strategy, "raycast");
-    EXPECT_FALSE(stats.probed);
+    EXPECT_FALSE(stats.debug.probed);
     ++clearRays;
     const HiddenSampleMap expected = RayCastScene(soup).sample(one, receiver);
     const ExactJudge judge(worldTriangles(soup), one, receiver);
@@ -338,17 +338,17 @@ TEST(CpuBitmaskSampler, AutoTakesTheBitmaskWithSwappedRolesByItsOwnRule)
             BitmaskStats stats;
             const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
             EXPECT_TRUE(stats.swappedRoles) << side;
-            const double ratio = stats.predictedBitmaskMs / stats.predictedRayMs;
+            const double ratio = stats.debug.predictedBitmaskMs / stats.debug.predictedRayMs;
             if (ratio <= bitmask::kSwappedBitmaskClearCut) {
                 EXPECT_STREQ(stats.strategy, "bitmask") << side;
-                EXPECT_FALSE(stats.probed) << side;
+                EXPECT_FALSE(stats.debug.probed) << side;
                 ++byBitmask;
             } else if (ratio >= bitmask::kSwappedRaysClearCut) {
                 EXPECT_STREQ(stats.strategy, "raycast") << side;
-                EXPECT_FALSE(stats.probed) << side;
+                EXPECT_FALSE(stats.debug.probed) << side;
                 ++byRays;
             } else {
-                EXPECT_TRUE(stats.probed) << side << ": ratio " << ratio;
+                EXPECT_TRUE(stats.debug.probed) << side << ": ratio " << ratio;
                 ++timed;
             }
             EXPECT_EQ(map.sourceCount(), source.sampleCount());
@@ -467,29 +467,29 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     double bestGap = std::log(2.0);
     for (const int side : {1, 2, 3, 4, 6, 8, 12, 16, 24, 32}) {
         CpuBitmaskSampler(scene).sample(xyPatch(0, side, side), receiver, keep, &stats);
-        const double gap = std::abs(std::log(stats.predictedRayMs / stats.predictedBitmaskMs));
-        if (stats.probed && gap < bestGap)
+        const double gap = std::abs(std::log(stats.debug.predictedRayMs / stats.debug.predictedBitmaskMs));
+        if (stats.debug.probed && gap < bestGap)
             bestSide = side, bestGap = gap;
     }
     ASSERT_GT(bestSide, 0) << "no source grid puts the comb in the probing band";
     Patch source = xyPatch(0, bestSide, bestSide);
     CpuBitmaskSampler sampler(scene);
     sampler.sample(source, receiver, keep, &stats);
-    ASSERT_TRUE(stats.probed);
+    ASSERT_TRUE(stats.debug.probed);
     receiver.corner.x += 0.01;
     sampler.sample(source, receiver, keep, &stats);
-    ASSERT_TRUE(stats.probed) << "a cold probe's choice was reused";
-    ASSERT_FALSE(stats.reusedTimedChoice);
+    ASSERT_TRUE(stats.debug.probed) << "a cold probe's choice was reused";
+    ASSERT_FALSE(stats.debug.reusedTimedChoice);
     // The choice for later calls may differ from the rest of this call's (its setup was paid).
     sampler.sample(source, receiver, keep, &stats);
-    ASSERT_TRUE(stats.reusedTimedChoice);
+    ASSERT_TRUE(stats.debug.reusedTimedChoice);
     const std::string chosen = stats.strategy;
     for (int call = 2; call <= 8; ++call) {
         receiver.corner.x += 0.01;   // a drag: similar
         const HiddenSampleMap map = sampler.sample(source, receiver, keep, &stats);
-        EXPECT_EQ(stats.probed, call == 8) << call;
-        EXPECT_EQ(stats.reusedTimedChoice, call < 8) << call;
-        if (stats.reusedTimedChoice) {
+        EXPECT_EQ(stats.debug.probed, call == 8) << call;
+        EXPECT_EQ(stats.debug.reusedTimedChoice, call < 8) << call;
+        if (stats.debug.reusedTimedChoice) {
             EXPECT_EQ(chosen, stats.strategy) << call;
         }
         const HiddenSampleMap expected = reference.sample(source, receiver);
@@ -502,10 +502,10 @@ TEST(CpuBitmaskSampler, AutoReusesItsTimedChoiceOnSimilarConfigurations)
     turned.u = {c, 0.0, s};
     turned.corner = receiver.centre() - 0.5 * (turned.u + turned.v);
     sampler.sample(source, turned, keep, &stats);
-    EXPECT_FALSE(stats.reusedTimedChoice);
+    EXPECT_FALSE(stats.debug.reusedTimedChoice);
     sampler.setScene(scene);
     sampler.sample(source, receiver, keep, &stats);
-    EXPECT_FALSE(stats.reusedTimedChoice);
+    EXPECT_FALSE(stats.debug.reusedTimedChoice);
 }
 
 TEST(CpuBitmaskSampler, AutoReusesAClearCutChoiceWithoutEstimatingAgain)
@@ -522,16 +522,16 @@ TEST(CpuBitmaskSampler, AutoReusesAClearCutChoiceWithoutEstimatingAgain)
     Patch receiver = xyPatch(2, 32, 32);
     BitmaskStats stats;
     sampler.sample(source, receiver, {}, &stats);
-    ASSERT_GT(stats.estimatedPairs, 0u);
-    ASSERT_FALSE(stats.probed);
-    ASSERT_FALSE(stats.reusedChoice);
+    ASSERT_GT(stats.debug.estimatedPairs, 0u);
+    ASSERT_FALSE(stats.debug.probed);
+    ASSERT_FALSE(stats.debug.reusedChoice);
     const std::string chosen = stats.strategy;
     for (int call = 1; call <= 8; ++call) {
         receiver.corner.x += 0.01;
         const HiddenSampleMap map = sampler.sample(source, receiver, {}, &stats);
-        EXPECT_EQ(stats.reusedChoice, call < 8) << call;
-        EXPECT_FALSE(stats.reusedTimedChoice) << call;
-        EXPECT_EQ(stats.estimatedPairs > 0, call == 8) << call;
+        EXPECT_EQ(stats.debug.reusedChoice, call < 8) << call;
+        EXPECT_FALSE(stats.debug.reusedTimedChoice) << call;
+        EXPECT_EQ(stats.debug.estimatedPairs > 0, call == 8) << call;
         EXPECT_EQ(chosen, stats.strategy) << call;
         const HiddenSampleMap expected = reference.sample(source, receiver);
         const ExactJudge judge(worldTriangles(scene), source, receiver);
@@ -539,8 +539,8 @@ TEST(CpuBitmaskSampler, AutoReusesAClearCutChoiceWithoutEstimatingAgain)
     }
     if (CpuBitmaskSampler::simdAvailable()) {   // else both calls take the double kernel
         sampler.sample(source, receiver, {.simd = false}, &stats);
-        EXPECT_FALSE(stats.reusedChoice);
-        EXPECT_GT(stats.estimatedPairs, 0u);
+        EXPECT_FALSE(stats.debug.reusedChoice);
+        EXPECT_GT(stats.debug.estimatedPairs, 0u);
     }
 }
 

@@ -218,8 +218,8 @@ TEST(InnerProxy, KeepsTheSamplersExactAtProductionSizes)
         for (const CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::RayCast, CpuStrategy::Bitmask}) {
             BitmaskStats stats;
             const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = strategy}, &stats);
-            EXPECT_GT(stats.proxyFaces, 0u) << offset;
-            everyFace = stats.proxyFaces;
+            EXPECT_GT(stats.debug.proxyFaces, 0u) << offset;
+            everyFace = stats.debug.proxyFaces;
             EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 2) << offset;
             const Verdict v = judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u));
             EXPECT_EQ(v.nonTie(), 0u) << offset << " " << stats.strategy;
@@ -231,8 +231,8 @@ TEST(InnerProxy, KeepsTheSamplersExactAtProductionSizes)
             BitmaskStats stats;
             const HiddenSampleMap map = sampler.sample(few, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
             const HiddenSampleMap fewExpected = RayCastScene(scene).sample(few, receiver);
-            EXPECT_GT(stats.proxyFaces, 0u) << offset;
-            EXPECT_LT(stats.proxyFaces, everyFace) << offset;
+            EXPECT_GT(stats.debug.proxyFaces, 0u) << offset;
+            EXPECT_LT(stats.debug.proxyFaces, everyFace) << offset;
             EXPECT_GT(stats.proxyBlocked, fewExpected.blockedCount() / 4) << offset;
             const ExactJudge fewJudge(worldTriangles(scene), few, receiver);
             EXPECT_EQ(fewJudge.judge(map, raysToJudge({&map, &fewExpected}, 4096, 3u)).nonTie(), 0u) << offset;
@@ -271,17 +271,17 @@ TEST(InnerProxy, StepsAsideWhenAPatchIsInsideAMeshsBounds)
         const ExactJudge judge(worldTriangles(scene), source, receiver);
         EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 5u)).nonTie(), 0u);
         // Only the statue's proxy: its faces alone.
-        EXPECT_GT(stats.proxyFaces, 0u);
+        EXPECT_GT(stats.debug.proxyFaces, 0u);
         BitmaskStats without;
         sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast, .innerProxy = false}, &without);
-        EXPECT_EQ(without.proxyFaces, 0u);
+        EXPECT_EQ(without.debug.proxyFaces, 0u);
         EXPECT_EQ(without.proxyBlocked, 0u);
     }
     // Both patches inside every statue's bounds: no proxy at all.
     const Patch source = patchAt({-0.3, -0.3, 0.0}, 0.4, 32), receiver = patchAt({-0.2, -0.2, 0.2}, 0.3, 32);
     BitmaskStats stats;
     const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
-    EXPECT_EQ(stats.proxyFaces, 0u);
+    EXPECT_EQ(stats.debug.proxyFaces, 0u);
     const HiddenSampleMap expected = reference.sample(source, receiver);
     const ExactJudge judge(worldTriangles(scene), source, receiver);
     EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 4096, 5u)).nonTie(), 0u);
@@ -306,14 +306,14 @@ TEST(InnerProxy, IsBuiltWhereItPaysAndKeptForUnchangedMeshes)
     const auto check = [&](const Patch& source, std::size_t built, const char* what) {
         BitmaskStats stats;
         const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
-        EXPECT_EQ(stats.proxiesBuilt, built) << what;
+        EXPECT_EQ(stats.debug.proxiesBuilt, built) << what;
         const HiddenSampleMap expected = RayCastScene(scene).sample(source, receiver);
         const ExactJudge judge(worldTriangles(scene), source, receiver);
         EXPECT_EQ(judge.judge(map, raysToJudge({&map, &expected}, 2048, 9u)).nonTie(), 0u) << what;
         return stats;
     };
-    EXPECT_EQ(check(few, 0, "few rays").proxyFaces, 0u);
-    EXPECT_GT(check(large, 2, "first").proxyFaces, 0u);
+    EXPECT_EQ(check(few, 0, "few rays").debug.proxyFaces, 0u);
+    EXPECT_GT(check(large, 2, "first").debug.proxyFaces, 0u);
     EXPECT_GT(check(large, 0, "again").proxyBlocked, 0u);
     scene = sceneWith(0.5, 2.2);
     sampler.setScene(scene);
@@ -379,7 +379,7 @@ TEST(InnerProxy, OpenMeshesKeepTheSamplersExact)
         for (const CpuStrategy strategy : {CpuStrategy::Auto, CpuStrategy::RayCast, CpuStrategy::Bitmask}) {
             BitmaskStats stats;
             const HiddenSampleMap map = sampler.sample(source, receiver, {.strategy = strategy}, &stats);
-            EXPECT_GT(stats.proxyFaces, 0u) << offset;
+            EXPECT_GT(stats.debug.proxyFaces, 0u) << offset;
             EXPECT_GT(stats.proxyBlocked, expected.blockedCount() / 10) << offset;
             const Verdict v = judge.judge(map, raysToJudge({&map, &expected}, 4096, 3u));
             EXPECT_EQ(v.nonTie(), 0u) << offset << " " << stats.strategy;
@@ -431,7 +431,7 @@ TEST(InnerProxy, MeshesWithManyHolesSitOutSmallCalls)
         BitmaskStats stats;
         const HiddenSampleMap map = sampler.sample(*s, receiver, {.strategy = CpuStrategy::RayCast}, &stats);
         if (s == &few)
-            EXPECT_EQ(stats.proxyFaces, 0u);
+            EXPECT_EQ(stats.debug.proxyFaces, 0u);
         else
             EXPECT_GT(stats.proxyBlocked, 0u);
         const HiddenSampleMap expected = RayCastScene(scene).sample(*s, receiver);

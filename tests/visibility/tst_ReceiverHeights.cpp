@@ -283,7 +283,7 @@ TEST(ReceiverHeights, BitmaskMatchesTheReferenceOnRandomScenes)
         const HiddenSampleMap map =
             sampler.sample(c.source, c.receiver, {.strategy = CpuStrategy::Bitmask, .heights = &heights}, &stats);
         EXPECT_EQ(mismatches(map, reference), 0u) << "simd, seed " << seed;
-        floatPairs += stats.floatPairs;
+        floatPairs += stats.debug.floatPairs;
         pairs += stats.pairs;
         differFromEmbree += map.differenceCount(embree);
         const HiddenSampleMap scalar =

@@ -244,20 +244,20 @@ void addTileStats(BitmaskStats& total, const BitmaskStats& tile)
     ++total.receiverTiles;
     total.setupMs += tile.setupMs, total.sampleMs += tile.sampleMs, total.rayMs += tile.rayMs;
     total.trianglesInShaft = std::max(total.trianglesInShaft, tile.trianglesInShaft);
-    total.smallTriangles += tile.smallTriangles, total.pairs += tile.pairs, total.floatPairs += tile.floatPairs;
-    total.floatFallbacks += tile.floatFallbacks, total.raysCast += tile.raysCast, total.provenHits += tile.provenHits;
-    total.exactHitTests += tile.exactHitTests, total.raysConfirmed += tile.raysConfirmed;
-    total.rayFloatMs += tile.rayFloatMs, total.rayConfirmMs += tile.rayConfirmMs;
-    total.rayPackets = total.rayPackets || tile.rayPackets;
-    total.culledFrontFaces += tile.culledFrontFaces, total.proxyFaces += tile.proxyFaces;
-    total.proxyBlocked += tile.proxyBlocked, total.proxyMs += tile.proxyMs, total.proxiesBuilt += tile.proxiesBuilt;
-    total.narrowedAway += tile.narrowedAway, total.tableMs += tile.tableMs;
-    total.estimatedPairs += tile.estimatedPairs, total.estimatedTriangles += tile.estimatedTriangles;
-    total.predictedBitmaskMs += tile.predictedBitmaskMs, total.predictedRayMs += tile.predictedRayMs;
-    total.probed = total.probed || tile.probed;
-    total.probeRayMs += tile.probeRayMs, total.probeBitmaskMs += tile.probeBitmaskMs;
-    total.reusedChoice = total.reusedChoice || tile.reusedChoice;
-    total.reusedTimedChoice = total.reusedTimedChoice || tile.reusedTimedChoice;
+    total.debug.smallTriangles += tile.debug.smallTriangles, total.pairs += tile.pairs, total.debug.floatPairs += tile.debug.floatPairs;
+    total.debug.floatFallbacks += tile.debug.floatFallbacks, total.raysCast += tile.raysCast, total.debug.provenHits += tile.debug.provenHits;
+    total.debug.exactHitTests += tile.debug.exactHitTests, total.debug.raysConfirmed += tile.debug.raysConfirmed;
+    total.debug.rayFloatMs += tile.debug.rayFloatMs, total.debug.rayConfirmMs += tile.debug.rayConfirmMs;
+    total.debug.rayPackets = total.debug.rayPackets || tile.debug.rayPackets;
+    total.debug.culledFrontFaces += tile.debug.culledFrontFaces, total.debug.proxyFaces += tile.debug.proxyFaces;
+    total.proxyBlocked += tile.proxyBlocked, total.debug.proxyMs += tile.debug.proxyMs, total.debug.proxiesBuilt += tile.debug.proxiesBuilt;
+    total.debug.narrowedAway += tile.debug.narrowedAway, total.debug.tableMs += tile.debug.tableMs;
+    total.debug.estimatedPairs += tile.debug.estimatedPairs, total.debug.estimatedTriangles += tile.debug.estimatedTriangles;
+    total.debug.predictedBitmaskMs += tile.debug.predictedBitmaskMs, total.debug.predictedRayMs += tile.debug.predictedRayMs;
+    total.debug.probed = total.debug.probed || tile.debug.probed;
+    total.debug.probeRayMs += tile.debug.probeRayMs, total.debug.probeBitmaskMs += tile.debug.probeBitmaskMs;
+    total.debug.reusedChoice = total.debug.reusedChoice || tile.debug.reusedChoice;
+    total.debug.reusedTimedChoice = total.debug.reusedTimedChoice || tile.debug.reusedTimedChoice;
 }
 
 } // namespace
@@ -372,7 +372,7 @@ private:
         if (!sampler_.table_ || sampler_.table_->width() != options_.tableWidth ||
             sampler_.table_->height() != options_.tableHeight || sampler_.table_->grid() != std::pair(source_.na, source_.nb)) {
             sampler_.table_ = std::make_shared<const HoughMaskTable>(source_.na, source_.nb, options_.tableWidth, options_.tableHeight);
-            local_.tableMs = msSince(tableStart);
+            local_.debug.tableMs = msSince(tableStart);
         }
         table_ = sampler_.table_;
     }
@@ -427,15 +427,15 @@ private:
             if (info.count < kProxyMinTriangles || !proxyApplies(info.triangleBounds, pass))
                 continue;
             const bool build = double(map_.rayCount()) >= kProxyBuildRaysPerTriangle * double(info.count);
-            if (std::shared_ptr<const InnerProxy> proxy = sampler_.innerProxy(i, build, &local_.proxiesBuilt);
+            if (std::shared_ptr<const InnerProxy> proxy = sampler_.innerProxy(i, build, &local_.debug.proxiesBuilt);
                 proxy && !proxy->faces.empty())
                 proxies.push_back(std::move(proxy));
         }
         if (!proxies.empty())
-            local_.proxyFaces = seedFromInnerProxies(proxies, pass, work_.occluders, work_.bins, map_);
-        if (local_.proxyFaces > 0)
+            local_.debug.proxyFaces = seedFromInnerProxies(proxies, pass, work_.occluders, work_.bins, map_);
+        if (local_.debug.proxyFaces > 0)
             local_.proxyBlocked = map_.blockedCount();
-        local_.proxyMs = msSince(proxyStart);
+        local_.debug.proxyMs = msSince(proxyStart);
     }
 
     /// Ray casting: the float pass and the reference's confirmation of the rays it leaves free.
@@ -446,12 +446,12 @@ private:
         raycast::ProvenCastStats cast;
         proven->sampleUnblocked(source_, receiver_, map_, rayOptions, *reference, raycast::CastMode::Auto, &cast);
         local_.raysCast += cast.floatRays;
-        local_.provenHits += cast.provenHits;
-        local_.exactHitTests += cast.exactTests;
-        local_.raysConfirmed += cast.confirmRays;
-        local_.rayFloatMs += cast.floatMs;
-        local_.rayConfirmMs += cast.confirmMs;
-        local_.rayPackets = cast.packets;
+        local_.debug.provenHits += cast.provenHits;
+        local_.debug.exactHitTests += cast.exactTests;
+        local_.debug.raysConfirmed += cast.confirmRays;
+        local_.debug.rayFloatMs += cast.floatMs;
+        local_.debug.rayConfirmMs += cast.confirmMs;
+        local_.debug.rayPackets = cast.packets;
     }
 
     /// A probe measures each method by one thread's processor time (so that other jobs sharing
@@ -493,15 +493,15 @@ private:
             auto& memo = sampler_.probeMemo_;
             if (memo && memo->memo.callsLeft > 0 && similarConfiguration(memo->memo.configuration, configuration())) {
                 --memo->memo.callsLeft;
-                local_.reusedChoice = true;
-                local_.reusedTimedChoice = memo->memo.measured;
+                local_.debug.reusedChoice = true;
+                local_.debug.reusedTimedChoice = memo->memo.measured;
                 plan_ = memo->memo.rays ? Plan::RayCast : Plan::Bitmask;
                 return;
             }
         }
         const PairEstimate estimate = estimatePairs(*shaft_, filter_);
-        local_.estimatedPairs = estimate.pairs;
-        local_.estimatedTriangles = estimate.triangles;
+        local_.debug.estimatedPairs = estimate.pairs;
+        local_.debug.estimatedTriangles = estimate.triangles;
         const CostEstimate cost{.rays = map_.rayCount(), .estimatedPairs = estimate.pairs,
                                 .estimatedTriangles = estimate.triangles, .floatKernel = shaft_->floatKernel,
                                 .bumpy = bumpy_, .receiverSamples = receiver_.sampleCount(),
@@ -510,8 +510,8 @@ private:
                                 .openShare = 1.0 - double(local_.proxyBlocked) / double(map_.rayCount())};
         const CostModel& model = measuredCosts(shaft_->floatKernel);
         plan_ = planFor(cost, model);
-        local_.predictedBitmaskMs = predictedBitmaskMs(cost, model);
-        local_.predictedRayMs = predictedRayMs(cost, model);
+        local_.debug.predictedBitmaskMs = predictedBitmaskMs(cost, model);
+        local_.debug.predictedRayMs = predictedRayMs(cost, model);
         if (plan_ != Plan::Probe)
             remember(plan_ == Plan::RayCast, kProbeReuse, /*measured=*/false);
     }
@@ -528,9 +528,9 @@ private:
         sampler_.wholeSceneCaster(), sampler_.provenCaster();
         const double probeMs = onOneThread([&] { castRays({.jitter = options_.jitter, .receiverSubset = &probe}); });
         local_.rayMs += msSince(probeStart);
-        local_.probed = true;
-        local_.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), std::size_t(receiver_.sampleCount()));
-        if (swappedRaysOrTimeBitmask(local_.predictedBitmaskMs, local_.probeRayMs) == SwappedVerdict::Rays) {
+        local_.debug.probed = true;
+        local_.debug.probeRayMs = swappedRaysWholeMs(probeMs, probe.size(), std::size_t(receiver_.sampleCount()));
+        if (swappedRaysOrTimeBitmask(local_.debug.predictedBitmaskMs, local_.debug.probeRayMs) == SwappedVerdict::Rays) {
             plan_ = Plan::RayCast;
             remember(true, warmGrids_ ? kProbeReuse : 0, /*measured=*/true);
         } else {
@@ -546,7 +546,7 @@ private:
         sampler_.wholeSceneCaster(), sampler_.provenCaster();   // built on first use, counted as setup
         local_.setupMs = msSince(setupStart_);
         const auto rayStart = Clock::now();
-        castRays({.jitter = options_.jitter, .heights = options_.heights, .receiverSubset = local_.probed ? &raySamples_ : nullptr});
+        castRays({.jitter = options_.jitter, .heights = options_.heights, .receiverSubset = local_.debug.probed ? &raySamples_ : nullptr});
         local_.rayMs += msSince(rayStart);
     }
 
@@ -559,7 +559,7 @@ private:
         else
             work_.occluders.prepare(*shaft_, filter_);
         const std::vector<const Occluder*>& occluders = work_.occluders.occluders;
-        local_.culledFrontFaces = work_.occluders.culledFrontFaces;
+        local_.debug.culledFrontFaces = work_.occluders.culledFrontFaces;
         local_.trianglesInShaft = occluders.size();
 
         // Hybrid: the small triangles leave the bitmask pass for a ray pass. With the SIMD kernel
@@ -582,7 +582,7 @@ private:
             i = work_.occluders.triangleOf[i];
         }
         local_.strategy = hybrid ? "hybrid" : "bitmask";
-        local_.smallTriangles = smallTriangles_.size();
+        local_.debug.smallTriangles = smallTriangles_.size();
 
         if (timed_)
             setupThreadMs_ += onOneThread(
@@ -595,9 +595,9 @@ private:
     void addCounts(const TilePassCounts& counts)
     {
         local_.pairs += counts.pairs;
-        local_.floatPairs += counts.floatPairs;
-        local_.floatFallbacks += counts.floatFallbacks;
-        local_.narrowedAway += counts.narrowedAway;
+        local_.debug.floatPairs += counts.floatPairs;
+        local_.debug.floatFallbacks += counts.floatFallbacks;
+        local_.debug.narrowedAway += counts.narrowedAway;
     }
 
     /// A few tiles (probeTilesPerMethod) by bitmask and as many by rays, a batch of each at a time,
@@ -662,7 +662,7 @@ private:
         }
         rest.insert(rest.end(), bitmaskTiles.begin() + std::ptrdiff_t(bitmaskDone), bitmaskTiles.end());
         rest.insert(rest.end(), rayTiles.begin() + std::ptrdiff_t(rayDone), rayTiles.end());
-        local_.probed = true;
+        local_.debug.probed = true;
         const auto [bitmaskPart, rayPart] = parts();
         const ProbeVerdict verdict = probeVerdict(bitmaskPart, rayPart, setupThreadMs_, warmGrids_);
         remember(verdict.memoRays, verdict.memoCalls, /*measured=*/true);
@@ -688,9 +688,9 @@ private:
             return;
         }
         const double passMs = onOneThread([&] { addCounts(bitmaskPass(*shaft_, work_.bins, map_, narrow_)); });
-        local_.probeBitmaskMs = setupThreadMs_ + passMs;
-        const bool rays = swappedMeasuredChoosesRays(local_.probeRayMs, setupThreadMs_, passMs);
-        remember(rays, !warmGrids_ ? 0 : rays ? swappedRaysMemoCalls(local_.probeRayMs, local_.probeBitmaskMs) : kProbeReuse,
+        local_.debug.probeBitmaskMs = setupThreadMs_ + passMs;
+        const bool rays = swappedMeasuredChoosesRays(local_.debug.probeRayMs, setupThreadMs_, passMs);
+        remember(rays, !warmGrids_ ? 0 : rays ? swappedRaysMemoCalls(local_.debug.probeRayMs, local_.debug.probeBitmaskMs) : kProbeReuse,
                  /*measured=*/true);
     }
 

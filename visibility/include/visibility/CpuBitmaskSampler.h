@@ -114,22 +114,13 @@ struct BitmaskOptions {
     const ReceiverHeights* heights = nullptr;
 };
 
-struct BitmaskStats {
-    const char* strategy = "";        ///< "bitmask", "hybrid" or "raycast"
-    bool swappedRoles = false;        ///< sampled with the patches' roles swapped (BitmaskOptions::swapRoles);
-                                      ///< the other counts are the swapped call's
-    int receiverTiles = 1;            ///< receiver tiles sampled one by one, each swapped (times and counts
-                                      ///< summed; "mixed" strategy where they chose differently)
-    double setupMs = 0.0;             ///< clipping, influence regions, binning
-    double sampleMs = 0.0;            ///< backprojection and bit setting
-    double rayMs = 0.0;               ///< ray casting: hybrid's BVH build of the small triangles and
-                                      ///< casts; RayCast's casts
-    std::size_t trianglesInShaft = 0; ///< triangles with a non-empty influence region
-    std::size_t smallTriangles = 0;   ///< hybrid: of those, handled by ray casting
-    std::uint64_t pairs = 0;          ///< (triangle, receiver sample) pairs backprojected
-    std::uint64_t floatPairs = 0;     ///< of those, by the single-precision SIMD kernel
+/// How a call spent its time, in detail: for the benchmarks' breakdowns, the cost model's fitting
+/// (scripts/fit_auto_costs.py) and the tests that check Auto's choices. Callers that only report a
+/// call need BitmaskStats' own fields.
+struct BitmaskDebug {
+    std::size_t smallTriangles = 0;   ///< hybrid: triangles in the shaft handled by ray casting
+    std::uint64_t floatPairs = 0;     ///< pairs backprojected by the single-precision SIMD kernel
     std::uint64_t floatFallbacks = 0; ///< pairs the kernel could not prove exact, sent to double
-    std::uint64_t raysCast = 0;       ///< rays cast (hybrid: against the small triangles)
     std::uint64_t provenHits = 0;     ///< ray casting: float hits proven crossings from Embree's numbers
     std::uint64_t exactHitTests = 0;  ///< ray casting: float hits the proof left to the double test
     std::uint64_t raysConfirmed = 0;  ///< ray casting: rays the float pass left free, cast by the reference
@@ -138,7 +129,6 @@ struct BitmaskStats {
     bool rayPackets = false;          ///< ray casting: closest-hit packets (else occlusion queries with a filter)
     std::size_t culledFrontFaces = 0; ///< watertight front faces skipped
     std::size_t proxyFaces = 0;       ///< inner-proxy faces backprojected (BitmaskOptions::innerProxy)
-    std::uint64_t proxyBlocked = 0;   ///< rays the inner proxies answered, before the strategy ran
     double proxyMs = 0.0;             ///< of setupMs: the inner proxies' pass and builds
     std::size_t proxiesBuilt = 0;     ///< inner proxies built by this call (kept for later calls)
     std::uint64_t narrowedAway = 0;   ///< (triangle, tile) pairs skipped by the narrowed shaft
@@ -152,7 +142,25 @@ struct BitmaskStats {
     /// the bitmask's whole call where it was timed too (0 where not); one thread's ms.
     double probeRayMs = 0.0, probeBitmaskMs = 0.0;
     bool reusedChoice = false;        ///< Auto: took an earlier call's choice, without estimating
-    bool reusedTimedChoice = false;         ///< ... and that choice was timed (a probe's)
+    bool reusedTimedChoice = false;   ///< ... and that choice was timed (a probe's)
+};
+
+/// What a call did, as a caller reports it: the strategy, the time, and the work in the shaft.
+struct BitmaskStats {
+    const char* strategy = "";        ///< "bitmask", "hybrid" or "raycast"
+    bool swappedRoles = false;        ///< sampled with the patches' roles swapped (BitmaskOptions::swapRoles);
+                                      ///< the other counts are the swapped call's
+    int receiverTiles = 1;            ///< receiver tiles sampled one by one, each swapped (times and counts
+                                      ///< summed; "mixed" strategy where they chose differently)
+    double setupMs = 0.0;             ///< clipping, influence regions, binning
+    double sampleMs = 0.0;            ///< backprojection and bit setting
+    double rayMs = 0.0;               ///< ray casting: hybrid's BVH build of the small triangles and
+                                      ///< casts; RayCast's casts
+    std::size_t trianglesInShaft = 0; ///< triangles with a non-empty influence region
+    std::uint64_t pairs = 0;          ///< (triangle, receiver sample) pairs backprojected
+    std::uint64_t raysCast = 0;       ///< rays cast (hybrid: against the small triangles)
+    std::uint64_t proxyBlocked = 0;   ///< rays the inner proxies answered, before the strategy ran
+    BitmaskDebug debug;               ///< how the time was spent, in detail
 };
 
 class CpuBitmaskSampler {
