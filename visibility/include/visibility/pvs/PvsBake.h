@@ -66,7 +66,7 @@ struct PvsSettings {
     int coarseShafts = 16;      ///< sub-shafts per (cell, target) at first (a block: kBlockShafts times more)
     int fineShafts = 512;       ///< sub-shafts per (cell, target) still Unknown after the coarse budget
     double smallestGap = 0.02;  ///< metres: the refine pass splits sub-shafts down to this spread
-    int residueRays = 16384;    ///< default mode: rays per pair over what is left open (ShaftSearch.h)
+    int residueRays = 65536;    ///< default mode: rays per pair over what is left open (ShaftSearch.h)
     int directCellPoints = 8;   ///< direct rays (after the first budget): points of the cell
     int directObjectPoints = 8; ///< direct rays: area-stratified points on the object
     double maxDistance = 0.0;   ///< metres; 0: no distance cut-off
