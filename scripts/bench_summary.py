@@ -5,7 +5,7 @@
 - errors outside ties and tie differences per method, summed over the runs;
 - Auto (`cpu`) against the better of `cpu-bitmask` and `cpu-raycast`, by the medians of the runs'
   thread_ms: how many configurations are within 10%, and every one that is not, with the strategy
-  Auto ran (`variant`; bench records it since 2026-12-04) and whether it is the better one's;
+  Auto ran (`variant`, where the bench recorded it) and whether it is the better one's;
 - where ray casting is the right strategy (`cpu-raycast` faster than `cpu-bitmask`), the tuned
   tracer's time over `cpu-raycast`'s and over `cpu`'s, by scene kind and sample counts;
 - the tuned tracer over `cpu` (Auto) on every scene kind and sample count, worst scene first, and

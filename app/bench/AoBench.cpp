@@ -272,7 +272,7 @@ void benchDemoTexels(const AoBenchArgs& args)
                 levelOccluders.triangleCount(), texels.size(), texel, layout.width, layout.height, setupMs, firstMs, fullMs);
 }
 
-/// As the editor runs it (ui/AoPreview.h): one thread, occluders within 2 m, and the relighter an
+/// As the editor runs it (editor/AoPreview.h): one thread, occluders within 2 m, and the relighter an
 /// environment change uses (its memory is the editor's largest AO cost).
 void benchDemoAsTheEditor(const AoBenchArgs& args)
 {

@@ -1,4 +1,4 @@
-// The editor's AO preview (ui/AoPreview.h) without a window: the whole level, placed objects
+// The editor's AO preview (editor/AoPreview.h) without a window: the whole level, placed objects
 // included, darkens and is darkened; AO of a chosen object gets texels on that object only, at a
 // finer density, the rest of the level still occluding.
 #include <algorithm>

@@ -1,4 +1,4 @@
-// A bare level's first patches (ui/DefaultPatches.h) on levels made elsewhere and on each generated
+// A bare level's first patches (editor/DefaultPatches.h) on levels made elsewhere and on each generated
 // kind: both patches inside the level, 1.5 m over a real floor (the first surface straight below
 // faces up), facing each other across open space with some rays between them unblocked, nothing
 // the placement warnings would call out, and, inside buildings, a ceiling overhead.

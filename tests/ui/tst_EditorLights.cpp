@@ -1,5 +1,5 @@
 // Lights in the editor: placed, moved, edited, undone and saved as the "lights" key
-// (ui/LightObjects.h, EditorDocument), and the lit view (ui/LitPreview.h) whose exact frame is
+// (editor/LightObjects.h, EditorDocument), and the lit view (editor/LitPreview.h) whose exact frame is
 // the reference's irradiance, tone-mapped, also after amortised updates.
 #include <chrono>
 #include <cmath>

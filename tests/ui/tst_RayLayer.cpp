@@ -1,4 +1,4 @@
-// How the viewport draws many rays (ui/RayLayer.h): each ray's opacity from the expected overlap,
+// How the viewport draws many rays (editor/RayLayer.h): each ray's opacity from the expected overlap,
 // the layer's resolution, the rays listed for drawing, and the picture itself: a dense
 // bundle is a haze of the same density at any ray count, never an opaque slab.
 #include <cmath>
