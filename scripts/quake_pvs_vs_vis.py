@@ -5,7 +5,7 @@ leaf's own vis row keeps, and the leaves the cell's row keeps (objects are leave
 both are counted over those). The level's row answers for the whole leaf, the cell's for a 0.3 m box
 in it, so a row as tight as a portal vis is at most the leaf's and usually smaller.
 
-    quake_pvs_vs_vis.py LEVEL.bsp PROJECT.json PVS.json [--json]
+    quake_pvs_vs_vis.py LEVEL.bsp PVS.json [--json]
 
 PVS.json is `pvs bake PROJECT.json --out X.pvs --json PVS.json [--safe]`'s. Prints, over the cells
 in a leaf with a vis row: the mean and median of (cell's row / leaf's row), how many cells keep more
@@ -48,9 +48,9 @@ def vis_row(visdata, offset, visleafs):
 
 
 def main():
-    if len(sys.argv) < 4:
+    if len(sys.argv) < 3:
         raise SystemExit(__doc__)
-    bsp, project_file, pvs_file = sys.argv[1:4]
+    bsp, pvs_file = sys.argv[1:3]
     lump, records = read_bsp(bsp, versions=(29, 30))
     planes = records(1, '<4fi')
     nodes = records(5, '<ihh6hHH')
@@ -78,6 +78,8 @@ def main():
         theirs_only += len(theirs - ours)
         ours_total += len(ours)
         theirs_total += len(theirs)
+    if not ratios:
+        raise SystemExit(f'{pvs_file}: no cell lies in a leaf of {bsp} with a vis row')
     summary = {'cells': len(ratios), 'mean_ratio': statistics.mean(ratios), 'median_ratio': statistics.median(ratios),
                'max_ratio': max(ratios), 'cells_larger_than_their_leaf': larger, 'pairs': ours_total,
                'leaf_pairs': theirs_total, 'pairs_only_in_cells': ours_only, 'pairs_only_in_leaves': theirs_only}

@@ -17,7 +17,7 @@ set(forbidden_project report levelgen demo editor ui app bench cli)
 set(forbidden_report project levelgen demo editor ui app bench cli)
 set(forbidden_levelgen editor ui app bench cli report)
 set(forbidden_editor report levelgen demo ui app bench cli)
-set(forbidden_ui app bench cli)
+set(forbidden_ui levelgen demo app bench cli)
 set(no_qt base visibility lighting project plugins editor)
 
 set(failures "")

@@ -5,15 +5,18 @@ namespace sightline::ui {
 void RestartingWorker::start(Job job)
 {
     cancel();
-    current_.cancel = std::make_shared<std::atomic<bool>>(false);
-    current_.done = std::make_shared<std::atomic<bool>>(false);
-    current_.thread = std::thread([job = std::move(job), cancel = current_.cancel, done = current_.done] {
+    Run run;
+    run.cancel = std::make_shared<std::atomic<bool>>(false);
+    run.done = std::make_shared<std::atomic<bool>>(false);
+    // Kept only once its thread runs: a thread that failed to start leaves nothing to join.
+    run.thread = std::thread([job = std::move(job), cancel = run.cancel, done = run.done] {
         struct Ended {
             std::atomic<bool>& done;
             ~Ended() { done.store(true); }
         } ended{*done};
         job(cancel);
     });
+    current_ = std::move(run);
 }
 
 void RestartingWorker::cancel()
@@ -37,7 +40,8 @@ void RestartingWorker::reap(bool wait)
     std::erase_if(retired_, [wait](Run& run) {
         if (!wait && !run.done->load())
             return false;
-        run.thread.join();
+        if (run.thread.joinable())
+            run.thread.join();
         return true;
     });
 }
