@@ -6,14 +6,12 @@
 // level reusing the bits of the one before (AoComputation). A new start() cancels the running
 // one. Plain C++ (no Qt): the caller decides how an answer reaches its thread.
 
-#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <glm/vec2.hpp>

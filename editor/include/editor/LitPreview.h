@@ -9,7 +9,6 @@
 // indirect light may be added (LitIndirect.h). Plain C++ (no Qt):
 // the caller decides how an answer reaches its thread.
 
-#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -17,7 +16,6 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include <glm/vec2.hpp>
