@@ -3,10 +3,11 @@
 8 m rooms, 3 m high, whose floors, ceilings and walls are tessellated into small quads (as a
 modelling tool's subdivided planes, or a level made for vertex lighting), so that the level holds
 80-100k triangles while its coplanar faces still share one chart each (the demo's dense props give
-every triangle a chart of its own, and no density brings its light map near 100k texels). Walls
-are two faces 0.2 m apart, each facing its room; about 60% of the inner walls have a 1 m x 2 m
-doorway. Every room has a few box props, a lamp and a spot; every third room a ceiling panel.
-Deterministic (seeded).
+every triangle a chart of its own, and no density brings its light map near 100k texels). Each
+room is closed by its own faces (walls 0.2 m thick, each face spanning the room's inside, so that no
+face reaches behind another); about 60% of the inner walls have a doorway of about 1 m x 2 m with
+its sides and lintel. Every room has a few box props, two lamps and a spot; every third room a
+ceiling panel. Deterministic (seeded).
 
     lights_level.py OUTDIR [--rooms N] [--cells C] [--seed S]
 
@@ -22,8 +23,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from quake_pvs_project import glb  # noqa: E402
 
 ROOM, HEIGHT, HALF_WALL = 8.0, 3.0, 0.1
-WALL_CELL = 0.5          # wall quads: 16 x 6 a face
-DOOR_CELLS = (7, 9, 4)   # doorway: columns 7-8 of 16, rows 0-3 of 6 (1 m x 2 m)
+INNER = ROOM - 2 * HALF_WALL   # a room's inside, wall face to wall face
+WALL_COLUMNS, WALL_ROWS = 16, 6
+DOOR_CELLS = (7, 9, 4)         # doorway: columns 7-8 of 16, rows 0-3 of 6 (0.98 m x 2 m)
 
 
 def grid_mesh(name, origin, du, dv, nu, nv, skip=lambda i, j: False):
@@ -53,32 +55,55 @@ def box_mesh(name, lo, hi):
 
 
 def wall_face(name, x, z, along_x, facing, door):
-    """A wall face at the room boundary x (along z) or z (along x), offset HALF_WALL towards
-    `facing` (+1 or -1), its front towards the room."""
-    nu, nv = int(ROOM / WALL_CELL), int(HEIGHT / WALL_CELL)
+    """A room's wall face on the boundary at x (running along z) or at z (running along x),
+    HALF_WALL inside the room (`facing` +1: the room lies on the + side), spanning the room's
+    inside so that no face reaches behind another; its front faces the room."""
+    du, up = INNER / WALL_COLUMNS, (0.0, HEIGHT / WALL_ROWS, 0.0)
     skip = (lambda i, j: DOOR_CELLS[0] <= i < DOOR_CELLS[1] and j < DOOR_CELLS[2]) if door else (lambda i, j: False)
-    up = (0.0, WALL_CELL, 0.0)
-    if along_x:   # the wall runs along x at z; its front is facing * +z
+    lo, hi = HALF_WALL, ROOM - HALF_WALL
+    if along_x:   # the front is facing * +z
         zz = z + facing * HALF_WALL
         if facing > 0:
-            return grid_mesh(name, (x, 0.0, zz), (WALL_CELL, 0.0, 0.0), up, nu, nv, skip)
-        return grid_mesh(name, (x + ROOM, 0.0, zz), (-WALL_CELL, 0.0, 0.0), up, nu, nv, skip)
+            return grid_mesh(name, (x + lo, 0.0, zz), (du, 0.0, 0.0), up, WALL_COLUMNS, WALL_ROWS, skip)
+        return grid_mesh(name, (x + hi, 0.0, zz), (-du, 0.0, 0.0), up, WALL_COLUMNS, WALL_ROWS,
+                         lambda i, j: skip(WALL_COLUMNS - 1 - i, j))
     xx = x + facing * HALF_WALL
     if facing > 0:
-        return grid_mesh(name, (xx, 0.0, z + ROOM), (0.0, 0.0, -WALL_CELL), up, nu, nv, skip)
-    return grid_mesh(name, (xx, 0.0, z), (0.0, 0.0, WALL_CELL), up, nu, nv, skip)
+        return grid_mesh(name, (xx, 0.0, z + hi), (0.0, 0.0, -du), up, WALL_COLUMNS, WALL_ROWS,
+                         lambda i, j: skip(WALL_COLUMNS - 1 - i, j))
+    return grid_mesh(name, (xx, 0.0, z + lo), (0.0, 0.0, du), up, WALL_COLUMNS, WALL_ROWS, skip)
+
+
+def doorway_reveals(name, x, z, along_x):
+    """The doorway's sides and lintel through the wall's thickness (the wall on the boundary at x
+    running along z, or at z running along x), so that no light passes into the wall."""
+    du, height = INNER / WALL_COLUMNS, HEIGHT / WALL_ROWS * DOOR_CELLS[2]
+    a, b = HALF_WALL + DOOR_CELLS[0] * du, HALF_WALL + DOOR_CELLS[1] * du   # along the wall
+    t = 2 * HALF_WALL
+    if along_x:   # across the wall is z
+        return [grid_mesh(f'{name} side', (x + a, 0.0, z + HALF_WALL), (0.0, 0.0, -t), (0.0, height, 0.0), 1, 1),
+                grid_mesh(f'{name} side 2', (x + b, 0.0, z - HALF_WALL), (0.0, 0.0, t), (0.0, height, 0.0), 1, 1),
+                grid_mesh(f'{name} lintel', (x + a, height, z - HALF_WALL), (b - a, 0.0, 0.0), (0.0, 0.0, t), 1, 1)]
+    return [grid_mesh(f'{name} side', (x - HALF_WALL, 0.0, z + a), (t, 0.0, 0.0), (0.0, height, 0.0), 1, 1),
+            grid_mesh(f'{name} side 2', (x + HALF_WALL, 0.0, z + b), (-t, 0.0, 0.0), (0.0, height, 0.0), 1, 1),
+            grid_mesh(f'{name} lintel', (x - HALF_WALL, height, z + a), (t, 0.0, 0.0), (0.0, 0.0, b - a), 1, 1)]
 
 
 def level(rooms, cells, rng):
     meshes, lights = [], []
-    step = ROOM / cells
+    step = INNER / cells
     doors_x = {(i, j): rng.random() < 0.6 for i in range(1, rooms) for j in range(rooms)}   # wall at x = i * ROOM
     doors_z = {(i, j): rng.random() < 0.6 for i in range(rooms) for j in range(1, rooms)}   # wall at z = j * ROOM
     for i in range(rooms):
         for j in range(rooms):
             x, z, tag = i * ROOM, j * ROOM, f'{i}-{j}'
-            meshes.append(grid_mesh(f'floor {tag}', (x, 0.0, z + ROOM), (step, 0.0, 0.0), (0.0, 0.0, -step), cells, cells))
-            meshes.append(grid_mesh(f'ceiling {tag}', (x, HEIGHT, z), (step, 0.0, 0.0), (0.0, 0.0, step), cells, cells))
+            lo, hi = HALF_WALL, ROOM - HALF_WALL
+            meshes.append(grid_mesh(f'floor {tag}', (x + lo, 0.0, z + hi), (step, 0.0, 0.0), (0.0, 0.0, -step), cells, cells))
+            meshes.append(grid_mesh(f'ceiling {tag}', (x + lo, HEIGHT, z + lo), (step, 0.0, 0.0), (0.0, 0.0, step), cells, cells))
+            if i > 0 and doors_x[(i, j)]:
+                meshes += doorway_reveals(f'doorway {tag} west', x, z, False)
+            if j > 0 and doors_z[(i, j)]:
+                meshes += doorway_reveals(f'doorway {tag} south', x, z, True)
             meshes.append(wall_face(f'wall {tag} west', x, z, False, +1, i > 0 and doors_x[(i, j)]))
             meshes.append(wall_face(f'wall {tag} east', x + ROOM, z, False, -1, i + 1 < rooms and doors_x[(i + 1, j)]))
             meshes.append(wall_face(f'wall {tag} south', x, z, True, +1, j > 0 and doors_z[(i, j)]))
@@ -89,7 +114,6 @@ def level(rooms, cells, rng):
                 if abs(px + sx / 2 - x - ROOM / 2) < 1.2 or abs(pz + sz / 2 - z - ROOM / 2) < 1.2:
                     continue   # keep the doorways' lanes clear
                 meshes.append(box_mesh(f'crate {tag} {k}', (px, 0.0, pz), (px + sx, sy, pz + sz)))
-            n = len(lights)
             if (i * rooms + j) % 3 == 0:
                 lights.append({'type': 'area', 'name': f'panel {tag}', 'corner': [x + 3.5, HEIGHT - 0.01, z + 3.5],
                                'u': [1.0, 0.0, 0.0], 'v': [0.0, 0.0, 1.0], 'samples': [4, 4], 'radiance': 30.0,
@@ -101,7 +125,6 @@ def level(rooms, cells, rng):
             lights.append({'type': 'spot', 'name': f'spot {tag}', 'intensity': 10.0, 'range': 10.0,
                            'position': [x + 0.4, 2.6, z + 4.0], 'direction': [0.64, -0.76, 0.1],
                            'inner_angle': 0.3, 'outer_angle': 0.7, 'colour': [1.0, 1.0, 1.0]})
-            assert len(lights) > n
     return meshes, lights
 
 
@@ -109,7 +132,13 @@ def main():
     if len(sys.argv) < 2 or sys.argv[1].startswith('-'):
         raise SystemExit(__doc__)
     out = sys.argv[1]
-    option = lambda name, default: int(sys.argv[sys.argv.index(name) + 1]) if name in sys.argv else default
+    def option(name, default):
+        if name not in sys.argv:
+            return default
+        try:
+            return int(sys.argv[sys.argv.index(name) + 1])
+        except (IndexError, ValueError):
+            raise SystemExit(f'lights_level.py: {name} needs a whole number')
     rooms, cells, seed = option('--rooms', 6), option('--cells', 20), option('--seed', 1)
     if not 1 <= rooms <= 64 or not 1 <= cells <= 200:
         raise SystemExit('lights_level.py: --rooms must be in [1, 64] and --cells in [1, 200]')
