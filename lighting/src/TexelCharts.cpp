@@ -10,6 +10,7 @@
 #include "lighting/ao/AoTexels.h"
 #include "lights/EdgeNeighbours.h"
 #include "NearestOnTriangle.h"
+#include "ShelfAtlas.h"
 #include "base/Error.h"
 
 namespace sightline {
@@ -88,8 +89,15 @@ std::vector<std::int32_t> groupCharts(const AoOccluders& occluders, std::vector<
     return chartOf;
 }
 
-/// The chart's plane frame and its rectangle (texels, with a one-texel border).
-void frameChart(const AoOccluders& occluders, const std::vector<glm::dvec3>& normals, double density, TexelChart& chart)
+/// The chart's rectangle at `density` (texels, with a one-texel border), in double.
+std::pair<double, double> chartSize(const glm::dvec2& extent, double density)
+{
+    return {std::ceil(extent.x * density) + 2.0, std::ceil(extent.y * density) + 2.0};
+}
+
+/// The chart's plane frame and its rectangle (texels, with a one-texel border); returns the
+/// extent it covers in its frame (metres), whatever the density.
+glm::dvec2 frameChart(const AoOccluders& occluders, const std::vector<glm::dvec3>& normals, double density, TexelChart& chart)
 {
     std::uint32_t largest = chart.triangles.front();
     double largestArea = -1.0;
@@ -122,37 +130,12 @@ void frameChart(const AoOccluders& occluders, const std::vector<glm::dvec3>& nor
     }
     chart.origin = base + (lo[0] - 1.0 / density) * chart.axisU + (lo[1] - 1.0 / density) * chart.axisV;
     // In double first: a kilometre chart at a high density must be refused, not wrap an int.
-    const double width = std::ceil((hi[0] - lo[0]) * density) + 2.0, height = std::ceil((hi[1] - lo[1]) * density) + 2.0;
+    const glm::dvec2 extent(hi[0] - lo[0], hi[1] - lo[1]);
+    const auto [width, height] = chartSize(extent, density);
     const bool fits = width <= double(1 << 30) && height <= double(1 << 30) && width * height <= double(std::uint64_t(1) << 40);
     chart.width = fits ? int(width) : -1;
     chart.height = fits ? int(height) : -1;
-}
-
-/// Shelf packing, tallest first, one-texel gutter; returns the atlas's width and height.
-std::pair<int, int> pack(std::vector<TexelChart>& charts, std::uint64_t texels)
-{
-    std::vector<std::size_t> order(charts.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::sort(order.begin(), order.end(), [&](std::size_t l, std::size_t r) {
-        return charts[l].height != charts[r].height ? charts[l].height > charts[r].height : l < r;
-    });
-    int widest = 1;
-    for (const TexelChart& chart : charts)
-        widest = std::max(widest, chart.width + 1);
-    const int atlasWidth = std::max(widest, int(std::ceil(std::sqrt(double(texels) * 1.3))) + 1);
-    int x = 0, y = 0, shelf = 0;
-    for (const std::size_t k : order) {
-        TexelChart& chart = charts[k];
-        if (x + chart.width + 1 > atlasWidth) {
-            x = 0;
-            y += shelf + 1;
-            shelf = 0;
-        }
-        chart.x = x, chart.y = y;
-        x += chart.width + 1;
-        shelf = std::max(shelf, chart.height);
-    }
-    return {atlasWidth, std::max(1, y + shelf)};
+    return extent;
 }
 
 /// The chart's texel points: on a triangle where the centre falls in one, the nearest point of a
@@ -263,25 +246,26 @@ ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoi
     for (std::size_t t = 0; t < layout.chartOf.size(); ++t)
         if (layout.chartOf[t] >= 0)
             layout.charts[std::size_t(layout.chartOf[t])].triangles.push_back(std::uint32_t(t));
-    std::uint64_t texels = 0;
-    const auto refuse = [&](std::uint64_t needed) {
-        const double fit = density * std::sqrt(double(maxPixels) / double(needed) * 0.7);
-        throw Error("--texel " + std::to_string(density) + ": the light map would need more than " + std::to_string(maxPixels >> 20) +
-                    " Mpixels; try --texel " + std::to_string(fit) + " or less");
+    std::vector<glm::dvec2> extents(layout.charts.size());
+    for (std::size_t k = 0; k < layout.charts.size(); ++k)
+        extents[k] = frameChart(occluders, normals, density, layout.charts[k]);
+    // Sized and packed in double before anything is allocated: a huge chart's size wraps nothing.
+    std::vector<atlas::ShelfRect> rects(layout.charts.size());
+    const auto fits = [&](double at) {
+        std::vector<std::pair<double, double>> sizes(extents.size());
+        for (std::size_t k = 0; k < extents.size(); ++k)
+            sizes[k] = chartSize(extents[k], at);
+        return atlas::fitsAtlas(rects, sizes, maxPixels);
     };
-    for (TexelChart& chart : layout.charts) {
-        frameChart(occluders, normals, density, chart);
-        // Refused before anything is allocated: a huge chart's size alone overflows nothing here.
-        if (!(chart.width > 0 && chart.height > 0) || double(chart.width) * double(chart.height) > double(maxPixels))
-            refuse(maxPixels + 1);
+    if (!fits(density))
+        atlas::refuseDensity(density, maxPixels, fits);
+    std::uint64_t texels = 0;
+    for (const TexelChart& chart : layout.charts)
         texels += std::uint64_t(chart.width) * std::uint64_t(chart.height);
-        if (texels > maxPixels)
-            refuse(texels);
-    }
-    const auto [width, height] = pack(layout.charts, texels);
+    const auto [width, height] = atlas::packShelves(rects, texels);
+    for (std::size_t k = 0; k < rects.size(); ++k)
+        layout.charts[k].x = rects[k].x, layout.charts[k].y = rects[k].y;
     layout.width = width, layout.height = height;
-    if (std::uint64_t(width) * std::uint64_t(height) > maxPixels)
-        refuse(std::uint64_t(width) * std::uint64_t(height));
     for (TexelChart& chart : layout.charts) {
         chart.firstPoint = points.size();
         chartPoints(occluders, density, chart, normals, points);

@@ -581,9 +581,24 @@ TEST(AoTexels, DensitiesOutsideTheRangeAreRefused)
         }
         EXPECT_EQ(points.size(), 0u);
     }
-    // The largest density is refused by the atlas limit, not by an overflowing tile size.
+    // The largest density is refused by the atlas limit, not by an overflowing tile size, naming
+    // a density that fits (and is not far below what would).
     AoPoints points;
-    EXPECT_THROW(aoTexelPoints(occluders, kMaxTexelDensity, points, 1u << 20), Error);
+    std::string message;
+    try {
+        aoTexelPoints(occluders, kMaxTexelDensity, points, 1u << 20);
+        ADD_FAILURE() << "the largest density fitted";
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    const std::size_t at = message.find("try --texel ");
+    ASSERT_NE(at, std::string::npos) << message;
+    const double suggested = std::stod(message.substr(at + 12));
+    AoPoints fitting;
+    const AoTexelLayout layout = aoTexelPoints(occluders, suggested, fitting, 1u << 20);
+    EXPECT_LE(std::uint64_t(layout.width) * std::uint64_t(layout.height), 1u << 20);
+    AoPoints more;
+    EXPECT_THROW(aoTexelPoints(occluders, suggested * 1.05, more, 1u << 20), Error);
 }
 
 TEST(AoTexels, GridsCoverEachTriangleAndMapToTheAtlas)

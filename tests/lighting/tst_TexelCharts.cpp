@@ -115,3 +115,38 @@ TEST(TexelCharts, AnEvenlyLitFloorHasNoStepAcrossItsDiagonals)
     EXPECT_GT(mean, 0.0);
     EXPECT_LT(largestBend, 0.002 * mean);
 }
+
+// A density too fine for the atlas is refused naming one that fits: the suggestion is taken
+// (the level keeps that many texels) and a density 5% above it is refused again; where no
+// density fits (every chart keeps its bordered texel), the refusal says so.
+TEST(TexelCharts, ARefusedDensityNamesOneThatFits)
+{
+    const AoOccluders occluders = aoOccluders(floorAndWall(8));
+    constexpr std::uint64_t kPixels = 1u << 14;
+    std::string message;
+    try {
+        AoPoints points;
+        chartTexelPoints(occluders, 500.0, points, kPixels);
+        FAIL() << "500 texels a metre fitted " << kPixels << " pixels";
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    const std::size_t at = message.find("try --texel ");
+    ASSERT_NE(at, std::string::npos) << message;
+    const double suggested = std::stod(message.substr(at + 12));
+    ASSERT_GT(suggested, 0.0);
+    AoPoints points;
+    const ChartLayout layout = chartTexelPoints(occluders, suggested, points, kPixels);
+    EXPECT_LE(std::uint64_t(layout.width) * std::uint64_t(layout.height), kPixels);
+    EXPECT_GT(points.size(), kPixels / 4);   // not a timid suggestion: a good share of the budget
+    AoPoints more;
+    EXPECT_THROW(chartTexelPoints(occluders, suggested * 1.05, more, kPixels), Error);
+    try {
+        AoPoints none;
+        chartTexelPoints(occluders, 1.0, none, 8);   // two charts of at least 3 x 3 texels
+        FAIL() << "8 pixels held two charts";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("at any density"), std::string::npos) << e.what();
+    }
+}
+

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 
 #include "NearestOnTriangle.h"
+#include "ShelfAtlas.h"
 #include "base/Error.h"
 
 namespace sightline {
@@ -44,7 +46,7 @@ AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoin
     layout.density = density;
     const std::size_t nt = occluders.triangleCount();
     layout.tiles.resize(nt);
-    std::uint64_t texels = 0;
+    std::vector<glm::dvec2> extents(nt, glm::dvec2(0.0));   // (0, 0): degenerate, no texels
     for (std::uint32_t t = 0; t < nt; ++t) {
         AoTexelTile& tile = layout.tiles[t];
         tile.triangle = t;
@@ -60,51 +62,30 @@ AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoin
         tile.origin = glm::vec3(a + u0 * u);
         tile.axisU = glm::vec3(u);
         tile.axisV = glm::vec3(v);
-        // Sized in double first: a tile past the limit must not reach an int.
-        const double width = std::max(1.0, std::ceil((u1 - u0) * density)), height = std::max(1.0, std::ceil(cv * density));
-        if (!(width * height <= double(maxPixels))) {
-            texels = maxPixels + 1;
-            break;
-        }
-        tile.width = int(width);
-        tile.height = int(height);
-        texels += std::uint64_t(tile.width) * std::uint64_t(tile.height);
-        if (texels > maxPixels)
-            break;
+        extents[t] = {u1 - u0, cv};
     }
-    // Shelf packing, tallest first, one-texel gutter.
-    std::vector<std::uint32_t> order(nt);
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t l, std::uint32_t r) {
-        return layout.tiles[l].height != layout.tiles[r].height ? layout.tiles[l].height > layout.tiles[r].height : l < r;
-    });
-    int widest = 1;
-    for (const AoTexelTile& tile : layout.tiles)
-        widest = std::max(widest, tile.width + 1);
-    const int atlasWidth = std::max(widest, int(std::ceil(std::sqrt(double(texels) * 1.3))) + 1);
-    int x = 0, y = 0, shelf = 0;
-    for (std::uint32_t t : order) {
-        AoTexelTile& tile = layout.tiles[t];
-        if (tile.width == 0)
-            continue;
-        if (x + tile.width + 1 > atlasWidth) {
-            x = 0;
-            y += shelf + 1;
-            shelf = 0;
-        }
-        tile.x = x;
-        tile.y = y;
-        x += tile.width + 1;
-        shelf = std::max(shelf, tile.height);
+    // Sized and packed in double before anything is allocated: a tile past the limit wraps no int.
+    const auto sizeAt = [&](std::size_t t, double at) {
+        return extents[t].x > 0.0 ? std::pair{std::max(1.0, std::ceil(extents[t].x * at)), std::max(1.0, std::ceil(extents[t].y * at))}
+                                  : std::pair{0.0, 0.0};
+    };
+    std::vector<atlas::ShelfRect> rects(nt);
+    const auto fits = [&](double at) {
+        std::vector<std::pair<double, double>> sizes(nt);
+        for (std::size_t t = 0; t < nt; ++t)
+            sizes[t] = sizeAt(t, at);
+        return atlas::fitsAtlas(rects, sizes, maxPixels);
+    };
+    if (!fits(density))
+        atlas::refuseDensity(density, maxPixels, fits);
+    std::uint64_t texels = 0;
+    for (std::size_t t = 0; t < nt; ++t) {
+        layout.tiles[t].width = rects[t].width, layout.tiles[t].height = rects[t].height;
+        texels += std::uint64_t(rects[t].width) * std::uint64_t(rects[t].height);
     }
-    layout.width = atlasWidth;
-    layout.height = std::max(1, y + shelf);
-    const std::uint64_t pixels = std::uint64_t(layout.width) * std::uint64_t(layout.height);
-    if (texels > maxPixels || pixels > maxPixels) {
-        const double fit = density * std::sqrt(double(maxPixels) / double(std::max(texels, pixels)) * 0.7);
-        throw Error("--texel " + std::to_string(density) + ": the light map would need more than " +
-                    std::to_string(maxPixels >> 20) + " Mpixels; try --texel " + std::to_string(fit) + " or less");
-    }
+    std::tie(layout.width, layout.height) = atlas::packShelves(rects, texels);
+    for (std::size_t t = 0; t < nt; ++t)
+        layout.tiles[t].x = rects[t].x, layout.tiles[t].y = rects[t].y;
     for (AoTexelTile& tile : layout.tiles) {
         tile.firstPoint = points.size();
         if (tile.width == 0)
