@@ -50,7 +50,7 @@ struct ChartLayout {
 /// Charts over every triangle at `density` texels per metre, their texel points appended to
 /// `points`. Throws sightline::Error when checkTexelDensity (lighting/ao/AoTexels.h) refuses the
 /// density, or when the
-/// atlas would exceed `maxPixels` (naming a density that would fit).
+/// atlas would exceed `maxPixels` (naming a density that fits, or saying that none does).
 ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoints& points,
                              std::uint64_t maxPixels = std::uint64_t(1) << 25);
 

@@ -49,7 +49,7 @@ void checkTexelDensity(double density);
 
 /// Texel points of every triangle at `density` texels per metre (points with status Ok, origins
 /// not yet offset). Throws sightline::Error when checkTexelDensity refuses the density, or when
-/// the atlas would exceed `maxPixels` (naming the texel count and a density that would fit).
+/// the atlas would exceed `maxPixels` (naming a density that fits, or saying that none does).
 AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoints& points,
                             std::uint64_t maxPixels = std::uint64_t(1) << 25);
 
