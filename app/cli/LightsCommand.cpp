@@ -145,8 +145,13 @@ TexelBake texelBake(const Scene& scene, double density)
     return bake;
 }
 
+/// The PNG's texels reach this many pixels into the gutters and the space around their charts:
+/// the mip maps an engine builds stay true at the charts' edges for three levels.
+constexpr int kLightmapDilation = 8;
+
 /// The bake's atlas: .npy (H, W, 3) float32 irradiance, NaN where no texel; PNG scaled so that the
-/// 99th percentile of texels' brightest channel is white; glTF with TEXCOORD_1 and the PNG.
+/// 99th percentile of texels' brightest channel is white, dilated kLightmapDilation pixels; glTF
+/// with TEXCOORD_1 and the PNG.
 json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std::vector<glm::dvec3>& irradiance)
 {
     const ChartLayout& layout = bake.layout;
@@ -176,9 +181,13 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
         writeFloatNpy(atlas, {std::size_t(layout.height), std::size_t(layout.width), 3}, args.npy);
     if (!args.lightmap.empty()) {
         std::vector<glm::vec3> image(pixels, glm::vec3(0.0f));
+        std::vector<std::uint8_t> filled(pixels, 0);
         for (std::size_t px = 0; px < pixels; ++px)
-            if (std::isfinite(atlas[3 * px]))
+            if (std::isfinite(atlas[3 * px])) {
                 image[px] = glm::clamp(glm::vec3(atlas[3 * px], atlas[3 * px + 1], atlas[3 * px + 2]) * float(exposure), 0.0f, 1.0f);
+                filled[px] = 1;
+            }
+        dilateAtlas(layout.width, layout.height, image, filled, kLightmapDilation);
         writeAtlasPng(layout.width, layout.height, image, args.lightmap);
     }
     if (!args.gltf.empty()) {
@@ -408,7 +417,7 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                         "Bake a light map instead of --points: the irradiance at DENSITY texels a metre over every "
                         "surface, on charts of connected coplanar faces (--npy: the atlas, shape (H, W, 3), NaN "
                         "where no texel; DENSITY in (0, 1000])");
-    command->add_option("--lightmap", args.lightmap, "--texel: the atlas as a PNG (the 99th percentile white)")->check(outputFile());
+    command->add_option("--lightmap", args.lightmap, "--texel: the atlas as a PNG (the 99th percentile white; texels dilated 8 pixels into the gutters, for mip maps)")->check(outputFile());
     command->add_option("--gltf", args.gltf, "--texel: the level as glTF with TEXCOORD_1 and the --lightmap PNG as its emissive map")
         ->check(outputFile());
     command->add_option("--drag", args.drag,

@@ -273,4 +273,40 @@ ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoi
     return layout;
 }
 
+void dilateAtlas(int width, int height, std::vector<glm::vec3>& pixels, std::vector<std::uint8_t>& filled, int passes)
+{
+    const std::size_t count = std::size_t(width) * std::size_t(height);
+    if (pixels.size() != count || filled.size() != count)
+        throw Error("dilateAtlas: the image and its mask must both hold width x height pixels");
+    std::vector<std::size_t> grown;
+    std::vector<glm::vec3> value;
+    for (int pass = 0; pass < passes; ++pass) {
+        grown.clear(), value.clear();
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const std::size_t px = std::size_t(y) * std::size_t(width) + std::size_t(x);
+                if (filled[px])
+                    continue;
+                glm::vec3 sum(0.0f);
+                int n = 0;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int nx = x + dx, ny = y + dy;
+                        if (nx < 0 || ny < 0 || nx >= width || ny >= height)
+                            continue;
+                        const std::size_t q = std::size_t(ny) * std::size_t(width) + std::size_t(nx);
+                        if (filled[q])
+                            sum += pixels[q], ++n;
+                    }
+                if (n > 0)
+                    grown.push_back(px), value.push_back(sum / float(n));
+            }
+        if (grown.empty())
+            return;
+        // Written after the pass: a pixel filled in this pass feeds only the next one.
+        for (std::size_t k = 0; k < grown.size(); ++k)
+            pixels[grown[k]] = value[k], filled[grown[k]] = 1;
+    }
+}
+
 } // namespace sightline

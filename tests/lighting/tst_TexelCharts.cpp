@@ -150,3 +150,30 @@ TEST(TexelCharts, ARefusedDensityNamesOneThatFits)
     }
 }
 
+// Dilation grows the filled pixels one ring a pass, each new pixel the mean of its filled
+// 8-neighbours; pixels beyond the passes stay unfilled, and filled pixels never change.
+TEST(TexelCharts, DilationFillsOneRingAPassWithTheNeighboursMean)
+{
+    const int w = 9, h = 5;
+    std::vector<glm::vec3> pixels(w * h, glm::vec3(0.0f));
+    std::vector<std::uint8_t> filled(w * h, 0);
+    const auto at = [&](int x, int y) { return std::size_t(y * w + x); };
+    pixels[at(1, 2)] = glm::vec3(1.0f, 0.0f, 0.0f), filled[at(1, 2)] = 1;
+    pixels[at(5, 2)] = glm::vec3(0.0f, 0.0f, 1.0f), filled[at(5, 2)] = 1;
+    dilateAtlas(w, h, pixels, filled, 1);
+    EXPECT_EQ(pixels[at(0, 1)], glm::vec3(1.0f, 0.0f, 0.0f));   // next to the red one only
+    EXPECT_EQ(pixels[at(6, 3)], glm::vec3(0.0f, 0.0f, 1.0f));
+    EXPECT_FALSE(filled[at(3, 2)]);   // two pixels from both: not yet
+    EXPECT_FALSE(filled[at(8, 2)]);
+    dilateAtlas(w, h, pixels, filled, 1);
+    ASSERT_TRUE(filled[at(3, 2)]);
+    EXPECT_EQ(pixels[at(3, 2)], glm::vec3(0.5f, 0.0f, 0.5f));   // between them: the mean of both sides
+    EXPECT_EQ(pixels[at(1, 2)], glm::vec3(1.0f, 0.0f, 0.0f));   // the texels themselves unchanged
+    EXPECT_FALSE(filled[at(8, 2)]);   // three pixels from the blue one
+    dilateAtlas(w, h, pixels, filled, 10);
+    for (std::size_t k = 0; k < filled.size(); ++k)
+        EXPECT_TRUE(filled[k]) << k;
+    std::vector<std::uint8_t> wrong(3, 0);
+    EXPECT_THROW(dilateAtlas(w, h, pixels, wrong, 1), Error);
+}
+

@@ -54,4 +54,11 @@ struct ChartLayout {
 ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoints& points,
                              std::uint64_t maxPixels = std::uint64_t(1) << 25);
 
+/// Dilates an atlas image into the pixels no texel fills (gutters, the empty space between
+/// charts, texels off a chart's surface), `passes` pixels deep: each pass gives every unfilled
+/// pixel with a filled 8-neighbour the mean of those neighbours, so that an engine's mip maps of
+/// the atlas, which average a chart's edge with what lies around it, do not darken the edge.
+/// `filled` (width x height, row-major, like `pixels`) is updated.
+void dilateAtlas(int width, int height, std::vector<glm::vec3>& pixels, std::vector<std::uint8_t>& filled, int passes);
+
 } // namespace sightline
