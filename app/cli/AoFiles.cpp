@@ -5,6 +5,7 @@
 #include <cstring>
 #include <sstream>
 
+#include <glm/geometric.hpp>
 #include <tiny_gltf.h>
 
 #include "base/AtomicFile.h"
@@ -63,7 +64,47 @@ int addPositions(tinygltf::Model& model, const std::vector<glm::vec3>& positions
     return index;
 }
 
-void saveModel(tinygltf::Model& model, tinygltf::Primitive primitive, const std::filesystem::path& file)
+/// The rotation (x, y, z, w) that turns -Z onto the unit vector `to`: a light node's, whose light
+/// shines along its -Z.
+std::vector<double> rotationFromMinusZ(const glm::dvec3& to)
+{
+    const glm::dvec3 from(0.0, 0.0, -1.0);
+    const double w = 1.0 + glm::dot(from, to);
+    if (w < 1e-12)
+        return {1.0, 0.0, 0.0, 0.0};   // opposite: half a turn about X
+    const glm::dvec3 axis = glm::cross(from, to);
+    const double norm = std::sqrt(w * w + glm::dot(axis, axis));
+    return {axis.x / norm, axis.y / norm, axis.z / norm, w / norm};
+}
+
+/// The lights as KHR_lights_punctual (tinygltf writes the model's list and extensionsUsed), a node
+/// each under the scene.
+void addLights(tinygltf::Model& model, const std::vector<PunctualLight>& lights)
+{
+    for (const PunctualLight& light : lights) {
+        tinygltf::Light out;
+        out.name = light.name;
+        out.type = light.type;
+        out.color = {light.colour.x, light.colour.y, light.colour.z};
+        out.intensity = light.intensity;
+        out.range = light.range;
+        if (light.type == "spot")
+            out.spot.innerConeAngle = light.innerAngle, out.spot.outerConeAngle = light.outerAngle;
+        tinygltf::Node node;
+        node.name = light.name;
+        node.translation = {light.position.x, light.position.y, light.position.z};
+        if (light.type != "point")
+            node.rotation = rotationFromMinusZ(light.direction);
+        node.extensions["KHR_lights_punctual"] =
+            tinygltf::Value(tinygltf::Value::Object{{"light", tinygltf::Value(int(model.lights.size()))}});
+        model.lights.push_back(out);
+        model.scenes[0].nodes.push_back(int(model.nodes.size()));
+        model.nodes.push_back(node);
+    }
+}
+
+void saveModel(tinygltf::Model& model, tinygltf::Primitive primitive, const std::filesystem::path& file,
+               const std::vector<PunctualLight>& lights = {})
 {
     model.asset.version = "2.0";
     model.asset.generator = "Sightline (sightline-cli ao)";
@@ -81,6 +122,7 @@ void saveModel(tinygltf::Model& model, tinygltf::Primitive primitive, const std:
     scene.nodes.push_back(0);
     model.scenes.push_back(scene);
     model.defaultScene = 0;
+    addLights(model, lights);
     std::string ext = file.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     if (ext != ".glb" && ext != ".gltf")
@@ -167,7 +209,7 @@ void writeColouredGltf(const AoOccluders& occluders, const std::vector<glm::vec3
 }
 
 void writeLightmappedGltf(const AoOccluders& occluders, const std::vector<glm::vec2>& cornerUvs, const std::string& lightmapUri,
-                          const std::filesystem::path& file, LightmapUse use)
+                          const std::filesystem::path& file, LightmapUse use, const std::vector<PunctualLight>& lights)
 {
     if (occluders.indices.empty())
         throw Error(file.string() + ": nothing to write (no triangles)");
@@ -213,7 +255,7 @@ void writeLightmappedGltf(const AoOccluders& occluders, const std::vector<glm::v
     }
     model.materials.push_back(material);
     primitive.material = 0;
-    saveModel(model, primitive, file);
+    saveModel(model, primitive, file, lights);
 }
 
 void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& layout, const std::string& lightmapUri,

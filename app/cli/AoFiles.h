@@ -16,6 +16,7 @@
 
 #include "lighting/ao/AoGeometry.h"
 #include "lighting/ao/AoTexels.h"
+#include "plugins/GltfLights.h"
 
 namespace sightline::cli {
 
@@ -30,9 +31,11 @@ void writeColouredGltf(const AoOccluders& occluders, const std::vector<glm::vec3
 /// (emissiveTexture over a black base colour: glTF has no light-map slot).
 enum class LightmapUse { Occlusion, Emissive };
 /// glTF with a baked map: every triangle's corners unshared, TEXCOORD_1 from `cornerUvs` (three a
-/// triangle, in order), a material using the PNG `lightmapUri` (relative to the glTF) as `use` says.
+/// triangle, in order), a material using the PNG `lightmapUri` (relative to the glTF) as `use` says;
+/// `lights` as KHR_lights_punctual, one node each (at its position, its -Z along its direction), as
+/// the importer reads them (plugins/GltfLights.h).
 void writeLightmappedGltf(const AoOccluders& occluders, const std::vector<glm::vec2>& cornerUvs, const std::string& lightmapUri,
-                          const std::filesystem::path& file, LightmapUse use);
+                          const std::filesystem::path& file, LightmapUse use, const std::vector<PunctualLight>& lights = {});
 /// The AO light map's glTF: TEXCOORD_1 from `layout`, the occlusionTexture.
 void writeLightmappedGltf(const AoOccluders& occluders, const AoTexelLayout& layout, const std::string& lightmapUri,
                           const std::filesystem::path& file);

@@ -152,7 +152,30 @@ constexpr int kLightmapDilation = 8;
 /// The bake's atlas: .npy (H, W, 3) float32 irradiance, NaN where no texel; PNG scaled so that the
 /// 99th percentile of texels' brightest channel is white, dilated kLightmapDilation pixels; glTF
 /// with TEXCOORD_1 and the PNG.
-json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std::vector<glm::dvec3>& irradiance)
+/// The lights a glTF can carry (KHR_lights_punctual has no area lights), named as the messages name them.
+std::vector<PunctualLight> punctualLights(const std::vector<Light>& lights)
+{
+    std::vector<PunctualLight> out;
+    for (std::size_t l = 0; l < lights.size(); ++l) {
+        const Light& light = lights[l];
+        if (light.type == LightType::Area)
+            continue;
+        PunctualLight p;
+        p.type = light.type == LightType::Point ? "point" : light.type == LightType::Spot ? "spot" : "directional";
+        p.name = displayName(lights, l);
+        p.colour = light.colour;
+        p.intensity = light.intensity;
+        p.range = light.type == LightType::Directional ? 0.0 : light.range;
+        p.innerAngle = light.innerAngle, p.outerAngle = light.outerAngle;
+        p.position = light.position;
+        p.direction = light.direction;
+        out.push_back(p);
+    }
+    return out;
+}
+
+json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std::vector<glm::dvec3>& irradiance,
+                       const std::vector<Light>& lights)
 {
     const ChartLayout& layout = bake.layout;
     std::vector<std::size_t> pixelOf(bake.texels.size(), 0);   // texel -> atlas pixel
@@ -197,13 +220,21 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
                 uvs.push_back(layout.uv(bake.occluders, t, c));
         const std::filesystem::path png = std::filesystem::absolute(args.lightmap);
         const std::string uri = std::filesystem::relative(png, std::filesystem::absolute(args.gltf).parent_path()).generic_string();
-        writeLightmappedGltf(bake.occluders, uvs, uri, args.gltf, LightmapUse::Emissive);
+        const std::vector<PunctualLight> punctual = punctualLights(lights);
+        writeLightmappedGltf(bake.occluders, uvs, uri, args.gltf, LightmapUse::Emissive, punctual);
+        if (punctual.size() < lights.size())
+            std::fprintf(stderr, "note: %s holds the %zu point, spot and directional lights; its %zu area lights have no "
+                                 "KHR_lights_punctual counterpart and are baked into the light map only\n",
+                         args.gltf.c_str(), punctual.size(), lights.size() - punctual.size());
     }
-    return {{"density", args.texel},
-            {"atlas", {layout.width, layout.height}},
-            {"charts", layout.charts.size()},
-            {"texels", bake.points.size()},
-            {"exposure", exposure}};
+    json out = {{"density", args.texel},
+                {"atlas", {layout.width, layout.height}},
+                {"charts", layout.charts.size()},
+                {"texels", bake.points.size()},
+                {"exposure", exposure}};
+    if (!args.gltf.empty())
+        out["gltf_lights"] = punctualLights(lights).size();
+    return out;
 }
 
 /// One bounce of VPLs added to `total` (lighting/Indirect.h); with --indirect-reference, the
@@ -418,7 +449,7 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                         "surface, on charts of connected coplanar faces (--npy: the atlas, shape (H, W, 3), NaN "
                         "where no texel; DENSITY in (0, 1000])");
     command->add_option("--lightmap", args.lightmap, "--texel: the atlas as a PNG (the 99th percentile white; texels dilated 8 pixels into the gutters, for mip maps)")->check(outputFile());
-    command->add_option("--gltf", args.gltf, "--texel: the level as glTF with TEXCOORD_1 and the --lightmap PNG as its emissive map")
+    command->add_option("--gltf", args.gltf, "--texel: the level as glTF with TEXCOORD_1, the --lightmap PNG as its emissive map and its point, spot and directional lights (KHR_lights_punctual)")
         ->check(outputFile());
     command->add_option("--drag", args.drag,
                         "Also time N frames of a designer dragging the first point or spot light 5 cm a frame, each "
@@ -620,7 +651,7 @@ void writeIrradiance(const LightsArgs& args, const Project& project, const std::
     if (!total.empty())
         run.mean /= double(total.size());
     if (run.bake) {
-        run.texelJson = writeTexelOutputs(args, *run.bake, total);
+        run.texelJson = writeTexelOutputs(args, *run.bake, total, run.lights);
     } else if (!args.npy.empty()) {
         const std::vector<std::size_t> shape = run.onReceiver
                                                    ? std::vector<std::size_t>{std::size_t(project.receiver.nb), std::size_t(project.receiver.na), 3}

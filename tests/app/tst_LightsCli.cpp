@@ -513,6 +513,39 @@ TEST_F(LightsCli, SetsServedByABakedPvs)
     EXPECT_NE(bad.err.find("--pvs needs --sets"), std::string::npos) << bad.err;
 }
 
+// The baked level's glTF carries its point, spot and directional lights (KHR_lights_punctual; the
+// area light has no counterpart and is named in a note): a project on that file with no "lights"
+// reads them back, and lights the receiver as the original lights less the area light do.
+TEST_F(LightsCli, TheBakedGltfCarriesThePunctualLightsBack)
+{
+    write("p.json", project(lights()));
+    const CliRun bake = runCli("lights " + (folder / "p.json").string() + " --texel 4 --json --lightmap " +
+                               (folder / "lm.png").string() + " --gltf " + (folder / "lit.glb").string());
+    ASSERT_EQ(bake.code, 0) << bake.err;
+    EXPECT_EQ(json::parse(bake.out)["texel"]["gltf_lights"], 3);
+    EXPECT_NE(bake.err.find("1 area lights have no KHR_lights_punctual counterpart"), std::string::npos) << bake.err;
+    json back = project(lights());
+    back.erase("lights");
+    back["scene"] = "lit.glb";
+    write("back.json", back);
+    json punctual = lights();
+    punctual.erase(0);   // the area light
+    write("punctual.json", project(punctual));
+    const CliRun read = runCli("lights " + (folder / "back.json").string() + " --json --npy " + (folder / "back.npy").string());
+    ASSERT_EQ(read.code, 0) << read.err;
+    EXPECT_EQ(json::parse(read.out)["lights"], 3);
+    const CliRun direct = runCli("lights " + (folder / "punctual.json").string() + " --npy " + (folder / "direct.npy").string());
+    ASSERT_EQ(direct.code, 0) << direct.err;
+    const Npy a = readNpy(folder / "back.npy"), b = readNpy(folder / "direct.npy");
+    ASSERT_EQ(a.values.size(), b.values.size());
+    std::size_t lit = 0;
+    for (std::size_t k = 0; k < a.values.size(); ++k) {
+        EXPECT_NEAR(a.values[k], b.values[k], 1e-4 * std::max(1.0f, std::abs(b.values[k]))) << k;
+        lit += b.values[k] > 0.0f;
+    }
+    EXPECT_GT(lit, a.values.size() / 2);
+}
+
 TEST_F(LightsCli, TexelBakesALightMapOnCharts)
 {
     write("p.json", project(lights()));
