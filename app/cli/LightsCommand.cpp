@@ -149,9 +149,6 @@ TexelBake texelBake(const Scene& scene, double density)
 /// the mip maps an engine builds stay true at the charts' edges for three levels.
 constexpr int kLightmapDilation = 8;
 
-/// The bake's atlas: .npy (H, W, 3) float32 irradiance, NaN where no texel; PNG scaled so that the
-/// 99th percentile of texels' brightest channel is white, dilated kLightmapDilation pixels; glTF
-/// with TEXCOORD_1 and the PNG.
 /// The lights a glTF can carry (KHR_lights_punctual has no area lights), named as the messages name them.
 std::vector<PunctualLight> punctualLights(const std::vector<Light>& lights)
 {
@@ -174,6 +171,9 @@ std::vector<PunctualLight> punctualLights(const std::vector<Light>& lights)
     return out;
 }
 
+/// The bake's atlas: .npy (H, W, 3) float32 irradiance, NaN where no texel; PNG scaled so that the
+/// 99th percentile of texels' brightest channel is white, dilated kLightmapDilation pixels; glTF
+/// with TEXCOORD_1, the PNG and the lights KHR_lights_punctual can carry.
 json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std::vector<glm::dvec3>& irradiance,
                        const std::vector<Light>& lights)
 {
@@ -223,7 +223,7 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
         const std::vector<PunctualLight> punctual = punctualLights(lights);
         writeLightmappedGltf(bake.occluders, uvs, uri, args.gltf, LightmapUse::Emissive, punctual);
         if (punctual.size() < lights.size())
-            std::fprintf(stderr, "note: %s holds the %zu point, spot and directional lights; its %zu area lights have no "
+            std::fprintf(stderr, "sightline-cli: note: %s holds the %zu point, spot and directional lights; its %zu area lights have no "
                                  "KHR_lights_punctual counterpart and are baked into the light map only\n",
                          args.gltf.c_str(), punctual.size(), lights.size() - punctual.size());
     }
