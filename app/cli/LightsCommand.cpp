@@ -213,6 +213,11 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
         dilateAtlas(layout.width, layout.height, image, filled, kLightmapDilation);
         writeAtlasPng(layout.width, layout.height, image, args.lightmap);
     }
+    json out = {{"density", args.texel},
+                {"atlas", {layout.width, layout.height}},
+                {"charts", layout.charts.size()},
+                {"texels", bake.points.size()},
+                {"exposure", exposure}};
     if (!args.gltf.empty()) {
         std::vector<glm::vec2> uvs;
         for (std::uint32_t t = 0; t < bake.occluders.triangleCount(); ++t)
@@ -226,14 +231,8 @@ json writeTexelOutputs(const LightsArgs& args, const TexelBake& bake, const std:
             std::fprintf(stderr, "sightline-cli: note: %s holds the %zu point, spot and directional lights; its %zu area lights have no "
                                  "KHR_lights_punctual counterpart and are baked into the light map only\n",
                          args.gltf.c_str(), punctual.size(), lights.size() - punctual.size());
+        out["gltf_lights"] = punctual.size();
     }
-    json out = {{"density", args.texel},
-                {"atlas", {layout.width, layout.height}},
-                {"charts", layout.charts.size()},
-                {"texels", bake.points.size()},
-                {"exposure", exposure}};
-    if (!args.gltf.empty())
-        out["gltf_lights"] = punctualLights(lights).size();
     return out;
 }
 

@@ -11,6 +11,9 @@
 
 namespace sightline::atlas {
 
+namespace {
+
+/// Shelf packing as packWithin describes it, for rectangles already sized; `texels`: their area.
 std::pair<int, int> packShelves(std::span<ShelfRect> rects, std::uint64_t texels)
 {
     std::vector<std::size_t> order(rects.size());
@@ -39,22 +42,8 @@ std::pair<int, int> packShelves(std::span<ShelfRect> rects, std::uint64_t texels
     return {atlasWidth, std::max(1, y + shelf)};
 }
 
-bool fitsAtlas(std::span<ShelfRect> rects, std::span<const std::pair<double, double>> sizes, std::uint64_t maxPixels)
-{
-    double texels = 0.0;
-    for (std::size_t k = 0; k < rects.size(); ++k) {
-        const auto [width, height] = sizes[k];
-        if (!(width * height <= double(maxPixels)))
-            return false;
-        texels += width * height;
-        if (texels > double(maxPixels))
-            return false;
-        rects[k].width = int(width), rects[k].height = int(height);
-    }
-    const auto [width, height] = packShelves(rects, std::uint64_t(texels));
-    return std::uint64_t(width) * std::uint64_t(height) <= maxPixels;
-}
-
+/// The largest density below `density` at which `fits` holds, within 0.1% (bisection; fits must
+/// be monotone), or 0 when none does, not even a billionth of `density`.
 double largestFittingDensity(double density, const std::function<bool(double)>& fits)
 {
     double low = density * 1e-9, high = density;
@@ -65,6 +54,27 @@ double largestFittingDensity(double density, const std::function<bool(double)>& 
         (fits(mid) ? low : high) = mid;
     }
     return low;
+}
+
+} // namespace
+
+std::optional<std::pair<int, int>> packWithin(std::span<ShelfRect> rects, std::span<const std::pair<double, double>> sizes,
+                                              std::uint64_t maxPixels)
+{
+    double texels = 0.0;
+    for (std::size_t k = 0; k < rects.size(); ++k) {
+        const auto [width, height] = sizes[k];
+        if (!(width * height <= double(maxPixels)))
+            return std::nullopt;
+        texels += width * height;
+        if (texels > double(maxPixels))
+            return std::nullopt;
+        rects[k].width = int(width), rects[k].height = int(height);
+    }
+    const std::pair<int, int> atlas = packShelves(rects, std::uint64_t(texels));
+    if (std::uint64_t(atlas.first) * std::uint64_t(atlas.second) > maxPixels)
+        return std::nullopt;
+    return atlas;
 }
 
 void refuseDensity(double density, std::uint64_t maxPixels, const std::function<bool(double)>& fits)

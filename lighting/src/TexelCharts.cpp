@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <tuple>
 
 #include <glm/geometric.hpp>
 
@@ -251,21 +252,18 @@ ChartLayout chartTexelPoints(const AoOccluders& occluders, double density, AoPoi
         extents[k] = frameChart(occluders, normals, density, layout.charts[k]);
     // Sized and packed in double before anything is allocated: a huge chart's size wraps nothing.
     std::vector<atlas::ShelfRect> rects(layout.charts.size());
-    const auto fits = [&](double at) {
+    const auto packAt = [&](double at) {
         std::vector<std::pair<double, double>> sizes(extents.size());
         for (std::size_t k = 0; k < extents.size(); ++k)
             sizes[k] = chartSize(extents[k], at);
-        return atlas::fitsAtlas(rects, sizes, maxPixels);
+        return atlas::packWithin(rects, sizes, maxPixels);
     };
-    if (!fits(density))
-        atlas::refuseDensity(density, maxPixels, fits);
-    std::uint64_t texels = 0;
-    for (const TexelChart& chart : layout.charts)
-        texels += std::uint64_t(chart.width) * std::uint64_t(chart.height);
-    const auto [width, height] = atlas::packShelves(rects, texels);
+    const auto packed = packAt(density);
+    if (!packed)
+        atlas::refuseDensity(density, maxPixels, [&](double at) { return packAt(at).has_value(); });
     for (std::size_t k = 0; k < rects.size(); ++k)
         layout.charts[k].x = rects[k].x, layout.charts[k].y = rects[k].y;
-    layout.width = width, layout.height = height;
+    std::tie(layout.width, layout.height) = *packed;
     for (TexelChart& chart : layout.charts) {
         chart.firstPoint = points.size();
         chartPoints(occluders, density, chart, normals, points);

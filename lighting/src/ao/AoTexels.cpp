@@ -69,22 +69,20 @@ AoTexelLayout aoTexelPoints(const AoOccluders& occluders, double density, AoPoin
                                   : std::pair{0.0, 0.0};
     };
     std::vector<atlas::ShelfRect> rects(nt);
-    const auto fits = [&](double at) {
+    const auto packAt = [&](double at) {
         std::vector<std::pair<double, double>> sizes(nt);
         for (std::size_t t = 0; t < nt; ++t)
             sizes[t] = sizeAt(t, at);
-        return atlas::fitsAtlas(rects, sizes, maxPixels);
+        return atlas::packWithin(rects, sizes, maxPixels);
     };
-    if (!fits(density))
-        atlas::refuseDensity(density, maxPixels, fits);
-    std::uint64_t texels = 0;
+    const auto packed = packAt(density);
+    if (!packed)
+        atlas::refuseDensity(density, maxPixels, [&](double at) { return packAt(at).has_value(); });
     for (std::size_t t = 0; t < nt; ++t) {
-        layout.tiles[t].width = rects[t].width, layout.tiles[t].height = rects[t].height;
-        texels += std::uint64_t(rects[t].width) * std::uint64_t(rects[t].height);
+        AoTexelTile& tile = layout.tiles[t];
+        tile.width = rects[t].width, tile.height = rects[t].height, tile.x = rects[t].x, tile.y = rects[t].y;
     }
-    std::tie(layout.width, layout.height) = atlas::packShelves(rects, texels);
-    for (std::size_t t = 0; t < nt; ++t)
-        layout.tiles[t].x = rects[t].x, layout.tiles[t].y = rects[t].y;
+    std::tie(layout.width, layout.height) = *packed;
     for (AoTexelTile& tile : layout.tiles) {
         tile.firstPoint = points.size();
         if (tile.width == 0)
