@@ -617,8 +617,10 @@ json compareExactPaths(const LightsArgs& args, const LightingScene& lighting, co
     std::size_t differing = 0;
     const double worst = largestRelativeDifference(irradiance, second, &differing);
     const double fastMs = args.reference ? otherStats.ms : run.stats.ms, referenceMs = args.reference ? run.stats.ms : otherStats.ms;
-    // The float baseline, warmed as the exact paths were (its scene built, a first small call).
+    // The float baseline, warmed as the exact paths were: its scene built (a first small call
+    // need not cast a ray), then a first small call.
     const DirectLightOptions user{.path = LightingPath::EmbreeFloat, .threads = args.threads};
+    lighting.floatRays();
     directIrradiance(lighting, run.lights, std::span<const ShadingPoint>(run.points.data(), std::min<std::size_t>(run.points.size(), 256)), user);
     DirectLightStats userStats;
     const std::vector<glm::dvec3> floatAnswer = directIrradiance(lighting, run.lights, run.points, user, &userStats);

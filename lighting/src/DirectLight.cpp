@@ -32,14 +32,15 @@ constexpr std::size_t kMaxCutEntries = 512;
 
 /// What each task reuses between calls.
 struct Scratch {
-    std::vector<glm::dvec3> ends;
+    glm::dvec3 from{0.0};                  ///< the segments' shared start, where `starts` is empty
+    std::vector<glm::dvec3> starts, ends;
     std::vector<double> weights;
-    std::vector<std::uint32_t> index;
+    std::vector<std::uint32_t> point;      ///< each segment's point, in its run
     std::vector<std::uint8_t> blocked;
 
     void clear()
     {
-        ends.clear(), weights.clear(), index.clear();
+        starts.clear(), ends.clear(), weights.clear(), point.clear();
     }
 };
 
@@ -73,38 +74,56 @@ struct Run {
         cast += c;
     }
 
-    /// Every emitter of every light at each point, cast from the point: by the contract's test, or
-    /// (`embreeFloat`) as Embree's float rays alone.
+    /// Every emitter of every light at each point, by the contract's test, or (`embreeFloat`) as
+    /// Embree's float rays alone. Points go in runs and each light's segments to a run's points are
+    /// cast together from the light (a directional light's from each point): coherent packets,
+    /// where a fan from one point to every light is not. Each point still sums its terms in the
+    /// emitters' order.
     void reference(const std::vector<Emitter>& emitters, bool embreeFloat)
     {
+        constexpr std::size_t kRun = 32;
         std::vector<EmitterTerm> termOf;
         for (const Light& light : lights)
             termOf.emplace_back(light);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 16), [&](const auto& range) {
+        const auto castRun = [&](const Scratch& s, std::uint8_t* blocked) {
+            if (!s.starts.empty())
+                embreeFloat ? scene.floatRays().blocked(s.starts, s.ends, blocked) : scene.rays().segmentsBlocked(s.starts, s.ends, blocked);
+            else if (!s.ends.empty())
+                embreeFloat ? scene.floatRays().blocked(s.from, s.ends, blocked) : scene.rays().segmentsBlocked(s.from, s.ends, blocked);
+        };
+        const std::size_t runs = (points.size() + kRun - 1) / kRun;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs, 1), [&](const auto& range) {
             Scratch& s = scratch;
-            for (std::size_t j = range.begin(); j != range.end(); ++j) {
-                const ShadingPoint& p = points[j];
-                s.clear();
+            for (std::size_t r = range.begin(); r != range.end(); ++r) {
+                const std::size_t first = r * kRun, last = std::min(points.size(), first + kRun);
+                glm::dvec3 sum[kRun] = {};
+                std::uint64_t runTerms = 0;
                 for (const Emitter& e : emitters) {
                     const Light& light = lights[e.light];
-                    const double w = termOf[e.light](e.position, p.position, p.normal);
-                    if (!(w > 0.0))
-                        continue;
-                    s.ends.push_back(light.type == LightType::Directional ? scene.reach().end(light, p.position) : e.position);
-                    s.weights.push_back(w);
-                    s.index.push_back(e.light);
+                    const bool directional = light.type == LightType::Directional;
+                    s.clear();
+                    s.from = e.position;
+                    for (std::size_t j = first; j < last; ++j) {
+                        const ShadingPoint& p = points[j];
+                        const double w = termOf[e.light](e.position, p.position, p.normal);
+                        if (!(w > 0.0))
+                            continue;
+                        if (directional)
+                            s.starts.push_back(p.position);
+                        s.ends.push_back(directional ? scene.reach().end(light, p.position) : p.position);
+                        s.weights.push_back(w);
+                        s.point.push_back(std::uint32_t(j - first));
+                    }
+                    s.blocked.resize(s.ends.size());
+                    castRun(s, s.blocked.data());
+                    for (std::size_t k = 0; k < s.ends.size(); ++k)
+                        if (!s.blocked[k])
+                            sum[s.point[k]] += light.colour * s.weights[k];
+                    runTerms += s.ends.size();
                 }
-                s.blocked.resize(s.ends.size());
-                if (embreeFloat)
-                    scene.floatRays().blocked(p.position, s.ends, s.blocked.data());
-                else
-                    scene.rays().segmentsBlocked(p.position, s.ends, s.blocked.data());
-                glm::dvec3 sum(0.0);
-                for (std::size_t k = 0; k < s.ends.size(); ++k)
-                    if (!s.blocked[k])
-                        sum += lights[s.index[k]].colour * s.weights[k];
-                sums[j] = sum;
-                addTerms(s.ends.size(), s.ends.size());
+                for (std::size_t j = first; j < last; ++j)
+                    sums[j] = sum[j - first];
+                addTerms(runTerms, runTerms);
             }
         });
     }

@@ -26,6 +26,8 @@ public:
     /// blocked[k] = 1 where Embree's float ray start -> ends[k] meets a triangle, t in [1e-4, 1 - 1e-4].
     /// Thread-safe.
     void blocked(const glm::dvec3& start, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const;
+    /// Likewise for starts[k] -> ends[k]; throws sightline::Error unless there are as many of each.
+    void blocked(std::span<const glm::dvec3> starts, std::span<const glm::dvec3> ends, std::uint8_t* blocked) const;
 
 private:
     struct Embree;
