@@ -30,17 +30,19 @@ namespace {
 /// Entries a tile's light cut may hold (LightTree::cut stops splitting there).
 constexpr std::size_t kMaxCutEntries = 512;
 
-/// What each task reuses between calls.
+/// What each task of the reference reuses between tiles.
 struct Scratch {
     glm::dvec3 from{0.0};                  ///< the segments' shared start, where `starts` is empty
-    std::vector<glm::dvec3> starts, ends;
-    std::vector<double> weights;
-    std::vector<std::uint32_t> point;      ///< each segment's point, in its run
-    std::vector<std::uint8_t> blocked;
+    std::vector<glm::dvec3> starts, ends;  ///< one cast's segments
+    std::vector<std::uint32_t> point;      ///< each segment's point (or emitter), in the tile
+    std::vector<std::uint8_t> answer;      ///< the cast's answer
+    std::vector<double> weights;           ///< [emitter][point of the tile]
+    std::vector<std::uint8_t> blocked;     ///< likewise
+    std::vector<std::uint32_t> later;      ///< area lights' samples, cast from the points
 
     void clear()
     {
-        starts.clear(), ends.clear(), weights.clear(), point.clear();
+        starts.clear(), ends.clear(), point.clear();
     }
 };
 
@@ -75,55 +77,83 @@ struct Run {
     }
 
     /// Every emitter of every light at each point, by the contract's test, or (`embreeFloat`) as
-    /// Embree's float rays alone. Points go in runs and each light's segments to a run's points are
-    /// cast together from the light (a directional light's from each point): coherent packets,
-    /// where a fan from one point to every light is not. Each point still sums its terms in the
-    /// emitters' order.
-    void reference(const std::vector<Emitter>& emitters, bool embreeFloat)
+    /// Embree's float rays alone, tile by tile (the fast path's tiles of nearby points), in
+    /// coherent packets as a brute force tuned for Embree casts them, and each segment from the
+    /// end the fast path casts it from (so that the two exact paths judge a tie alike): a point or
+    /// spot light's segments to the tile's points together from the light, a directional light's
+    /// from each point, and each point's segments to the area lights' samples together from the
+    /// point. Each point sums its terms in the emitters' order.
+    void reference(const std::vector<Emitter>& emitters, const std::vector<lights::PointTile>& tiles, bool embreeFloat)
     {
-        constexpr std::size_t kRun = 32;
         std::vector<EmitterTerm> termOf;
         for (const Light& light : lights)
             termOf.emplace_back(light);
-        const auto castRun = [&](const Scratch& s, std::uint8_t* blocked) {
+        const auto castAll = [&](const Scratch& s, std::uint8_t* blocked) {
             if (!s.starts.empty())
                 embreeFloat ? scene.floatRays().blocked(s.starts, s.ends, blocked) : scene.rays().segmentsBlocked(s.starts, s.ends, blocked);
             else if (!s.ends.empty())
                 embreeFloat ? scene.floatRays().blocked(s.from, s.ends, blocked) : scene.rays().segmentsBlocked(s.from, s.ends, blocked);
         };
-        const std::size_t runs = (points.size() + kRun - 1) / kRun;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, runs, 1), [&](const auto& range) {
+        const auto endOf = [&](const Emitter& e, const glm::dvec3& x) {
+            return lights[e.light].type == LightType::Directional ? scene.reach().end(lights[e.light], x) : e.position;
+        };
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
             Scratch& s = scratch;
-            for (std::size_t r = range.begin(); r != range.end(); ++r) {
-                const std::size_t first = r * kRun, last = std::min(points.size(), first + kRun);
-                glm::dvec3 sum[kRun] = {};
-                std::uint64_t runTerms = 0;
-                for (const Emitter& e : emitters) {
-                    const Light& light = lights[e.light];
-                    const bool directional = light.type == LightType::Directional;
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                const lights::PointTile& tile = tiles[t];
+                const std::size_t n = tile.points.size();
+                s.weights.assign(emitters.size() * n, 0.0);   // [emitter e][point k]
+                s.blocked.assign(emitters.size() * n, 0);
+                s.later.clear();
+                std::uint64_t tileTerms = 0;
+                for (std::size_t e = 0; e < emitters.size(); ++e) {
+                    const Emitter& emitter = emitters[e];
+                    const bool directional = lights[emitter.light].type == LightType::Directional;
                     s.clear();
-                    s.from = e.position;
-                    for (std::size_t j = first; j < last; ++j) {
-                        const ShadingPoint& p = points[j];
-                        const double w = termOf[e.light](e.position, p.position, p.normal);
+                    s.from = emitter.position;
+                    for (std::size_t k = 0; k < n; ++k) {
+                        const ShadingPoint& p = points[tile.points[k]];
+                        const double w = termOf[emitter.light](emitter.position, p.position, p.normal);
                         if (!(w > 0.0))
                             continue;
+                        s.weights[e * n + k] = w;
                         if (directional)
                             s.starts.push_back(p.position);
-                        s.ends.push_back(directional ? scene.reach().end(light, p.position) : p.position);
-                        s.weights.push_back(w);
-                        s.point.push_back(std::uint32_t(j - first));
+                        s.ends.push_back(directional ? endOf(emitter, p.position) : p.position);
+                        s.point.push_back(std::uint32_t(k));
                     }
-                    s.blocked.resize(s.ends.size());
-                    castRun(s, s.blocked.data());
-                    for (std::size_t k = 0; k < s.ends.size(); ++k)
-                        if (!s.blocked[k])
-                            sum[s.point[k]] += light.colour * s.weights[k];
-                    runTerms += s.ends.size();
+                    tileTerms += s.ends.size();
+                    if (lights[emitter.light].type == LightType::Area) {
+                        if (!s.ends.empty())
+                            s.later.push_back(std::uint32_t(e));
+                        continue;
+                    }
+                    s.answer.resize(s.ends.size());
+                    castAll(s, s.answer.data());
+                    for (std::size_t i = 0; i < s.ends.size(); ++i)
+                        s.blocked[e * n + s.point[i]] = s.answer[i];
                 }
-                for (std::size_t j = first; j < last; ++j)
-                    sums[j] = sum[j - first];
-                addTerms(runTerms, runTerms);
+                for (std::size_t k = 0; k < n && !s.later.empty(); ++k) {
+                    s.clear();
+                    s.from = points[tile.points[k]].position;
+                    for (const std::uint32_t e : s.later)
+                        if (s.weights[e * n + k] > 0.0) {
+                            s.ends.push_back(endOf(emitters[e], s.from));
+                            s.point.push_back(e);
+                        }
+                    s.answer.resize(s.ends.size());
+                    castAll(s, s.answer.data());
+                    for (std::size_t i = 0; i < s.ends.size(); ++i)
+                        s.blocked[s.point[i] * n + k] = s.answer[i];
+                }
+                for (std::size_t k = 0; k < n; ++k) {
+                    glm::dvec3 sum(0.0);
+                    for (std::size_t e = 0; e < emitters.size(); ++e)
+                        if (s.weights[e * n + k] > 0.0 && !s.blocked[e * n + k])
+                            sum += lights[emitters[e].light].colour * s.weights[e * n + k];
+                    sums[tile.points[k]] = sum;
+                }
+                addTerms(tileTerms, tileTerms);
             }
         });
     }
@@ -484,10 +514,15 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
     if (options.tiling && options.tiling->pointCount() != points.size())
         throw Error("directIrradiance: the tiling was built for other points");
     inArena(options.threads, [&] {
+        std::vector<lights::PointTile> own;
+        if (!options.tiling)
+            own = lights::makePointTiles(points);
+        const std::vector<lights::PointTile>& tiles = options.tiling ? options.tiling->tiles() : own;
         if (options.path != LightingPath::Fast) {
-            run.reference(lightEmitters(lights), options.path == LightingPath::EmbreeFloat);
+            run.reference(lightEmitters(lights), tiles, options.path == LightingPath::EmbreeFloat);
             return;
         }
+
         std::vector<std::unique_ptr<HiddenSampleMap>> maps(lights.size());
         std::vector<std::vector<glm::dvec3>> samples(lights.size());
         for (std::size_t l = 0; l < lights.size(); ++l) {
@@ -508,10 +543,6 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
         std::unique_ptr<LightTree> tree;
         if (options.lightCutError > 0.0)
             tree = std::make_unique<LightTree>(lights);
-        std::vector<lights::PointTile> own;
-        if (!options.tiling)
-            own = lights::makePointTiles(points);
-        const std::vector<lights::PointTile>& tiles = options.tiling ? options.tiling->tiles() : own;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
             for (std::size_t t = range.begin(); t != range.end(); ++t)
                 run.tile(tiles[t], samples, maps, tree.get(), options.lightCutError);

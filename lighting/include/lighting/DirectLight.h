@@ -7,11 +7,12 @@
 // Two paths answer the same sum, term by term in the same order (light by light, an area light's
 // samples in bit order), so they differ only where a segment is a tie:
 //
-// - Reference: every emitter with a non-zero term at every point, one shadow segment each, by
-//   runs of 32 points: each emitter's segments to a run cast together from the emitter (a
-//   directional light's from each point) in packets of 16 (RayCastScene::segmentsBlocked: Embree
-//   finds candidates, the contract's double test decides). Neighbouring points towards one light
-//   are coherent packets, as a brute force tuned for Embree casts them.
+// - Reference: every emitter with a non-zero term at every point, one shadow segment each, tile
+//   by tile (the fast path's tiles of nearby points, below): each emitter's segments to a tile
+//   cast together from the emitter (a directional light's from each point) in packets of 16
+//   (RayCastScene::segmentsBlocked: Embree finds candidates, the contract's double test decides).
+//   Nearby points towards one light are coherent packets, as a brute force tuned for Embree
+//   casts them.
 // - Fast: per tile of 64 nearby points (lights/PointTiles.h) and per light (Barczak's tiles x
 //   lights). A tile the light cannot reach (out of its range, behind an area light) costs a box
 //   test; a tile one triangle shadows whole (lights/ShaftBlocker.h: a proof from the corners of
