@@ -38,7 +38,7 @@ struct Scratch {
     std::vector<std::uint8_t> answer;      ///< the cast's answer
     std::vector<double> weights;           ///< [emitter][point of the tile]
     std::vector<std::uint8_t> blocked;     ///< likewise
-    std::vector<std::uint32_t> later;      ///< area lights' samples, cast from the points
+    std::vector<std::uint32_t> later;      ///< emitters cast from the points
 
     void clear()
     {
@@ -81,8 +81,8 @@ struct Run {
     /// coherent packets as a brute force tuned for Embree casts them, and each segment from the
     /// end the fast path casts it from (so that the two exact paths judge a tie alike): a point or
     /// spot light's segments to the tile's points together from the light, a directional light's
-    /// from each point, and each point's segments to the area lights' samples together from the
-    /// point. Each point sums its terms in the emitters' order.
+    /// from each point, an area light's from each sample or each point as castFromSamples says.
+    /// Each point sums its terms in the emitters' order.
     void reference(const std::vector<Emitter>& emitters, const std::vector<lights::PointTile>& tiles, bool embreeFloat)
     {
         std::vector<EmitterTerm> termOf;
@@ -123,7 +123,7 @@ struct Run {
                         s.point.push_back(std::uint32_t(k));
                     }
                     tileTerms += s.ends.size();
-                    if (lights[emitter.light].type == LightType::Area) {
+                    if (lights[emitter.light].type == LightType::Area && !castFromSamples(lights[emitter.light], tile)) {
                         if (!s.ends.empty())
                             s.later.push_back(std::uint32_t(e));
                         continue;
@@ -381,6 +381,16 @@ struct Run {
         return !scene.boxTree().anyInside(hull, lo, hi);
     }
 
+    /// Whether an area light's segments to the tile go in packets from each sample (to a quarter
+    /// of the tile's points, Morton-compact) rather than from each point (to the light's samples):
+    /// where the quarter is the smaller of the two, so the packets are the narrower. Both paths
+    /// cast from the same end, so that they judge a tie alike.
+    static bool castFromSamples(const Light& light, const lights::PointTile& t)
+    {
+        const double lightSize = std::max(glm::length(light.area.u + light.area.v), glm::length(light.area.u - light.area.v));
+        return 0.5 * glm::length(t.hi - t.lo) < lightSize;
+    }
+
     /// The tile's segments with non-zero terms, cast in packets sharing the emitter's end (a
     /// directional light's from each point); fills the scratch's `blocked`. Returns the count.
     std::uint64_t castTile(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t, std::size_t count)
@@ -415,18 +425,21 @@ struct Run {
                 s.blocked[s.index[e]] = s.answer[e];
             return s.ends.size();
         }
-        // An area light: packets from each point to the samples that light it (full packets of
-        // nearby directions, whichever way the tile's surfaces face).
+        // An area light: packets towards the smaller end (narrower packets), from each sample to
+        // the tile's points it lights, or from each point to the samples that light it.
         std::uint64_t total = 0;
-        for (std::size_t k = 0; k < n; ++k) {
+        const bool fromSamples = castFromSamples(light, t);
+        for (std::size_t a = 0; a < (fromSamples ? count : n); ++a) {
             s.ends.clear(), s.index.clear();
-            for (std::size_t i = 0; i < count; ++i)
+            for (std::size_t b = 0; b < (fromSamples ? n : count); ++b) {
+                const std::size_t k = fromSamples ? b : a, i = fromSamples ? a : b;
                 if (s.weights[k * count + i] > 0.0) {
-                    s.ends.push_back(emitters[i]);
+                    s.ends.push_back(fromSamples ? points[t.points[k]].position : emitters[i]);
                     s.index.push_back(std::uint32_t(k * count + i));
                 }
+            }
             s.answer.resize(s.ends.size());
-            scene.rays().segmentsBlocked(points[t.points[k]].position, s.ends, s.answer.data());
+            scene.rays().segmentsBlocked(fromSamples ? emitters[a] : points[t.points[a]].position, s.ends, s.answer.data());
             for (std::size_t e = 0; e < s.ends.size(); ++e)
                 s.blocked[s.index[e]] = s.answer[e];
             total += s.ends.size();
