@@ -30,6 +30,9 @@ namespace {
 /// Entries a tile's light cut may hold (LightTree::cut stops splitting there).
 constexpr std::size_t kMaxCutEntries = 512;
 
+/// Emitters the reference takes together over a tile (its matrices: a few hundred kilobytes).
+constexpr std::size_t kReferenceChunk = 1024;
+
 /// What each task of the reference reuses between tiles.
 struct Scratch {
     glm::dvec3 from{0.0};                  ///< the segments' shared start, where `starts` is empty
@@ -39,6 +42,7 @@ struct Scratch {
     std::vector<double> weights;           ///< [emitter][point of the tile]
     std::vector<std::uint8_t> blocked;     ///< likewise
     std::vector<std::uint32_t> later;      ///< emitters cast from the points
+    std::vector<glm::dvec3> sums;          ///< per point of the tile
 
     void clear()
     {
@@ -88,7 +92,27 @@ struct Run {
         std::vector<EmitterTerm> termOf;
         for (const Light& light : lights)
             termOf.emplace_back(light);
-        const auto castAll = [&](const Scratch& s, std::uint8_t* blocked) {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
+            Scratch& s = scratch;
+            for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                const lights::PointTile& tile = tiles[t];
+                s.sums.assign(tile.points.size(), glm::dvec3(0.0));
+                // Emitters in chunks: the tile's matrices stay small however many lights there are.
+                for (std::size_t first = 0; first < emitters.size(); first += kReferenceChunk)
+                    referenceChunk(tile, std::span(emitters).subspan(first, std::min(kReferenceChunk, emitters.size() - first)),
+                                   termOf, embreeFloat);
+                for (std::size_t k = 0; k < tile.points.size(); ++k)
+                    sums[tile.points[k]] = s.sums[k];
+            }
+        });
+    }
+
+    /// The reference's share of one tile from `emitters`, added to the scratch's sums in their order.
+    void referenceChunk(const lights::PointTile& tile, std::span<const Emitter> emitters, const std::vector<EmitterTerm>& termOf,
+                        bool embreeFloat)
+    {
+        Scratch& s = scratch;
+        const auto castAll = [&](std::uint8_t* blocked) {
             if (!s.starts.empty())
                 embreeFloat ? scene.floatRays().blocked(s.starts, s.ends, blocked) : scene.rays().segmentsBlocked(s.starts, s.ends, blocked);
             else if (!s.ends.empty())
@@ -97,65 +121,57 @@ struct Run {
         const auto endOf = [&](const Emitter& e, const glm::dvec3& x) {
             return lights[e.light].type == LightType::Directional ? scene.reach().end(lights[e.light], x) : e.position;
         };
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, tiles.size(), 1), [&](const auto& range) {
-            Scratch& s = scratch;
-            for (std::size_t t = range.begin(); t != range.end(); ++t) {
-                const lights::PointTile& tile = tiles[t];
-                const std::size_t n = tile.points.size();
-                s.weights.assign(emitters.size() * n, 0.0);   // [emitter e][point k]
-                s.blocked.assign(emitters.size() * n, 0);
-                s.later.clear();
-                std::uint64_t tileTerms = 0;
-                for (std::size_t e = 0; e < emitters.size(); ++e) {
-                    const Emitter& emitter = emitters[e];
-                    const bool directional = lights[emitter.light].type == LightType::Directional;
-                    s.clear();
-                    s.from = emitter.position;
-                    for (std::size_t k = 0; k < n; ++k) {
-                        const ShadingPoint& p = points[tile.points[k]];
-                        const double w = termOf[emitter.light](emitter.position, p.position, p.normal);
-                        if (!(w > 0.0))
-                            continue;
-                        s.weights[e * n + k] = w;
-                        if (directional)
-                            s.starts.push_back(p.position);
-                        s.ends.push_back(directional ? endOf(emitter, p.position) : p.position);
-                        s.point.push_back(std::uint32_t(k));
-                    }
-                    tileTerms += s.ends.size();
-                    if (lights[emitter.light].type == LightType::Area && !castFromSamples(lights[emitter.light], tile)) {
-                        if (!s.ends.empty())
-                            s.later.push_back(std::uint32_t(e));
-                        continue;
-                    }
-                    s.answer.resize(s.ends.size());
-                    castAll(s, s.answer.data());
-                    for (std::size_t i = 0; i < s.ends.size(); ++i)
-                        s.blocked[e * n + s.point[i]] = s.answer[i];
-                }
-                for (std::size_t k = 0; k < n && !s.later.empty(); ++k) {
-                    s.clear();
-                    s.from = points[tile.points[k]].position;
-                    for (const std::uint32_t e : s.later)
-                        if (s.weights[e * n + k] > 0.0) {
-                            s.ends.push_back(endOf(emitters[e], s.from));
-                            s.point.push_back(e);
-                        }
-                    s.answer.resize(s.ends.size());
-                    castAll(s, s.answer.data());
-                    for (std::size_t i = 0; i < s.ends.size(); ++i)
-                        s.blocked[s.point[i] * n + k] = s.answer[i];
-                }
-                for (std::size_t k = 0; k < n; ++k) {
-                    glm::dvec3 sum(0.0);
-                    for (std::size_t e = 0; e < emitters.size(); ++e)
-                        if (s.weights[e * n + k] > 0.0 && !s.blocked[e * n + k])
-                            sum += lights[emitters[e].light].colour * s.weights[e * n + k];
-                    sums[tile.points[k]] = sum;
-                }
-                addTerms(tileTerms, tileTerms);
+        const std::size_t n = tile.points.size();
+        s.weights.assign(emitters.size() * n, 0.0);   // [emitter e][point k]
+        s.blocked.assign(emitters.size() * n, 0);
+        s.later.clear();
+        std::uint64_t chunkTerms = 0;
+        for (std::size_t e = 0; e < emitters.size(); ++e) {
+            const Emitter& emitter = emitters[e];
+            const Light& light = lights[emitter.light];
+            const bool directional = light.type == LightType::Directional;
+            s.clear();
+            s.from = emitter.position;
+            for (std::size_t k = 0; k < n; ++k) {
+                const ShadingPoint& p = points[tile.points[k]];
+                const double w = termOf[emitter.light](emitter.position, p.position, p.normal);
+                if (!(w > 0.0))
+                    continue;
+                s.weights[e * n + k] = w;
+                if (directional)
+                    s.starts.push_back(p.position);
+                s.ends.push_back(directional ? endOf(emitter, p.position) : p.position);
+                s.point.push_back(std::uint32_t(k));
             }
-        });
+            chunkTerms += s.ends.size();
+            if (light.type == LightType::Area && !castFromSamples(light, tile)) {
+                if (!s.ends.empty())
+                    s.later.push_back(std::uint32_t(e));
+                continue;
+            }
+            s.answer.resize(s.ends.size());
+            castAll(s.answer.data());
+            for (std::size_t i = 0; i < s.ends.size(); ++i)
+                s.blocked[e * n + s.point[i]] = s.answer[i];
+        }
+        for (std::size_t k = 0; k < n && !s.later.empty(); ++k) {
+            s.clear();
+            s.from = points[tile.points[k]].position;
+            for (const std::uint32_t e : s.later)
+                if (s.weights[e * n + k] > 0.0) {
+                    s.ends.push_back(endOf(emitters[e], s.from));
+                    s.point.push_back(e);
+                }
+            s.answer.resize(s.ends.size());
+            castAll(s.answer.data());
+            for (std::size_t i = 0; i < s.ends.size(); ++i)
+                s.blocked[s.point[i] * n + k] = s.answer[i];
+        }
+        for (std::size_t k = 0; k < n; ++k)
+            for (std::size_t e = 0; e < emitters.size(); ++e)
+                if (s.weights[e * n + k] > 0.0 && !s.blocked[e * n + k])
+                    s.sums[k] += lights[emitters[e].light].colour * s.weights[e * n + k];
+        addTerms(chunkTerms, chunkTerms);
     }
 
     /// The fast path over one tile: light by light, a box test, then a proof or the segments.

@@ -300,6 +300,27 @@ TEST(Lights, AreaLightPacketsFromEitherEndAgreeWithTheContract)
     }
 }
 
+// The reference takes a tile's emitters a thousand-odd at a time: an area light of 1,600 samples
+// between two point lights spans two chunks, and the sums still come out as the judge's.
+TEST(Lights, TheReferenceTakesThousandsOfEmittersInChunks)
+{
+    Scene scene = test::sceneOf({test::quad({-3.0f, 0.0f, -3.0f}, {0.0f, 0.0f, 6.0f}, {6.0f, 0.0f, 0.0f}, "floor")});
+    scene.addMeshInstance(test::closedBox(), glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 1.0f, 0.0f)) *
+                                                 glm::scale(glm::mat4(1.0f), glm::vec3(0.5f, 0.2f, 0.5f)));
+    Patch panel;
+    panel.corner = {-0.6, 2.5, -0.6};
+    panel.u = {1.2, 0.0, 0.0};
+    panel.v = {0.0, 0.0, 1.2};
+    panel.na = 40, panel.nb = 40;
+    std::vector<ShadingPoint> points;
+    for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j)
+            points.push_back({{-1.0 + 0.45 * i, 0.01, -1.0 + 0.45 * j}, {0.0, 1.0, 0.0}});
+    EXPECT_EQ(disagreements(scene, {pointLight({1.0, 2.0, 0.5}, 5.0), areaLight(panel, 10.0), pointLight({-1.0, 2.0, -0.5}, 5.0)},
+                            points, nullptr),
+              0);
+}
+
 // The yardstick (a user's float Embree brute force) answers the same sums where no segment comes
 // near an edge or an end: a lamp and a panel over a floor with a block well inside its shadow.
 TEST(Lights, TheEmbreeFloatYardstickAgreesAwayFromEdges)
