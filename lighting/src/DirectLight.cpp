@@ -30,8 +30,10 @@ namespace {
 /// Entries a tile's light cut may hold (LightTree::cut stops splitting there).
 constexpr std::size_t kMaxCutEntries = 512;
 
-/// Emitters the reference takes together over a tile (its matrices: a few hundred kilobytes).
+/// Emitters the reference, and an area light's samples the fast path, take together over a tile
+/// (its matrices: a few hundred kilobytes).
 constexpr std::size_t kReferenceChunk = 1024;
+constexpr std::size_t kSampleChunk = 1024;
 
 /// What each task of the reference reuses between tiles.
 struct Scratch {
@@ -214,33 +216,44 @@ struct Run {
             return;
         // Shadowed whole: its terms are not weighed (as many as the rays they would have cast,
         // weighing them cost about what the proof saved), unless they are to be counted.
-        if (!map && provenShadowed(light, emitters, t)) {
+        const bool shadowed = !map && provenShadowed(light, emitters, t);
+        if (shadowed && !countAllTerms) {
             ++provenTiles;
-            if (countAllTerms)
-                terms += weigh(light, term, emitters, count, t);
             return;
         }
-        terms += weigh(light, term, emitters, count, t);
-        s.blocked.assign(n * count, 0);
-        if (map) {
-            for (std::size_t k = 0; k < n; ++k)
-                for (std::size_t i = 0; i < count; ++i)
-                    s.blocked[k * count + i] = map->blocked(int(t.points[k]), int(i));
-        } else if (count > 1 && provenLit(light, t)) {   // worth its cost where a pair holds many segments
-            ++litTiles;   // every segment free: `blocked` stays all zero
-        } else {
-            cast += castTile(light, emitters, t, count);
+        // Lit whole: worth its cost where a pair holds many segments.
+        const bool lit = !shadowed && !map && count > 1 && provenLit(light, t);
+        if (shadowed)
+            ++provenTiles;
+        else if (lit)
+            ++litTiles;
+        else if (!map)
             ++castTiles;
+        // The samples in chunks: the tile's matrices stay small however many samples a light has.
+        for (std::size_t first = 0; first < count; first += kSampleChunk) {
+            const std::size_t chunk = std::min(kSampleChunk, count - first);
+            const std::span<const glm::dvec3> part = std::span(emitters).subspan(first, light.type == LightType::Directional ? 1 : chunk);
+            terms += weigh(light, term, part, chunk, t);
+            if (shadowed)
+                continue;
+            s.blocked.assign(n * chunk, 0);   // lit: every segment free, `blocked` stays all zero
+            if (map) {
+                for (std::size_t k = 0; k < n; ++k)
+                    for (std::size_t i = 0; i < chunk; ++i)
+                        s.blocked[k * chunk + i] = map->blocked(int(t.points[k]), int(first + i));
+            } else if (!lit) {
+                cast += castTile(light, part, t, chunk);
+            }
+            for (std::size_t k = 0; k < n; ++k)
+                for (std::size_t i = 0; i < chunk; ++i)
+                    if (s.weights[k * chunk + i] > 0.0 && !s.blocked[k * chunk + i])
+                        s.sums[k] += light.colour * s.weights[k * chunk + i];
         }
-        for (std::size_t k = 0; k < n; ++k)
-            for (std::size_t i = 0; i < count; ++i)
-                if (s.weights[k * count + i] > 0.0 && !s.blocked[k * count + i])
-                    s.sums[k] += light.colour * s.weights[k * count + i];
     }
 
     /// The tile's terms from the light into the scratch's weights, [point k][emitter i] (0 where
     /// none); returns how many are non-zero.
-    std::uint64_t weigh(const Light& light, const EmitterTerm& term, const std::vector<glm::dvec3>& emitters, std::size_t count,
+    std::uint64_t weigh(const Light& light, const EmitterTerm& term, std::span<const glm::dvec3> emitters, std::size_t count,
                         const lights::PointTile& t)
     {
         TileScratch& s = tileScratch;
@@ -409,7 +422,7 @@ struct Run {
 
     /// The tile's segments with non-zero terms, cast in packets sharing the emitter's end (a
     /// directional light's from each point); fills the scratch's `blocked`. Returns the count.
-    std::uint64_t castTile(const Light& light, const std::vector<glm::dvec3>& emitters, const lights::PointTile& t, std::size_t count)
+    std::uint64_t castTile(const Light& light, std::span<const glm::dvec3> emitters, const lights::PointTile& t, std::size_t count)
     {
         TileScratch& s = tileScratch;
         const std::size_t n = t.points.size();
@@ -428,7 +441,7 @@ struct Run {
                 s.blocked[s.index[e]] = s.answer[e];
             return s.ends.size();
         }
-        if (count == 1) {   // a point or spot light: packets from the light to the tile's points
+        if (light.type != LightType::Area) {   // a point or spot light: packets from the light to the tile's points
             s.ends.clear(), s.index.clear();
             for (std::size_t k = 0; k < n; ++k)
                 if (s.weights[k] > 0.0) {
