@@ -564,7 +564,6 @@ std::vector<glm::dvec3> directIrradiance(const LightingScene& scene, const std::
             run.reference(lightEmitters(lights), tiles, options.path == LightingPath::EmbreeFloat);
             return;
         }
-
         std::vector<std::unique_ptr<HiddenSampleMap>> maps(lights.size());
         std::vector<std::vector<glm::dvec3>> samples(lights.size());
         for (std::size_t l = 0; l < lights.size(); ++l) {
