@@ -32,8 +32,7 @@ constexpr std::size_t kMaxCutEntries = 512;
 
 /// Emitters the reference, and an area light's samples the fast path, take together over a tile
 /// (its matrices: a few hundred kilobytes).
-constexpr std::size_t kReferenceChunk = 1024;
-constexpr std::size_t kSampleChunk = 1024;
+constexpr std::size_t kEmitterChunk = 1024;
 
 /// What each task of the reference reuses between tiles.
 struct Scratch {
@@ -100,8 +99,8 @@ struct Run {
                 const lights::PointTile& tile = tiles[t];
                 s.sums.assign(tile.points.size(), glm::dvec3(0.0));
                 // Emitters in chunks: the tile's matrices stay small however many lights there are.
-                for (std::size_t first = 0; first < emitters.size(); first += kReferenceChunk)
-                    referenceChunk(tile, std::span(emitters).subspan(first, std::min(kReferenceChunk, emitters.size() - first)),
+                for (std::size_t first = 0; first < emitters.size(); first += kEmitterChunk)
+                    referenceChunk(tile, std::span(emitters).subspan(first, std::min(kEmitterChunk, emitters.size() - first)),
                                    termOf, embreeFloat);
                 for (std::size_t k = 0; k < tile.points.size(); ++k)
                     sums[tile.points[k]] = s.sums[k];
@@ -230,8 +229,8 @@ struct Run {
         else if (!map)
             ++castTiles;
         // The samples in chunks: the tile's matrices stay small however many samples a light has.
-        for (std::size_t first = 0; first < count; first += kSampleChunk) {
-            const std::size_t chunk = std::min(kSampleChunk, count - first);
+        for (std::size_t first = 0; first < count; first += kEmitterChunk) {
+            const std::size_t chunk = std::min(kEmitterChunk, count - first);
             const std::span<const glm::dvec3> part = std::span(emitters).subspan(first, light.type == LightType::Directional ? 1 : chunk);
             terms += weigh(light, term, part, chunk, t);
             if (shadowed)
