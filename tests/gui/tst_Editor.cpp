@@ -185,18 +185,25 @@ private slots:
         QVERIFY(recorder.startRecording(video, 20.0));
         QVERIFY(recorder.isRecording());
         QVERIFY(recorder.recordAction()->isChecked());
-        // The designer orbits, then drags the receiver 1.5 m (as a gizmo drag shows it, live).
+        // The designer orbits, then drags the receiver 1.5 m (as a gizmo drag shows it, live). Each
+        // step waits until the recorder has sampled it: a busy event loop (a heavy test beside this
+        // one) delays the recorder's ticks by more than any fixed wait.
         for (int step = 1; step <= 4; ++step) {
             Camera c = controller.camera();
             orbit(c, 25.0, 0.0);
             controller.setCamera(c);
             QTest::qWait(120);
+            QTRY_VERIFY_WITH_TIMEOUT(recorder.capturedPath().camera.size() >= std::size_t(step + 1), 20000);
         }
         Patch moved = receiver;
         moved.corner.z -= 1.5;
         document.setState({ObjectKind::Receiver, 0}, moved, "move");
         waitForUpdate();
         QTest::qWait(300);
+        QTRY_VERIFY_WITH_TIMEOUT(!recorder.capturedPath().edits.empty()
+                                     && recorder.capturedPath().edits.back().patch.corner == moved.corner
+                                     && recorder.capturedPath().frames >= 10,
+                                 20000);
         QVERIFY2(recorder.statusLabel()->text().contains("REC"), qPrintable(recorder.statusLabel()->text()));
         if (const QByteArray shots = qgetenv("SIGHTLINE_GUI_SHOTS"); !shots.isEmpty())   // the real window, viewport included
             window_->screen()->grabWindow(0, window_->x(), window_->y(), window_->frameGeometry().width(), window_->frameGeometry().height())
