@@ -590,6 +590,21 @@ struct LightsRun {
 
 /// Where the irradiance is computed: light-map texels (--texel), the receiver's samples, or the
 /// points of --points.
+/// The first call in a process pays one-time costs (the thread pool's start, first touches of the
+/// acceleration structures and of buffers sized by the light samples): a small call with every
+/// light pays them before anything is timed, so that each path's time is what a warm editor or a
+/// second call sees. Small: at most 256 points and about a million (point, light sample) terms, so
+/// the warm-up never rivals the run it warms, even for a light of a million samples.
+void warmUp(const LightingScene& lighting, const std::vector<Light>& lights, const std::vector<ShadingPoint>& points,
+            const DirectLightOptions& options)
+{
+    std::size_t samples = 0;
+    for (const Light& light : lights)
+        samples += std::size_t(light.sampleCount());
+    const std::size_t count = std::min({points.size(), std::size_t(256), std::max<std::size_t>(1, 1000000 / std::max<std::size_t>(1, samples))});
+    directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), count), options);
+}
+
 void choosePoints(const LightsArgs& args, const Project& project, const Scene& scene, LightsRun& run)
 {
     run.onReceiver = args.points.empty() && args.texel <= 0.0;
@@ -621,7 +636,7 @@ json compareExactPaths(const LightsArgs& args, const LightingScene& lighting, co
     // need not cast a ray), then a first small call.
     const DirectLightOptions user{.path = LightingPath::EmbreeFloat, .threads = args.threads};
     lighting.floatRays();
-    directIrradiance(lighting, run.lights, std::span<const ShadingPoint>(run.points.data(), std::min<std::size_t>(run.points.size(), 256)), user);
+    warmUp(lighting, run.lights, run.points, user);
     DirectLightStats userStats;
     const std::vector<glm::dvec3> floatAnswer = directIrradiance(lighting, run.lights, run.points, user, &userStats);
     std::size_t floatDiffering = 0;
@@ -819,12 +834,7 @@ int runLights(const LightsArgs& args)
         glPath = std::make_unique<GlDirectLight>(glContext->functions(), lighting.triangles(),
                                                  GlDirectLightOptions{.resolution = args.glResolution});
     }
-    // The first call in a process pays one-time costs (the thread pool's start, first touches of
-    // the acceleration structures): a call over a few points pays them before anything is timed,
-    // so that each path's time is what a warm editor or a second call sees, and --compare times
-    // both paths alike.
-    directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), std::min<std::size_t>(points.size(), 256)),
-                     DirectLightOptions{.threads = args.threads});
+    warmUp(lighting, lights, points, DirectLightOptions{.threads = args.threads});   // --compare times both paths alike
     const std::vector<glm::dvec3> irradiance =
         args.gl ? glIrradiance(*glPath, glContext->renderer(), lighting, lights, points, args, run.glJson, run.comparison, run.stats)
                 : directIrradiance(lighting, lights, points, options, &run.stats);
