@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <limits>
 #include <numeric>
 #include <optional>
 
@@ -659,8 +660,16 @@ void writeIrradiance(const LightsArgs& args, const Project& project, const std::
 {
     std::vector<float> values(3 * total.size());
     for (std::size_t j = 0; j < total.size(); ++j) {
-        for (int c = 0; c < 3; ++c)
+        for (int c = 0; c < 3; ++c) {
+            // Finite lights can still sum past what the float32 outputs hold (an intensity of 1e300).
+            if (!(std::abs(total[j][c]) <= double(std::numeric_limits<float>::max()))) {
+                char value[32];
+                std::snprintf(value, sizeof value, "%.3g", total[j][c]);
+                throw Error("the irradiance at point " + std::to_string(j) + " (" + value +
+                            " W/m²) is beyond float32's range of the outputs: lower the lights' intensities or radiances");
+            }
             values[3 * j + std::size_t(c)] = float(total[j][c]);
+        }
         run.mean += total[j];
         run.peak = glm::max(run.peak, total[j]);
     }

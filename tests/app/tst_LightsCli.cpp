@@ -262,6 +262,10 @@ TEST_F(LightsCli, BadLightsAndPointsGetOneLineErrors)
             "'lights[0].samples'");
     refused(json::array({{{"type", "point"}, {"position", {0, 1, 0}}, {"range", 0}}}), "'lights[0].range'");
     refused(json::object(), "'lights' must be an array");
+    // Finite, but its irradiance does not fit the float32 outputs: refused, not written as inf.
+    refused(json::array({{{"type", "point"}, {"position", {0, 1, 0}}, {"intensity", 1e300}}}), "beyond float32's range",
+            " --npy " + (folder / "huge.npy").string());
+    EXPECT_FALSE(fs::exists(folder / "huge.npy"));
     // Points: a zero normal, a wrong shape, NaN; outputs that would replace an input.
     write("p.json", project(lights()));
     writeFloatNpy({0, 1, 0, 0, 0, 0}, 1, 6, folder / "zero.npy");
