@@ -436,7 +436,7 @@ CLI::App* addLightsCommand(CLI::App& app, LightsArgs& args)
                         "output beyond the contract: direct + indirect)")
         ->check(CLI::Range(1, 1000000));
     command->add_option("--seed", args.seed, "--indirect: the photons' seed")->capture_default_str();
-    command->add_option("--albedo", args.albedo, "--indirect: every surface's diffuse reflectance, in [0, 1)")
+    command->add_option("--albedo", args.albedo, "--indirect: the diffuse reflectance of surfaces without a material's base colour, in [0, 1)")
         ->capture_default_str();
     command->add_option("--clamp", args.clamp, "--indirect: VPL distances below this count as this (metres; 0: none)")
         ->capture_default_str();

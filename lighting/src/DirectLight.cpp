@@ -523,6 +523,26 @@ LightingScene::LightingScene(const Scene& scene)
       firstHits_(std::make_unique<pvs::FirstHitCaster>(scene)),
       boxTree_(std::make_unique<lights::TriangleBoxTree>(triangles_)), reach_(scene.bounds())
 {
+    if (std::any_of(scene.meshes.begin(), scene.meshes.end(), [](const Mesh& mesh) { return !mesh.albedo.empty(); })) {
+        // World triangles run instance by instance, each over its mesh's triangles in order.
+        std::size_t first = 0;
+        for (const Instance& instance : scene.instances) {
+            instanceFirst_.push_back(first);
+            first += scene.meshes[instance.mesh].triangleCount();
+        }
+    }
+}
+
+glm::dvec3 LightingScene::albedo(std::int64_t triangle, double fallback) const
+{
+    if (instanceFirst_.empty() || triangle < 0 || std::size_t(triangle) >= triangles_.size())
+        return glm::dvec3(fallback);
+    const std::uint32_t instance = triangles_.instanceOf[std::size_t(triangle)];
+    const Mesh& mesh = scene_.meshes[scene_.instances[instance].mesh];
+    if (mesh.albedo.empty())
+        return glm::dvec3(fallback);
+    const glm::vec3 own = mesh.albedo.at(std::size_t(triangle) - instanceFirst_[instance]);
+    return own == kUnknownAlbedo ? glm::dvec3(fallback) : glm::dvec3(own);
 }
 
 LightingScene::~LightingScene() = default;

@@ -174,10 +174,11 @@ Light vplAt(const glm::dvec3& position, const glm::dvec3& normal, const glm::dve
     return vpl;
 }
 
-/// The first surface the segment origin -> origin + direction * length meets: its point and the
-/// unit normal facing back along the segment. False when it meets none.
+/// The first surface the segment origin -> origin + direction * length meets: its point, the
+/// unit normal facing back along the segment and its albedo (`fallback` where its mesh has none).
+/// False when it meets none.
 bool firstSurface(const LightingScene& scene, const glm::dvec3& origin, const glm::dvec3& direction, double length,
-                  glm::dvec3& point, glm::dvec3& normal)
+                  double fallback, glm::dvec3& point, glm::dvec3& normal, glm::dvec3& albedo)
 {
     const glm::dvec3 start = origin + direction * kLiftMetres;
     const pvs::RayHit hit = scene.firstHits().cast(glm::vec3(start), glm::vec3(direction * length), 1.0f);
@@ -191,6 +192,7 @@ bool firstSurface(const LightingScene& scene, const glm::dvec3& origin, const gl
     if (glm::dot(normal, direction) > 0.0)
         normal = -normal;
     point = start + direction * (length * double(hit.t));
+    albedo = scene.albedo(hit.triangle, fallback);
     return true;
 }
 
@@ -219,15 +221,15 @@ VplSet traceVpls(const LightingScene& scene, const std::vector<Light>& lights, c
             const Photon photon = emit(light, counts[l], scene.reach(), rng);
             ++set.photons;
             set.emitted += photon.flux;
-            glm::dvec3 point, normal;
-            if (!firstSurface(scene, photon.origin, photon.direction, photon.length, point, normal))
+            glm::dvec3 point, normal, albedo;
+            if (!firstSurface(scene, photon.origin, photon.direction, photon.length, options.albedo, point, normal, albedo))
                 continue;   // left the scene
             glm::dvec3 flux = photon.flux;
             if (light.type == LightType::Point || light.type == LightType::Spot)
                 flux *= rangeWindow(light, glm::length(point - photon.origin));
             if (flux == glm::dvec3(0.0))
                 continue;
-            set.vpls.push_back(vplAt(point, normal, options.albedo * flux, options.clampMetres));
+            set.vpls.push_back(vplAt(point, normal, albedo * flux, options.clampMetres));
         }
     set.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return set;
@@ -260,14 +262,16 @@ std::vector<glm::dvec3> gatheredIndirect(const LightingScene& scene, const std::
     if (samples < 1)
         throw Error("the gathering reference needs at least one sample per point");
     std::vector<ShadingPoint> seen;
+    std::vector<glm::dvec3> albedos;   ///< of the surface each gathered direction met
     std::vector<std::size_t> owner;
     for (std::size_t j = 0; j < points.size(); ++j) {
         Uniform rng(options.seed * 0x9E3779B97F4A7C15ull + j);
         const double length = glm::length(points[j].position - scene.reach().centre) + 2.0 * scene.reach().radius + 1.0;
         for (int k = 0; k < samples; ++k) {
-            glm::dvec3 point, normal;
-            if (firstSurface(scene, points[j].position, cosineWeighted(points[j].normal, rng), length, point, normal)) {
+            glm::dvec3 point, normal, albedo;
+            if (firstSurface(scene, points[j].position, cosineWeighted(points[j].normal, rng), length, options.albedo, point, normal, albedo)) {
                 seen.push_back({point + kLiftMetres * normal, normal});
+                albedos.push_back(albedo);
                 owner.push_back(j);
             }
         }
@@ -277,7 +281,7 @@ std::vector<glm::dvec3> gatheredIndirect(const LightingScene& scene, const std::
     const std::vector<glm::dvec3> there = directIrradiance(scene, lights, seen, direct);
     std::vector<glm::dvec3> out(points.size(), glm::dvec3(0.0));
     for (std::size_t k = 0; k < seen.size(); ++k)
-        out[owner[k]] += there[k] * (options.albedo / samples);
+        out[owner[k]] += there[k] * albedos[k] / double(samples);
     return out;
 }
 

@@ -12,7 +12,10 @@
 //  - what the nodes expand to is counted before expanding it (SceneLimits.h), and the hierarchy is
 //    walked with an explicit stack, so neither a wide nor a deep file exhausts memory or the stack.
 // Each glTF mesh becomes one sightline::Mesh (its triangle primitives merged); each node that
-// references it becomes an Instance, so instancing survives the import.
+// references it becomes an Instance, so instancing survives the import. A mesh with a material on
+// some primitive keeps each triangle's base colour factor as its albedo (a primitive without one
+// takes glTF's default material, white); textures are not decoded, so a textured material's
+// albedo is unknown (the lighting run's own applies).
 
 #include <algorithm>
 #include <cctype>
@@ -443,6 +446,23 @@ bool isTriangleMode(int mode)
            mode == TINYGLTF_MODE_TRIANGLE_FAN;
 }
 
+/// The diffuse albedo of a primitive's material: its base colour factor (linear RGB; alpha ignored),
+/// white for a primitive without a material (glTF's default material), kUnknownAlbedo for a
+/// textured one (the texture, not decoded, multiplies the factor).
+glm::vec3 baseColour(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& what)
+{
+    if (prim.material < 0)
+        return glm::vec3(1.0f);
+    if (std::size_t(prim.material) >= model.materials.size())
+        throw Error(what + " names missing material " + std::to_string(prim.material));
+    const std::vector<double>& factor = model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor;
+    if (factor.size() != 4 || !std::all_of(factor.begin(), factor.end(), [](double f) { return f >= 0.0 && f <= 1.0; }))
+        throw Error(what + ": material " + std::to_string(prim.material) + "'s baseColorFactor must be four numbers in [0, 1]");
+    if (model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index >= 0)
+        return kUnknownAlbedo;
+    return glm::vec3(float(factor[0]), float(factor[1]), float(factor[2]));
+}
+
 Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std::string& file,
                  std::vector<std::string>& warnings)
 {
@@ -452,7 +472,7 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
     // Written by our exporter (or by hand, or by another tool): a claim, checked below.
     mesh.watertight = src.extras.IsObject() && src.extras.Has("watertight") &&
                       src.extras.Get("watertight").IsBool() && src.extras.Get("watertight").Get<bool>();
-    bool allNormals = true;
+    bool allNormals = true, anyMaterial = false;
     for (std::size_t p = 0; p < src.primitives.size(); ++p) {
         const tinygltf::Primitive& prim = src.primitives[p];
         const std::string what = file + ": mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(p);
@@ -489,9 +509,13 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
             mesh.normals.insert(mesh.normals.end(), normals.begin(), normals.end());
         for (std::uint32_t i : tris)
             mesh.indices.push_back(offset + i);
+        anyMaterial = anyMaterial || prim.material >= 0;
+        mesh.albedo.insert(mesh.albedo.end(), tris.size() / 3, baseColour(model, prim, what));
     }
     if (!allNormals)
         mesh.normals.clear();
+    if (!anyMaterial)
+        mesh.albedo.clear();   // the run's own albedo (lighting/Indirect.h), not glTF's white
     // Culling trusts the flag (§7): on an open or inward mesh it would drop real blockers.
     if (mesh.watertight && !meshTopology(mesh).closedAndOutward()) {
         mesh.watertight = false;

@@ -91,6 +91,40 @@ TEST(Indirect, VplsInsideASphereGiveTheClosedForm)
     EXPECT_NEAR(mean, expected, 0.01 * expected);
 }
 
+// Each surface's own albedo, per channel: with a point light at the centre each hemisphere takes
+// half the flux, and the uniform form factor spreads each half evenly, so every point's bounce is
+// (rho_upper + rho_lower) / 2 x Phi / (4 pi R^2), channel by channel. The lower half's albedo is
+// unknown (a texture not decoded): the options' albedo stands in for it there alone.
+TEST(Indirect, SurfaceAlbedosColourTheBouncePerChannel)
+{
+    const int rings = 96, segments = 192;
+    Mesh coloured = sphere(rings, segments);
+    const glm::vec3 upper(0.8f, 0.0f, 0.2f);
+    for (int i = 0; i < rings; ++i)   // two triangles per (ring, segment), ring 0 at the top
+        coloured.albedo.insert(coloured.albedo.end(), std::size_t(2 * segments), i < rings / 2 ? upper : kUnknownAlbedo);
+    const Scene scene = test::sceneOf({coloured});
+    const LightingScene lighting(scene);
+    std::vector<Light> lights = {test::pointLight({0.0, 0.0, 0.0}, 10.0)};
+    validateLights(lights, "test");
+    IndirectOptions options;
+    options.vpls = 20000;
+    options.albedo = 0.3;
+    options.clampMetres = 0.0;
+    const double phi = 4.0 * std::numbers::pi * 10.0;
+    const glm::dvec3 expected = 0.5 * (glm::dvec3(upper) + glm::dvec3(options.albedo)) * phi / (4.0 * std::numbers::pi * kR * kR);
+    const std::vector<ShadingPoint> points = insidePoints();
+    const IndirectResult result = vplIrradiance(lighting, traceVpls(lighting, lights, options), points, options);
+    const std::vector<glm::dvec3> gathered = gatheredIndirect(lighting, lights, points, 400, options);
+    glm::dvec3 gatheredMean(0.0);
+    for (std::size_t j = 0; j < points.size(); ++j) {
+        for (int c = 0; c < 3; ++c)   // the tessellation's share and the photons' split between the halves
+            EXPECT_NEAR(result.irradiance[j][c], expected[c], 0.03 * expected[c]) << "point " << j << " channel " << c;
+        gatheredMean += gathered[j] / double(points.size());
+    }
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(gatheredMean[c], expected[c], 0.03 * expected[c]) << "channel " << c;
+}
+
 TEST(Indirect, VplsAreDeterministicPerSeedAndOptionsAreChecked)
 {
     const Scene scene = test::sceneOf({sphere(16, 32)});

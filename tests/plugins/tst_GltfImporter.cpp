@@ -67,6 +67,37 @@ TEST(GltfImporter, U8StripAndU32Fan)
     EXPECT_EQ(world(scene), expected);
 }
 
+TEST(GltfImporter, MaterialsGiveEachTriangleItsBaseColourAsAlbedo)
+{
+    TempDir dir;
+    GltfDoc g;
+    const int quad = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+    const int strip = g.indices(std::vector<std::uint8_t>{0, 1, 2, 3}, kU8);
+    // Mesh 0: a red strip (two triangles), then a fan without a material (glTF's default: white).
+    g.mesh(json::array({{{"attributes", {{"POSITION", quad}}}, {"indices", strip}, {"mode", 5}, {"material", 0}},
+                        {{"attributes", {{"POSITION", quad}}}, {"mode", 6}}}));
+    // Mesh 1: no material anywhere: no albedos (the run's own applies).
+    g.mesh(json::array({{{"attributes", {{"POSITION", quad}}}, {"mode", 6}}}));
+    // Mesh 2: a textured material: its colour is unknown (textures are not decoded).
+    g.mesh(json::array({{{"attributes", {{"POSITION", quad}}}, {"mode", 6}, {"material", 1}}}));
+    g.doc["materials"] = json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.1, 0.05, 0.5}}}}},
+                                      {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}});
+    g.doc["textures"] = json::array({{{"source", 0}}});
+    g.doc["images"] = json::array({{{"uri", "albedo.png"}}});
+    g.scene(json::array({{{"mesh", 0}}, {{"mesh", 1}}, {{"mesh", 2}}}), {0, 1, 2});
+    const Scene scene = loadScene(g.writeEmbedded(dir / "materials.gltf"));
+    ASSERT_EQ(scene.meshes.size(), 3u);
+    const std::vector<glm::vec3> expected = {{0.8f, 0.1f, 0.05f}, {0.8f, 0.1f, 0.05f}, {1.0f, 1.0f, 1.0f}, {1.0f, 1.0f, 1.0f}};
+    EXPECT_EQ(scene.meshes[0].albedo, expected);
+    EXPECT_TRUE(scene.meshes[1].albedo.empty());
+    EXPECT_EQ(scene.meshes[2].albedo, std::vector<glm::vec3>(2, kUnknownAlbedo));
+
+    // A base colour outside [0, 1] is refused in one line, naming the material.
+    g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.5, 0, 0, 1};
+    const auto bad = g.writeEmbedded(dir / "bright.gltf");
+    EXPECT_NE(expectOneLineError(bad, [&] { loadScene(bad); }).find("material 0's baseColorFactor"), std::string::npos);
+}
+
 TEST(GltfImporter, InterleavedStrideAndNormals)
 {
     TempDir dir;

@@ -65,6 +65,17 @@ TEST(Scene, ValidateNamesTheProblem)
     Mesh partial = m;
     partial.indices.pop_back();
     EXPECT_THROW(validate(partial, "x"), Error);
+    Mesh coloured = m;
+    coloured.albedo = {glm::vec3(0.5f), glm::vec3(1.0f)};
+    EXPECT_NO_THROW(validate(coloured, "x"));
+    coloured.albedo.pop_back();   // one per triangle or none
+    EXPECT_THROW(validate(coloured, "x"), Error);
+    coloured.albedo = {glm::vec3(0.5f), glm::vec3(0.5f, 1.5f, 0.5f)};
+    EXPECT_THROW(validate(coloured, "x"), Error);
+    coloured.albedo[1].y = std::nanf("");
+    EXPECT_THROW(validate(coloured, "x"), Error);
+    coloured.albedo[1] = kUnknownAlbedo;   // the file does not say
+    EXPECT_NO_THROW(validate(coloured, "x"));
 
     Scene scene = sceneOf({m});
     scene.instances.push_back({"ghost", 5, glm::mat4(1.0f)});

@@ -187,6 +187,13 @@ void validate(const Mesh& mesh, const std::string& what)
     for (std::size_t i = 0; i < mesh.positions.size(); ++i)
         if (!finite(mesh.positions[i]))
             throw Error(where + ": vertex " + std::to_string(i) + " is not finite (NaN or infinity)");
+    if (!mesh.albedo.empty() && mesh.albedo.size() != mesh.triangleCount())
+        throw Error(where + " has " + std::to_string(mesh.albedo.size()) + " albedos for " +
+                    std::to_string(mesh.triangleCount()) + " triangles");
+    for (std::size_t t = 0; t < mesh.albedo.size(); ++t)
+        for (int c = 0; c < 3; ++c)
+            if (!(mesh.albedo[t][c] >= 0.0f && mesh.albedo[t][c] <= 1.0f) && mesh.albedo[t] != kUnknownAlbedo)
+                throw Error(where + ": triangle " + std::to_string(t) + "'s albedo must lie in [0, 1] per channel");
     for (std::size_t i = 0; i < mesh.indices.size(); ++i)
         if (mesh.indices[i] >= mesh.positions.size())
             throw Error(where + ": index " + std::to_string(i) + " = " + std::to_string(mesh.indices[i]) +

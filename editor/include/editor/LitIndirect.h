@@ -22,8 +22,8 @@
 
 namespace sightline::ui {
 
-/// The lit view's bounce: as `sightline-cli lights --indirect` by default (albedo 0.5 everywhere,
-/// a 0.1 m clamp), with fewer photons so that it follows a moved light within seconds.
+/// The lit view's bounce: as `sightline-cli lights --indirect` by default (each surface's material
+/// albedo, else 0.5; a 0.1 m clamp), with fewer photons so that it follows a moved light within seconds.
 IndirectOptions litIndirectOptions();
 
 class LitIndirect {

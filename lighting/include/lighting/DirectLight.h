@@ -74,6 +74,9 @@ public:
     /// The triangle across each edge of each triangle (-1: none, or a non-manifold edge).
     const std::vector<std::array<std::int64_t, 3>>& neighbours() const { return neighbours_; }
     const DirectionalReach& reach() const { return reach_; }
+    /// World triangle `triangle`'s diffuse albedo: its mesh's (Mesh::albedo) where known, else
+    /// `fallback` in every channel.
+    glm::dvec3 albedo(std::int64_t triangle, double fallback) const;
     /// The triangles' box tree (lights/TriangleBoxTree.h): which shafts are empty.
     const lights::TriangleBoxTree& boxTree() const { return *boxTree_; }
     /// Built on first use (its set-up is not free, and only area lights over a grid ask for it).
@@ -89,6 +92,7 @@ private:
     std::unique_ptr<pvs::FirstHitCaster> firstHits_;
     std::unique_ptr<lights::TriangleBoxTree> boxTree_;
     DirectionalReach reach_;
+    std::vector<std::size_t> instanceFirst_;   ///< each instance's first world triangle, where some mesh carries albedos
     mutable std::once_flag bitmaskOnce_;
     mutable std::unique_ptr<CpuBitmaskSampler> bitmask_;
     mutable std::once_flag floatOnce_;

@@ -5,7 +5,8 @@
 // Photons leave the lights in proportion to their power (each light's share of the count by
 // largest remainders, so the set is deterministic for a seed), each carrying the light's power
 // over its photon count, and travel to the first surface they meet. There each becomes a VPL: a
-// diffuse reflector of albedo x its flux, which gives a point x at distance d
+// diffuse reflector of albedo x its flux (the surface's own albedo where its mesh carries one,
+// Mesh::albedo, per channel; else the options' albedo), which gives a point x at distance d
 //     E = albedo Phi max(0, m.(-l)) max(0, n.l) / (pi d^2),
 // m the surface's normal towards the photon's source. That is exactly an area light of one sample
 // whose radiance x area is albedo Phi / pi (LightEmission.h), so VPLs are shadowed by the same
@@ -29,7 +30,7 @@ namespace sightline {
 struct IndirectOptions {
     int vpls = 256;                ///< photons traced (those that meet nothing leave the scene)
     std::uint64_t seed = 1;
-    double albedo = 0.5;           ///< every surface's diffuse reflectance, in [0, 1)
+    double albedo = 0.5;           ///< the diffuse reflectance of surfaces without their own, in [0, 1)
     double clampMetres = 0.1;      ///< VPL distances below this count as this (0: no clamp)
     int threads = 0;
 };

@@ -26,6 +26,9 @@ struct Bounds {
     void extend(const Bounds& b);
 };
 
+/// Mesh::albedo of a triangle whose file does not say: the lighting run's own albedo applies.
+inline constexpr glm::vec3 kUnknownAlbedo{-1.0f};
+
 /// Indexed triangle mesh in its own object space. `indices.size()` is a multiple of 3.
 /// `normals` is either empty or one per position (for display only; visibility ignores it).
 struct Mesh {
@@ -38,6 +41,10 @@ struct Mesh {
     /// wrongly set on an open mesh loses real blockers, so importers set it only where
     /// closedAndOutward() holds.
     bool watertight = false;
+    /// Empty, or each triangle's diffuse reflectance per channel, in [0, 1]: its material's base
+    /// colour where the file gives one, kUnknownAlbedo where it does not (a texture not decoded).
+    /// Indirect light alone reads it (lighting/Indirect.h); visibility ignores it.
+    std::vector<glm::vec3> albedo;
 
     std::size_t triangleCount() const { return indices.size() / 3; }
 };
@@ -105,6 +112,8 @@ bool closedAndOutward(const Mesh& mesh);
 
 /// Throws sightline::Error naming the first problem: an index out of range, an index count that is
 /// not a multiple of 3, a non-finite position, a normal count that differs from the position count,
+/// an albedo count that is neither 0 nor the triangle count or an albedo outside [0, 1] (other
+/// than kUnknownAlbedo),
 /// an instance naming a missing mesh, a non-finite transform, or (scenes) a placed vertex farther
 /// than kMaxCoordinateMetres (ExactSegment.h, docs/design.md §2) from the origin on some axis. `what`
 /// prefixes the message (usually the file name).
