@@ -56,6 +56,47 @@ TEST(MeshFileImporter, ObjKeepsNonManifoldAndPolygonFaces)
     EXPECT_EQ(third, (std::vector<std::uint32_t>{1, 0, 4}));
 }
 
+TEST(MeshFileImporter, ObjMaterialsGiveTheirDiffuseColourAsAlbedo)
+{
+    TempDir dir;
+    writeFile(dir / "level.mtl", "# a library\nnewmtl red brick\nKd 0.9 0.1 0.1\nKs 1 1 1\n"
+                                 "newmtl grey\nKd 0.5\nnewmtl painted\nKd 0.2 0.3 0.4\nmap_Kd wall.png\n"
+                                 "newmtl glowing\nKd 1.5 0 0\nnewmtl measured\nKd spectral rough.rfl\n");
+    const auto file = writeFile(dir / "level.obj", "mtllib level.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                                   "f 1 2 3\nusemtl red brick\nf 1 2 3 4\nusemtl grey\nf 1 2 3\n"
+                                                   "usemtl painted\nf 1 2 3\nusemtl glowing\nf 1 2 3\n"
+                                                   "usemtl measured\nf 1 2 3\nusemtl nowhere\nf 1 2 3\n");
+    std::vector<std::string> warnings;
+    const Scene scene = loadScene(file, &warnings);
+    const glm::vec3 red(0.9f, 0.1f, 0.1f), unknown = kUnknownAlbedo;
+    // Before any usemtl; the quad's two triangles; grey from one value; a texture; Kd out of
+    // range; a spectral Kd; a material no library defines.
+    EXPECT_EQ(scene.meshes.at(0).albedo,
+              (std::vector<glm::vec3>{unknown, red, red, glm::vec3(0.5f), unknown, unknown, unknown, unknown}));
+    std::string all;
+    for (const std::string& w : warnings)
+        all += w + "\n";
+    EXPECT_NE(all.find("level.mtl: line 11: Kd not read"), std::string::npos) << all;
+    EXPECT_NE(all.find("level.mtl: line 13: Kd not read"), std::string::npos) << all;
+    EXPECT_NE(all.find("material 'nowhere' is not defined"), std::string::npos) << all;
+
+    // Libraries that are missing or outside the OBJ's folder are warnings, the level loads.
+    std::filesystem::create_directories(dir / "sub");
+    writeFile(dir / "outside.mtl", "newmtl red\nKd 1 0 0\n");
+    const auto escaping = writeFile(dir / "sub" / "level.obj", "mtllib ../outside.mtl missing.mtl\nusemtl red\n"
+                                                               "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n");
+    warnings.clear();
+    const Scene alone = loadScene(escaping, &warnings);
+    EXPECT_EQ(alone.triangleCount(), 1u);
+    EXPECT_TRUE(alone.meshes.at(0).albedo.empty());   // nothing known
+    ASSERT_GE(warnings.size(), 2u);
+    EXPECT_NE(warnings[0].find("outside the OBJ's folder"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[1].find("is not there"), std::string::npos) << warnings[1];
+
+    // Without materials: no albedos.
+    EXPECT_TRUE(loadScene(writeFile(dir / "plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n")).meshes.at(0).albedo.empty());
+}
+
 TEST(MeshFileImporter, ObjWithNaNVertexIsRefused)
 {
     TempDir dir;

@@ -30,16 +30,34 @@
 
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "visibility/Scene.h"
 
 namespace sightline::meshio {
 
+/// What an OBJ says of its materials: the libraries it names (`mtllib`, as written) and, per
+/// triangle, the index of the material in force (`usemtl`) in `names`, or -1 before any.
+struct ObjMaterialUse {
+    std::vector<std::string> libraries;
+    std::vector<std::string> names;
+    std::vector<int> triangleMaterial;
+};
+
 /// Each reads a whole file's bytes (`what` names it in messages) into one mesh; throws
 /// sightline::Error with one line on anything it does not accept.
-Mesh readObj(std::string_view text, const std::string& what, std::vector<std::string>& warnings);
+Mesh readObj(std::string_view text, const std::string& what, std::vector<std::string>& warnings,
+             ObjMaterialUse* materials = nullptr);
 Mesh readPly(std::string_view text, const std::string& what);
+
+/// A material library (.mtl) as albedos by material name: each material's diffuse colour `Kd` (one
+/// value is grey), or kUnknownAlbedo where it has a diffuse texture (`map_Kd`, not decoded) or no
+/// Kd. A Kd this reader does not take (spectral or xyz, a value that is not a number in [0, 1])
+/// leaves its material unknown with a warning naming the line; materials are lighting data that
+/// visibility does not need, so nothing in a library refuses the level.
+std::unordered_map<std::string, glm::vec3> readMtl(std::string_view text, const std::string& what,
+                                                   std::vector<std::string>& warnings);
 Mesh readOff(std::string_view text, const std::string& what);
 Mesh readStl(std::string_view bytes, const std::string& what);
 

@@ -2,6 +2,7 @@
 // What the mesh readers share (MeshReaders.h): text read line by line and token by token, numbers
 // read strictly, and the messages' wording. The rules every reader follows are in MeshReaders.h.
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -63,6 +64,18 @@ public:
             ++pos_;
         token = line_.substr(begin, pos_ - begin);
         return true;
+    }
+
+    /// What the line holds after the tokens read so far, spaces trimmed at both ends (a name that
+    /// may hold spaces).
+    std::string_view rest() const
+    {
+        std::string_view rest = line_.substr(std::min(pos_, line_.size()));
+        while (!rest.empty() && isSpace(rest.front()))
+            rest.remove_prefix(1);
+        while (!rest.empty() && isSpace(rest.back()))
+            rest.remove_suffix(1);
+        return rest;
     }
 
 private:

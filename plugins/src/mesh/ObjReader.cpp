@@ -1,6 +1,8 @@
 #include "mesh/MeshReaders.h"
 
 #include <algorithm>
+#include <string>
+#include <unordered_map>
 
 #include "base/Error.h"
 #include "mesh/MeshText.h"
@@ -58,10 +60,10 @@ std::uint32_t objCorner(std::string_view token, std::size_t vertices, const std:
     return static_cast<std::uint32_t>(resolved);
 }
 
-/// Statements that carry no surface geometry (attributes, grouping, materials, curve settings).
+/// Statements that carry no surface geometry (attributes, grouping, texture maps, curve settings).
 bool objIgnorable(std::string_view keyword)
 {
-    static const char* const kIgnored[] = {"vt", "vn", "vp", "o", "g", "s", "mg", "usemtl", "mtllib", "maplib",
+    static const char* const kIgnored[] = {"vt", "vn", "vp", "o", "g", "s", "mg", "maplib",
                                            "usemap", "lod", "shadow_obj", "trace_obj", "ctech", "stech", "bevel",
                                            "c_interp", "d_interp", "cstype", "deg", "bmat", "step", "parm",
                                            "trim", "hole", "scrv", "sp", "end", "con", "call", "csh"};
@@ -74,9 +76,12 @@ bool objIgnorable(std::string_view keyword)
 
 } // namespace
 
-Mesh readObj(std::string_view text, const std::string& what, std::vector<std::string>& warnings)
+Mesh readObj(std::string_view text, const std::string& what, std::vector<std::string>& warnings, ObjMaterialUse* materials)
 {
     Mesh mesh;
+    ObjMaterialUse use;
+    std::unordered_map<std::string, int> materialIndex;
+    int current = -1;
     Lines lines(text);
     std::vector<std::uint32_t> polygon;
     std::size_t pointsAndLines = 0, unknown = 0, firstUnknown = 0;
@@ -98,6 +103,16 @@ Mesh readObj(std::string_view text, const std::string& what, std::vector<std::st
             if (polygon.size() < 3)
                 failAt(what, number, "face " + polygonTooSmall(polygon.size()));
             addFan(mesh, polygon);
+            use.triangleMaterial.insert(use.triangleMaterial.end(), polygon.size() - 2, current);
+        } else if (keyword == "usemtl") {
+            const std::string name(t.rest());
+            const auto [at, added] = materialIndex.try_emplace(name, int(use.names.size()));
+            if (added)
+                use.names.push_back(name);
+            current = at->second;
+        } else if (keyword == "mtllib") {
+            for (std::string_view file; t.next(file);)   // names are separated by spaces
+                use.libraries.emplace_back(file);
         } else if (keyword == "p" || keyword == "l") {
             ++pointsAndLines;
         } else if (keyword == "curv" || keyword == "curv2" || keyword == "surf") {
@@ -115,6 +130,8 @@ Mesh readObj(std::string_view text, const std::string& what, std::vector<std::st
     if (unknown > 0)
         warnings.push_back(what + ": " + std::to_string(unknown) + " unknown statements ignored (the first, " +
                            quote(unknownKeyword) + ", at line " + std::to_string(firstUnknown) + ")");
+    if (materials)
+        *materials = std::move(use);
     return mesh;
 }
 
