@@ -589,8 +589,6 @@ struct LightsRun {
     json glJson, comparison, indirectJson, dragJson, texelJson;
 };
 
-/// Where the irradiance is computed: light-map texels (--texel), the receiver's samples, or the
-/// points of --points.
 /// The first call in a process pays one-time costs (the thread pool's start, first touches of the
 /// acceleration structures and of buffers sized by the light samples): a small call with every
 /// light pays them before anything is timed, so that each path's time is what a warm editor or a
@@ -606,6 +604,8 @@ void warmUp(const LightingScene& lighting, const std::vector<Light>& lights, con
     directIrradiance(lighting, lights, std::span<const ShadingPoint>(points.data(), count), options);
 }
 
+/// Where the irradiance is computed: light-map texels (--texel), the receiver's samples, or the
+/// points of --points.
 void choosePoints(const LightsArgs& args, const Project& project, const Scene& scene, LightsRun& run)
 {
     run.onReceiver = args.points.empty() && args.texel <= 0.0;

@@ -51,14 +51,15 @@ Mesh readObj(std::string_view text, const std::string& what, std::vector<std::st
              ObjMaterialUse* materials = nullptr);
 Mesh readPly(std::string_view text, const std::string& what);
 
+Mesh readOff(std::string_view text, const std::string& what);
+Mesh readStl(std::string_view bytes, const std::string& what);
+
 /// A material library (.mtl) as albedos by material name: each material's diffuse colour `Kd` (one
 /// value is grey), or kUnknownAlbedo where it has a diffuse texture (`map_Kd`, not decoded) or no
 /// Kd. A Kd this reader does not take (spectral or xyz, a value that is not a number in [0, 1])
-/// leaves its material unknown with a warning naming the line; materials are lighting data that
+/// leaves its material unknown, with one warning naming the first such line and their count; materials are lighting data that
 /// visibility does not need, so nothing in a library refuses the level.
 std::unordered_map<std::string, glm::vec3> readMtl(std::string_view text, const std::string& what,
                                                    std::vector<std::string>& warnings);
-Mesh readOff(std::string_view text, const std::string& what);
-Mesh readStl(std::string_view bytes, const std::string& what);
 
 } // namespace sightline::meshio

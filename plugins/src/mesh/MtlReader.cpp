@@ -10,6 +10,8 @@ std::unordered_map<std::string, glm::vec3> readMtl(std::string_view text, const 
     std::unordered_map<std::string, glm::vec3> albedo;
     glm::vec3* current = nullptr;   ///< the material being defined
     bool textured = false;
+    std::size_t unread = 0;         ///< Kd statements not read
+    std::string firstUnread;
     const auto finish = [&] {
         if (current && textured)
             *current = kUnknownAlbedo;
@@ -41,8 +43,8 @@ std::unordered_map<std::string, glm::vec3> readMtl(std::string_view text, const 
             if (why.empty() && n != 1 && n != 3)
                 why = std::to_string(n) + " values (1 or 3 are read)";
             if (!why.empty()) {
-                warnings.push_back(what + ": line " + std::to_string(lines.number()) + ": Kd not read (" + why +
-                                   "); the material's albedo is unknown");
+                if (unread++ == 0)
+                    firstUnread = "line " + std::to_string(lines.number()) + ": Kd not read (" + why + ")";
                 *current = kUnknownAlbedo;
                 continue;
             }
@@ -50,6 +52,9 @@ std::unordered_map<std::string, glm::vec3> readMtl(std::string_view text, const 
         }
     }
     finish();
+    if (unread > 0)
+        warnings.push_back(what + ": " + firstUnread + (unread > 1 ? " and " + std::to_string(unread - 1) + " more" : "") +
+                           "; those materials' albedos are unknown");
     return albedo;
 }
 
