@@ -1,5 +1,5 @@
 #pragma once
-// The scene model: just what visibility needs.
+// The scene model: just what visibility needs, and the surfaces' albedos for indirect light.
 //
 // A Scene holds meshes once and places them through instances (mesh index + world transform), so a
 // plant placed 200 times is stored once. Units are metres, right-handed, Y up (docs/design.md §2).
