@@ -453,12 +453,12 @@ glm::vec3 baseColour(const tinygltf::Model& model, const tinygltf::Primitive& pr
 {
     if (prim.material < 0)
         return glm::vec3(1.0f);
-    if (std::size_t(prim.material) >= model.materials.size())
-        throw Error(what + " names missing material " + std::to_string(prim.material));
-    const std::vector<double>& factor = model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorFactor;
+    // The index was checked before tinygltf read the file (GltfValidation.h).
+    const tinygltf::PbrMetallicRoughness& pbr = model.materials.at(std::size_t(prim.material)).pbrMetallicRoughness;
+    const std::vector<double>& factor = pbr.baseColorFactor;
     if (factor.size() != 4 || !std::all_of(factor.begin(), factor.end(), [](double f) { return f >= 0.0 && f <= 1.0; }))
         throw Error(what + ": material " + std::to_string(prim.material) + "'s baseColorFactor must be four numbers in [0, 1]");
-    if (model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index >= 0)
+    if (pbr.baseColorTexture.index >= 0)
         return kUnknownAlbedo;
     return glm::vec3(float(factor[0]), float(factor[1]), float(factor[2]));
 }
