@@ -23,6 +23,7 @@
 #include "base/Error.h"
 #include "base/InputFile.h"
 #include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/OpenSpace.h"
 #include "visibility/pvs/PvsFile.h"
 #include "visibility/pvs/PvsObjects.h"
 #include "visibility/pvs/Sha256.h"
@@ -354,6 +355,8 @@ PvsBakeJob prepareBakeJob(const PvsBakeArgs& args, const std::vector<FileRole>& 
         setup.settings.cellRows = true;
     if (args.safe)
         setup.settings.safe = true;
+    if (args.noOpenSpace)
+        setup.settings.openSpace = false;
     if (args.noRefine)
         setup.settings.refine = false;
     setup.settings.threads = args.threads;
@@ -439,6 +442,13 @@ pvs::AccuracyReport checkBake(const PvsBakeJob& job, const pvs::PvsData& data, i
     return pvs::measureAccuracy(job.scene, data, settings);
 }
 
+json openSpaceJson(const pvs::OpenSpaceStats& s)
+{
+    return {{"leaves", s.leaves},         {"passages", s.passages},       {"sealed_passages", s.sealedPassages},
+            {"open_leaves", s.openLeaves}, {"open_portals", s.openPortals}, {"parts", s.parts},
+            {"portal_vis", s.portalVis},   {"build_ms", s.buildMs},         {"vis_ms", s.visMs}};
+}
+
 void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs::PvsStats& stats, double bakeMs, int ranks,
                       const json& sizes, const pvs::AccuracyReport* accuracy, const PvsBakeArgs& args)
 {
@@ -460,6 +470,8 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
                     {"direct_witnesses", stats.directWitnesses},
                     {"shaft_witnesses", stats.shaftWitnesses},
                     {"proven_hidden", stats.provenHidden},
+                    {"space_hidden", stats.spaceHidden},
+                    {"open_space", openSpaceJson(job.baker->openSpaceStats())},
                     {"unknown_pairs", stats.unknownPairs},
                     {"residue_witnesses", stats.search.residueWitnesses},
                     {"safe_kept", stats.safeKept},
@@ -486,6 +498,15 @@ void printBakeSummary(const PvsBakeJob& job, const pvs::PvsData& data, const pvs
     std::printf("bake       %.1f ms (coarse %.1f, refine %.1f); %llu pairs proven hidden, %llu unknown (%s)%s\n", bakeMs,
                 stats.coarseMs, stats.refineMs, (unsigned long long)stats.provenHidden, (unsigned long long)stats.unknownPairs,
                 job.baker->settings().safe ? "kept: safe mode" : "culled after the residue rays", ranks > 1 ? (" over " + std::to_string(ranks) + " ranks").c_str() : "");
+    const pvs::OpenSpaceStats& space = job.baker->openSpaceStats();
+    if (!job.baker->settings().openSpace)
+        std::printf("open space off\n");
+    else
+        std::printf("open space %zu boxes, %zu of %zu passages sealed; %zu open boxes, %zu portals (%s) in %zu parts: "
+                "%llu pairs proven hidden (%.1f + %.1f ms)\n",
+                space.leaves, space.sealedPassages, space.passages, space.openLeaves, space.openPortals,
+                space.portalVis ? "portal vis" : "flood only", space.parts, (unsigned long long)stats.spaceHidden,
+                space.buildMs, space.visMs);
     std::printf("visible    %zu of %zu pairs (%.2f%%)\n", data.rows.visibleCount(), pairs,
                 pairs ? 100.0 * double(data.rows.visibleCount()) / double(pairs) : 0.0);
     std::printf("rows       %llu bytes raw, %llu zero-run-length; .pvs %llu bytes\n",
@@ -513,6 +534,7 @@ CLI::App* addPvsCommand(CLI::App& app, PvsArgs& args)
     bake->add_option("--threads", b.threads, "Worker threads (0 = all cores; the output never depends on it)")
         ->check(CLI::Range(0, 1024));
     bake->add_flag("--safe", b.safe, "Safe mode: cull only pairs proven hidden (docs/pvs.md)");
+    bake->add_flag("--no-open-space", b.noOpenSpace, "Skip the open-space proof (docs/pvs.md), to measure what it gains");
     bake->add_option("--coarse", b.coarse, "Sub-shafts per (cell, target), coarse pass")->check(CLI::Range(1, pvs::kMaxCoarseShafts));
     bake->add_option("--fine", b.fine, "Sub-shafts per (cell, target), refine pass")->check(CLI::Range(1, pvs::kMaxFineShafts));
     bake->add_option("--smallest-gap", b.smallestGap, "Metres: the refine pass splits shafts down to this spread")

@@ -28,6 +28,7 @@ struct PvsBakeArgs {
     bool resume = false;        ///< --shard: keep an existing part of the same scene and settings
     int threads = 0;
     bool safe = false;
+    bool noOpenSpace = false;
     int coarse = 0, fine = 0;   ///< sub-shafts per pair and pass; 0: the project's (or the defaults)
     double smallestGap = 0.0;   ///< 0: the project's
     int residueRays = -1;       ///< -1: the project's

@@ -195,8 +195,8 @@ void appendSeparators(const Winding& a, const Winding& b, bool flip, std::vector
 
 class PortalFlow {
 public:
-    PortalFlow(const QuakeBsp& bsp, const std::vector<LeafPortal>& open, const PortalVisOptions& options)
-        : bsp_(bsp), options_(options), portals_(directedPortals(open)), leaving_(std::size_t(bsp.visleafs) + 1),
+    PortalFlow(int leafCount, const std::vector<LeafPortal>& open, const PortalVisOptions& options)
+        : leafCount_(leafCount), options_(options), portals_(directedPortals(open)), leaving_(std::size_t(leafCount) + 1),
           arena_(options.threads > 0 ? options.threads : tbb::task_arena::automatic)
     {
         const double bytes = double(portals_.size()) * double(portals_.size()) / 8.0 * 2.0;
@@ -206,9 +206,9 @@ public:
                         std::to_string(pvs::kMaxRowTableBytes >> 20) + " MiB allowed");
         for (std::size_t k = 0; k < portals_.size(); ++k) {
             const DirectedPortal& q = portals_[k];
-            if (q.from < 1 || q.from > bsp.visleafs || q.into < 1 || q.into > bsp.visleafs || q.w.size() < 3)
+            if (q.from < 1 || q.from > leafCount || q.into < 1 || q.into > leafCount || q.w.size() < 3)
                 throw Error("vis: portal " + std::to_string(k / 2) + " does not join two of the level's " +
-                            std::to_string(bsp.visleafs) + " visleafs");
+                            std::to_string(leafCount) + " visleafs");
             leaving_[std::size_t(q.from)].push_back(k);
         }
         mightSee_.assign(portals_.size(), PortalBits(portals_.size()));
@@ -382,7 +382,7 @@ private:
 
     pvs::VisibilityRows rows() const
     {
-        const std::size_t n = std::size_t(bsp_.visleafs);
+        const std::size_t n = std::size_t(leafCount_);
         pvs::VisibilityRows out(n, n);
         for (std::size_t leaf = 1; leaf <= n; ++leaf) {
             out.set(leaf - 1, leaf - 1, true);
@@ -394,7 +394,7 @@ private:
         return out;
     }
 
-    const QuakeBsp& bsp_;
+    int leafCount_ = 0;
     PortalVisOptions options_;
     std::vector<DirectedPortal> portals_;
     std::vector<std::vector<std::size_t>> leaving_;   ///< per leaf 0..visleafs
@@ -405,10 +405,18 @@ private:
 
 } // namespace
 
+pvs::VisibilityRows portalVis(int leafCount, const std::vector<LeafPortal>& open, const PortalVisOptions& options,
+                              PortalVisStats* stats)
+{
+    if (leafCount < 0)
+        throw Error("vis: a negative leaf count");
+    return PortalFlow(leafCount, open, options).run(stats);
+}
+
 pvs::VisibilityRows portalVis(const QuakeBsp& bsp, const std::vector<LeafPortal>& open, const PortalVisOptions& options,
                               PortalVisStats* stats)
 {
-    return PortalFlow(bsp, open, options).run(stats);
+    return portalVis(bsp.visleafs, open, options, stats);
 }
 
 } // namespace sightline::bsp

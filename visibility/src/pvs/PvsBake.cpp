@@ -13,6 +13,8 @@
 
 #include "base/Error.h"
 #include "visibility/pvs/FirstHitCaster.h"
+#include "visibility/pvs/OpenSpace.h"
+#include "visibility/pvs/ShaftProof.h"
 #include "visibility/pvs/ViewCells.h"
 
 namespace sightline::pvs {
@@ -104,6 +106,7 @@ void PvsStats::add(const PvsStats& o)
     directWitnesses += o.directWitnesses;
     shaftWitnesses += o.shaftWitnesses;
     provenHidden += o.provenHidden;
+    spaceHidden += o.spaceHidden;
     unknownPairs += o.unknownPairs;
     safeKept += o.safeKept;
     distanceCulled += o.distanceCulled;
@@ -117,10 +120,10 @@ std::string PvsSettings::canonical() const
 {
     std::ostringstream s;
     s.precision(17);
-    s << "pvs-bake-v2 coarse_shafts=" << coarseShafts << " fine_shafts=" << fineShafts << " smallest_gap=" << smallestGap
+    s << "pvs-bake-v3 coarse_shafts=" << coarseShafts << " fine_shafts=" << fineShafts << " smallest_gap=" << smallestGap
       << " coarse_gap=" << kCoarseGap << " blocks=" << kBlockCells << "x" << kBlockShafts << " residue_rays=" << residueRays << " direct=" << directCellPoints << "x"
       << directObjectPoints << " max_distance=" << maxDistance << " cell_rows=" << cellRows << " refine=" << refine
-      << " safe=" << safe;
+      << " safe=" << safe << " open_space=" << openSpace;
     return s.str();
 }
 
@@ -240,6 +243,11 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
         std::sort(block.cells.begin(), block.cells.end());
         blocks_.push_back(std::move(block));
     }
+    std::vector<Bounds> sources = cells_;
+    for (const Block& block : blocks_)
+        sources.push_back(block.bounds);
+    if (settings_.openSpace)
+        openSpace_ = std::make_unique<OpenSpace>(*prover_, scene.bounds(), soup, sources, OpenSpaceLimits{.threads = settings_.threads});
     objectPoints_.resize(objects_.size());
     smallSoups_.resize(objects_.size());
     for (std::size_t o = 0; o < objects_.size(); ++o) {
@@ -250,6 +258,26 @@ PvsBaker::PvsBaker(const Scene& scene, std::vector<Bounds> cells, std::vector<Pv
 }
 
 PvsBaker::~PvsBaker() = default;
+
+const OpenSpaceStats& PvsBaker::openSpaceStats() const
+{
+    static const OpenSpaceStats none;
+    return openSpace_ ? openSpace_->stats() : none;
+}
+
+void PvsBaker::hideByOpenSpace(const Bounds& box, std::vector<std::uint8_t>& hidden, PvsStats& stats) const
+{
+    if (!openSpace_)
+        return;
+    const std::vector<std::uint8_t> proven = openSpace_->hiddenFrom(box);
+    for (std::size_t o = 0; o < objects_.size(); ++o)
+        if (((proven[o / 8] >> (o % 8)) & 1u) && !((hidden[o / 8] >> (o % 8)) & 1u) && !objects_[o].bounds.empty() &&
+            !boxesMeet(box, objects_[o].bounds)) {
+            hidden[o / 8] = std::uint8_t(hidden[o / 8] | (1u << (o % 8)));
+            ++stats.spaceHidden;
+            ++stats.provenHidden;
+        }
+}
 
 std::uint64_t PvsBaker::cellSeed(std::size_t cell) const { return mixSeed(seed_, cell); }
 
@@ -359,6 +387,7 @@ std::vector<std::uint8_t> PvsBaker::bakeBlock(std::size_t block, PvsStats& stats
     // and no witnesses sought beyond the search's own. Valid for every cell of the block.
     const Bounds& box = blocks_[block].bounds;
     std::vector<std::uint8_t> hidden((objects_.size() + 7) / 8, 0);
+    hideByOpenSpace(box, hidden, stats);
     SearchLimits limits;
     limits.maxShafts = kBlockShafts * settings_.coarseShafts;
     limits.smallestGap = std::max(kCoarseGap, settings_.smallestGap);
@@ -399,6 +428,7 @@ std::vector<std::uint8_t> PvsBaker::bakeCell(std::size_t cell, const std::vector
     const Bounds& cellBox = cells_[cell];
     const std::size_t bytes = (objects_.size() + 7) / 8;
     std::vector<std::uint8_t> row(bytes, 0), decided = blockHidden;
+    hideByOpenSpace(cellBox, decided, stats);
     const std::uint64_t seed = cellSeed(cell);
     SearchLimits coarse;
     coarse.maxShafts = settings_.coarseShafts;

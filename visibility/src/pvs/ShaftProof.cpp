@@ -618,6 +618,28 @@ bool ShaftProver::regionContains(const Region& r, const std::vector<glm::dvec2>&
     return false;
 }
 
+ShaftProver::RegionPlane ShaftProver::regionPlane(std::size_t region) const
+{
+    const Region& r = regions_[region];
+    return {r.axis, r.offset, r.lo, r.hi};
+}
+
+bool ShaftProver::regionCovers(std::size_t region, const glm::dvec2& lo, const glm::dvec2& hi) const
+{
+    return regionContains(regions_[region], {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}}, {});
+}
+
+std::vector<std::array<glm::dvec2, 3>> ShaftProver::regionTriangles(std::size_t region) const
+{
+    const Region& r = regions_[region];
+    std::vector<std::array<glm::dvec2, 3>> out;
+    for (std::uint32_t t : r.triangles) {
+        const glm::vec3* q = &vertices_[3 * t];
+        out.push_back({drop(glm::dvec3(q[0]), r.axis), drop(glm::dvec3(q[1]), r.axis), drop(glm::dvec3(q[2]), r.axis)});
+    }
+    return out;
+}
+
 bool ShaftProver::planeBlocks(std::size_t triangle, const Quad& f, const Quad& g, const OwnInstances& own) const
 {
     const glm::vec3* q = &vertices_[3 * triangle];

@@ -47,4 +47,9 @@ struct PortalVisStats {
 pvs::VisibilityRows portalVis(const QuakeBsp& bsp, const std::vector<LeafPortal>& open,
                               const PortalVisOptions& options = {}, PortalVisStats* stats = nullptr);
 
+/// The same over any convex leaves 1..leafCount and the portals between them (pvs/OpenSpace.h's
+/// boxes): nothing here needs a BSP but the leaves' count.
+pvs::VisibilityRows portalVis(int leafCount, const std::vector<LeafPortal>& open, const PortalVisOptions& options = {},
+                              PortalVisStats* stats = nullptr);
+
 } // namespace sightline::bsp

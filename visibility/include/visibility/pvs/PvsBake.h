@@ -20,6 +20,10 @@
 //    objects at once.
 //  - Unknown: neither, within the pass's budget (sub-shafts per target, smallest gap split to).
 //
+// Before any of that, objects the open space proves hidden from the block's or the cell's box
+// (OpenSpace.h: a portal vis over the boxes between the scene's axis-aligned walls) are culled,
+// unless their box meets it.
+//
 // Passes. The coarse pass works on blocks: neighbouring cells (at most kBlockCells, grouped by a
 // tree of the cells' bounds) whose union box is tested as one source. What is proven hidden from
 // a block's box is hidden from each of its cells, so the coarse rows (everything the block did
@@ -55,6 +59,8 @@
 namespace sightline::pvs {
 
 class FirstHitCaster;
+class OpenSpace;
+struct OpenSpaceStats;
 
 /// The settings' integer ranges (PvsSettings::validate; the project's "pvs" key is checked
 /// against them before narrowing to int).
@@ -74,6 +80,8 @@ struct PvsSettings {
     bool refine = true;         ///< run the refine pass
     /// Safe mode: pairs left Unknown stay visible, so every culled pair is proven hidden.
     bool safe = false;
+    /// Cull first what the open space proves hidden (OpenSpace.h); off only to measure it.
+    bool openSpace = true;
     int threads = 0;            ///< 0 = all cores (the answer never depends on it)
 
     /// Canonical text of the settings that change the answer (not `threads`): part manifests and
@@ -109,6 +117,7 @@ struct PvsStats {
     double coarseMs = 0.0, refineMs = 0.0, cellRowsMs = 0.0;
     std::uint64_t overlapPairs = 0, directWitnesses = 0, shaftWitnesses = 0;
     std::uint64_t provenHidden = 0;     ///< pairs culled by a proof (their own, or their group's)
+    std::uint64_t spaceHidden = 0;      ///< of those, by the open space's (OpenSpace.h)
     std::uint64_t unknownPairs = 0;     ///< pairs Unknown after the last pass
     std::uint64_t safeKept = 0;         ///< of those, kept visible by the safe mode
     std::uint64_t distanceCulled = 0;   ///< pairs culled by the distance cut-off
@@ -148,6 +157,8 @@ public:
     /// each, neighbours by the cell tree's median splits), and the block of a cell.
     std::size_t blockCount() const { return blocks_.size(); }
     std::size_t blockOf(std::size_t cell) const { return blockOf_[cell]; }
+    /// The open space's partition and vis (OpenSpace.h), built with the baker.
+    const OpenSpaceStats& openSpaceStats() const;
 
 private:
     /// Visits the object tree from a box: nodes proven hidden hide their objects (`hide`), the
@@ -171,6 +182,10 @@ private:
     std::unique_ptr<FirstHitCaster> caster_;
     std::unique_ptr<ShaftProver> prover_;
     std::unique_ptr<ShaftSearch> search_;
+    std::unique_ptr<OpenSpace> openSpace_;
+    /// Objects the open space proves hidden from `box` whose bounds do not meet it (boxes that
+    /// meet are visible by definition), added to `hidden`; counted in `stats`.
+    void hideByOpenSpace(const Bounds& box, std::vector<std::uint8_t>& hidden, PvsStats& stats) const;
     /// Boxes grouped by bounds: a binary tree, node 0 the root; a leaf holds one item.
     struct Node {
         Bounds bounds;

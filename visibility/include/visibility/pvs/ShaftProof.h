@@ -91,6 +91,20 @@ public:
     std::size_t regionCount() const { return regions_.size(); }
     std::size_t solidCount() const;
 
+    /// A planar region's plane, x[axis] = offset, and its bounds in the plane's coordinates
+    /// (x[axis + 1], x[axis + 2], indices mod 3). Every region is axis-aligned.
+    struct RegionPlane {
+        int axis = 0;
+        double offset = 0.0;
+        glm::dvec2 lo{0.0}, hi{0.0};
+    };
+    RegionPlane regionPlane(std::size_t region) const;
+    /// Whether every point of the closed rectangle lo..hi (the plane's coordinates, as above) is on
+    /// a triangle of `region`: argument 1's containment test, with its margin.
+    bool regionCovers(std::size_t region, const glm::dvec2& lo, const glm::dvec2& hi) const;
+    /// The region's triangles in the plane's coordinates (as above).
+    std::vector<std::array<glm::dvec2, 3>> regionTriangles(std::size_t region) const;
+
 private:
     struct Region {
         int axis = 0;                        ///< the plane is x[axis] = offset
