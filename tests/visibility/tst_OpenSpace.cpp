@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "TestScenes.h"
+#include "visibility/pvs/FirstHitCaster.h"
 #include "visibility/pvs/OpenSpace.h"
 #include "visibility/pvs/PvsBake.h"
 #include "visibility/pvs/PvsObjects.h"
@@ -159,7 +160,7 @@ TEST(OpenSpace, ARoomNoLineThroughTheDoorwaysReachesIsHidden)
 /// Rooms in a row along x with doorways and slits of 1.6-3 cm in their walls (slabs on exact
 /// binary coordinates that touch or leave a gap), crates on the floors, cells in each room: where
 /// a leak the proof missed would show.
-Scene rooms(std::uint64_t seed, std::vector<Bounds>& cells)
+Scene rooms(std::uint64_t seed, std::vector<Bounds>& cells, glm::vec3 offset = glm::vec3(0.0f))
 {
     std::uint64_t state = seed;
     auto unit = [&] {
@@ -188,16 +189,20 @@ Scene rooms(std::uint64_t seed, std::vector<Bounds>& cells)
             addBox(s, "crate" + std::to_string(r) + "_" + std::to_string(c), at, at + glm::vec3(0.5f, grid(0.2f + unit()), 0.5f));
         }
         const glm::vec3 at(x0 + 0.3f + 2.5f * unit(), 0.3f, 0.3f + 2.8f * unit());
-        cells.push_back(box(at, at + glm::vec3(0.6f, 1.2f, 0.6f)));
+        cells.push_back(box(offset + at, offset + at + glm::vec3(0.6f, 1.2f, 0.6f)));
     }
+    for (Instance& instance : s.instances)
+        instance.transform = glm::translate(glm::mat4(1.0f), offset) * instance.transform;
     return s;
 }
 
 TEST(OpenSpace, NothingItHidesIsSeenByDenseRays)
 {
-    for (std::uint64_t seed = 1; seed <= 4; ++seed) {
+    // Seed 5 kilometres from the origin (slabs on 1/64 m stay exact floats there).
+    std::size_t cellPairsApart = 0;
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
         std::vector<Bounds> cells;
-        Scene scene = rooms(seed, cells);
+        Scene scene = rooms(seed, cells, seed == 5 ? glm::vec3(12000.0f, 0.0f, -8000.0f) : glm::vec3(0.0f));
         const Built b = build(scene, cells);
         PvsData data;
         data.sceneSha256 = "0be5";
@@ -221,7 +226,23 @@ TEST(OpenSpace, NothingItHidesIsSeenByDenseRays)
         EXPECT_GT(report.referenceVisible, 0u);
         EXPECT_EQ(report.missed, 0u) << "seed " << seed;
         EXPECT_EQ(report.edgeMissed, 0u) << "seed " << seed;
+        // Cell to cell: no segment between two cells it calls apart is free.
+        const FirstHitCaster caster(b.scene);
+        for (std::size_t c = 0; c < cells.size(); ++c) {
+            const std::vector<char> reach = b.space->reachableFrom(cells[c]);
+            ASSERT_FALSE(reach.empty());
+            for (std::size_t d = 0; d < cells.size(); ++d) {
+                if (!b.space->hides(reach, cells[d]))
+                    continue;
+                ++cellPairsApart;
+                const auto from = boxPoints(cells[c], 64, 2 * c + 1), to = boxPoints(cells[d], 64, 2 * d);
+                for (const glm::vec3& p : from)
+                    for (const glm::vec3& q : to)
+                        ASSERT_GE(caster.cast(p, q - p, 1.0f).instance, 0) << "seed " << seed << " cells " << c << " " << d;
+            }
+        }
     }
+    EXPECT_GT(cellPairsApart, 0u);
 }
 
 TEST(OpenSpace, TheBakeCullsWhatItProvesInBothModes)
@@ -243,6 +264,18 @@ TEST(OpenSpace, TheBakeCullsWhatItProvesInBothModes)
         EXPECT_FALSE(rows.visible(0, named(objects, "east"))) << "safe " << safe;
         EXPECT_TRUE(rows.visible(0, named(objects, "mid"))) << "safe " << safe;
         EXPECT_GE(stats.spaceHidden, 2u) << "safe " << safe;
+    }
+    // Cell to cell, a cell in the closet: apart.
+    const std::vector<Bounds> twoCells = {cells[0], box({6.5f, 1.0f, 2.5f}, {7.0f, 1.5f, 3.0f})};
+    for (bool safe : {true, false}) {
+        PvsSettings settings;
+        settings.safe = safe;
+        PvsStats stats;
+        const VisibilityRows rows = PvsBaker(s, twoCells, objects, "c105", settings).bakeCellRows({}, {}, &stats);
+        EXPECT_FALSE(rows.visible(0, 1)) << "safe " << safe;
+        EXPECT_FALSE(rows.visible(1, 0)) << "safe " << safe;
+        EXPECT_TRUE(rows.visible(1, 1));
+        EXPECT_EQ(stats.spaceHidden, 2u) << "safe " << safe;
     }
 }
 

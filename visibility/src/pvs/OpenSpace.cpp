@@ -105,6 +105,7 @@ struct PlaneTriangles {
     std::vector<Triangle2> triangles;
     std::vector<std::array<glm::dvec2, 2>> bounds;
     std::vector<std::uint32_t> regions;
+    std::vector<std::array<glm::dvec2, 2>> regionBounds;
 };
 
 /// The pieces of the closed rectangle `rect` that the triangles `candidates` (those meeting it)
@@ -143,9 +144,11 @@ bool cutOut(const PlaneTriangles& plane, const std::vector<std::uint32_t>& candi
 /// What of the closed rectangle lo..hi the plane's triangles leave uncovered, as pieces whose union
 /// holds every such point: a rectangle one region covers whole (ShaftProver::regionCovers) is
 /// covered; one that few triangles meet is cut exactly (cutOut); others are halved, down to
-/// `depth` halvings, past which the rectangle is kept whole (open: still safe).
+/// `depth` halvings or until `budget` calls are spent, past which the rectangle is kept whole
+/// (open: still safe).
 void uncovered(const ShaftProver& prover, const PlaneTriangles& plane, const std::vector<std::uint32_t>& meeting,
-               const glm::dvec2& lo, const glm::dvec2& hi, double thin, int depth, std::vector<Polygon>& out)
+               const glm::dvec2& lo, const glm::dvec2& hi, double thin, int depth, std::size_t& budget,
+               std::vector<Polygon>& out)
 {
     constexpr std::size_t kCutTriangles = 12;
     const Polygon rect{lo, {hi.x, lo.y}, hi, {lo.x, hi.y}};
@@ -159,20 +162,24 @@ void uncovered(const ShaftProver& prover, const PlaneTriangles& plane, const std
         out.push_back(rect);
         return;
     }
-    for (std::uint32_t r : plane.regions)
-        if (prover.regionCovers(r, lo, hi))
+    for (std::size_t k = 0; k < plane.regions.size(); ++k) {
+        const auto& box = plane.regionBounds[k];
+        if (box[0].x <= lo.x && box[0].y <= lo.y && box[1].x >= hi.x && box[1].y >= hi.y &&
+            prover.regionCovers(plane.regions[k], lo, hi))
             return;
+    }
     if (here.size() <= kCutTriangles && cutOut(plane, here, rect, thin, 64, out))
         return;
-    if (depth == 0) {
+    if (depth == 0 || budget < 2) {
         out.push_back(rect);
         return;
     }
+    budget -= 2;
     const int k = hi.x - lo.x >= hi.y - lo.y ? 0 : 1;
     glm::dvec2 midHi = hi, midLo = lo;
     midHi[k] = midLo[k] = 0.5 * (lo[k] + hi[k]);
-    uncovered(prover, plane, here, lo, midHi, thin, depth - 1, out);
-    uncovered(prover, plane, here, midLo, hi, thin, depth - 1, out);
+    uncovered(prover, plane, here, lo, midHi, thin, depth - 1, budget, out);
+    uncovered(prover, plane, here, midLo, hi, thin, depth - 1, budget, out);
 }
 
 /// What the plane leaves open of lo..hi (a wall's passage becomes its doorways): the convex hulls
@@ -183,10 +190,11 @@ std::vector<Polygon> openingsOf(const ShaftProver& prover, const PlaneTriangles&
 {
     constexpr int kDepth = 16;
     constexpr std::size_t kMaxOpenings = 8, kMaxGrouped = 256;
+    std::size_t budget = 4096;   // rectangles halved per passage
     std::vector<std::uint32_t> all(plane.triangles.size());
     std::iota(all.begin(), all.end(), std::uint32_t(0));
     std::vector<Polygon> pieces;
-    uncovered(prover, plane, all, lo, hi, thin, kDepth, pieces);
+    uncovered(prover, plane, all, lo, hi, thin, kDepth, budget, pieces);
     std::vector<std::array<glm::dvec2, 2>> boxes;
     for (const Polygon& piece : pieces) {
         std::array<glm::dvec2, 2> box{piece[0], piece[0]};
@@ -387,6 +395,7 @@ OpenSpace::OpenSpace(const ShaftProver& prover, const Bounds& sceneBounds, const
         const auto p = prover.regionPlane(r);
         PlaneTriangles& plane = onPlane[{p.axis, p.offset}];
         plane.regions.push_back(std::uint32_t(r));
+        plane.regionBounds.push_back({p.lo, p.hi});
         for (Triangle2 t : prover.regionTriangles(r)) {
             const double twice = cross2(t[1] - t[0], t[2] - t[0]);
             if (twice == 0.0)
@@ -519,12 +528,14 @@ OpenSpace::OpenSpace(const ShaftProver& prover, const Bounds& sceneBounds, const
     };
     stats_.portalVis = n <= limits.maxVisLeaves && portals.size() <= limits.maxVisPortals;
     if (stats_.portalVis) {
-        const VisibilityRows rows = bsp::portalVis(int(n), portals, {.stepsPerPortal = limits.stepsPerPortal, .threads = limits.threads});
+        leafRows_ = bsp::portalVis(int(n), portals, {.stepsPerPortal = limits.stepsPerPortal, .threads = limits.threads});
         for (std::size_t i = 0; i < n; ++i)
             for (std::size_t j = 0; j < n; ++j)
-                if (rows.visible(i, j))
+                if (leafRows_.visible(i, j))
                     addObjects(i, j);
     } else {
+        for (std::uint32_t l : openLeaves)
+            partOf_.push_back(parts.find(l));
         std::map<std::uint32_t, std::vector<std::uint8_t>> partRows;
         for (std::size_t i = 0; i < n; ++i) {
             auto& row = partRows[parts.find(openLeaves[i])];
@@ -540,19 +551,62 @@ OpenSpace::OpenSpace(const ShaftProver& prover, const Bounds& sceneBounds, const
     stats_.visMs = elapsedMs(visStart);
 }
 
+bool OpenSpace::inside(const Bounds& box) const
+{
+    if (box.empty() || leafNode_.empty())
+        return false;
+    const Box& root = nodes_[0].box;
+    for (int k = 0; k < 3; ++k)
+        if (double(box.min[k]) < root.lo[k] || double(box.max[k]) > root.hi[k])
+            return false;
+    return true;
+}
+
+std::vector<char> OpenSpace::reachableFrom(const Bounds& from) const
+{
+    if (!inside(from))
+        return {};
+    std::vector<std::uint32_t> meeting;
+    leavesMeeting({glm::dvec3(from.min), glm::dvec3(from.max)}, meeting);
+    const std::size_t n = stats_.openLeaves;
+    std::vector<char> reach(std::max<std::size_t>(n, 1), 0);
+    std::vector<std::uint32_t> seedParts;
+    for (std::uint32_t l : meeting) {
+        if (openIndex_[l] < 0)
+            return {};
+        const std::size_t i = std::size_t(openIndex_[l]);
+        if (stats_.portalVis)
+            for (std::size_t j = 0; j < n; ++j)
+                reach[j] = char(reach[j] | leafRows_.visible(i, j));
+        else
+            seedParts.push_back(partOf_[i]);
+    }
+    if (!stats_.portalVis)
+        for (std::size_t j = 0; j < n; ++j)
+            reach[j] = char(std::find(seedParts.begin(), seedParts.end(), partOf_[j]) != seedParts.end());
+    return reach;
+}
+
+bool OpenSpace::hides(const std::vector<char>& reachable, const Bounds& target) const
+{
+    if (reachable.empty() || !inside(target))
+        return false;
+    std::vector<std::uint32_t> meeting;
+    leavesMeeting({glm::dvec3(target.min), glm::dvec3(target.max)}, meeting);
+    for (std::uint32_t l : meeting)
+        if (openIndex_[l] >= 0 && reachable[std::size_t(openIndex_[l])])
+            return false;
+    return true;
+}
+
 std::vector<std::uint8_t> OpenSpace::hiddenFrom(const Bounds& box) const
 {
     const std::size_t rowBytes = (objectCount_ + 7) / 8;
     std::vector<std::uint8_t> hidden(rowBytes, 0);
-    if (box.empty() || leafNode_.empty())
+    if (!inside(box))
         return hidden;
-    const Box b{glm::dvec3(box.min), glm::dvec3(box.max)};
-    const Box& root = nodes_[0].box;
-    for (int k = 0; k < 3; ++k)
-        if (b.lo[k] < root.lo[k] || b.hi[k] > root.hi[k])
-            return hidden;
     std::vector<std::uint32_t> meeting;
-    leavesMeeting(b, meeting);
+    leavesMeeting({glm::dvec3(box.min), glm::dvec3(box.max)}, meeting);
     std::vector<std::uint8_t> seen(rowBytes, 0);
     for (std::uint32_t l : meeting) {
         if (openIndex_[l] < 0)

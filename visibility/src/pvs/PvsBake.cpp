@@ -668,6 +668,13 @@ VisibilityRows PvsBaker::bakeCellRows(const std::vector<std::size_t>& cellIndice
         std::vector<std::uint8_t> row(out.rowBytes(), 0);
         auto set = [&](std::size_t d) { row[d / 8] = std::uint8_t(row[d / 8] | (1u << (d % 8))); };
         const std::uint64_t seed = mixSeed(cellSeed(cell), 0x63656c6cull);
+        const std::vector<char> reachable = openSpace_ ? openSpace_->reachableFrom(cellBox) : std::vector<char>{};
+        const auto spaceHides = [&](const Bounds& box) {
+            if (!openSpace_ || boxesMeet(cellBox, box) || !openSpace_->hides(reachable, box))
+                return false;
+            ++local.spaceHidden;
+            return true;
+        };
         auto searchBox = [&](const Bounds& box, std::uint64_t id, bool lastPass) {
             SearchTarget target;
             target.box = box;
@@ -700,10 +707,12 @@ VisibilityRows PvsBaker::bakeCellRows(const std::vector<std::size_t>& cellIndice
                 continue;
             if (node.item >= 0) {
                 const std::size_t d = std::size_t(node.item);
-                if (boxesMeet(cellBox, cells_[d]) || decideBox(cells_[d], d))
+                if (boxesMeet(cellBox, cells_[d]) || (!spaceHides(cells_[d]) && decideBox(cells_[d], d)))
                     set(d);
                 continue;
             }
+            if (spaceHides(node.bounds))
+                continue;
             if (!boxesMeet(cellBox, node.bounds)) {
                 ++local.nodeTests;
                 if (searchBox(node.bounds, 2 * (cells_.size() + nodeIndex), false) == Reach::Hidden ||
@@ -727,6 +736,7 @@ VisibilityRows PvsBaker::bakeCellRows(const std::vector<std::size_t>& cellIndice
         stats->search.add(total.search);
         stats->nodeTests += total.nodeTests;
         stats->nodesCulled += total.nodesCulled;
+        stats->spaceHidden += total.spaceHidden;
     }
     return out;
 }

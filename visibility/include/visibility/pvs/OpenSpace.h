@@ -30,6 +30,7 @@
 #include <glm/vec3.hpp>
 
 #include "visibility/Scene.h"
+#include "visibility/pvs/PvsData.h"
 
 namespace sightline::pvs {
 
@@ -65,6 +66,13 @@ public:
     /// `box` reaches (above). A box outside the root or touching a leaf no source touched: none set.
     std::vector<std::uint8_t> hiddenFrom(const Bounds& box) const;
 
+    /// The boxes some segment from a point of `from` may enter, as flags over the open boxes;
+    /// empty when that is not known (then every box may be).
+    std::vector<char> reachableFrom(const Bounds& from) const;
+    /// Whether no point of `target` is reached (a cell-to-cell row): no box meeting it is in
+    /// `reachable` (reachableFrom's answer).
+    bool hides(const std::vector<char>& reachable, const Bounds& target) const;
+
     const OpenSpaceStats& stats() const { return stats_; }
 
     struct Box {
@@ -83,12 +91,16 @@ private:
     void leavesMeeting(const Box& box, std::vector<std::uint32_t>& out) const;
     template <class Test>
     void leavesWhere(const Test& meets, std::vector<std::uint32_t>& out) const;
+    /// Whether `box` is inside the root (what the answers hold for).
+    bool inside(const Bounds& box) const;
 
     std::size_t objectCount_ = 0;
     std::vector<Node> nodes_;
     std::vector<std::uint32_t> leafNode_;        ///< per leaf, its node
     std::vector<std::int32_t> openIndex_;        ///< per leaf: its row in objectRows_, -1: not in a source's part
     std::vector<std::uint8_t> objectRows_;       ///< per open leaf, the objects it may see (bits)
+    VisibilityRows leafRows_;                    ///< the portal vis's rows over the open leaves
+    std::vector<std::uint32_t> partOf_;          ///< without the vis: each open leaf's connected part
     OpenSpaceStats stats_;
 };
 
