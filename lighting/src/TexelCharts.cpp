@@ -13,6 +13,7 @@
 #include "NearestOnTriangle.h"
 #include "ShelfAtlas.h"
 #include "base/Error.h"
+#include "base/UnionFind.h"
 
 namespace sightline {
 
@@ -24,22 +25,6 @@ glm::dvec3 corner(const AoOccluders& occluders, std::size_t t, int c)
 }
 
 
-struct UnionFind {
-    std::vector<std::uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-    std::uint32_t find(std::uint32_t x)
-    {
-        while (parent[x] != x)
-            x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void join(std::uint32_t a, std::uint32_t b)
-    {
-        a = find(a), b = find(b);
-        if (a != b)
-            parent[std::max(a, b)] = std::min(a, b);   // the smallest index roots: deterministic
-    }
-};
 
 /// Triangles grouped into charts (by their smallest triangle index, in order); -1 for degenerate.
 std::vector<std::int32_t> groupCharts(const AoOccluders& occluders, std::vector<glm::dvec3>& normals, std::int32_t& count)

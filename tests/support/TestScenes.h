@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/vec3.hpp>
 
 #include "visibility/Patch.h"
@@ -53,6 +54,26 @@ inline Mesh closedBox()
                  2, 6, 7, 2, 7, 3, 0, 4, 6, 0, 6, 2, 1, 3, 7, 1, 7, 5};
     m.watertight = true;
     return m;
+}
+
+/// A closed box instance named `name` spanning [lo, hi] (closedBox scaled and moved); its index.
+inline std::size_t addBox(Scene& scene, const std::string& name, glm::vec3 lo, glm::vec3 hi)
+{
+    Mesh m = closedBox();
+    m.name = name;
+    const glm::mat4 xf = glm::scale(glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi)), hi - lo);
+    const std::size_t i = scene.addMeshInstance(m, xf);
+    scene.instances[i].name = name;
+    return i;
+}
+
+/// The bounds [lo, hi].
+inline Bounds boxBounds(glm::vec3 lo, glm::vec3 hi)
+{
+    Bounds b;
+    b.min = lo;
+    b.max = hi;
+    return b;
 }
 
 /// A closed, outward-oriented torus around the z axis through `centre` (`rings` x `sides` quads,

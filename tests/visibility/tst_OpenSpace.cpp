@@ -20,22 +20,8 @@
 namespace sightline::pvs {
 namespace {
 
-void addBox(Scene& scene, const std::string& name, glm::vec3 lo, glm::vec3 hi)
-{
-    Mesh m = test::closedBox();
-    m.name = name;
-    const glm::mat4 xf = glm::scale(glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi)), hi - lo);
-    const std::size_t i = scene.addMeshInstance(m, xf);
-    scene.instances[i].name = name;
-}
-
-Bounds box(glm::vec3 lo, glm::vec3 hi)
-{
-    Bounds b;
-    b.min = lo;
-    b.max = hi;
-    return b;
-}
+using test::addBox;
+const auto box = test::boxBounds;
 
 /// A shell of 0.2 m slabs around [lo, hi]: floor, ceiling and the walls along x (the walls
 /// across x come from addWall).
@@ -93,19 +79,25 @@ std::size_t named(const std::vector<PvsObject>& objects, const std::string& name
     return 0;
 }
 
-TEST(OpenSpace, ASealedRoomIsHiddenFromEverythingOutsideIt)
+/// A hall (x in [0, 6]) and a closet (x in [6.2, 8]) behind a wall with a doorway at z in
+/// [door, door + 1] (none when door < 0); a crate in each.
+Scene hallAndCloset(float door)
 {
-    // A hall (x in [0, 6]) and a closet (x in [6.2, 8]) behind a wall with no door; a crate in each.
     Scene s;
     addShell(s, "shell", {0.0f, 0.0f, 0.0f}, {8.0f, 3.0f, 4.0f});
     addWall(s, "west", -0.2f, 0.0f, 4.0f, -1.0f);
-    addWall(s, "mid", 6.0f, 0.0f, 4.0f, -1.0f);
+    addWall(s, "mid", 6.0f, 0.0f, 4.0f, door);
     addWall(s, "east", 8.0f, 0.0f, 4.0f, -1.0f);
     addBox(s, "crate_hall", {2.0f, 0.0f, 1.0f}, {2.8f, 0.8f, 1.8f});
-    addBox(s, "crate_closet", {7.0f, 0.0f, 1.0f}, {7.5f, 0.5f, 1.5f});
+    addBox(s, "crate_closet", {7.0f, 0.0f, 1.5f}, {7.5f, 0.5f, 2.0f});
+    return s;
+}
+
+TEST(OpenSpace, ASealedRoomIsHiddenFromEverythingOutsideIt)
+{
     const Bounds hall = box({0.5f, 0.5f, 0.5f}, {1.0f, 1.5f, 1.0f});
     const Bounds closet = box({6.5f, 1.0f, 2.5f}, {7.0f, 1.5f, 3.0f});
-    const Built b = build(std::move(s), {hall, closet});
+    const Built b = build(hallAndCloset(-1.0f), {hall, closet});
     const auto fromHall = b.space->hiddenFrom(hall);
     const auto fromCloset = b.space->hiddenFrom(closet);
     EXPECT_TRUE(hidden(fromHall, named(b.objects, "crate_closet")));
@@ -117,13 +109,7 @@ TEST(OpenSpace, ASealedRoomIsHiddenFromEverythingOutsideIt)
     EXPECT_FALSE(hidden(fromCloset, named(b.objects, "crate_closet")));
     EXPECT_GE(b.space->stats().parts, 2u);
     // A door in the middle wall joins them: nothing is hidden for being sealed off any more.
-    Scene open;
-    addShell(open, "shell", {0.0f, 0.0f, 0.0f}, {8.0f, 3.0f, 4.0f});
-    addWall(open, "west", -0.2f, 0.0f, 4.0f, -1.0f);
-    addWall(open, "mid", 6.0f, 0.0f, 4.0f, 1.5f);
-    addWall(open, "east", 8.0f, 0.0f, 4.0f, -1.0f);
-    addBox(open, "crate_closet", {7.0f, 0.0f, 1.5f}, {7.5f, 0.5f, 2.0f});
-    const Built o = build(std::move(open), {hall});
+    const Built o = build(hallAndCloset(1.5f), {hall});
     EXPECT_FALSE(hidden(o.space->hiddenFrom(hall), named(o.objects, "crate_closet")));
 }
 
@@ -247,12 +233,7 @@ TEST(OpenSpace, NothingItHidesIsSeenByDenseRays)
 
 TEST(OpenSpace, TheBakeCullsWhatItProvesInBothModes)
 {
-    Scene s;
-    addShell(s, "shell", {0.0f, 0.0f, 0.0f}, {8.0f, 3.0f, 4.0f});
-    addWall(s, "west", -0.2f, 0.0f, 4.0f, -1.0f);
-    addWall(s, "mid", 6.0f, 0.0f, 4.0f, -1.0f);
-    addWall(s, "east", 8.0f, 0.0f, 4.0f, -1.0f);
-    addBox(s, "crate_closet", {7.0f, 0.0f, 1.0f}, {7.5f, 0.5f, 1.5f});
+    const Scene s = hallAndCloset(-1.0f);
     const std::vector<Bounds> cells = {box({0.5f, 0.5f, 0.5f}, {1.0f, 1.5f, 1.0f})};
     const auto objects = sceneObjects(s, false);
     for (bool safe : {true, false}) {

@@ -27,25 +27,8 @@
 namespace sightline::pvs {
 namespace {
 
-using test::closedBox;
-
-/// A closed box mesh spanning [lo, hi], placed as an instance named `name`.
-void addBox(Scene& scene, const std::string& name, glm::vec3 lo, glm::vec3 hi)
-{
-    Mesh m = closedBox();
-    m.name = name;
-    const glm::mat4 xf = glm::scale(glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi)), hi - lo);
-    const std::size_t i = scene.addMeshInstance(m, xf);
-    scene.instances[i].name = name;
-}
-
-Bounds box(glm::vec3 lo, glm::vec3 hi)
-{
-    Bounds b;
-    b.min = lo;
-    b.max = hi;
-    return b;
-}
+using test::addBox;
+const auto box = test::boxBounds;
 
 /// Two 4 x 4 m rooms side by side along x (x in [0, 4] and [4.2, 8.2]), 3 m high under one ceiling, joined
 /// (or not) by a 1 m wide, 2 m high doorway at z in [1.5, 2.5] in the shared wall; a crate in
@@ -678,7 +661,6 @@ TEST(PvsAccuracy, TheReferenceFindsWhatAnEmptyPvsMissesAndNothingInAFullOne)
     d.rows = bakeOf(scene, kRoomCells);
     EXPECT_EQ(measureAccuracy(scene, d, r).missed, 0u);
 }
-
 
 // A 1 mm slit in a wall between a cell and an object: a handful of area rays misses it, the edge
 // search along the blockers' edges finds it, and counts it apart (a miss if the PVS culls the pair).

@@ -20,24 +20,8 @@
 namespace sightline::pvs {
 namespace {
 
-Bounds box(glm::vec3 lo, glm::vec3 hi)
-{
-    Bounds b;
-    b.min = lo;
-    b.max = hi;
-    return b;
-}
-
-/// A closed box instance spanning [lo, hi].
-std::size_t addBox(Scene& scene, const std::string& name, glm::vec3 lo, glm::vec3 hi)
-{
-    Mesh m = test::closedBox();
-    m.name = name;
-    const glm::mat4 xf = glm::scale(glm::translate(glm::mat4(1.0f), 0.5f * (lo + hi)), hi - lo);
-    const std::size_t i = scene.addMeshInstance(m, xf);
-    scene.instances[i].name = name;
-    return i;
-}
+using test::addBox;
+const auto box = test::boxBounds;
 
 /// A one-sided rectangle in the plane z = z over [x0, x1] x [y0, y1], facing -z, as its own
 /// instance (two triangles).

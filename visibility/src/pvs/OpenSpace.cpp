@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/UnionFind.h"
 #include "visibility/bsp/PortalVis.h"
 #include "visibility/pvs/PvsData.h"
 #include "visibility/pvs/ShaftProof.h"
@@ -42,26 +43,6 @@ double overlapArea(const glm::dvec2& lo1, const glm::dvec2& hi1, const glm::dvec
 
 glm::dvec2 crossSection(const glm::dvec3& p, int axis) { return {p[(axis + 1) % 3], p[(axis + 2) % 3]}; }
 
-class UnionFind {
-public:
-    explicit UnionFind(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), std::uint32_t(0)); }
-    std::uint32_t find(std::uint32_t x)
-    {
-        while (parent_[x] != x)
-            x = parent_[x] = parent_[parent_[x]];
-        return x;
-    }
-    void join(std::uint32_t a, std::uint32_t b)
-    {
-        a = find(a);
-        b = find(b);
-        if (a != b)
-            parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<std::uint32_t> parent_;
-};
 
 struct Passage {
     std::uint32_t low = 0, high = 0;   ///< leaves below and above the plane

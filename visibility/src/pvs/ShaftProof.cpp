@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/UnionFind.h"
+
 namespace sightline::pvs {
 
 namespace {
@@ -128,27 +130,6 @@ double solidAngle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c)
     return 2.0 * std::atan2(numerator, denominator);
 }
 
-struct UnionFind {
-    std::vector<std::uint32_t> parent;
-    explicit UnionFind(std::size_t n) : parent(n)
-    {
-        for (std::size_t k = 0; k < n; ++k)
-            parent[k] = std::uint32_t(k);
-    }
-    std::uint32_t find(std::uint32_t x)
-    {
-        while (parent[x] != x)
-            x = parent[x] = parent[parent[x]];
-        return x;
-    }
-    void join(std::uint32_t a, std::uint32_t b)
-    {
-        a = find(a);
-        b = find(b);
-        if (a != b)
-            parent[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 /// An axis-aligned triangle keyed by its plane (axis, facing, coordinate: exact float values).
 struct PlaneKey {
