@@ -43,16 +43,15 @@ double overlapArea(const glm::dvec2& lo1, const glm::dvec2& hi1, const glm::dvec
 
 glm::dvec2 crossSection(const glm::dvec3& p, int axis) { return {p[(axis + 1) % 3], p[(axis + 2) % 3]}; }
 
+using Polygon = std::vector<glm::dvec2>;   // convex, counter-clockwise
+using Triangle2 = std::array<glm::dvec2, 3>;
 
 struct Passage {
     std::uint32_t low = 0, high = 0;   ///< leaves below and above the plane
     int axis = 0;
     double offset = 0.0;
-    std::vector<glm::dvec2> opening;   ///< convex, in the plane's coordinates
+    Polygon opening;                   ///< in the plane's coordinates
 };
-
-using Polygon = std::vector<glm::dvec2>;   // convex, counter-clockwise
-using Triangle2 = std::array<glm::dvec2, 3>;
 
 double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
 
@@ -208,6 +207,85 @@ std::vector<Polygon> openingsOf(const ShaftProver& prover, const PlaneTriangles&
             out.push_back(std::move(hull));
     }
     return out;
+}
+
+/// The triangles of every region, by plane (axis, offset).
+std::map<std::pair<int, double>, PlaneTriangles> trianglesByPlane(const ShaftProver& prover)
+{
+    std::map<std::pair<int, double>, PlaneTriangles> onPlane;
+    for (std::size_t r = 0; r < prover.regionCount(); ++r) {
+        const auto p = prover.regionPlane(r);
+        PlaneTriangles& plane = onPlane[{p.axis, p.offset}];
+        plane.regions.push_back(std::uint32_t(r));
+        plane.regionBounds.push_back({p.lo, p.hi});
+        for (Triangle2 t : prover.regionTriangles(r)) {
+            const double twice = cross2(t[1] - t[0], t[2] - t[0]);
+            if (twice == 0.0)
+                continue;
+            if (twice < 0.0)
+                std::swap(t[1], t[2]);
+            plane.triangles.push_back(t);
+            plane.bounds.push_back({glm::min(t[0], glm::min(t[1], t[2])), glm::max(t[0], glm::max(t[1], t[2]))});
+        }
+    }
+    return onPlane;
+}
+
+/// The passages of the tree's leaves: under each split, the leaves on either side that touch its
+/// plane, pairwise, each with what the plane's triangles leave open of it (none: sealed, counted);
+/// the leaves an open one joins are joined in `parts`.
+std::vector<Passage> openPassages(const std::vector<OpenSpace::Node>& nodes, const std::vector<std::uint32_t>& leafNode,
+                                  const ShaftProver& prover, double thin, UnionFind& parts, OpenSpaceStats& stats)
+{
+    const auto onPlane = trianglesByPlane(prover);
+    std::vector<Passage> open;
+    using Node = OpenSpace::Node;
+    for (const Node& node : nodes) {
+        if (node.axis < 0)
+            continue;
+        const int axis = node.axis;
+        std::vector<std::uint32_t> below, above;
+        const auto touching = [&](std::uint32_t subtree, int side, std::vector<std::uint32_t>& out) {
+            std::vector<std::uint32_t> stack{subtree};
+            while (!stack.empty()) {
+                const Node& m = nodes[stack.back()];
+                stack.pop_back();
+                if ((side == 0 ? m.box.hi[axis] : m.box.lo[axis]) != node.split)
+                    continue;
+                if (m.axis < 0)
+                    out.push_back(std::uint32_t(m.leaf));
+                else {
+                    stack.push_back(m.child[0]);
+                    stack.push_back(m.child[1]);
+                }
+            }
+        };
+        touching(node.child[0], 0, below);
+        touching(node.child[1], 1, above);
+        const auto plane = onPlane.find({axis, node.split});
+        for (std::uint32_t l : below)
+            for (std::uint32_t h : above) {
+                const Box& a = nodes[leafNode[l]].box;
+                const Box& b = nodes[leafNode[h]].box;
+                const glm::dvec2 lo = glm::max(crossSection(a.lo, axis), crossSection(b.lo, axis));
+                const glm::dvec2 hi = glm::min(crossSection(a.hi, axis), crossSection(b.hi, axis));
+                if (!(hi.x > lo.x && hi.y > lo.y))
+                    continue;
+                ++stats.passages;
+                std::vector<Polygon> openings{{lo, {hi.x, lo.y}, hi, {lo.x, hi.y}}};
+                if (plane != onPlane.end()) {
+                    openings = openingsOf(prover, plane->second, lo, hi, thin);
+                    if (openings.empty()) {
+                        ++stats.sealedPassages;
+                        continue;
+                    }
+                }
+                for (Polygon& opening : openings)
+                    open.push_back({l, h, axis, node.split, std::move(opening)});
+                parts.join(l, h);
+            }
+    }
+    return open;
 }
 
 double elapsedMs(std::chrono::steady_clock::time_point since)
@@ -370,72 +448,10 @@ OpenSpace::OpenSpace(const ShaftProver& prover, const Bounds& sceneBounds, const
     const std::size_t leafCount = leafNode_.size();
     stats_.leaves = leafCount;
 
-    // Passages: under each split, the leaves on either side that touch its plane, pairwise.
-    std::map<std::pair<int, double>, PlaneTriangles> onPlane;
-    for (std::size_t r = 0; r < prover.regionCount(); ++r) {
-        const auto p = prover.regionPlane(r);
-        PlaneTriangles& plane = onPlane[{p.axis, p.offset}];
-        plane.regions.push_back(std::uint32_t(r));
-        plane.regionBounds.push_back({p.lo, p.hi});
-        for (Triangle2 t : prover.regionTriangles(r)) {
-            const double twice = cross2(t[1] - t[0], t[2] - t[0]);
-            if (twice == 0.0)
-                continue;
-            if (twice < 0.0)
-                std::swap(t[1], t[2]);
-            plane.triangles.push_back(t);
-            plane.bounds.push_back({glm::min(t[0], glm::min(t[1], t[2])), glm::max(t[0], glm::max(t[1], t[2]))});
-        }
-    }
     // Rounding's scale: float vertices at the root's coordinates.
     const double thin = 1e-9 * (1.0 + std::max(glm::length(root.lo), glm::length(root.hi)));
-    std::vector<Passage> open;
     UnionFind parts(leafCount);
-    for (const Node& node : nodes_) {
-        if (node.axis < 0)
-            continue;
-        const int axis = node.axis;
-        std::vector<std::uint32_t> below, above;
-        const auto touching = [&](std::uint32_t subtree, int side, std::vector<std::uint32_t>& out) {
-            std::vector<std::uint32_t> stack{subtree};
-            while (!stack.empty()) {
-                const Node& m = nodes_[stack.back()];
-                stack.pop_back();
-                if ((side == 0 ? m.box.hi[axis] : m.box.lo[axis]) != node.split)
-                    continue;
-                if (m.axis < 0)
-                    out.push_back(std::uint32_t(m.leaf));
-                else {
-                    stack.push_back(m.child[0]);
-                    stack.push_back(m.child[1]);
-                }
-            }
-        };
-        touching(node.child[0], 0, below);
-        touching(node.child[1], 1, above);
-        const auto plane = onPlane.find({axis, node.split});
-        for (std::uint32_t l : below)
-            for (std::uint32_t h : above) {
-                const Box& a = nodes_[leafNode_[l]].box;
-                const Box& b = nodes_[leafNode_[h]].box;
-                const glm::dvec2 lo = glm::max(crossSection(a.lo, axis), crossSection(b.lo, axis));
-                const glm::dvec2 hi = glm::min(crossSection(a.hi, axis), crossSection(b.hi, axis));
-                if (!(hi.x > lo.x && hi.y > lo.y))
-                    continue;
-                ++stats_.passages;
-                std::vector<Polygon> openings{{lo, {hi.x, lo.y}, hi, {lo.x, hi.y}}};
-                if (plane != onPlane.end()) {
-                    openings = openingsOf(prover, plane->second, lo, hi, thin);
-                    if (openings.empty()) {
-                        ++stats_.sealedPassages;
-                        continue;
-                    }
-                }
-                for (Polygon& opening : openings)
-                    open.push_back({l, h, axis, node.split, std::move(opening)});
-                parts.join(l, h);
-            }
-    }
+    const std::vector<Passage> open = openPassages(nodes_, leafNode_, prover, thin, parts, stats_);
 
     // The parts the sources touch, and their leaves numbered from 1 for the vis.
     std::vector<char> sourcePart(leafCount, 0);
