@@ -26,10 +26,10 @@ using Box = OpenSpace::Box;
 /// keep their digits.
 constexpr double kVisScale = 1000.0;
 
-bool boxesMeet(const Box& a, const Box& b, double margin)
+bool boxesMeet(const Box& a, const Box& b)
 {
     for (int k = 0; k < 3; ++k)
-        if (a.lo[k] > b.hi[k] + margin || b.lo[k] > a.hi[k] + margin)
+        if (a.lo[k] > b.hi[k] || b.lo[k] > a.hi[k])
             return false;
     return true;
 }
@@ -91,10 +91,12 @@ struct PlaneTriangles {
 /// The pieces of the closed rectangle `rect` that the triangles `candidates` (those meeting it)
 /// leave uncovered, each cut out in turn; a piece thinner than `thin` (area over its longest edge)
 /// is dropped: what no closed triangle covers is open in the rectangle, so it has area, and
-/// triangles that meet along an edge leave only rounding. False past `maxPieces`.
+/// triangles that meet along an edge leave only rounding. False past kMaxPieces (the caller then
+/// halves the rectangle).
 bool cutOut(const PlaneTriangles& plane, const std::vector<std::uint32_t>& candidates, const Polygon& rect, double thin,
-            std::size_t maxPieces, std::vector<Polygon>& out)
+            std::vector<Polygon>& out)
 {
+    constexpr std::size_t kMaxPieces = 64;
     std::vector<Polygon> pieces{rect};
     for (std::uint32_t t : candidates) {
         const Triangle2& tri = plane.triangles[t];
@@ -114,7 +116,7 @@ bool cutOut(const PlaneTriangles& plane, const std::vector<std::uint32_t>& candi
             }
         }
         pieces = std::move(next);
-        if (pieces.size() > maxPieces)
+        if (pieces.size() > kMaxPieces)
             return false;
     }
     out.insert(out.end(), pieces.begin(), pieces.end());
@@ -148,7 +150,7 @@ void uncovered(const ShaftProver& prover, const PlaneTriangles& plane, const std
             prover.regionCovers(plane.regions[k], lo, hi))
             return;
     }
-    if (here.size() <= kCutTriangles && cutOut(plane, here, rect, thin, 64, out))
+    if (here.size() <= kCutTriangles && cutOut(plane, here, rect, thin, out))
         return;
     if (depth == 0 || budget < 2) {
         out.push_back(rect);
@@ -344,7 +346,7 @@ void OpenSpace::leavesWhere(const Test& meets, std::vector<std::uint32_t>& out) 
 
 void OpenSpace::leavesMeeting(const Box& box, std::vector<std::uint32_t>& out) const
 {
-    leavesWhere([&](const Box& b) { return boxesMeet(b, box, 0.0); }, out);
+    leavesWhere([&](const Box& b) { return boxesMeet(b, box); }, out);
 }
 
 /// The kd-tree: nodes split, in order of the region area their best plane holds, at that plane
