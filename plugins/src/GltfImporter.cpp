@@ -13,9 +13,10 @@
 //    walked with an explicit stack, so neither a wide nor a deep file exhausts memory or the stack.
 // Each glTF mesh becomes one sightline::Mesh (its triangle primitives merged); each node that
 // references it becomes an Instance, so instancing survives the import. A mesh with a material on
-// some primitive keeps each triangle's base colour factor as its albedo (a primitive without one
-// takes glTF's default material, white); textures are not decoded, so a textured material's
-// albedo is unknown (the lighting run's own applies).
+// some primitive keeps each triangle's base colour as its albedo: the material's factor, times the
+// mean of its base colour texture over the triangle where it has one (GltfTextures.h); a primitive
+// without a material takes glTF's default, white. Where a texture cannot be read (its image
+// missing or broken, no texture coordinates) its triangles' albedo is unknown, with a warning.
 
 #include <algorithm>
 #include <cctype>
@@ -32,6 +33,7 @@
 #include <tiny_gltf.h>
 
 #include "BuiltinFormats.h"
+#include "GltfTextures.h"
 #include "GltfValidation.h"
 #include "plugins/GltfLights.h"
 #include "plugins/MeshTopology.h"
@@ -189,15 +191,23 @@ struct FsGuard {
     }
 };
 
-/// Textures are irrelevant to visibility: accept every image without decoding it.
-bool discardImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                  void*)
+/// Every image accepted without decoding it: its bytes are kept (in `keep`, a vector of strings
+/// by image index, where not null) for the base colour textures decoded later (GltfTextures.h).
+bool keepImageBytes(tinygltf::Image* image, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
+                    int size, void* keep)
 {
     image->image.clear();
+    if (keep && index >= 0 && bytes && size > 0) {
+        auto& images = *static_cast<std::vector<std::string>*>(keep);
+        if (images.size() <= std::size_t(index))
+            images.resize(std::size_t(index) + 1);
+        images[std::size_t(index)].assign(reinterpret_cast<const char*>(bytes), std::size_t(size));
+    }
     return true;
 }
 
-tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warnings)
+/// The file's model; with `images`, its images' encoded bytes by index.
+tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warnings, std::vector<std::string>* images = nullptr)
 {
     const std::string what = file.string();
     const std::string bytes = readInputFile(file, "glTF scene");
@@ -210,7 +220,7 @@ tinygltf::Model parseModel(const fs::path& file, std::vector<std::string>& warni
     FsGuard guard{folder, {}, {}};
     tinygltf::TinyGLTF loader;
     loader.SetFsCallbacks({&FsGuard::exists, &FsGuard::expand, &FsGuard::read, &FsGuard::write, &guard});
-    loader.SetImageLoader(&discardImage, nullptr);
+    loader.SetImageLoader(&keepImageBytes, images);
 
     tinygltf::Model model;
     std::string err;
@@ -394,6 +404,42 @@ std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const s
     return out;
 }
 
+/// Texture coordinates: VEC2 of floats, or of normalised unsigned bytes or shorts (glTF 2.0
+/// §3.7.2.1), every one finite.
+std::vector<glm::dvec2> readTexCoords(const tinygltf::Model& model, int index, const std::string& what)
+{
+    if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size())
+        throw Error(what + " names missing accessor " + std::to_string(index));
+    const tinygltf::Accessor& acc = model.accessors[static_cast<std::size_t>(index)];
+    const int type = acc.componentType;
+    const bool normalised = acc.normalized && (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    if (acc.type != TINYGLTF_TYPE_VEC2 || !(type == TINYGLTF_COMPONENT_TYPE_FLOAT || normalised))
+        throw Error(what + " accessor " + std::to_string(index) + " must be VEC2 float or normalised unsigned byte or short");
+    std::size_t elementSize = 0;
+    const std::vector<unsigned char> bytes = accessorBytes(model, index, elementSize, what);
+    std::vector<glm::dvec2> out(acc.count);
+    for (std::size_t i = 0; i < out.size(); ++i)
+        for (int c = 0; c < 2; ++c) {
+            const unsigned char* p = bytes.data() + i * elementSize + std::size_t(c) * (elementSize / 2);
+            double value = 0.0;
+            if (type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                float f = 0.0f;
+                std::memcpy(&f, p, sizeof f);
+                value = f;
+            } else if (type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                value = *p / 255.0;
+            } else {
+                std::uint16_t u = 0;
+                std::memcpy(&u, p, sizeof u);
+                value = u / 65535.0;
+            }
+            if (!std::isfinite(value))
+                throw Error(what + " accessor " + std::to_string(index) + ": texture coordinate " + std::to_string(i) + " is not finite");
+            out[i][c] = value;
+        }
+    return out;
+}
+
 /// Vertex indices of a primitive: its index accessor, or 0..vertexCount-1 when it has none.
 std::vector<std::uint32_t> readIndices(const tinygltf::Model& model, const tinygltf::Primitive& prim,
                                        std::size_t vertexCount, const std::string& what)
@@ -446,10 +492,9 @@ bool isTriangleMode(int mode)
            mode == TINYGLTF_MODE_TRIANGLE_FAN;
 }
 
-/// The diffuse albedo of a primitive's material: its base colour factor (linear RGB; alpha ignored),
-/// white for a primitive without a material (glTF's default material), kUnknownAlbedo for a
-/// textured one (the texture, not decoded, multiplies the factor).
-glm::vec3 baseColour(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& what)
+/// The base colour factor of a primitive's material (linear RGB; alpha ignored), white for a
+/// primitive without a material (glTF's default material).
+glm::vec3 baseColourFactor(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::string& what)
 {
     if (prim.material < 0)
         return glm::vec3(1.0f);
@@ -458,12 +503,55 @@ glm::vec3 baseColour(const tinygltf::Model& model, const tinygltf::Primitive& pr
     const std::vector<double>& factor = pbr.baseColorFactor;
     if (factor.size() != 4 || !std::all_of(factor.begin(), factor.end(), [](double f) { return f >= 0.0 && f <= 1.0; }))
         throw Error(what + ": material " + std::to_string(prim.material) + "'s baseColorFactor must be four numbers in [0, 1]");
-    if (pbr.baseColorTexture.index >= 0)
-        return kUnknownAlbedo;
     return glm::vec3(float(factor[0]), float(factor[1]), float(factor[2]));
 }
 
-Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std::string& file,
+/// Each triangle's albedo from a textured material: the factor times the texture's mean over the
+/// triangle (GltfTextures.h), or kUnknownAlbedo for all where the texture cannot be read (with a
+/// warning). `tris` indexes the primitive's own vertices.
+std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::vector<std::uint32_t>& tris,
+                                       std::size_t vertexCount, const glm::vec3& factor, gltf::TextureImages& images,
+                                       const std::string& what, std::vector<std::string>& warnings)
+{
+    const std::size_t triangles = tris.size() / 3;
+    const tinygltf::TextureInfo& info = model.materials.at(std::size_t(prim.material)).pbrMetallicRoughness.baseColorTexture;
+    const std::string material = "material " + std::to_string(prim.material) + "'s base colour texture";
+    if (std::size_t(info.index) >= model.textures.size())
+        throw Error(what + ": " + material + " names missing texture " + std::to_string(info.index));
+    const std::vector<glm::vec3> unknown(triangles, kUnknownAlbedo);
+    const auto unread = [&](const std::string& why) {
+        if (images.firstWarningFor(prim.material))
+            warnings.push_back(what + ": " + material + " not read (" + why + "); its albedo is unknown");
+        return unknown;
+    };
+    if (info.extensions.count("KHR_texture_transform"))
+        return unread("KHR_texture_transform is not supported");
+    const tinygltf::Texture& texture = model.textures[std::size_t(info.index)];
+    const std::vector<RgbImage>* image = images.linear(texture.source, warnings);
+    if (!image)
+        return unread(texture.source < 0 ? "the texture has no image in glTF's own formats" : "image " + std::to_string(texture.source) + " unreadable");
+    gltf::TextureWrap wrap;
+    if (texture.sampler >= 0 && std::size_t(texture.sampler) < model.samplers.size())
+        wrap = {model.samplers[std::size_t(texture.sampler)].wrapS, model.samplers[std::size_t(texture.sampler)].wrapT};
+    const std::string attribute = "TEXCOORD_" + std::to_string(info.texCoord);
+    const auto uv = prim.attributes.find(attribute);
+    if (uv == prim.attributes.end())
+        return unread("no " + attribute);
+    std::vector<glm::dvec2> coords;
+    try {
+        coords = readTexCoords(model, uv->second, what + " " + attribute);
+    } catch (const Error& e) {
+        return unread(e.what());
+    }
+    if (coords.size() != vertexCount)
+        return unread(attribute + " holds " + std::to_string(coords.size()) + " coordinates for " + std::to_string(vertexCount) + " vertices");
+    std::vector<glm::vec3> albedo(triangles);
+    for (std::size_t t = 0; t < triangles; ++t)
+        albedo[t] = factor * gltf::meanOverTriangle(*image, coords[tris[3 * t]], coords[tris[3 * t + 1]], coords[tris[3 * t + 2]], wrap);
+    return albedo;
+}
+
+Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std::string& file, gltf::TextureImages& images,
                  std::vector<std::string>& warnings)
 {
     const tinygltf::Mesh& src = model.meshes[meshIndex];
@@ -510,7 +598,13 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
         for (std::uint32_t i : tris)
             mesh.indices.push_back(offset + i);
         anyMaterial = anyMaterial || prim.material >= 0;
-        mesh.albedo.insert(mesh.albedo.end(), tris.size() / 3, baseColour(model, prim, what));
+        const glm::vec3 factor = baseColourFactor(model, prim, what);
+        if (prim.material >= 0 && model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index >= 0) {
+            const std::vector<glm::vec3> albedo = texturedAlbedos(model, prim, tris, positions.size(), factor, images, what, warnings);
+            mesh.albedo.insert(mesh.albedo.end(), albedo.begin(), albedo.end());
+        } else {
+            mesh.albedo.insert(mesh.albedo.end(), tris.size() / 3, factor);
+        }
     }
     if (!allNormals)
         mesh.normals.clear();
@@ -597,8 +691,8 @@ void walkNodes(const tinygltf::Model& model, const std::vector<int>& roots, cons
 /// Emits one Instance per mesh reference, in walkNodes' order, placed by the accumulated transforms.
 class SceneBuilder {
 public:
-    SceneBuilder(const tinygltf::Model& model, std::string file, std::vector<std::string>& warnings)
-        : model_(model), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1)
+    SceneBuilder(const tinygltf::Model& model, gltf::TextureImages& images, std::string file, std::vector<std::string>& warnings)
+        : model_(model), images_(images), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1)
     {
     }
 
@@ -621,11 +715,12 @@ private:
     std::uint32_t meshSlot(std::size_t gltfMesh)
     {
         if (meshSlot_[gltfMesh] < 0)
-            meshSlot_[gltfMesh] = scene_.addMesh(convertMesh(model_, gltfMesh, file_, warnings_));
+            meshSlot_[gltfMesh] = scene_.addMesh(convertMesh(model_, gltfMesh, file_, images_, warnings_));
         return static_cast<std::uint32_t>(meshSlot_[gltfMesh]);
     }
 
     const tinygltf::Model& model_;
+    gltf::TextureImages& images_;
     std::string file_;
     std::vector<std::string>& warnings_;
     std::vector<std::int64_t> meshSlot_;
@@ -780,10 +875,11 @@ public:
     Scene load(const fs::path& file, std::vector<std::string>& warnings) const override
     {
         try {
-            const tinygltf::Model model = parseModel(file, warnings);
+            gltf::TextureImages images(file.string());
+            const tinygltf::Model model = parseModel(file, warnings, &images.encoded);
             const std::vector<int> roots = rootNodes(model);
             checkExpansion(model, roots, file.string());
-            SceneBuilder builder(model, file.string(), warnings);
+            SceneBuilder builder(model, images, file.string(), warnings);
             builder.build(roots);
             Scene scene = builder.take();
             validate(scene, file.string());

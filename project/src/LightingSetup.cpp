@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 #include "base/Error.h"
 #include "base/NpyFile.h"
 

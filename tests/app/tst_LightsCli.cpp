@@ -10,7 +10,7 @@
 
 #include "CliRunner.h"
 #include "LightsJudge.h"
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 #include "lighting/LightEmission.h"
 #include "project/Project.h"
 #include "project/ProjectLights.h"

@@ -1,9 +1,9 @@
 // libFuzzer harness for the image readers (light textures, height images, and AO environments:
-// Radiance HDR; stb_image behind lighting/src/ImageCheck.h). Bad input must end in
+// Radiance HDR; stb_image behind base/ImageCheck.h). Bad input must end in
 // sightline::Error; anything else (a hang, a crash, an allocation past the limit) is a finding.
 
 #include "FuzzInput.h"
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 #include "lighting/ao/AoEnvironment.h"
 #include "base/Error.h"
 

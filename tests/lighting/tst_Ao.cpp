@@ -15,7 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "TestScenes.h"
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 #include "lighting/ao/AoBinnedCaster.h"
 #include "lighting/ao/AoComputation.h"
 #include "lighting/ao/AoEmbree.h"

@@ -2,13 +2,17 @@
 // accessors, data URIs, GLB containers, scene selection and instancing, and every refusal (buffer
 // URIs escaping the folder, required extensions, overruns, bad indices, NaN, malformed input).
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <stb/stb_image_write.h>
+
 #include "GltfTestDoc.h"
+#include "GltfTextures.h"
 #include "TestFiles.h"
 #include "plugins/SceneFormats.h"
 
@@ -96,6 +100,128 @@ TEST(GltfImporter, MaterialsGiveEachTriangleItsBaseColourAsAlbedo)
     g.doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1.5, 0, 0, 1};
     const auto bad = g.writeEmbedded(dir / "bright.gltf");
     EXPECT_NE(expectOneLineError(bad, [&] { loadScene(bad); }).find("material 0's baseColorFactor"), std::string::npos);
+}
+
+/// A PNG of `width` x `height` RGB pixels, top row first (stb_image_write).
+std::string pngBytes(int width, int height, const std::vector<unsigned char>& rgb)
+{
+    std::string out;
+    stbi_write_png_to_func([](void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size)); },
+                           &out, width, height, 3, rgb.data(), width * 3);
+    return out;
+}
+
+float linear(int srgb) { return gltf::srgbToLinear(float(srgb) / 255.0f); }
+
+/// A 2 x 2 texture (top row red, green; bottom row blue, sRGB 188 grey) and one quad per call,
+/// textured with the coordinates given; the document keeps the texture's PNG in its buffer.
+struct TexturedQuads {
+    GltfDoc g;
+    int quad = 0, strip = 0;
+    json primitives = json::array();
+
+    TexturedQuads()
+    {
+        quad = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+        strip = g.indices(std::vector<std::uint8_t>{0, 1, 2, 3}, kU8);
+        const std::string png = pngBytes(2, 2, {255, 0, 0, 0, 255, 0, 0, 0, 255, 188, 188, 188});
+        g.doc["images"] = json::array({{{"bufferView", g.view(png)}, {"mimeType", "image/png"}}});
+        g.doc["samplers"] = json::array({{{"wrapS", 33071}, {"wrapT", 33071}}, {{"wrapS", 33648}, {"wrapT", 33648}}, json::object()});
+        // Texture k uses sampler k: clamp, mirror, repeat.
+        g.doc["textures"] = json::array({{{"source", 0}, {"sampler", 0}}, {{"source", 0}, {"sampler", 1}}, {{"source", 0}, {"sampler", 2}}});
+        g.doc["materials"] = json::array();
+    }
+    /// A strip quad whose four vertices take `uv`, in a material of texture `texture` x `factor`.
+    void add(const std::vector<float>& uv, int texture, json factor = {1.0, 1.0, 1.0, 1.0})
+    {
+        const int coords = g.accessor({{"bufferView", g.view(bytesOf(uv))}, {"componentType", kF32}, {"count", 4}, {"type", "VEC2"}});
+        g.doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorFactor", factor}, {"baseColorTexture", {{"index", texture}}}}}});
+        primitives.push_back({{"attributes", {{"POSITION", quad}, {"TEXCOORD_0", coords}}}, {"indices", strip}, {"mode", 5},
+                              {"material", g.doc["materials"].size() - 1}});
+    }
+    Scene load(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr)
+    {
+        g.mesh(primitives);
+        g.scene(json::array({{{"mesh", 0}}}), {0});
+        return loadScene(g.writeGlb(file), warnings);
+    }
+};
+
+/// The quad's four coordinates: a square of side `side` at (u, v).
+std::vector<float> square(float u, float v, float side) { return {u, v, u + side, v, u, v + side, u + side, v + side}; }
+
+TEST(GltfImporter, BaseColourTexturesGiveTheirMeanOverEachTriangle)
+{
+    TempDir dir;
+    TexturedQuads t;
+    // Clamped, inside each texel's outer quarter: that texel's colour alone, sRGB decoded, times the factor.
+    t.add(square(0.0f, 0.0f, 0.25f), 0, {0.5, 1.0, 1.0, 1.0});   // top left: red
+    t.add(square(0.75f, 0.0f, 0.25f), 0);                         // top right: green
+    t.add(square(0.75f, 0.75f, 0.25f), 0);                        // bottom right: grey
+    // Mirrored: [-0.25, 0] reflects onto [0, 0.25] (red); repeated: a speck at a texel's centre
+    // three images over (blue).
+    t.add(square(-0.25f, -0.25f, 0.25f), 1);
+    t.add(square(3.25f, 5.75f, 1e-4f), 2);
+    // The whole image, repeated twice: the quad's two halves average its mean (bilinear over whole
+    // periods), within the sampling's error (a few samples a texel); repeated 64 times, each half
+    // takes the mean itself (the chain's 1 x 1 level).
+    t.add(square(0.0f, 0.0f, 2.0f), 2);
+    t.add(square(0.5f, 0.25f, 64.0f), 2);
+    const Scene scene = t.load(dir / "textured.glb");
+    const std::vector<glm::vec3>& albedo = scene.meshes.at(0).albedo;
+    ASSERT_EQ(albedo.size(), 14u);
+    const glm::vec3 expected[] = {{0.5f, 0, 0}, {0, 1, 0}, glm::vec3(linear(188)), {1, 0, 0}, {0, 0, 1}};
+    for (std::size_t q = 0; q < 5; ++q)
+        for (std::size_t k = 0; k < 2; ++k)
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(albedo[2 * q + k][c], expected[q][c], q == 4 ? 1e-3 : 1e-6) << "quad " << q << " triangle " << k;
+    EXPECT_NEAR(linear(188), 0.5f, 0.005f);   // sRGB 188 is linear one half
+    const glm::vec3 mean = (glm::vec3(1, 0, 0) + glm::vec3(0, 1, 0) + glm::vec3(0, 0, 1) + glm::vec3(linear(188))) / 4.0f;
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(0.5f * (albedo[10][c] + albedo[11][c]), mean[c], 0.05);
+        EXPECT_NEAR(albedo[12][c], mean[c], 1e-6);
+        EXPECT_NEAR(albedo[13][c], mean[c], 1e-6);
+    }
+}
+
+TEST(GltfImporter, TexturesThatCannotBeReadLeaveTheirAlbedoUnknownAndSaySo)
+{
+    TempDir dir;
+    {   // A truncated image: a warning naming it; the file still loads.
+        TexturedQuads t;
+        const std::string png = pngBytes(2, 2, std::vector<unsigned char>(12, 200));
+        t.g.doc["images"][0] = {{"bufferView", t.g.view(png.substr(0, png.size() - 20))}, {"mimeType", "image/png"}};
+        t.add(square(0, 0, 1), 0);
+        t.add(square(0, 0, 1), 0);
+        std::vector<std::string> warnings;
+        const Scene scene = t.load(dir / "truncated.glb", &warnings);
+        EXPECT_EQ(scene.meshes.at(0).albedo, std::vector<glm::vec3>(4, kUnknownAlbedo));
+        const auto image = std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("image 0") != std::string::npos; });
+        EXPECT_GE(image, 1);
+        // One line a material, not one a primitive.
+        const auto material0 = std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("material 0's") != std::string::npos; });
+        EXPECT_EQ(material0, 1);
+    }
+    {   // No TEXCOORD_0: a warning, unknown albedo; texture coordinates that are not finite likewise.
+        TexturedQuads t;
+        t.add(square(0, 0, 1), 0);
+        t.primitives[0]["attributes"].erase("TEXCOORD_0");
+        t.add({0, 0, 1, 0, std::numeric_limits<float>::quiet_NaN(), 1, 1, 1}, 0);
+        std::vector<std::string> warnings;
+        const Scene scene = t.load(dir / "nocoords.glb", &warnings);
+        EXPECT_EQ(scene.meshes.at(0).albedo, std::vector<glm::vec3>(4, kUnknownAlbedo));
+        EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("no TEXCOORD_0") != std::string::npos; }));
+        EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("not finite") != std::string::npos; }));
+    }
+    {   // A material naming a texture that is not there: refused in one line.
+        TexturedQuads t;
+        t.add(square(0, 0, 1), 7);
+        const auto file = dir / "missing.glb";
+        t.g.mesh(t.primitives);
+        t.g.scene(json::array({{{"mesh", 0}}}), {0});
+        t.g.writeGlb(file);
+        EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("names missing texture 7"), std::string::npos);
+    }
 }
 
 TEST(GltfImporter, InterleavedStrideAndNormals)

@@ -10,7 +10,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 #include "visibility/Patch.h"
 
 namespace sightline {

@@ -8,8 +8,8 @@
 #include <glm/geometric.hpp>
 #include <stb/stb_image.h>
 
-#include "ImageCheck.h"
-#include "lighting/ImageFile.h"
+#include "base/ImageCheck.h"
+#include "base/ImageFile.h"
 #include "base/Error.h"
 #include "base/InputFile.h"
 

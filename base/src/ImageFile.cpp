@@ -1,4 +1,4 @@
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include <stb/stb_image.h>
 
-#include "ImageCheck.h"
+#include "base/ImageCheck.h"
 #include "base/Error.h"
 #include "base/InputFile.h"
 
@@ -37,10 +37,18 @@ glm::vec3 RgbImage::bilinear(double s, double t) const
 
 RgbImage loadRgbImage(const std::filesystem::path& file)
 {
-    // Read whole (a FIFO or a folder is refused by readInputFile), checked, then decoded from these
-    // very bytes: stb trusts a header's size and reads missing data as black (ImageCheck.h).
-    const std::string name = file.string();
-    const std::string bytes = readInputFile(file, "image", kMaxImageFileBytes);
+    // Read whole (a FIFO or a folder is refused by readInputFile), then checked and decoded from
+    // these very bytes.
+    return decodeRgbImage(readInputFile(file, "image", kMaxImageFileBytes), file.string());
+}
+
+RgbImage decodeRgbImage(const std::string& bytes, const std::string& name)
+{
+    // Checked before stb sees them: stb trusts a header's size and reads missing data as black
+    // (ImageCheck.h).
+    if (bytes.size() > kMaxImageFileBytes)
+        throw Error(name + ": image of " + std::to_string(bytes.size() >> 20) + " MB; at most " +
+                    std::to_string(kMaxImageFileBytes >> 20) + " MB are read");
     const auto* data8 = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int size = int(bytes.size());
     int width = 0, height = 0, channels = 0;
@@ -57,7 +65,7 @@ RgbImage loadRgbImage(const std::filesystem::path& file)
         if (pixels > kMaxImagePixels)
             throw Error(name + ": image " + std::to_string(width) + "x" + std::to_string(height) + " would take " +
                         std::to_string(pixels * 15 >> 20) + " MB to load; at most " + std::to_string(kMaxImagePixels >> 20) +
-                        " Mpixels are read (light textures and height maps need far fewer)");
+                        " Mpixels are read (a texture or height map needs far fewer)");
         image::checkNotTruncated(bytes, name, width, height);
     }
     unsigned char* data = stbi_load_from_memory(data8, size, &width, &height, &channels, 3);

@@ -2,8 +2,8 @@
 // Checks an image file's bytes before stb_image decodes them. stb trusts a file's header: it
 // allocates what the header declares, reads past the end as zeros (a truncated file decodes to
 // black, without an error), and its Radiance HDR decoder loops forever on a run-length count of 0.
-// Every image the lighting library reads (light textures, receiver height images, AO environments)
-// goes through these checks first, and is then decoded from the same bytes in memory, so that what
+// Every image Sightline reads (light textures, receiver height images, AO environments, glTF base
+// colour textures) goes through these checks first, and is then decoded from the same bytes in memory, so that what
 // was checked is what stb sees.
 //
 // Contract of checkRadianceHdr: returns only when stb_image's HDR decoder will finish on `bytes`,

@@ -1,10 +1,12 @@
 #pragma once
-// Small 8-bit images a project refers to: a light's colour texture, a receiver's height map.
-// Read with stb_image (PNG, JPEG, BMP, TGA, ...); values stay as stored (no sRGB decoding: a
-// light texture is taken as the light's colours, a height map's grey level as a height).
+// Small 8-bit images a project refers to: a light's colour texture, a receiver's height map, a
+// glTF material's base colour texture. Read with stb_image (PNG, JPEG, BMP, TGA, ...); values stay
+// as stored (no sRGB decoding here: a light texture is taken as the light's colours, a height
+// map's grey level as a height; the glTF importer decodes its textures' sRGB itself).
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -34,5 +36,9 @@ inline constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(192) << 20;
 /// its header declares (a truncated file is an error, never black pixels). A Radiance HDR is
 /// read too (its RGBE values clamped to [0, 1]), checked as AoEnvironment's are.
 RgbImage loadRgbImage(const std::filesystem::path& file);
+
+/// The same for an image's bytes already in memory (a glTF's embedded image); `name` starts every
+/// error message.
+RgbImage decodeRgbImage(const std::string& bytes, const std::string& name);
 
 } // namespace sightline

@@ -1,10 +1,10 @@
-#include "ImageCheck.h"
+#include "base/ImageCheck.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 
-#include "lighting/ImageFile.h"
+#include "base/ImageFile.h"
 #include "base/Error.h"
 
 namespace sightline::image {
