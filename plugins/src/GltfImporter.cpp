@@ -15,8 +15,9 @@
 // references it becomes an Instance, so instancing survives the import. A mesh with a material on
 // some primitive keeps each triangle's base colour as its albedo: the material's factor, times the
 // mean of its base colour texture over the triangle where it has one (GltfTextures.h); a primitive
-// without a material takes glTF's default, white. Where a texture cannot be read (its image
-// missing or broken, no texture coordinates) its triangles' albedo is unknown, with a warning.
+// without a material takes glTF's default, white; KHR_texture_transform moves its coordinates. Where
+// a texture cannot be read (its image missing or broken, no texture coordinates) its triangles'
+// albedo is unknown, with a warning.
 
 #include <algorithm>
 #include <cctype>
@@ -506,6 +507,37 @@ glm::vec3 baseColourFactor(const tinygltf::Model& model, const tinygltf::Primiti
     return glm::vec3(float(factor[0]), float(factor[1]), float(factor[2]));
 }
 
+/// KHR_texture_transform's matrix, translation x rotation x scale, applied to (u, v, 1); its
+/// texCoord, where it names one, replaces `texCoord`. Throws sightline::Error (the extension's
+/// message) where a value is not a finite number of the right shape.
+glm::dmat3 textureTransform(const tinygltf::Value& ext, int& texCoord)
+{
+    const auto number = [&](const tinygltf::Value& v, const char* key) {
+        if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+            throw Error(std::string("KHR_texture_transform's ") + key + " must be finite numbers");
+        return v.GetNumberAsDouble();
+    };
+    const auto pair = [&](const char* key, glm::dvec2 fallback) {
+        if (!ext.Has(key))
+            return fallback;
+        const tinygltf::Value& v = ext.Get(key);
+        if (!v.IsArray() || v.ArrayLen() != 2)
+            throw Error(std::string("KHR_texture_transform's ") + key + " must be two numbers");
+        return glm::dvec2(number(v.Get(0), key), number(v.Get(1), key));
+    };
+    const glm::dvec2 offset = pair("offset", glm::dvec2(0.0)), scale = pair("scale", glm::dvec2(1.0));
+    const double rotation = ext.Has("rotation") ? number(ext.Get("rotation"), "rotation") : 0.0;
+    if (ext.Has("texCoord")) {
+        const tinygltf::Value& t = ext.Get("texCoord");
+        if (!t.IsInt() || t.GetNumberAsInt() < 0)
+            throw Error("KHR_texture_transform's texCoord must be a non-negative integer");
+        texCoord = t.GetNumberAsInt();
+    }
+    // Columns: u' = ox + cos sx u + sin sy v, v' = oy - sin sx u + cos sy v.
+    const double c = std::cos(rotation), s = std::sin(rotation);
+    return glm::dmat3(glm::dvec3(c * scale.x, -s * scale.x, 0.0), glm::dvec3(s * scale.y, c * scale.y, 0.0), glm::dvec3(offset, 1.0));
+}
+
 /// Each triangle's albedo from a textured material: the factor times the texture's mean over the
 /// triangle (GltfTextures.h), or kUnknownAlbedo for all where the texture cannot be read (with a
 /// warning). `tris` indexes the primitive's own vertices.
@@ -524,8 +556,15 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
             warnings.push_back(what + ": " + material + " not read (" + why + "); its albedo is unknown");
         return unknown;
     };
-    if (info.extensions.count("KHR_texture_transform"))
-        return unread("KHR_texture_transform is not supported");
+    int texCoord = info.texCoord;
+    glm::dmat3 transform(1.0);
+    if (const auto ext = info.extensions.find("KHR_texture_transform"); ext != info.extensions.end()) {
+        try {
+            transform = textureTransform(ext->second, texCoord);
+        } catch (const Error& e) {
+            return unread(e.what());
+        }
+    }
     const tinygltf::Texture& texture = model.textures[std::size_t(info.index)];
     const std::vector<RgbImage>* image = images.linear(texture.source, warnings);
     if (!image)
@@ -533,7 +572,7 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
     gltf::TextureWrap wrap;
     if (texture.sampler >= 0 && std::size_t(texture.sampler) < model.samplers.size())
         wrap = {model.samplers[std::size_t(texture.sampler)].wrapS, model.samplers[std::size_t(texture.sampler)].wrapT};
-    const std::string attribute = "TEXCOORD_" + std::to_string(info.texCoord);
+    const std::string attribute = "TEXCOORD_" + std::to_string(texCoord);
     const auto uv = prim.attributes.find(attribute);
     if (uv == prim.attributes.end())
         return unread("no " + attribute);
@@ -545,6 +584,8 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
     }
     if (coords.size() != vertexCount)
         return unread(attribute + " holds " + std::to_string(coords.size()) + " coordinates for " + std::to_string(vertexCount) + " vertices");
+    for (glm::dvec2& coord : coords)
+        coord = glm::dvec2(transform * glm::dvec3(coord, 1.0));
     std::vector<glm::vec3> albedo(triangles);
     for (std::size_t t = 0; t < triangles; ++t)
         albedo[t] = factor * gltf::meanOverTriangle(*image, coords[tris[3 * t]], coords[tris[3 * t + 1]], coords[tris[3 * t + 2]], wrap);

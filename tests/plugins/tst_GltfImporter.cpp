@@ -167,9 +167,18 @@ TEST(GltfImporter, BaseColourTexturesGiveTheirMeanOverEachTriangle)
     // takes the mean itself (the chain's 1 x 1 level).
     t.add(square(0.0f, 0.0f, 2.0f), 2);
     t.add(square(0.5f, 0.25f, 64.0f), 2);
+    // KHR_texture_transform: the unit square scaled to a quarter, turned a quarter turn (u' = v,
+    // v' = -u) and moved onto the top-right texel's outer quarter (green; clamped). Turned the other
+    // way it would straddle all four texels.
+    t.add(square(0.0f, 0.0f, 1.0f), 0);
+    t.g.doc["materials"].back()["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+        {"KHR_texture_transform", {{"scale", {0.25, 0.25}}, {"rotation", std::acos(-1.0) / 2.0}, {"offset", {0.75, 0.25}}}}};
     const Scene scene = t.load(dir / "textured.glb");
     const std::vector<glm::vec3>& albedo = scene.meshes.at(0).albedo;
-    ASSERT_EQ(albedo.size(), 14u);
+    ASSERT_EQ(albedo.size(), 16u);
+    for (std::size_t k = 14; k < 16; ++k)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(albedo[k][c], c == 1 ? 1.0f : 0.0f, 1e-6) << "triangle " << k;
     const glm::vec3 expected[] = {{0.5f, 0, 0}, {0, 1, 0}, glm::vec3(linear(188)), {1, 0, 0}, {0, 0, 1}};
     for (std::size_t q = 0; q < 5; ++q)
         for (std::size_t k = 0; k < 2; ++k)
@@ -202,14 +211,19 @@ TEST(GltfImporter, TexturesThatCannotBeReadLeaveTheirAlbedoUnknownAndSaySo)
         const auto material0 = std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("material 0's") != std::string::npos; });
         EXPECT_EQ(material0, 1);
     }
-    {   // No TEXCOORD_0: a warning, unknown albedo; texture coordinates that are not finite likewise.
+    {   // No TEXCOORD_0: a warning, unknown albedo; texture coordinates that are not finite, and a
+        // texture transform that is not numbers, likewise.
         TexturedQuads t;
         t.add(square(0, 0, 1), 0);
         t.primitives[0]["attributes"].erase("TEXCOORD_0");
         t.add({0, 0, 1, 0, std::numeric_limits<float>::quiet_NaN(), 1, 1, 1}, 0);
+        t.add(square(0, 0, 1), 0);
+        t.g.doc["materials"].back()["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+            {"KHR_texture_transform", {{"scale", {1.0, "two"}}}}};
         std::vector<std::string> warnings;
         const Scene scene = t.load(dir / "nocoords.glb", &warnings);
-        EXPECT_EQ(scene.meshes.at(0).albedo, std::vector<glm::vec3>(4, kUnknownAlbedo));
+        EXPECT_EQ(scene.meshes.at(0).albedo, std::vector<glm::vec3>(6, kUnknownAlbedo));
+        EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("scale must be finite numbers") != std::string::npos; }));
         EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("no TEXCOORD_0") != std::string::npos; }));
         EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("not finite") != std::string::npos; }));
     }
