@@ -14,7 +14,7 @@
 // Each glTF mesh becomes one sightline::Mesh (its triangle primitives merged); each node that
 // references it becomes an Instance, so instancing survives the import. A mesh with a material on
 // some primitive keeps each triangle's base colour as its albedo: the material's factor, times the
-// mean of its base colour texture over the triangle where it has one (GltfTextures.h); a primitive
+// mean of its base colour texture over the triangle where it has one (TextureMean.h); a primitive
 // without a material takes glTF's default, white; KHR_texture_transform moves its coordinates. Where
 // a texture cannot be read (its image missing or broken, no texture coordinates) its triangles'
 // albedo is unknown, with a warning.
@@ -36,6 +36,7 @@
 #include "BuiltinFormats.h"
 #include "GltfTextures.h"
 #include "GltfValidation.h"
+#include "TextureMean.h"
 #include "plugins/GltfLights.h"
 #include "plugins/MeshTopology.h"
 #include "plugins/JsonText.h"
@@ -539,7 +540,7 @@ glm::dmat3 textureTransform(const tinygltf::Value& ext, int& texCoord)
 }
 
 /// Each triangle's albedo from a textured material: the factor times the texture's mean over the
-/// triangle (GltfTextures.h), or kUnknownAlbedo for all where the texture cannot be read (with a
+/// triangle (TextureMean.h), or kUnknownAlbedo for all where the texture cannot be read (with a
 /// warning). `tris` indexes the primitive's own vertices.
 std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinygltf::Primitive& prim, const std::vector<std::uint32_t>& tris,
                                        std::size_t vertexCount, const glm::vec3& factor, gltf::TextureImages& images,
@@ -569,7 +570,7 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
     const std::vector<RgbImage>* image = images.linear(texture.source, warnings);
     if (!image)
         return unread(texture.source < 0 ? "the texture has no image in glTF's own formats" : "image " + std::to_string(texture.source) + " unreadable");
-    gltf::TextureWrap wrap;
+    texture::Wrap wrap;
     if (texture.sampler >= 0 && std::size_t(texture.sampler) < model.samplers.size())
         wrap = {model.samplers[std::size_t(texture.sampler)].wrapS, model.samplers[std::size_t(texture.sampler)].wrapT};
     const std::string attribute = "TEXCOORD_" + std::to_string(texCoord);
@@ -588,7 +589,7 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
         coord = glm::dvec2(transform * glm::dvec3(coord, 1.0));
     std::vector<glm::vec3> albedo(triangles);
     for (std::size_t t = 0; t < triangles; ++t)
-        albedo[t] = factor * gltf::meanOverTriangle(*image, coords[tris[3 * t]], coords[tris[3 * t + 1]], coords[tris[3 * t + 2]], wrap);
+        albedo[t] = factor * texture::meanOverTriangle(*image, coords[tris[3 * t]], coords[tris[3 * t + 1]], coords[tris[3 * t + 2]], wrap);
     return albedo;
 }
 

@@ -1,55 +1,129 @@
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <new>
 #include <unordered_map>
 
 #include "BuiltinFormats.h"
+#include "TextureMean.h"
 #include "mesh/MeshReaders.h"
 #include "plugins/MeshTopology.h"
 #include "base/Error.h"
+#include "base/ImageFile.h"
 #include "base/InputFile.h"
 #include "base/PathRule.h"
 #include "visibility/Scene.h"
 
 // OBJ, PLY, OFF and STL as scenes: one mesh per file, read by mesh/MeshReaders.h. An OBJ's
 // triangles take their material's diffuse colour (its .mtl libraries, read from the OBJ's folder)
-// as their albedo for indirect light.
+// as their albedo for indirect light, times the mean of its diffuse texture (map_Kd) over the
+// triangle where it has one.
 
 namespace sightline {
 
 namespace {
 
-/// The albedos of the materials an OBJ's libraries define. A library that is missing, unreadable
-/// or outside the OBJ's folder (PathRule.h; absolute paths too, as glTF's URIs) is a warning: the
-/// level does not need it.
-std::unordered_map<std::string, glm::vec3> readMaterialLibraries(const std::vector<std::string>& libraries,
-                                                                 const std::filesystem::path& file,
-                                                                 std::vector<std::string>& warnings)
+/// A material as an OBJ's triangles take it: its library's entry and, where it has a texture, the
+/// texture's file resolved (empty where it is refused or missing: the albedo is then unknown).
+struct ObjMaterial {
+    meshio::MtlMaterial mtl;
+    std::filesystem::path texture;
+};
+
+/// Where a file a material library names lies: relative to that library's folder, and read only
+/// where it resolves inside the OBJ's folder (PathRule.h; absolute paths are refused, as glTF's
+/// URIs). Missing or refused: a warning (`what` names it) and an empty path.
+std::filesystem::path referencedFile(const std::string& written, const std::filesystem::path& from, const std::filesystem::path& folder,
+                                     const std::string& what, std::vector<std::string>& warnings)
 {
-    std::unordered_map<std::string, glm::vec3> albedo;
+    const std::filesystem::path path = from / written;
+    std::error_code error;
+    const bool absolute = std::filesystem::path(written).is_absolute();
+    if (!absolute && !std::filesystem::exists(path, error)) {
+        warnings.push_back(what + " is not there");
+        return {};
+    }
+    if (absolute || !resolvesInside(path, folder)) {
+        warnings.push_back(what + " is outside the OBJ's folder: not read");
+        return {};
+    }
+    return path;
+}
+
+/// The materials an OBJ's libraries define. A library or texture that is missing, unreadable or
+/// outside the OBJ's folder is a warning: the level does not need it.
+std::unordered_map<std::string, ObjMaterial> readMaterialLibraries(const std::vector<std::string>& libraries, const std::filesystem::path& file,
+                                                                   std::vector<std::string>& warnings)
+{
+    std::unordered_map<std::string, ObjMaterial> materials;
     const std::filesystem::path folder = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
     for (const std::string& written : libraries) {
-        const std::filesystem::path path = folder / written;
         const std::string what = file.string() + ": material library '" + written + "'";
-        std::error_code error;
-        const bool absolute = std::filesystem::path(written).is_absolute();
-        if (!absolute && !std::filesystem::exists(path, error)) {
-            warnings.push_back(what + " is not there: its materials' albedos unknown");
-            continue;
-        }
-        if (absolute || !resolvesInside(path, folder)) {
-            warnings.push_back(what + " is outside the OBJ's folder: not read, its materials' albedos unknown");
+        const std::filesystem::path path = referencedFile(written, folder, folder, what, warnings);
+        if (path.empty()) {
+            warnings.back() += ", its materials' albedos unknown";
             continue;
         }
         try {
-            for (auto& [name, colour] : meshio::readMtl(readInputFile(path, "material library"), path.string(), warnings))
-                albedo.try_emplace(name, colour);   // the first library to define a name holds it
+            for (auto& [name, mtl] : meshio::readMtl(readInputFile(path, "material library"), path.string(), warnings)) {
+                ObjMaterial material{mtl, {}};
+                if (!mtl.texture.empty()) {
+                    material.texture = referencedFile(mtl.texture, path.parent_path(), folder,
+                                                      path.string() + ": material '" + name + "''s texture '" + mtl.texture + "'", warnings);
+                    if (material.texture.empty())
+                        warnings.back() += "; its albedo is unknown";
+                }
+                materials.try_emplace(name, std::move(material));   // the first library to define a name holds it
+            }
         } catch (const Error& e) {
             warnings.push_back(std::string(e.what()) + "; its materials' albedos unknown");
         }
     }
-    return albedo;
+    return materials;
+}
+
+/// The textures materials name, each read once (base/ImageFile.h's checks) as linear mips.
+class ObjTextures {
+public:
+    /// Null where the file cannot be read as an image (a warning the first time).
+    const std::vector<RgbImage>* mips(const std::filesystem::path& file, std::vector<std::string>& warnings)
+    {
+        const auto [at, added] = loaded_.try_emplace(file.string());
+        if (added) {
+            try {
+                at->second = texture::linearMips(loadRgbImage(file));
+            } catch (const Error& e) {
+                warnings.push_back(std::string(e.what()) + "; the materials it colours keep unknown albedos");
+            }
+        }
+        return at->second.empty() ? nullptr : &at->second;
+    }
+
+private:
+    std::unordered_map<std::string, std::vector<RgbImage>> loaded_;
+};
+
+/// A textured material's albedo on one triangle: Kd (white without one) times its texture's mean
+/// over the triangle's vt (TextureMean.h; OBJ's v runs up, the texture's rows down); unknown where
+/// a corner has no usable vt.
+glm::vec3 texturedAlbedo(const ObjMaterial& material, const std::vector<RgbImage>& mips, const meshio::ObjMaterialUse& use, std::size_t triangle)
+{
+    const meshio::MtlMaterial& mtl = material.mtl;
+    if (mtl.diffuseGiven && mtl.diffuse == kUnknownAlbedo)
+        return kUnknownAlbedo;
+    glm::dvec2 uv[3];
+    for (int k = 0; k < 3; ++k) {
+        const std::int32_t index = use.triangleTexCoords[triangle][std::size_t(k)];
+        if (index < 0)
+            return kUnknownAlbedo;
+        const glm::dvec2 moved = use.texCoords[std::size_t(index)] * mtl.scale + mtl.offset;
+        if (!std::isfinite(moved.x) || !std::isfinite(moved.y))
+            return kUnknownAlbedo;
+        uv[k] = {moved.x, 1.0 - moved.y};
+    }
+    const int wrap = mtl.clamp ? texture::kWrapClamp : texture::kWrapRepeat;
+    return (mtl.diffuseGiven ? mtl.diffuse : glm::vec3(1.0f)) * texture::meanOverTriangle(mips, uv[0], uv[1], uv[2], {wrap, wrap});
 }
 
 /// Each triangle's albedo from its material (Mesh::albedo); none when no triangle's is known.
@@ -58,23 +132,39 @@ void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std:
 {
     if (use.names.empty())
         return;
-    const std::unordered_map<std::string, glm::vec3> known = readMaterialLibraries(use.libraries, file, warnings);
-    std::vector<glm::vec3> byIndex(use.names.size(), kUnknownAlbedo);
+    const std::unordered_map<std::string, ObjMaterial> known = readMaterialLibraries(use.libraries, file, warnings);
+    std::vector<const ObjMaterial*> byIndex(use.names.size(), nullptr);
     std::size_t undefined = 0;
     for (std::size_t m = 0; m < use.names.size(); ++m) {
         const auto found = known.find(use.names[m]);
         if (found != known.end())
-            byIndex[m] = found->second;
+            byIndex[m] = &found->second;
         else if (undefined++ == 0)
             warnings.push_back(file.string() + ": material '" + use.names[m] + "' is not defined by its libraries"
                                " (the first of the undefined); its albedo is unknown");
     }
+    ObjTextures textures;
     mesh.albedo.reserve(use.triangleMaterial.size());
     bool anyKnown = false;
-    for (const int m : use.triangleMaterial) {
-        mesh.albedo.push_back(m < 0 ? kUnknownAlbedo : byIndex[std::size_t(m)]);
-        anyKnown = anyKnown || mesh.albedo.back() != kUnknownAlbedo;
+    std::size_t uncoloured = 0;   // textured triangles without usable vt
+    for (std::size_t t = 0; t < use.triangleMaterial.size(); ++t) {
+        const int m = use.triangleMaterial[t];
+        const ObjMaterial* material = m < 0 ? nullptr : byIndex[std::size_t(m)];
+        glm::vec3 albedo = kUnknownAlbedo;
+        if (material && material->mtl.texture.empty()) {
+            albedo = material->mtl.diffuse;
+        } else if (material && !material->texture.empty()) {
+            if (const std::vector<RgbImage>* mips = textures.mips(material->texture, warnings)) {
+                albedo = texturedAlbedo(*material, *mips, use, t);
+                uncoloured += albedo == kUnknownAlbedo;
+            }
+        }
+        mesh.albedo.push_back(albedo);
+        anyKnown = anyKnown || albedo != kUnknownAlbedo;
     }
+    if (uncoloured > 0)
+        warnings.push_back(file.string() + ": " + std::to_string(uncoloured) +
+                           " triangles of textured materials have no usable texture coordinates (vt); their albedo is unknown");
     if (!anyKnown)
         mesh.albedo.clear();
 }

@@ -9,10 +9,9 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <stb/stb_image_write.h>
-
 #include "GltfTestDoc.h"
-#include "GltfTextures.h"
+#include "TestImages.h"
+#include "TextureMean.h"
 #include "TestFiles.h"
 #include "plugins/SceneFormats.h"
 
@@ -102,16 +101,7 @@ TEST(GltfImporter, MaterialsGiveEachTriangleItsBaseColourAsAlbedo)
     EXPECT_NE(expectOneLineError(bad, [&] { loadScene(bad); }).find("material 0's baseColorFactor"), std::string::npos);
 }
 
-/// A PNG of `width` x `height` RGB pixels, top row first (stb_image_write).
-std::string pngBytes(int width, int height, const std::vector<unsigned char>& rgb)
-{
-    std::string out;
-    stbi_write_png_to_func([](void* context, void* data, int size) { static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size)); },
-                           &out, width, height, 3, rgb.data(), width * 3);
-    return out;
-}
-
-float linear(int srgb) { return gltf::srgbToLinear(float(srgb) / 255.0f); }
+float linear(int srgb) { return texture::srgbToLinear(float(srgb) / 255.0f); }
 
 /// A 2 x 2 texture (top row red, green; bottom row blue, sRGB 188 grey) and one quad per call,
 /// textured with the coordinates given; the document keeps the texture's PNG in its buffer.
@@ -124,7 +114,7 @@ struct TexturedQuads {
     {
         quad = g.positions({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
         strip = g.indices(std::vector<std::uint8_t>{0, 1, 2, 3}, kU8);
-        const std::string png = pngBytes(2, 2, {255, 0, 0, 0, 255, 0, 0, 0, 255, 188, 188, 188});
+        const std::string png = fourColourPng();
         g.doc["images"] = json::array({{{"bufferView", g.view(png)}, {"mimeType", "image/png"}}});
         g.doc["samplers"] = json::array({{{"wrapS", 33071}, {"wrapT", 33071}}, {{"wrapS", 33648}, {"wrapT", 33648}}, json::object()});
         // Texture k uses sampler k: clamp, mirror, repeat.

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "TestFiles.h"
+#include "TestImages.h"
+#include "TextureMean.h"
 #include "plugins/SceneFormats.h"
 
 using namespace sightline;
@@ -94,6 +96,45 @@ TEST(MeshFileImporter, ObjMaterialsGiveTheirDiffuseColourAsAlbedo)
 
     // Without materials: no albedos.
     EXPECT_TRUE(loadScene(writeFile(dir / "plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\n")).meshes.at(0).albedo.empty());
+}
+
+TEST(MeshFileImporter, ObjDiffuseTexturesGiveTheirMeanOverEachTriangle)
+{
+    TempDir dir;
+    writeFile(dir / "four colours.png", test::fourColourPng());
+    std::filesystem::create_directories(dir / "level");
+    writeFile(dir / "level" / "tex.png", test::fourColourPng());
+    // Kd times the texture; -s and -o move it, -clamp on clamps it; a name may hold spaces; a
+    // texture outside the OBJ's folder is not read.
+    writeFile(dir / "level" / "level.mtl", "newmtl half red\nKd 0.5 1 1\nmap_Kd -clamp on -bm 1 tex.png\n"
+                                           "newmtl moved\nmap_Kd -s 0.25 0.25 1 -o 0.75 0 0 -clamp on tex.png\n"
+                                           "newmtl escaping\nmap_Kd ../four colours.png\n");
+    const auto file = writeFile(dir / "level" / "level.obj",
+                                "mtllib level.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                // the top-left texel's outer quarter (OBJ's v runs up), then the unit square
+                                "vt 0 0.75\nvt 0.25 0.75\nvt 0.25 1\nvt 0 1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                "usemtl half red\nf 1/1 2/2 3/3 4/4\n"
+                                "usemtl moved\nf 1/5 2/6 3/7 4/8\n"
+                                "usemtl escaping\nf 1/5 2/6 3/7\n"
+                                "usemtl half red\nf 1 2 3\nf 1/1 2/2 3/99\n");
+    std::vector<std::string> warnings;
+    const Scene scene = loadScene(file, &warnings);
+    const std::vector<glm::vec3>& albedo = scene.meshes.at(0).albedo;
+    ASSERT_EQ(albedo.size(), 7u);
+    const glm::vec3 grey(texture::srgbToLinear(188.0f / 255.0f));
+    const glm::vec3 expected[] = {{0.5f, 0, 0}, {0.5f, 0, 0}, grey, grey};
+    for (std::size_t t = 0; t < 4; ++t)
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(albedo[t][c], expected[t][c], 1e-6) << "triangle " << t;
+    // Escaping; no vt; a vt index past those read: unknown, each said.
+    EXPECT_EQ(albedo[4], kUnknownAlbedo);
+    EXPECT_EQ(albedo[5], kUnknownAlbedo);
+    EXPECT_EQ(albedo[6], kUnknownAlbedo);
+    std::string all;
+    for (const std::string& w : warnings)
+        all += w + "\n";
+    EXPECT_NE(all.find("texture '../four colours.png' is outside the OBJ's folder"), std::string::npos) << all;
+    EXPECT_NE(all.find("2 triangles of textured materials have no usable texture coordinates"), std::string::npos) << all;
 }
 
 TEST(MeshFileImporter, ObjWithNaNVertexIsRefused)

@@ -28,21 +28,29 @@
 //    ones too: every triangle blocks rays); polygons of 1-2 vertices and anything unreadable are
 //    refused with one line naming the file, the line (text) or element (binary), and the problem.
 
+#include <array>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <unordered_map>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "visibility/Scene.h"
 
 namespace sightline::meshio {
 
-/// What an OBJ says of its materials: the libraries it names (`mtllib`, as written) and, per
-/// triangle, the index of the material in force (`usemtl`) in `names`, or -1 before any.
+/// What an OBJ says of its materials: the libraries it names (`mtllib`, as written); per triangle,
+/// the index of the material in force (`usemtl`) in `names`, or -1 before any; its texture
+/// coordinates (`vt`, as written: v up; not finite where unreadable) and per triangle its corners'
+/// indices into them (-1 where a corner has none or names none read so far).
 struct ObjMaterialUse {
     std::vector<std::string> libraries;
     std::vector<std::string> names;
     std::vector<int> triangleMaterial;
+    std::vector<glm::dvec2> texCoords;
+    std::vector<std::array<std::int32_t, 3>> triangleTexCoords;
 };
 
 /// Each reads a whole file's bytes (`what` names it in messages) into one mesh; throws
@@ -54,12 +62,20 @@ Mesh readPly(std::string_view text, const std::string& what);
 Mesh readOff(std::string_view text, const std::string& what);
 Mesh readStl(std::string_view bytes, const std::string& what);
 
-/// A material library (.mtl) as albedos by material name: each material's diffuse colour `Kd` (one
-/// value is grey), or kUnknownAlbedo where it has a diffuse texture (`map_Kd`, not decoded) or no
-/// Kd. A Kd this reader does not take (spectral or xyz, a value that is not a number in [0, 1])
-/// leaves its material unknown, with one warning naming the first such line and their count; materials are lighting data that
+/// A material of a library (.mtl), as far as albedos need it.
+struct MtlMaterial {
+    /// `Kd` (one value is grey); kUnknownAlbedo where there is none or it is not read.
+    glm::vec3 diffuse = kUnknownAlbedo;
+    bool diffuseGiven = false;        ///< a Kd statement was there (read or not)
+    std::string texture;              ///< `map_Kd`'s file as written (the line's rest after its options); empty: none
+    glm::dvec2 offset{0.0}, scale{1.0};   ///< map_Kd's -o and -s: (u, v) -> (u, v) * scale + offset
+    bool clamp = false;               ///< map_Kd's -clamp on
+};
+
+/// A material library (.mtl) by material name. A Kd this reader does not take (spectral or xyz, a
+/// value that is not a number in [0, 1]) leaves its material's diffuse colour unknown, with one
+/// warning naming the first such line and their count; materials are lighting data that
 /// visibility does not need, so nothing in a library refuses the level.
-std::unordered_map<std::string, glm::vec3> readMtl(std::string_view text, const std::string& what,
-                                                   std::vector<std::string>& warnings);
+std::unordered_map<std::string, MtlMaterial> readMtl(std::string_view text, const std::string& what, std::vector<std::string>& warnings);
 
 } // namespace sightline::meshio
