@@ -73,6 +73,7 @@ struct Arguments {
     bool accumulate = false;
     bool ao = false;
     bool lit = false;
+    bool litIndirect = false;
     std::string litShows = "light";
     int litBudget = 4;
     std::string disagreement;   ///< screenshot: an approximation (project/Approximation.h), or empty
@@ -136,6 +137,7 @@ int screenshot(const Arguments& args, int width, int height)
     style.litView = args.lit;
     style.litShading = parseLitShading(args.litShows);
     style.litBudget = args.litBudget;
+    style.litIndirect = args.litIndirect;
     PatchOverlay overlay;
     overlay.setKind(parseOverlayKind(args.overlay));
     overlay.setStatistic(parseImportanceStatistic(args.statistic));
@@ -372,6 +374,7 @@ struct OptionHandles {
     CLI::Option* frames = nullptr;
     CLI::Option* litShows = nullptr;
     CLI::Option* litBudget = nullptr;
+    CLI::Option* litIndirect = nullptr;
 };
 
 OptionHandles addOptions(CLI::App& app, Arguments& args)
@@ -431,6 +434,9 @@ OptionHandles addOptions(CLI::App& app, Arguments& args)
                          ->check(CLI::IsMember({"light", "complexity", "overlap", "staleness", "error"}));
     handles.litBudget = app.add_option("--lit-budget", args.litBudget, "Screenshot with --lit: the overlapping lights a texel may take (default 4)")
                           ->check(CLI::Range(1, 1000));
+    handles.litIndirect = app.add_flag("--lit-indirect", args.litIndirect,
+                                       "Screenshot with --lit: add one bounce of indirect light, as View > Lit View Shows > Indirect Light "
+                                       "(the lights' virtual point lights, each surface's material albedo)");
     app.add_option("--disagreement", args.disagreement,
                    "Screenshot: draw, in place of the rays, those an approximation answers differently from the exact "
                    "sampler (false-blocked red, false-free blue, ties amber): table[-WxH], gl, gl-table[-WxH], samples-K, "
@@ -468,8 +474,9 @@ int checkArguments(const CLI::App& app, Arguments& args, const OptionHandles& ha
         std::fprintf(stderr, "sightline: --screenshot, --record, --benchmark-interaction and --benchmark-stalls need a project file\n");
         return 2;
     }
-    if ((handles.litShows->count() > 0 || handles.litBudget->count() > 0) && (!args.lit || args.screenshot.empty())) {
-        std::fprintf(stderr, "sightline: --lit-shows and --lit-budget apply to --screenshot --lit\n");
+    if ((handles.litShows->count() > 0 || handles.litBudget->count() > 0 || handles.litIndirect->count() > 0) &&
+        (!args.lit || args.screenshot.empty())) {
+        std::fprintf(stderr, "sightline: --lit-shows, --lit-budget and --lit-indirect apply to --screenshot --lit\n");
         return 2;
     }
     if (!args.disagreement.empty() && args.screenshot.empty()) {

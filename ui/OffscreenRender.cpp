@@ -27,7 +27,7 @@ OffscreenResult renderOffscreen(const EditorDocument& document, const Camera& ca
         renderer.setOccluders(document.occluderScene(), document.occluderOfInstance());
         if (style.litView) {   // the exact lit view, as the editor shows it once converged
             const LitPreviewFrame lit = exactLitFrame(std::make_shared<const Scene>(document.scene()), document.lights(),
-                                                      style.litShading, style.litBudget);
+                                                      style.litShading, style.litBudget, style.litIndirect);
             if (!lit.error.empty())
                 throw Error("lit view: " + lit.error);
             renderer.setAmbientOcclusion(*lit.uvs, lit.width, lit.height, lit.map);

@@ -645,7 +645,7 @@ LitShading parseLitShading(const std::string& name)
     throw Error("the lit view shows light, complexity, overlap, staleness or error, not '" + name + "'");
 }
 
-LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights, LitShading shading, int budget)
+LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights, LitShading shading, int budget, bool indirect)
 {
     std::mutex mutex;
     std::condition_variable arrived;
@@ -661,7 +661,8 @@ LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Li
                       .lights = std::move(lights),
                       .segmentsPerFrame = std::uint64_t(1) << 40,
                       .shading = shading,
-                      .budget = budget});
+                      .budget = budget,
+                      .indirect = indirect});
     std::unique_lock lock(mutex);
     arrived.wait(lock, [&] { return last.has_value(); });
     LitPreviewFrame out = std::move(*last);

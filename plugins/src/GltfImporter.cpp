@@ -195,11 +195,13 @@ struct FsGuard {
 
 /// Every image accepted without decoding it: its bytes are kept (in `keep`, a vector of strings
 /// by image index, where not null) for the base colour textures decoded later (GltfTextures.h).
+/// An image in a bufferView is not read here: tinygltf hands over its bytes without checking that
+/// the view lies inside its buffer, so they are fetched later through viewBytes' checks.
 bool keepImageBytes(tinygltf::Image* image, const int index, std::string*, std::string*, int, int, const unsigned char* bytes,
                     int size, void* keep)
 {
     image->image.clear();
-    if (keep && index >= 0 && bytes && size > 0) {
+    if (keep && index >= 0 && image->bufferView < 0 && bytes && size > 0) {
         auto& images = *static_cast<std::vector<std::string>*>(keep);
         if (images.size() <= std::size_t(index))
             images.resize(std::size_t(index) + 1);
@@ -406,6 +408,19 @@ std::vector<glm::vec3> readVec3(const tinygltf::Model& model, int index, const s
     return out;
 }
 
+/// The bytes of image `index` where it lies in a bufferView (empty where it does not), checked to lie
+/// inside the view's buffer.
+std::string imageInBufferView(const tinygltf::Model& model, int index, const std::string& file)
+{
+    const tinygltf::Image& image = model.images.at(std::size_t(index));
+    if (image.bufferView < 0)
+        return {};
+    const std::string what = file + ": image " + std::to_string(index);
+    const std::uint64_t length = bufferView(model, image.bufferView, what).byteLength;
+    const unsigned char* bytes = viewBytes(model, image.bufferView, 0, length, what);
+    return std::string(reinterpret_cast<const char*>(bytes), length);
+}
+
 /// Texture coordinates: VEC2 of floats, or of normalised unsigned bytes or shorts (glTF 2.0
 /// §3.7.2.1), every one finite.
 std::vector<glm::dvec2> readTexCoords(const tinygltf::Model& model, int index, const std::string& what)
@@ -585,8 +600,11 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
     }
     if (coords.size() != vertexCount)
         return unread(attribute + " holds " + std::to_string(coords.size()) + " coordinates for " + std::to_string(vertexCount) + " vertices");
-    for (glm::dvec2& coord : coords)
+    for (glm::dvec2& coord : coords) {
         coord = glm::dvec2(transform * glm::dvec3(coord, 1.0));
+        if (!std::isfinite(coord.x) || !std::isfinite(coord.y))
+            return unread("KHR_texture_transform takes a coordinate beyond a double's range");
+    }
     std::vector<glm::vec3> albedo(triangles);
     for (std::size_t t = 0; t < triangles; ++t)
         albedo[t] = factor * texture::meanOverTriangle(*image, coords[tris[3 * t]], coords[tris[3 * t + 1]], coords[tris[3 * t + 2]], wrap);
@@ -919,6 +937,8 @@ public:
         try {
             gltf::TextureImages images(file.string());
             const tinygltf::Model model = parseModel(file, warnings, &images.encoded);
+            images.encoded.resize(model.images.size());
+            images.fromView = [&](int index) { return imageInBufferView(model, index, file.string()); };
             const std::vector<int> roots = rootNodes(model);
             checkExpansion(model, roots, file.string());
             SceneBuilder builder(model, images, file.string(), warnings);

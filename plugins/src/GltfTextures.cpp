@@ -14,14 +14,16 @@ const std::vector<RgbImage>* TextureImages::linear(int index, std::vector<std::s
         decoded_.resize(encoded.size()), tried_.resize(encoded.size(), 0);
     if (!tried_[i]) {
         tried_[i] = 1;
-        if (!encoded[i].empty()) {
-            try {
-                decoded_[i] = texture::linearMips(decodeRgbImage(encoded[i], file_ + ": image " + std::to_string(index)));
-            } catch (const Error& e) {
-                warnings.push_back(std::string(e.what()) + "; the materials it colours keep unknown albedos");
-            }
+        try {
+            std::string bytes = std::move(encoded[i]);   // decoded or not, not needed again
+            std::string().swap(encoded[i]);
+            if (bytes.empty() && fromView)
+                bytes = fromView(index);
+            if (!bytes.empty())
+                decoded_[i] = texture::linearMips(decodeRgbImage(bytes, file_ + ": image " + std::to_string(index)));
+        } catch (const Error& e) {
+            warnings.push_back(std::string(e.what()) + "; the materials it colours keep unknown albedos");
         }
-        std::string().swap(encoded[i]);   // decoded or not, its bytes are not needed again
     }
     return decoded_[i].empty() ? nullptr : &decoded_[i];
 }

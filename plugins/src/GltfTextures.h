@@ -2,6 +2,7 @@
 // A glTF file's images for its base colour textures (TextureMean.h gives each triangle the mean of
 // its texture): kept as the loader met them and decoded on first use.
 
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -18,8 +19,11 @@ public:
     explicit TextureImages(std::string file) : file_(std::move(file)) {}
 
     /// Per image index: its bytes, empty where the loader got none (a file not found, which
-    /// tinygltf reports as a warning of its own).
+    /// tinygltf reports as a warning of its own, or an image in a bufferView).
     std::vector<std::string> encoded;
+    /// An image's bytes from its bufferView, for those `encoded` lacks (empty where it has none);
+    /// throws sightline::Error where the view does not lie inside its buffer.
+    std::function<std::string(int image)> fromView;
 
     /// Image `index` as texture::linearMips' chain, or null where it has no bytes or cannot be
     /// decoded (a warning the first time, naming the image).

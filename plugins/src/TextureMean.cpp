@@ -83,6 +83,8 @@ glm::vec3 meanOverTriangle(const std::vector<RgbImage>& mips, const glm::dvec2& 
 {
     const glm::dvec2 e1 = b - a, e2 = c - a;
     const double side = std::sqrt(0.5 * std::abs(e1.x * e2.y - e1.y * e2.x) * double(mips[0].width) * double(mips[0].height));
+    if (!std::isfinite(side))   // a triangle over more repeats than a double counts: the whole image's mean
+        return mips.back().pixels[0];
     const int n = int(std::clamp(std::ceil(2.0 * side), 1.0, 16.0));
     // Level L's texels are 2^L of level 0's; the samples lie about side / n level-0 texels apart.
     const double level = std::ceil(std::log2(std::max(1.0, 2.0 * side / n)));

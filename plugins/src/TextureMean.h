@@ -37,7 +37,8 @@ std::vector<RgbImage> linearMips(RgbImage image);
 /// runs the other way): bilinear samples at the centroids of the n x n subdivision of the triangle
 /// into equal triangles, about two a texel along each side (n at most 16), from the finest level
 /// whose texels are at least twice the samples' spacing, so that a triangle over many repeats of
-/// the texture averages all of it. Coordinates must be finite.
+/// the texture averages all of it (the whole image's mean where its area overflows a double).
+/// Coordinates must be finite.
 glm::vec3 meanOverTriangle(const std::vector<RgbImage>& mips, const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& c, Wrap wrap);
 
 } // namespace sightline::texture

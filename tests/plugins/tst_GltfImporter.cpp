@@ -201,6 +201,16 @@ TEST(GltfImporter, TexturesThatCannotBeReadLeaveTheirAlbedoUnknownAndSaySo)
         const auto material0 = std::count_if(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("material 0's") != std::string::npos; });
         EXPECT_EQ(material0, 1);
     }
+    {   // An image whose bufferView runs past its buffer: a warning naming it, never a read past the end.
+        TexturedQuads t;
+        t.add(square(0, 0, 1), 0);
+        const int image = t.g.doc["images"][0]["bufferView"].get<int>();
+        t.g.doc["bufferViews"][image]["byteLength"] = t.g.doc["bufferViews"][image]["byteLength"].get<int>() + 4096;
+        std::vector<std::string> warnings;
+        const Scene scene = t.load(dir / "overrun.glb", &warnings);
+        EXPECT_EQ(scene.meshes.at(0).albedo, std::vector<glm::vec3>(2, kUnknownAlbedo));
+        EXPECT_TRUE(std::any_of(warnings.begin(), warnings.end(), [](const std::string& w) { return w.find("overruns buffer") != std::string::npos; }));
+    }
     {   // No TEXCOORD_0: a warning, unknown albedo; texture coordinates that are not finite, and a
         // texture transform that is not numbers, likewise.
         TexturedQuads t;

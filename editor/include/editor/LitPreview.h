@@ -167,9 +167,9 @@ private:
 };
 
 /// Runs a LitPreview to its exact frame and returns it (or the failed frame): the headless
-/// screenshot's lit view, and tests.
+/// screenshot's lit view, and tests; with `indirect`, one bounce of indirect light included.
 LitPreviewFrame exactLitFrame(std::shared_ptr<const Scene> scene, std::vector<Light> lights,
-                              LitShading shading = LitShading::Light, int budget = 4);
+                              LitShading shading = LitShading::Light, int budget = 4, bool indirect = false);
 
 /// "light", "complexity", "overlap", "staleness" or "error"; throws sightline::Error for anything else.
 LitShading parseLitShading(const std::string& name);

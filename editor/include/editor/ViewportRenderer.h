@@ -68,9 +68,11 @@ struct ViewStyle {
     /// Shade the level by the lit view's light map (LitPreview.h) alone, no headlight: what the
     /// lights give, tone-mapped; set with the map through setAmbientOcclusion.
     bool litView = false;
-    /// Headless renders (OffscreenRender.h): what the lit view shows, and the overlap budget.
+    /// Headless renders (OffscreenRender.h): what the lit view shows, the overlap budget, and
+    /// whether one bounce of indirect light is added.
     LitShading litShading = LitShading::Light;
     int litBudget = 4;
+    bool litIndirect = false;
     /// Tint the scene file's objects the PVS debugger says are culled (setPvsCulled).
     bool pvsDebugger = false;
     /// Tint the scene file's objects by the selected light's O'Rorke sets (setPvsCulled's classes).
