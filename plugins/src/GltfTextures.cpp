@@ -1,6 +1,5 @@
 #include "GltfTextures.h"
 
-#include "TextureMean.h"
 #include "base/Error.h"
 
 namespace sightline::gltf {
@@ -9,23 +8,16 @@ const std::vector<RgbImage>* TextureImages::linear(int index, std::vector<std::s
 {
     if (index < 0 || std::size_t(index) >= encoded.size())
         return nullptr;
-    const std::size_t i = std::size_t(index);
-    if (decoded_.size() < encoded.size())
-        decoded_.resize(encoded.size()), tried_.resize(encoded.size(), 0);
-    if (!tried_[i]) {
-        tried_[i] = 1;
-        try {
-            std::string bytes = std::move(encoded[i]);   // decoded or not, not needed again
-            std::string().swap(encoded[i]);
-            if (bytes.empty() && fromView)
-                bytes = fromView(index);
-            if (!bytes.empty())
-                decoded_[i] = texture::linearMips(decodeRgbImage(bytes, file_ + ": image " + std::to_string(index)));
-        } catch (const Error& e) {
-            warnings.push_back(std::string(e.what()) + "; the materials it colours keep unknown albedos");
-        }
-    }
-    return decoded_[i].empty() ? nullptr : &decoded_[i];
+    const std::string name = file_ + ": image " + std::to_string(index);
+    const std::string& bytes = encoded[std::size_t(index)];
+    if (bytes.empty() && !fromView)
+        return nullptr;
+    return decoded_.get(std::to_string(index), [&] {
+        const std::string inView = bytes.empty() ? fromView(index) : std::string();
+        if (bytes.empty() && inView.empty())
+            throw Error(name + " has no bytes (its file was not found)");
+        return decodeRgbImage(bytes.empty() ? inView : bytes, name);
+    }, warnings);
 }
 
 } // namespace sightline::gltf

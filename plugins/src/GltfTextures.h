@@ -1,19 +1,20 @@
 #pragma once
 // A glTF file's images for its base colour textures (TextureMean.h gives each triangle the mean of
-// its texture): kept as the loader met them and decoded on first use.
+// its texture): kept encoded as the loader met them and decoded on first use.
 
 #include <functional>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "TextureMean.h"
 #include "base/ImageFile.h"
 
 namespace sightline::gltf {
 
 /// A glTF file's images as its loader met them: encoded bytes kept instead of decoded (most images
-/// of a level are not base colour textures), each decoded once, on first use, through
-/// base/ImageFile.h's checks, to linear RGB and its mip chain (TextureMean.h).
+/// of a level are not base colour textures), decoded on first use through base/ImageFile.h's
+/// checks to linear RGB and its mip chain (texture::DecodedTextures, within its budget).
 class TextureImages {
 public:
     explicit TextureImages(std::string file) : file_(std::move(file)) {}
@@ -36,8 +37,7 @@ public:
 private:
     std::set<int> warnedMaterials_;
     std::string file_;
-    std::vector<std::vector<RgbImage>> decoded_;   ///< per image, its mip chain; empty: none
-    std::vector<char> tried_;
+    texture::DecodedTextures decoded_;
 };
 
 } // namespace sightline::gltf

@@ -70,7 +70,7 @@ std::unordered_map<std::string, ObjMaterial> readMaterialLibraries(const std::ve
                 ObjMaterial material{mtl, {}};
                 if (!mtl.texture.empty()) {
                     material.texture = referencedFile(mtl.texture, path.parent_path(), folder,
-                                                      path.string() + ": material '" + name + "''s texture '" + mtl.texture + "'", warnings);
+                                                      path.string() + ": texture '" + mtl.texture + "' of material '" + name + "'", warnings);
                     if (material.texture.empty())
                         warnings.back() += "; its albedo is unknown";
                 }
@@ -82,27 +82,6 @@ std::unordered_map<std::string, ObjMaterial> readMaterialLibraries(const std::ve
     }
     return materials;
 }
-
-/// The textures materials name, each read once (base/ImageFile.h's checks) as linear mips.
-class ObjTextures {
-public:
-    /// Null where the file cannot be read as an image (a warning the first time).
-    const std::vector<RgbImage>* mips(const std::filesystem::path& file, std::vector<std::string>& warnings)
-    {
-        const auto [at, added] = loaded_.try_emplace(file.string());
-        if (added) {
-            try {
-                at->second = texture::linearMips(loadRgbImage(file));
-            } catch (const Error& e) {
-                warnings.push_back(std::string(e.what()) + "; the materials it colours keep unknown albedos");
-            }
-        }
-        return at->second.empty() ? nullptr : &at->second;
-    }
-
-private:
-    std::unordered_map<std::string, std::vector<RgbImage>> loaded_;
-};
 
 /// A textured material's albedo on one triangle: Kd (white without one) times its texture's mean
 /// over the triangle's vt (TextureMean.h; OBJ's v runs up, the texture's rows down); unknown where
@@ -143,10 +122,12 @@ void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std:
             warnings.push_back(file.string() + ": material '" + use.names[m] + "' is not defined by its libraries"
                                " (the first of the undefined); its albedo is unknown");
     }
-    ObjTextures textures;
+    texture::DecodedTextures textures;
     mesh.albedo.reserve(use.triangleMaterial.size());
     bool anyKnown = false;
     std::size_t uncoloured = 0;   // textured triangles without usable vt
+    int lastMaterial = -1;
+    const std::vector<RgbImage>* mips = nullptr;   // lastMaterial's texture
     for (std::size_t t = 0; t < use.triangleMaterial.size(); ++t) {
         const int m = use.triangleMaterial[t];
         const ObjMaterial* material = m < 0 ? nullptr : byIndex[std::size_t(m)];
@@ -154,7 +135,12 @@ void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std:
         if (material && material->mtl.texture.empty()) {
             albedo = material->mtl.diffuse;
         } else if (material && !material->texture.empty()) {
-            if (const std::vector<RgbImage>* mips = textures.mips(material->texture, warnings)) {
+            if (m != lastMaterial) {   // a kept chain stays put until another one is decoded
+                const std::filesystem::path& image = material->texture;
+                mips = textures.get(image.string(), [&] { return loadRgbImage(image); }, warnings);
+                lastMaterial = m;
+            }
+            if (mips) {
                 albedo = texturedAlbedo(*material, *mips, use, t);
                 uncoloured += albedo == kUnknownAlbedo;
             }

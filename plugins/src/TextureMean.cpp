@@ -5,6 +5,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "base/Error.h"
+
 namespace sightline::texture {
 
 namespace {
@@ -54,7 +56,36 @@ std::vector<RgbImage> linearMips(RgbImage image)
 {
     for (glm::vec3& p : image.pixels)
         p = {srgbToLinear(p.x), srgbToLinear(p.y), srgbToLinear(p.z)};
-    return mipChain(std::move(image));
+    std::vector<RgbImage> chain = mipChain(std::move(image));
+    std::size_t first = 0;
+    while (std::max(chain[first].width, chain[first].height) > kMaxKeptSide)
+        ++first;
+    chain.erase(chain.begin(), chain.begin() + std::ptrdiff_t(first));
+    return chain;
+}
+
+const std::vector<RgbImage>* DecodedTextures::get(const std::string& key, const std::function<RgbImage()>& decode,
+                                                  std::vector<std::string>& warnings)
+{
+    if (const auto at = kept_.find(key); at != kept_.end())
+        return &at->second;
+    if (failed_.count(key))
+        return nullptr;
+    std::vector<RgbImage> chain;
+    try {
+        chain = linearMips(decode());
+    } catch (const Error& e) {
+        failed_.insert(key);
+        warnings.push_back(std::string(e.what()) + "; the materials it colours keep unknown albedos");
+        return nullptr;
+    }
+    std::size_t bytes = 0;
+    for (const RgbImage& level : chain)
+        bytes += level.pixels.size() * sizeof(glm::vec3);
+    if (bytes_ + bytes > budget_)
+        kept_.clear(), bytes_ = 0;
+    bytes_ += bytes;
+    return &kept_.emplace(key, std::move(chain)).first->second;
 }
 
 std::vector<RgbImage> mipChain(RgbImage image)

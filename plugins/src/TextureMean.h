@@ -6,6 +6,11 @@
 // are per triangle (Mesh::albedo in visibility/Scene.h), and what a diffuse bounce off a triangle
 // reflects on average weighs each point of it alike: hence the plain mean over its area.
 
+#include <cstddef>
+#include <functional>
+#include <set>
+#include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -29,8 +34,35 @@ float srgbToLinear(float c);
 /// mean of level k's 2 x 2 block (the block's last row or column repeated where a side is odd).
 std::vector<RgbImage> mipChain(RgbImage image);
 
-/// The image's sRGB values as linear, with its mip chain: what meanOverTriangle samples.
+/// The finest level kept of a texture: a side of at most this many texels. A triangle's mean needs
+/// no finer ones (what it would change is the colour's variation within one kept texel), and the
+/// level's whole chain stays under 5 MB however large the image.
+inline constexpr int kMaxKeptSide = 512;
+
+/// The image's sRGB values as linear, with its mip chain from the first level no side of which
+/// passes kMaxKeptSide: what meanOverTriangle samples.
 std::vector<RgbImage> linearMips(RgbImage image);
+
+/// Textures decoded to linearMips' chains on first use and kept while their total stays within a
+/// budget; past it, the kept ones are dropped and decoded again when asked for (a level may name
+/// hundreds of textures). One that cannot be decoded is remembered, and said once.
+class DecodedTextures {
+public:
+    static constexpr std::size_t kBudgetBytes = std::size_t(256) << 20;
+
+    explicit DecodedTextures(std::size_t budgetBytes = kBudgetBytes) : budget_(budgetBytes) {}
+
+    /// The chain under `key`, decoding it with `decode` (which throws sightline::Error for a
+    /// texture it cannot read) where it is not kept; null where decoding failed (now: a warning
+    /// with its message; before: nothing more).
+    const std::vector<RgbImage>* get(const std::string& key, const std::function<RgbImage()>& decode, std::vector<std::string>& warnings);
+
+private:
+    std::unordered_map<std::string, std::vector<RgbImage>> kept_;
+    std::set<std::string> failed_;
+    std::size_t budget_;
+    std::size_t bytes_ = 0;
+};
 
 /// The mean of a texture (`mips`: linearMips' chain) over the triangle abc of texture space, where
 /// (0, 0) is the image's top-left corner and (1, 1) its bottom-right (glTF's convention; OBJ's v
