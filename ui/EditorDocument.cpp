@@ -141,6 +141,7 @@ void EditorDocument::newDocument()
     Project project;
     project.folder = fs::current_path();
     project.allowOutsidePaths = allowOutsidePaths_;
+    project.textureAlbedos = true;   // the lit view's bounce
     std::tie(project.source, project.receiver) = defaultPatches(Bounds{});
     reset(std::move(project), Scene{}, {});
 }
@@ -148,11 +149,12 @@ void EditorDocument::newDocument()
 void EditorDocument::open(const fs::path& file)
 {
     if (isMeshFile(file)) {
-        Scene scene = loadScene(file);
+        Scene scene = loadScene(file, nullptr, {.textureAlbedos = true});   // the lit view's bounce
         Project project;
         project.folder = fs::absolute(file).parent_path();
         project.scene = file.filename().string();
         project.allowOutsidePaths = allowOutsidePaths_;
+        project.textureAlbedos = true;
         // A bare level says nothing of its up axis: guessed from its floors, used and said.
         const SceneImport guessed{guessSceneUp(scene), 1.0};
         applySceneImport(guessed, scene);
@@ -167,7 +169,7 @@ void EditorDocument::open(const fs::path& file)
         openNote_ = note;
         return;
     }
-    Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_});
+    Project project = loadProject(file, {.allowOutsidePaths = allowOutsidePaths_, .textureAlbedos = true});   // the lit view's bounce
     Scene scene = loadLevel(project);   // turned and scaled by the project's import settings
     (void)lightsToUse(project);   // bad lights refuse the file as a whole, naming the key
     // Checks the occluders, moved objects and coarse stand-ins now, so a broken file is refused as

@@ -792,7 +792,8 @@ void printLightsRun(const LightsArgs& args, const Project& project, const Lights
 int runLights(const LightsArgs& args)
 {
     const auto start = std::chrono::steady_clock::now();
-    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths});
+    // Albedos are read by the bounce alone: textures decoded only for it.
+    const Project project = loadProject(args.project, {.allowOutsidePaths = args.allowOutsidePaths, .textureAlbedos = args.vpls > 0});
     const std::string what = std::filesystem::path(args.project).filename().string();
     LightsRun run;
     bool fromScene = false;

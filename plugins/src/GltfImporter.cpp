@@ -611,7 +611,8 @@ std::vector<glm::vec3> texturedAlbedos(const tinygltf::Model& model, const tinyg
     return albedo;
 }
 
-Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std::string& file, gltf::TextureImages& images,
+/// `images`: null where textures are not read (a textured material's albedo is then unknown).
+Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std::string& file, gltf::TextureImages* images,
                  std::vector<std::string>& warnings)
 {
     const tinygltf::Mesh& src = model.meshes[meshIndex];
@@ -660,7 +661,8 @@ Mesh convertMesh(const tinygltf::Model& model, std::size_t meshIndex, const std:
         anyMaterial = anyMaterial || prim.material >= 0;
         const glm::vec3 factor = baseColourFactor(model, prim, what);
         if (prim.material >= 0 && model.materials[std::size_t(prim.material)].pbrMetallicRoughness.baseColorTexture.index >= 0) {
-            const std::vector<glm::vec3> albedo = texturedAlbedos(model, prim, tris, positions.size(), factor, images, what, warnings);
+            const std::vector<glm::vec3> albedo = images ? texturedAlbedos(model, prim, tris, positions.size(), factor, *images, what, warnings)
+                                                         : std::vector<glm::vec3>(tris.size() / 3, kUnknownAlbedo);
             mesh.albedo.insert(mesh.albedo.end(), albedo.begin(), albedo.end());
         } else {
             mesh.albedo.insert(mesh.albedo.end(), tris.size() / 3, factor);
@@ -751,7 +753,8 @@ void walkNodes(const tinygltf::Model& model, const std::vector<int>& roots, cons
 /// Emits one Instance per mesh reference, in walkNodes' order, placed by the accumulated transforms.
 class SceneBuilder {
 public:
-    SceneBuilder(const tinygltf::Model& model, gltf::TextureImages& images, std::string file, std::vector<std::string>& warnings)
+    /// `images`: null where textures are not read (textured materials' albedos unknown).
+    SceneBuilder(const tinygltf::Model& model, gltf::TextureImages* images, std::string file, std::vector<std::string>& warnings)
         : model_(model), images_(images), file_(std::move(file)), warnings_(warnings), meshSlot_(model.meshes.size(), -1)
     {
     }
@@ -780,7 +783,7 @@ private:
     }
 
     const tinygltf::Model& model_;
-    gltf::TextureImages& images_;
+    gltf::TextureImages* images_;
     std::string file_;
     std::vector<std::string>& warnings_;
     std::vector<std::int64_t> meshSlot_;
@@ -932,16 +935,16 @@ public:
     std::string name() const override { return "glTF 2.0"; }
     std::vector<std::string> extensions() const override { return {".gltf", ".glb"}; }
 
-    Scene load(const fs::path& file, std::vector<std::string>& warnings) const override
+    Scene load(const fs::path& file, std::vector<std::string>& warnings, const SceneLoadOptions& options) const override
     {
         try {
             gltf::TextureImages images(file.string());
-            const tinygltf::Model model = parseModel(file, warnings, &images.encoded);
+            const tinygltf::Model model = parseModel(file, warnings, options.textureAlbedos ? &images.encoded : nullptr);
             images.encoded.resize(model.images.size());
             images.fromView = [&](int index) { return imageInBufferView(model, index, file.string()); };
             const std::vector<int> roots = rootNodes(model);
             checkExpansion(model, roots, file.string());
-            SceneBuilder builder(model, images, file.string(), warnings);
+            SceneBuilder builder(model, options.textureAlbedos ? &images : nullptr, file.string(), warnings);
             builder.build(roots);
             Scene scene = builder.take();
             validate(scene, file.string());

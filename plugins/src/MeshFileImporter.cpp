@@ -51,10 +51,11 @@ std::filesystem::path referencedFile(const std::string& written, const std::file
     return path;
 }
 
-/// The materials an OBJ's libraries define. A library or texture that is missing, unreadable or
-/// outside the OBJ's folder is a warning: the level does not need it.
+/// The materials an OBJ's libraries define, their textures' files resolved where `textures`. A
+/// library or texture that is missing, unreadable or outside the OBJ's folder is a warning: the
+/// level does not need it.
 std::unordered_map<std::string, ObjMaterial> readMaterialLibraries(const std::vector<std::string>& libraries, const std::filesystem::path& file,
-                                                                   std::vector<std::string>& warnings)
+                                                                   bool textures, std::vector<std::string>& warnings)
 {
     std::unordered_map<std::string, ObjMaterial> materials;
     const std::filesystem::path folder = file.parent_path().empty() ? std::filesystem::path(".") : file.parent_path();
@@ -68,7 +69,7 @@ std::unordered_map<std::string, ObjMaterial> readMaterialLibraries(const std::ve
         try {
             for (auto& [name, mtl] : meshio::readMtl(readInputFile(path, "material library"), path.string(), warnings)) {
                 ObjMaterial material{mtl, {}};
-                if (!mtl.texture.empty()) {
+                if (!mtl.texture.empty() && textures) {
                     material.texture = referencedFile(mtl.texture, path.parent_path(), folder,
                                                       path.string() + ": texture '" + mtl.texture + "' of material '" + name + "'", warnings);
                     if (material.texture.empty())
@@ -106,12 +107,13 @@ glm::vec3 texturedAlbedo(const ObjMaterial& material, const std::vector<RgbImage
 }
 
 /// Each triangle's albedo from its material (Mesh::albedo); none when no triangle's is known.
-void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std::filesystem::path& file,
+/// Without `textures`, a textured material's albedo is unknown (its texture not read).
+void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std::filesystem::path& file, bool textures,
                        std::vector<std::string>& warnings)
 {
     if (use.names.empty())
         return;
-    const std::unordered_map<std::string, ObjMaterial> known = readMaterialLibraries(use.libraries, file, warnings);
+    const std::unordered_map<std::string, ObjMaterial> known = readMaterialLibraries(use.libraries, file, textures, warnings);
     std::vector<const ObjMaterial*> byIndex(use.names.size(), nullptr);
     std::size_t undefined = 0;
     for (std::size_t m = 0; m < use.names.size(); ++m) {
@@ -122,7 +124,7 @@ void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std:
             warnings.push_back(file.string() + ": material '" + use.names[m] + "' is not defined by its libraries"
                                " (the first of the undefined); its albedo is unknown");
     }
-    texture::DecodedTextures textures;
+    texture::DecodedTextures decoded;
     mesh.albedo.reserve(use.triangleMaterial.size());
     bool anyKnown = false;
     std::size_t uncoloured = 0;   // textured triangles without usable vt
@@ -137,7 +139,7 @@ void applyObjMaterials(Mesh& mesh, const meshio::ObjMaterialUse& use, const std:
         } else if (material && !material->texture.empty()) {
             if (m != lastMaterial) {   // a kept chain stays put until another one is decoded
                 const std::filesystem::path& image = material->texture;
-                mips = textures.get(image.string(), [&] { return loadRgbImage(image); }, warnings);
+                mips = decoded.get(image.string(), [&] { return loadRgbImage(image); }, warnings);
                 lastMaterial = m;
             }
             if (mips) {
@@ -167,7 +169,7 @@ public:
     std::string name() const override { return "OBJ/PLY/OFF/STL"; }
     std::vector<std::string> extensions() const override { return {".obj", ".ply", ".off", ".stl"}; }
 
-    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings) const override
+    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings, const SceneLoadOptions& options) const override
     {
         const std::string what = file.string();
         // The importer interface has no role: these files are scenes or occluder meshes of one.
@@ -186,7 +188,7 @@ public:
         }
         if (mesh.positions.empty())
             warnings.push_back(what + ": no vertices");
-        applyObjMaterials(mesh, materials, file, warnings);
+        applyObjMaterials(mesh, materials, file, options.textureAlbedos, warnings);
         return oneInstance(std::move(mesh), file);
     }
 

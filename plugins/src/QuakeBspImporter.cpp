@@ -22,7 +22,7 @@ public:
     std::string name() const override { return "Quake BSP"; }
     std::vector<std::string> extensions() const override { return {".bsp"}; }
 
-    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings) const override
+    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings, const SceneLoadOptions&) const override
     {
         const std::string what = file.string();
         const bsp::QuakeBsp level = bsp::readQuakeBsp(readInputFile(file, "scene"), what);

@@ -117,7 +117,7 @@ public:
     std::string name() const override { return "Quake map"; }
     std::vector<std::string> extensions() const override { return {".map"}; }
 
-    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings) const override
+    Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings, const SceneLoadOptions&) const override
     {
         const std::string what = file.string();
         const QuakeMap map = parseQuakeMap(readInputFile(file, "scene"), what);

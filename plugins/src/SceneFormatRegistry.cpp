@@ -72,7 +72,7 @@ const SceneExporter* SceneFormatRegistry::exporterFor(const std::filesystem::pat
 
 std::string SceneFormatRegistry::importFilter() const { return patterns(importers_); }
 
-Scene loadScene(const std::filesystem::path& file, std::vector<std::string>* warnings)
+Scene loadScene(const std::filesystem::path& file, std::vector<std::string>* warnings, const SceneLoadOptions& options)
 {
     std::error_code ec;
     if (!std::filesystem::exists(file, ec))
@@ -85,7 +85,7 @@ Scene loadScene(const std::filesystem::path& file, std::vector<std::string>* war
         throw Error(file.string() + ": unknown scene format '" + lowerExtension(file) + "' (supported: " +
                     registry.importFilter() + ")");
     std::vector<std::string> ignored;
-    return importer->load(file, warnings ? *warnings : ignored);
+    return importer->load(file, warnings ? *warnings : ignored, options);
 }
 
 void saveScene(const Scene& scene, const std::filesystem::path& file)

@@ -30,7 +30,7 @@ std::int64_t boundedInteger(const json& value, const std::string& key, std::int6
 
 CoarseOccluder parseEntry(const json& object, std::size_t index)
 {
-    const std::string at = "[" + std::to_string(index) + "]";
+    const std::string at = std::string("[").append(std::to_string(index)).append("]");   // "[" + s: GCC 12's -Wrestrict false alarm
     if (!object.is_object() || !object.contains("instance"))
         throw Error(std::string(kKey) + at + " must be an object with instance and kind");
     CoarseOccluder spec;

@@ -259,6 +259,7 @@ Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions&
     const std::filesystem::path folder = std::filesystem::absolute(file).parent_path();
     Project project = parseProject(document, folder, file.string());
     project.allowOutsidePaths = options.allowOutsidePaths;
+    project.textureAlbedos = options.textureAlbedos;
     return project;
 }
 
@@ -350,7 +351,7 @@ Scene loadOccluderMesh(const Project& project, const OccluderSpec& spec, std::ve
     if (isBuiltinMesh(spec.mesh))
         mesh.addMeshInstance(builtinMesh(spec.mesh));
     else
-        mesh = loadScene(project.resolve(spec.mesh, occluderKey(spec)), warnings);
+        mesh = loadScene(project.resolve(spec.mesh, occluderKey(spec)), warnings, {.textureAlbedos = project.textureAlbedos});
     return mesh;
 }
 

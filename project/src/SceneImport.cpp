@@ -97,7 +97,7 @@ Scene loadLevel(const Project& project, std::vector<std::string>* warnings)
     const SceneImport settings = sceneImport(project);
     if (project.scene.empty())
         return {};
-    Scene scene = loadScene(project.resolve(project.scene, "scene"), warnings);
+    Scene scene = loadScene(project.resolve(project.scene, "scene"), warnings, {.textureAlbedos = project.textureAlbedos});
     applySceneImport(settings, scene);
     return scene;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -379,6 +380,49 @@ TEST_F(LightsCli, GltfPunctualLightsAreImportedWhenTheProjectHasNone)
     // A "lights" key, even empty, is the designer's list: the scene's lights are not added.
     write("p.json", project(json::array()));
     EXPECT_TRUE(lightsToUse(loadProject(folder / "p.json")).empty());
+}
+
+TEST_F(LightsCli, IndirectReadsTheSurfacesTexturesForTheirAlbedos)
+{
+    // The room with every face in one material whose diffuse texture is a red texel: the bounce
+    // is red alone. Its texture missing, the material's albedo is unknown and --albedo's grey
+    // applies.
+    static const char kRedPng[] = "\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x00\x00\x01\x00\x00\x00\x01"
+                                  "\x08\x02\x00\x00\x00\x90\x77\x53\xde\x00\x00\x00\x0c\x49\x44\x41\x54\x78\x9c\x63\xf8\xcf\xc0\x00"
+                                  "\x00\x03\x01\x01\x00\xc9\xfe\x92\xef\x00\x00\x00\x00\x49\x45\x4e\x44\xae\x42\x60\x82";
+    std::ofstream(folder / "red.png", std::ios::binary).write(kRedPng, sizeof kRedPng - 1);
+    std::ofstream(folder / "room.mtl") << "newmtl painted\nmap_Kd red.png\n";
+    std::ifstream room(folder / "room.obj");
+    std::string line;
+    std::ofstream textured(folder / "textured.obj");
+    textured << "mtllib room.mtl\nvt 0.5 0.5\nusemtl painted\n";
+    while (std::getline(room, line))
+        if (line.rfind("f ", 0) == 0) {   // every corner takes the one vt
+            std::istringstream corners(line.substr(2));
+            textured << "f";
+            for (std::string corner; corners >> corner;)
+                textured << ' ' << corner << "/1";
+            textured << '\n';
+        } else {
+            textured << line << '\n';
+        }
+    textured.close();
+    json document = project(lights());
+    document["scene"] = "textured.obj";
+    write("p.json", document);
+    const std::string base = "lights " + (folder / "p.json").string() + " --indirect 2000 --albedo 0.4 --json";
+    const CliRun red = runCli(base);
+    ASSERT_EQ(red.code, 0) << red.err;
+    const json bounce = json::parse(red.out).at("indirect");
+    EXPECT_GT(bounce["mean"][0].get<double>(), 0.0);
+    EXPECT_EQ(bounce["mean"][1].get<double>(), 0.0);
+    EXPECT_EQ(bounce["mean"][2].get<double>(), 0.0);
+    fs::remove(folder / "red.png");
+    const CliRun grey = runCli(base);
+    ASSERT_EQ(grey.code, 0) << grey.err;
+    EXPECT_NE(grey.err.find("red.png"), std::string::npos) << grey.err;   // said
+    const json greyBounce = json::parse(grey.out).at("indirect");
+    EXPECT_GT(greyBounce["mean"][1].get<double>(), 0.0);
 }
 
 TEST_F(LightsCli, IndirectAddsOneBounceOfVplsAndReportsItsError)

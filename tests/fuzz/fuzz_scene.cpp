@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const auto file = sightline::fuzz::inputFile("input" + extension, data, size);
     try {
         std::vector<std::string> warnings;
-        const sightline::Scene scene = sightline::loadScene(file, &warnings);
+        const sightline::Scene scene = sightline::loadScene(file, &warnings, {.textureAlbedos = true});   // every path, textures too
         for (const sightline::Mesh& mesh : scene.meshes) {
             if (!mesh.albedo.empty() && mesh.albedo.size() != mesh.triangleCount())
                 __builtin_trap();

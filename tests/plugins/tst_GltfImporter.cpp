@@ -133,7 +133,7 @@ struct TexturedQuads {
     {
         g.mesh(primitives);
         g.scene(json::array({{{"mesh", 0}}}), {0});
-        return loadScene(g.writeGlb(file), warnings);
+        return loadScene(g.writeGlb(file), warnings, {.textureAlbedos = true});
     }
 };
 
@@ -181,6 +181,20 @@ TEST(GltfImporter, BaseColourTexturesGiveTheirMeanOverEachTriangle)
         EXPECT_NEAR(albedo[12][c], mean[c], 1e-6);
         EXPECT_NEAR(albedo[13][c], mean[c], 1e-6);
     }
+}
+
+TEST(GltfImporter, TexturesAreReadOnlyWhereAskedFor)
+{
+    TempDir dir;
+    TexturedQuads t;
+    t.add(square(0.0f, 0.0f, 0.25f), 0);
+    t.g.mesh(t.primitives);
+    t.g.scene(json::array({{{"mesh", 0}}}), {0});
+    const auto file = t.g.writeGlb(dir / "textured.glb");
+    std::vector<std::string> warnings;
+    EXPECT_EQ(loadScene(file, &warnings).meshes.at(0).albedo, std::vector<glm::vec3>(2, kUnknownAlbedo));
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_EQ(loadScene(file, &warnings, {.textureAlbedos = true}).meshes.at(0).albedo, std::vector<glm::vec3>(2, glm::vec3(1, 0, 0)));
 }
 
 TEST(GltfImporter, TexturesThatCannotBeReadLeaveTheirAlbedoUnknownAndSaySo)
@@ -234,7 +248,7 @@ TEST(GltfImporter, TexturesThatCannotBeReadLeaveTheirAlbedoUnknownAndSaySo)
         t.g.mesh(t.primitives);
         t.g.scene(json::array({{{"mesh", 0}}}), {0});
         t.g.writeGlb(file);
-        EXPECT_NE(expectOneLineError(file, [&] { loadScene(file); }).find("names missing texture 7"), std::string::npos);
+        EXPECT_NE(expectOneLineError(file, [&] { loadScene(file, nullptr, {.textureAlbedos = true}); }).find("names missing texture 7"), std::string::npos);
     }
 }
 

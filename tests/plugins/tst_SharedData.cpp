@@ -282,7 +282,7 @@ namespace {
 TEST(SharedData, TheDucksTextureColoursItsAlbedos)
 {
     std::vector<std::string> warnings;
-    const Scene scene = loadScene(testData() / "conformance/Duck/Duck.glb", &warnings);
+    const Scene scene = loadScene(testData() / "conformance/Duck/Duck.glb", &warnings, {.textureAlbedos = true});
     ASSERT_EQ(scene.meshes.size(), 1u);
     const std::vector<glm::vec3>& albedo = scene.meshes[0].albedo;
     ASSERT_EQ(albedo.size(), scene.meshes[0].triangleCount());

@@ -15,12 +15,20 @@
 
 namespace sightline {
 
+struct SceneLoadOptions {
+    /// Decode the materials' colour textures into the albedos (Mesh::albedo: glTF's base colour
+    /// textures, OBJ's map_Kd). Only indirect light reads albedos, and decoding a level's textures
+    /// can cost seconds, so it is asked for; without it a textured material's albedo is unknown.
+    bool textureAlbedos = false;
+};
+
 class SceneImporter {
 public:
     virtual ~SceneImporter() = default;
     virtual std::string name() const = 0;                      ///< e.g. "glTF 2.0"
     virtual std::vector<std::string> extensions() const = 0;   ///< lower case, with dot: ".glb"
-    virtual Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings) const = 0;
+    virtual Scene load(const std::filesystem::path& file, std::vector<std::string>& warnings,
+                       const SceneLoadOptions& options) const = 0;
 };
 
 class SceneExporter {
@@ -53,7 +61,8 @@ private:
 
 /// Loads any supported scene file. Throws sightline::Error: missing file, unknown extension
 /// (naming the supported ones), or the importer's own error.
-Scene loadScene(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr);
+Scene loadScene(const std::filesystem::path& file, std::vector<std::string>* warnings = nullptr,
+                const SceneLoadOptions& options = {});
 
 /// Saves a scene in the format its extension names (currently .gltf/.glb).
 void saveScene(const Scene& scene, const std::filesystem::path& file);

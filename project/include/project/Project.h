@@ -40,6 +40,10 @@ struct Project {
     /// Lets relative paths leave `folder` (--allow-outside-paths; base/PathRule.h). Not saved:
     /// it is the user's choice for one run, not the file's.
     bool allowOutsidePaths = false;
+    /// Read the level's and the occluders' colour textures into their albedos
+    /// (SceneLoadOptions::textureAlbedos): what indirect light needs and nothing else does. Not
+    /// saved: the run asks for it.
+    bool textureAlbedos = false;
     /// Scene file as written in the project (relative or absolute); empty for none.
     std::string scene;
     Patch source;
@@ -71,6 +75,7 @@ struct Project {
 Project parseProject(const nlohmann::json& document, const std::filesystem::path& folder, const std::string& what);
 struct ProjectLoadOptions {
     bool allowOutsidePaths = false;   ///< see Project::allowOutsidePaths
+    bool textureAlbedos = false;      ///< see Project::textureAlbedos
 };
 /// Reads and parses a project file (a regular file of bounded size, base/InputFile.h).
 Project loadProject(const std::filesystem::path& file, const ProjectLoadOptions& options = {});

@@ -401,7 +401,7 @@ Suggestion suggestOccluder(const Patch& source, const Patch& receiver, const Rec
         const RayCrossings crossings = crossUnblockedRays(source, receiver, heights, map, result.plane);
         result.crossing = crossings.points.size();
         std::vector<double> light;   // per crossing, with weights
-        Keep keep{.count = std::size_t(result.required)};
+        Keep keep{.count = std::size_t(result.required), .weights = {}, .weight = 0.0};
         if (!request.sourceWeights.empty()) {
             light = crossingLight(map, crossings, request, result);
             keep = Keep{.weights = light, .weight = result.lightRequired};
